@@ -1,0 +1,59 @@
+"""Algorithms and their registry: names used by the CLI and scenario files.
+
+A new algorithm is one module and one line in ``REGISTRY``. A name may carry
+options after a colon, ``name:key=value,key=value``; the factory receives them
+as keyword arguments (strings).
+
+>>> get_algorithm("go-to-target").name
+'go-to-target'
+>>> get_algorithm("nope")
+Traceback (most recent call last):
+...
+ValueError: unknown algorithm 'nope': use one of go-to-target
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from gather_verify.algorithms.base import Algorithm, AlgorithmError, Unhandled, target_of
+from gather_verify.algorithms.go_to_target import GoToTarget
+
+REGISTRY: dict[str, Callable[..., Algorithm]] = {
+    "go-to-target": GoToTarget,
+}
+
+
+def register(name: str, factory: Callable[..., Algorithm]) -> None:
+    """Make ``factory`` available under ``name`` (for user algorithms)."""
+    REGISTRY[name] = factory
+
+
+def parse_name(spec: str) -> tuple[str, dict[str, str]]:
+    """Split ``name:key=value,...`` into the name and its options."""
+    name, _, rest = spec.partition(":")
+    options: dict[str, str] = {}
+    for item in filter(None, rest.split(",")):
+        key, eq, value = item.partition("=")
+        if not eq or not key:
+            raise ValueError(f"bad algorithm option {item!r} in {spec!r}: expected key=value")
+        options[key.strip()] = value.strip()
+    return name.strip(), options
+
+
+def get_algorithm(spec: str) -> Algorithm:
+    """The algorithm registered under ``spec`` (with its options)."""
+    name, options = parse_name(spec)
+    if name not in REGISTRY:
+        raise ValueError(f"unknown algorithm {name!r}: use one of {', '.join(sorted(REGISTRY))}")
+    try:
+        algorithm = REGISTRY[name](**options)
+    except TypeError as error:
+        raise ValueError(f"bad options for algorithm {name!r}: {error}") from None
+    if options:
+        algorithm.name = spec
+    return algorithm
+
+
+__all__ = ["Algorithm", "AlgorithmError", "REGISTRY", "Unhandled", "get_algorithm", "register",
+           "target_of"]

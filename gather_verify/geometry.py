@@ -1,0 +1,128 @@
+"""Grid geometry: nodes, the dihedral group D4 and grid isometries.
+
+A node is a pair of integers. The isometries of the grid that fix the origin
+form the dihedral group D4 (4 rotations, 4 reflections); every automorphism
+of a configuration is ``v -> A v + t`` with ``A`` in D4 (paper §2,
+SEMANTICS.md §2). Elements are numbered 0..7 and stored as 2x2 integer
+matrices ``(a, b, c, d)`` acting as ``(x, y) -> (a x + b y, c x + d y)``.
+
+>>> apply(ROT90, (1, 0))
+(0, 1)
+>>> apply(inverse(ROT90), (0, 1))
+(1, 0)
+>>> [NAMES[g] for g in range(8)]
+['id', 'rot90', 'rot180', 'rot270', 'flip-x', 'flip-y', 'flip-diag', 'flip-anti']
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+Node = tuple[int, int]
+
+ORIGIN: Node = (0, 0)
+STEPS: tuple[Node, ...] = ((1, 0), (0, 1), (-1, 0), (0, -1))
+"""The four unit moves; with the origin, the only answers an algorithm may give."""
+
+MATRICES: tuple[tuple[int, int, int, int], ...] = (
+    (1, 0, 0, 1),  # identity
+    (0, -1, 1, 0),  # rotation by 90 degrees (counter-clockwise)
+    (-1, 0, 0, -1),  # rotation by 180 degrees
+    (0, 1, -1, 0),  # rotation by 270 degrees
+    (-1, 0, 0, 1),  # x -> -x: reflection in a vertical axis
+    (1, 0, 0, -1),  # y -> -y: reflection in a horizontal axis
+    (0, 1, 1, 0),  # swap: reflection in the diagonal x = y
+    (0, -1, -1, 0),  # reflection in the anti-diagonal x = -y
+)
+NAMES = ("id", "rot90", "rot180", "rot270", "flip-x", "flip-y", "flip-diag", "flip-anti")
+IDENTITY, ROT90, ROT180, ROT270, FLIP_X, FLIP_Y, FLIP_DIAG, FLIP_ANTI = range(8)
+ROTATIONS = (IDENTITY, ROT90, ROT180, ROT270)
+ALL = tuple(range(8))
+
+
+def apply(g: int, v: Node) -> Node:
+    """Image of node ``v`` under the D4 element ``g``."""
+    a, b, c, d = MATRICES[g]
+    x, y = v
+    return (a * x + b * y, c * x + d * y)
+
+
+def _compose_table() -> tuple[tuple[int, ...], ...]:
+    probes = ((1, 0), (0, 1))
+
+    def find(images: tuple[Node, Node]) -> int:
+        for h in ALL:
+            if (apply(h, probes[0]), apply(h, probes[1])) == images:
+                return h
+        raise AssertionError("D4 is closed")
+
+    return tuple(
+        tuple(find((apply(g, apply(h, probes[0])), apply(g, apply(h, probes[1])))) for h in ALL)
+        for g in ALL
+    )
+
+
+COMPOSE = _compose_table()
+"""``COMPOSE[g][h]`` is the element ``g o h`` (apply ``h`` first)."""
+INVERSE = tuple(next(h for h in ALL if COMPOSE[g][h] == IDENTITY) for g in ALL)
+
+
+def compose(g: int, h: int) -> int:
+    """The element ``g o h``: first ``h``, then ``g``."""
+    return COMPOSE[g][h]
+
+
+def inverse(g: int) -> int:
+    """The inverse element of ``g``."""
+    return INVERSE[g]
+
+
+def is_rotation(g: int) -> bool:
+    """True for the four rotations (determinant +1), identity included."""
+    a, b, c, d = MATRICES[g]
+    return a * d - b * c == 1
+
+
+def add(u: Node, v: Node) -> Node:
+    return (u[0] + v[0], u[1] + v[1])
+
+
+def sub(u: Node, v: Node) -> Node:
+    return (u[0] - v[0], u[1] - v[1])
+
+
+def manhattan(u: Node, v: Node) -> int:
+    """Grid distance ``d(u, v)``."""
+    return abs(u[0] - v[0]) + abs(u[1] - v[1])
+
+
+def neighbours(v: Node) -> tuple[Node, ...]:
+    """The four grid neighbours of ``v``."""
+    return tuple(add(v, s) for s in STEPS)
+
+
+def bounding_box(nodes: Iterable[Node]) -> tuple[int, int, int, int]:
+    """``(xmin, ymin, xmax, ymax)`` of a non-empty collection of nodes."""
+    xs, ys = zip(*nodes, strict=True)
+    return (min(xs), min(ys), max(xs), max(ys))
+
+
+def parse_node(text: str) -> Node:
+    """Parse ``"x,y"`` into a node; ``ValueError`` names the bad text.
+
+    >>> parse_node("3,-1")
+    (3, -1)
+    """
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise ValueError(f"bad point {text!r}: expected 'x,y' with two integers")
+    try:
+        x, y = (int(p.strip(), 10) for p in parts)
+    except ValueError:
+        raise ValueError(f"bad point {text!r}: coordinates must be integers") from None
+    return (x, y)
+
+
+def parse_nodes(text: str) -> list[Node]:
+    """Parse ``"x,y x,y ..."`` (spaces or semicolons between points)."""
+    return [parse_node(p) for p in text.replace(";", " ").split()]

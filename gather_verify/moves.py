@@ -1,0 +1,64 @@
+"""Move sets: how disorientation becomes the adversary's choice.
+
+SEMANTICS.md §3. A robot's move set is the union, over the frames it may hold,
+of the algorithm's answer mapped back to global coordinates. With all 8
+frames (the paper's disoriented robots) an algorithm that answers "any step
+closer" yields every such step; a common compass keeps the identity frame,
+common chirality the 4 rotations.
+
+>>> from gather_verify.algorithms import get_algorithm
+>>> from gather_verify.configuration import Configuration
+>>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)])
+>>> sorted(move_sets(get_algorithm("go-to-target"), c)[(1, 4)])
+[(1, 3), (2, 4)]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from gather_verify import geometry
+from gather_verify.algorithms.base import Algorithm, AlgorithmError
+from gather_verify.configuration import Configuration
+from gather_verify.geometry import ORIGIN, STEPS, Node
+from gather_verify.view import FRAME_SETS, View
+
+ANSWERS = frozenset((ORIGIN, *STEPS))
+
+
+def frames_for(name: str) -> tuple[int, ...]:
+    """The frames of a frame-set name (``all``, ``chirality``, ``compass``)."""
+    if name not in FRAME_SETS:
+        raise ValueError(f"unknown frames {name!r}: use one of {', '.join(FRAME_SETS)}")
+    return FRAME_SETS[name]
+
+
+def move_set(
+    algorithm: Algorithm,
+    configuration: Configuration,
+    node: Node,
+    detection: str = "local-weak",
+    frames: Iterable[int] = geometry.ALL,
+) -> frozenset[Node]:
+    """Global destinations the robots on ``node`` may take (``node`` itself = stay)."""
+    out = set()
+    for g in frames:
+        answer = algorithm.decide(View(configuration, node, g, detection))
+        if answer not in ANSWERS:
+            raise AlgorithmError(
+                f"algorithm {algorithm.name!r} answered {answer!r}: a move must be (0, 0) "
+                "or a unit step (1, 0), (0, 1), (-1, 0), (0, -1) in the robot's frame"
+            )
+        out.add(geometry.add(node, geometry.apply(geometry.inverse(g), answer)))
+    return frozenset(out)
+
+
+def move_sets(
+    algorithm: Algorithm,
+    configuration: Configuration,
+    detection: str = "local-weak",
+    frames: Iterable[int] = geometry.ALL,
+) -> dict[Node, frozenset[Node]]:
+    """Move set of every occupied node (robots on one node share their view)."""
+    frames = tuple(frames)
+    return {v: move_set(algorithm, configuration, v, detection, frames) for v in configuration.counts}

@@ -1,0 +1,227 @@
+"""The paper's strings: corner strings, key and leading corners, configuration views, orderings.
+
+Paper §2 ("Configuration view", "Symmetricity of the set M") and §4 (the
+orderings O, O', O''). From each corner of a rectangle two strings are read,
+one per side: the scan runs along the *fast* side (one grid line, from the
+corner), then steps one line along the other side, and so on ("column by
+column"). A string holds ``l(v)`` per node (``lambda(v)`` for the meeting-node
+strings ``alpha``). The *string representation* of a corner is the string
+read along its shorter side; on a square, the larger of its two strings. The
+*key corner* has the largest representation; the *leading corner* the largest
+``alpha``.
+
+The paper's Figure "string2", laid out from its string in columns of 5:
+
+>>> from gather_verify.configuration import Configuration
+>>> c = from_string("001001400004000000000000404000400401000000100", 5)
+>>> key_scans(c)[0].text
+'001001400004000000000000404000400401000000100'
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import Literal
+
+from gather_verify.configuration import (
+    EMPTY,
+    MEETING,
+    ROBOT,
+    ROBOT_ON_MEETING,
+    Configuration,
+)
+from gather_verify.geometry import Node
+
+Rect = tuple[int, int, int, int]
+AlphaRegion = Literal["mer", "mer_f"]
+
+
+@dataclass(frozen=True)
+class Scan:
+    """One corner string: where it starts, how it runs, what it reads."""
+
+    corner: Node
+    fast: Node  # unit step along the scanned grid line
+    slow: Node  # unit step from one grid line to the next
+    nodes: tuple[Node, ...]
+    text: str
+
+    def index(self, v: Node) -> int:
+        """Position of ``v`` in the scan: the paper's ``d'`` of the configuration view."""
+        return self.nodes.index(v)
+
+    def describe(self) -> str:
+        return f"corner {list(self.corner)} along {list(self.fast)} then {list(self.slow)}"
+
+
+def corners(rect: Rect) -> tuple[Node, ...]:
+    """The four corners of a rectangle (x0, y0, x1, y1), counter-clockwise from lower left."""
+    x0, y0, x1, y1 = rect
+    return ((x0, y0), (x1, y0), (x1, y1), (x0, y1))
+
+
+def scan_nodes(rect: Rect, corner: Node, fast: Node, slow: Node) -> tuple[Node, ...]:
+    """Nodes of ``rect`` in scan order from ``corner``."""
+    x0, y0, x1, y1 = rect
+    length = {0: x1 - x0, 1: y1 - y0}
+    fast_len = length[0] if fast[0] else length[1]
+    slow_len = length[0] if slow[0] else length[1]
+    cx, cy = corner
+    return tuple(
+        (cx + i * fast[0] + j * slow[0], cy + i * fast[1] + j * slow[1])
+        for j in range(slow_len + 1)
+        for i in range(fast_len + 1)
+    )
+
+
+def _directions(rect: Rect, corner: Node) -> tuple[Node, Node]:
+    x0, y0, _, _ = rect
+    h = (1, 0) if corner[0] == x0 else (-1, 0)
+    v = (0, 1) if corner[1] == y0 else (0, -1)
+    return h, v
+
+
+def all_scans(rect: Rect, value: Callable[[Node], int]) -> list[Scan]:
+    """The eight corner strings of ``rect`` (two per corner)."""
+    out = []
+    for corner in corners(rect):
+        h, v = _directions(rect, corner)
+        for fast, slow in ((h, v), (v, h)):
+            nodes = scan_nodes(rect, corner, fast, slow)
+            out.append(Scan(corner, fast, slow, nodes, "".join(str(value(u)) for u in nodes)))
+    return out
+
+
+def representations(rect: Rect, value: Callable[[Node], int]) -> list[Scan]:
+    """Each corner's string representation(s): along the shorter side; on a
+    square the larger of the two, both when they are equal."""
+    x0, y0, x1, y1 = rect
+    width, height = x1 - x0, y1 - y0
+    scans = all_scans(rect, value)
+    if width != height:
+        along_x = width < height  # the fast side is the shorter one
+        return [s for s in scans if (s.fast[0] != 0) == along_x]
+    out = []
+    for a, b in zip(scans[0::2], scans[1::2], strict=True):
+        if a.text == b.text:
+            out.extend((a, b))
+        else:
+            out.append(max(a, b, key=lambda s: s.text))
+    return out
+
+
+def largest(scans: Iterable[Scan]) -> list[Scan]:
+    """The scans whose text is lexicographically largest (ties kept, order kept)."""
+    scans = list(scans)
+    top = max(s.text for s in scans)
+    return [s for s in scans if s.text == top]
+
+
+# -- the configuration: key corners and views -------------------------------------
+
+
+def label_function(configuration: Configuration, *, weak: bool) -> Callable[[Node], int]:
+    """``l(v)``, or with ``weak`` the label with multiplicities not told apart."""
+    return configuration.weak_label if weak else configuration.label
+
+
+def key_scans(configuration: Configuration, *, weak: bool = False) -> list[Scan]:
+    """The largest string representation(s) over MER; their corners are the key corners."""
+    return largest(representations(configuration.mer(), label_function(configuration, weak=weak)))
+
+
+def key_corners(configuration: Configuration, *, weak: bool = False) -> list[Node]:
+    """The key corner(s); unique exactly when no corner ties."""
+    return sorted({s.corner for s in key_scans(configuration, weak=weak)})
+
+
+def configuration_view(scan: Scan, configuration: Configuration, v: Node) -> tuple[int, int]:
+    """The paper's configuration view ``(d', l(v))`` of node ``v`` from a key scan.
+
+    ``d'`` is read as the position of ``v`` in the key corner's string (see
+    docs/interpretations.md, "configuration view").
+    """
+    return (scan.index(v), configuration.label(v))
+
+
+def max_view(
+    configuration: Configuration, candidates: Iterable[Node], *, weak: bool = False
+) -> Node | None:
+    """The candidate with the maximum configuration view, or None when the key
+    corners disagree (the paper's choice is then not defined)."""
+    candidates = list(candidates)
+    picks = {max(candidates, key=s.index) for s in key_scans(configuration, weak=weak)}
+    return picks.pop() if len(picks) == 1 else None
+
+
+# -- the meeting nodes: alpha strings, leading corners, orderings -----------------
+
+
+def alpha_rect(configuration: Configuration, region: AlphaRegion) -> Rect:
+    """Where ``alpha`` is read: MER of ``R`` and ``M`` (the paper's figure) or MER_F."""
+    return configuration.mer() if region == "mer" else configuration.mer_f()
+
+
+def leading_scans(configuration: Configuration, region: AlphaRegion = "mer") -> list[Scan]:
+    """The largest ``alpha`` string(s); their corners are the leading corners."""
+    rect = alpha_rect(configuration, region)
+    return largest(representations(rect, configuration.lam))
+
+
+def leading_corners(configuration: Configuration, region: AlphaRegion = "mer") -> list[Node]:
+    return sorted({s.corner for s in leading_scans(configuration, region)})
+
+
+def meeting_order(scan: Scan, meeting_nodes: Iterable[Node]) -> tuple[Node, ...]:
+    """Meeting nodes in the order they appear in ``scan`` (the paper's O, O', O'')."""
+    wanted = set(meeting_nodes)
+    return tuple(v for v in scan.nodes if v in wanted)
+
+
+def ordering_O(configuration: Configuration, region: AlphaRegion = "mer") -> tuple[Node, ...] | None:
+    """Ordering O of the meeting nodes from the unique leading corner (None if not unique).
+
+    The paper's "highest order" is the *last* node of O (Figure "orderingalgo"(a)).
+    """
+    scans = leading_scans(configuration, region)
+    orders = {meeting_order(s, configuration.meeting_nodes) for s in scans}
+    return orders.pop() if len(orders) == 1 else None
+
+
+def ordering_O_prime(
+    configuration: Configuration, axis_nodes: Iterable[Node], region: AlphaRegion = "mer"
+) -> tuple[Node, ...] | None:
+    """Ordering O' of the meeting nodes on the axis L, or None if the leading
+    corners order them differently."""
+    on_axis = [m for m in configuration.meeting_nodes if m in set(axis_nodes)]
+    orders = {meeting_order(s, on_axis) for s in leading_scans(configuration, region)}
+    return orders.pop() if len(orders) == 1 else None
+
+
+# -- building configurations from strings (paper figures) ---------------------------
+
+_ROBOTS = {ROBOT: 1, ROBOT_ON_MEETING: 1}
+_MEETING = {MEETING, ROBOT_ON_MEETING}
+
+
+def from_string(text: str, column: int) -> Configuration:
+    """Lay a label string out in columns of ``column`` nodes from the origin.
+
+    Character ``k`` goes to node ``(k // column, k % column)``: the fast side
+    is the y axis. Labels 3 and 5 are not allowed (initial configurations).
+    """
+    if column < 1 or len(text) % column:
+        raise ValueError(f"string of length {len(text)} does not split into columns of {column}")
+    robots, meeting = [], []
+    for k, ch in enumerate(text):
+        if ch not in "0124":
+            raise ValueError(f"bad label {ch!r} at position {k}: use 0, 1, 2 or 4")
+        label = int(ch)
+        v = (k // column, k % column)
+        if label in _ROBOTS:
+            robots.append(v)
+        if label in _MEETING:
+            meeting.append(v)
+    assert EMPTY == 0
+    return Configuration(robots, meeting, initial=True)

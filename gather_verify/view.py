@@ -1,0 +1,120 @@
+"""What one robot sees: its snapshot in its own frame, under a multiplicity-detection model.
+
+SEMANTICS.md §3. The snapshot is translated so the robot is at the origin and
+transformed by a D4 element (the robot has no compass and no chirality). A
+view holds the occupied nodes and the meeting nodes, and exactly the
+multiplicity information its detection model allows; asking for more raises
+:class:`MultiplicityHidden`, so an algorithm cannot read what its robots could
+not see.
+
+>>> from gather_verify.configuration import Configuration
+>>> c = Configuration([(1, 1), (1, 1), (3, 1)], [(1, 1)])
+>>> v = View(c, (1, 1), frame=0, detection="local-weak")
+>>> sorted(v.robots), v.multiplicity()
+([(0, 0), (2, 0)], True)
+>>> v.multiplicity((2, 0))
+Traceback (most recent call last):
+...
+gather_verify.view.MultiplicityHidden: local-weak detection shows multiplicity only on the robot's own node, not at (2, 0)
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+from gather_verify import geometry
+from gather_verify.configuration import Configuration
+from gather_verify.geometry import ORIGIN, Node
+
+DETECTION_MODELS = ("none", "local-weak", "local-strong", "global-weak", "global-strong")
+"""Multiplicity detection models, weakest first. The paper's is ``local-weak``."""
+
+FRAME_SETS: dict[str, tuple[int, ...]] = {
+    "all": geometry.ALL,  # disoriented: no compass, no chirality (the paper)
+    "chirality": geometry.ROTATIONS,  # common handedness
+    "compass": (geometry.IDENTITY,),  # common compass
+}
+
+
+class MultiplicityHidden(LookupError):
+    """The algorithm asked for multiplicity information its detection model hides."""
+
+
+def check_detection(detection: str) -> str:
+    if detection not in DETECTION_MODELS:
+        raise ValueError(
+            f"unknown multiplicity model {detection!r}: use one of {', '.join(DETECTION_MODELS)}"
+        )
+    return detection
+
+
+class View:
+    """A robot's snapshot in its own frame (robot at the origin).
+
+    ``robots`` and ``meeting_nodes`` are frozensets of nodes in the robot's
+    frame. Multiplicity is read through :meth:`multiplicity` and :meth:`count`.
+    """
+
+    __slots__ = ("robots", "meeting_nodes", "detection", "_counts", "__dict__")
+
+    def __init__(self, configuration: Configuration, node: Node, frame: int, detection: str):
+        check_detection(detection)
+        if node not in configuration.counts:
+            raise ValueError(f"no robot at {node} to take a view from")
+        g, (px, py) = frame, node
+        counts = {
+            geometry.apply(g, (x - px, y - py)): k for (x, y), k in configuration.counts.items()
+        }
+        self.robots: frozenset[Node] = frozenset(counts)
+        self.meeting_nodes: frozenset[Node] = frozenset(
+            geometry.apply(g, (x - px, y - py)) for x, y in configuration.meeting_nodes
+        )
+        self.detection = detection
+        self._counts = counts
+
+    def _visible(self, v: Node, strong: bool) -> None:
+        d = self.detection
+        if d == "none":
+            raise MultiplicityHidden("detection 'none' shows no multiplicity at all")
+        if d.startswith("local") and v != ORIGIN:
+            raise MultiplicityHidden(
+                f"{d} detection shows multiplicity only on the robot's own node, not at {v}"
+            )
+        if strong and d.endswith("weak"):
+            raise MultiplicityHidden(f"{d} detection tells whether a node is a multiplicity, "
+                                     "not how many robots are on it")
+
+    def multiplicity(self, v: Node = ORIGIN) -> bool:
+        """Whether node ``v`` (default: the robot's own) holds several robots."""
+        self._visible(v, strong=False)
+        return self._counts.get(v, 0) > 1
+
+    def count(self, v: Node = ORIGIN) -> int:
+        """How many robots are on ``v`` (strong detection only)."""
+        self._visible(v, strong=True)
+        return self._counts.get(v, 0)
+
+    @cached_property
+    def configuration(self) -> Configuration:
+        """The snapshot as a configuration in the robot's frame, one robot per
+        occupied node (what every detection model can see)."""
+        return Configuration.trusted(tuple(sorted(self.robots)), self.meeting_nodes)
+
+    def key(self) -> tuple[object, ...]:
+        """Everything this view lets an algorithm read; equal keys, equal decisions."""
+        d = self.detection
+        if d == "none":
+            extra: object = None
+        elif d == "local-weak":
+            extra = self._counts[ORIGIN] > 1
+        elif d == "local-strong":
+            extra = self._counts[ORIGIN]
+        elif d == "global-weak":
+            extra = frozenset(v for v, k in self._counts.items() if k > 1)
+        else:
+            extra = frozenset(self._counts.items())
+        return (self.robots, self.meeting_nodes, d, extra)
+
+    def __repr__(self) -> str:
+        return (f"View(robots={sorted(self.robots)}, meeting_nodes={sorted(self.meeting_nodes)}, "
+                f"detection={self.detection!r})")
