@@ -1,0 +1,65 @@
+"""The ``gather-verify`` command line: one module per subcommand.
+
+Every subcommand module defines ``HELP``, ``add_arguments(parser)`` and
+``run(args) -> int``. Exit codes are shared by all commands: 0 success or
+VERIFIED, 1 VIOLATED, 2 bad input or usage (one line on stderr, never a
+traceback), 3 INCOMPLETE, 4 NOT-APPLICABLE.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+
+from gather_verify.cli.common import EXIT_USAGE, UsageError
+
+COMMANDS = ("classify", "census", "simulate", "check", "replay", "sweep", "report",
+            "impossibility", "mutants", "bench")
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors and exit code 2."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        raise UsageError(f"{self.prog}: {message}")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="gather-verify", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name in COMMANDS:
+        try:
+            module = importlib.import_module(f"gather_verify.cli.{name}")
+        except ModuleNotFoundError as error:
+            if error.name == f"gather_verify.cli.{name}":
+                continue  # not built yet
+            raise
+        p = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        module.add_arguments(p)
+        p.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the console script; returns the exit code."""
+    try:
+        args = build_parser().parse_args(argv)
+        if not getattr(args, "_run", None):
+            build_parser().print_help(sys.stderr)
+            return EXIT_USAGE
+        return int(args._run(args))
+    except UsageError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return EXIT_USAGE
+    except ValueError as error:  # validation errors name the bad value
+        print(f"error: {error}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,88 @@
+"""Shared CLI pieces: exit codes, configuration arguments, number parsing, JSON output."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from typing import Any
+
+from gather_verify.configuration import Configuration
+from gather_verify.geometry import parse_nodes
+from gather_verify.scenario import Scenario, load_scenario
+
+EXIT_OK, EXIT_VIOLATED, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_NOT_APPLICABLE = 0, 1, 2, 3, 4
+VERDICT_EXIT = {"VERIFIED": EXIT_OK, "VIOLATED": EXIT_VIOLATED, "INCOMPLETE": EXIT_INCOMPLETE,
+                "NOT-APPLICABLE": EXIT_NOT_APPLICABLE}
+
+
+class UsageError(Exception):
+    """Bad command-line usage; printed as one line, exit code 2."""
+
+
+def add_configuration_arguments(parser: argparse.ArgumentParser) -> None:
+    """``[SCENARIO] [--robots "x,y ..."] [--meeting "x,y ..."]``."""
+    parser.add_argument("scenario", nargs="?", help="scenario JSON file (docs/scenarios.md)")
+    parser.add_argument("--robots", help='robot nodes, e.g. "0,0 3,1 1,4"')
+    parser.add_argument("--meeting", help='meeting nodes, e.g. "2,2"')
+
+
+def load_configuration(args: argparse.Namespace) -> tuple[Configuration, Scenario | None]:
+    """The initial configuration named on the command line (file, or points, or both:
+    points override the file's)."""
+    scenario = load_scenario(args.scenario) if args.scenario else None
+    if scenario is None and (args.robots is None or args.meeting is None):
+        raise UsageError("give a SCENARIO file, or both --robots and --meeting")
+    robots = parse_nodes(args.robots) if args.robots is not None else list(
+        scenario.configuration.robots)  # type: ignore[union-attr]
+    meeting = parse_nodes(args.meeting) if args.meeting is not None else list(
+        scenario.configuration.meeting_nodes)  # type: ignore[union-attr]
+    return Configuration(robots, meeting, initial=True), scenario
+
+
+def bounded_int(low: int, high: int):  # noqa: ANN201 - argparse type factory
+    """argparse type: an integer in ``[low, high]``."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text, 10)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"{value} is out of range [{low}, {high}]")
+        return value
+
+    return parse
+
+
+def bounded_float(low: float, high: float):  # noqa: ANN201
+    """argparse type: a finite number in ``[low, high]``."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        if not low <= value <= high:  # also rejects nan and inf
+            raise argparse.ArgumentTypeError(f"{text} is out of range [{low}, {high}]")
+        return value
+
+    return parse
+
+
+def parse_box(text: str) -> tuple[int, int]:
+    """``WxH`` with 1 <= W, H <= 64."""
+    w, sep, h = text.lower().partition("x")
+    try:
+        width, height = int(w, 10), int(h, 10)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"bad box {text!r}: expected WxH, e.g. 4x4") from None
+    if not sep or not (1 <= width <= 64 and 1 <= height <= 64):
+        raise argparse.ArgumentTypeError(f"bad box {text!r}: W and H must be 1..64")
+    return width, height
+
+
+def print_json(obj: Any) -> None:
+    """One JSON object on stdout, keys in a stable order."""
+    json.dump(obj, sys.stdout, sort_keys=True)
+    sys.stdout.write("\n")

@@ -1,0 +1,181 @@
+"""Scenario files: a configuration with the settings to check it under and what to expect.
+
+The format is JSON, documented in docs/scenarios.md. Loading validates every
+field and raises :class:`ScenarioError` (a ``ValueError``) with one line that
+names the file, the field and the problem.
+
+>>> s = parse_scenario({"robots": [[0, 0], [3, 1]], "meeting_nodes": [[2, 2]]}, "inline")
+>>> s.configuration.robots, s.algorithm, s.scheduler
+(((0, 0), (3, 1)), 'paper', 'async')
+>>> parse_scenario({"robots": [[0, 0], [0, 0]], "meeting_nodes": [[2, 2]]}, "x.json")
+Traceback (most recent call last):
+...
+gather_verify.scenario.ScenarioError: x.json: duplicate robot [0, 0]: robots of an initial configuration stand on distinct nodes
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from gather_verify.configuration import Configuration
+
+SCHEDULERS = ("fsync", "ssync", "async")
+VERDICTS = ("VERIFIED", "VIOLATED", "INCOMPLETE", "NOT-APPLICABLE")
+TOP_LEVEL = {
+    "name": str,
+    "description": str,
+    "robots": list,
+    "meeting_nodes": list,
+    "algorithm": str,
+    "scheduler": str,
+    "multiplicity": str,
+    "frames": str,
+    "expect": dict,
+    "trace": dict,
+    "source": str,
+}
+
+
+class ScenarioError(ValueError):
+    """A scenario file is malformed; the message names the file and the problem."""
+
+
+@dataclass(frozen=True)
+class Expectation:
+    """One expected verdict: under ``algorithm`` and ``scheduler``, ``verdict``
+    (and, for VIOLATED, the failing ``property``)."""
+
+    algorithm: str
+    scheduler: str
+    verdict: str
+    property: str | None = None
+    max_moves: int | None = None
+    options: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A parsed scenario file."""
+
+    name: str
+    configuration: Configuration
+    description: str = ""
+    algorithm: str = "paper"
+    scheduler: str = "async"
+    multiplicity: str = "local-weak"
+    frames: str = "all"
+    expected_class: str | None = None
+    expectations: tuple[Expectation, ...] = ()
+    trace: dict[str, Any] | None = None
+    path: str = ""
+    raw: dict[str, Any] = field(default_factory=dict, repr=False)
+
+
+def _type_name(t: type) -> str:
+    return {str: "a string", list: "a list", dict: "an object", int: "an integer"}[t]
+
+
+def parse_scenario(data: object, where: str) -> Scenario:
+    """Validate a decoded JSON object as a scenario; ``where`` names it in errors."""
+    if not isinstance(data, dict):
+        raise ScenarioError(f"{where}: a scenario must be a JSON object, not {type(data).__name__}")
+    for key, value in data.items():
+        if key not in TOP_LEVEL:
+            raise ScenarioError(
+                f"{where}: unknown field {key!r} (known: {', '.join(sorted(TOP_LEVEL))})"
+            )
+        if not isinstance(value, TOP_LEVEL[key]):
+            raise ScenarioError(f"{where}: field {key!r} must be {_type_name(TOP_LEVEL[key])}")
+    for key in ("robots", "meeting_nodes"):
+        if key not in data:
+            raise ScenarioError(f"{where}: missing field {key!r}")
+    try:
+        configuration = Configuration(data["robots"], data["meeting_nodes"], initial=True)
+    except ValueError as error:
+        raise ScenarioError(f"{where}: {error}") from None
+    scheduler = data.get("scheduler", "async")
+    if scheduler not in SCHEDULERS:
+        raise ScenarioError(f"{where}: unknown scheduler {scheduler!r}: use one of {', '.join(SCHEDULERS)}")
+    expected_class, expectations = _parse_expect(data.get("expect", {}), where, data)
+    return Scenario(
+        name=data.get("name", Path(where).stem),
+        configuration=configuration,
+        description=data.get("description", ""),
+        algorithm=data.get("algorithm", "paper"),
+        scheduler=scheduler,
+        multiplicity=data.get("multiplicity", "local-weak"),
+        frames=data.get("frames", "all"),
+        expected_class=expected_class,
+        expectations=expectations,
+        trace=data.get("trace"),
+        path=where,
+        raw=data,
+    )
+
+
+def _parse_expect(
+    expect: dict[str, Any], where: str, data: dict[str, Any]
+) -> tuple[str | None, tuple[Expectation, ...]]:
+    from gather_verify.classes import CLASS_NAMES
+
+    known = {"class", "verdicts"}
+    for key in expect:
+        if key not in known:
+            raise ScenarioError(f"{where}: unknown field 'expect.{key}' (known: class, verdicts)")
+    expected_class = expect.get("class")
+    if expected_class is not None and expected_class not in CLASS_NAMES:
+        raise ScenarioError(f"{where}: unknown class {expected_class!r} in 'expect.class'")
+    verdicts = expect.get("verdicts", [])
+    if not isinstance(verdicts, list):
+        raise ScenarioError(f"{where}: 'expect.verdicts' must be a list")
+    out = []
+    for i, item in enumerate(verdicts):
+        at = f"{where}: expect.verdicts[{i}]"
+        if not isinstance(item, dict):
+            raise ScenarioError(f"{at} must be an object")
+        verdict = item.get("verdict")
+        if verdict not in VERDICTS:
+            raise ScenarioError(f"{at}: verdict must be one of {', '.join(VERDICTS)}")
+        scheduler = item.get("scheduler", data.get("scheduler", "async"))
+        if scheduler not in SCHEDULERS:
+            raise ScenarioError(f"{at}: unknown scheduler {scheduler!r}")
+        prop = item.get("property")
+        if verdict == "VIOLATED" and not isinstance(prop, str):
+            raise ScenarioError(f"{at}: a VIOLATED verdict names its 'property'")
+        max_moves = item.get("max_moves")
+        if max_moves is not None and (isinstance(max_moves, bool) or not isinstance(max_moves, int)):
+            raise ScenarioError(f"{at}: 'max_moves' must be an integer")
+        options = item.get("options", {})
+        if not isinstance(options, dict):
+            raise ScenarioError(f"{at}: 'options' must be an object")
+        out.append(Expectation(
+            algorithm=item.get("algorithm", data.get("algorithm", "paper")),
+            scheduler=scheduler, verdict=verdict, property=prop, max_moves=max_moves,
+            options=options,
+        ))
+    return expected_class, tuple(out)
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and validate a scenario file.
+
+    Raises :class:`ScenarioError` for a missing or unreadable file, invalid JSON
+    or any invalid field.
+    """
+    where = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ScenarioError(f"{where}: no such file") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise ScenarioError(f"{where}: cannot read: {error.__class__.__name__}") from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as error:
+        raise ScenarioError(f"{where}: invalid JSON at line {error.lineno}: {error.msg}") from None
+    except RecursionError:
+        raise ScenarioError(f"{where}: invalid JSON: nested too deeply") from None
+    return parse_scenario(data, where)
