@@ -1,0 +1,35 @@
+"""``gather-verify report``: render a stored sweep as tables, HTML and a plot."""
+
+from __future__ import annotations
+
+import argparse
+
+from gather_verify.cli.common import print_json
+
+HELP = "render the sweeps stored in a results database"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--db", required=True, help="results database written by 'sweep'")
+    p.add_argument("--html", metavar="FILE", help="write an HTML report (with SVG traces)")
+    p.add_argument("--plot", metavar="FILE", help="write a plot of max moves against D·n")
+    p.add_argument("--json", action="store_true")
+
+
+def run(args: argparse.Namespace) -> int:
+    from gather_verify.report import summaries, write_html, write_plot
+    from gather_verify.sweep import format_summary
+
+    found = summaries(args.db)
+    if args.html:
+        write_html(args.db, args.html)
+    if args.plot:
+        write_plot(args.db, args.plot)
+    if args.json:
+        print_json({"sweeps": found})
+        return 0
+    for i, summary in enumerate(found):
+        print(f"== sweep {i + 1}: {summary['settings']}")
+        format_summary(summary)
+        print()
+    return 0

@@ -1,0 +1,80 @@
+"""``gather-verify sweep``: verify every small configuration and store the results."""
+
+from __future__ import annotations
+
+import argparse
+import os
+
+from gather_verify.cli.common import bounded_float, bounded_int, parse_box, print_json
+
+HELP = "verify every configuration of a box (up to symmetry) and store the results"
+DEFAULT_DB = "gather-verify-results.sqlite"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--robots", type=bounded_int(1, 16), required=True, help="robots n")
+    p.add_argument("--meeting", type=bounded_int(1, 16), required=True, help="meeting nodes m")
+    p.add_argument("--box", type=parse_box, required=True, help="box of nodes, WxH")
+    p.add_argument("--algorithm", default="paper")
+    p.add_argument("--scheduler", choices=("fsync", "ssync", "async"), default="async")
+    p.add_argument("--multiplicity", default="local-weak", help="detection model")
+    p.add_argument("--frames", default="all", choices=("all", "chirality", "compass"))
+    p.add_argument("--property", action="append", dest="properties", metavar="P",
+                   help="property to check (repeat; default: all)")
+    p.add_argument("--no-reduction", action="store_true")
+    p.add_argument("--db", default=DEFAULT_DB, help=f"results database (default {DEFAULT_DB})")
+    p.add_argument("--workers", type=bounded_int(1, 512), default=None,
+                   help="local processes (default: the number of cores)")
+    p.add_argument("--dask", metavar="local|ADDRESS", default=None,
+                   help="run on a Dask cluster: 'local' starts one, else a scheduler address")
+    p.add_argument("--max-states-per-config", type=bounded_int(1, 10**9), default=2_000_000)
+    p.add_argument("--max-seconds-per-config", type=bounded_float(0.001, 86400.0), default=600.0)
+    p.add_argument("--move-bound-c", type=bounded_float(0.0, 1e6), default=4.0)
+    p.add_argument("--limit", type=bounded_int(1, 10**9), default=None,
+                   help="only the first N configurations of the enumeration")
+    p.add_argument("--junit", metavar="FILE", help="also write JUnit XML, one test case per configuration")
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+
+
+def run(args: argparse.Namespace) -> int:
+    from gather_verify.algorithms import get_algorithm
+    from gather_verify.census import validate_census_arguments
+    from gather_verify.moves import frames_for
+    from gather_verify.sweep import SweepSettings, format_summary, run_sweep
+    from gather_verify.view import check_detection
+
+    get_algorithm(args.algorithm)  # unknown names fail before any work
+    check_detection(args.multiplicity)
+    frames_for(args.frames)
+    validate_census_arguments(args.robots, args.meeting, *args.box)
+    if args.properties:
+        from gather_verify.properties import check_property_names
+
+        check_property_names(args.properties)
+    settings = SweepSettings(
+        robots=args.robots, meeting=args.meeting, box=args.box, algorithm=args.algorithm,
+        scheduler=args.scheduler, detection=args.multiplicity, frames=args.frames,
+        properties=tuple(args.properties or ()), max_states=args.max_states_per_config,
+        max_seconds=args.max_seconds_per_config, move_bound_c=args.move_bound_c,
+        reduction=not args.no_reduction,
+    )
+    try:
+        summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
+                            progress=not args.json, limit=args.limit)
+    except KeyboardInterrupt:
+        print(f"interrupted: results so far are kept in {os.path.abspath(args.db)}; "
+              "run the same command again to resume", file=__import__("sys").stderr)
+        return 130
+    if args.junit:
+        from gather_verify.junit import write_sweep_junit
+
+        write_sweep_junit(args.db, settings, args.junit)
+    if args.json:
+        print_json(summary)
+    else:
+        format_summary(summary)
+        print(f"\nresults: {os.path.abspath(args.db)}")
+    verdicts = {v for by in summary["verdicts"].values() for v in by}
+    if "VIOLATED" in verdicts:
+        return 1
+    return 3 if "INCOMPLETE" in verdicts else 0

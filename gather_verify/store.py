@@ -1,0 +1,120 @@
+"""The results store: one SQLite database (standard library) per sweep directory.
+
+A sweep is identified by its settings (algorithm, scheduler, detection, frames,
+properties, limits, box and counts); a result row by the sweep and the
+configuration's canonical key. Rows are written in transactions as results
+arrive, so a sweep killed at any moment keeps everything committed, and a
+re-run skips what is there. Timings live in their own table: the results
+table of a sweep is byte-for-byte the same whatever ran it.
+
+>>> store = Store(":memory:")
+>>> sweep = store.sweep_id({"algorithm": "go-to-target", "scheduler": "fsync"})
+>>> store.add(sweep, [{"key": "k1", "index": 0, "class": "I13", "verdict": "VERIFIED"}])
+>>> store.done_keys(sweep)
+{'k1'}
+"""
+
+from __future__ import annotations
+
+import json
+import sqlite3
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
+COLUMNS = (
+    "key", "index", "robots", "meeting_nodes", "class", "verdict", "property", "reason",
+    "states", "transitions", "max_moves", "D", "n", "ratio", "trace",
+)
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS sweeps (
+    id INTEGER PRIMARY KEY,
+    settings TEXT NOT NULL UNIQUE
+);
+CREATE TABLE IF NOT EXISTS results (
+    sweep INTEGER NOT NULL REFERENCES sweeps(id),
+    key TEXT NOT NULL,
+    "index" INTEGER NOT NULL,
+    robots TEXT, meeting_nodes TEXT, class TEXT, verdict TEXT, property TEXT, reason TEXT,
+    states INTEGER, transitions INTEGER, max_moves INTEGER, D INTEGER, n INTEGER, ratio REAL,
+    trace TEXT,
+    PRIMARY KEY (sweep, key)
+);
+CREATE TABLE IF NOT EXISTS timings (
+    sweep INTEGER NOT NULL, key TEXT NOT NULL, seconds REAL, PRIMARY KEY (sweep, key)
+);
+"""
+
+
+class Store:
+    """A results database at ``path`` (``:memory:`` for tests)."""
+
+    def __init__(self, path: str | Path):
+        if str(path) != ":memory:":
+            Path(path).parent.mkdir(parents=True, exist_ok=True)
+        try:
+            self.db = sqlite3.connect(str(path), timeout=60)
+            self.db.executescript(_SCHEMA)
+        except sqlite3.DatabaseError as error:
+            raise ValueError(f"{path}: not a gather-verify results database ({error})") from None
+        self.db.execute("PRAGMA journal_mode=WAL")
+        self.db.execute("PRAGMA synchronous=NORMAL")
+
+    def close(self) -> None:
+        self.db.close()
+
+    @staticmethod
+    def settings_text(settings: dict[str, Any]) -> str:
+        return json.dumps(settings, sort_keys=True, separators=(",", ":"))
+
+    def sweep_id(self, settings: dict[str, Any]) -> int:
+        """The id of the sweep with these settings, created if new."""
+        text = self.settings_text(settings)
+        with self.db:
+            self.db.execute("INSERT OR IGNORE INTO sweeps(settings) VALUES (?)", (text,))
+        return int(self.db.execute("SELECT id FROM sweeps WHERE settings = ?", (text,)).fetchone()[0])
+
+    def sweeps(self) -> list[tuple[int, dict[str, Any]]]:
+        return [(i, json.loads(s)) for i, s in self.db.execute("SELECT id, settings FROM sweeps ORDER BY id")]
+
+    def done_keys(self, sweep: int) -> set[str]:
+        return {k for (k,) in self.db.execute("SELECT key FROM results WHERE sweep = ?", (sweep,))}
+
+    def add(self, sweep: int, rows: Iterable[dict[str, Any]]) -> None:
+        """Store finished results in one transaction."""
+        rows = list(rows)
+        values = []
+        for row in rows:
+            record = [row.get(c) for c in COLUMNS]
+            for i, c in enumerate(COLUMNS):
+                if c in ("robots", "meeting_nodes", "trace") and record[i] is not None \
+                        and not isinstance(record[i], str):
+                    record[i] = json.dumps(record[i], sort_keys=True, separators=(",", ":"))
+            values.append((sweep, *record))
+        marks = ",".join("?" * (len(COLUMNS) + 1))
+        names = ",".join(f'"{c}"' for c in COLUMNS)
+        with self.db:
+            self.db.executemany(
+                f"INSERT OR REPLACE INTO results(sweep,{names}) VALUES ({marks})", values
+            )
+            self.db.executemany(
+                "INSERT OR REPLACE INTO timings(sweep, key, seconds) VALUES (?, ?, ?)",
+                [(sweep, r["key"], r.get("seconds")) for r in rows],
+            )
+
+    def results(self, sweep: int) -> list[dict[str, Any]]:
+        """All results of a sweep in enumeration order, with their timings."""
+        names = ",".join(f'r."{c}"' for c in COLUMNS)
+        cursor = self.db.execute(
+            f"SELECT {names}, t.seconds FROM results r LEFT JOIN timings t "
+            f"ON t.sweep = r.sweep AND t.key = r.key WHERE r.sweep = ? ORDER BY r.\"index\"",
+            (sweep,),
+        )
+        out = []
+        for row in cursor:
+            record = dict(zip((*COLUMNS, "seconds"), row, strict=True))
+            for c in ("robots", "meeting_nodes", "trace"):
+                if record[c] is not None:
+                    record[c] = json.loads(record[c])
+            out.append(record)
+        return out

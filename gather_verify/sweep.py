@@ -1,0 +1,268 @@
+"""Exhaustive sweeps: every small configuration, classified and verified, results stored.
+
+A sweep enumerates the configurations exactly as the census does (one per
+class of translation + D4, in a fixed order), classifies each, runs the
+explorer on every gatherable one, and writes one row per configuration into
+the results store as results arrive. Re-running the same sweep resumes; the
+work runs in this process, in a local process pool, or on a Dask cluster, and
+the stored results are the same whichever ran them.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+from gather_verify.configuration import Configuration
+from gather_verify.store import Store
+
+CHUNK = 8
+"""Configurations per task: enough to amortise process overhead, small enough to lose little."""
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """Everything that decides a sweep's results (and so identifies it in the store)."""
+
+    robots: int
+    meeting: int
+    box: tuple[int, int]
+    algorithm: str
+    scheduler: str
+    detection: str = "local-weak"
+    frames: str = "all"
+    properties: tuple[str, ...] = ()
+    max_states: int = 2_000_000
+    max_seconds: float = 600.0
+    move_bound_c: float = 4.0
+    reduction: bool = True
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    def key(self) -> dict[str, Any]:
+        """The identity of the sweep in the store (timing limits excluded only if
+        they cannot change a verdict: they can, so they are included)."""
+        out = asdict(self)
+        out["box"] = list(self.box)
+        out["properties"] = list(self.properties)
+        return out
+
+
+def configuration_key(c: Configuration) -> str:
+    """Stable text key of a (canonical) configuration."""
+    return json.dumps([sorted(map(list, c.robots)), sorted(map(list, c.meeting_nodes))],
+                      separators=(",", ":"))
+
+
+def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[str, Any]:
+    """Classify and check one configuration; the row the store keeps."""
+    from gather_verify.check import run_check
+
+    started = time.perf_counter()
+    report = run_check(
+        c, algorithm=settings.algorithm, scheduler=settings.scheduler,
+        detection=settings.detection, frames=settings.frames,
+        properties=settings.properties or None, reduction=settings.reduction,
+        max_states=settings.max_states, max_seconds=settings.max_seconds,
+        move_bound_c=settings.move_bound_c,
+    )
+    return {
+        "key": configuration_key(c),
+        "index": index,
+        "robots": [list(r) for r in c.robots],
+        "meeting_nodes": sorted(list(m) for m in c.meeting_nodes),
+        "class": report["class"],
+        "verdict": report["verdict"],
+        "property": report.get("property"),
+        "reason": report.get("reason"),
+        "states": report.get("states"),
+        "transitions": report.get("transitions"),
+        "max_moves": report.get("max_moves"),
+        "D": report.get("D"),
+        "n": report.get("n"),
+        "ratio": report.get("ratio"),
+        "trace": report.get("trace"),
+        "seconds": time.perf_counter() - started,
+    }
+
+
+def verify_chunk(settings: SweepSettings, chunk: Sequence[tuple[int, Configuration]]) -> list[dict[str, Any]]:
+    """Worker entry point (picklable for process pools and Dask)."""
+    return [verify_one(settings, i, c) for i, c in chunk]
+
+
+def _chunks(items: list[tuple[int, Configuration]], size: int) -> Iterator[list[tuple[int, Configuration]]]:
+    for start in range(0, len(items), size):
+        yield items[start:start + size]
+
+
+class Progress:
+    """A one-line progress bar with rate and ETA on a terminal; silent otherwise."""
+
+    def __init__(self, total: int, enabled: bool):
+        self.total, self.done, self.enabled = total, 0, enabled and sys.stderr.isatty()
+        self.started = time.monotonic()
+
+    def advance(self, k: int) -> None:
+        self.done += k
+        if not self.enabled:
+            return
+        elapsed = time.monotonic() - self.started
+        rate = self.done / elapsed if elapsed > 0 else 0.0
+        eta = (self.total - self.done) / rate if rate > 0 else float("inf")
+        width = 30
+        filled = int(width * self.done / max(self.total, 1))
+        sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total} "
+                         f"{rate:6.1f} cfg/s ETA {eta:6.0f}s")
+        sys.stderr.flush()
+
+    def close(self) -> None:
+        if self.enabled:
+            sys.stderr.write("\n")
+
+
+def run_sweep(
+    settings: SweepSettings,
+    db_path: str,
+    *,
+    workers: int | None = None,
+    dask: str | None = None,
+    progress: bool = True,
+    limit: int | None = None,
+) -> dict[str, Any]:
+    """Run (or resume) a sweep; return its summary (see :func:`summarise`)."""
+    from gather_verify.census import enumerate_configurations
+
+    store = Store(db_path)
+    sweep = store.sweep_id(settings.key())
+    done = store.done_keys(sweep)
+    todo = []
+    for index, c in enumerate(enumerate_configurations(settings.robots, settings.meeting, *settings.box)):
+        if limit is not None and index >= limit:
+            break
+        if configuration_key(c) not in done:
+            todo.append((index, c))
+    bar = Progress(len(todo), progress)
+    try:
+        for rows in _execute(settings, todo, workers, dask):
+            store.add(sweep, rows)
+            bar.advance(len(rows))
+    finally:
+        bar.close()
+    summary = summarise(store.results(sweep), settings)
+    store.close()
+    return summary
+
+
+def _execute(
+    settings: SweepSettings,
+    todo: list[tuple[int, Configuration]],
+    workers: int | None,
+    dask: str | None,
+) -> Iterator[list[dict[str, Any]]]:
+    chunks = list(_chunks(todo, CHUNK))
+    if dask is not None:
+        yield from _execute_dask(settings, chunks, dask, workers)
+        return
+    workers = workers or os.cpu_count() or 1
+    if workers == 1 or len(chunks) <= 1:
+        for chunk in chunks:
+            yield verify_chunk(settings, chunk)
+        return
+    import multiprocessing
+
+    with multiprocessing.get_context("fork").Pool(workers) as pool:
+        tasks = [(settings, chunk) for chunk in chunks]
+        yield from pool.imap_unordered(_star_verify, tasks)
+
+
+def _star_verify(task: tuple[SweepSettings, list[tuple[int, Configuration]]]) -> list[dict[str, Any]]:
+    return verify_chunk(*task)
+
+
+def _execute_dask(
+    settings: SweepSettings, chunks: list[list[tuple[int, Configuration]]], address: str,
+    workers: int | None,
+) -> Iterator[list[dict[str, Any]]]:
+    try:
+        from dask.distributed import Client, LocalCluster, as_completed
+    except ImportError:
+        raise ValueError("--dask needs the dask extra: pip install 'gather-verify[dask]'") from None
+    cluster = None
+    if address == "local":
+        cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
+                               processes=True, dashboard_address=None)
+        client = Client(cluster)
+    else:
+        client = Client(address)
+    try:
+        futures = client.map(verify_chunk, [settings] * len(chunks), chunks, pure=False)
+        for future in as_completed(futures):
+            yield future.result()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def summarise(rows: list[dict[str, Any]], settings: SweepSettings | None = None) -> dict[str, Any]:
+    """Totals per class and verdict, failing properties, worst ratios, slowest configurations."""
+    from gather_verify.classes import CLASS_NAMES
+
+    classes = dict.fromkeys(CLASS_NAMES, 0)
+    verdicts: dict[str, dict[str, int]] = {}
+    failing: dict[str, dict[str, int]] = {}
+    worst: dict[str, float] = {}
+    for row in rows:
+        name = row["class"]
+        classes[name] = classes.get(name, 0) + 1
+        by = verdicts.setdefault(name, {})
+        by[row["verdict"]] = by.get(row["verdict"], 0) + 1
+        if row["verdict"] == "VIOLATED" and row.get("property"):
+            f = failing.setdefault(name, {})
+            f[row["property"]] = f.get(row["property"], 0) + 1
+        if row.get("ratio") is not None:
+            worst[name] = max(worst.get(name, 0.0), float(row["ratio"]))
+    slowest = sorted(rows, key=lambda r: -(r.get("seconds") or 0.0))[:5]
+    return {
+        "settings": settings.key() if settings else None,
+        "total": len(rows),
+        "classes": classes,
+        "verdicts": verdicts,
+        "failing_properties": failing,
+        "max_ratio": worst,
+        "slowest": [{"robots": r["robots"], "meeting_nodes": r["meeting_nodes"],
+                     "class": r["class"], "seconds": round(r.get("seconds") or 0.0, 3)}
+                    for r in slowest],
+    }
+
+
+def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print) -> None:
+    """The report as text tables."""
+    from gather_verify.scenario import VERDICTS
+
+    write(f"{summary['total']} configurations")
+    header = f"{'class':<13}{'count':>7}" + "".join(f"{v:>16}" for v in VERDICTS) + f"{'max ratio':>11}"
+    write(header)
+    write("-" * len(header))
+    for name, count in summary["classes"].items():
+        if not count:
+            continue
+        by = summary["verdicts"].get(name, {})
+        ratio = summary["max_ratio"].get(name)
+        write(f"{name:<13}{count:>7}" + "".join(f"{by.get(v, 0):>16}" for v in VERDICTS)
+              + (f"{ratio:>11.2f}" if ratio is not None else f"{'-':>11}"))
+    if summary["failing_properties"]:
+        write("")
+        write("failing properties:")
+        for name, props in summary["failing_properties"].items():
+            write(f"  {name}: " + ", ".join(f"{p} x{k}" for p, k in sorted(props.items())))
+    if summary["slowest"]:
+        write("")
+        write("slowest configurations:")
+        for r in summary["slowest"]:
+            write(f"  {r['seconds']:8.3f}s  {r['class']:<5} robots={r['robots']} meeting={r['meeting_nodes']}")
