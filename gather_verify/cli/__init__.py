@@ -56,6 +56,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ValueError as error:  # validation errors name the bad value
         print(f"error: {error}", file=sys.stderr)
         return EXIT_USAGE
+    except OSError as error:  # unreadable input or unwritable output file
+        print(f"error: {error}", file=sys.stderr)
+        return EXIT_USAGE
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
