@@ -12,7 +12,7 @@ a skip, VERIFIED a pass.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 from xml.sax.saxutils import escape, quoteattr
@@ -56,15 +56,15 @@ def write_junit(path: str, suite: str, cases: Iterable[dict[str, Any]]) -> None:
     Path(path).write_text(junit_xml(suite, cases) + "\n", encoding="utf-8")
 
 
-def write_sweep_junit(db_path: str, settings: Any, path: str) -> None:
-    """One test case per configuration of the sweep with these settings."""
+def write_sweep_junit(db_path: str, settings: Sequence[Any], path: str) -> None:
+    """One test case per configuration of the sweeps with these settings."""
     from gather_verify.store import Store
 
     store = Store(db_path)
     try:
-        rows = store.results(store.sweep_id(settings.key()))
+        rows = [r for one in settings for r in store.results(store.sweep_id(one.key()))]
     finally:
         store.close()
-    suite = f"sweep.{settings.algorithm}.{settings.scheduler}"
+    suite = f"sweep.{settings[0].algorithm}.{settings[0].scheduler}"
     write_junit(path, suite, ({**r, "name": f"{r['class']} robots={r['robots']} meeting={r['meeting_nodes']}"}
                               for r in rows))

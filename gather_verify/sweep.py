@@ -126,7 +126,7 @@ class Progress:
 
 
 def run_sweep(
-    settings: SweepSettings,
+    settings: SweepSettings | Sequence[SweepSettings],
     db_path: str,
     *,
     workers: int | None = None,
@@ -134,28 +134,36 @@ def run_sweep(
     progress: bool = True,
     limit: int | None = None,
 ) -> dict[str, Any]:
-    """Run (or resume) a sweep; return its summary (see :func:`summarise`)."""
+    """Run (or resume) one sweep, or several (e.g. every n and m up to a bound) into
+    one store; return the summary over all of them (see :func:`summarise`)."""
     from gather_verify.census import enumerate_configurations
 
+    batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
     store = Store(db_path)
-    sweep = store.sweep_id(settings.key())
-    done = store.done_keys(sweep)
-    todo = []
-    for index, c in enumerate(enumerate_configurations(settings.robots, settings.meeting, *settings.box)):
-        if limit is not None and index >= limit:
-            break
-        if configuration_key(c) not in done:
-            todo.append((index, c))
-    bar = Progress(len(todo), progress)
     try:
-        for rows in _execute(settings, todo, workers, dask):
-            store.add(sweep, rows)
-            bar.advance(len(rows))
+        plan = []
+        for one in batch:
+            sweep = store.sweep_id(one.key())
+            done = store.done_keys(sweep)
+            todo = []
+            for index, c in enumerate(enumerate_configurations(one.robots, one.meeting, *one.box)):
+                if limit is not None and index >= limit:
+                    break
+                if configuration_key(c) not in done:
+                    todo.append((index, c))
+            plan.append((one, sweep, todo))
+        bar = Progress(sum(len(todo) for _, _, todo in plan), progress)
+        try:
+            for one, sweep, todo in plan:
+                for rows in _execute(one, todo, workers, dask):
+                    store.add(sweep, rows)
+                    bar.advance(len(rows))
+        finally:
+            bar.close()
+        rows = [row for _, sweep, _ in plan for row in store.results(sweep)]
     finally:
-        bar.close()
-    summary = summarise(store.results(sweep), settings)
-    store.close()
-    return summary
+        store.close()
+    return summarise(rows, batch[0] if len(batch) == 1 else None)
 
 
 def _execute(

@@ -12,8 +12,10 @@ DEFAULT_DB = "gather-verify-results.sqlite"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--robots", type=bounded_int(1, 16), required=True, help="robots n")
-    p.add_argument("--meeting", type=bounded_int(1, 16), required=True, help="meeting nodes m")
+    p.add_argument("--robots", type=count_range, required=True,
+                   help="robots n, or a range A-B (every n from A to B)")
+    p.add_argument("--meeting", type=count_range, required=True,
+                   help="meeting nodes m, or a range A-B")
     p.add_argument("--box", type=parse_box, required=True, help="box of nodes, WxH")
     p.add_argument("--algorithm", default="paper")
     p.add_argument("--scheduler", choices=("fsync", "ssync", "async"), default="async")
@@ -36,6 +38,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
 
 
+def count_range(text: str) -> range:
+    """argparse type: ``N`` or ``A-B`` with 1 <= A <= B <= 16."""
+    low, sep, high = text.partition("-")
+    parse = bounded_int(1, 16)
+    first = parse(low)
+    last = parse(high) if sep else first
+    if last < first:
+        raise argparse.ArgumentTypeError(f"empty range {text!r}")
+    return range(first, last + 1)
+
+
 def run(args: argparse.Namespace) -> int:
     from gather_verify.algorithms import get_algorithm
     from gather_verify.census import validate_census_arguments
@@ -46,18 +59,20 @@ def run(args: argparse.Namespace) -> int:
     get_algorithm(args.algorithm)  # unknown names fail before any work
     check_detection(args.multiplicity)
     frames_for(args.frames)
-    validate_census_arguments(args.robots, args.meeting, *args.box)
+    for n in args.robots:
+        for m in args.meeting:
+            validate_census_arguments(n, m, *args.box)
     if args.properties:
         from gather_verify.properties import check_property_names
 
         check_property_names(args.properties)
-    settings = SweepSettings(
-        robots=args.robots, meeting=args.meeting, box=args.box, algorithm=args.algorithm,
+    settings = [SweepSettings(
+        robots=n, meeting=m, box=args.box, algorithm=args.algorithm,
         scheduler=args.scheduler, detection=args.multiplicity, frames=args.frames,
         properties=tuple(args.properties or ()), max_states=args.max_states_per_config,
         max_seconds=args.max_seconds_per_config, move_bound_c=args.move_bound_c,
         reduction=not args.no_reduction,
-    )
+    ) for n in args.robots for m in args.meeting]
     try:
         summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
                             progress=not args.json, limit=args.limit)
