@@ -1,0 +1,216 @@
+"""Census: every initial configuration of a box, once per symmetry class, counted per class.
+
+Issue 2, SEMANTICS.md §1-2. A configuration has ``n`` robots on distinct nodes
+and ``m`` meeting nodes (a robot may stand on a meeting node). It *fits* a
+``w x h`` box of nodes when some placement of it (a translate of one of its 8
+images under D4) lies inside the box. Two configurations are the same when one
+is the image of the other under a translation and an element of D4.
+
+The *canonical form* of a configuration is, among its 8 images translated so
+that the MER's lower-left corner is the origin, the one whose key
+``(sorted robots, sorted meeting nodes)`` is smallest. It does not depend on
+any box, so :func:`canonical` and :func:`enumerate_configurations` agree.
+
+The enumeration is vectorised: every placement in the box whose MER touches
+the origin is encoded as two bitmasks (robots, meeting nodes) in all 8 images
+at once; node ``(x, y)`` of an ``S x S`` frame gets bit ``S*S - 1 - (x*S + y)``,
+so a larger mask pair means a smaller sorted-tuple key. The representatives
+come out sorted by that key: the order is the same on every run and hash seed.
+
+>>> census(1, 1, 2, 1).counts  # doctest: +ELLIPSIS
+{'I11': 0, 'I12': 0, 'I13': 2, ...}
+>>> [c.robots + tuple(sorted(c.meeting_nodes)) for c in enumerate_configurations(1, 1, 2, 1)]
+[((0, 0), (0, 0)), ((0, 0), (1, 0))]
+>>> canonical(Configuration([(5, 5)], [(5, 6)])) == Configuration([(0, 0)], [(1, 0)])
+True
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import numbers
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from gather_verify import geometry
+from gather_verify.classes import CLASS_NAMES, classify_configuration
+from gather_verify.configuration import Configuration
+from gather_verify.geometry import Node
+
+MAX_SIDE = 8
+"""Largest box side: an ``S x S`` frame must fit one 64-bit mask."""
+MAX_PLACEMENTS = 50_000_000
+"""Largest ``C(w*h, n) * C(w*h, m)`` the census will sweep (minutes of work, GBs of memory beyond)."""
+_CHUNK = 1 << 20  # placements encoded per numpy batch
+
+CanonicalKey = tuple[tuple[Node, ...], tuple[Node, ...]]
+
+
+def _check_int(value: object, what: str, low: int, high: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise ValueError(f"bad {what} {value!r}: expected an integer")
+    if not low <= int(value) <= high:
+        raise ValueError(f"bad {what} {value}: must be in [{low}, {high}]")
+    return int(value)
+
+
+def validate_census_arguments(n: object, m: object, w: object, h: object) -> tuple[int, int, int, int]:
+    """Check a census request; ``ValueError`` names the bad value.
+
+    >>> validate_census_arguments(3, 3, 4, 4)
+    (3, 3, 4, 4)
+    >>> validate_census_arguments(17, 1, 4, 4)
+    Traceback (most recent call last):
+    ...
+    ValueError: bad robot count n=17: a 4x4 box has only 16 nodes
+    """
+    w = _check_int(w, "box width", 1, MAX_SIDE)
+    h = _check_int(h, "box height", 1, MAX_SIDE)
+    n = _check_int(n, "robot count", 1, MAX_SIDE * MAX_SIDE)
+    m = _check_int(m, "meeting node count", 1, MAX_SIDE * MAX_SIDE)
+    cells = w * h
+    if n > cells:
+        raise ValueError(f"bad robot count n={n}: a {w}x{h} box has only {cells} nodes")
+    if m > cells:
+        raise ValueError(f"bad meeting node count m={m}: a {w}x{h} box has only {cells} nodes")
+    placements = math.comb(cells, n) * math.comb(cells, m)
+    if placements > MAX_PLACEMENTS:
+        raise ValueError(
+            f"census of n={n}, m={m} in a {w}x{h} box has {placements} placements, "
+            f"more than the limit {MAX_PLACEMENTS}: use a smaller box or fewer robots"
+        )
+    return n, m, w, h
+
+
+# -- the canonical form, plain Python ------------------------------------------------
+
+
+def canonical_key(configuration: Configuration) -> CanonicalKey:
+    """``(sorted robots, sorted meeting nodes)`` of the canonical image (see module doc)."""
+    best: CanonicalKey | None = None
+    for g in geometry.ALL:
+        image = configuration.transformed(g)
+        x0, y0, _, _ = image.mer()
+        key = (
+            tuple((x - x0, y - y0) for x, y in image.robots),
+            tuple(sorted((x - x0, y - y0) for x, y in image.meeting_nodes)),
+        )
+        if best is None or key < best:
+            best = key
+    assert best is not None
+    return best
+
+
+def canonical(configuration: Configuration) -> Configuration:
+    """The canonical representative of ``configuration`` under translation and D4."""
+    robots, meeting = canonical_key(configuration)
+    return Configuration.trusted(robots, frozenset(meeting))
+
+
+# -- the enumeration, vectorised -------------------------------------------------------
+
+
+def _subsets(cells: int, k: int) -> np.ndarray:
+    """All ``k``-subsets of ``range(cells)`` as rows, in lexicographic order."""
+    flat = np.fromiter(itertools.chain.from_iterable(itertools.combinations(range(cells), k)),
+                       dtype=np.int16, count=math.comb(cells, k) * k)
+    return flat.reshape(-1, k)
+
+
+def _masks(xs: np.ndarray, ys: np.ndarray, side: int) -> np.ndarray:
+    """Bitmasks of point sets (rows), node ``(x, y)`` at bit ``side*side - 1 - (x*side + y)``."""
+    bits = (side * side - 1 - (xs * side + ys)).astype(np.uint64)
+    return np.bitwise_or.reduce(np.left_shift(np.uint64(1), bits), axis=-1)
+
+
+def _canonical_masks(n: int, m: int, w: int, h: int) -> np.ndarray:
+    """Sorted unique ``(robot mask, meeting mask)`` rows of the canonical images,
+    largest first (that is, smallest canonical key first)."""
+    side = max(w, h)
+    robot_sets, meeting_sets = _subsets(w * h, n), _subsets(w * h, m)
+    found: list[np.ndarray] = []
+    rows_per_chunk = max(1, _CHUNK // len(meeting_sets))
+    for start in range(0, len(robot_sets), rows_per_chunk):
+        block = robot_sets[start:start + rows_per_chunk]
+        # every (robot set, meeting set) pair of this block
+        r = np.repeat(block, len(meeting_sets), axis=0)
+        mt = np.tile(meeting_sets, (len(block), 1))
+        points = np.concatenate([r, mt], axis=1)
+        xs, ys = (points % w).astype(np.int64), (points // w).astype(np.int64)
+        # keep the placements whose MER touches the origin (one per translation class)
+        keep = (xs.min(axis=1) == 0) & (ys.min(axis=1) == 0)
+        xs, ys = xs[keep], ys[keep]
+        best_r = best_m = None
+        for g in geometry.ALL:
+            a, b, c, d = geometry.MATRICES[g]
+            gx, gy = a * xs + b * ys, c * xs + d * ys
+            gx -= gx.min(axis=1, keepdims=True)
+            gy -= gy.min(axis=1, keepdims=True)
+            mr, mm = _masks(gx[:, :n], gy[:, :n], side), _masks(gx[:, n:], gy[:, n:], side)
+            if best_r is None:
+                best_r, best_m = mr, mm
+            else:
+                better = (mr > best_r) | ((mr == best_r) & (mm > best_m))
+                best_r, best_m = np.where(better, mr, best_r), np.where(better, mm, best_m)
+        found.append(np.unique(np.stack([best_r, best_m], axis=1), axis=0))
+    unique = np.unique(np.concatenate(found), axis=0)
+    return unique[::-1]
+
+
+def _decode(mask: int, side: int) -> tuple[Node, ...]:
+    """Nodes of a mask, sorted."""
+    top = side * side - 1
+    return tuple(sorted(divmod(top - bit, side) for bit in range(top + 1) if mask >> bit & 1))
+
+
+def enumerate_configurations(n: int, m: int, w: int, h: int) -> Iterator[Configuration]:
+    """Canonical representatives of every configuration with ``n`` robots on
+    distinct nodes and ``m`` meeting nodes that fits a ``w x h`` box, sorted by
+    canonical key (deterministic)."""
+    n, m, w, h = validate_census_arguments(n, m, w, h)
+    side = max(w, h)
+    for robot_mask, meeting_mask in _canonical_masks(n, m, w, h).tolist():
+        yield Configuration.trusted(_decode(robot_mask, side),
+                                    frozenset(_decode(meeting_mask, side)))
+
+
+@dataclass(frozen=True)
+class Census:
+    """Counts per class (in ``CLASS_NAMES`` order, zeros included) of a box's configurations."""
+
+    n: int
+    m: int
+    box: tuple[int, int]
+    total: int
+    counts: dict[str, int]
+    representatives: tuple[Configuration, ...] = field(default=(), repr=False)
+    classes: tuple[str, ...] = field(default=(), repr=False)  # class of each representative
+
+    def examples(self, name: str) -> list[Configuration]:
+        """The representatives of class ``name``."""
+        return [c for c, k in zip(self.representatives, self.classes, strict=True) if k == name]
+
+    def to_json(self) -> dict[str, object]:
+        return {"total": self.total, "classes": dict(self.counts),
+                "robots": self.n, "meeting_nodes": self.m, "box": list(self.box)}
+
+
+def census(n: int, m: int, w: int, h: int, *, keep: bool = True) -> Census:
+    """Classify one representative per class of the ``w x h`` box and count per class.
+
+    ``keep=False`` drops the representatives (only the counts are kept).
+    """
+    n, m, w, h = validate_census_arguments(n, m, w, h)
+    counts = dict.fromkeys(CLASS_NAMES, 0)
+    reps: list[Configuration] = []
+    names: list[str] = []
+    for c in enumerate_configurations(n, m, w, h):
+        name = classify_configuration(c).name
+        counts[name] += 1
+        if keep:
+            reps.append(c)
+            names.append(name)
+    return Census(n, m, (w, h), sum(counts.values()), counts, tuple(reps), tuple(names))
