@@ -20,8 +20,8 @@ come out sorted by that key: the order is the same on every run and hash seed.
 >>> census(1, 1, 2, 1).counts  # doctest: +ELLIPSIS
 {'I11': 0, 'I12': 0, 'I13': 2, ...}
 >>> [c.robots + tuple(sorted(c.meeting_nodes)) for c in enumerate_configurations(1, 1, 2, 1)]
-[((0, 0), (0, 0)), ((0, 0), (1, 0))]
->>> canonical(Configuration([(5, 5)], [(5, 6)])) == Configuration([(0, 0)], [(1, 0)])
+[((0, 0), (0, 0)), ((0, 0), (0, 1))]
+>>> canonical(Configuration([(5, 5)], [(6, 5)])) == Configuration([(0, 0)], [(0, 1)])
 True
 """
 
