@@ -1,36 +1,58 @@
 #!/usr/bin/env python3
 """Run the SPIN yardstick: generate the Promela model, `spin -a`, gcc, `./pan`.
 
-Prints one JSON object on stdout:
-  states, transitions         -- as reported by pan (transitions = stored+matched)
-  seconds, states_per_second  -- pan's own search time (wall clock of ./pan)
-  memory_mb                   -- pan's "total actual memory usage"
-  spin_version                -- first line of `spin -V`
-  compile_seconds             -- spin -a + gcc
-  total_seconds, states_per_second_total -- generation + spin -a + gcc + pan
-plus a few informative extras (pan_elapsed_seconds, state_vector_bytes,
-depth_reached, errors, hash_size_log2, gcc_flags, pan_args).
+    python3 bench/spin/run_spin.py --robots "0,0 5,1 1,5 6,6 3,0" --meeting 3,3
+    python3 bench/spin/run_spin.py --quick      # robots 0,0 3,1 1,4, M 2,2
 
-Exit status: 0 on success, 2 if spin or gcc is missing, 1 on any other failure
-(one line on stderr in both error cases). Standard library only.
+Everything happens in a fresh temporary directory (unless --keep DIR). Prints
+one JSON object on stdout; the fields are documented in bench/spin/README.md.
+The main ones:
+
+  instance                  algorithm, scheduler, reductions, robots, meeting
+  states                    pan's "states, stored"
+  transitions               pan's "transitions (= stored+matched)"
+  edges                     transitions - 1 = adversary actions (one d_step each)
+  seconds                   whole run: generate + spin -a + gcc + pan (wall)
+  search_seconds            ./pan alone (wall)
+  states_per_second         states / seconds
+  search_states_per_second  states / search_seconds
+  memory_mb                 pan's "total actual memory usage"
+  expected_states/edges, validated   closed-form counts and whether pan agrees
+
+Exit status: 0 on success; 2 if spin or gcc is missing; 1 on any other
+failure (pan error, truncated depth, memory limit hit, counts that disagree
+with the closed form). Diagnostics go to stderr. Standard library only;
+nothing from the rest of the repository is used.
 """
 from __future__ import annotations
 
-import argparse
-import json
-import os
-import re
-import shutil
-import subprocess
-import sys
-import tempfile
 import time
+
+T_PROCESS = time.perf_counter()
+
+import argparse  # noqa: E402
+import datetime  # noqa: E402
+import json  # noqa: E402
+import os  # noqa: E402
+import re  # noqa: E402
+import shutil  # noqa: E402
+import statistics  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import tempfile  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+sys.dont_write_bytecode = True  # leave no __pycache__ in the repository
 import make_model  # noqa: E402
 
+QUICK = ("0,0 3,1 1,4", "2,2")                  # SEMANTICS.md §4 yardstick
+ISSUE8 = ("0,0 5,1 1,5 6,6 3,0", "3,3")         # issue 8 measuring stick
 GCC_FLAGS = ["-O2", "-DNOREDUCE", "-DSAFETY"]
+
+
+class Failure(Exception):
+    pass
 
 
 def _num(pattern: str, text: str, cast=int):
@@ -49,27 +71,132 @@ def parse_pan(out: str) -> dict:
         "state_vector_bytes": _num(r"State-vector (\d+) byte", out),
         "depth_reached": _num(r"depth reached (\d+)", out),
         "errors": _num(r"errors: (\d+)", out),
+        "hash_conflicts": _num(r"hash conflicts:\s+(\d+)", out),
     }
 
 
-def run(cmd: list[str], cwd: str) -> subprocess.CompletedProcess:
+def _cmd(cmd: list[str], cwd: str) -> subprocess.CompletedProcess:
     return subprocess.run(cmd, cwd=cwd, capture_output=True, text=True)
 
 
+def machine_info() -> dict:
+    def first_line(cmd):
+        try:
+            out = subprocess.run(cmd, capture_output=True, text=True).stdout
+            return out.strip().splitlines()[0]
+        except (OSError, IndexError):
+            return "unknown"
+
+    cpu = "unknown"
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as fh:
+            for line in fh:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    try:
+        nproc = len(os.sched_getaffinity(0))
+    except AttributeError:
+        nproc = os.cpu_count()
+    return {
+        "nproc": nproc,
+        "cpu": cpu,
+        "spin_version": first_line(["spin", "-V"]),
+        "gcc_version": first_line(["gcc", "--version"]),
+        "date": datetime.datetime.now(datetime.timezone.utc)
+                        .strftime("%Y-%m-%dT%H:%M:%SZ"),
+    }
+
+
+def longest_path(robots, meeting) -> int:
+    """Length of the longest execution: a Look and a Move per unit distance."""
+    return sum(2 * (abs(x - meeting[0]) + abs(y - meeting[1])) for x, y in robots)
+
+
+def run_once(robots, meeting, depth: int, hash_log2: int, memlim: int | None,
+             workdir: str, t0: float) -> dict:
+    with open(os.path.join(workdir, "model.pml"), "w", encoding="ascii") as fh:
+        fh.write(make_model.make_model(robots, meeting))
+
+    gcc_flags = list(GCC_FLAGS) + ([f"-DMEMLIM={memlim}"] if memlim else [])
+    t_c0 = time.perf_counter()
+    r = _cmd(["spin", "-a", "model.pml"], workdir)
+    if r.returncode != 0:
+        raise Failure(f"spin -a failed: {(r.stderr or r.stdout).strip()}")
+    r = _cmd(["gcc", *gcc_flags, "-o", "pan", "pan.c"], workdir)
+    if r.returncode != 0:
+        raise Failure(f"gcc failed: {r.stderr.strip()}")
+    compile_seconds = time.perf_counter() - t_c0
+
+    pan_args = ["-E", f"-m{depth}", f"-w{hash_log2}"]
+    t_p0 = time.perf_counter()
+    r = _cmd(["./pan", *pan_args], workdir)
+    search_seconds = time.perf_counter() - t_p0
+    seconds = time.perf_counter() - t0
+    out = r.stdout + r.stderr
+    with open(os.path.join(workdir, "pan.out"), "w") as fh:
+        fh.write(out)
+
+    # Fail loudly on anything that means the search was not exhaustive.
+    for bad, why in (("max search depth too small", "depth truncated, raise -m"),
+                     ("reached -DMEMLIM bound", "memory limit hit"),
+                     ("out of memory", "out of memory"),
+                     ("Search not completed", "search not completed")):
+        if bad in out:
+            raise Failure(f"pan: {why}\n{out}")
+    info = parse_pan(r.stdout)
+    if r.returncode != 0 or info["states"] is None or info["transitions"] is None:
+        raise Failure(f"pan failed (rc={r.returncode}):\n{out}")
+    if info["errors"]:
+        raise Failure(f"pan reported {info['errors']} error(s):\n{out}")
+    if info["depth_reached"] is None or info["depth_reached"] >= depth - 1:
+        raise Failure(f"pan: depth reached {info['depth_reached']} is at the "
+                      f"-m{depth} limit; the search may be truncated")
+    info.update(compile_seconds=compile_seconds, search_seconds=search_seconds,
+                seconds=seconds, gcc_flags=" ".join(gcc_flags),
+                pan_args=" ".join(pan_args))
+    return info
+
+
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--robots", required=True, type=make_model.parse_robots,
-                    help='robot nodes, e.g. "0,0 5,1 1,5 6,6 3,0"')
-    ap.add_argument("--meeting", required=True, type=make_model.parse_point,
-                    help="meeting node, e.g. 3,3")
+    ap = argparse.ArgumentParser(
+        description="SPIN yardstick: go-to-target, ASYNC, identities kept, "
+                    "no reduction. Prints one JSON object.")
+    ap.add_argument("--robots", type=make_model.parse_robots, default=None,
+                    help=f'robot nodes (default, issue 8: "{ISSUE8[0]}")')
+    ap.add_argument("--meeting", type=make_model.parse_point, default=None,
+                    help=f"meeting node (default, issue 8: {ISSUE8[1]})")
+    ap.add_argument("--quick", action="store_true",
+                    help=f'the small instance: robots "{QUICK[0]}", M {QUICK[1]} '
+                         "(2184 states, 7032 transitions)")
     ap.add_argument("-w", "--hash-log2", type=int, default=None,
-                    help="pan -w (log2 hash slots); default: sized from "
-                         "the product bound of the state space")
-    ap.add_argument("-m", "--depth", type=int, default=100000,
-                    help="pan -m max search depth (default 100000)")
+                    help="pan -w (log2 of hash slots); default: bit length of "
+                         "the exact state count, so the load factor is < 1")
+    ap.add_argument("-m", "--depth", type=int, default=None,
+                    help="pan -m max search depth; default: longest "
+                         "execution + 1000 (the run fails if pan truncates)")
+    ap.add_argument("--memlim", type=int, default=None, metavar="MB",
+                    help="compile with -DMEMLIM=MB (default: no limit)")
+    ap.add_argument("--repeat", type=int, default=1, metavar="N",
+                    help="run the whole pipeline N times (fresh directory each "
+                         "time) and report the run with the median seconds")
     ap.add_argument("--keep", metavar="DIR",
-                    help="work in DIR and keep model.pml, pan.c, pan output")
+                    help="work in DIR and keep model.pml, pan.c, pan.out")
+    ap.add_argument("--out", metavar="FILE",
+                    help="also write the JSON (indented) to FILE")
     args = ap.parse_args(argv)
+
+    if args.quick:
+        if args.robots is not None or args.meeting is not None:
+            ap.error("--quick takes no --robots/--meeting")
+        args.robots = make_model.parse_robots(QUICK[0])
+        args.meeting = make_model.parse_point(QUICK[1])
+    if args.robots is None:
+        args.robots = make_model.parse_robots(ISSUE8[0])
+    if args.meeting is None:
+        args.meeting = make_model.parse_point(ISSUE8[1])
 
     for tool in ("spin", "gcc"):
         if shutil.which(tool) is None:
@@ -77,87 +204,83 @@ def main(argv: list[str] | None = None) -> int:
                   f"(apt-get install -y spin gcc)", file=sys.stderr)
             return 2
 
-    t_start = time.perf_counter()
-    ver = run(["spin", "-V"], cwd=".").stdout.strip().splitlines()
-    spin_version = ver[0] if ver else "unknown"
-
+    expected_states, expected_edges = make_model.closed_form_counts(
+        args.robots, args.meeting)
+    longest = longest_path(args.robots, args.meeting)
+    if args.depth is None:
+        args.depth = longest + 1000
+    if args.depth <= longest + 1:
+        print(f"run_spin: -m{args.depth} is too small, the longest execution "
+              f"has {longest} steps", file=sys.stderr)
+        return 1
     if args.hash_log2 is None:
-        # Robots do not interact, so the reachable state count is the product
-        # of per-robot counts: every node of the robot's box towards M, once
-        # idle plus once per strictly-closer neighbour (M itself: idle only).
-        # 2**w > count keeps the hash load factor below 1.
-        bound = 1
-        for (x, y) in args.robots:
-            dx, dy = abs(x - args.meeting[0]), abs(y - args.meeting[1])
-            per = sum(1 + (i > 0) + (j > 0)
-                      for i in range(dx + 1) for j in range(dy + 1))
-            bound *= per
-        args.hash_log2 = max(18, min(30, bound.bit_length()))
+        args.hash_log2 = max(18, min(30, expected_states.bit_length()))
 
-    if args.keep:
-        os.makedirs(args.keep, exist_ok=True)
-        workdir, tmp = args.keep, None
-    else:
-        tmp = tempfile.TemporaryDirectory(prefix="spin-bench-")
-        workdir = tmp.name
+    runs = []
     try:
-        pml = os.path.join(workdir, "model.pml")
-        with open(pml, "w", encoding="ascii") as fh:
-            fh.write(make_model.make_model(args.robots, args.meeting))
+        for k in range(max(1, args.repeat)):
+            t0 = T_PROCESS if k == 0 else time.perf_counter()
+            if args.keep:
+                os.makedirs(args.keep, exist_ok=True)
+                runs.append(run_once(args.robots, args.meeting, args.depth,
+                                     args.hash_log2, args.memlim, args.keep, t0))
+            else:
+                with tempfile.TemporaryDirectory(prefix="spin-bench-") as tmp:
+                    runs.append(run_once(args.robots, args.meeting, args.depth,
+                                         args.hash_log2, args.memlim, tmp, t0))
+    except Failure as exc:
+        print(f"run_spin: {exc}", file=sys.stderr)
+        return 1
 
-        t_c0 = time.perf_counter()
-        r = run(["spin", "-a", "model.pml"], workdir)
-        if r.returncode != 0:
-            print(f"run_spin: spin -a failed: {(r.stderr or r.stdout).strip()}",
-                  file=sys.stderr)
-            return 1
-        r = run(["gcc", *GCC_FLAGS, "-o", "pan", "pan.c"], workdir)
-        if r.returncode != 0:
-            print(f"run_spin: gcc failed: {r.stderr.strip().splitlines()[:1]}",
-                  file=sys.stderr)
-            return 1
-        compile_seconds = time.perf_counter() - t_c0
-
-        pan_args = ["-E", f"-m{args.depth}", f"-w{args.hash_log2}"]
-        t_p0 = time.perf_counter()
-        r = run(["./pan", *pan_args], workdir)
-        pan_seconds = time.perf_counter() - t_p0
-        total_seconds = time.perf_counter() - t_start
-        with open(os.path.join(workdir, "pan.out"), "w") as fh:
-            fh.write(r.stdout + r.stderr)
-        info = parse_pan(r.stdout)
-        if r.returncode != 0 or info["states"] is None:
-            print(f"run_spin: pan failed (rc={r.returncode}): "
-                  f"{(r.stdout + r.stderr).strip().splitlines()[:1]}",
-                  file=sys.stderr)
-            return 1
-        if "max search depth too small" in r.stdout:
-            print("run_spin: max search depth too small, raise -m", file=sys.stderr)
-            return 1
-    finally:
-        if tmp is not None:
-            tmp.cleanup()
-
+    median = statistics.median_low([r["seconds"] for r in runs])
+    info = next(r for r in runs if r["seconds"] == median)
+    edges = info["transitions"] - 1
+    validated = (info["states"] == expected_states and edges == expected_edges)
     result = {
+        "tool": "spin",
+        "instance": {
+            "algorithm": "go-to-target",
+            "scheduler": "ASYNC",
+            "reductions": "none",
+            "robots": [list(p) for p in args.robots],
+            "meeting": list(args.meeting),
+        },
         "states": info["states"],
         "transitions": info["transitions"],
-        "seconds": round(pan_seconds, 3),
-        "states_per_second": round(info["states"] / pan_seconds, 1),
+        "edges": edges,
+        "seconds": round(info["seconds"], 3),
+        "search_seconds": round(info["search_seconds"], 3),
+        "compile_seconds": round(info["compile_seconds"], 3),
+        "states_per_second": round(info["states"] / info["seconds"], 1),
+        "search_states_per_second": round(info["states"] / info["search_seconds"], 1),
         "memory_mb": info["memory_mb"],
-        "spin_version": spin_version,
-        "compile_seconds": round(compile_seconds, 3),
-        "total_seconds": round(total_seconds, 3),
-        "states_per_second_total": round(info["states"] / total_seconds, 1),
+        "expected_states": expected_states,
+        "expected_edges": expected_edges,
+        "validated": validated,
         "pan_elapsed_seconds": info["pan_elapsed_seconds"],
         "matched": info["matched"],
+        "atomic_steps": info["atomic_steps"],
         "state_vector_bytes": info["state_vector_bytes"],
         "depth_reached": info["depth_reached"],
+        "longest_execution": longest,
+        "hash_conflicts": info["hash_conflicts"],
         "errors": info["errors"],
-        "hash_size_log2": args.hash_log2,
-        "gcc_flags": " ".join(GCC_FLAGS),
-        "pan_args": " ".join(pan_args),
+        "gcc_flags": info["gcc_flags"],
+        "pan_args": info["pan_args"],
+        "runs": [{"seconds": round(r["seconds"], 3),
+                  "search_seconds": round(r["search_seconds"], 3)} for r in runs],
+        "machine": machine_info(),
     }
     print(json.dumps(result))
+    if args.out:
+        with open(args.out, "w", encoding="utf-8") as fh:
+            json.dump(result, fh, indent=2)
+            fh.write("\n")
+    if not validated:
+        print(f"run_spin: counts disagree with the closed form: states "
+              f"{info['states']} vs {expected_states}, edges {edges} vs "
+              f"{expected_edges}", file=sys.stderr)
+        return 1
     return 0
 
 
