@@ -1,0 +1,89 @@
+"""``gather-verify check``: explore every execution and decide the properties (a thin wrapper
+around :func:`gather_verify.check.run_check`)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from gather_verify.cli.common import (
+    VERDICT_EXIT,
+    add_configuration_arguments,
+    bounded_float,
+    bounded_int,
+    load_configuration,
+    print_json,
+)
+from gather_verify.explore import (
+    DEFAULT_MARGIN,
+    DEFAULT_MAX_MEMORY_MB,
+    DEFAULT_MAX_SECONDS,
+    DEFAULT_MAX_STATES,
+)
+
+HELP = "verify an algorithm from one initial configuration against every adversary"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_configuration_arguments(parser)
+    parser.add_argument("--algorithm", help="algorithm name (default: the scenario's, else paper)")
+    parser.add_argument("--scheduler", choices=("fsync", "ssync", "async"))
+    parser.add_argument("--multiplicity", help="multiplicity detection model (default local-weak)")
+    parser.add_argument("--frames", choices=("all", "compass", "chirality"))
+    parser.add_argument("--property", action="append", dest="properties", metavar="P",
+                        help="property to check (repeatable; default all)")
+    parser.add_argument("--no-reduction", action="store_true",
+                        help="switch off the anonymity and Aut(M) reductions")
+    parser.add_argument("--max-states", type=bounded_int(1, 10**10), default=DEFAULT_MAX_STATES)
+    parser.add_argument("--max-seconds", type=bounded_float(0.001, 10**7),
+                        default=DEFAULT_MAX_SECONDS)
+    parser.add_argument("--max-memory", type=bounded_float(1, 10**7),
+                        default=DEFAULT_MAX_MEMORY_MB, metavar="MB")
+    parser.add_argument("--margin", type=bounded_int(0, 1000), default=DEFAULT_MARGIN,
+                        help="region bound: the initial MER grown by this many nodes")
+    parser.add_argument("--move-bound-c", type=bounded_float(0, 10**6), default=4.0)
+    parser.add_argument("--force", action="store_true",
+                        help="check even when the initial configuration is in U or UNCLASSIFIED")
+    parser.add_argument("--trace-out", metavar="FILE", help="write the counterexample trace (JSON)")
+    parser.add_argument("--svg", metavar="FILE", help="write the trace as an SVG storyboard")
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def run(args: argparse.Namespace) -> int:
+    from gather_verify.check import run_check
+    from gather_verify.render import render_trace, trace_svg
+
+    configuration, scenario = load_configuration(args)
+    algorithm = args.algorithm or (scenario.algorithm if scenario else "paper")
+    scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
+    detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")
+    frames = args.frames or (scenario.frames if scenario else "all")
+    report = run_check(
+        configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
+        frames=frames, properties=args.properties, reduction=not args.no_reduction,
+        max_states=args.max_states, max_seconds=args.max_seconds, move_bound_c=args.move_bound_c,
+        force=args.force, max_memory_mb=args.max_memory, margin=args.margin)
+    trace = report["trace"]
+    if trace is not None and args.trace_out:
+        Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
+    if trace is not None and args.svg:
+        Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
+    if args.json:
+        print_json(report)
+    else:
+        ratio = "-" if report["ratio"] is None else f"{report['ratio']:.3f}"
+        moves = "infinite" if report["max_moves_infinite"] else report["max_moves"]
+        print(f"{report['verdict']}  class {report['class']}  {algorithm} / {scheduler}")
+        if report["property"]:
+            print(f"property {report['property']}: {report['reason']}")
+        elif report["reason"]:
+            print(f"reason: {report['reason']}")
+        print(f"states {report['states']}  transitions {report['transitions']}  max_moves {moves}"
+              f"  D {report['D']}  n {report['n']}  ratio {ratio}  {report['seconds']:.2f}s")
+        for name, result in report["properties"].items():
+            holds = {True: "holds", False: "FAILS", None: "unknown"}[result["holds"]]
+            print(f"  {name:18} {holds}  {result.get('reason', '')}".rstrip())
+        if trace is not None:
+            print(render_trace(trace))
+    return VERDICT_EXIT[report["verdict"]]

@@ -1,0 +1,250 @@
+"""The properties checked on the reachable graph (SEMANTICS.md §5).
+
+Safety properties (``defined``, ``final``, ``no-ungatherable``,
+``target-invariance``) are checked during the search by :mod:`explore`;
+this module holds their names and the graph analyses for the others:
+``move-bound`` (longest path weighted by edges traversed) and ``termination``
+(fair strongly connected components).
+
+>>> check_property_names(["final", "termination"])
+['final', 'termination']
+>>> check_property_names(["nope"])
+Traceback (most recent call last):
+...
+ValueError: unknown property 'nope' (choose from final, no-ungatherable, target-invariance, move-bound, termination)
+"""
+
+from __future__ import annotations
+
+from array import array
+from collections import deque
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+from gather_verify.explore import Exploration
+
+PROPERTIES = ("final", "no-ungatherable", "target-invariance", "move-bound", "termination")
+ORDER = ("defined", *PROPERTIES)
+"""The order in which a failing property is named when several fail."""
+
+
+def check_property_names(names: Iterable[str] | None) -> list[str]:
+    """The requested properties (all when ``names`` is empty or None); ValueError on a bad name."""
+    if not names:
+        return list(PROPERTIES)
+    out = []
+    for name in names:
+        if name not in PROPERTIES:
+            raise ValueError(f"unknown property {name!r} (choose from {', '.join(PROPERTIES)})")
+        if name not in out:
+            out.append(name)
+    return out
+
+
+def real_edges(e: Exploration, sid: int) -> Iterable[tuple[int, int]]:
+    """(successor, weight) of ``sid``, self-loops of an unchanged state left out.
+
+    A self-loop of the quotient whose concrete state changed is kept: it lifts
+    to a real cycle."""
+    state = None
+    for k in e.successors(sid):
+        t = e.targets[k]
+        if t == sid:
+            if state is None:
+                state = e.state(sid)
+            if not e.changed_loops:
+                continue
+            if all(succ == state or e.encoding.key(succ) != e.keys[sid]
+                   for _, succ in e.concrete_successors(state)):
+                continue
+        yield t, e.weights[k]
+
+
+@dataclass
+class LongestPath:
+    """The largest total moves from the initial state; None when a cycle with moves exists."""
+
+    max_moves: int | None
+    path: list[int]  # ids of a worst-case execution (acyclic case)
+
+
+def longest_path(e: Exploration) -> LongestPath:
+    """Longest path over the reachable graph weighted by edges traversed (Kahn + DP)."""
+    n = e.states
+    indegree = array("q", [0]) * n
+    succs: list[list[tuple[int, int]]] = [list(real_edges(e, s)) for s in range(n)]
+    for out in succs:
+        for t, _ in out:
+            indegree[t] += 1
+    order = [s for s in range(n) if indegree[s] == 0]
+    head = 0
+    while head < len(order):
+        s = order[head]
+        head += 1
+        for t, _ in succs[s]:
+            indegree[t] -= 1
+            if indegree[t] == 0:
+                order.append(t)
+    if len(order) < n:
+        return LongestPath(None, [])
+    best = [0] * n
+    choice = [-1] * n
+    for s in reversed(order):
+        for t, w in succs[s]:
+            if w + best[t] > best[s] or choice[s] < 0 and w + best[t] == best[s]:
+                best[s], choice[s] = w + best[t], t
+    path = [0]
+    while choice[path[-1]] >= 0:
+        path.append(choice[path[-1]])
+    return LongestPath(best[0], path)
+
+
+def has_cycle(e: Exploration) -> bool:
+    """Whether the graph (unchanged self-loops aside) has a cycle."""
+    return longest_path(e).max_moves is None
+
+
+def strongly_connected(e: Exploration) -> list[list[int]]:
+    """Components with an edge between distinct states (iterative Tarjan)."""
+    n = e.states
+    succs = [[t for t, _ in real_edges(e, s)] for s in range(n)]
+    index = [-1] * n
+    low = [0] * n
+    on_stack = [False] * n
+    stack: list[int] = []
+    out: list[list[int]] = []
+    counter = 0
+    for root in range(n):
+        if index[root] >= 0:
+            continue
+        work = [(root, 0)]
+        while work:
+            v, i = work.pop()
+            if i == 0:
+                index[v] = low[v] = counter
+                counter += 1
+                stack.append(v)
+                on_stack[v] = True
+            recurse = False
+            while i < len(succs[v]):
+                w = succs[v][i]
+                i += 1
+                if index[w] < 0:
+                    work.append((v, i))
+                    work.append((w, 0))
+                    recurse = True
+                    break
+                if on_stack[w]:
+                    low[v] = min(low[v], index[w])
+            if recurse:
+                continue
+            if low[v] == index[v]:
+                comp = []
+                while True:
+                    w = stack.pop()
+                    on_stack[w] = False
+                    comp.append(w)
+                    if w == v:
+                        break
+                if len(comp) > 1 or v in succs[v]:
+                    out.append(sorted(comp))
+            if work:
+                u, _ = work[-1]
+                low[u] = min(low[u], low[v])
+    return out
+
+
+@dataclass
+class Livelock:
+    """A fair component: its entry state and a closed walk (ids) through it that gives every
+    robot an event or a null activation."""
+
+    component: list[int]
+    cycle: list[int]
+
+
+def fair_witnesses(e: Exploration, component: Sequence[int]) -> dict[int, tuple[int, int | None]] | None:
+    """Per robot, an edge ``(u, v)`` inside the component where it has an event, or a state
+    ``(u, None)`` where it is idle and may stay; None if some robot has neither (unfair)."""
+    inside = set(component)
+    need = set(range(e.n))
+    found: dict[int, tuple[int, int | None]] = {}
+    for u in component:
+        state = e.state(u)
+        facts = e.facts(tuple(sorted(v for v, _ in state)))
+        for i, (v, p) in enumerate(state):
+            if i in need and p is None and facts.move_sets is not None and v in facts.move_sets[v]:
+                found[i] = (u, None)
+                need.discard(i)
+        for event, succ in e.concrete_successors(state):
+            t = _id(e, succ)
+            if t in inside and t != u:
+                for i in event.robots:
+                    if i in need:
+                        found[i] = (u, t)
+                        need.discard(i)
+        if not need:
+            return found
+    return None
+
+
+def _id(e: Exploration, state: object) -> int:
+    index = getattr(e, "_index", None)
+    if index is None:
+        index = {k: i for i, k in enumerate(e.keys)}
+        e._index = index  # type: ignore[attr-defined]
+    return index.get(e.encoding.key(state), -1)  # type: ignore[arg-type]
+
+
+def walk(e: Exploration, inside: set[int], start: int, goal: int) -> list[int]:
+    """A shortest path of ids from ``start`` to ``goal`` inside ``inside`` (BFS)."""
+    parent = {start: start}
+    queue = deque([start])
+    while queue:
+        u = queue.popleft()
+        if u == goal:
+            break
+        for t, _ in real_edges(e, u):
+            if t in inside and t not in parent:
+                parent[t] = u
+                queue.append(t)
+    path = [goal]
+    while path[-1] != start:
+        path.append(parent[path[-1]])
+    return path[::-1]
+
+
+def livelock(e: Exploration) -> Livelock | None:
+    """The first fair component (termination fails), with a cycle through it; needs an
+    exploration without anonymity reduction (robot identity matters for fairness)."""
+    if e.anonymity or e.symmetry:
+        raise ValueError("fairness needs the graph without reductions")
+    for comp in strongly_connected(e):
+        witnesses = fair_witnesses(e, comp)
+        if witnesses is None:
+            continue
+        inside = set(comp)
+        entry = min(comp)  # BFS ids: the component state reached first
+        cycle, here = [entry], entry
+        for u, v in witnesses.values():
+            cycle += walk(e, inside, here, u)[1:]
+            here = u
+            if v is not None:
+                cycle.append(v)
+                here = v
+        cycle += walk(e, inside, here, entry)[1:]
+        if len(cycle) == 1:  # all witnesses are null activations at the entry: go round once
+            nxt = next(t for t, _ in real_edges(e, entry) if t in inside)
+            cycle += [nxt, *walk(e, inside, nxt, entry)[1:]]
+        return Livelock(comp, cycle)
+    return None
+
+
+def any_cycle(e: Exploration) -> list[int] | None:
+    """Some cycle of ids (first = last) in a component, or None."""
+    for comp in strongly_connected(e):
+        inside = set(comp)
+        entry = min(comp)
+        nxt = next(t for t, _ in real_edges(e, entry) if t in inside)
+        return [entry, *walk(e, inside, nxt, entry)] if nxt != entry else [entry, entry]
+    return None
