@@ -6,10 +6,12 @@ as keyword arguments (strings).
 
 >>> get_algorithm("go-to-target").name
 'go-to-target'
->>> get_algorithm("nope")
+>>> get_algorithm("paper:alpha=mer_f").name
+'paper:alpha=mer_f'
+>>> get_algorithm("nope")  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-ValueError: unknown algorithm 'nope': use one of go-to-target
+ValueError: unknown algorithm 'nope': use one of go-to-target, nearest-centre, paper...
 """
 
 from __future__ import annotations
@@ -18,9 +20,13 @@ from collections.abc import Callable
 
 from gather_verify.algorithms.base import Algorithm, AlgorithmError, Unhandled, target_of
 from gather_verify.algorithms.go_to_target import GoToTarget
+from gather_verify.algorithms.nearest_centre import NearestCentre
+from gather_verify.algorithms.paper import PaperAlgorithm
 
 REGISTRY: dict[str, Callable[..., Algorithm]] = {
     "go-to-target": GoToTarget,
+    "nearest-centre": NearestCentre,
+    "paper": PaperAlgorithm,
 }
 
 

@@ -1,0 +1,338 @@
+"""``paper``: the paper's ``Gathering()`` (Algorithms 1-5), oblivious and pluggable.
+
+Paper §4. Every decision is derived from the current snapshot alone, as the
+robot sees it under ``local-weak`` multiplicity detection: the occupied nodes,
+the meeting nodes and whether the robot's own node is a multiplicity. Labels 3
+and 5 of *other* nodes are invisible, so every string, key corner and
+symmetry is read with weak labels (3 read as 2, 5 as 4); the snapshot
+``view.configuration`` holds one robot per occupied node, where ``l`` and the
+weak label agree.
+
+How a snapshot is recognised (``analyse``; the first rule that applies wins;
+``dist`` is the distance from ``L ∪ {c}``: ``d(v, phi(v))`` for the reflection
+``phi`` of ``M`` with axis ``L``, the Manhattan distance to ``c`` for a
+rotation, both in doubled coordinates; ``d1`` is the largest ``dist`` of a
+meeting node, and a robot is *outside* when ``dist > d1``):
+
+1. all robots on one meeting node: everybody stays (gathered);
+2. ``Aut(M)`` trivial (I11): every robot steps towards the last node of ``O``;
+3. ``M`` has a single reflection with meeting nodes on ``L`` (I12): towards
+   the last node of ``O'``;
+4. ``M`` has a rotation with a meeting node on ``c`` (I13): towards it;
+5. ``n1 = 2`` and exactly one of the two positions is a meeting node
+   (Finalization, Algorithm 4): a robot not on a multiplicity and not on a
+   meeting node steps towards the other position; the others stay;
+6. the snapshot is symmetric (``SymmetryBreaking()``, Algorithm 5): the robot
+   on ``L`` (the axis of ``C``) with the maximum configuration view steps to
+   any neighbour off ``L``, or the robot on ``c`` to any neighbour; no robot
+   there: ``Unhandled`` (the class is in U);
+7. asymmetric, a *unique farthest* robot ``g`` that is outside: ``g`` is the
+   guard. Not yet on a corner of MER: ``g`` steps towards its closest MER
+   corner, by steps that do not bring it nearer ``L ∪ {c}`` (placement);
+   on a corner (guard placed): the target ``m`` is the meeting node closest
+   to ``g``, ties by the first in ``O''`` (the lambda scan from ``g``'s
+   corner along its string direction); the non-guard robots not on ``m``
+   closest to ``m`` step towards it along shortest paths (``MakeMultiplicity``);
+8. asymmetric otherwise (guard selection): among the robots farthest from
+   ``L ∪ {c}`` the unique one, or the one with the maximum configuration view,
+   steps away from ``L ∪ {c}``; everybody else stays.
+
+Where the paper leaves a choice open, every allowed step is returned as a set
+and the robot answers the first one in ``STEPS`` order in its own frame, so
+the union over the 8 frames is the whole set: the adversary chooses.
+
+Options: ``alpha=mer`` (default, the MER of ``R ∪ M`` as Figure "order1"
+shows) or ``alpha=mer_f`` for the strings ``alpha`` behind ``O``/``O'``;
+``unclassified=break`` (default: a snapshot whose ``M`` is rotational while
+``C`` has a single reflection ``L'`` is broken on ``L'``, as the paper's
+I32 paragraph says) or ``unclassified=unhandled``.
+
+>>> from gather_verify.moves import move_set
+>>> from gather_verify.configuration import Configuration
+>>> c = Configuration([(0, 0), (4, 1)], [(1, 0), (3, 3), (0, 2)])
+>>> PaperAlgorithm().target(c)
+(3, 3)
+>>> sorted(move_set(PaperAlgorithm(), c, (4, 1)))
+[(3, 1), (4, 2)]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+from gather_verify import geometry, strings
+from gather_verify.algorithms.base import Unhandled
+from gather_verify.configuration import Configuration
+from gather_verify.geometry import ORIGIN, STEPS, Node, manhattan
+from gather_verify.symmetry import Automorphism, configuration_automorphisms, meeting_automorphisms
+from gather_verify.view import View
+
+CACHE_SIZE = 1 << 17
+"""Snapshots remembered per algorithm instance (canonical forms, see :func:`canonical`)."""
+
+
+@dataclass(frozen=True)
+class Plan:
+    """What every occupied node of a snapshot does.
+
+    ``moves[v]`` is the set of allowed destinations of the robots on ``v``
+    (``{v}`` = stay); ``if_multiplicity[v]``, when present, replaces it for
+    robots that see their own node as a multiplicity (Algorithm 4 only).
+    """
+
+    phase: str
+    target: Node | None
+    moves: dict[Node, frozenset[Node]]
+    if_multiplicity: dict[Node, frozenset[Node]] = field(default_factory=dict)
+    guard: Node | None = None
+
+
+# -- small geometric helpers --------------------------------------------------------
+
+
+def closer_steps(v: Node, target: Node) -> frozenset[Node]:
+    """Neighbours of ``v`` on a shortest path to ``target`` (``{v}`` when there)."""
+    if v == target:
+        return frozenset({v})
+    d = manhattan(v, target)
+    return frozenset(u for u in geometry.neighbours(v) if manhattan(u, target) < d)
+
+
+def distance_function(symmetry: Automorphism):
+    """``dist`` from ``L ∪ {c}`` in doubled units (see the module docstring)."""
+    if symmetry.kind == "reflection":
+        return lambda v: manhattan(v, symmetry(v))
+    cx, cy = symmetry.centre2  # type: ignore[misc]
+    return lambda v: abs(2 * v[0] - cx) + abs(2 * v[1] - cy)
+
+
+def _stay_all(c: Configuration) -> dict[Node, frozenset[Node]]:
+    return {v: frozenset({v}) for v in c.occupied}
+
+
+def _everyone_to(c: Configuration, phase: str, target: Node) -> Plan:
+    return Plan(phase, target, {v: closer_steps(v, target) for v in c.occupied})
+
+
+# -- the analysis of one snapshot (weak labels, one robot per occupied node) -------------
+
+
+def analyse(c: Configuration, alpha: strings.AlphaRegion = "mer",
+            unclassified: str = "break") -> Plan:
+    """The plan of ``Gathering()`` for snapshot ``c`` (robots on distinct nodes).
+
+    >>> c = strings.from_string("001001400004000000000000404000400401000000100", 5)
+    >>> analyse(c).phase
+    'I2 guard selection'
+    """
+    if len(c.occupied) == 1 and c.robots[0] in c.meeting_nodes:
+        return Plan("gathered", c.robots[0], _stay_all(c))
+    aut_m = meeting_automorphisms(c)[1:]
+    if not aut_m:
+        order = strings.ordering_O(c, alpha)
+        if order is None:
+            raise Unhandled("I11: the leading corner is not unique, O is not defined")
+        return _everyone_to(c, "I11", order[-1])
+    rotations = [a for a in aut_m if a.kind == "rotation"]
+    symmetry = min(rotations, key=lambda a: a.order == 2) if rotations else aut_m[0]
+    on_symmetry = sorted(m for m in c.meeting_nodes if symmetry.fixes(m))
+    if not rotations and on_symmetry:
+        order = strings.ordering_O_prime(c, on_symmetry, alpha)
+        if order is None:
+            raise Unhandled("I12: the leading corners order the meeting nodes on L differently")
+        return _everyone_to(c, "I12", order[-1])
+    if rotations and on_symmetry:
+        return _everyone_to(c, "I13", on_symmetry[0])
+    return _gathering_asym(c, symmetry, unclassified)
+
+
+def _finalization(c: Configuration) -> Plan | None:
+    """Algorithm 4 (``GuardMovement``): ``n1 = 2``, one position a meeting node."""
+    if len(c.occupied) != 2:
+        return None
+    on_meeting = [v for v in c.occupied if v in c.meeting_nodes]
+    if len(on_meeting) != 1:
+        return None
+    target = on_meeting[0]
+    (other,) = c.occupied - {target}
+    moves = {target: frozenset({target}), other: closer_steps(other, target)}
+    return Plan("I2 finalization", target, moves, {other: frozenset({other})}, guard=other)
+
+
+def _gathering_asym(c: Configuration, symmetry: Automorphism, unclassified: str) -> Plan:
+    final = _finalization(c)
+    if final is not None:
+        return final
+    aut_c = configuration_automorphisms(c)[1:]
+    if aut_c:
+        return _symmetry_breaking(c, symmetry, aut_c, unclassified)
+    dist = distance_function(symmetry)
+    d1 = max(dist(m) for m in c.meeting_nodes)
+    far = max(dist(r) for r in c.occupied)
+    farthest = sorted(r for r in c.occupied if dist(r) == far)
+    if len(farthest) == 1 and far > d1:
+        return _guard_placed_or_placing(c, farthest[0], dist)
+    guard = farthest[0] if len(farthest) == 1 else strings.max_view(c, farthest, weak=True)
+    if guard is None:
+        raise Unhandled("I2 guard selection: the key corner is not unique")
+    away = frozenset(u for u in geometry.neighbours(guard) if dist(u) > dist(guard))
+    moves = _stay_all(c)
+    moves[guard] = away
+    return Plan("I2 guard selection", None, moves, guard=guard)
+
+
+def _guard_placed_or_placing(c: Configuration, guard: Node, dist) -> Plan:
+    corners = strings.corners(c.mer())
+    moves = _stay_all(c)
+    if guard not in corners:
+        best = min(manhattan(guard, k) for k in corners)
+        closest = [k for k in corners if manhattan(guard, k) == best]
+        steps = frozenset(u for k in closest for u in closer_steps(guard, k)
+                          if dist(u) >= dist(guard))
+        if not steps:
+            raise Unhandled(f"I2 guard placement: the guard {guard} cannot approach its closest "
+                            "MER corner without getting nearer L ∪ {c}")
+        moves[guard] = steps
+        return Plan("I2 guard placement", None, moves, guard=guard)
+    target = target_meeting_node(c, guard)
+    others = [r for r in c.occupied if r != guard and r != target]
+    if others:
+        nearest = min(manhattan(r, target) for r in others)
+        for r in others:
+            if manhattan(r, target) == nearest:
+                moves[r] = closer_steps(r, target)
+    return Plan("I2 make multiplicity", target, moves, guard=guard)
+
+
+def target_meeting_node(c: Configuration, guard: Node) -> Node:
+    """Algorithm 3: the meeting node closest to the placed guard, ties by ``O''``."""
+    best = min(manhattan(guard, m) for m in c.meeting_nodes)
+    closest = [m for m in c.meeting_nodes if manhattan(guard, m) == best]
+    if len(closest) == 1:
+        return closest[0]
+    scans = [s for s in strings.representations(c.mer(), c.lam) if s.corner == guard]
+    picks = {min(closest, key=s.index) for s in scans}
+    if len(picks) != 1:
+        raise Unhandled(f"I2 make multiplicity: O'' from the guard's corner {guard} does not "
+                        "break the tie between the closest meeting nodes")
+    return picks.pop()
+
+
+def _symmetry_breaking(c: Configuration, symmetry: Automorphism,
+                       aut_c: list[Automorphism], unclassified: str) -> Plan:
+    moves = _stay_all(c)
+    rotation = next((a for a in aut_c if a.kind == "rotation"), None)
+    if rotation is not None:
+        centre = [r for r in c.occupied if rotation.fixes(r)]
+        if not centre:
+            raise Unhandled("I42: C is rotationally symmetric with no robot or meeting node on c "
+                            "(ungatherable, Theorem 1)")
+        moves[centre[0]] = frozenset(geometry.neighbours(centre[0]))
+        return Plan("I3 symmetry breaking (c)", None, moves, guard=None)
+    mirror = aut_c[0]
+    if symmetry.kind == "rotation" and unclassified != "break":
+        raise Unhandled("UNCLASSIFIED: M is rotational with no meeting node on c and C has a "
+                        "single reflection (option unclassified=unhandled)")
+    on_axis = [r for r in c.occupied if mirror.fixes(r)]
+    if not on_axis:
+        raise Unhandled("I41: C is symmetric about L with no robot or meeting node on L "
+                        "(ungatherable, Theorem 1)")
+    r = strings.max_view(c, on_axis, weak=True)
+    if r is None:
+        raise Unhandled("I31: the key corners disagree on the robot of L with the maximum view")
+    moves[r] = frozenset(u for u in geometry.neighbours(r) if not mirror.fixes(u))
+    return Plan("I3 symmetry breaking (L)", None, moves)
+
+
+# -- canonical forms and the algorithm object ----------------------------------------
+
+
+Key = tuple[tuple[Node, ...], tuple[Node, ...]]
+
+
+def canonical(robots: Iterable[Node], meeting_nodes: Iterable[Node]) -> tuple[Key, int, Node]:
+    """The canonical form of a snapshot under D4 and translations, with the
+    ``(g, t)`` that maps the snapshot onto it (``v -> g(v) + t``)."""
+    robots, meeting_nodes = tuple(robots), tuple(meeting_nodes)
+    best: tuple[Key, int, Node] | None = None
+    for g in geometry.ALL:
+        rs = [geometry.apply(g, v) for v in robots]
+        ms = [geometry.apply(g, v) for v in meeting_nodes]
+        x0, y0, _, _ = geometry.bounding_box(rs + ms)
+        key = (tuple(sorted((x - x0, y - y0) for x, y in rs)),
+               tuple(sorted((x - x0, y - y0) for x, y in ms)))
+        if best is None or key < best[0]:
+            best = (key, g, (-x0, -y0))
+    assert best is not None
+    return best
+
+
+def first_step(allowed: Iterable[Node]) -> Node:
+    """The robot's answer: stay, or the first allowed step in ``STEPS`` order."""
+    allowed = set(allowed)
+    for step in STEPS:
+        if step in allowed:
+            return step
+    if allowed == {ORIGIN}:
+        return ORIGIN
+    raise Unhandled(f"no move rule for destinations {sorted(allowed)}")  # pragma: no cover
+
+
+class PaperAlgorithm:
+    """The paper's ``Gathering()``; see the module docstring for the phases."""
+
+    def __init__(self, alpha: str = "mer", unclassified: str = "break") -> None:
+        if alpha not in ("mer", "mer_f"):
+            raise ValueError(f"bad option alpha={alpha!r}: use mer or mer_f")
+        if unclassified not in ("break", "unhandled"):
+            raise ValueError(f"bad option unclassified={unclassified!r}: use break or unhandled")
+        self.alpha, self.unclassified = alpha, unclassified
+        self.name = "paper"
+        self._plan = lru_cache(maxsize=CACHE_SIZE)(self._plan_uncached)
+
+    def _plan_uncached(self, key: Key) -> Plan | Unhandled:
+        robots, meeting = key
+        try:
+            return analyse(Configuration.trusted(robots, frozenset(meeting)), self.alpha,
+                           self.unclassified)  # type: ignore[arg-type]
+        except Unhandled as error:
+            return error
+
+    def plan(self, configuration: Configuration) -> Plan:
+        """The plan for a configuration in global coordinates (multiplicities read weakly)."""
+        key, g, t = canonical(configuration.occupied, configuration.meeting_nodes)
+        plan = self._plan(key)
+        if isinstance(plan, Unhandled):
+            raise Unhandled(str(plan))
+        back = geometry.inverse(g)
+
+        def unmap(v: Node) -> Node:
+            return geometry.apply(back, geometry.sub(v, t))
+
+        def unmap_all(moves: dict[Node, frozenset[Node]]) -> dict[Node, frozenset[Node]]:
+            return {unmap(v): frozenset(map(unmap, a)) for v, a in moves.items()}
+
+        return Plan(plan.phase, None if plan.target is None else unmap(plan.target),
+                    unmap_all(plan.moves), unmap_all(plan.if_multiplicity),
+                    None if plan.guard is None else unmap(plan.guard))
+
+    def decide(self, view: View) -> Node:
+        key, g, t = canonical(view.robots, view.meeting_nodes)
+        plan = self._plan(key)
+        if isinstance(plan, Unhandled):
+            raise Unhandled(str(plan))
+        me = t  # the robot is at the origin of its view: g(0) + t = t
+        allowed = plan.moves[me]
+        if me in plan.if_multiplicity and view.multiplicity():
+            allowed = plan.if_multiplicity[me]
+        back = geometry.inverse(g)
+        return first_step(geometry.apply(back, geometry.sub(a, t)) for a in allowed)
+
+    def target(self, configuration: Configuration) -> Node | None:
+        """The target meeting node (global coordinates) where the phase defines one."""
+        try:
+            return self.plan(configuration).target
+        except Unhandled:
+            return None
