@@ -1,0 +1,96 @@
+"""Deliberately broken algorithms: each makes one property fail (for tests and demos).
+
+They are not in the default registry; :func:`register_broken` adds them under
+``broken-*`` names (the tests call it, and ``gather-verify replay`` does when a
+trace names one). All assume one meeting node unless said otherwise.
+
+>>> register_broken()
+>>> from gather_verify.algorithms import get_algorithm
+>>> get_algorithm("broken-stay").name
+'broken-stay'
+"""
+
+from __future__ import annotations
+
+from gather_verify.algorithms.base import Unhandled
+from gather_verify.algorithms.go_to_target import GoToTarget, nearest, step_towards
+from gather_verify.configuration import Configuration
+from gather_verify.geometry import ORIGIN, Node, manhattan
+from gather_verify.view import View
+
+
+def _away(target: Node) -> Node:
+    """A unit step that increases the distance to ``target``."""
+    for step in ((1, 0), (0, 1), (-1, 0), (0, -1)):
+        if manhattan(step, target) > manhattan(ORIGIN, target):
+            return step
+    raise AssertionError("some step always gets farther")
+
+
+class Away(GoToTarget):
+    """Steps away from the target at odd distance, towards it at even distance: walks in a
+    cycle forever (termination and move-bound fail)."""
+
+    name = "broken-away"
+
+    def decide(self, view: View) -> Node:
+        target = nearest(view.meeting_nodes, ORIGIN)
+        if target is None or target == ORIGIN:
+            return ORIGIN
+        return _away(target) if manhattan(ORIGIN, target) % 2 else step_towards(target)
+
+
+class Stay(GoToTarget):
+    """Stops one step short of the target: a deadlock (final fails)."""
+
+    name = "broken-stay"
+
+    def decide(self, view: View) -> Node:
+        target = nearest(view.meeting_nodes, ORIGIN)
+        if target is None or manhattan(ORIGIN, target) <= 1:
+            return ORIGIN
+        return step_towards(target)
+
+
+class Drift(GoToTarget):
+    """Walks to the nearest meeting node, but names as target the meeting node nearest to
+    the lowest robot: the target changes as robots move (target-invariance fails)."""
+
+    name = "broken-drift"
+
+    def target(self, configuration: Configuration) -> Node | None:
+        low = min(configuration.robots, key=lambda v: (v[1], v[0]))
+        return min(configuration.meeting_nodes, key=lambda m: (manhattan(m, low), m))
+
+
+class Wander(GoToTarget):
+    """Every robot off a meeting node steps anywhere: reaches U from outside U
+    (no-ungatherable fails)."""
+
+    name = "broken-wander"
+
+    def decide(self, view: View) -> Node:
+        return ORIGIN if ORIGIN in view.meeting_nodes else (1, 0)
+
+
+class Undefined(GoToTarget):
+    """Has no rule one step from the target (raises Unhandled: ``defined`` fails)."""
+
+    name = "broken-undefined"
+
+    def decide(self, view: View) -> Node:
+        target = nearest(view.meeting_nodes, ORIGIN)
+        if target is not None and manhattan(ORIGIN, target) == 1:
+            raise Unhandled("one step from the target")
+        return super().decide(view)
+
+
+BROKEN = {cls.name: cls for cls in (Away, Stay, Drift, Wander, Undefined)}
+
+
+def register_broken() -> None:
+    """Add the broken algorithms to the registry under their ``broken-*`` names."""
+    from gather_verify.algorithms import register
+
+    for name, cls in BROKEN.items():
+        register(name, cls)

@@ -1,0 +1,41 @@
+"""``gather-verify replay TRACE.json``: re-execute a trace from scratch and confirm its violation.
+
+Exit 1 when the violation is confirmed (it stands, as ``check`` said), 0 when
+every step is legal but the property does not fail at the end, 2 when the
+trace does not match its configuration or is malformed."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from gather_verify.cli.common import EXIT_OK, EXIT_VIOLATED, print_json
+
+HELP = "re-execute a counterexample trace and confirm its violation independently"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("trace", help="trace JSON file (docs/traces.md)")
+    parser.add_argument("--svg", metavar="FILE", help="write the trace as an SVG storyboard")
+    parser.add_argument("--quiet", action="store_true", help="no ASCII grids")
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def run(args: argparse.Namespace) -> int:
+    from gather_verify.render import render_trace, trace_svg
+    from gather_verify.replay import replay
+    from gather_verify.trace import load_trace
+
+    trace = load_trace(args.trace)
+    result = replay(trace)
+    if args.svg:
+        Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
+    if args.json:
+        print_json({"confirmed": result.confirmed, "message": result.message,
+                    "steps": result.steps, "property": trace["property"]})
+    else:
+        if not args.quiet:
+            print(render_trace(trace))
+        word = "CONFIRMED" if result.confirmed else "NOT CONFIRMED"
+        print(f"{word}: {trace['property']} ({result.steps} steps) - {result.message}")
+    return EXIT_VIOLATED if result.confirmed else EXIT_OK
