@@ -319,10 +319,10 @@ def explore_all(game: _Game, start: Configuration, name: str, steps: int,
 
     while frontier:
         c, depth = frontier.popleft()
-        run.rounds = max(run.rounds, depth)
         if depth >= steps:
             run.complete = False
             continue
+        run.rounds = max(run.rounds, depth + 1)  # a round is played from c
         for moves, d in game.successors(c):
             if d in parent:
                 continue
