@@ -1,0 +1,50 @@
+"""``gather-verify check`` / ``replay`` from the command line."""
+
+from __future__ import annotations
+
+import json
+
+from gather_verify.algorithms.broken import register_broken
+from gather_verify.cli import main
+
+register_broken()
+YARD = ["--robots", "0,0 3,1 1,4", "--meeting", "2,2"]
+
+
+def test_check_json_verified(capsys):
+    code = main(["check", *YARD, "--algorithm", "go-to-target", "--scheduler", "async",
+                 "--no-reduction", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and out["verdict"] == "VERIFIED" and out["states"] == 2184
+    for key in ("property", "transitions", "max_moves", "D", "n", "ratio", "seconds", "trace",
+                "class", "reason", "properties", "limits"):
+        assert key in out
+
+
+def test_check_violation_trace_and_replay(tmp_path, capsys):
+    trace, svg = tmp_path / "t.json", tmp_path / "t.svg"
+    code = main(["check", "--robots", "0,0 3,1", "--meeting", "2,2", "--algorithm", "broken-stay",
+                 "--scheduler", "ssync", "--trace-out", str(trace), "--svg", str(svg)])
+    assert code == 1 and trace.exists() and svg.read_text().startswith("<svg")
+    capsys.readouterr()
+    assert main(["replay", str(trace)]) == 1
+    assert "CONFIRMED" in capsys.readouterr().out
+
+
+def test_bad_inputs_exit_2(tmp_path, capsys):
+    assert main(["check", *YARD, "--algorithm", "go-to-target", "--property", "nope"]) == 2
+    bad = tmp_path / "bad.json"
+    bad.write_text("{}")
+    assert main(["replay", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 2
+
+
+def test_limit_exit_3():
+    assert main(["check", *YARD, "--algorithm", "go-to-target", "--scheduler", "async",
+                 "--max-states", "5"]) == 3
+
+
+def test_not_applicable_exit_4():
+    assert main(["check", "--robots", "0,2 3,2", "--meeting", "0,0 3,0 1,1 2,1",
+                 "--algorithm", "go-to-target"]) == 4
