@@ -30,8 +30,8 @@ meeting node, and a robot is *outside* when ``dist > d1``):
    guard. Not yet on a corner of MER: ``g`` steps towards its closest MER
    corner, by steps that do not bring it nearer ``L ∪ {c}`` (placement);
    on a corner (guard placed): the target ``m`` is the meeting node closest
-   to ``g``, ties by the first in ``O''`` (the lambda scan from ``g``'s
-   corner along its string direction); the non-guard robots not on ``m``
+   to ``g``, ties by the first in ``O''`` (the lambda scan of MER from
+   ``g``'s corner, its lines parallel to the key corner's string direction); the non-guard robots not on ``m``
    closest to ``m`` step towards it along shortest paths (``MakeMultiplicity``);
 8. asymmetric otherwise (guard selection): among the robots farthest from
    ``L ∪ {c}`` the unique one, or the one with the maximum configuration view,
@@ -212,12 +212,21 @@ def target_meeting_node(c: Configuration, guard: Node) -> Node:
     closest = [m for m in c.meeting_nodes if manhattan(guard, m) == best]
     if len(closest) == 1:
         return closest[0]
-    scans = [s for s in strings.representations(c.mer(), c.lam) if s.corner == guard]
-    picks = {min(closest, key=s.index) for s in scans}
-    if len(picks) != 1:
-        raise Unhandled(f"I2 make multiplicity: O'' from the guard's corner {guard} does not "
-                        "break the tie between the closest meeting nodes")
-    return picks.pop()
+    return min(closest, key=ordering_O_second(c, guard).index)
+
+
+def ordering_O_second(c: Configuration, guard: Node) -> tuple[Node, ...]:
+    """``O''``: the meeting nodes in the lambda scan of MER from the guard's corner,
+    its grid lines parallel to the key corner's string direction (paper §4)."""
+    keys = strings.key_scans(c, weak=True)
+    along_x = {s.fast[0] != 0 for s in keys}
+    if len(along_x) != 1:
+        raise Unhandled("I2 make multiplicity: the key corners' string directions differ, "
+                        "O'' is not defined")
+    horizontal = along_x.pop()
+    (scan,) = [s for s in strings.all_scans(c.mer(), c.lam)
+               if s.corner == guard and (s.fast[0] != 0) == horizontal]
+    return strings.meeting_order(scan, c.meeting_nodes)
 
 
 def _symmetry_breaking(c: Configuration, symmetry: Automorphism,
