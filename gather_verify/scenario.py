@@ -39,6 +39,9 @@ TOP_LEVEL = {
 }
 
 
+EXPECTATION_FIELDS = {"algorithm", "scheduler", "verdict", "property", "max_moves", "options"}
+
+
 class ScenarioError(ValueError):
     """A scenario file is malformed; the message names the file and the problem."""
 
@@ -126,6 +129,8 @@ def _parse_expect(
         if key not in known:
             raise ScenarioError(f"{where}: unknown field 'expect.{key}' (known: class, verdicts)")
     expected_class = expect.get("class")
+    if expected_class is not None and not isinstance(expected_class, str):
+        raise ScenarioError(f"{where}: 'expect.class' must be a string, one of {', '.join(CLASS_NAMES)}")
     if expected_class is not None and expected_class not in CLASS_NAMES:
         raise ScenarioError(f"{where}: unknown class {expected_class!r} in 'expect.class'")
     verdicts = expect.get("verdicts", [])
@@ -136,6 +141,13 @@ def _parse_expect(
         at = f"{where}: expect.verdicts[{i}]"
         if not isinstance(item, dict):
             raise ScenarioError(f"{at} must be an object")
+        for key in item:
+            if key not in EXPECTATION_FIELDS:
+                raise ScenarioError(
+                    f"{at}: unknown field {key!r} (known: {', '.join(sorted(EXPECTATION_FIELDS))})")
+        for key in ("algorithm", "scheduler", "property"):
+            if key in item and not isinstance(item[key], str):
+                raise ScenarioError(f"{at}: {key!r} must be a string")
         verdict = item.get("verdict")
         if verdict not in VERDICTS:
             raise ScenarioError(f"{at}: verdict must be one of {', '.join(VERDICTS)}")
@@ -146,8 +158,9 @@ def _parse_expect(
         if verdict == "VIOLATED" and not isinstance(prop, str):
             raise ScenarioError(f"{at}: a VIOLATED verdict names its 'property'")
         max_moves = item.get("max_moves")
-        if max_moves is not None and (isinstance(max_moves, bool) or not isinstance(max_moves, int)):
-            raise ScenarioError(f"{at}: 'max_moves' must be an integer")
+        if max_moves is not None and (isinstance(max_moves, bool) or not isinstance(max_moves, int)
+                                      or not 0 <= max_moves <= 10**12):
+            raise ScenarioError(f"{at}: 'max_moves' must be an integer in [0, 10**12]")
         options = item.get("options", {})
         if not isinstance(options, dict):
             raise ScenarioError(f"{at}: 'options' must be an object")
@@ -157,6 +170,15 @@ def _parse_expect(
             options=options,
         ))
     return expected_class, tuple(out)
+
+
+def _no_duplicate_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in out:
+            raise ValueError(f"duplicate key {key!r}")
+        out[key] = value
+    return out
 
 
 def load_scenario(path: str | Path) -> Scenario:
@@ -173,9 +195,11 @@ def load_scenario(path: str | Path) -> Scenario:
     except (OSError, UnicodeDecodeError) as error:
         raise ScenarioError(f"{where}: cannot read: {error.__class__.__name__}") from None
     try:
-        data = json.loads(text)
+        data = json.loads(text, object_pairs_hook=_no_duplicate_keys)
     except json.JSONDecodeError as error:
         raise ScenarioError(f"{where}: invalid JSON at line {error.lineno}: {error.msg}") from None
     except RecursionError:
         raise ScenarioError(f"{where}: invalid JSON: nested too deeply") from None
+    except ValueError as error:  # duplicate keys; integers of thousands of digits
+        raise ScenarioError(f"{where}: invalid JSON: {str(error).split(';')[0]}") from None
     return parse_scenario(data, where)
