@@ -113,7 +113,7 @@ def test_make_multiplicity_tie_broken_by_O_second():
     order = ordering_O_second(c, (0, 4))
     assert order.index((2, 3)) < order.index((1, 2))
     assert plan.target == (2, 3)
-    assert moving(PAPER, c) == {(3, 0): [(2, 0), (3, 1)]}
+    assert moving(PAPER, c) == {(2, 1): [(2, 2)]}  # the closest non-guard moves first
 
 
 def test_finalization_guard_moves_multiplicity_stays():
