@@ -1,0 +1,105 @@
+"""Every registered algorithm: registry, equivariance of move sets, hidden multiplicity."""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from gather_verify import geometry
+from gather_verify.algorithms import REGISTRY, Unhandled, get_algorithm, register
+from gather_verify.algorithms.nearest_centre import NearestCentre
+from gather_verify.configuration import Configuration
+from gather_verify.geometry import ORIGIN, Node
+from gather_verify.moves import move_set, move_sets
+from gather_verify.view import MultiplicityHidden, View
+
+ALGORITHMS = sorted(REGISTRY) + ["paper:alpha=mer_f"]
+
+nodes = st.tuples(st.integers(0, 4), st.integers(0, 4))
+configurations = st.builds(
+    lambda robots, meeting: Configuration(robots, meeting),
+    st.lists(nodes, min_size=1, max_size=5),  # duplicates allowed: multiplicities
+    st.lists(nodes, min_size=1, max_size=4, unique=True),
+)
+
+
+def outcome(algorithm, c: Configuration) -> dict[Node, frozenset[Node]] | str:
+    try:
+        return move_sets(algorithm, c)
+    except Unhandled:
+        return "unhandled"
+
+
+@pytest.mark.parametrize("name", ALGORITHMS)
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(c=configurations, g=st.sampled_from(geometry.ALL),
+       t=st.tuples(st.integers(-3, 3), st.integers(-3, 3)))
+def test_move_sets_transform_with_the_configuration(name, c, g, t):
+    """S_psi(C)(psi(v)) = psi(S_C(v)) for every grid isometry psi = (g, t)."""
+    algorithm = get_algorithm(name)
+    before, after = outcome(algorithm, c), outcome(algorithm, c.transformed(g, t))
+    if before == "unhandled":
+        assert after == "unhandled"
+        return
+    psi = lambda v: geometry.add(geometry.apply(g, v), t)  # noqa: E731
+    assert after == {psi(v): frozenset(map(psi, s)) for v, s in before.items()}
+
+
+@pytest.mark.parametrize("name", ALGORITHMS)
+@settings(max_examples=25, deadline=None)
+@given(c=configurations)
+def test_answers_are_moves_and_targets_are_meeting_nodes(name, c):
+    algorithm = get_algorithm(name)
+    sets = outcome(algorithm, c)
+    if sets != "unhandled":
+        for v, s in sets.items():
+            assert s and all(geometry.manhattan(v, u) <= 1 for u in s)
+    target = getattr(algorithm, "target", lambda _: None)(c)
+    assert target is None or target in c.meeting_nodes
+
+
+class Peeking:
+    """Reads the multiplicity of a neighbour: forbidden under local-weak."""
+
+    name = "peeking"
+
+    def decide(self, view: View) -> Node:
+        return (1, 0) if view.multiplicity((1, 0)) else ORIGIN
+
+
+def test_reading_hidden_multiplicity_fails_loudly():
+    c = Configuration([(0, 0), (1, 0), (1, 0)], [(5, 5)])
+    with pytest.raises(MultiplicityHidden, match="local-weak"):
+        move_set(Peeking(), c, (0, 0), "local-weak")
+    assert move_set(Peeking(), c, (0, 0), "global-weak", frames=[0]) == {(1, 0)}
+
+
+@pytest.mark.parametrize("name", ALGORITHMS)
+def test_registered_algorithms_run_under_local_weak(name):
+    """None of ours reads more than local-weak shows (it would raise MultiplicityHidden)."""
+    c = Configuration([(0, 0), (0, 0), (3, 1), (1, 4)], [(2, 2), (0, 4)])
+    outcome(get_algorithm(name), c)
+
+
+def test_register_a_new_algorithm():
+    class Stay:
+        name = "stay"
+
+        def decide(self, view: View) -> Node:
+            return ORIGIN
+
+    register("stay-test", Stay)
+    try:
+        assert move_set(get_algorithm("stay-test"), Configuration([(0, 0)], [(1, 1)]),
+                        (0, 0)) == {(0, 0)}
+    finally:
+        del REGISTRY["stay-test"]
+
+
+def test_nearest_centre_target_and_tie():
+    c = Configuration([(0, 0), (4, 0)], [(2, 1), (9, 9)])
+    assert NearestCentre().target(c) == (2, 1)
+    tie = Configuration([(0, 0), (4, 0)], [(2, 1), (2, -1)])
+    assert NearestCentre().target(tie) is None
+    assert move_set(NearestCentre(), tie, (0, 0)) == {(0, 0)}
