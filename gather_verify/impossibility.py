@@ -182,6 +182,9 @@ def groups(
         count = c.counts[v]
         if in_v_prime(phi, v):
             seen.add(v)
+            if count % k:
+                raise AdversaryError(f"{count} robots on {list(v)} in V' cannot split over "
+                                     f"orbits of {k} nodes (case 2 of the proof)")
             options = []
             for u in sorted(sets[v]):
                 if in_v_prime(phi, u):
