@@ -39,6 +39,7 @@ from gather_verify import geometry
 from gather_verify.classes import CLASS_NAMES, classify_configuration
 from gather_verify.configuration import Configuration
 from gather_verify.geometry import Node
+from gather_verify.symmetry import Automorphism, meeting_automorphisms
 
 MAX_SIDE = 8
 """Largest box side: an ``S x S`` frame must fit one 64-bit mask."""
@@ -207,8 +208,12 @@ def census(n: int, m: int, w: int, h: int, *, keep: bool = True) -> Census:
     counts = dict.fromkeys(CLASS_NAMES, 0)
     reps: list[Configuration] = []
     names: list[str] = []
+    aut_m_cache: dict[frozenset[Node], list[Automorphism]] = {}
     for c in enumerate_configurations(n, m, w, h):
-        name = classify_configuration(c).name
+        aut_m = aut_m_cache.get(c.meeting_nodes)
+        if aut_m is None:
+            aut_m = aut_m_cache[c.meeting_nodes] = meeting_automorphisms(c)
+        name = classify_configuration(c, aut_m_all=aut_m).name
         counts[name] += 1
         if keep:
             reps.append(c)

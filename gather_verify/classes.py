@@ -20,7 +20,7 @@ exactly as SEMANTICS.md §2 defines them:
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 from gather_verify import strings
@@ -69,9 +69,15 @@ class Classification:
         }
 
 
-def classify_configuration(c: Configuration) -> Classification:
-    """Classify a configuration by the symmetries of ``M`` and of ``C``."""
-    aut_m = meeting_automorphisms(c)[1:]
+def classify_configuration(
+    c: Configuration, *, aut_m_all: Sequence[Automorphism] | None = None
+) -> Classification:
+    """Classify a configuration by the symmetries of ``M`` and of ``C``.
+
+    ``aut_m_all`` may pass ``meeting_automorphisms(c)`` already computed (the
+    census reuses it across configurations with the same ``M``).
+    """
+    aut_m = list(meeting_automorphisms(c) if aut_m_all is None else aut_m_all)[1:]
     aut_c = tuple(configuration_automorphisms(c)[1:])
     if not aut_m:
         return Classification("I11", "M is asymmetric")

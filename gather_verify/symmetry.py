@@ -164,6 +164,7 @@ def _half(doubled: int) -> str:
 
 
 IDENTITY_AUT = Automorphism(geometry.IDENTITY, (0, 0))
+_SWAPS_SIDES = frozenset({geometry.ROT90, geometry.ROT270, geometry.FLIP_DIAG, geometry.FLIP_ANTI})
 
 
 def automorphisms(labelled: Labelled) -> list[Automorphism]:
@@ -179,8 +180,13 @@ def automorphisms(labelled: Labelled) -> list[Automorphism]:
     if not labelled:
         raise ValueError("automorphisms of an empty node set are not finite")
     lowest = min(labelled)
+    x0, y0, x1, y1 = geometry.bounding_box(labelled)
+    # a quarter turn or a diagonal flip swaps the sides of the bounding box
+    square = x1 - x0 == y1 - y0
     out = []
     for g in geometry.ALL:
+        if not square and g in _SWAPS_SIDES:
+            continue
         image = {geometry.apply(g, v): label for v, label in labelled.items()}
         low = min(image)
         t = (lowest[0] - low[0], lowest[1] - low[1])
