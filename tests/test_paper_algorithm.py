@@ -159,7 +159,7 @@ def test_unclassified_is_unhandled_with_the_option():
         move_sets(get_algorithm("paper:unclassified=unhandled"), c)
 
 
-def test_gathered_is_final():
+def test_gathered_is_final_in_I2():
     c = Configuration([(0, 0), (0, 0)], [(0, 0), (3, 0)])
     assert moving(PAPER, c) == {}
 

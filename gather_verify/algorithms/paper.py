@@ -14,11 +14,13 @@ How a snapshot is recognised (``analyse``; the first rule that applies wins;
 rotation, both in doubled coordinates; ``d1`` is the largest ``dist`` of a
 meeting node, and a robot is *outside* when ``dist > d1``):
 
-1. all robots on one meeting node: everybody stays (gathered);
-2. ``Aut(M)`` trivial (I11): every robot steps towards the last node of ``O``;
-3. ``M`` has a single reflection with meeting nodes on ``L`` (I12): towards
+1. ``Aut(M)`` trivial (I11): every robot steps towards the last node of ``O``
+   (robots on it stay), whatever the robots' positions;
+2. ``M`` has a single reflection with meeting nodes on ``L`` (I12): towards
    the last node of ``O'``;
-4. ``M`` has a rotation with a meeting node on ``c`` (I13): towards it;
+3. ``M`` has a rotation with a meeting node on ``c`` (I13): towards it;
+4. otherwise (no meeting node on ``L ∪ {c}``), all robots on one meeting node:
+   everybody stays (``n1 = 1``: neither Algorithm 3 nor 4 applies);
 5. ``n1 = 2`` and exactly one of the two positions is a meeting node
    (Finalization, Algorithm 4): a robot not on a multiplicity and not on a
    meeting node steps towards the other position; the others stay;
@@ -127,8 +129,6 @@ def analyse(c: Configuration, alpha: strings.AlphaRegion = "mer",
     >>> analyse(c).phase
     'I2 guard selection'
     """
-    if len(c.occupied) == 1 and c.robots[0] in c.meeting_nodes:
-        return Plan("gathered", c.robots[0], _stay_all(c))
     aut_m = meeting_automorphisms(c)[1:]
     if not aut_m:
         order = strings.ordering_O(c, alpha)
@@ -162,6 +162,8 @@ def _finalization(c: Configuration) -> Plan | None:
 
 
 def _gathering_asym(c: Configuration, symmetry: Automorphism, unclassified: str) -> Plan:
+    if len(c.occupied) == 1 and c.robots[0] in c.meeting_nodes:
+        return Plan("I2 gathered", c.robots[0], _stay_all(c))
     final = _finalization(c)
     if final is not None:
         return final

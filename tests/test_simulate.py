@@ -1,0 +1,124 @@
+"""The simulator and `gather-verify simulate`: reproducible, fair, and honest about outcomes."""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from gather_verify import strings
+from gather_verify.algorithms import REGISTRY, get_algorithm
+from gather_verify.classes import classify_configuration
+from gather_verify.configuration import Configuration
+from gather_verify.geometry import manhattan
+from gather_verify.simulate import simulate
+
+ROOT = Path(__file__).resolve().parent.parent
+SCHEDULERS = ("fsync", "ssync", "async")
+I1_SAMPLE = [  # (robots, meeting nodes), classes I11, I12, I13
+    ([(0, 0), (4, 1), (2, 5)], [(1, 0), (3, 3), (0, 2)]),
+    ([(0, 2), (3, 3), (-1, 0)], [(0, 0), (1, 1), (2, 0)]),
+    ([(0, 3), (4, 0), (1, 1)], [(0, 0), (2, 0), (1, 0)]),
+]
+
+
+def gather(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "gather_verify", *args], capture_output=True,
+                          text=True, cwd=ROOT, timeout=120)
+
+
+@pytest.mark.parametrize("scheduler", SCHEDULERS)
+def test_same_seed_same_run(scheduler):
+    c = strings.from_string("001001400004000000000000404000400401000000100", 5)
+    a = simulate(c, get_algorithm("paper"), scheduler, seed=5).to_json()
+    b = simulate(c, get_algorithm("paper"), scheduler, seed=5).to_json()
+    assert a == b
+
+
+@pytest.mark.parametrize("scheduler", SCHEDULERS)
+@pytest.mark.parametrize("robots, meeting", I1_SAMPLE)
+def test_i1_gathers_on_the_target_with_the_sum_of_distances(scheduler, robots, meeting):
+    c = Configuration(robots, meeting, initial=True)
+    assert classify_configuration(c).name[:2] == "I1"
+    algorithm = get_algorithm("paper:alpha=mer_f")
+    target = algorithm.target(c)
+    for seed in range(4):
+        run = simulate(c, algorithm, scheduler, seed=seed)
+        assert (run.outcome, run.meeting_node) == ("gathered", target)
+        assert run.moves == sum(manhattan(r, target) for r in c.robots)
+
+
+def test_asynchronous_runs_interleave_looks_and_moves():
+    c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
+    run = simulate(c, get_algorithm("go-to-target"), "async", seed=0)
+    kinds = {e.kind for e in run.events}
+    assert kinds == {"look", "move"} and run.moves == 9
+
+
+def test_fairness_every_robot_moves_under_ssync():
+    c = Configuration([(0, 0), (6, 0), (0, 6), (6, 6)], [(3, 3)], initial=True)
+    for seed in range(5):
+        run = simulate(c, get_algorithm("go-to-target"), "ssync", seed=seed)
+        assert run.outcome == "gathered" and run.moves == 24
+
+
+def test_unhandled_ends_the_run_with_the_message():
+    c = Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0), (0, 2), (2, 2)], initial=True)
+    run = simulate(c, get_algorithm("paper"), "fsync")
+    assert run.outcome == "unhandled" and "ungatherable" in run.message and not run.gathered
+
+
+def test_deadlock_is_reported():
+    c = Configuration([(0, 0), (4, 0)], [(2, 1), (2, -1)], initial=True)
+    run = simulate(c, get_algorithm("nearest-centre"), "fsync")
+    assert run.outcome == "deadlock" and run.steps == 0
+
+
+def test_max_steps():
+    c = Configuration([(0, 0)], [(9, 9)], initial=True)
+    run = simulate(c, get_algorithm("go-to-target"), "fsync", max_steps=3)
+    assert run.outcome == "max-steps" and run.steps == 3 and run.moves == 3
+
+
+def test_cli_json():
+    out = gather("simulate", "--robots", "0,0 3,1 1,4", "--meeting", "2,2", "--algorithm",
+                 "go-to-target", "--scheduler", "ssync", "--seed", "2", "--json")
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    assert data["gathered"] is True and data["meeting_node"] == [2, 2]
+    assert data["moves"] == 9 and data["steps"] == len(data["events"])
+
+
+def test_cli_grids_and_unhandled():
+    out = gather("simulate", "scenarios/classes/i41.json", "--scheduler", "fsync")
+    assert out.returncode == 0, out.stderr
+    assert "outcome: unhandled" in out.stdout
+    out = gather("simulate", "--robots", "0,0 2,1", "--meeting", "2,2", "--scheduler", "fsync",
+                 "--algorithm", "go-to-target")
+    assert "step 0" in out.stdout and "[2]" in out.stdout
+
+
+@pytest.mark.parametrize("args, word", [
+    (["--robots", "0,0", "--meeting", "1,1", "--algorithm", "nope"], "nope"),
+    (["--robots", "0,0", "--meeting", "1,1", "--multiplicity", "foo"], "foo"),
+    (["--robots", "0,0 x", "--meeting", "1,1"], "x"),
+    (["--robots", "0,0", "--meeting", "1,1", "--seed", "-1"], "seed"),
+    (["--robots", "0,0"], "meeting"),
+])
+def test_cli_bad_input_one_line_exit_2(args, word):
+    out = gather("simulate", *args)
+    assert out.returncode == 2
+    assert len(out.stderr.strip().splitlines()) == 1 and word in out.stderr
+
+
+def test_docs_example_runs():
+    text = (ROOT / "docs" / "algorithms.md").read_text()
+    (code,) = re.findall(r"```python\n(.*?)```", text, re.S)
+    try:
+        exec(compile(code, "docs/algorithms.md", "exec"), {})
+    finally:
+        REGISTRY.pop("nearest-mine", None)
