@@ -70,7 +70,7 @@ from gather_verify.classes import Classification, classify_configuration
 from gather_verify.configuration import Configuration
 from gather_verify.geometry import Node
 from gather_verify.moves import move_set
-from gather_verify.symmetry import Automorphism
+from gather_verify.symmetry import Automorphism, configuration_automorphisms
 
 TRACE_FORMAT = "impossibility-trace/1"
 EXPLORE_MODES = ("all", "random")
@@ -97,6 +97,23 @@ def partitive_automorphism(classification: Classification) -> Automorphism | Non
         # 90 before 180; among the two 90-degree ones the counter-clockwise one
         return min(rotations, key=lambda a: (-a.order, a.g))
     return None
+
+
+def theorem1_automorphism(c: Configuration) -> Automorphism | None:
+    """Any ``phi`` in ``Aut(C, l)`` meeting Theorem 1's hypothesis, whatever the class:
+    no robot and no meeting node on its fixed nodes ``V'`` (largest order first).
+
+    Outside U only UNCLASSIFIED configurations can have one (I12/I13/I31/I32 hold a
+    meeting node or robot on L or c, I1x/I2x have ``Aut(C)`` trivial), so Theorem 1
+    makes those ungatherable too.
+
+    >>> theorem1_automorphism(Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)])).describe()
+    'reflection, vertical axis x = 1 through nodes'
+    """
+    marked = c.occupied | c.meeting_nodes
+    candidates = [a for a in configuration_automorphisms(c)[1:]
+                  if not any(a.fixes(v) for v in marked)]
+    return min(candidates, key=lambda a: (-a.order, a.g, a.t)) if candidates else None
 
 
 def in_v_prime(phi: Automorphism, v: Node) -> bool:
@@ -443,8 +460,13 @@ def check_impossibility(
     detection: str = "local-weak",
     frames: Sequence[int] = geometry.ALL,
     split_orbit: bool = False,
+    beyond_u: bool = False,
 ) -> ImpossibilityResult:
-    """Play Theorem 1's adversary against each algorithm (see the module docstring)."""
+    """Play Theorem 1's adversary against each algorithm (see the module docstring).
+
+    Outside U the result is not partitive, unless ``beyond_u`` asks for any
+    automorphism of ``C`` that meets Theorem 1's hypothesis (:func:`theorem1_automorphism`).
+    """
     if explore not in EXPLORE_MODES:
         raise ValueError(f"unknown exploration {explore!r}: use one of {', '.join(EXPLORE_MODES)}")
     if steps < 1:
@@ -453,6 +475,8 @@ def check_impossibility(
         raise ValueError("Theorem 1 is about initial configurations: robots on distinct nodes")
     classification = classify_configuration(configuration)
     phi = partitive_automorphism(classification)
+    if phi is None and beyond_u:
+        phi = theorem1_automorphism(configuration)
     result = ImpossibilityResult(configuration, classification, phi, steps=steps)
     if phi is None:
         return result

@@ -114,6 +114,16 @@ def test_outside_U_is_not_partitive(robots, meeting, name):
     assert r.to_json()["partitive"] is False
 
 
+def test_theorem_1_beyond_U_on_an_unclassified_configuration():
+    c = Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)], initial=True)
+    assert not check_impossibility(c, algorithms(2)).partitive
+    r = check_impossibility(c, algorithms(3), steps=4, max_states=150, beyond_u=True)
+    assert r.class_name == "UNCLASSIFIED" and r.partitive and r.holds
+    assert r.automorphism.describe() == "reflection, vertical axis x = 1 through nodes"
+    with_robot_on_axis = Configuration([(0, 1), (2, 1), (1, 1)], [(0, 0), (2, 0)], initial=True)
+    assert not check_impossibility(with_robot_on_axis, [], beyond_u=True).partitive
+
+
 def test_symmetric_adversary_never_gathers_join_neighbour():
     c = load_scenario(str(EDGE_CENTRE)).configuration
     r = check_impossibility(c, [JoinNeighbour()], steps=50)
@@ -227,20 +237,38 @@ def test_random_algorithm_is_stable():
 # -- the measurement (issue 6): every U configuration of the census ------------------------
 
 
-@pytest.mark.slow
-def test_census_U_n4_m4_box4():
+def census_U(explore: str, steps: int, max_states: int) -> str:
+    """Play the adversary on every U configuration of the census (n <= 4, m <= 4, 4 x 4 box)
+    against K = 20 random algorithms and the paper's; a one-line summary."""
+    from collections import Counter
+
     from gather_verify.census import enumerate_configurations
     from gather_verify.classes import classify_configuration
 
-    start, counted, runs = time.perf_counter(), 0, 0
+    start, classes, stats = time.perf_counter(), Counter(), Counter()
     for n in range(1, 5):
         for m in range(1, 5):
             for c in enumerate_configurations(n, m, 4, 4):
                 if not classify_configuration(c).in_U:
                     continue
-                r = check_impossibility(c, algorithms(20), steps=30, explore="random", seed=counted)
+                r = check_impossibility(c, algorithms(20), steps=steps, explore=explore,
+                                        max_states=max_states, seed=sum(classes.values()))
                 assert r.holds, json.dumps(r.to_json())[:3000]
-                counted += 1
-                runs += len(r.runs)
-    print(f"\n{counted} U configurations, {runs} runs, {time.perf_counter() - start:.0f} s")
-    assert counted > 0
+                classes[r.class_name] += 1
+                for run in r.runs:
+                    stats["runs"] += 1
+                    stats["closed/repeated"] += run.repeated
+                    stats["states"] += run.states
+                    stats["paper unhandled"] += run.algorithm == "paper" and run.unhandled > 0
+    return (f"{explore}: {dict(classes)} U configurations, {dict(stats)}, "
+            f"{time.perf_counter() - start:.0f} s")
+
+
+@pytest.mark.slow
+def test_census_U_random_adversary():
+    print("\n" + census_U("random", steps=30, max_states=0))
+
+
+@pytest.mark.slow
+def test_census_U_every_choice():
+    print("\n" + census_U("all", steps=3, max_states=60))

@@ -40,6 +40,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-paper", action="store_true", help="leave out the paper's algorithm")
     p.add_argument("--split-orbit", action="store_true",
                    help="deliberately break the adversary (one orbit chooses independently)")
+    p.add_argument("--beyond-u", action="store_true",
+                   help="outside U, still play the adversary when some automorphism of C fixes "
+                        "no robot and no meeting node (Theorem 1's hypothesis, e.g. UNCLASSIFIED)")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
 
 
@@ -72,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
     result = check_impossibility(
         configuration, algorithms, steps=args.steps, explore=args.explore,
         max_states=args.max_states, seed=args.seed, detection=detection,
-        split_orbit=args.split_orbit,
+        split_orbit=args.split_orbit, beyond_u=args.beyond_u,
     )
     if args.json:
         out = result.to_json()
@@ -88,7 +91,8 @@ def run(args: argparse.Namespace) -> int:
 def _print(result, note: str) -> None:  # noqa: ANN001
     print(f"class: {result.class_name}")
     if not result.partitive:
-        print("partitive: no (not in U = I41 ∪ I42): Theorem 1 does not apply")
+        print("partitive: no (not in U = I41 ∪ I42): Theorem 1 does not apply "
+              "(see --beyond-u)")
         return
     phi = result.automorphism
     print(f"partitive automorphism: {phi.describe()}, k = {phi.order}; V' = {result.v_prime()}")
