@@ -69,7 +69,7 @@ def test_scenarios_cover_both_kinds_and_every_centre():
     kinds = set()
     for path in SCENARIOS:
         s = load_scenario(str(path))
-        r = check_impossibility(s.configuration, [], steps=1)
+        r = check_impossibility(s.configuration, [], steps=1, beyond_u=True)
         assert r.class_name == s.expected_class
         phi = r.automorphism
         assert phi is not None
@@ -81,12 +81,15 @@ def test_scenarios_cover_both_kinds_and_every_centre():
 @pytest.mark.parametrize("path", SCENARIOS, ids=lambda p: p.stem)
 def test_theorem_holds_on_every_scenario(path):
     s = load_scenario(str(path))
-    r = check_impossibility(s.configuration, algorithms(3), steps=4, max_states=150)
+    beyond_u = s.expected_class not in ("I41", "I42")  # Theorem 1 outside U (UNCLASSIFIED)
+    r = check_impossibility(s.configuration, algorithms(3), steps=4, max_states=150,
+                            beyond_u=beyond_u)
     assert r.partitive and r.class_name == s.expected_class
     assert r.runs and all(run.rounds >= 1 for run in r.runs)
     assert r.holds, json.dumps([run.to_json() for run in r.failures])[:2000]
     assert not r.gathered
-    r = check_impossibility(s.configuration, algorithms(2, seed=7), steps=25, explore="random")
+    r = check_impossibility(s.configuration, algorithms(2, seed=7), steps=25, explore="random",
+                            beyond_u=beyond_u)
     assert r.holds and all(run.rounds >= 1 for run in r.runs)
 
 
@@ -147,7 +150,8 @@ def test_broken_adversary_makes_the_check_fail_by_gathering():
 def test_broken_adversary_makes_the_check_fail_by_losing_symmetry():
     for path in SCENARIOS:
         c = load_scenario(str(path)).configuration
-        r = check_impossibility(c, algorithms(3), steps=4, max_states=150, split_orbit=True)
+        r = check_impossibility(c, algorithms(3), steps=4, max_states=150, split_orbit=True,
+                                beyond_u=True)
         assert not r.holds, path.stem
         assert any(not run.symmetry_kept or run.gathered for run in r.runs)
 
