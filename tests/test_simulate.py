@@ -122,3 +122,29 @@ def test_docs_example_runs():
         exec(compile(code, "docs/algorithms.md", "exec"), {})
     finally:
         REGISTRY.pop("nearest-mine", None)
+
+
+@pytest.mark.parametrize("name, seed, outcome, message", [
+    ("i22-make-multiplicity-onto-guard", 1, "deadlock", ""),
+    ("i22-two-robots-finalization-through-meeting-node", 0, "unhandled", "I42"),
+    ("i32-symmetry-breaking-onto-meeting-node", 1, "unhandled", "I42"),
+    ("i22-non-guard-as-far-as-guard", 1, "unhandled", "I41"),
+])
+def test_recorded_findings_reproduce(name, seed, outcome, message):
+    """The paper's rules lead these I2/I3 configurations away from gathering (docs: findings)."""
+    from gather_verify.scenario import load_scenario
+
+    s = load_scenario(ROOT / "scenarios" / "algorithm" / f"{name}.json")
+    run = simulate(s.configuration, get_algorithm("paper"), "fsync", seed=seed)
+    assert run.outcome == outcome and message in run.message
+
+
+def test_finding_alpha_over_mer_moves_the_i11_target():
+    from gather_verify.scenario import load_scenario
+
+    c = load_scenario(ROOT / "scenarios/algorithm/i11-alpha-over-mer-target-moves.json").configuration
+    assert get_algorithm("paper").target(c) == (2, 1)
+    run = simulate(c, get_algorithm("paper"), "async", seed=0)
+    assert run.gathered and run.meeting_node == (0, 0)
+    run = simulate(c, get_algorithm("paper:alpha=mer_f"), "async", seed=0)
+    assert run.meeting_node == get_algorithm("paper:alpha=mer_f").target(c)
