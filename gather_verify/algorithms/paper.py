@@ -280,6 +280,10 @@ def canonical(robots: Iterable[Node], meeting_nodes: Iterable[Node]) -> tuple[Ke
     return best
 
 
+_canonical_view = lru_cache(maxsize=CACHE_SIZE)(canonical)
+"""``canonical`` memoised on a view's frozensets (a view is seen again and again)."""
+
+
 def first_step(allowed: Iterable[Node]) -> Node:
     """The robot's answer: stay, or the first allowed step in ``STEPS`` order."""
     allowed = set(allowed)
@@ -330,7 +334,7 @@ class PaperAlgorithm:
                     None if plan.guard is None else unmap(plan.guard))
 
     def decide(self, view: View) -> Node:
-        key, g, t = canonical(view.robots, view.meeting_nodes)
+        key, g, t = _canonical_view(view.robots, view.meeting_nodes)
         plan = self._plan(key)
         if isinstance(plan, Unhandled):
             raise Unhandled(str(plan))
