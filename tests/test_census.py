@@ -132,3 +132,7 @@ def test_validation(args, message):
 @pytest.mark.slow
 def test_census_3_3_4x4_against_brute_force():
     assert census(3, 3, 4, 4).total == len(brute_force(3, 3, 4, 4))
+
+
+def test_box_orientation_does_not_matter():
+    assert census(2, 2, 2, 4).counts == census(2, 2, 4, 2).counts

@@ -120,3 +120,8 @@ def test_console_script_subprocess():
     good = subprocess.run([*argv, "classify", "--robots", "0,1", "--meeting", "0,0 2,0", "--json"],
                           capture_output=True, text=True, timeout=60)
     assert good.returncode == 0 and json.loads(good.stdout)["class"] == "I22"
+
+
+def test_classify_points_override_the_scenario(capsys):
+    code, out, _ = run(capsys, "classify", "scenarios/classes/i22.json", "--robots", "0,1 2,1", "--json")
+    assert code == 0 and json.loads(out)["class"] == "UNCLASSIFIED"
