@@ -148,3 +148,12 @@ def test_finding_alpha_over_mer_moves_the_i11_target():
     assert run.gathered and run.meeting_node == (0, 0)
     run = simulate(c, get_algorithm("paper:alpha=mer_f"), "async", seed=0)
     assert run.meeting_node == get_algorithm("paper:alpha=mer_f").target(c)
+
+
+def test_finding_livelock_when_the_guard_is_on_an_axis_of_M():
+    from gather_verify.scenario import load_scenario
+
+    s = load_scenario(ROOT / "scenarios/algorithm/i22-livelock-guard-on-axis-of-M.json")
+    run = simulate(s.configuration, get_algorithm("paper"), "fsync", seed=0, max_steps=40)
+    assert run.outcome == "max-steps"
+    assert len({tuple(sorted(n for n, _ in st)) for st in run.states}) <= 6  # it cycles
