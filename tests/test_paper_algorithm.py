@@ -193,3 +193,13 @@ def test_canonical_form_is_invariant():
 def test_analyse_matches_plan_on_a_canonical_snapshot():
     c = strings.from_string(FIG_STRING2, 5)
     assert analyse(c).guard == PAPER.plan(c).guard
+
+
+def test_outside_mer_f_two_readings():
+    """Algorithm 2's "outside MER_F": beyond d1 from L (default) or outside the rectangle."""
+    c = Configuration([(1, 5), (0, 1), (2, 0)], [(0, 0), (3, 0), (1, 2), (2, 2)], initial=True)
+    assert classify_configuration(c).name == "I21"
+    assert moving(PAPER, c) == {(0, 1): [(-1, 1)]}  # farthest from L = {x = 1.5}
+    literal = get_algorithm("paper:outside=mer_f")
+    assert literal.plan(c).guard == (1, 5)  # the only robot outside the rectangle MER_F
+    assert moving(literal, c) == {(1, 5): [(0, 5)]}

@@ -47,7 +47,12 @@ Options: ``alpha=mer`` (default, the MER of ``R ∪ M`` as Figure "order1"
 shows) or ``alpha=mer_f`` for the strings ``alpha`` behind ``O``/``O'``;
 ``unclassified=break`` (default: a snapshot whose ``M`` is rotational while
 ``C`` has a single reflection ``L'`` is broken on ``L'``, as the paper's
-I32 paragraph says) or ``unclassified=unhandled``.
+I32 paragraph says) or ``unclassified=unhandled``; ``outside=distance``
+(default: "outside MER_F" read as ``dist > d1``, as the paper's explanation
+"there exists at least one robot position at a distance d2 > d1" says) or
+``outside=mer_f`` (literally: strictly outside the rectangle MER_F; then
+Algorithm 2's "exactly one robot outside MER_F" may pick a robot that is not
+the farthest, and it steps away from ``L ∪ {c}`` until it is).
 
 >>> from gather_verify.moves import move_set
 >>> from gather_verify.configuration import Configuration
@@ -122,7 +127,7 @@ def _everyone_to(c: Configuration, phase: str, target: Node) -> Plan:
 
 
 def analyse(c: Configuration, alpha: strings.AlphaRegion = "mer",
-            unclassified: str = "break") -> Plan:
+            unclassified: str = "break", outside: str = "distance") -> Plan:
     """The plan of ``Gathering()`` for snapshot ``c`` (robots on distinct nodes).
 
     >>> c = strings.from_string("001001400004000000000000404000400401000000100", 5)
@@ -145,7 +150,7 @@ def analyse(c: Configuration, alpha: strings.AlphaRegion = "mer",
         return _everyone_to(c, "I12", order[-1])
     if rotations and on_symmetry:
         return _everyone_to(c, "I13", on_symmetry[0])
-    return _gathering_asym(c, symmetry, unclassified)
+    return _gathering_asym(c, symmetry, unclassified, outside)
 
 
 def _finalization(c: Configuration) -> Plan | None:
@@ -161,7 +166,8 @@ def _finalization(c: Configuration) -> Plan | None:
     return Plan("I2 finalization", target, moves, {other: frozenset({other})}, guard=other)
 
 
-def _gathering_asym(c: Configuration, symmetry: Automorphism, unclassified: str) -> Plan:
+def _gathering_asym(c: Configuration, symmetry: Automorphism, unclassified: str,
+                    outside: str = "distance") -> Plan:
     if len(c.occupied) == 1 and c.robots[0] in c.meeting_nodes:
         return Plan("I2 gathered", c.robots[0], _stay_all(c))
     final = _finalization(c)
@@ -174,8 +180,19 @@ def _gathering_asym(c: Configuration, symmetry: Automorphism, unclassified: str)
     d1 = max(dist(m) for m in c.meeting_nodes)
     far = max(dist(r) for r in c.occupied)
     farthest = sorted(r for r in c.occupied if dist(r) == far)
-    if len(farthest) == 1 and far > d1:
+    x0, y0, x1, y1 = c.mer_f()
+
+    def is_outside(v: Node) -> bool:
+        if outside == "distance":
+            return dist(v) > d1
+        return not (x0 <= v[0] <= x1 and y0 <= v[1] <= y1)
+
+    if len(farthest) == 1 and is_outside(farthest[0]):
         return _guard_placed_or_placing(c, farthest[0], dist)
+    outs = [r for r in c.occupied if is_outside(r)]
+    if outs:  # Algorithm 2, first branch: the farthest of the robots outside MER_F
+        top = max(dist(r) for r in outs)
+        farthest = sorted(r for r in outs if dist(r) == top)
     guard = farthest[0] if len(farthest) == 1 else strings.max_view(c, farthest, weak=True)
     if guard is None:
         raise Unhandled("I2 guard selection: the key corner is not unique")
@@ -298,12 +315,15 @@ def first_step(allowed: Iterable[Node]) -> Node:
 class PaperAlgorithm:
     """The paper's ``Gathering()``; see the module docstring for the phases."""
 
-    def __init__(self, alpha: str = "mer", unclassified: str = "break") -> None:
+    def __init__(self, alpha: str = "mer", unclassified: str = "break",
+                 outside: str = "distance") -> None:
         if alpha not in ("mer", "mer_f"):
             raise ValueError(f"bad option alpha={alpha!r}: use mer or mer_f")
         if unclassified not in ("break", "unhandled"):
             raise ValueError(f"bad option unclassified={unclassified!r}: use break or unhandled")
-        self.alpha, self.unclassified = alpha, unclassified
+        if outside not in ("distance", "mer_f"):
+            raise ValueError(f"bad option outside={outside!r}: use distance or mer_f")
+        self.alpha, self.unclassified, self.outside = alpha, unclassified, outside
         self.name = "paper"
         self._plan = lru_cache(maxsize=CACHE_SIZE)(self._plan_uncached)
 
@@ -311,7 +331,7 @@ class PaperAlgorithm:
         robots, meeting = key
         try:
             return analyse(Configuration.trusted(robots, frozenset(meeting)), self.alpha,
-                           self.unclassified)  # type: ignore[arg-type]
+                           self.unclassified, self.outside)  # type: ignore[arg-type]
         except Unhandled as error:
             return error
 
