@@ -14,7 +14,7 @@ from gather_verify.geometry import ORIGIN, Node
 from gather_verify.moves import move_set, move_sets
 from gather_verify.view import MultiplicityHidden, View
 
-ALGORITHMS = sorted(REGISTRY) + ["paper:alpha=mer_f"]
+ALGORITHMS = sorted(REGISTRY) + ["paper:alpha=mer_f", "paper:outside=mer_f"]
 
 nodes = st.tuples(st.integers(0, 4), st.integers(0, 4))
 configurations = st.builds(
