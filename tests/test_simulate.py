@@ -129,13 +129,14 @@ def test_docs_example_runs():
     ("i22-two-robots-finalization-through-meeting-node", 0, "unhandled", "I42"),
     ("i32-symmetry-breaking-onto-meeting-node", 1, "unhandled", "I42"),
     ("i22-non-guard-as-far-as-guard", 1, "unhandled", "I41"),
+    ("i21-diagonal-axis-guard-corner", 2, "unhandled", "guard placement"),
 ])
 def test_recorded_findings_reproduce(name, seed, outcome, message):
     """The paper's rules lead these I2/I3 configurations away from gathering (docs: findings)."""
     from gather_verify.scenario import load_scenario
 
     s = load_scenario(ROOT / "scenarios" / "algorithm" / f"{name}.json")
-    run = simulate(s.configuration, get_algorithm("paper"), "fsync", seed=seed)
+    run = simulate(s.configuration, get_algorithm(s.algorithm), s.scheduler, seed=seed)
     assert run.outcome == outcome and message in run.message
 
 

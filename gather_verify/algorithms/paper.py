@@ -21,8 +21,12 @@ meeting node, and a robot is *outside* when ``dist > d1``):
 3. ``M`` has a rotation with a meeting node on ``c`` (I13): towards it;
 4. otherwise (no meeting node on ``L ∪ {c}``), all robots on one meeting node:
    everybody stays (``n1 = 1``: neither Algorithm 3 nor 4 applies);
-5. ``n1 = 2`` and exactly one of the two positions is a meeting node
-   (Finalization, Algorithm 4): a robot not on a multiplicity and not on a
+5. ``n1 = 2``, exactly one of the two positions is a meeting node ``q``, and
+   ``q`` is a meeting node closest to the other position (Finalization,
+   Algorithm 4; the paper's own argument that the guard's path meets no other
+   meeting node needs it, and it survives every step of the guard along a
+   shortest path; ``finalize=n1`` drops this last condition, reading the
+   pseudo-code's "if n1 = 2" literally): a robot not on a multiplicity and not on a
    meeting node steps towards the other position; the others stay;
 6. the snapshot is symmetric (``SymmetryBreaking()``, Algorithm 5): the robot
    on ``L`` (the axis of ``C``) with the maximum configuration view steps to
@@ -127,7 +131,8 @@ def _everyone_to(c: Configuration, phase: str, target: Node) -> Plan:
 
 
 def analyse(c: Configuration, alpha: strings.AlphaRegion = "mer",
-            unclassified: str = "break", outside: str = "distance") -> Plan:
+            unclassified: str = "break", outside: str = "distance",
+            finalize: str = "closest") -> Plan:
     """The plan of ``Gathering()`` for snapshot ``c`` (robots on distinct nodes).
 
     >>> c = strings.from_string("001001400004000000000000404000400401000000100", 5)
@@ -150,11 +155,12 @@ def analyse(c: Configuration, alpha: strings.AlphaRegion = "mer",
         return _everyone_to(c, "I12", order[-1])
     if rotations and on_symmetry:
         return _everyone_to(c, "I13", on_symmetry[0])
-    return _gathering_asym(c, symmetry, unclassified, outside)
+    return _gathering_asym(c, symmetry, unclassified, outside, finalize)
 
 
-def _finalization(c: Configuration) -> Plan | None:
-    """Algorithm 4 (``GuardMovement``): ``n1 = 2``, one position a meeting node."""
+def _finalization(c: Configuration, finalize: str = "closest") -> Plan | None:
+    """Algorithm 4 (``GuardMovement``): ``n1 = 2``, one position ``q`` a meeting node,
+    and (``finalize=closest``) ``q`` a meeting node closest to the other position."""
     if len(c.occupied) != 2:
         return None
     on_meeting = [v for v in c.occupied if v in c.meeting_nodes]
@@ -162,15 +168,18 @@ def _finalization(c: Configuration) -> Plan | None:
         return None
     target = on_meeting[0]
     (other,) = c.occupied - {target}
+    if finalize == "closest" and manhattan(other, target) > min(
+            manhattan(other, m) for m in c.meeting_nodes):
+        return None
     moves = {target: frozenset({target}), other: closer_steps(other, target)}
     return Plan("I2 finalization", target, moves, {other: frozenset({other})}, guard=other)
 
 
 def _gathering_asym(c: Configuration, symmetry: Automorphism, unclassified: str,
-                    outside: str = "distance") -> Plan:
+                    outside: str = "distance", finalize: str = "closest") -> Plan:
     if len(c.occupied) == 1 and c.robots[0] in c.meeting_nodes:
         return Plan("I2 gathered", c.robots[0], _stay_all(c))
-    final = _finalization(c)
+    final = _finalization(c, finalize)
     if final is not None:
         return final
     aut_c = configuration_automorphisms(c)[1:]
@@ -211,8 +220,8 @@ def _guard_placed_or_placing(c: Configuration, guard: Node, dist) -> Plan:
         steps = frozenset(u for k in closest for u in closer_steps(guard, k)
                           if dist(u) >= dist(guard))
         if not steps:
-            raise Unhandled(f"I2 guard placement: the guard {guard} cannot approach its closest "
-                            "MER corner without getting nearer L ∪ {c}")
+            raise Unhandled("I2 guard placement: the guard cannot approach its closest MER "
+                            "corner without getting nearer L ∪ {c}")
         moves[guard] = steps
         return Plan("I2 guard placement", None, moves, guard=guard)
     target = target_meeting_node(c, guard)
@@ -316,14 +325,17 @@ class PaperAlgorithm:
     """The paper's ``Gathering()``; see the module docstring for the phases."""
 
     def __init__(self, alpha: str = "mer", unclassified: str = "break",
-                 outside: str = "distance") -> None:
+                 outside: str = "distance", finalize: str = "closest") -> None:
         if alpha not in ("mer", "mer_f"):
             raise ValueError(f"bad option alpha={alpha!r}: use mer or mer_f")
         if unclassified not in ("break", "unhandled"):
             raise ValueError(f"bad option unclassified={unclassified!r}: use break or unhandled")
         if outside not in ("distance", "mer_f"):
             raise ValueError(f"bad option outside={outside!r}: use distance or mer_f")
+        if finalize not in ("closest", "n1"):
+            raise ValueError(f"bad option finalize={finalize!r}: use closest or n1")
         self.alpha, self.unclassified, self.outside = alpha, unclassified, outside
+        self.finalize = finalize
         self.name = "paper"
         self._plan = lru_cache(maxsize=CACHE_SIZE)(self._plan_uncached)
 
@@ -331,7 +343,8 @@ class PaperAlgorithm:
         robots, meeting = key
         try:
             return analyse(Configuration.trusted(robots, frozenset(meeting)), self.alpha,
-                           self.unclassified, self.outside)  # type: ignore[arg-type]
+                           self.unclassified, self.outside,
+                           self.finalize)  # type: ignore[arg-type]
         except Unhandled as error:
             return error
 
