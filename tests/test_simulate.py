@@ -131,6 +131,7 @@ def test_docs_example_runs():
     ("i22-non-guard-as-far-as-guard", 1, "unhandled", "I41"),
     ("i21-diagonal-axis-guard-corner", 2, "unhandled", "guard placement"),
     ("i21-make-multiplicity-onto-guard", 1, "deadlock", ""),
+    ("i31-symmetry-breaking-onto-robot", 0, "unhandled", "I41"),
 ])
 def test_recorded_findings_reproduce(name, seed, outcome, message):
     """The paper's rules lead these I2/I3 configurations away from gathering (docs: findings)."""
