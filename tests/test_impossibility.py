@@ -241,9 +241,10 @@ def test_random_algorithm_is_stable():
 # -- the measurement (issue 6): every U configuration of the census ------------------------
 
 
-def census_U(explore: str, steps: int, max_states: int) -> str:
+def census_U(explore: str, steps: int, max_states: int, beyond_u: bool = False) -> str:
     """Play the adversary on every U configuration of the census (n <= 4, m <= 4, 4 x 4 box)
-    against K = 20 random algorithms and the paper's; a one-line summary."""
+    against K = 20 random algorithms and the paper's; a one-line summary. With
+    ``beyond_u``: on every UNCLASSIFIED one that meets Theorem 1's hypothesis instead."""
     from collections import Counter
 
     from gather_verify.census import enumerate_configurations
@@ -253,10 +254,15 @@ def census_U(explore: str, steps: int, max_states: int) -> str:
     for n in range(1, 5):
         for m in range(1, 5):
             for c in enumerate_configurations(n, m, 4, 4):
-                if not classify_configuration(c).in_U:
+                name = classify_configuration(c).name
+                if (name != "UNCLASSIFIED") if beyond_u else (name not in ("I41", "I42")):
                     continue
                 r = check_impossibility(c, algorithms(20), steps=steps, explore=explore,
-                                        max_states=max_states, seed=sum(classes.values()))
+                                        max_states=max_states, seed=sum(classes.values()),
+                                        beyond_u=beyond_u)
+                if not r.partitive:
+                    classes["UNCLASSIFIED without"] += 1
+                    continue
                 assert r.holds, json.dumps(r.to_json())[:3000]
                 classes[r.class_name] += 1
                 for run in r.runs:
@@ -264,7 +270,7 @@ def census_U(explore: str, steps: int, max_states: int) -> str:
                     stats["closed/repeated"] += run.repeated
                     stats["states"] += run.states
                     stats["paper unhandled"] += run.algorithm == "paper" and run.unhandled > 0
-    return (f"{explore}: {dict(classes)} U configurations, {dict(stats)}, "
+    return (f"{explore}: {dict(classes)} configurations, {dict(stats)}, "
             f"{time.perf_counter() - start:.0f} s")
 
 
@@ -276,3 +282,8 @@ def test_census_U_random_adversary():
 @pytest.mark.slow
 def test_census_U_every_choice():
     print("\n" + census_U("all", steps=3, max_states=60))
+
+
+@pytest.mark.slow
+def test_census_unclassified_meeting_theorem_1():
+    print("\n" + census_U("random", steps=30, max_states=0, beyond_u=True))
