@@ -160,3 +160,12 @@ def test_finding_livelock_when_the_guard_is_on_an_axis_of_M():
     run = simulate(s.configuration, get_algorithm("paper"), "fsync", seed=0, max_steps=40)
     assert run.outcome == "max-steps"
     assert len({tuple(sorted(n for n, _ in st)) for st in run.states}) <= 6  # it cycles
+
+
+def test_finding_alpha_over_mer_moves_the_i12_target():
+    from gather_verify.scenario import load_scenario
+
+    c = load_scenario(ROOT / "scenarios/algorithm/i12-alpha-over-mer-target-moves.json").configuration
+    assert get_algorithm("paper").target(c) == (1, 1)
+    assert simulate(c, get_algorithm("paper"), "fsync", seed=0).meeting_node == (3, 3)
+    assert simulate(c, get_algorithm("paper:alpha=mer_f"), "fsync", seed=0).meeting_node == (1, 1)
