@@ -170,3 +170,22 @@ def test_finding_alpha_over_mer_moves_the_i12_target():
     assert simulate(c, get_algorithm("paper"), "fsync", seed=0).meeting_node == (3, 3)
     assert get_algorithm("paper:alpha=mer_f").target(c) == (3, 3)
     assert simulate(c, get_algorithm("paper:alpha=mer_f"), "fsync", seed=0).meeting_node == (3, 3)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scheduler", SCHEDULERS)
+def test_census_i1_gathers_on_the_predicted_node(scheduler):
+    """Every I1 configuration of 3 robots and 3 meeting nodes in a 3 x 3 box (paper:alpha=mer_f)."""
+    from gather_verify.census import enumerate_configurations
+
+    algorithm = get_algorithm("paper:alpha=mer_f")
+    checked = 0
+    for c in enumerate_configurations(3, 3, 3, 3):
+        if classify_configuration(c).name[:2] != "I1":
+            continue
+        target = algorithm.target(c)
+        run = simulate(c, algorithm, scheduler, seed=checked)
+        assert (run.meeting_node, run.moves) == (target, sum(manhattan(r, target)
+                                                             for r in c.robots)), c
+        checked += 1
+    assert checked == 760 + 724 + 178
