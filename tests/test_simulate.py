@@ -188,4 +188,4 @@ def test_census_i1_gathers_on_the_predicted_node(scheduler):
         assert (run.meeting_node, run.moves) == (target, sum(manhattan(r, target)
                                                              for r in c.robots)), c
         checked += 1
-    assert checked == 760 + 724 + 178
+    assert checked == 380 + 362 + 89  # I11, I12, I13 configurations of the census
