@@ -65,7 +65,7 @@ def closed_form_counts(robots: list[tuple[int, int]],
     total = 1
     for s in states_i:
         total *= s
-    edges = sum(e * (total // s) for s, e in zip(states_i, edges_i))
+    edges = sum(e * (total // s) for s, e in zip(states_i, edges_i, strict=True))
     return total, edges
 
 

@@ -108,7 +108,7 @@ def machine_info() -> dict:
         "cpu": cpu,
         "spin_version": first_line(["spin", "-V"]),
         "gcc_version": first_line(["gcc", "--version"]),
-        "date": datetime.datetime.now(datetime.timezone.utc)
+        "date": datetime.datetime.now(datetime.UTC)
                         .strftime("%Y-%m-%dT%H:%M:%SZ"),
     }
 
