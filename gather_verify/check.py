@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 from gather_verify import properties as props
@@ -37,6 +38,9 @@ from gather_verify.explore import (
 )
 from gather_verify.trace import build_trace
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine
+
+AUTO_MARGIN_MAX = 32
+"""The largest region margin tried when the margin is left to grow by itself."""
 
 
 def _trace(e: Exploration, prop: str, reason: str, ids: Sequence[int],
@@ -86,12 +90,16 @@ def run_check(
 ) -> dict[str, Any]:
     """Check ``algorithm`` from ``configuration``; the report as a JSON-able dict.
 
-    Extra ``limits``: ``max_memory_mb`` and ``margin``."""
+    Extra ``limits``: ``max_memory_mb`` and ``margin``. Without a ``margin`` the
+    region grows by itself: a search stopped by the region is run again with the
+    margin doubled, up to ``AUTO_MARGIN_MAX`` (the same exact search on a larger
+    region, so the verdict stays honest; only the last run is reported)."""
     started = time.perf_counter()
     wanted = props.check_property_names(properties)
+    fixed_margin = limits.pop("margin", None)
     lim = Limits(max_states=max_states, max_seconds=max_seconds,
                  max_memory_mb=limits.pop("max_memory_mb", DEFAULT_MAX_MEMORY_MB),
-                 margin=limits.pop("margin", DEFAULT_MARGIN))
+                 margin=DEFAULT_MARGIN if fixed_margin is None else fixed_margin)
     if limits:
         raise ValueError(f"unknown limit(s): {', '.join(sorted(limits))}")
     cls = classify_configuration(configuration)
@@ -102,7 +110,8 @@ def run_check(
         "ratio": None, "bound": move_bound_c * D * n, "seconds": 0.0, "trace": None,
         "properties": {p: {"holds": None} for p in wanted},
         "limits": {"max_states": max_states, "max_seconds": max_seconds,
-                   "max_memory_mb": lim.max_memory_mb, "margin": lim.margin},
+                   "max_memory_mb": lim.max_memory_mb, "margin": lim.margin,
+                   "margin_auto": fixed_margin is None},
         "algorithm": algorithm, "scheduler": scheduler, "detection": detection, "frames": frames,
         "reduction": reduction,
     }
@@ -113,6 +122,14 @@ def run_check(
         return report
     e = explore(configuration, algorithm, scheduler, detection=detection, frames=frames,
                 reduction=reduction, properties=wanted, limits=lim)
+    while fixed_margin is None and e.stopped == "region" and lim.margin < AUTO_MARGIN_MAX:
+        left = max_seconds - (time.perf_counter() - started)
+        if left <= 0:
+            break
+        lim = replace(lim, margin=min(2 * lim.margin, AUTO_MARGIN_MAX), max_seconds=left)
+        e = explore(configuration, algorithm, scheduler, detection=detection, frames=frames,
+                    reduction=reduction, properties=wanted, limits=lim)
+    report["limits"]["margin"] = lim.margin
     report.update(states=e.states, transitions=e.transitions, peak_rss_mb=round(e.peak_rss_mb, 1))
     results = report["properties"]
     traces: dict[str, dict[str, Any] | None] = {}

@@ -273,6 +273,9 @@ def _symmetry_breaking(c: Configuration, symmetry: Automorphism,
         raise Unhandled("UNCLASSIFIED: M is rotational with no meeting node on c and C has a "
                         "single reflection (option unclassified=unhandled)")
     on_axis = [r for r in c.occupied if mirror.fixes(r)]
+    if not on_axis and symmetry.kind == "rotation":
+        raise Unhandled("UNCLASSIFIED: M is rotational with no meeting node on c and C has a "
+                        "single reflection whose axis holds no robot: the paper has no rule")
     if not on_axis:
         raise Unhandled("I41: C is symmetric about L with no robot or meeting node on L "
                         "(ungatherable, Theorem 1)")

@@ -7,6 +7,7 @@ import argparse
 import json
 from pathlib import Path
 
+from gather_verify.check import AUTO_MARGIN_MAX
 from gather_verify.cli.common import (
     VERDICT_EXIT,
     add_configuration_arguments,
@@ -40,8 +41,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         default=DEFAULT_MAX_SECONDS)
     parser.add_argument("--max-memory", type=bounded_float(1, 10**7),
                         default=DEFAULT_MAX_MEMORY_MB, metavar="MB")
-    parser.add_argument("--margin", type=bounded_int(0, 1000), default=DEFAULT_MARGIN,
-                        help="region bound: the initial MER grown by this many nodes")
+    parser.add_argument("--margin", type=bounded_int(0, 1000), default=None,
+                        help="region bound: the initial MER grown by this many nodes "
+                             f"(default: {DEFAULT_MARGIN}, doubled up to {AUTO_MARGIN_MAX} "
+                             "while the region stops the search)")
     parser.add_argument("--move-bound-c", type=bounded_float(0, 10**6), default=4.0)
     parser.add_argument("--force", action="store_true",
                         help="check even when the initial configuration is in U or UNCLASSIFIED")
@@ -63,7 +66,8 @@ def run(args: argparse.Namespace) -> int:
         configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
         frames=frames, properties=args.properties, reduction=not args.no_reduction,
         max_states=args.max_states, max_seconds=args.max_seconds, move_bound_c=args.move_bound_c,
-        force=args.force, max_memory_mb=args.max_memory, margin=args.margin)
+        force=args.force, max_memory_mb=args.max_memory,
+        **({} if args.margin is None else {"margin": args.margin}))
     trace = report["trace"]
     if trace is not None and args.trace_out:
         Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
