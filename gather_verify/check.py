@@ -30,14 +30,20 @@ from gather_verify.classes import classify_configuration
 from gather_verify.configuration import Configuration
 from gather_verify.explore import (
     DEFAULT_MARGIN,
-    DEFAULT_MAX_MEMORY_MB,
     Exploration,
     Limits,
     Violation,
     explore,
 )
+from gather_verify.resources import memory_budget_mb
 from gather_verify.trace import build_trace
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine
+
+
+def _memory_limit(value: float | None) -> float:
+    """The memory limit asked for, else this machine's budget (:mod:`gather_verify.resources`)."""
+    return memory_budget_mb() if value is None else value
+
 
 AUTO_MARGIN_MAX = 32
 """The largest region margin tried when the margin is left to grow by itself."""
@@ -98,7 +104,7 @@ def run_check(
     wanted = props.check_property_names(properties)
     fixed_margin = limits.pop("margin", None)
     lim = Limits(max_states=max_states, max_seconds=max_seconds,
-                 max_memory_mb=limits.pop("max_memory_mb", DEFAULT_MAX_MEMORY_MB),
+                 max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),
                  margin=DEFAULT_MARGIN if fixed_margin is None else fixed_margin)
     if limits:
         raise ValueError(f"unknown limit(s): {', '.join(sorted(limits))}")

@@ -15,7 +15,7 @@ import os
 import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any
 
 from gather_verify.configuration import Configuration
@@ -42,13 +42,19 @@ class SweepSettings:
     move_bound_c: float = 4.0
     reduction: bool = True
     extra: dict[str, Any] = field(default_factory=dict)
+    max_memory_mb: float | None = None
+    """Resident memory limit of each worker process; None: this machine's memory shared
+    by the workers (:func:`gather_verify.resources.memory_budget_mb`)."""
 
     def key(self) -> dict[str, Any]:
         """The identity of the sweep in the store (timing limits excluded only if
-        they cannot change a verdict: they can, so they are included)."""
+        they cannot change a verdict: they can, so they are included; the memory limit
+        only when it is given, so the default does not depend on the machine)."""
         out = asdict(self)
         out["box"] = list(self.box)
         out["properties"] = list(self.properties)
+        if self.max_memory_mb is None:
+            del out["max_memory_mb"]
         return out
 
 
@@ -68,7 +74,7 @@ def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[st
         detection=settings.detection, frames=settings.frames,
         properties=settings.properties or None, reduction=settings.reduction,
         max_states=settings.max_states, max_seconds=settings.max_seconds,
-        move_bound_c=settings.move_bound_c,
+        move_bound_c=settings.move_bound_c, max_memory_mb=settings.max_memory_mb,
     )
     return {
         "key": configuration_key(c),
@@ -173,6 +179,12 @@ def _execute(
     dask: str | None,
 ) -> Iterator[list[dict[str, Any]]]:
     chunks = list(_chunks(todo, CHUNK))
+    if settings.max_memory_mb is None:  # the machine's memory, shared by the workers
+        from gather_verify.resources import memory_budget_mb
+
+        settings = replace(settings, max_memory_mb=memory_budget_mb(
+            1 if dask is None and (workers == 1 or len(chunks) <= 1) else
+            (workers or os.cpu_count() or 1)))
     if dask is not None:
         yield from _execute_dask(settings, chunks, dask, workers)
         return
@@ -183,9 +195,17 @@ def _execute(
         return
     import multiprocessing
 
-    with multiprocessing.get_context("fork").Pool(workers) as pool:
+    with multiprocessing.get_context("fork").Pool(workers, initializer=_ignore_sigint) as pool:
         tasks = [(settings, chunk) for chunk in chunks]
         yield from pool.imap_unordered(_star_verify, tasks)
+
+
+def _ignore_sigint() -> None:
+    """Pool workers leave Ctrl-C to the parent, which stops the pool and says how to resume
+    (otherwise every worker prints its own traceback)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _star_verify(task: tuple[SweepSettings, list[tuple[int, Configuration]]]) -> list[dict[str, Any]]:

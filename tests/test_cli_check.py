@@ -16,9 +16,13 @@ def test_check_json_verified(capsys):
                  "--no-reduction", "--json"])
     out = json.loads(capsys.readouterr().out)
     assert code == 0 and out["verdict"] == "VERIFIED" and out["states"] == 2184
-    for key in ("property", "transitions", "max_moves", "D", "n", "ratio", "seconds", "trace",
+    for key in ("property", "transitions", "max_moves", "D", "n", "ratio", "trace",
                 "class", "reason", "properties", "limits"):
         assert key in out
+    assert "seconds" not in out  # reproducible by default; --timings adds the measurements
+    main(["check", *YARD, "--algorithm", "go-to-target", "--json", "--timings"])
+    timed = json.loads(capsys.readouterr().out)
+    assert "seconds" in timed and "peak_rss_mb" in timed
 
 
 def test_check_violation_trace_and_replay(tmp_path, capsys):

@@ -3,7 +3,8 @@
 Every subcommand module defines ``HELP``, ``add_arguments(parser)`` and
 ``run(args) -> int``. Exit codes are shared by all commands: 0 success or
 VERIFIED, 1 VIOLATED, 2 bad input or usage (one line on stderr, never a
-traceback), 3 INCOMPLETE, 4 NOT-APPLICABLE.
+traceback), 3 INCOMPLETE, 4 NOT-APPLICABLE, 130 interrupted by Ctrl-C (one line on stderr
+says what was kept and how to resume). See docs/reliability.md.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import importlib
 import sys
 from collections.abc import Sequence
 
-from gather_verify.cli.common import EXIT_USAGE, UsageError
+from gather_verify.cli.common import EXIT_INTERRUPTED, EXIT_USAGE, UsageError
 
 COMMANDS = ("classify", "census", "simulate", "check", "replay", "sweep", "report",
             "impossibility", "mutants", "bench")
@@ -60,8 +61,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"error: {error}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
-        return 130
+        print("interrupted: nothing was written; run the same command again", file=sys.stderr)
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":

@@ -5,16 +5,19 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
 
 from gather_verify.check import AUTO_MARGIN_MAX
 from gather_verify.cli.common import (
+    EXIT_INTERRUPTED,
     VERDICT_EXIT,
     add_configuration_arguments,
     bounded_float,
     bounded_int,
     load_configuration,
     print_json,
+    without_timings,
 )
 from gather_verify.explore import (
     DEFAULT_MARGIN,
@@ -39,8 +42,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--max-states", type=bounded_int(1, 10**10), default=DEFAULT_MAX_STATES)
     parser.add_argument("--max-seconds", type=bounded_float(0.001, 10**7),
                         default=DEFAULT_MAX_SECONDS)
-    parser.add_argument("--max-memory", type=bounded_float(1, 10**7),
-                        default=DEFAULT_MAX_MEMORY_MB, metavar="MB")
+    parser.add_argument("--max-memory-mb", "--max-memory", type=bounded_float(1, 10**7),
+                        default=None, metavar="MB", dest="max_memory",
+                        help="resident memory limit of the search (default: a share of this "
+                             f"machine's memory, at most {DEFAULT_MAX_MEMORY_MB})")
     parser.add_argument("--margin", type=bounded_int(0, 1000), default=None,
                         help="region bound: the initial MER grown by this many nodes "
                              f"(default: {DEFAULT_MARGIN}, doubled up to {AUTO_MARGIN_MAX} "
@@ -51,6 +56,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--trace-out", metavar="FILE", help="write the counterexample trace (JSON)")
     parser.add_argument("--svg", metavar="FILE", help="write the trace as an SVG storyboard")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument("--timings", action="store_true",
+                        help="with --json, also print the wall-clock seconds and peak memory "
+                             "(left out by default so the output is byte-for-byte reproducible)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -62,19 +70,25 @@ def run(args: argparse.Namespace) -> int:
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
     detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")
     frames = args.frames or (scenario.frames if scenario else "all")
-    report = run_check(
-        configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
-        frames=frames, properties=args.properties, reduction=not args.no_reduction,
-        max_states=args.max_states, max_seconds=args.max_seconds, move_bound_c=args.move_bound_c,
-        force=args.force, max_memory_mb=args.max_memory,
-        **({} if args.margin is None else {"margin": args.margin}))
+    try:
+        report = run_check(
+            configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
+            frames=frames, properties=args.properties, reduction=not args.no_reduction,
+            max_states=args.max_states, max_seconds=args.max_seconds,
+            move_bound_c=args.move_bound_c, force=args.force, max_memory_mb=args.max_memory,
+            **({} if args.margin is None else {"margin": args.margin}))
+    except KeyboardInterrupt:
+        print("interrupted: check keeps no partial results (nothing was written); run the same "
+              "command again to start over, with --max-seconds or --max-states to stop with "
+              "INCOMPLETE and the statistics so far", file=sys.stderr)
+        return EXIT_INTERRUPTED
     trace = report["trace"]
     if trace is not None and args.trace_out:
         Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
     if trace is not None and args.svg:
         Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
     if args.json:
-        print_json(report)
+        print_json(report if args.timings else without_timings(report))
     else:
         ratio = "-" if report["ratio"] is None else f"{report['ratio']:.3f}"
         moves = "infinite" if report["max_moves_infinite"] else report["max_moves"]

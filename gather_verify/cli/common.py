@@ -12,6 +12,10 @@ from gather_verify.geometry import parse_nodes
 from gather_verify.scenario import Scenario, load_scenario
 
 EXIT_OK, EXIT_VIOLATED, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_NOT_APPLICABLE = 0, 1, 2, 3, 4
+EXIT_INTERRUPTED = 130
+"""Ctrl-C (SIGINT): 128 + 2, as shells report it; one line on stderr says what was kept."""
+TIMING_KEYS = ("seconds", "peak_rss_mb")
+"""Report fields that vary from run to run; ``--json`` leaves them out unless ``--timings``."""
 VERDICT_EXIT = {"VERIFIED": EXIT_OK, "VIOLATED": EXIT_VIOLATED, "INCOMPLETE": EXIT_INCOMPLETE,
                 "NOT-APPLICABLE": EXIT_NOT_APPLICABLE}
 
@@ -86,3 +90,14 @@ def print_json(obj: Any) -> None:
     """One JSON object on stdout, keys in a stable order."""
     json.dump(obj, sys.stdout, sort_keys=True)
     sys.stdout.write("\n")
+
+
+def without_timings(obj: Any) -> Any:
+    """``obj`` without wall-clock and memory measurements (``TIMING_KEYS``, and the
+    ``slowest`` list of a sweep summary, which is ordered by time), at any depth."""
+    if isinstance(obj, dict):
+        return {k: without_timings(v) for k, v in obj.items()
+                if k not in TIMING_KEYS and k != "slowest"}
+    if isinstance(obj, list):
+        return [without_timings(v) for v in obj]
+    return obj

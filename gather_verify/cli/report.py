@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from gather_verify.cli.common import print_json
+from gather_verify.cli.common import print_json, without_timings
 
 HELP = "render the sweeps stored in a results database"
 
@@ -14,6 +14,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--html", metavar="FILE", help="write an HTML report (with SVG traces)")
     p.add_argument("--plot", metavar="FILE", help="write a plot of max moves against D·n")
     p.add_argument("--json", action="store_true")
+    p.add_argument("--timings", action="store_true",
+                   help="with --json, also print the slowest configurations and their seconds")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -26,7 +28,7 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         write_plot(args.db, args.plot)
     if args.json:
-        print_json({"sweeps": found})
+        print_json({"sweeps": found if args.timings else without_timings(found)})
         return 0
     for i, summary in enumerate(found):
         print(f"== sweep {i + 1}: {summary['settings']}")

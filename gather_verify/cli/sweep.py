@@ -4,8 +4,16 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 
-from gather_verify.cli.common import bounded_float, bounded_int, parse_box, print_json
+from gather_verify.cli.common import (
+    EXIT_INTERRUPTED,
+    bounded_float,
+    bounded_int,
+    parse_box,
+    print_json,
+    without_timings,
+)
 
 HELP = "verify every configuration of a box (up to symmetry) and store the results"
 DEFAULT_DB = "gather-verify-results.sqlite"
@@ -31,11 +39,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="run on a Dask cluster: 'local' starts one, else a scheduler address")
     p.add_argument("--max-states-per-config", type=bounded_int(1, 10**9), default=2_000_000)
     p.add_argument("--max-seconds-per-config", type=bounded_float(0.001, 86400.0), default=600.0)
+    p.add_argument("--max-memory-mb", type=bounded_float(1, 10**7), default=None, metavar="MB",
+                   help="resident memory limit of each worker process (default: a share of "
+                        "this machine's memory); a configuration that hits it is INCOMPLETE")
     p.add_argument("--move-bound-c", type=bounded_float(0.0, 1e6), default=4.0)
     p.add_argument("--limit", type=bounded_int(1, 10**9), default=None,
                    help="only the first N configurations of the enumeration")
     p.add_argument("--junit", metavar="FILE", help="also write JUnit XML, one test case per configuration")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.add_argument("--timings", action="store_true",
+                   help="with --json, also print the slowest configurations and their seconds "
+                        "(left out by default so the output is byte-for-byte reproducible)")
 
 
 def count_range(text: str) -> range:
@@ -71,21 +85,21 @@ def run(args: argparse.Namespace) -> int:
         scheduler=args.scheduler, detection=args.multiplicity, frames=args.frames,
         properties=tuple(args.properties or ()), max_states=args.max_states_per_config,
         max_seconds=args.max_seconds_per_config, move_bound_c=args.move_bound_c,
-        reduction=not args.no_reduction,
+        reduction=not args.no_reduction, max_memory_mb=args.max_memory_mb,
     ) for n in args.robots for m in args.meeting]
     try:
         summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
                             progress=not args.json, limit=args.limit)
     except KeyboardInterrupt:
-        print(f"interrupted: results so far are kept in {os.path.abspath(args.db)}; "
-              "run the same command again to resume", file=__import__("sys").stderr)
-        return 130
+        print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
+              "run the same command again to resume", file=sys.stderr)
+        return EXIT_INTERRUPTED
     if args.junit:
         from gather_verify.junit import write_sweep_junit
 
         write_sweep_junit(args.db, settings, args.junit)
     if args.json:
-        print_json(summary)
+        print_json(summary if args.timings else without_timings(summary))
     else:
         format_summary(summary)
         print(f"\nresults: {os.path.abspath(args.db)}")
