@@ -18,12 +18,17 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 from gather_verify import geometry
-from gather_verify.algorithms.base import Algorithm, AlgorithmError
+from gather_verify.algorithms.base import Algorithm, AlgorithmError, Unhandled
 from gather_verify.configuration import Configuration
 from gather_verify.geometry import ORIGIN, STEPS, Node
-from gather_verify.view import FRAME_SETS, View
+from gather_verify.view import FRAME_SETS, MultiplicityHidden, View
 
 ANSWERS = frozenset((ORIGIN, *STEPS))
+
+
+class HiddenRead(Unhandled, MultiplicityHidden):
+    """The algorithm read multiplicity its detection model hides: it has no rule its robots
+    could follow (the explorer reports it as a ``defined`` violation, with a trace)."""
 
 
 def frames_for(name: str) -> tuple[int, ...]:
@@ -40,10 +45,18 @@ def move_set(
     detection: str = "local-weak",
     frames: Iterable[int] = geometry.ALL,
 ) -> frozenset[Node]:
-    """Global destinations the robots on ``node`` may take (``node`` itself = stay)."""
+    """Global destinations the robots on ``node`` may take (``node`` itself = stay).
+
+    An algorithm that reads multiplicity its detection model hides has no rule its
+    robots could follow there: :class:`HiddenRead`, an :class:`Unhandled` (the ``defined``
+    property fails)."""
     out = set()
     for g in frames:
-        answer = algorithm.decide(View(configuration, node, g, detection))
+        try:
+            answer = algorithm.decide(View(configuration, node, g, detection))
+        except MultiplicityHidden as error:  # a rule its robots cannot apply: no rule at all
+            raise HiddenRead(f"algorithm {algorithm.name!r} reads multiplicity its robots cannot "
+                            f"see: {error}") from None
         if answer not in ANSWERS:
             raise AlgorithmError(
                 f"algorithm {algorithm.name!r} answered {answer!r}: a move must be (0, 0) "
