@@ -86,8 +86,8 @@ def parse_event(raw: object, where: str) -> Event:
 
 
 def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
-    """A validated trace (from a file path or an already parsed object); ValueError names
-    the first problem."""
+    """A validated trace (from a file path or an already parsed object, a trace or a
+    scenario holding one under ``trace``); ValueError names the first problem."""
     if isinstance(source, dict):
         data = source
     else:
@@ -95,6 +95,8 @@ def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
             data = json.loads(Path(source).read_text(encoding="utf-8"))
         except json.JSONDecodeError as error:
             raise ValueError(f"bad trace {source}: not JSON ({error.msg} at line {error.lineno})") from None
+    if isinstance(data, dict) and "robots" in data and isinstance(data.get("trace"), dict):
+        data = data["trace"]  # a scenario file that stores its counterexample
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         _fail(f"not a {FORMAT} object")
     if data.get("version") != VERSION:

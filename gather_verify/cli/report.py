@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 from gather_verify.cli.common import print_json, without_timings
 
@@ -13,6 +14,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--db", required=True, help="results database written by 'sweep'")
     p.add_argument("--html", metavar="FILE", help="write an HTML report (with SVG traces)")
     p.add_argument("--plot", metavar="FILE", help="write a plot of max moves against D·n")
+    p.add_argument("--regressions", metavar="DIR",
+                   help="write one scenario file per distinct counterexample into DIR "
+                        "(e.g. scenarios/regressions)")
     p.add_argument("--json", action="store_true")
     p.add_argument("--timings", action="store_true",
                    help="with --json, also print the slowest configurations and their seconds")
@@ -27,6 +31,11 @@ def run(args: argparse.Namespace) -> int:
         write_html(args.db, args.html)
     if args.plot:
         write_plot(args.db, args.plot)
+    if args.regressions:
+        from gather_verify.regressions import write_regressions
+
+        for path in write_regressions(args.db, args.regressions):
+            print(f"wrote {path}", file=sys.stderr)
     if args.json:
         print_json({"sweeps": found if args.timings else without_timings(found)})
         return 0
