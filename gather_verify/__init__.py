@@ -4,35 +4,76 @@ The pipeline, one module per concept: configuration -> symmetry -> strings ->
 classes; view -> algorithm -> move sets -> scheduler -> explorer -> properties
 -> verdict and trace.
 
->>> from gather_verify import classify
+>>> from gather_verify import classify, run_check, Configuration
 >>> classify([(0, 0), (3, 1), (1, 4)], [(2, 2)]).name
 'I13'
+>>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
+>>> report = run_check(c, algorithm="go-to-target", scheduler="async", reduction=False,
+...                    max_states=10_000, max_seconds=60)
+>>> report["verdict"], report["states"], report["transitions"]
+('VERIFIED', 2184, 7032)
 """
 
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, register
-from gather_verify.classes import Classification, classify, classify_configuration
+from gather_verify.algorithms.go_to_target import GoToTarget
+from gather_verify.algorithms.nearest_centre import NearestCentre
+from gather_verify.algorithms.paper import PaperAlgorithm
+from gather_verify.algorithms.random_equivariant import RandomEquivariant
+from gather_verify.census import Census, canonical, census, enumerate_configurations
+from gather_verify.check import run_check
+from gather_verify.classes import CLASS_NAMES, Classification, classify, classify_configuration
 from gather_verify.configuration import Configuration
+from gather_verify.explore import Exploration, Limits, explore
+from gather_verify.impossibility import ImpossibilityResult, check_impossibility
 from gather_verify.moves import move_set, move_sets
+from gather_verify.properties import PROPERTIES, check_property_names
+from gather_verify.replay import replay
 from gather_verify.scenario import Scenario, ScenarioError, load_scenario
+from gather_verify.simulate import Run, simulate
+from gather_verify.sweep import SweepSettings, run_sweep
 from gather_verify.symmetry import Automorphism, automorphisms
+from gather_verify.trace import load_trace
 from gather_verify.view import MultiplicityHidden, View
 
 __all__ = [
+    "CLASS_NAMES",
+    "PROPERTIES",
     "Algorithm",
     "Automorphism",
+    "Census",
     "Classification",
     "Configuration",
+    "Exploration",
+    "GoToTarget",
+    "ImpossibilityResult",
+    "Limits",
     "MultiplicityHidden",
+    "NearestCentre",
+    "PaperAlgorithm",
+    "RandomEquivariant",
+    "Run",
     "Scenario",
     "ScenarioError",
+    "SweepSettings",
     "Unhandled",
     "View",
     "automorphisms",
+    "canonical",
+    "census",
+    "check_impossibility",
+    "check_property_names",
     "classify",
     "classify_configuration",
+    "enumerate_configurations",
+    "explore",
     "get_algorithm",
     "load_scenario",
+    "load_trace",
     "move_set",
     "move_sets",
     "register",
+    "replay",
+    "run_check",
+    "run_sweep",
+    "simulate",
 ]

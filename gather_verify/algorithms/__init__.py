@@ -8,6 +8,8 @@ as keyword arguments (strings).
 'go-to-target'
 >>> get_algorithm("paper:alpha=mer_f").name
 'paper:alpha=mer_f'
+>>> get_algorithm("random:seed=7").name  # an equivariant algorithm answering at random
+'random:seed=7'
 >>> get_algorithm("nope")  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
@@ -22,11 +24,13 @@ from gather_verify.algorithms.base import Algorithm, AlgorithmError, Unhandled, 
 from gather_verify.algorithms.go_to_target import GoToTarget
 from gather_verify.algorithms.nearest_centre import NearestCentre
 from gather_verify.algorithms.paper import PaperAlgorithm
+from gather_verify.algorithms.random_equivariant import RandomEquivariant
 
 REGISTRY: dict[str, Callable[..., Algorithm]] = {
     "go-to-target": GoToTarget,
     "nearest-centre": NearestCentre,
     "paper": PaperAlgorithm,
+    "random": RandomEquivariant,
 }
 
 
