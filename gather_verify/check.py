@@ -92,6 +92,7 @@ def run_check(
     max_seconds: float,
     move_bound_c: float = 4.0,
     force: bool = False,
+    engine: str = "auto",
     **limits: Any,
 ) -> dict[str, Any]:
     """Check ``algorithm`` from ``configuration``; the report as a JSON-able dict.
@@ -126,15 +127,15 @@ def run_check(
                       "use the impossibility checks (or --force)",
                       seconds=time.perf_counter() - started)
         return report
-    e = explore(configuration, algorithm, scheduler, detection=detection, frames=frames,
-                reduction=reduction, properties=wanted, limits=lim)
+    e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
+                frames=frames, reduction=reduction, properties=wanted, limits=lim)
     while fixed_margin is None and e.stopped == "region" and lim.margin < AUTO_MARGIN_MAX:
         left = max_seconds - (time.perf_counter() - started)
         if left <= 0:
             break
         lim = replace(lim, margin=min(2 * lim.margin, AUTO_MARGIN_MAX), max_seconds=left)
-        e = explore(configuration, algorithm, scheduler, detection=detection, frames=frames,
-                    reduction=reduction, properties=wanted, limits=lim)
+        e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
+                    frames=frames, reduction=reduction, properties=wanted, limits=lim)
     report["limits"]["margin"] = lim.margin
     report.update(states=e.states, transitions=e.transitions, peak_rss_mb=round(e.peak_rss_mb, 1))
     results = report["properties"]
@@ -142,8 +143,8 @@ def run_check(
     for name, v in e.violations.items():
         trace = _safety_trace(e, v)
         if trace is None:  # target not equivariant: find the witness on the concrete graph
-            plain = explore(configuration, algorithm, scheduler, detection=detection,
-                            frames=frames, reduction=False, properties=[name], limits=lim)
+            plain = explore(configuration, algorithm, scheduler, engine=engine,
+                            detection=detection, frames=frames, reduction=False, properties=[name], limits=lim)
             w = plain.violations.get(name)
             trace = _safety_trace(plain, w) if w is not None else None
             if trace is None:
@@ -162,8 +163,8 @@ def run_check(
         longest = props.longest_path(e)
         lifted = e
         if longest.max_moves is None and (e.anonymity or e.symmetry):
-            lifted = explore(configuration, algorithm, scheduler, detection=detection,
-                             frames=frames, reduction=False, properties=[], limits=lim)
+            lifted = explore(configuration, algorithm, scheduler, engine=engine,
+                             detection=detection, frames=frames, reduction=False, properties=[], limits=lim)
             if lifted.stopped:
                 stopped = f"{lifted.stopped} (while lifting the reduced graph to check cycles)"
         if longest.max_moves is not None:

@@ -1,0 +1,544 @@
+"""The bulk explorer: the same breadth-first search as :mod:`explore`, on numpy arrays.
+
+SEMANTICS.md §4-5, issue 8. It explores exactly the states of the reference
+explorer (:func:`gather_verify.explore.explore_reference`), gives them the same
+ids in the same order (so the same BFS parents, the same first witnesses and the
+same traces), and returns the same :class:`~gather_verify.explore.Exploration`.
+What changes is how:
+
+- a state is one ``uint64``: the reference key (robot codes ``cell * 5 + d``
+  packed in base ``5 * cells``, sorted and minimised over ``Aut(M)`` when the
+  reductions are on);
+- visited states live in an open-addressing hash table of ``int32`` ids over a
+  ``uint64`` key column in id order; parents are an ``int32`` column;
+- the frontier is expanded a chunk of states at a time: states are grouped by
+  configuration, the facts of each configuration (move sets, deadlock, class,
+  target) are computed once through the generic algorithm interface and kept
+  as a row of small integers, and the scheduler's ``bulk_successors`` applies
+  them to the whole chunk at once;
+- the graph (successor ids, edge weights) is kept only when asked for
+  (``graph=True``, what ``move-bound`` and ``termination`` need).
+
+The explorer knows neither the algorithm nor the scheduler: a scheduler
+without ``bulk_successors``, a key that does not fit 64 bits, or more states
+than an ``int32`` id holds make :func:`supports` say no and the caller uses the
+reference path.
+
+>>> from gather_verify.configuration import Configuration
+>>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
+>>> e = explore_fast(c, "go-to-target", "async", reduction=False)
+>>> e.states, e.transitions, e.stopped
+(2184, 7032, None)
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterable, Iterator, Sequence
+from typing import Any
+
+import numpy as np
+
+from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, target_of
+from gather_verify.classes import classify_configuration
+from gather_verify.configuration import Configuration
+from gather_verify.explore import (
+    SAFETY,
+    Encoding,
+    Exploration,
+    Limits,
+    Violation,
+    facts_cache,
+    region_box,
+    rss_mb,
+    symmetry_group,
+)
+from gather_verify.geometry import STEPS
+from gather_verify.moves import frames_for, move_sets
+from gather_verify.view import check_detection
+from schedulers import Event, get_scheduler, initial_state
+
+CHUNK = 1 << 15
+"""States expanded per bulk step: bounds the transient arrays (a few MB)."""
+MAX_IDS = 2**31 - 2
+LOAD = 0.7
+"""Largest load factor of the hash table before it doubles."""
+NO_LIMITS = Limits()
+_MUL = np.uint64(0x9E3779B97F4A7C15)
+
+
+class IntColumn(Sequence[int]):
+    """A read-only view of a numpy column that hands out Python ints (for the
+    per-element code in :mod:`properties` and :mod:`check`)."""
+
+    __slots__ = ("array",)
+
+    def __init__(self, array: np.ndarray):
+        self.array = array
+
+    def __len__(self) -> int:
+        return len(self.array)
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, slice):
+            return self.array[i].tolist()
+        return int(self.array[i])
+
+    def __iter__(self) -> Iterator[int]:
+        for start in range(0, len(self.array), 1 << 16):
+            yield from self.array[start:start + (1 << 16)].tolist()
+
+
+class KeyIndex:
+    """Visited states: ``uint64`` keys in id order and a linear-probing table of ids.
+
+    >>> ix = KeyIndex()
+    >>> ix.insert(np.array([7, 3, 9], dtype=np.uint64))
+    >>> ix.lookup(np.array([3, 4, 9, 7], dtype=np.uint64)).tolist()
+    [1, -1, 2, 0]
+    """
+
+    def __init__(self, bits: int = 16, capacity: int = 1 << 16):
+        self.keys = np.empty(capacity, dtype=np.uint64)
+        self.count = 0
+        self._alloc(bits)
+
+    def _alloc(self, bits: int) -> None:
+        self.bits = bits
+        self.mask = (1 << bits) - 1
+        self.shift = np.uint64(64 - bits)
+        self.table = np.zeros(1 << bits, dtype=np.int32)  # id + 1; 0 is empty
+
+    def _hash(self, q: np.ndarray) -> np.ndarray:
+        return ((q * _MUL) >> self.shift).astype(np.int64)
+
+    def lookup(self, q: np.ndarray) -> np.ndarray:
+        """Ids of ``q`` (-1 where absent)."""
+        out = np.full(len(q), -1, dtype=np.int64)
+        h = self._hash(q)
+        active = np.arange(len(q))
+        table, keys, mask = self.table, self.keys, self.mask
+        while len(active):
+            slot = h[active]
+            t = table[slot].astype(np.int64)
+            full = t > 0
+            active, slot, t = active[full], slot[full], t[full]
+            hit = keys[t - 1] == q[active]
+            out[active[hit]] = t[hit] - 1
+            miss = ~hit
+            active = active[miss]
+            h[active] = (slot[miss] + 1) & mask
+        return out
+
+    def _place(self, q: np.ndarray, ids: np.ndarray) -> None:
+        h = self._hash(q)
+        tags = (ids + 1).astype(np.int32)
+        active = np.arange(len(q))
+        table, mask = self.table, self.mask
+        while len(active):
+            slot = h[active]
+            free = table[slot] == 0
+            table[slot[free]] = tags[active[free]]
+            won = np.zeros(len(active), dtype=bool)
+            won[free] = table[slot[free]] == tags[active[free]]
+            lost_race = free & ~won
+            moved = ~free
+            h[active[moved]] = (slot[moved] + 1) & mask
+            active = active[moved | lost_race]
+
+    def insert(self, q: np.ndarray) -> None:
+        """Append distinct keys, absent from the index, with the next ids."""
+        need = self.count + len(q)
+        if need > len(self.keys):
+            grown = np.empty(max(need, 2 * len(self.keys)), dtype=np.uint64)
+            grown[:self.count] = self.keys[:self.count]
+            self.keys = grown
+        self.keys[self.count:need] = q
+        if need > LOAD * len(self.table):
+            bits = self.bits
+            while need > LOAD * (1 << bits):
+                bits += 1
+            self._alloc(bits)
+            self._place(self.keys[:need], np.arange(need))
+        else:
+            self._place(q, np.arange(self.count, need))
+        self.count = need
+
+
+class Growing:
+    """An append-only numpy column (amortised doubling)."""
+
+    def __init__(self, dtype: Any, capacity: int = 1 << 16):
+        self.data = np.empty(capacity, dtype=dtype)
+        self.size = 0
+
+    def extend(self, values: np.ndarray) -> None:
+        need = self.size + len(values)
+        if need > len(self.data):
+            grown = np.empty(max(need, 2 * len(self.data)), dtype=self.data.dtype)
+            grown[:self.size] = self.data[:self.size]
+            self.data = grown
+        self.data[self.size:need] = values
+        self.size = need
+
+    def array(self) -> np.ndarray:
+        return self.data[:self.size]
+
+
+class FactsTable:
+    """Per configuration (sorted robot cells, packed), the facts as small integers.
+
+    ``masks[row, j]``: bit ``k`` set when the robots on the ``j``-th sorted cell may
+    take ``STEPS[k]``; bit 4 when they may stay. ``in_u`` and ``target`` are
+    computed only when asked for (-2 = not computed yet)."""
+
+    def __init__(self, enc: Encoding, n: int, algorithm: Algorithm, meeting: frozenset,
+                 detection: str, frames: Sequence[int]):
+        self.enc, self.n, self.algorithm, self.meeting = enc, n, algorithm, meeting
+        self.detection, self.frames = detection, tuple(frames)
+        self.cells = enc.cells
+        self.row: dict[int, int] = {}
+        self.masks = np.zeros((1024, n), dtype=np.uint8)
+        self.flags = np.zeros((1024, 3), dtype=np.int8)  # unhandled, stuck, gathered
+        self.in_u = np.full(1024, -2, dtype=np.int8)
+        self.target = np.full(1024, -2, dtype=np.int32)
+        self.reasons: dict[int, str] = {}
+        self.target_nodes: list = []
+        self.target_ids: dict = {}
+        self.weights = np.array([self.cells ** j for j in range(n)], dtype=np.int64)
+        self._configs: list[tuple] = []
+
+    def config_keys(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Sorted cells per row and their packed key."""
+        srt = np.sort(cells, axis=1)
+        return srt, srt @ self.weights
+
+    def robots(self, row: int) -> tuple:
+        return self._configs[row]
+
+    def rows(self, keys: np.ndarray, sorted_cells: np.ndarray) -> np.ndarray:
+        """Row of every configuration key (computing the facts of new ones)."""
+        uniq, first, inv = np.unique(keys, return_index=True, return_inverse=True)
+        out = np.empty(len(uniq), dtype=np.int64)
+        get = self.row.get
+        for i, k in enumerate(uniq.tolist()):
+            r = get(k)
+            if r is None:
+                r = self._add(k, sorted_cells[first[i]])
+            out[i] = r
+        return out[inv.reshape(-1)]
+
+    def _grow(self) -> None:
+        size = len(self.masks)
+        self.masks = np.concatenate([self.masks, np.zeros_like(self.masks)])
+        self.flags = np.concatenate([self.flags, np.zeros_like(self.flags)])
+        self.in_u = np.concatenate([self.in_u, np.full(size, -2, dtype=np.int8)])
+        self.target = np.concatenate([self.target, np.full(size, -2, dtype=np.int32)])
+
+    def _add(self, key: int, cells: np.ndarray) -> int:
+        r = len(self._configs)
+        if r == len(self.masks):
+            self._grow()
+        node = self.enc.node
+        robots = tuple(node(c) for c in cells.tolist())
+        self._configs.append(robots)
+        self.row[key] = r
+        c = Configuration.trusted(robots, self.meeting)
+        try:
+            ms = move_sets(self.algorithm, c, self.detection, self.frames)
+        except Unhandled as error:
+            self.flags[r, 0] = 1
+            self.reasons[r] = str(error) or "no rule for this view"
+            return r
+        for j, v in enumerate(robots):
+            s = ms[v]
+            bits = 16 if v in s else 0
+            for k, (dx, dy) in enumerate(STEPS):
+                if (v[0] + dx, v[1] + dy) in s:
+                    bits |= 1 << k
+            self.masks[r, j] = bits
+        self.flags[r, 1] = all(s == {v} for v, s in ms.items())
+        self.flags[r, 2] = len(c.counts) == 1 and robots[0] in self.meeting
+        return r
+
+    def need_in_u(self, rows: np.ndarray) -> np.ndarray:
+        for r in np.unique(rows[self.in_u[rows] == -2]).tolist():
+            c = Configuration.trusted(self._configs[r], self.meeting)
+            self.in_u[r] = classify_configuration(c).in_U
+        return self.in_u[rows] == 1
+
+    def need_target(self, rows: np.ndarray) -> np.ndarray:
+        """Target id per row (-1: none)."""
+        for r in np.unique(rows[self.target[rows] == -2]).tolist():
+            c = Configuration.trusted(self._configs[r], self.meeting)
+            try:
+                t = target_of(self.algorithm, c)
+            except Unhandled:
+                t = None
+            if t is None:
+                self.target[r] = -1
+            else:
+                if t not in self.target_ids:
+                    self.target_ids[t] = len(self.target_nodes)
+                    self.target_nodes.append(t)
+                self.target[r] = self.target_ids[t]
+        return self.target[rows]
+
+
+def supports(initial: Configuration, scheduler: str, reduction: bool = True,
+             anonymity: bool | None = None, symmetry: bool | None = None, frames: str = "all",
+             limits: Limits = NO_LIMITS) -> bool:
+    """Whether the bulk path can run this request (else use the reference path)."""
+    if not hasattr(get_scheduler(scheduler), "bulk_successors"):
+        return False
+    symmetry = reduction if symmetry is None else symmetry
+    group = symmetry_group(initial, frames) if symmetry else []
+    x0, y0, x1, y1 = region_box(initial, limits.margin, group)
+    base = (x1 - x0 + 1) * (y1 - y0 + 1) * 5
+    return base ** initial.n < 2**63 and min(limits.max_states, MAX_IDS) >= 1
+
+
+class Canon:
+    """Canonical keys of code rows under the enabled reductions (as ``Encoding.key``)."""
+
+    def __init__(self, enc: Encoding, n: int):
+        self.anonymity = enc.anonymity
+        self.tables = [np.asarray(t, dtype=np.int64) for t in enc.tables]
+        self.powers = np.array([enc.base ** j for j in range(n)], dtype=np.uint64)
+
+    def pack(self, codes: np.ndarray) -> np.ndarray:
+        return codes.astype(np.uint64) @ self.powers
+
+    def keys(self, codes: np.ndarray) -> np.ndarray:
+        rows = np.sort(codes, axis=1) if self.anonymity else codes
+        best = self.pack(rows)
+        for table in self.tables:
+            image = table[codes]
+            if self.anonymity:
+                image.sort(axis=1)
+            np.minimum(best, self.pack(image), out=best)
+        return best
+
+
+def explore_fast(
+    initial: Configuration,
+    algorithm: str | Algorithm,
+    scheduler: str,
+    *,
+    detection: str = "local-weak",
+    frames: str = "all",
+    reduction: bool = True,
+    anonymity: bool | None = None,
+    symmetry: bool | None = None,
+    properties: Iterable[str] = SAFETY,
+    limits: Limits = NO_LIMITS,
+    graph: bool = True,
+) -> Exploration:
+    """Breadth-first search in bulk; same result as the reference explorer.
+
+    ``graph=False`` keeps no edges (the result's ``offsets``, ``targets`` and
+    ``weights`` are empty): enough for the safety properties and the state count.
+    """
+    started = time.perf_counter()
+    algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
+    sched = get_scheduler(scheduler)
+    check_detection(detection)
+    frame_elements = frames_for(frames)
+    anonymity = reduction if anonymity is None else anonymity
+    symmetry = reduction if symmetry is None else symmetry
+    group = symmetry_group(initial, frames) if symmetry else []
+    enc = Encoding(region_box(initial, limits.margin, group), group, anonymity)
+    n = initial.n
+    wanted = set(properties)
+    facts = facts_cache(algo, initial.meeting_nodes, detection, frame_elements)
+    table = FactsTable(enc, n, algo, initial.meeting_nodes, detection, frame_elements)
+    canon = Canon(enc, n)
+    base = enc.base
+    powers = np.array([base ** j for j in range(n)], dtype=np.uint64)
+    neighbour = np.full((enc.cells, 4), -1, dtype=np.int64)
+    for cell in range(enc.cells):
+        v = enc.node(cell)
+        for k, (dx, dy) in enumerate(STEPS):
+            w = (v[0] + dx, v[1] + dy)
+            if enc.inside(w):
+                neighbour[cell, k] = (w[0] - enc.x0) * enc.height + (w[1] - enc.y0)
+
+    start_key = enc.key(initial_state(initial.robots))
+    init_cells = np.array([[enc.code(v, None) // 5 for v in initial.robots]], dtype=np.int64)
+    srt, ck = table.config_keys(init_cells)
+    initial_in_U = bool(table.need_in_u(table.rows(ck, srt))[0])
+    check_u = "no-ungatherable" in wanted and not initial_in_U
+    check_target = "target-invariance" in wanted
+    check_final = "final" in wanted
+
+    index = KeyIndex()
+    index.insert(np.array([start_key], dtype=np.uint64))
+    parents = Growing(np.int32)
+    parents.extend(np.array([-1], dtype=np.int32))
+    offsets = Growing(np.int64)
+    targets = Growing(np.int32)
+    weights = Growing(np.int8)
+    violations: dict[str, Violation] = {}
+    transitions = changed_loops = 0
+    stopped: str | None = None
+    peak = rss_mb()
+    max_states = min(limits.max_states, MAX_IDS)
+    sid = 0
+    while sid < index.count and stopped is None:
+        if time.perf_counter() - started > limits.max_seconds:
+            stopped = "time"
+            break
+        peak = max(peak, rss_mb())
+        if peak > limits.max_memory_mb:
+            stopped = "memory"
+            break
+        hi = min(index.count, sid + CHUNK)
+        K = index.keys[sid:hi].copy()
+        codes = np.empty((len(K), n), dtype=np.int64)
+        rest = K.copy()
+        for j in range(n):
+            codes[:, j] = (rest % np.uint64(base)).astype(np.int64)
+            rest //= np.uint64(base)
+        cells = codes // 5
+        srt, ck = table.config_keys(cells)
+        rows = table.rows(ck, srt)
+        # the last source state to expand, and how far (defined: not at all)
+        limit_src = len(K)
+        unhandled = np.flatnonzero(table.flags[rows, 0])
+        if len(unhandled):
+            limit_src = int(unhandled[0])
+        # robot i's move mask: the mask of its cell's position in the sorted row
+        rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
+        masks = table.masks[rows[:, None], rank]
+        src, robot, new, weight = sched.bulk_successors(codes[:limit_src], masks[:limit_src],
+                                                        neighbour)
+        outside = np.flatnonzero(new < 0)
+        cut = len(src)
+        if len(outside):
+            cut = int(outside[0])
+            stop_src = int(src[cut])
+            stop = "region"
+            transitions += cut + 1
+        else:
+            stop_src = limit_src
+            stop = "defined" if limit_src < len(K) else None
+            transitions += cut
+        src, robot, new, weight = src[:cut], robot[:cut], new[:cut], weight[:cut]
+        old = codes[src, robot]
+        if group or anonymity:
+            rows_codes = codes[src]
+            rows_codes[np.arange(cut), robot] = new
+            succ = canon.keys(rows_codes)
+        else:
+            delta = (new - old).astype(np.uint64) * powers[robot]
+            succ = K[src] + delta  # wraps correctly for negative deltas
+        ids = index.lookup(succ)
+        absent = np.flatnonzero(ids < 0)
+        fresh_keys = np.empty(0, dtype=np.uint64)
+        fresh_src = np.empty(0, dtype=np.int64)
+        if len(absent):
+            uniq, first, inv = np.unique(succ[absent], return_index=True, return_inverse=True)
+            order = np.argsort(first, kind="stable")
+            rank_new = np.empty(len(order), dtype=np.int64)
+            rank_new[order] = np.arange(len(order))
+            fresh_keys = uniq[order]
+            fresh_src = src[absent[first[order]]]
+            ids[absent] = index.count + rank_new[inv.reshape(-1)]
+        # the states limit: after the first source whose expansion passes it
+        if index.count + len(fresh_keys) > max_states:
+            after = index.count + np.searchsorted(fresh_src, np.arange(stop_src), side="right")
+            over = np.flatnonzero(after > max_states)
+            if len(over):
+                stop_src, stop = int(over[0]), "states"
+                keep = np.searchsorted(src, stop_src, side="right")
+                transitions -= cut - keep
+                cut = keep
+                src, robot, new, weight, old = (a[:cut] for a in (src, robot, new, weight, old))
+                succ, ids = succ[:cut], ids[:cut]
+                m = np.searchsorted(fresh_src, stop_src, side="right")
+                fresh_keys, fresh_src = fresh_keys[:m], fresh_src[:m]
+        expanded = stop_src + (stop in ("region", "states"))
+        if check_final and "final" not in violations and expanded:
+            dead = (table.flags[rows[:expanded], 1] == 1) & (table.flags[rows[:expanded], 2] == 0) \
+                & np.all(codes[:expanded] % 5 == 0, axis=1)
+            hit = np.flatnonzero(dead)
+            if len(hit):
+                violations["final"] = Violation(
+                    "final", sid + int(hit[0]), "deadlock: no robot can move, nothing is pending, "
+                    "and the robots are not all on one meeting node")
+        if check_target and "target-invariance" not in violations and cut:
+            before = table.need_target(rows[src])
+            maybe = np.flatnonzero(before >= 0)
+            if len(maybe):
+                succ_cells = cells[src[maybe]].copy()
+                succ_cells[np.arange(len(maybe)), robot[maybe]] = new[maybe] // 5
+                s2, k2 = table.config_keys(succ_cells)
+                after = table.need_target(table.rows(k2, s2))
+                bad = np.flatnonzero((after >= 0) & (after != before[maybe]))
+                if len(bad):
+                    f = int(maybe[bad[0]])
+                    violations["target-invariance"] = _target_violation(
+                        enc, table, n, sid, K, codes, src[f], robot[f], new[f],
+                        int(before[maybe[bad[0]]]), int(after[bad[0]]))
+        if check_u and "no-ungatherable" not in violations and len(fresh_keys):
+            fc = _decode(fresh_keys, base, n) // 5
+            s3, k3 = table.config_keys(fc)
+            bad = np.flatnonzero(table.need_in_u(table.rows(k3, s3)))
+            if len(bad):
+                violations["no-ungatherable"] = Violation(
+                    "no-ungatherable", index.count + int(bad[0]),
+                    "a configuration in U (I41/I42) is reached from one outside U")
+        changed_loops += int(np.count_nonzero((ids == sid + src) & (new != old)))
+        if graph:
+            counts = np.bincount(src, minlength=expanded)[:expanded]
+            starts = targets.size + np.cumsum(counts) - counts
+            offsets.extend(starts)
+            targets.extend(ids.astype(np.int32))
+            weights.extend(weight.astype(np.int8))
+        index.insert(fresh_keys)
+        parents.extend((sid + fresh_src).astype(np.int32))
+        if stop == "defined":
+            state = stop_src
+            violations["defined"] = Violation(
+                "defined", sid + state,
+                f"the algorithm has no rule here: {table.reasons[int(rows[state])]}")
+        if stop is not None:
+            stopped = stop
+            break
+        sid = hi
+    if graph:
+        offsets.extend(np.array([targets.size], dtype=np.int64))
+    peak = max(peak, rss_mb())
+    keys = index.keys[:index.count]
+    return Exploration(
+        initial, algo, scheduler, detection, frames, anonymity, symmetry, enc, IntColumn(keys),
+        IntColumn(parents.array()), IntColumn(offsets.array()), IntColumn(targets.array()),
+        IntColumn(weights.array()), changed_loops, index.count, transitions, stopped, violations,
+        time.perf_counter() - started, peak, facts, initial_in_U)
+
+
+def _decode(keys: np.ndarray, base: int, n: int) -> np.ndarray:
+    codes = np.empty((len(keys), n), dtype=np.int64)
+    rest = keys.copy()
+    for j in range(n):
+        codes[:, j] = (rest % np.uint64(base)).astype(np.int64)
+        rest //= np.uint64(base)
+    return codes
+
+
+def _target_violation(enc: Encoding, table: FactsTable, n: int, sid: int, K: np.ndarray,
+                      codes: np.ndarray, src: int, robot: int, new: int, before: int,
+                      after: int) -> Violation:
+    state = enc.decode(int(K[src]), n)
+    succ_codes = codes[src].tolist()
+    succ_codes[robot] = int(new)
+    succ = tuple(enc.robot(c) for c in succ_codes)
+    node, pending = state[robot]
+    if pending is None:
+        event = Event("look", (robot,), ((robot, node, succ[robot][1]),))
+    else:
+        event = Event("move", (robot,), ((robot, node, pending),))
+    t0, t1 = table.target_nodes[before], table.target_nodes[after]
+    return Violation("target-invariance", sid + src,
+                     f"the target meeting node changes from {list(t0)} to {list(t1)}",
+                     event, succ, {"target_before": list(t0), "target_after": list(t1)})
