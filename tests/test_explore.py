@@ -66,12 +66,15 @@ def test_reduction_strictly_smaller_on_symmetric_m():
     assert on.states < off.states
 
 
+@pytest.mark.parametrize("algorithm", ["go-to-target", "paper"])
 @pytest.mark.parametrize("scheduler", ["fsync", "ssync", "async"])
-@pytest.mark.parametrize("n", [2, 3, 4, 5])
-def test_lower_bound_path(n, scheduler):
+@pytest.mark.parametrize("n", [2, 3, 4, 5, 6])
+def test_lower_bound_path(n, scheduler, algorithm):
+    """§6: n robots on (1,0)..(n,0), meeting node (0,0): exactly n(n+1)/2 moves (finding F2)."""
     c = Configuration([(i, 0) for i in range(1, n + 1)], [(0, 0)], initial=True)
-    r = run_check(c, algorithm="go-to-target", scheduler=scheduler, max_states=10**6,
+    r = run_check(c, algorithm=algorithm, scheduler=scheduler, max_states=10**6,
                   max_seconds=120, properties=["move-bound"], force=True)
+    assert r["verdict"] == "VERIFIED"
     assert r["max_moves"] == n * (n + 1) // 2
 
 
