@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from gather_verify import geometry
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, target_of
 from gather_verify.classes import classify_configuration
 from gather_verify.configuration import Configuration
@@ -55,6 +56,7 @@ from gather_verify.explore import (
 )
 from gather_verify.geometry import STEPS
 from gather_verify.moves import frames_for, move_sets
+from gather_verify.symmetry import Automorphism, meeting_automorphisms
 from gather_verify.view import check_detection
 from schedulers import Event, get_scheduler, initial_state
 
@@ -190,65 +192,123 @@ class FactsTable:
 
     ``masks[row, j]``: bit ``k`` set when the robots on the ``j``-th sorted cell may
     take ``STEPS[k]``; bit 4 when they may stay. ``in_u`` and ``target`` are
-    computed only when asked for (-2 = not computed yet)."""
+    computed only when asked for (-2 = not computed yet).
+
+    Move sets are computed once per orbit of configurations under ``group`` (the
+    elements ``a`` of ``Aut(M)`` whose linear part is one of the robots' frames):
+    for such an ``a`` the views of the robots of ``a(C)`` are those of ``C``, so
+    the move set of ``a(v)`` in ``a(C)`` is ``a`` of the move set of ``v`` in ``C``
+    (SEMANTICS.md §3: the union over the frames), whatever the algorithm. Class
+    and target are computed on the configuration itself."""
 
     def __init__(self, enc: Encoding, n: int, algorithm: Algorithm, meeting: frozenset,
-                 detection: str, frames: Sequence[int]):
+                 detection: str, frames: Sequence[int], group: Sequence[Any]):
         self.enc, self.n, self.algorithm, self.meeting = enc, n, algorithm, meeting
         self.detection, self.frames = detection, tuple(frames)
-        self.cells = enc.cells
         self.row: dict[int, int] = {}
+        self.cells = np.zeros((1024, n), dtype=np.int32)
         self.masks = np.zeros((1024, n), dtype=np.uint8)
         self.flags = np.zeros((1024, 3), dtype=np.int8)  # unhandled, stuck, gathered
         self.in_u = np.full(1024, -2, dtype=np.int8)
         self.target = np.full(1024, -2, dtype=np.int32)
-        self.reasons: dict[int, str] = {}
+        self.size = 0
         self.target_nodes: list = []
         self.target_ids: dict = {}
-        self.weights = np.array([self.cells ** j for j in range(n)], dtype=np.int64)
-        self._configs: list[tuple] = []
+        self.weights = np.array([enc.cells ** j for j in range(n)], dtype=np.int64)
+        # the orbit cache: images of region cells in the group-closed box
+        group = sorted(a for a in group if a.g in self.frames)
+        corners = [(enc.x0, enc.y0), (enc.x0 + enc.width - 1, enc.y0 + enc.height - 1)]
+        x0, y0, x1, y1 = geometry.bounding_box([a(v) for a in group for v in corners] + corners)
+        w, h = x1 - x0 + 1, y1 - y0 + 1
+        if not group or (w * h) ** n >= 2**63:
+            group = [Automorphism(geometry.IDENTITY, (0, 0))]
+            x0, y0, w, h = enc.x0, enc.y0, enc.width, enc.height
+        self.group = group
+        self.box = (x0, y0, h)
+        self.images = np.array([[(a(enc.node(c))[0] - x0) * h + a(enc.node(c))[1] - y0
+                                 for c in range(enc.cells)] for a in group], dtype=np.int64)
+        self.cpowers = np.array([(w * h) ** j for j in range(n)], dtype=np.int64)
+        self.perm = np.zeros((len(group), 32), dtype=np.uint8)
+        for i, a in enumerate(group):
+            index = [STEPS.index(geometry.apply(a.g, step)) for step in STEPS]
+            for m in range(32):
+                self.perm[i, m] = (m & 16) | sum(1 << k for k in range(4) if m >> index[k] & 1)
+        self.orbit: dict[int, int] = {}
+        self.omasks = np.zeros((1024, n), dtype=np.uint8)
+        self.oflags = np.zeros((1024, 3), dtype=np.int8)
 
     def config_keys(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Sorted cells per row and their packed key."""
         srt = np.sort(cells, axis=1)
         return srt, srt @ self.weights
 
-    def robots(self, row: int) -> tuple:
-        return self._configs[row]
+    def configuration(self, row: int) -> Configuration:
+        node = self.enc.node
+        return Configuration.trusted(tuple(node(c) for c in self.cells[row].tolist()),
+                                     self.meeting)
 
     def rows(self, keys: np.ndarray, sorted_cells: np.ndarray) -> np.ndarray:
         """Row of every configuration key (computing the facts of new ones)."""
         uniq, first, inv = np.unique(keys, return_index=True, return_inverse=True)
         out = np.empty(len(uniq), dtype=np.int64)
         get = self.row.get
+        missing = []
         for i, k in enumerate(uniq.tolist()):
             r = get(k)
             if r is None:
-                r = self._add(k, sorted_cells[first[i]])
-            out[i] = r
+                missing.append(i)
+            else:
+                out[i] = r
+        if missing:
+            out[missing] = self._add(uniq[missing], sorted_cells[first[missing]])
         return out[inv.reshape(-1)]
 
-    def _grow(self) -> None:
-        size = len(self.masks)
-        self.masks = np.concatenate([self.masks, np.zeros_like(self.masks)])
-        self.flags = np.concatenate([self.flags, np.zeros_like(self.flags)])
-        self.in_u = np.concatenate([self.in_u, np.full(size, -2, dtype=np.int8)])
-        self.target = np.concatenate([self.target, np.full(size, -2, dtype=np.int32)])
+    def _add(self, keys: np.ndarray, cells: np.ndarray) -> np.ndarray:
+        m, n = cells.shape
+        while self.size + m > len(self.masks):
+            self.cells, self.masks, self.flags = (
+                np.concatenate([a, np.zeros_like(a)]) for a in (self.cells, self.masks, self.flags))
+            self.in_u = np.concatenate([self.in_u, np.full(len(self.in_u), -2, dtype=np.int8)])
+            self.target = np.concatenate([self.target,
+                                          np.full(len(self.target), -2, dtype=np.int32)])
+        rows = np.arange(self.size, self.size + m)
+        self.size += m
+        for k, r in zip(keys.tolist(), rows.tolist(), strict=True):
+            self.row[k] = r
+        self.cells[rows] = cells
+        # the orbit representative: least packed sorted image over the group
+        image = self.images[:, cells]  # (G, m, n), unsorted
+        srt = np.sort(image, axis=2)
+        packed = srt @ self.cpowers
+        best = np.argmin(packed, axis=0)
+        pick = np.arange(m)
+        okeys, ocells = packed[best, pick], srt[best, pick]
+        orows = np.empty(m, dtype=np.int64)
+        get = self.orbit.get
+        for i, k in enumerate(okeys.tolist()):
+            r = get(k)
+            if r is None:
+                r = self._orbit_facts(k, ocells[i])
+            orows[i] = r
+        # robot j of the configuration sits on the rank[j]-th cell of the representative
+        rank = np.argmax(image[best, pick][:, :, None] == ocells[:, None, :], axis=2)
+        self.masks[rows] = self.perm[best[:, None], self.omasks[orows[:, None], rank]]
+        self.flags[rows] = self.oflags[orows]
+        return rows
 
-    def _add(self, key: int, cells: np.ndarray) -> int:
-        r = len(self._configs)
-        if r == len(self.masks):
-            self._grow()
-        node = self.enc.node
-        robots = tuple(node(c) for c in cells.tolist())
-        self._configs.append(robots)
-        self.row[key] = r
+    def _orbit_facts(self, key: int, cells: np.ndarray) -> int:
+        r = len(self.orbit)
+        if r == len(self.omasks):
+            self.omasks = np.concatenate([self.omasks, np.zeros_like(self.omasks)])
+            self.oflags = np.concatenate([self.oflags, np.zeros_like(self.oflags)])
+        self.orbit[key] = r
+        x0, y0, h = self.box
+        robots = tuple((x0 + c // h, y0 + c % h) for c in cells.tolist())
         c = Configuration.trusted(robots, self.meeting)
         try:
             ms = move_sets(self.algorithm, c, self.detection, self.frames)
-        except Unhandled as error:
-            self.flags[r, 0] = 1
-            self.reasons[r] = str(error) or "no rule for this view"
+        except Unhandled:
+            self.oflags[r, 0] = 1
             return r
         for j, v in enumerate(robots):
             s = ms[v]
@@ -256,23 +316,29 @@ class FactsTable:
             for k, (dx, dy) in enumerate(STEPS):
                 if (v[0] + dx, v[1] + dy) in s:
                     bits |= 1 << k
-            self.masks[r, j] = bits
-        self.flags[r, 1] = all(s == {v} for v, s in ms.items())
-        self.flags[r, 2] = len(c.counts) == 1 and robots[0] in self.meeting
+            self.omasks[r, j] = bits
+        self.oflags[r, 1] = all(s == {v} for v, s in ms.items())
+        self.oflags[r, 2] = len(c.counts) == 1 and robots[0] in self.meeting
         return r
+
+    def reason(self, row: int) -> str:
+        """Why the algorithm has no rule in this configuration (computed on it)."""
+        try:
+            move_sets(self.algorithm, self.configuration(row), self.detection, self.frames)
+        except Unhandled as error:
+            return str(error) or "no rule for this view"
+        raise AssertionError("the orbit is unhandled, so is every member")  # pragma: no cover
 
     def need_in_u(self, rows: np.ndarray) -> np.ndarray:
         for r in np.unique(rows[self.in_u[rows] == -2]).tolist():
-            c = Configuration.trusted(self._configs[r], self.meeting)
-            self.in_u[r] = classify_configuration(c).in_U
+            self.in_u[r] = classify_configuration(self.configuration(r)).in_U
         return self.in_u[rows] == 1
 
     def need_target(self, rows: np.ndarray) -> np.ndarray:
         """Target id per row (-1: none)."""
         for r in np.unique(rows[self.target[rows] == -2]).tolist():
-            c = Configuration.trusted(self._configs[r], self.meeting)
             try:
-                t = target_of(self.algorithm, c)
+                t = target_of(self.algorithm, self.configuration(r))
             except Unhandled:
                 t = None
             if t is None:
@@ -351,7 +417,8 @@ def explore_fast(
     n = initial.n
     wanted = set(properties)
     facts = facts_cache(algo, initial.meeting_nodes, detection, frame_elements)
-    table = FactsTable(enc, n, algo, initial.meeting_nodes, detection, frame_elements)
+    table = FactsTable(enc, n, algo, initial.meeting_nodes, detection, frame_elements,
+                       meeting_automorphisms(initial))
     canon = Canon(enc, n)
     base = enc.base
     powers = np.array([base ** j for j in range(n)], dtype=np.uint64)
@@ -501,7 +568,7 @@ def explore_fast(
             state = stop_src
             violations["defined"] = Violation(
                 "defined", sid + state,
-                f"the algorithm has no rule here: {table.reasons[int(rows[state])]}")
+                f"the algorithm has no rule here: {table.reason(int(rows[state]))}")
         if stop is not None:
             stopped = stop
             break

@@ -24,6 +24,7 @@ from gather_verify.geometry import ORIGIN, STEPS, Node
 from gather_verify.view import FRAME_SETS, MultiplicityHidden, View
 
 ANSWERS = frozenset((ORIGIN, *STEPS))
+INVERSE = tuple(geometry.MATRICES[geometry.inverse(g)] for g in geometry.ALL)
 
 
 class HiddenRead(Unhandled, MultiplicityHidden):
@@ -51,9 +52,10 @@ def move_set(
     robots could follow there: :class:`HiddenRead`, an :class:`Unhandled` (the ``defined``
     property fails)."""
     out = set()
+    decide, (x, y) = algorithm.decide, node
     for g in frames:
         try:
-            answer = algorithm.decide(View(configuration, node, g, detection))
+            answer = decide(View(configuration, node, g, detection))
         except MultiplicityHidden as error:  # a rule its robots cannot apply: no rule at all
             raise HiddenRead(f"algorithm {algorithm.name!r} reads multiplicity its robots cannot "
                             f"see: {error}") from None
@@ -62,7 +64,8 @@ def move_set(
                 f"algorithm {algorithm.name!r} answered {answer!r}: a move must be (0, 0) "
                 "or a unit step (1, 0), (0, 1), (-1, 0), (0, -1) in the robot's frame"
             )
-        out.add(geometry.add(node, geometry.apply(geometry.inverse(g), answer)))
+        a, b, c, d = INVERSE[g]  # the answer, mapped back to global coordinates
+        out.add((x + a * answer[0] + b * answer[1], y + c * answer[0] + d * answer[1]))
     return frozenset(out)
 
 

@@ -55,22 +55,35 @@ class View:
     frame. Multiplicity is read through :meth:`multiplicity` and :meth:`count`.
     """
 
-    __slots__ = ("robots", "meeting_nodes", "detection", "_counts", "__dict__")
+    __slots__ = ("detection", "_snapshot", "_node", "_frame", "__dict__")
+    robots: frozenset[Node]
+    meeting_nodes: frozenset[Node]
+    _counts: dict[Node, int]
 
     def __init__(self, configuration: Configuration, node: Node, frame: int, detection: str):
         check_detection(detection)
         if node not in configuration.counts:
             raise ValueError(f"no robot at {node} to take a view from")
-        g, (px, py) = frame, node
-        counts = {
-            geometry.apply(g, (x - px, y - py)): k for (x, y), k in configuration.counts.items()
-        }
-        self.robots: frozenset[Node] = frozenset(counts)
-        self.meeting_nodes: frozenset[Node] = frozenset(
-            geometry.apply(g, (x - px, y - py)) for x, y in configuration.meeting_nodes
-        )
         self.detection = detection
-        self._counts = counts
+        self._snapshot, self._node, self._frame = configuration, node, frame
+
+    # The frame's coordinates are computed on first use (many algorithms read only a
+    # part of the view), then kept as ordinary attributes.
+    def __getattr__(self, name: str) -> object:
+        if name not in ("_counts", "robots", "meeting_nodes"):
+            raise AttributeError(name)
+        a, b, c, d = geometry.MATRICES[self._frame]
+        px, py = self._node
+        if name == "meeting_nodes":
+            value: object = frozenset((a * (x - px) + b * (y - py), c * (x - px) + d * (y - py))
+                                      for x, y in self._snapshot.meeting_nodes)
+        elif name == "_counts":
+            value = {(a * (x - px) + b * (y - py), c * (x - px) + d * (y - py)): k
+                     for (x, y), k in self._snapshot.counts.items()}
+        else:
+            value = frozenset(self._counts)
+        self.__dict__[name] = value
+        return value
 
     def _visible(self, v: Node, strong: bool) -> None:
         d = self.detection

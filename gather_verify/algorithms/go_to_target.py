@@ -42,8 +42,17 @@ class GoToTarget:
     name = "go-to-target"
 
     def decide(self, view: View) -> Node:
-        target = nearest(view.meeting_nodes, ORIGIN)
-        return ORIGIN if target is None else step_towards(target)
+        meeting = view.meeting_nodes
+        if len(meeting) == 1:
+            (target,) = meeting
+        else:
+            target = nearest(meeting, ORIGIN)
+            if target is None:
+                return ORIGIN
+        # step_towards, unrolled (the explorer calls this millions of times)
+        x, y = target
+        return (1, 0) if x > 0 else (0, 1) if y > 0 else (-1, 0) if x < 0 else \
+            (0, -1) if y < 0 else ORIGIN
 
     def target(self, configuration: Configuration) -> Node | None:
         if len(configuration.meeting_nodes) == 1:
