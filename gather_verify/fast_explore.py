@@ -60,7 +60,7 @@ from gather_verify.symmetry import Automorphism, meeting_automorphisms
 from gather_verify.view import check_detection
 from schedulers import Event, get_scheduler, initial_state
 
-CHUNK = 1 << 15
+CHUNK = 1 << 14
 """States expanded per bulk step: bounds the transient arrays (a few MB)."""
 MAX_IDS = 2**31 - 2
 LOAD = 0.7
@@ -161,7 +161,9 @@ class KeyIndex:
             while need > LOAD * (1 << bits):
                 bits += 1
             self._alloc(bits)
-            self._place(self.keys[:need], np.arange(need))
+            for lo in range(0, need, 1 << 18):  # in slices: small temporaries
+                hi = min(need, lo + (1 << 18))
+                self._place(self.keys[lo:hi], np.arange(lo, hi))
         else:
             self._place(q, np.arange(self.count, need))
         self.count = need
@@ -438,9 +440,12 @@ def explore_fast(
     check_target = "target-invariance" in wanted
     check_final = "final" in wanted
 
-    index = KeyIndex()
+    max_states = min(limits.max_states, MAX_IDS)
+    # columns reserved up front: untouched pages cost no memory, and nothing is copied
+    reserve = min(max_states + CHUNK * 8 * n + 1, 1 << 27)
+    index = KeyIndex(capacity=reserve)
     index.insert(np.array([start_key], dtype=np.uint64))
-    parents = Growing(np.int32)
+    parents = Growing(np.int32, reserve)
     parents.extend(np.array([-1], dtype=np.int32))
     offsets = Growing(np.int64)
     targets = Growing(np.int32)
@@ -449,7 +454,6 @@ def explore_fast(
     transitions = changed_loops = 0
     stopped: str | None = None
     peak = rss_mb()
-    max_states = min(limits.max_states, MAX_IDS)
     sid = 0
     while sid < index.count and stopped is None:
         if time.perf_counter() - started > limits.max_seconds:
