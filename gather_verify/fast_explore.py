@@ -207,6 +207,8 @@ class FactsTable:
                  detection: str, frames: Sequence[int], group: Sequence[Any]):
         self.enc, self.n, self.algorithm, self.meeting = enc, n, algorithm, meeting
         self.detection, self.frames = detection, tuple(frames)
+        self.aut_m = list(group)  # Aut(M), identity first
+        assert not self.aut_m or self.aut_m[0].g == geometry.IDENTITY and self.aut_m[0].t == (0, 0)
         self.row: dict[int, int] = {}
         self.cells = np.zeros((1024, n), dtype=np.int32)
         self.masks = np.zeros((1024, n), dtype=np.uint8)
@@ -332,8 +334,16 @@ class FactsTable:
         raise AssertionError("the orbit is unhandled, so is every member")  # pragma: no cover
 
     def need_in_u(self, rows: np.ndarray) -> np.ndarray:
+        # In U needs Aut(C) non-trivial, and Aut(C) is inside Aut(M): when no element of
+        # Aut(M) but the identity maps the occupied nodes onto themselves, C is not in U.
+        aut = self.aut_m
         for r in np.unique(rows[self.in_u[rows] == -2]).tolist():
-            self.in_u[r] = classify_configuration(self.configuration(r)).in_U
+            c = self.configuration(r)
+            occupied = set(c.robots)
+            if any(all(a(v) in occupied for v in occupied) for a in aut[1:]):
+                self.in_u[r] = classify_configuration(c, aut_m_all=aut).in_U
+            else:
+                self.in_u[r] = 0
         return self.in_u[rows] == 1
 
     def need_target(self, rows: np.ndarray) -> np.ndarray:
@@ -374,17 +384,29 @@ class Canon:
         self.tables = [np.asarray(t, dtype=np.int64) for t in enc.tables]
         self.powers = np.array([enc.base ** j for j in range(n)], dtype=np.uint64)
 
-    def pack(self, codes: np.ndarray) -> np.ndarray:
-        return codes.astype(np.uint64) @ self.powers
+    def pack(self, columns: list[np.ndarray]) -> np.ndarray:
+        out = columns[0].astype(np.uint64)
+        for j in range(1, len(columns)):
+            out += columns[j].astype(np.uint64) * self.powers[j]
+        return out
+
+    def sort(self, columns: list[np.ndarray]) -> list[np.ndarray]:
+        """Sort each row, the columns given as separate arrays (a transposition network:
+        a handful of elementwise min/max, much faster than a row-wise sort for small n)."""
+        cols = list(columns)
+        n = len(cols)
+        for rnd in range(n):
+            for i in range(rnd % 2, n - 1, 2):
+                lo, hi = np.minimum(cols[i], cols[i + 1]), np.maximum(cols[i], cols[i + 1])
+                cols[i], cols[i + 1] = lo, hi
+        return cols
 
     def keys(self, codes: np.ndarray) -> np.ndarray:
-        rows = np.sort(codes, axis=1) if self.anonymity else codes
-        best = self.pack(rows)
+        columns = [np.ascontiguousarray(codes[:, j]) for j in range(codes.shape[1])]
+        best = self.pack(self.sort(columns) if self.anonymity else columns)
         for table in self.tables:
-            image = table[codes]
-            if self.anonymity:
-                image.sort(axis=1)
-            np.minimum(best, self.pack(image), out=best)
+            image = [table[c] for c in columns]
+            np.minimum(best, self.pack(self.sort(image) if self.anonymity else image), out=best)
         return best
 
 

@@ -70,6 +70,8 @@ class LongestPath:
 
 def longest_path(e: Exploration) -> LongestPath:
     """Longest path over the reachable graph weighted by edges traversed (Kahn + DP)."""
+    if hasattr(e.targets, "array") and not e.changed_loops:
+        return _longest_path_bulk(e)
     n = e.states
     indegree = array("q", [0]) * n
     succs: list[list[tuple[int, int]]] = [list(real_edges(e, s)) for s in range(n)]
@@ -97,6 +99,54 @@ def longest_path(e: Exploration) -> LongestPath:
     while choice[path[-1]] >= 0:
         path.append(choice[path[-1]])
     return LongestPath(best[0], path)
+
+
+def _longest_path_bulk(e: Exploration) -> LongestPath:
+    """:func:`longest_path` on the numpy columns of the bulk explorer, a topological round
+    at a time; the same value and the same path (first best successor in edge order)."""
+    import numpy as np
+
+    n = e.states
+    off = e.offsets.array[:n + 1].astype(np.int64)  # type: ignore[attr-defined]
+    tgt = e.targets.array.astype(np.int64)  # type: ignore[attr-defined]
+    w = e.weights.array.astype(np.int64)  # type: ignore[attr-defined]
+    src = np.repeat(np.arange(n), np.diff(off))
+    keep = tgt != src  # self-loops of an unchanged state are no edges (no changed loops here)
+
+    def out_edges(states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        counts = off[states + 1] - off[states]
+        idx = np.repeat(off[states] - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())
+        return idx[keep[idx]], counts
+
+    indegree = np.bincount(tgt[keep], minlength=n)
+    frontier = np.flatnonzero(indegree == 0)
+    rounds = []
+    while len(frontier):
+        rounds.append(frontier)
+        t = tgt[out_edges(frontier)[0]]
+        indegree -= np.bincount(t, minlength=n)
+        frontier = np.unique(t[indegree[t] == 0])
+    if sum(map(len, rounds)) < n:
+        return LongestPath(None, [])
+    best = np.zeros(n, dtype=np.int64)
+    choice = np.full(n, -1, dtype=np.int64)
+    for states in reversed(rounds):
+        idx, _ = out_edges(states)
+        if not len(idx):
+            continue
+        s = src[idx]
+        starts = np.flatnonzero(np.r_[True, s[1:] != s[:-1]])
+        vals = w[idx] + best[tgt[idx]]
+        top = np.maximum.reduceat(vals, starts)
+        lengths = np.diff(np.r_[starts, len(idx)])
+        pos = np.where(vals == np.repeat(top, lengths), np.arange(len(idx)), len(idx))
+        first = np.minimum.reduceat(pos, starts)
+        best[s[starts]] = top
+        choice[s[starts]] = tgt[idx[first]]
+    path = [0]
+    while choice[path[-1]] >= 0:
+        path.append(int(choice[path[-1]]))
+    return LongestPath(int(best[0]), path)
 
 
 def has_cycle(e: Exploration) -> bool:

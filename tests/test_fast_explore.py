@@ -123,5 +123,29 @@ ALGORITHMS = ["go-to-target", "paper", "broken-away", "broken-stay", "broken-dri
     reduction=st.booleans(),
 )
 def test_random_configurations(robots, meeting, algorithm, reduction):
+    from gather_verify import properties as props
+
     c = Configuration(robots, meeting, initial=True)
-    same(c, algorithm, reduction=reduction, limits=Limits(max_states=20_000, margin=1))
+    fast = same(c, algorithm, reduction=reduction, limits=Limits(max_states=20_000, margin=1))
+    if fast.stopped is None:
+        plain = explore_reference(c, algorithm, "async", reduction=reduction,
+                                  limits=Limits(max_states=20_000, margin=1))
+        assert props.longest_path(fast) == props.longest_path(plain)
+
+
+@pytest.mark.parametrize("reduction", [False, True])
+@pytest.mark.parametrize("case", [
+    (YARD, "go-to-target"),
+    (Configuration([(0, 0), (4, 0), (2, 3)], [(2, 1)], initial=True), "go-to-target"),
+    (Configuration([(0, 0), (0, 1), (3, 3)], [(1, 2), (2, 1)], initial=True), "paper"),
+])
+def test_longest_path_bulk(case, reduction):
+    from gather_verify import properties as props
+
+    c, algorithm = case
+    e = explore_fast(c, algorithm, "async", reduction=reduction)
+    bulk = props.longest_path(e)
+    if e.changed_loops:
+        return
+    e.targets = list(e.targets)  # plain columns: the per-state reference code
+    assert props.longest_path(e) == bulk
