@@ -39,6 +39,9 @@ def replay(trace: dict[str, Any]) -> Replayed:
     if trace["algorithm"].startswith("broken-"):
         from gather_verify.algorithms.broken import register_broken
         register_broken()
+    if trace["algorithm"].startswith("mutant-"):
+        from gather_verify.mutants import register_mutants
+        register_mutants()
     algorithm = get_algorithm(trace["algorithm"])
     scheduler = get_scheduler(trace["scheduler"])
     frames = frames_for(trace["frames"])
