@@ -103,8 +103,8 @@ def replay(trace: dict[str, Any]) -> Replayed:
     if prop == "move-bound":
         detail = trace.get("detail", {})
         c, D, n = detail.get("c"), detail.get("D"), detail.get("n")
-        if c is None or D is None or n is None:
-            raise ValueError("bad trace: a move-bound trace needs detail c, D and n")
+        if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in (c, D, n)):
+            raise ValueError("bad trace: a move-bound trace needs numbers c, D and n in 'detail'")
         ok = total > c * D * n
         return Replayed(ok, f"{total} moves vs bound {c}*{D}*{n} = {c * D * n:g}", len(steps))
     raise ValueError(f"bad trace: unknown property {prop!r}")

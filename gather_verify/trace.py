@@ -79,7 +79,9 @@ def parse_event(raw: object, where: str) -> Event:
     if not isinstance(robots, list) or not all(isinstance(i, int) and not isinstance(i, bool)
                                                for i in robots):
         _fail(f"{where}: 'robots' must be a list of robot indices")
-    if not isinstance(moves, list) or not all(isinstance(m, list) and len(m) == 3 for m in moves):
+    if not isinstance(moves, list) or not all(
+            isinstance(m, list) and len(m) == 3 and isinstance(m[0], int)
+            and not isinstance(m[0], bool) for m in moves):
         _fail(f"{where}: 'moves' must be a list of [robot, [x, y], [x, y]]")
     return Event(raw["kind"], tuple(robots),  # type: ignore[index]
                  tuple((int(i), _node(a, "node"), _node(b, "node")) for i, a, b in moves))
@@ -95,6 +97,8 @@ def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
             data = json.loads(Path(source).read_text(encoding="utf-8"))
         except json.JSONDecodeError as error:
             raise ValueError(f"bad trace {source}: not JSON ({error.msg} at line {error.lineno})") from None
+        except RecursionError:
+            raise ValueError(f"bad trace {source}: not JSON (nested too deeply)") from None
     if isinstance(data, dict) and "robots" in data and isinstance(data.get("trace"), dict):
         data = data["trace"]  # a scenario file that stores its counterexample
     if not isinstance(data, dict) or data.get("format") != FORMAT:
@@ -104,6 +108,11 @@ def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
     for key in ("initial", "algorithm", "scheduler", "detection", "frames", "steps", "property"):
         if key not in data:
             _fail(f"missing {key!r}")
+    for key in ("algorithm", "scheduler", "detection", "frames", "property"):
+        if not isinstance(data[key], str):
+            _fail(f"{key!r} must be a string, not {type(data[key]).__name__}")
+    if not isinstance(data.get("detail", {}), dict):
+        _fail("'detail' must be an object")
     init = data["initial"]
     if not isinstance(init, dict) or not isinstance(init.get("robots"), list) \
             or not isinstance(init.get("meeting_nodes"), list):
@@ -115,7 +124,8 @@ def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
     if not isinstance(data["steps"], list):
         _fail("'steps' must be a list")
     cs = data.get("cycle_start")
-    if cs is not None and (not isinstance(cs, int) or not 0 <= cs <= len(data["steps"])):
+    if cs is not None and (not isinstance(cs, int) or isinstance(cs, bool)
+                           or not 0 <= cs <= len(data["steps"])):
         _fail("'cycle_start' must be null or a state index 0..len(steps)")
     return data
 

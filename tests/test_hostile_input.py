@@ -183,3 +183,202 @@ def test_fuzz_cli_arguments(command: str, tokens: list[str],
     assert "Traceback" not in err
     if code == 2:
         assert len(err.strip().splitlines()) == 1
+
+
+# -- every command (issue 7): limits, options and files of every subcommand ----------------
+
+MORE_BAD = [
+    ["check", *GOOD, "--max-memory-mb", "0"],
+    ["check", *GOOD, "--max-memory-mb", "lots"],
+    ["check", *GOOD, "--max-memory-mb", "inf"],
+    ["check", *GOOD, "--margin", "-1"],
+    ["check", *GOOD, "--move-bound-c", "inf"],
+    ["check", *GOOD, "--max-states", "0"],
+    ["check", *GOOD, "--algorithm", "mutant-no-such-bug"],
+    ["check", *GOOD, "--algorithm", "paper:alpha"],
+    ["check", *GOOD, "--algorithm", "paper:alpha=mer_x"],
+    ["simulate", *GOOD, "--scheduler", "x"],
+    ["simulate", *GOOD, "--frames", "x"],
+    ["simulate", *GOOD, "--multiplicity", "x"],
+    ["simulate", *GOOD, "--max-steps", "1e3"],
+    ["sweep", "--robots", "2", "--meeting", "1", "--box", "3x3", "--max-memory-mb", "-1"],
+    ["sweep", "--robots", "3-2", "--meeting", "1", "--box", "3x3"],
+    ["sweep", "--robots", "2", "--meeting", "1", "--box", "3x3", "--max-states-per-config", "0"],
+    ["sweep", "--robots", "2", "--meeting", "1", "--box", "3x3", "--multiplicity", "x"],
+    ["sweep", "--robots", "2", "--meeting", "1", "--box", "3x3", "--limit", "0"],
+    ["sweep", "--robots", "2", "--meeting", "1", "--box", "65x3"],
+    ["sweep", "--robots", "2", "--meeting", "1"],
+    ["impossibility", *GOOD, "--explore", "x"],
+    ["impossibility", *GOOD, "--seed", "-1"],
+    ["bench", "--max-seconds", "0"],
+    ["bench", "--max-seconds", "x"],
+    ["bench", "--nope"],
+    ["mutants", "--mutant", "nope"],
+    ["mutants", "--bogus"],
+    ["report"],
+    ["replay"],
+    ["classify", *GOOD, "/nonexistent/extra.json"],
+]
+
+
+@pytest.mark.parametrize("argv", MORE_BAD, ids=lambda a: " ".join(a))
+def test_every_command_rejects_bad_options(argv: list[str],
+                                           capsys: pytest.CaptureFixture[str]) -> None:
+    assert_usage_error(argv, capsys)
+
+
+def test_report_rejects_files_that_are_not_results(tmp_path: Path,
+                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    text = tmp_path / "text.sqlite"
+    text.write_text("hello")
+    assert "not a gather-verify results database" in assert_usage_error(
+        ["report", "--db", str(text)], capsys)
+    import sqlite3
+
+    other = tmp_path / "other.sqlite"
+    with sqlite3.connect(other) as con:
+        con.execute("CREATE TABLE sweeps (x INTEGER)")
+    assert "table sweeps" in assert_usage_error(["report", "--db", str(other)], capsys)
+    assert_usage_error(["report", "--db", str(tmp_path)], capsys)
+    assert_usage_error(["sweep", "--robots", "1", "--meeting", "1", "--box", "2x2",
+                        "--workers", "1", "--db", str(other)], capsys)
+
+
+def test_deeply_nested_json(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "deep.json"
+    path.write_text("[" * 100_000)
+    assert_usage_error(["classify", str(path)], capsys)
+    assert_usage_error(["replay", str(path)], capsys)
+
+
+def test_unwritable_outputs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert_usage_error(["check", "--robots", "0,0", "--meeting", "1,1", "--algorithm",
+                        "mutant-gtt-stops-one-short", "--trace-out",
+                        str(tmp_path / "no" / "such" / "dir" / "t.json")], capsys)
+
+
+# -- traces that do not match their configuration ------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def good_trace() -> dict:
+    from gather_verify.check import run_check
+    from gather_verify.configuration import Configuration
+
+    report = run_check(Configuration([(0, 0), (3, 1)], [(2, 2)], initial=True),
+                       algorithm="mutant-gtt-stops-one-short", scheduler="async",
+                       max_states=10_000, max_seconds=60)
+    assert report["verdict"] == "VIOLATED" and len(report["trace"]["steps"]) >= 3
+    return report["trace"]
+
+
+def _set(trace: dict, path: tuple, value: object) -> dict:
+    out = json.loads(json.dumps(trace))
+    target = out
+    for key in path[:-1]:
+        target = target[key]
+    target[path[-1]] = value
+    return out
+
+
+TRACE_DEFECTS = {
+    "robot moved in the initial configuration": (("initial", "robots", 0), [9, 9]),
+    "duplicate meeting node": (("initial", "meeting_nodes"), [[2, 2], [2, 2]]),
+    "recorded state is not reached": (("steps", 0, "state", 0, "node"), [5, 5]),
+    "pending move that is not a unit step": (("steps", 0, "state", 0, "pending"), [7, 7]),
+    "robot index out of range": (("steps", 0, "event", "robots"), [7]),
+    "event kind": (("steps", 0, "event", "kind"), "teleport"),
+    "move with a string robot": (("steps", 0, "event", "moves"), [["a", [0, 0], [1, 0]]]),
+    "too few robots in a state": (("steps", 0, "state"), [{"node": [0, 0], "pending": None}]),
+    "unknown algorithm": (("algorithm",), "nope"),
+    "algorithm of the wrong type": (("algorithm",), ["go-to-target"]),
+    "unknown scheduler": (("scheduler",), "lockstep"),
+    "unknown detection": (("detection",), "telepathic"),
+    "frames of the wrong type": (("frames",), 3),
+    "unknown property": (("property",), "liveness-ish"),
+    "cycle start beyond the steps": (("cycle_start",), 99),
+    "cycle start that is a boolean": (("cycle_start",), True),
+    "detail that is not an object": (("detail",), "x"),
+    "steps that are not a list": (("steps",), {"a": 1}),
+    "version": (("version",), 2),
+    "format": (("format",), "something-else"),
+}
+
+
+@pytest.mark.parametrize("defect", sorted(TRACE_DEFECTS))
+def test_replay_rejects_traces_that_do_not_match(defect: str, good_trace: dict, tmp_path: Path,
+                                                  capsys: pytest.CaptureFixture[str]) -> None:
+    path, value = TRACE_DEFECTS[defect]
+    bad = tmp_path / "bad-trace.json"
+    bad.write_text(json.dumps(_set(good_trace, path, value)))
+    assert_usage_error(["replay", str(bad)], capsys)
+
+
+def test_move_bound_trace_without_numbers(good_trace: dict, tmp_path: Path,
+                                          capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "mb.json"
+    trace = _set(good_trace, ("property",), "move-bound")
+    bad.write_text(json.dumps(_set(trace, ("detail",), {"c": "4", "D": 2, "n": 2})))
+    assert "numbers c, D and n" in assert_usage_error(["replay", str(bad)], capsys)
+
+
+def _paths(obj: object, prefix: tuple = ()) -> list[tuple]:
+    out = [prefix] if prefix else []
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            out += _paths(v, (*prefix, k))
+    elif isinstance(obj, list):
+        for i, v in enumerate(obj):
+            out += _paths(v, (*prefix, i))
+    return out
+
+
+@settings(max_examples=150, deadline=None)
+@given(data=st.data())
+def test_fuzz_trace_replay(good_trace: dict, data: st.DataObject) -> None:
+    """A trace with any one value replaced replays, or is refused with a one-line ValueError."""
+    from gather_verify.replay import replay
+
+    path = data.draw(st.sampled_from(_paths(good_trace)), label="path")
+    value = data.draw(json_values, label="value")
+    try:
+        replay(_set(good_trace, path, value))
+    except ValueError as error:
+        assert "\n" not in str(error)
+
+
+EXPENSIVE_TOKENS = ["--robots", "--meeting", "0,0", "1,1 2,2", "0,0 0,2", "x", "-1", "2",
+                    "--algorithm", "go-to-target", "paper", "paper:alpha=mer_f", "nope",
+                    "--scheduler", "fsync", "async", "--max-states", "200", "--seed", "--json",
+                    "--multiplicity", "none", "--frames", "compass", "--property", "final",
+                    "--max-steps", "--steps", "--algorithms", "--margin", ""]
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(command=st.sampled_from(["simulate", "check", "impossibility"]),
+       tokens=st.lists(st.sampled_from(EXPENSIVE_TOKENS), max_size=7))
+def test_fuzz_configuration_commands(command: str, tokens: list[str],
+                                     capsys: pytest.CaptureFixture[str]) -> None:
+    """Random argument lists over tiny configurations: a verdict's exit code or 2, one line,
+    never a traceback."""
+    code = main([command, *tokens])
+    err = capsys.readouterr().err
+    assert code in (0, 1, 2, 3, 4), (tokens, code, err)
+    assert "Traceback" not in err
+    if code == 2:
+        assert len(err.strip().splitlines()) == 1, (tokens, err)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(command=st.sampled_from(["sweep", "report", "replay", "bench", "mutants"]),
+       tokens=st.lists(st.sampled_from(TOKENS + ["--db", "--workers", "--limit", "1-2", "0x3",
+                                                 "--mutant", "--list", "--quick"]), max_size=6))
+def test_fuzz_other_parsers(command: str, tokens: list[str]) -> None:
+    """The argument parsers of the long-running commands answer UsageError or a namespace."""
+    from gather_verify.cli import build_parser
+    from gather_verify.cli.common import UsageError
+
+    try:
+        build_parser().parse_args([command, *tokens])
+    except UsageError as error:
+        assert "\n" not in str(error)

@@ -55,6 +55,8 @@ def get_algorithm(spec: str) -> Algorithm:
     """The algorithm registered under ``spec`` (with its options)."""
     name, options = parse_name(spec)
     if name not in REGISTRY:
+        _register_optional(name)
+    if name not in REGISTRY:
         raise ValueError(f"unknown algorithm {name!r}: use one of {', '.join(sorted(REGISTRY))}")
     try:
         algorithm = REGISTRY[name](**options)
@@ -63,6 +65,19 @@ def get_algorithm(spec: str) -> Algorithm:
     if options:
         algorithm.name = spec
     return algorithm
+
+
+def _register_optional(name: str) -> None:
+    """The deliberately broken algorithms (``broken-*``, for tests and demos) and the mutants
+    of mutation testing (``mutant-*``) are registered on first use of one of their names."""
+    if name.startswith("broken-"):
+        from gather_verify.algorithms.broken import register_broken
+
+        register_broken()
+    elif name.startswith("mutant-"):
+        from gather_verify.mutants import register_mutants
+
+        register_mutants()
 
 
 __all__ = ["Algorithm", "AlgorithmError", "REGISTRY", "Unhandled", "get_algorithm", "register",
