@@ -86,9 +86,17 @@ def parse_box(text: str) -> tuple[int, int]:
     return width, height
 
 
+def _plain(value: Any) -> Any:
+    """numpy scalars (counts from the bulk explorer) as plain numbers."""
+    item = getattr(value, "item", None)
+    if item is None:
+        raise TypeError(f"{type(value).__name__} is not JSON serializable")
+    return item()
+
+
 def print_json(obj: Any) -> None:
     """One JSON object on stdout, keys in a stable order."""
-    json.dump(obj, sys.stdout, sort_keys=True)
+    json.dump(obj, sys.stdout, sort_keys=True, default=_plain)
     sys.stdout.write("\n")
 
 
