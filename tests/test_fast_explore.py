@@ -149,3 +149,12 @@ def test_longest_path_bulk(case, reduction):
         return
     e.targets = list(e.targets)  # plain columns: the per-state reference code
     assert props.longest_path(e) == bulk
+
+
+@pytest.mark.slow
+def test_issue8_instance_counts():
+    """The SPIN yardstick: 4,939,200 states and 27,377,280 transitions (closed form in
+    bench/spin/make_model.py), without edges kept."""
+    c = Configuration([(0, 0), (5, 1), (1, 5), (6, 6), (3, 0)], [(3, 3)], initial=True)
+    e = explore_fast(c, "go-to-target", "async", reduction=False, properties=[], graph=False)
+    assert (e.states, e.transitions, e.stopped) == (4_939_200, 27_377_280, None)
