@@ -200,6 +200,16 @@ def test_check_json_is_byte_identical_across_hash_seeds() -> None:
     assert json.loads(outs[0].stdout)["verdict"] == "VERIFIED"
 
 
+def test_other_json_outputs_are_byte_identical_across_hash_seeds() -> None:
+    for argv in (["simulate", str(ROOT / "scenarios/mutants/i22-async.json"), "--seed", "3",
+                  "--json"],
+                 ["impossibility", str(ROOT / "scenarios/classes/i41.json"), "--algorithms", "2",
+                  "--json"],
+                 ["census", "--robots", "2", "--meeting", "2", "--box", "3x3", "--json"]):
+        outs = [cli(argv, seed) for seed in ("0", "99")]
+        assert outs[0].stdout and outs[0].stdout == outs[1].stdout, argv
+
+
 def results_table(db: Path) -> list[tuple]:
     with sqlite3.connect(db) as con:
         return con.execute("SELECT s.settings, r.* FROM results r JOIN sweeps s ON s.id = r.sweep "
