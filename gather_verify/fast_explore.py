@@ -116,10 +116,14 @@ class KeyIndex:
 
     def lookup(self, q: np.ndarray) -> np.ndarray:
         """Ids of ``q`` (-1 where absent)."""
-        out = np.full(len(q), -1, dtype=np.int64)
-        h = self._hash(q)
-        active = np.arange(len(q))
         table, keys, mask = self.table, self.keys, self.mask
+        h = self._hash(q)
+        # first probe for everyone at once (most keys are settled there)
+        t = table[h].astype(np.int64) - 1
+        out = np.where(keys[t] == q, t, -1)  # t = -1 (empty) reads the last key: masked below
+        out[t < 0] = -1
+        active = np.flatnonzero((out < 0) & (t >= 0))
+        h[active] = (h[active] + 1) & mask
         while len(active):
             slot = h[active]
             t = table[slot].astype(np.int64)
