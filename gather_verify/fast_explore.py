@@ -547,7 +547,7 @@ def explore_fast(
             over = np.flatnonzero(after > max_states)
             if len(over):
                 stop_src, stop = int(over[0]), "states"
-                keep = np.searchsorted(src, stop_src, side="right")
+                keep = int(np.searchsorted(src, stop_src, side="right"))
                 transitions -= cut - keep
                 cut = keep
                 src, robot, new, weight, old = (a[:cut] for a in (src, robot, new, weight, old))
