@@ -9,9 +9,7 @@ process first. :func:`memory_budget_mb` is the default the commands use
 instead: a share of the smallest of the physical memory and the cgroup limit,
 never above the explorer's default.
 
->>> 0 < memory_budget_mb() <= memory_budget_mb(workers=1)
-True
->>> memory_budget_mb(workers=2) <= memory_budget_mb() / 2 + 1
+>>> 0 < memory_budget_mb(workers=2) <= memory_budget_mb() <= DEFAULT_MAX_MEMORY_MB
 True
 """
 
