@@ -128,7 +128,7 @@ def test_docs_example_runs():
     ("i22-make-multiplicity-onto-guard", 1, "deadlock", ""),
     ("i22-two-robots-finalization-through-meeting-node", 0, "unhandled", "I42"),
     ("i32-symmetry-breaking-onto-meeting-node", 1, "unhandled", "I42"),
-    ("i22-non-guard-as-far-as-guard", 1, "unhandled", "I41"),
+    ("i22-non-guard-as-far-as-guard", 1, "unhandled", "UNCLASSIFIED"),
     ("i21-diagonal-axis-guard-corner", 2, "unhandled", "guard placement"),
     ("i21-make-multiplicity-onto-guard", 1, "deadlock", ""),
     ("i31-symmetry-breaking-onto-robot", 0, "unhandled", "I41"),
