@@ -52,3 +52,19 @@ def test_limit_exit_3():
 def test_not_applicable_exit_4():
     assert main(["check", "--robots", "0,2 3,2", "--meeting", "0,0 3,0 1,1 2,1",
                  "--algorithm", "go-to-target"]) == 4
+
+
+def test_check_junit_one_case_per_verdict(tmp_path, capsys):
+    """--junit: a VIOLATED check is a failing test case naming its property, VERIFIED passes."""
+    import xml.etree.ElementTree as ET
+
+    bad, good = tmp_path / "bad.xml", tmp_path / "good.xml"
+    assert main(["check", "--robots", "0,0 3,1", "--meeting", "2,2", "--algorithm", "broken-stay",
+                 "--scheduler", "fsync", "--junit", str(bad)]) == 1
+    assert main(["check", *YARD, "--algorithm", "go-to-target", "--junit", str(good)]) == 0
+    capsys.readouterr()
+    suite = ET.parse(bad).getroot()
+    assert suite.get("tests") == "1" and suite.get("failures") == "1"
+    assert "VIOLATED: final" in suite.find("testcase/failure").get("message")
+    suite = ET.parse(good).getroot()
+    assert suite.get("failures") == "0" and suite.find("testcase/failure") is None

@@ -55,6 +55,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="check even when the initial configuration is in U or UNCLASSIFIED")
     parser.add_argument("--trace-out", metavar="FILE", help="write the counterexample trace (JSON)")
     parser.add_argument("--svg", metavar="FILE", help="write the trace as an SVG storyboard")
+    parser.add_argument("--junit", metavar="FILE",
+                        help="write the verdict as a JUnit XML test case (for CI servers)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--timings", action="store_true",
                         help="with --json, also print the wall-clock seconds and peak memory "
@@ -87,6 +89,12 @@ def run(args: argparse.Namespace) -> int:
         Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
     if trace is not None and args.svg:
         Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
+    if args.junit:
+        from gather_verify.junit import write_junit
+
+        name = (f"{report['class']} robots={sorted(map(list, configuration.robots))} "
+                f"meeting={sorted(map(list, configuration.meeting_nodes))}")
+        write_junit(args.junit, f"check.{algorithm}.{scheduler}", [{**report, "name": name}])
     if args.json:
         print_json(report if args.timings else without_timings(report))
     else:
