@@ -26,6 +26,10 @@ EMPTY, MEETING, ROBOT_ON_MEETING, MULTI_ON_MEETING, ROBOT, MULTI = range(6)
 
 MAX_COORDINATE = 10**6
 """Coordinates beyond this are rejected: no exhaustive check can use them."""
+MAX_EXTENT = 512
+"""Longest side (in edges) of the MER of an *initial* configuration. Classification reads
+strings over every node of the MER, so time and memory grow with its area: a 2000 x 2000
+MER already takes minutes and gigabytes, while every exhaustive check needs far less."""
 
 
 def _as_node(value: object, what: str) -> Node:
@@ -79,6 +83,13 @@ class Configuration:
                         "stand on distinct nodes"
                     )
                 seen.add(r)
+            xs, ys = [v[0] for v in rs + ms], [v[1] for v in rs + ms]
+            extent = max(max(xs) - min(xs), max(ys) - min(ys))
+            if extent > MAX_EXTENT:
+                raise ValueError(
+                    f"the nodes span {extent} edges (MER {max(xs) - min(xs)} x "
+                    f"{max(ys) - min(ys)}): at most {MAX_EXTENT} is supported; move them closer"
+                )
         self.robots: tuple[Node, ...] = tuple(sorted(rs))
         self.meeting_nodes: frozenset[Node] = frozenset(ms)
 

@@ -124,6 +124,7 @@ SCENARIO_TEXTS = [
     '{"robots": [[0, 0]], "meeting_nodes": [[1, 1]], "expect": {"class": "I99"}}',
     '{"robots": [[0, 0]], "meeting_nodes": [[1, 1]], "expect": {"verdicts": [{"verdict": "OK"}]}}',
     '\u00ff\u00fe',
+    '{"robots": [[0, 0], [600, 0]], "meeting_nodes": [[1, 1]]}',
 ]
 
 
@@ -218,6 +219,8 @@ MORE_BAD = [
     ["report"],
     ["replay"],
     ["classify", *GOOD, "/nonexistent/extra.json"],
+    ["check", "--robots", "0,0 999999,999999", "--meeting", "500000,500000"],  # MER too large
+    ["classify", "--robots", "-1000000,0", "--meeting", "1000000,0"],
 ]
 
 
