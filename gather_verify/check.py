@@ -149,7 +149,8 @@ def run_check(
             trace = _safety_trace(plain, w) if w is not None else None
             if trace is None:
                 continue
-        results[name] = {"holds": False, "reason": v.reason}
+        # the trace's reason: it names the nodes of the concrete execution shown
+        results[name] = {"holds": False, "reason": trace["reason"]}
         traces[name] = trace
     stopped = e.stopped if e.stopped != "defined" else None
     complete = e.stopped is None
