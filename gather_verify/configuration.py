@@ -19,6 +19,7 @@ from collections.abc import Iterable
 from functools import cached_property
 
 from gather_verify import geometry
+from gather_verify.canonical import CanonicalForm, canonical_form
 from gather_verify.geometry import Node
 
 EMPTY, MEETING, ROBOT_ON_MEETING, MULTI_ON_MEETING, ROBOT, MULTI = range(6)
@@ -130,6 +131,12 @@ class Configuration:
     def occupied(self) -> frozenset[Node]:
         """The distinct robot positions (the paper's ``n_1`` is their number)."""
         return frozenset(self.robots)
+
+    @cached_property
+    def canonical_form(self) -> CanonicalForm:
+        """The canonical form of the occupied nodes and meeting nodes (multiplicity left
+        out) under translations and D4, with every isometry that reaches it."""
+        return canonical_form(self.occupied, self.meeting_nodes)
 
     def multiplicity(self, v: Node) -> int:
         return self.counts.get(v, 0)

@@ -55,7 +55,7 @@ from gather_verify.explore import (
     symmetry_group,
 )
 from gather_verify.geometry import STEPS
-from gather_verify.moves import frames_for, move_sets
+from gather_verify.moves import frames_for, memoised_move_sets
 from gather_verify.symmetry import Automorphism, meeting_automorphisms
 from gather_verify.view import check_detection
 from schedulers import Event, get_scheduler, initial_state
@@ -314,7 +314,7 @@ class FactsTable:
         robots = tuple((x0 + c // h, y0 + c % h) for c in cells.tolist())
         c = Configuration.trusted(robots, self.meeting)
         try:
-            ms = move_sets(self.algorithm, c, self.detection, self.frames)
+            ms = memoised_move_sets(self.algorithm, c, self.detection, self.frames)
         except Unhandled:
             self.oflags[r, 0] = 1
             return r
@@ -332,7 +332,8 @@ class FactsTable:
     def reason(self, row: int) -> str:
         """Why the algorithm has no rule in this configuration (computed on it)."""
         try:
-            move_sets(self.algorithm, self.configuration(row), self.detection, self.frames)
+            memoised_move_sets(self.algorithm, self.configuration(row), self.detection,
+                               self.frames)
         except Unhandled as error:
             return str(error) or "no rule for this view"
         raise AssertionError("the orbit is unhandled, so is every member")  # pragma: no cover

@@ -112,11 +112,10 @@ def _mutated_module(mutant: Mutant) -> ModuleType:
 
 _P, _G = PAPER_BASELINE, GTT_BASELINE
 _OWN_FRAME = (
-    "_canonical_view = lru_cache(maxsize=CACHE_SIZE)(canonical)",
-    "def _own_frame(robots, meeting_nodes):  # the view as the robot holds it: no canonical form\n"
-    "    return (tuple(sorted(robots)), tuple(sorted(meeting_nodes))), geometry.IDENTITY, (0, 0)\n"
-    "\n\n"
-    "_canonical_view = lru_cache(maxsize=CACHE_SIZE)(_own_frame)")
+    "    return view.canonical()\n",
+    "    # the view as the robot holds it: no canonical form\n"
+    "    return ((tuple(sorted(view.robots)), tuple(sorted(view.meeting_nodes))),\n"
+    "            geometry.IDENTITY, (0, 0))\n")
 """Part of a compass mutant: each robot analyses its snapshot in its own frame, so a tie
 broken by coordinates is broken by the robot's private compass."""
 _GTT_STEP = "        x, y = target\n"

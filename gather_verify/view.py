@@ -23,6 +23,7 @@ from __future__ import annotations
 from functools import cached_property
 
 from gather_verify import geometry
+from gather_verify.canonical import Key
 from gather_verify.configuration import Configuration
 from gather_verify.geometry import ORIGIN, Node
 
@@ -112,6 +113,30 @@ class View:
         """The snapshot as a configuration in the robot's frame, one robot per
         occupied node (what every detection model can see)."""
         return Configuration.trusted(tuple(sorted(self.robots)), self.meeting_nodes)
+
+    def canonical(self) -> tuple[Key, int, Node]:
+        """The canonical form of what the view shows (robots and meeting nodes), with the
+        first ``(g, t)`` mapping the view onto it: exactly
+        ``canonical.canonical(self.robots, self.meeting_nodes)``, derived from the snapshot's
+        own canonical form (computed once for all its views) instead of searched again.
+
+        The view is ``F(u - p)`` for the snapshot's nodes ``u`` (frame ``F``, robot at
+        ``p``), so ``g`` reaches the key from the view exactly when ``g o F`` reaches it from
+        the snapshot, with translation ``t_h + h(p)`` for ``h = g o F``.
+
+        >>> from gather_verify.canonical import canonical
+        >>> c = Configuration([(1, 1), (3, 1), (3, 4)], [(2, 2)])
+        >>> v = View(c, (3, 1), frame=geometry.ROT90, detection="local-weak")
+        >>> v.canonical() == canonical(v.robots, v.meeting_nodes)
+        True
+        """
+        key, reach = self._snapshot.canonical_form
+        undo = geometry.INVERSE[self._frame]
+        compose = geometry.COMPOSE
+        g, h, t = min((compose[h][undo], h, t) for h, t in reach)
+        px, py = self._node
+        a, b, c, d = geometry.MATRICES[h]
+        return key, g, (t[0] + a * px + b * py, t[1] + c * px + d * py)
 
     def key(self) -> tuple[object, ...]:
         """Everything this view lets an algorithm read; equal keys, equal decisions."""

@@ -51,6 +51,11 @@ def parse_name(spec: str) -> tuple[str, dict[str, str]]:
     return name.strip(), options
 
 
+_INSTANCES: dict[tuple[str, Callable[..., Algorithm]], Algorithm] = {}
+"""One instance per name and factory in a process: algorithms are pure functions of the view,
+so every check of a sweep shares the caches an algorithm keeps (the paper's plans)."""
+
+
 def get_algorithm(spec: str) -> Algorithm:
     """The algorithm registered under ``spec`` (with its options)."""
     name, options = parse_name(spec)
@@ -58,12 +63,16 @@ def get_algorithm(spec: str) -> Algorithm:
         _register_optional(name)
     if name not in REGISTRY:
         raise ValueError(f"unknown algorithm {name!r}: use one of {', '.join(sorted(REGISTRY))}")
-    try:
-        algorithm = REGISTRY[name](**options)
-    except TypeError as error:
-        raise ValueError(f"bad options for algorithm {name!r}: {error}") from None
-    if options:
-        algorithm.name = spec
+    factory = REGISTRY[name]
+    algorithm = _INSTANCES.get((spec, factory))
+    if algorithm is None:
+        try:
+            algorithm = factory(**options)
+        except TypeError as error:
+            raise ValueError(f"bad options for algorithm {name!r}: {error}") from None
+        if options:
+            algorithm.name = spec
+        _INSTANCES[spec, factory] = algorithm
     return algorithm
 
 

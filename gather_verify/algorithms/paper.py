@@ -75,13 +75,14 @@ from functools import lru_cache
 
 from gather_verify import geometry, strings
 from gather_verify.algorithms.base import Unhandled
+from gather_verify.canonical import Key
 from gather_verify.configuration import Configuration
 from gather_verify.geometry import ORIGIN, STEPS, Node, manhattan
 from gather_verify.symmetry import Automorphism, configuration_automorphisms, meeting_automorphisms
 from gather_verify.view import View
 
 CACHE_SIZE = 1 << 17
-"""Snapshots remembered per algorithm instance (canonical forms, see :func:`canonical`)."""
+"""Plans remembered per algorithm instance, one per canonical form of a snapshot."""
 
 
 @dataclass(frozen=True)
@@ -289,28 +290,9 @@ def _symmetry_breaking(c: Configuration, symmetry: Automorphism,
 # -- canonical forms and the algorithm object ----------------------------------------
 
 
-Key = tuple[tuple[Node, ...], tuple[Node, ...]]
-
-
-def canonical(robots: Iterable[Node], meeting_nodes: Iterable[Node]) -> tuple[Key, int, Node]:
-    """The canonical form of a snapshot under D4 and translations, with the
-    ``(g, t)`` that maps the snapshot onto it (``v -> g(v) + t``)."""
-    robots, meeting_nodes = tuple(robots), tuple(meeting_nodes)
-    best: tuple[Key, int, Node] | None = None
-    for g in geometry.ALL:
-        rs = [geometry.apply(g, v) for v in robots]
-        ms = [geometry.apply(g, v) for v in meeting_nodes]
-        x0, y0, _, _ = geometry.bounding_box(rs + ms)
-        key = (tuple(sorted((x - x0, y - y0) for x, y in rs)),
-               tuple(sorted((x - x0, y - y0) for x, y in ms)))
-        if best is None or key < best[0]:
-            best = (key, g, (-x0, -y0))
-    assert best is not None
-    return best
-
-
-_canonical_view = lru_cache(maxsize=CACHE_SIZE)(canonical)
-"""``canonical`` memoised on a view's frozensets (a view is seen again and again)."""
+def _canonical_view(view: View) -> tuple[Key, int, Node]:
+    """The canonical form of the robot's snapshot (see :mod:`gather_verify.canonical`)."""
+    return view.canonical()
 
 
 def first_step(allowed: Iterable[Node]) -> Node:
@@ -353,7 +335,8 @@ class PaperAlgorithm:
 
     def plan(self, configuration: Configuration) -> Plan:
         """The plan for a configuration in global coordinates (multiplicities read weakly)."""
-        key, g, t = canonical(configuration.occupied, configuration.meeting_nodes)
+        key, reach = configuration.canonical_form
+        g, t = reach[0]
         plan = self._plan(key)
         if isinstance(plan, Unhandled):
             raise Unhandled(str(plan))
@@ -370,7 +353,7 @@ class PaperAlgorithm:
                     None if plan.guard is None else unmap(plan.guard))
 
     def decide(self, view: View) -> Node:
-        key, g, t = _canonical_view(view.robots, view.meeting_nodes)
+        key, g, t = _canonical_view(view)
         plan = self._plan(key)
         if isinstance(plan, Unhandled):
             raise Unhandled(str(plan))

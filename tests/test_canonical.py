@@ -1,0 +1,64 @@
+"""Canonical forms: invariant under the grid isometries, and the shortcuts built on them
+(a view's canonical form from its snapshot's, move sets remembered per canonical
+configuration) give exactly what the direct computation gives."""
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from gather_verify import geometry
+from gather_verify.algorithms import get_algorithm
+from gather_verify.algorithms.base import Unhandled
+from gather_verify.canonical import canonical, canonical_form
+from gather_verify.configuration import Configuration
+from gather_verify.moves import memoised_move_sets, move_sets
+from gather_verify.view import View
+
+nodes = st.tuples(st.integers(-3, 3), st.integers(-3, 3))
+configurations = st.builds(
+    Configuration,
+    st.lists(nodes, min_size=1, max_size=5),  # repeats: multiplicities
+    st.lists(nodes, min_size=1, max_size=4, unique=True),
+)
+isometries = st.tuples(st.sampled_from(geometry.ALL), nodes)
+ALGORITHMS = ("paper", "paper:alpha=mer_f", "go-to-target", "nearest-centre", "random:seed=3")
+
+
+@settings(max_examples=200, deadline=None)
+@given(configurations, isometries)
+def test_canonical_form_is_invariant_and_reaches_its_key(c, iso):
+    g, t = iso
+    form = canonical_form(c.occupied, c.meeting_nodes)
+    moved = c.transformed(g, t)
+    assert canonical_form(moved.occupied, moved.meeting_nodes).key == form.key
+    for h, (tx, ty) in form.minimisers:
+        image = c.transformed(h, (tx, ty))
+        assert (tuple(sorted(image.occupied)), tuple(sorted(image.meeting_nodes))) == form.key
+
+
+@settings(max_examples=300, deadline=None)
+@given(configurations, st.sampled_from(geometry.ALL), st.data())
+def test_view_canonical_is_the_canonical_form_of_what_it_shows(c, frame, data):
+    node = data.draw(st.sampled_from(sorted(c.counts)))
+    view = View(c, node, frame, "local-weak")
+    assert view.canonical() == canonical(view.robots, view.meeting_nodes)
+
+
+@settings(max_examples=150, deadline=None)
+@given(configurations, isometries, st.sampled_from(ALGORITHMS),
+       st.sampled_from(("all", "chirality", "compass")))
+def test_memoised_move_sets_equal_move_sets(c, iso, spec, frames_name):
+    from gather_verify.moves import frames_for
+
+    frames = frames_for(frames_name)
+    algo = get_algorithm(spec)
+    for config in (c, c.transformed(*iso)):  # the second may be answered from the memo
+        try:
+            expected = move_sets(algo, config, "local-weak", frames)
+        except Unhandled as error:
+            try:
+                memoised_move_sets(algo, config, "local-weak", frames)
+            except Unhandled as again:
+                assert type(again) is type(error)
+                continue
+            raise AssertionError("the memo answered where the algorithm has no rule") from None
+        assert memoised_move_sets(algo, config, "local-weak", frames) == expected
