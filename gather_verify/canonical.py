@@ -44,23 +44,31 @@ def canonical_form(robots: Iterable[Node], meeting_nodes: Iterable[Node],
     translations and the elements of ``group`` (a subgroup of D4, ascending). Repeated
     robot nodes are kept (a multiset gives a multiset key)."""
     robots, meeting_nodes = tuple(robots), tuple(meeting_nodes)
-    best: Key | None = None
+    xs = [v[0] for v in robots] + [v[0] for v in meeting_nodes]
+    ys = [v[1] for v in robots] + [v[1] for v in meeting_nodes]
+    lo, hi = (min(xs), min(ys)), (max(xs), max(ys))
+    width = max(hi[0] - lo[0], hi[1] - lo[1]) + 1
+    # Nodes as integers x * width + y (0 <= y < width after the shift): sorting and comparing
+    # them is sorting and comparing the nodes, at a fraction of the cost of tuples.
+    best: tuple[list[int], list[int]] | None = None
     reach: list[tuple[int, Node]] = []
     for g in group:
         a, b, c, d = geometry.MATRICES[g]
-        rs = [(a * x + b * y, c * x + d * y) for x, y in robots]
-        ms = [(a * x + b * y, c * x + d * y) for x, y in meeting_nodes]
-        both = rs + ms
-        x0 = min(v[0] for v in both)
-        y0 = min(v[1] for v in both)
-        key = (tuple(sorted((x - x0, y - y0) for x, y in rs)),
-               tuple(sorted((x - x0, y - y0) for x, y in ms)))
+        # the image's MER starts at (ox, oy): each row of the matrix picks one coordinate
+        ox = a * (lo[0] if a > 0 else hi[0]) + b * (lo[1] if b > 0 else hi[1])
+        oy = c * (lo[0] if c > 0 else hi[0]) + d * (lo[1] if d > 0 else hi[1])
+        rs = sorted((a * x + b * y - ox) * width + c * x + d * y - oy for x, y in robots)
+        if best is not None and rs > best[0]:
+            continue
+        ms = sorted((a * x + b * y - ox) * width + c * x + d * y - oy for x, y in meeting_nodes)
+        key = (rs, ms)
         if best is None or key < best:
-            best, reach = key, [(g, (-x0, -y0))]
+            best, reach = key, [(g, (-ox, -oy))]
         elif key == best:
-            reach.append((g, (-x0, -y0)))
+            reach.append((g, (-ox, -oy)))
     assert best is not None
-    return CanonicalForm(best, tuple(reach))
+    return CanonicalForm((tuple(divmod(v, width) for v in best[0]),
+                          tuple(divmod(v, width) for v in best[1])), tuple(reach))
 
 
 def canonical(robots: Iterable[Node], meeting_nodes: Iterable[Node]) -> tuple[Key, int, Node]:

@@ -23,7 +23,7 @@ from gather_verify.algorithms.base import Algorithm, AlgorithmError, Unhandled
 from gather_verify.canonical import canonical_form
 from gather_verify.configuration import Configuration
 from gather_verify.geometry import ORIGIN, STEPS, Node
-from gather_verify.view import FRAME_SETS, MultiplicityHidden, View
+from gather_verify.view import FRAME_SETS, MultiplicityHidden, View, check_detection
 
 ANSWERS = frozenset((ORIGIN, *STEPS))
 INVERSE = tuple(geometry.MATRICES[geometry.inverse(g)] for g in geometry.ALL)
@@ -53,11 +53,14 @@ def move_set(
     An algorithm that reads multiplicity its detection model hides has no rule its
     robots could follow there: :class:`HiddenRead`, an :class:`Unhandled` (the ``defined``
     property fails)."""
+    check_detection(detection)
+    if node not in configuration.counts:
+        raise ValueError(f"no robot at {node} to take a view from")
     out = set()
-    decide, (x, y) = algorithm.decide, node
+    decide, (x, y), view = algorithm.decide, node, View.trusted
     for g in frames:
         try:
-            answer = decide(View(configuration, node, g, detection))
+            answer = decide(view(configuration, node, g, detection))
         except MultiplicityHidden as error:  # a rule its robots cannot apply: no rule at all
             raise HiddenRead(f"algorithm {algorithm.name!r} reads multiplicity its robots cannot "
                             f"see: {error}") from None

@@ -68,6 +68,15 @@ class View:
         self.detection = detection
         self._snapshot, self._node, self._frame = configuration, node, frame
 
+    @classmethod
+    def trusted(cls, configuration: Configuration, node: Node, frame: int,
+                detection: str) -> View:
+        """Build without validation (hot paths that checked ``detection`` and ``node``)."""
+        self = object.__new__(cls)
+        self.detection = detection
+        self._snapshot, self._node, self._frame = configuration, node, frame
+        return self
+
     # The frame's coordinates are computed on first use (many algorithms read only a
     # part of the view), then kept as ordinary attributes.
     def __getattr__(self, name: str) -> object:
@@ -132,8 +141,11 @@ class View:
         """
         key, reach = self._snapshot.canonical_form
         undo = geometry.INVERSE[self._frame]
-        compose = geometry.COMPOSE
-        g, h, t = min((compose[h][undo], h, t) for h, t in reach)
+        if len(reach) == 1:
+            (h, t), = reach
+            g = geometry.COMPOSE[h][undo]
+        else:
+            g, h, t = min((geometry.COMPOSE[h][undo], h, t) for h, t in reach)
         px, py = self._node
         a, b, c, d = geometry.MATRICES[h]
         return key, g, (t[0] + a * px + b * py, t[1] + c * px + d * py)

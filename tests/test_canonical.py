@@ -62,3 +62,21 @@ def test_memoised_move_sets_equal_move_sets(c, iso, spec, frames_name):
                 continue
             raise AssertionError("the memo answered where the algorithm has no rule") from None
         assert memoised_move_sets(algo, config, "local-weak", frames) == expected
+
+
+@settings(max_examples=200, deadline=None)
+@given(configurations)
+def test_canonical_form_is_the_least_normalised_image(c):
+    """The integer-coded search against the definition: the least of the 8 images
+    translated to the origin, and exactly the elements that reach it."""
+    images = []
+    for g in geometry.ALL:
+        image = c.transformed(g)
+        x0, y0, _, _ = image.mer()
+        key = (tuple(sorted({(x - x0, y - y0) for x, y in image.robots})),
+               tuple(sorted((x - x0, y - y0) for x, y in image.meeting_nodes)))
+        images.append((key, g, (-x0, -y0)))
+    best = min(key for key, _, _ in images)
+    form = canonical_form(c.occupied, c.meeting_nodes)
+    assert form.key == best
+    assert form.minimisers == tuple((g, t) for key, g, t in images if key == best)

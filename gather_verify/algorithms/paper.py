@@ -306,6 +306,14 @@ def first_step(allowed: Iterable[Node]) -> Node:
     raise Unhandled(f"no move rule for destinations {sorted(allowed)}")  # pragma: no cover
 
 
+@lru_cache(maxsize=CACHE_SIZE)
+def _answer(allowed: frozenset[Node], me: Node, g: int) -> Node:
+    """The answer in the robot's frame: ``first_step`` of the allowed destinations (canonical
+    coordinates, the robot at ``me``) mapped back by ``g``'s inverse."""
+    back = geometry.inverse(g)
+    return first_step(geometry.apply(back, geometry.sub(a, me)) for a in allowed)
+
+
 class PaperAlgorithm:
     """The paper's ``Gathering()``; see the module docstring for the phases."""
 
@@ -361,12 +369,13 @@ class PaperAlgorithm:
         allowed = plan.moves[me]
         if me in plan.if_multiplicity and view.multiplicity():
             allowed = plan.if_multiplicity[me]
-        back = geometry.inverse(g)
-        return first_step(geometry.apply(back, geometry.sub(a, t)) for a in allowed)
+        return _answer(allowed, me, g)
 
     def target(self, configuration: Configuration) -> Node | None:
         """The target meeting node (global coordinates) where the phase defines one."""
-        try:
-            return self.plan(configuration).target
-        except Unhandled:
+        key, reach = configuration.canonical_form
+        plan = self._plan(key)
+        if isinstance(plan, Unhandled) or plan.target is None:
             return None
+        g, t = reach[0]
+        return geometry.apply(geometry.inverse(g), geometry.sub(plan.target, t))
