@@ -98,11 +98,18 @@ class KeyIndex:
     >>> ix.insert(np.array([7, 3, 9], dtype=np.uint64))
     >>> ix.lookup(np.array([3, 4, 9, 7], dtype=np.uint64)).tolist()
     [1, -1, 2, 0]
+    >>> ids, first = ix.find_or_add(np.array([4, 3, 8, 4, 8, 5], dtype=np.uint64))
+    >>> ids.tolist(), first.tolist(), ix.count
+    ([3, 1, 4, 3, 4, 5], [0, 2, 5], 6)
+    >>> ix.truncate(4)
+    >>> ix.lookup(np.array([4, 8], dtype=np.uint64)).tolist()
+    [3, -1]
     """
 
     def __init__(self, bits: int = 16, capacity: int = 1 << 16):
         self.keys = np.empty(capacity, dtype=np.uint64)
         self.count = 0
+        self.stale = False
         self._alloc(bits)
 
     def _alloc(self, bits: int) -> None:
@@ -112,10 +119,39 @@ class KeyIndex:
         self.table = np.zeros(1 << bits, dtype=np.int32)  # id + 1; 0 is empty
 
     def _hash(self, q: np.ndarray) -> np.ndarray:
-        return ((q * _MUL) >> self.shift).astype(np.int64)
+        # below 2**bits, so the same bits read as int64: no conversion pass
+        return ((q * _MUL) >> self.shift).view(np.int64)
+
+    def _rebuild(self, bits: int) -> None:
+        """A fresh table of ``2**bits`` slots holding every stored key."""
+        self._alloc(bits)
+        self.stale = False
+        for lo in range(0, self.count, 1 << 18):  # in slices: small temporaries
+            hi = min(self.count, lo + (1 << 18))
+            self._place(self.keys[lo:hi], lo)
+
+    def _fit(self, need: int, load: float) -> None:
+        """Room for ``need`` keys: in the key column, and the table at most ``load`` full."""
+        if need > len(self.keys):
+            grown = np.empty(max(need, 2 * len(self.keys)), dtype=np.uint64)
+            grown[:self.count] = self.keys[:self.count]
+            self.keys = grown
+        if need > load * len(self.table) or self.stale:
+            bits = self.bits
+            while need > LOAD * (1 << bits):
+                bits += 1
+            self._rebuild(bits)
+
+    def truncate(self, count: int) -> None:
+        """Forget the keys from id ``count`` on (the table is rebuilt when next used)."""
+        if count < self.count:
+            self.count = count
+            self.stale = True
 
     def lookup(self, q: np.ndarray) -> np.ndarray:
         """Ids of ``q`` (-1 where absent)."""
+        if self.stale:
+            self._rebuild(self.bits)
         table, keys, mask = self.table, self.keys, self.mask
         h = self._hash(q)
         # first probe for everyone at once (most keys are settled there)
@@ -136,40 +172,90 @@ class KeyIndex:
             h[active] = (slot[miss] + 1) & mask
         return out
 
-    def _place(self, q: np.ndarray, ids: np.ndarray) -> None:
-        h = self._hash(q)
-        tags = (ids + 1).astype(np.int32)
-        active = np.arange(len(q))
+    def find_or_add(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Ids of ``q``, the absent keys appended with the next ids in order of first
+        occurrence in ``q``; and the positions in ``q`` of those first occurrences.
+
+        One probing pass: a key meeting an empty slot claims it with a tag naming
+        its position in ``q`` (negative, to tell it from a stored id); the other
+        occurrences of that key find the tag (they probe the same slots in step)."""
+        m = len(q)
+        self._fit(self.count + m, 0.9)  # never full during the pass
+        table, keys, mask = self.table, self.keys, self.mask
+        ids = np.empty(m, dtype=np.int64)
+        rep = np.full(m, -1, dtype=np.int64)  # absent key: the position that claimed its slot
+        claimed = np.empty(m, dtype=np.int64)  # the claimer's slot
+        a = None  # positions still probing (None: all of them, in order)
+        qa, slot = q, self._hash(q)
+        while len(slot):
+            t = table[slot]
+            more = np.zeros(len(slot), dtype=bool)
+            i = np.flatnonzero(t > 0)  # a stored key
+            stored = t[i].astype(np.int64) - 1
+            hit = keys[stored] == qa[i]
+            ids[i[hit] if a is None else a[i[hit]]] = stored[hit]
+            more[i[~hit]] = True
+            i = np.flatnonzero(t < 0)  # a key claimed in this pass
+            if len(i):
+                w = -1 - t[i].astype(np.int64)
+                same = q[w] == qa[i]
+                rep[i[same] if a is None else a[i[same]]] = w[same]
+                more[i[~same]] = True
+            i = np.flatnonzero(t == 0)  # empty: claim it
+            if len(i):
+                ai = i if a is None else a[i]
+                s = slot[i]
+                # written last to first, so the first occurrence wins (usually: checked below)
+                table[s[::-1]] = (-1 - ai[::-1]).astype(np.int32)
+                w = -1 - table[s].astype(np.int64)
+                same = q[w] == qa[i]
+                rep[ai[same]] = w[same]
+                won = w == ai
+                claimed[ai[won]] = s[won]
+                more[i[~same]] = True
+            i = np.flatnonzero(more)
+            a = i if a is None else a[i]
+            qa, slot = q[a], (slot[i] + 1) & mask
+        news = np.flatnonzero(rep >= 0)
+        r = rep[news]
+        winners = news[r == news]  # ascending
+        first = winners
+        if np.any(news < r):  # a claim was won by a later occurrence
+            pos = np.arange(m)
+            np.minimum.at(pos, r, news)
+            first = pos[winners]
+            order = np.argsort(first, kind="stable")
+            winners, first = winners[order], first[order]
+        k, base = len(winners), self.count
+        fresh = np.arange(base, base + k)
+        rank = rep  # reused: by claimer, the id
+        rank[winners] = fresh
+        ids[news] = rank[r]
+        table[claimed[winners]] = (fresh + 1).astype(np.int32)
+        keys[base:base + k] = q[first]
+        self.count = base + k
+        if self.count > LOAD * len(table):
+            self._fit(self.count, LOAD)
+        return ids, first
+
+    def _place(self, q: np.ndarray, first_id: int) -> None:
+        """Put distinct keys absent from the table, ids ``first_id`` on, in their slots."""
+        slot = self._hash(q)
+        tags = np.arange(first_id + 1, first_id + 1 + len(q), dtype=np.int32)
         table, mask = self.table, self.mask
-        while len(active):
-            slot = h[active]
+        while len(slot):
             free = table[slot] == 0
-            table[slot[free]] = tags[active[free]]
-            won = np.zeros(len(active), dtype=bool)
-            won[free] = table[slot[free]] == tags[active[free]]
-            lost_race = free & ~won
-            moved = ~free
-            h[active[moved]] = (slot[moved] + 1) & mask
-            active = active[moved | lost_race]
+            table[slot[free]] = tags[free]  # of keys wanting one slot, one wins
+            more = ~free
+            more[free] = table[slot[free]] != tags[free]
+            slot, tags = (slot[more] + 1) & mask, tags[more]
 
     def insert(self, q: np.ndarray) -> None:
         """Append distinct keys, absent from the index, with the next ids."""
         need = self.count + len(q)
-        if need > len(self.keys):
-            grown = np.empty(max(need, 2 * len(self.keys)), dtype=np.uint64)
-            grown[:self.count] = self.keys[:self.count]
-            self.keys = grown
+        self._fit(need, LOAD)
         self.keys[self.count:need] = q
-        if need > LOAD * len(self.table):
-            bits = self.bits
-            while need > LOAD * (1 << bits):
-                bits += 1
-            self._alloc(bits)
-            for lo in range(0, need, 1 << 18):  # in slices: small temporaries
-                hi = min(need, lo + (1 << 18))
-                self._place(self.keys[lo:hi], np.arange(lo, hi))
-        else:
-            self._place(q, np.arange(self.count, need))
+        self._place(q, self.count)
         self.count = need
 
 
@@ -530,21 +616,13 @@ def explore_fast(
         else:
             delta = (new - old).astype(np.uint64) * powers[robot]
             succ = K[src] + delta  # wraps correctly for negative deltas
-        ids = index.lookup(succ)
-        absent = np.flatnonzero(ids < 0)
-        fresh_keys = np.empty(0, dtype=np.uint64)
-        fresh_src = np.empty(0, dtype=np.int64)
-        if len(absent):
-            uniq, first, inv = np.unique(succ[absent], return_index=True, return_inverse=True)
-            order = np.argsort(first, kind="stable")
-            rank_new = np.empty(len(order), dtype=np.int64)
-            rank_new[order] = np.arange(len(order))
-            fresh_keys = uniq[order]
-            fresh_src = src[absent[first[order]]]
-            ids[absent] = index.count + rank_new[inv.reshape(-1)]
+        # new states get the next ids in order of first occurrence: the BFS order
+        known = index.count
+        ids, first = index.find_or_add(succ)
+        fresh_src = src[first]
         # the states limit: after the first source whose expansion passes it
-        if index.count + len(fresh_keys) > max_states:
-            after = index.count + np.searchsorted(fresh_src, np.arange(stop_src), side="right")
+        if index.count > max_states:
+            after = known + np.searchsorted(fresh_src, np.arange(stop_src), side="right")
             over = np.flatnonzero(after > max_states)
             if len(over):
                 stop_src, stop = int(over[0]), "states"
@@ -553,8 +631,10 @@ def explore_fast(
                 cut = keep
                 src, robot, new, weight, old = (a[:cut] for a in (src, robot, new, weight, old))
                 succ, ids = succ[:cut], ids[:cut]
-                m = np.searchsorted(fresh_src, stop_src, side="right")
-                fresh_keys, fresh_src = fresh_keys[:m], fresh_src[:m]
+                m = int(np.searchsorted(fresh_src, stop_src, side="right"))
+                fresh_src = fresh_src[:m]
+                index.truncate(known + m)
+        fresh_keys = index.keys[known:index.count]
         expanded = stop_src + (stop in ("region", "states"))
         if check_final and "final" not in violations and expanded:
             dead = (table.flags[rows[:expanded], 1] == 1) & (table.flags[rows[:expanded], 2] == 0) \
@@ -584,7 +664,7 @@ def explore_fast(
             bad = np.flatnonzero(table.need_in_u(table.rows(k3, s3)))
             if len(bad):
                 violations["no-ungatherable"] = Violation(
-                    "no-ungatherable", index.count + int(bad[0]),
+                    "no-ungatherable", known + int(bad[0]),
                     "a configuration in U (I41/I42) is reached from one outside U")
         changed_loops += int(np.count_nonzero((ids == sid + src) & (new != old)))
         if graph:
@@ -593,7 +673,6 @@ def explore_fast(
             offsets.extend(starts)
             targets.extend(ids.astype(np.int32))
             weights.extend(weight.astype(np.int8))
-        index.insert(fresh_keys)
         parents.extend((sid + fresh_src).astype(np.int32))
         if stop == "defined":
             state = stop_src
