@@ -17,6 +17,10 @@ from schedulers.base import Event, MoveSets, State, configuration_of
 
 LOOK_ORDER = tuple(sorted(range(len(STEPS)), key=STEPS.__getitem__))
 """Step indices in the order :meth:`Async.successors` yields Looks (sorted destinations)."""
+_LOOK_STEP = np.array([k + 1 for k in LOOK_ORDER], dtype=np.int64)
+_EVENTS = np.array([sum(1 << 8 * slot for slot, k in enumerate(LOOK_ORDER) if m >> k & 1)
+                    for m in range(32)] + [1], dtype="<u4")
+"""A robot's events as four little-endian bytes: by move mask when idle, at 32 when moving."""
 
 
 class Async:
@@ -48,17 +52,22 @@ class Async:
         (-1 when the robot moves out of the region) and the edges traversed.
         """
         s, n = codes.shape
-        cell, d = codes // 5, codes % 5
-        idle = d == 0
-        valid = np.zeros((s, n, 4), dtype=bool)
-        new = np.empty((s, n, 4), dtype=np.int64)
-        for slot, k in enumerate(LOOK_ORDER):
-            valid[:, :, slot] = idle & ((masks >> k) & 1).astype(bool)
-            new[:, :, slot] = cell * 5 + (k + 1)
-        moving = ~idle
-        dest = neighbour[cell, np.maximum(d - 1, 0)]
-        valid[:, :, 0] |= moving
-        new[:, :, 0] = np.where(moving, np.where(dest >= 0, dest * 5, -1), new[:, :, 0])
-        flat = np.flatnonzero(valid.reshape(-1))
-        src, robot = flat // (4 * n), (flat // 4) % n
-        return src, robot, new.reshape(-1)[flat], moving[src, robot].astype(np.int8)
+        idle = codes == codes // 5 * 5  # (floor division by a constant is the fast one)
+        # per robot, its events in order as four bytes (the Looks in LOOK_ORDER, or its one
+        # Move in the first), then the events of the chunk in order where a byte is set
+        events = _EVENTS[np.where(idle, masks, 32)].view(np.bool_)
+        flat = np.flatnonzero(events)
+        at = flat >> 2  # the robot's position in codes.reshape(-1)
+        src = at // n
+        robot = at - src * n
+        code = codes.reshape(-1)[at]
+        new = code + _LOOK_STEP[flat & 3]  # a Look: cell * 5 + 1 + k (idle: code = cell * 5)
+        move = np.flatnonzero(~idle.reshape(-1)[at])
+        if len(move):
+            c = code[move]
+            cell = c // 5
+            dest = neighbour[cell, c - cell * 5 - 1]
+            new[move] = np.where(dest >= 0, dest * 5, -1)
+        weight = np.zeros(len(flat), dtype=np.int8)
+        weight[move] = 1
+        return src, robot, new, weight
