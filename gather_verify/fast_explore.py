@@ -578,11 +578,7 @@ def explore_fast(
             break
         hi = min(index.count, sid + CHUNK)
         K = index.keys[sid:hi].copy()
-        codes = np.empty((len(K), n), dtype=np.int64)
-        rest = K.copy()
-        for j in range(n):
-            codes[:, j] = (rest % np.uint64(base)).astype(np.int64)
-            rest //= np.uint64(base)
+        codes = _decode(K, base, n)
         cells = codes // 5
         srt, ck = table.config_keys(cells)
         rows = table.rows(ck, srt)
@@ -696,10 +692,11 @@ def explore_fast(
 
 def _decode(keys: np.ndarray, base: int, n: int) -> np.ndarray:
     codes = np.empty((len(keys), n), dtype=np.int64)
-    rest = keys.copy()
+    rest, b = keys, np.uint64(base)
     for j in range(n):
-        codes[:, j] = (rest % np.uint64(base)).astype(np.int64)
-        rest //= np.uint64(base)
+        quot = rest // b  # (floor division by a constant is the fast one; % is not)
+        codes[:, j] = (rest - quot * b).view(np.int64)
+        rest = quot
     return codes
 
 
