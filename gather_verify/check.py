@@ -93,6 +93,7 @@ def run_check(
     move_bound_c: float = 4.0,
     force: bool = False,
     engine: str = "auto",
+    memo: bool = False,
     **limits: Any,
 ) -> dict[str, Any]:
     """Check ``algorithm`` from ``configuration``; the report as a JSON-able dict.
@@ -128,14 +129,14 @@ def run_check(
                       seconds=time.perf_counter() - started)
         return report
     e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
-                frames=frames, reduction=reduction, properties=wanted, limits=lim)
+                frames=frames, reduction=reduction, properties=wanted, limits=lim, memo=memo)
     while fixed_margin is None and e.stopped == "region" and lim.margin < AUTO_MARGIN_MAX:
         left = max_seconds - (time.perf_counter() - started)
         if left <= 0:
             break
         lim = replace(lim, margin=min(2 * lim.margin, AUTO_MARGIN_MAX), max_seconds=left)
         e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
-                    frames=frames, reduction=reduction, properties=wanted, limits=lim)
+                    frames=frames, reduction=reduction, properties=wanted, limits=lim, memo=memo)
     report["limits"]["margin"] = lim.margin
     report.update(states=e.states, transitions=e.transitions, peak_rss_mb=round(e.peak_rss_mb, 1))
     results = report["properties"]

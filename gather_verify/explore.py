@@ -302,6 +302,7 @@ def explore(
     *,
     engine: str = "auto",
     graph: bool = True,
+    memo: bool = False,
     **options: object,
 ) -> Exploration:
     """Every state reachable from ``initial``: the bulk engine when it supports the request
@@ -309,8 +310,9 @@ def explore(
 
     ``engine="fast"`` insists on the bulk engine (ValueError if it cannot run this request),
     ``engine="reference"`` runs :func:`explore_reference`. ``graph=False`` lets the bulk
-    engine keep no edges (only states and safety witnesses; see :mod:`fast_explore`).
-    Other keyword arguments are those of :func:`explore_reference`.
+    engine keep no edges (only states and safety witnesses; see :mod:`fast_explore`);
+    ``memo=True`` lets it share configuration facts with the other searches of this
+    process (sweeps). Other keyword arguments are those of :func:`explore_reference`.
     """
     if engine not in ENGINES:
         raise ValueError(f"unknown engine {engine!r}: use one of {', '.join(ENGINES)}")
@@ -319,7 +321,8 @@ def explore(
 
         keys = ("reduction", "anonymity", "symmetry", "frames", "limits")
         if fast_explore.supports(initial, scheduler, **{k: options[k] for k in keys if k in options}):
-            return fast_explore.explore_fast(initial, algorithm, scheduler, graph=graph, **options)
+            return fast_explore.explore_fast(initial, algorithm, scheduler, graph=graph,
+                                             memo=memo, **options)
         if engine == "fast":
             raise ValueError(f"the fast engine cannot run this request (scheduler {scheduler!r}): "
                              "use engine='auto' or 'reference'")

@@ -41,6 +41,7 @@ import numpy as np
 
 from gather_verify import geometry
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, target_of
+from gather_verify.canonical import canonical_form
 from gather_verify.classes import classify_configuration
 from gather_verify.configuration import Configuration
 from gather_verify.explore import (
@@ -54,8 +55,8 @@ from gather_verify.explore import (
     rss_mb,
     symmetry_group,
 )
-from gather_verify.geometry import STEPS
-from gather_verify.moves import frames_for, memoised_move_sets
+from gather_verify.geometry import STEPS, Node
+from gather_verify.moves import frames_for, move_sets
 from gather_verify.symmetry import Automorphism, meeting_automorphisms
 from gather_verify.view import check_detection
 from schedulers import Event, get_scheduler, initial_state
@@ -279,6 +280,29 @@ class Growing:
         return self.data[:self.size]
 
 
+FactsMemo = dict
+"""Facts of configurations up to translation and the frames, shared by the checks of a
+sweep (one per algorithm, detection and frames: :func:`facts_memo`)."""
+MEMO_SIZE = 1 << 18
+"""Configurations a memo holds before it starts over (a few hundred bytes each)."""
+_MEMOS: dict[tuple[Algorithm, str, str], FactsMemo] = {}
+
+
+def facts_memo(algorithm: Algorithm, detection: str, frames: str) -> FactsMemo:
+    """The memo this process shares among the checks of one algorithm object."""
+    return _MEMOS.setdefault((algorithm, detection, frames), {})
+
+
+def _step_perm(g: int) -> tuple[int, ...]:
+    """Move masks (bit k: ``STEPS[k]``, bit 4: stay) mapped by the D4 element ``g``."""
+    image = [STEPS.index(geometry.apply(g, step)) for step in STEPS]
+    return tuple((m & 16) | sum(1 << image[k] for k in range(4) if m >> k & 1)
+                 for m in range(32))
+
+
+STEP_PERM = tuple(_step_perm(g) for g in geometry.ALL)
+
+
 class FactsTable:
     """Per configuration (sorted robot cells, packed), the facts as small integers.
 
@@ -294,8 +318,10 @@ class FactsTable:
     and target are computed on the configuration itself."""
 
     def __init__(self, enc: Encoding, n: int, algorithm: Algorithm, meeting: frozenset,
-                 detection: str, frames: Sequence[int], group: Sequence[Any]):
+                 detection: str, frames: Sequence[int], group: Sequence[Any],
+                 memo: FactsMemo | None = None):
         self.enc, self.n, self.algorithm, self.meeting = enc, n, algorithm, meeting
+        self.memo = memo
         self.detection, self.frames = detection, tuple(frames)
         self.aut_m = list(group)  # Aut(M), identity first
         assert not self.aut_m or self.aut_m[0].g == geometry.IDENTITY and self.aut_m[0].t == (0, 0)
@@ -398,28 +424,60 @@ class FactsTable:
         self.orbit[key] = r
         x0, y0, h = self.box
         robots = tuple((x0 + c // h, y0 + c % h) for c in cells.tolist())
+        if self.memo is None:
+            masks, flags = self._facts(robots)
+        else:
+            masks, flags = self._remembered_facts(robots)
+        self.omasks[r] = masks
+        self.oflags[r] = flags
+        return r
+
+    def _facts(self, robots: tuple[Node, ...]) -> tuple[list[int], tuple[int, int, int]]:
+        """Move masks of ``robots`` (in order) and the flags (unhandled, stuck, gathered)."""
         c = Configuration.trusted(robots, self.meeting)
         try:
-            ms = memoised_move_sets(self.algorithm, c, self.detection, self.frames)
+            ms = move_sets(self.algorithm, c, self.detection, self.frames)
         except Unhandled:
-            self.oflags[r, 0] = 1
-            return r
-        for j, v in enumerate(robots):
+            return [0] * len(robots), (1, 0, 0)
+        masks = []
+        for v in robots:
             s = ms[v]
             bits = 16 if v in s else 0
             for k, (dx, dy) in enumerate(STEPS):
                 if (v[0] + dx, v[1] + dy) in s:
                     bits |= 1 << k
-            self.omasks[r, j] = bits
-        self.oflags[r, 1] = all(s == {v} for v, s in ms.items())
-        self.oflags[r, 2] = len(c.counts) == 1 and robots[0] in self.meeting
-        return r
+            masks.append(bits)
+        return masks, (0, all(s == {v} for v, s in ms.items()),
+                       len(c.counts) == 1 and robots[0] in self.meeting)
+
+    def _remembered_facts(self, robots: tuple[Node, ...]
+                          ) -> tuple[list[int], tuple[int, int, int]]:
+        """:meth:`_facts` through the shared memo, keyed by the canonical form of the
+        configuration over translations and the frames (multiplicities kept). Exact for
+        any algorithm: with ``g`` in the frame group, the views of ``g(C) + t`` are those of
+        ``C`` in the frames composed with ``g``, which run over the same frames, so its
+        move sets are the images of those of ``C`` (SEMANTICS.md §3: the union over the
+        frames); the flags are invariant."""
+        key, reach = canonical_form(robots, self.meeting, self.frames)
+        g, (tx, ty) = reach[0]
+        a, b, c, d = geometry.MATRICES[g]
+        image = [(a * x + b * y + tx, c * x + d * y + ty) for x, y in robots]
+        known = self.memo.get(key)
+        if known is None:
+            masks, flags = self._facts(robots)
+            forward = STEP_PERM[g]
+            if len(self.memo) >= MEMO_SIZE:
+                self.memo.clear()
+            self.memo[key] = known = (dict(zip(image, (forward[m] for m in masks),
+                                               strict=True)), flags)
+            return masks, flags
+        back = STEP_PERM[geometry.inverse(g)]
+        return [back[known[0][w]] for w in image], known[1]
 
     def reason(self, row: int) -> str:
         """Why the algorithm has no rule in this configuration (computed on it)."""
         try:
-            memoised_move_sets(self.algorithm, self.configuration(row), self.detection,
-                               self.frames)
+            move_sets(self.algorithm, self.configuration(row), self.detection, self.frames)
         except Unhandled as error:
             return str(error) or "no rule for this view"
         raise AssertionError("the orbit is unhandled, so is every member")  # pragma: no cover
@@ -514,11 +572,16 @@ def explore_fast(
     properties: Iterable[str] = SAFETY,
     limits: Limits = NO_LIMITS,
     graph: bool = True,
+    memo: bool = False,
 ) -> Exploration:
     """Breadth-first search in bulk; same result as the reference explorer.
 
     ``graph=False`` keeps no edges (the result's ``offsets``, ``targets`` and
     ``weights`` are empty): enough for the safety properties and the state count.
+    ``memo=True`` shares the facts of configurations with the other searches of this
+    process for the same algorithm object (:func:`facts_memo`): what a sweep wants,
+    where many searches meet the same configurations; a single large search gains
+    nothing from it.
     """
     started = time.perf_counter()
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
@@ -533,7 +596,8 @@ def explore_fast(
     wanted = set(properties)
     facts = facts_cache(algo, initial.meeting_nodes, detection, frame_elements)
     table = FactsTable(enc, n, algo, initial.meeting_nodes, detection, frame_elements,
-                       meeting_automorphisms(initial))
+                       meeting_automorphisms(initial),
+                       facts_memo(algo, detection, frames) if memo else None)
     canon = Canon(enc, n)
     base = enc.base
     powers = np.array([base ** j for j in range(n)], dtype=np.uint64)

@@ -15,12 +15,10 @@ common chirality the 4 rotations.
 
 from __future__ import annotations
 
-import weakref
 from collections.abc import Iterable
 
 from gather_verify import geometry
 from gather_verify.algorithms.base import Algorithm, AlgorithmError, Unhandled
-from gather_verify.canonical import canonical_form
 from gather_verify.configuration import Configuration
 from gather_verify.geometry import ORIGIN, STEPS, Node
 from gather_verify.view import FRAME_SETS, MultiplicityHidden, View, check_detection
@@ -84,67 +82,3 @@ def move_sets(
     frames = tuple(frames)
     return {v: move_set(algorithm, configuration, v, detection, frames) for v in configuration.counts}
 
-
-MEMO_SIZE = 1 << 17
-"""Configurations remembered per algorithm, detection and frames (then the memo starts over)."""
-_MEMOS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
-def memoised_move_sets(
-    algorithm: Algorithm,
-    configuration: Configuration,
-    detection: str = "local-weak",
-    frames: tuple[int, ...] = geometry.ALL,
-) -> dict[Node, frozenset[Node]]:
-    """:func:`move_sets`, remembered per configuration up to translation and the frames.
-
-    Exact for every algorithm, because ``decide`` is a function of the view alone:
-    for an isometry ``A = (g, t)`` with ``g`` in the frame group, the view of ``A(p)``
-    in ``A(C)`` in frame ``F`` is the view of ``p`` in ``C`` in frame ``F o g``, and
-    ``F o g`` runs over the frames when ``F`` does; so the move sets of ``A(C)`` are
-    ``A`` of those of ``C``. The memo is keyed by the canonical form of ``C`` over the
-    translations and the frame group, multiplicities included (what any detection
-    model may show), and lives as long as the algorithm object (a sweep shares it).
-    ``Unhandled`` is remembered too.
-
-    >>> from gather_verify.algorithms import get_algorithm
-    >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)])
-    >>> algo = get_algorithm("go-to-target")
-    >>> memoised_move_sets(algo, c) == move_sets(algo, c)
-    True
-    >>> moved = c.transformed(geometry.ROT90, (5, -2))  # the same configuration, turned
-    >>> memoised_move_sets(algo, moved) == move_sets(algo, moved)
-    True
-    """
-    try:
-        memos = _MEMOS.setdefault(algorithm, {})
-    except TypeError:  # an algorithm object that takes no weak reference: no memo
-        return move_sets(algorithm, configuration, detection, frames)
-    memo = memos.setdefault((detection, frames), {})
-    key, reach = canonical_form(configuration.robots, configuration.meeting_nodes, frames)
-    g, (tx, ty) = reach[0]
-    a, b, c, d = geometry.MATRICES[g]
-    known = memo.get(key)
-    if known is None:
-        if len(memo) >= MEMO_SIZE:
-            memo.clear()
-        image = configuration.transformed(g, (tx, ty))
-        try:
-            known = move_sets(algorithm, image, detection, frames)
-        except Unhandled as error:
-            known = error
-        memo[key] = known
-    if isinstance(known, Unhandled):
-        raise type(known)(*known.args) from None
-    back = geometry.MATRICES[geometry.inverse(g)]
-    p, q, r, s = back
-
-    def unmap(v: Node) -> Node:
-        x, y = v[0] - tx, v[1] - ty
-        return (p * x + q * y, r * x + s * y)
-
-    out = {}
-    for v in configuration.counts:
-        w = (a * v[0] + b * v[1] + tx, c * v[0] + d * v[1] + ty)
-        out[v] = frozenset(map(unmap, known[w]))
-    return out

@@ -75,6 +75,7 @@ def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[st
         properties=settings.properties or None, reduction=settings.reduction,
         max_states=settings.max_states, max_seconds=settings.max_seconds,
         move_bound_c=settings.move_bound_c, max_memory_mb=settings.max_memory_mb,
+        memo=True,  # the checks of a sweep meet the same configurations again and again
     )
     return {
         "key": configuration_key(c),

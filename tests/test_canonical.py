@@ -1,16 +1,15 @@
 """Canonical forms: invariant under the grid isometries, and the shortcuts built on them
-(a view's canonical form from its snapshot's, move sets remembered per canonical
-configuration) give exactly what the direct computation gives."""
+(a view's canonical form from its snapshot's, configuration facts shared by the
+searches of a sweep) give exactly what the direct computation gives."""
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from gather_verify import geometry
-from gather_verify.algorithms import get_algorithm
-from gather_verify.algorithms.base import Unhandled
 from gather_verify.canonical import canonical, canonical_form
 from gather_verify.configuration import Configuration
-from gather_verify.moves import memoised_move_sets, move_sets
+from gather_verify.explore import Limits
+from gather_verify.fast_explore import explore_fast
 from gather_verify.view import View
 
 nodes = st.tuples(st.integers(-3, 3), st.integers(-3, 3))
@@ -43,25 +42,27 @@ def test_view_canonical_is_the_canonical_form_of_what_it_shows(c, frame, data):
     assert view.canonical() == canonical(view.robots, view.meeting_nodes)
 
 
-@settings(max_examples=150, deadline=None)
-@given(configurations, isometries, st.sampled_from(ALGORITHMS),
-       st.sampled_from(("all", "chirality", "compass")))
-def test_memoised_move_sets_equal_move_sets(c, iso, spec, frames_name):
-    from gather_verify.moves import frames_for
+initial = st.builds(
+    lambda rs, ms: Configuration(rs, ms, initial=True),
+    st.lists(st.tuples(st.integers(0, 2), st.integers(0, 2)), min_size=2, max_size=3, unique=True),
+    st.lists(st.tuples(st.integers(0, 2), st.integers(0, 2)), min_size=1, max_size=3, unique=True),
+)
 
-    frames = frames_for(frames_name)
-    algo = get_algorithm(spec)
-    for config in (c, c.transformed(*iso)):  # the second may be answered from the memo
-        try:
-            expected = move_sets(algo, config, "local-weak", frames)
-        except Unhandled as error:
-            try:
-                memoised_move_sets(algo, config, "local-weak", frames)
-            except Unhandled as again:
-                assert type(again) is type(error)
-                continue
-            raise AssertionError("the memo answered where the algorithm has no rule") from None
-        assert memoised_move_sets(algo, config, "local-weak", frames) == expected
+
+@settings(max_examples=60, deadline=None)
+@given(initial, isometries, st.sampled_from(ALGORITHMS),
+       st.sampled_from(("all", "chirality", "compass")))
+def test_shared_facts_memo_changes_nothing(c, iso, spec, frames):
+    """Searches that share the memo (a sweep's) give exactly the searches that do not,
+    also when the memo was filled by an isometric configuration."""
+    def run(config, memo):
+        e = explore_fast(config, spec, "async", frames=frames, memo=memo,
+                         limits=Limits(max_states=20_000))
+        return (list(e.keys), list(e.parents), list(e.targets), list(e.weights), e.stopped,
+                {k: (v.state, v.reason) for k, v in e.violations.items()})
+
+    for config in (c.transformed(*iso), c):  # the second meets what the first stored
+        assert run(config, True) == run(config, False)
 
 
 @settings(max_examples=200, deadline=None)
