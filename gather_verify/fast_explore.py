@@ -323,6 +323,7 @@ class FactsTable:
         self.enc, self.n, self.algorithm, self.meeting = enc, n, algorithm, meeting
         self.memo = memo
         self.detection, self.frames = detection, tuple(frames)
+        self.meeting_form = canonical_form((), meeting, self.frames)
         self.aut_m = list(group)  # Aut(M), identity first
         assert not self.aut_m or self.aut_m[0].g == geometry.IDENTITY and self.aut_m[0].t == (0, 0)
         self.row: dict[int, int] = {}
@@ -452,16 +453,23 @@ class FactsTable:
 
     def _remembered_facts(self, robots: tuple[Node, ...]
                           ) -> tuple[list[int], tuple[int, int, int]]:
-        """:meth:`_facts` through the shared memo, keyed by the canonical form of the
-        configuration over translations and the frames (multiplicities kept). Exact for
-        any algorithm: with ``g`` in the frame group, the views of ``g(C) + t`` are those of
-        ``C`` in the frames composed with ``g``, which run over the same frames, so its
-        move sets are the images of those of ``C`` (SEMANTICS.md §3: the union over the
-        frames); the flags are invariant."""
-        key, reach = canonical_form(robots, self.meeting, self.frames)
-        g, (tx, ty) = reach[0]
-        a, b, c, d = geometry.MATRICES[g]
-        image = [(a * x + b * y + tx, c * x + d * y + ty) for x, y in robots]
+        """:meth:`_facts` through the shared memo, keyed by a canonical form of the
+        configuration over translations and the frames (multiplicities kept): ``M`` moved
+        to its canonical place by one of the isometries that do so, the one that gives
+        the least sorted robot nodes (``M`` is fixed during a search, so those isometries
+        are found once). Exact for any algorithm: with ``g`` in the frame group, the views
+        of ``g(C) + t`` are those of ``C`` in the frames composed with ``g``, which run over
+        the same frames, so its move sets are the images of those of ``C`` (SEMANTICS.md
+        §3: the union over the frames); the flags are invariant."""
+        best = None
+        for g, (tx, ty) in self.meeting_form.minimisers:
+            a, b, c, d = geometry.MATRICES[g]
+            image = [(a * x + b * y + tx, c * x + d * y + ty) for x, y in robots]
+            placed = sorted(image)
+            if best is None or placed < best[0]:
+                best = (placed, g, image)
+        placed, g, image = best
+        key = (self.meeting_form.key, tuple(placed))
         known = self.memo.get(key)
         if known is None:
             masks, flags = self._facts(robots)
