@@ -24,7 +24,9 @@ from gather_verify.geometry import ORIGIN, STEPS, Node
 from gather_verify.view import FRAME_SETS, MultiplicityHidden, View, check_detection
 
 ANSWERS = frozenset((ORIGIN, *STEPS))
-INVERSE = tuple(geometry.MATRICES[geometry.inverse(g)] for g in geometry.ALL)
+MAPPED_BACK = tuple({answer: geometry.apply(geometry.inverse(g), answer) for answer in ANSWERS}
+                    for g in geometry.ALL)
+"""Per frame, each legal answer as a step in global coordinates."""
 
 
 class HiddenRead(Unhandled, MultiplicityHidden):
@@ -62,13 +64,14 @@ def move_set(
         except MultiplicityHidden as error:  # a rule its robots cannot apply: no rule at all
             raise HiddenRead(f"algorithm {algorithm.name!r} reads multiplicity its robots cannot "
                             f"see: {error}") from None
-        if answer not in ANSWERS:
+        try:
+            dx, dy = MAPPED_BACK[g][answer]  # the answer, mapped back to global coordinates
+        except (KeyError, TypeError):
             raise AlgorithmError(
                 f"algorithm {algorithm.name!r} answered {answer!r}: a move must be (0, 0) "
                 "or a unit step (1, 0), (0, 1), (-1, 0), (0, -1) in the robot's frame"
-            )
-        a, b, c, d = INVERSE[g]  # the answer, mapped back to global coordinates
-        out.add((x + a * answer[0] + b * answer[1], y + c * answer[0] + d * answer[1]))
+            ) from None
+        out.add((x + dx, y + dy))
     return frozenset(out)
 
 

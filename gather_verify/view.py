@@ -56,10 +56,8 @@ class View:
     frame. Multiplicity is read through :meth:`multiplicity` and :meth:`count`.
     """
 
-    __slots__ = ("detection", "_snapshot", "_node", "_frame", "__dict__")
-    robots: frozenset[Node]
-    meeting_nodes: frozenset[Node]
-    _counts: dict[Node, int]
+    __slots__ = ("detection", "_snapshot", "_node", "_frame", "_meeting", "_robots", "_cnt",
+                 "__dict__")
 
     def __init__(self, configuration: Configuration, node: Node, frame: int, detection: str):
         check_detection(detection)
@@ -67,6 +65,7 @@ class View:
             raise ValueError(f"no robot at {node} to take a view from")
         self.detection = detection
         self._snapshot, self._node, self._frame = configuration, node, frame
+        self._meeting = self._robots = self._cnt = None
 
     @classmethod
     def trusted(cls, configuration: Configuration, node: Node, frame: int,
@@ -75,25 +74,37 @@ class View:
         self = object.__new__(cls)
         self.detection = detection
         self._snapshot, self._node, self._frame = configuration, node, frame
+        self._meeting = self._robots = self._cnt = None
         return self
 
     # The frame's coordinates are computed on first use (many algorithms read only a
-    # part of the view), then kept as ordinary attributes.
-    def __getattr__(self, name: str) -> object:
-        if name not in ("_counts", "robots", "meeting_nodes"):
-            raise AttributeError(name)
-        a, b, c, d = geometry.MATRICES[self._frame]
-        px, py = self._node
-        if name == "meeting_nodes":
-            value: object = frozenset((a * (x - px) + b * (y - py), c * (x - px) + d * (y - py))
-                                      for x, y in self._snapshot.meeting_nodes)
-        elif name == "_counts":
-            value = {(a * (x - px) + b * (y - py), c * (x - px) + d * (y - py)): k
-                     for (x, y), k in self._snapshot.counts.items()}
-        else:
-            value = frozenset(self._counts)
-        self.__dict__[name] = value
-        return value
+    # part of the view), then kept.
+    @property
+    def meeting_nodes(self) -> frozenset[Node]:
+        """The meeting nodes, in the robot's frame."""
+        if self._meeting is None:
+            a, b, c, d = geometry.MATRICES[self._frame]
+            px, py = self._node
+            ox, oy = a * px + b * py, c * px + d * py
+            self._meeting = frozenset([(a * x + b * y - ox, c * x + d * y - oy)
+                                       for x, y in self._snapshot.meeting_nodes])
+        return self._meeting
+
+    @property
+    def robots(self) -> frozenset[Node]:
+        """The occupied nodes, in the robot's frame."""
+        if self._robots is None:
+            self._robots = frozenset(self._counts)
+        return self._robots
+
+    @property
+    def _counts(self) -> dict[Node, int]:
+        if self._cnt is None:
+            a, b, c, d = geometry.MATRICES[self._frame]
+            px, py = self._node
+            self._cnt = {(a * (x - px) + b * (y - py), c * (x - px) + d * (y - py)): k
+                         for (x, y), k in self._snapshot.counts.items()}
+        return self._cnt
 
     def _visible(self, v: Node, strong: bool) -> None:
         d = self.detection
