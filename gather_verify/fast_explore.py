@@ -326,7 +326,7 @@ class FactsTable:
         self.meeting_form = canonical_form((), meeting, self.frames)
         self.aut_m = list(group)  # Aut(M), identity first
         assert not self.aut_m or self.aut_m[0].g == geometry.IDENTITY and self.aut_m[0].t == (0, 0)
-        self.row: dict[int, int] = {}
+        self.index = KeyIndex(bits=10, capacity=1024)  # configuration key -> row
         self.cells = np.zeros((1024, n), dtype=np.int32)
         self.masks = np.zeros((1024, n), dtype=np.uint8)
         self.flags = np.zeros((1024, 3), dtype=np.int8)  # unhandled, stuck, gathered
@@ -369,22 +369,14 @@ class FactsTable:
                                      self.meeting)
 
     def rows(self, keys: np.ndarray, sorted_cells: np.ndarray) -> np.ndarray:
-        """Row of every configuration key (computing the facts of new ones)."""
-        uniq, first, inv = np.unique(keys, return_index=True, return_inverse=True)
-        out = np.empty(len(uniq), dtype=np.int64)
-        get = self.row.get
-        missing = []
-        for i, k in enumerate(uniq.tolist()):
-            r = get(k)
-            if r is None:
-                missing.append(i)
-            else:
-                out[i] = r
-        if missing:
-            out[missing] = self._add(uniq[missing], sorted_cells[first[missing]])
-        return out[inv.reshape(-1)]
+        """Row of every configuration key (computing the facts of new ones): rows are
+        numbered as the index numbers keys, in order of first occurrence."""
+        ids, first = self.index.find_or_add(keys.astype(np.uint64))
+        if len(first):
+            self._add(sorted_cells[first])
+        return ids
 
-    def _add(self, keys: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    def _add(self, cells: np.ndarray) -> np.ndarray:
         m, n = cells.shape
         while self.size + m > len(self.masks):
             self.cells, self.masks, self.flags = (
@@ -394,8 +386,6 @@ class FactsTable:
                                           np.full(len(self.target), -2, dtype=np.int32)])
         rows = np.arange(self.size, self.size + m)
         self.size += m
-        for k, r in zip(keys.tolist(), rows.tolist(), strict=True):
-            self.row[k] = r
         self.cells[rows] = cells
         # the orbit representative: least packed sorted image over the group
         image = self.images[:, cells]  # (G, m, n), unsorted
