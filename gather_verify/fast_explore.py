@@ -301,6 +301,8 @@ def _step_perm(g: int) -> tuple[int, ...]:
 
 
 STEP_PERM = tuple(_step_perm(g) for g in geometry.ALL)
+BIT = {(0, 0): 16} | {step: 1 << k for k, step in enumerate(STEPS)}
+"""The mask bit of each destination, relative to the robot."""
 
 
 class FactsTable:
@@ -430,14 +432,7 @@ class FactsTable:
             ms = move_sets(self.algorithm, c, self.detection, self.frames)
         except Unhandled:
             return [0] * len(robots), (1, 0, 0)
-        masks = []
-        for v in robots:
-            s = ms[v]
-            bits = 16 if v in s else 0
-            for k, (dx, dy) in enumerate(STEPS):
-                if (v[0] + dx, v[1] + dy) in s:
-                    bits |= 1 << k
-            masks.append(bits)
+        masks = [sum(BIT[x - vx, y - vy] for x, y in ms[vx, vy]) for vx, vy in robots]
         return masks, (0, all(s == {v} for v, s in ms.items()),
                        len(c.counts) == 1 and robots[0] in self.meeting)
 
