@@ -68,6 +68,11 @@ LOAD = 0.7
 """Largest load factor of the hash table before it doubles."""
 NO_LIMITS = Limits()
 _MUL = np.uint64(0x9E3779B97F4A7C15)
+_TAG_BITS = np.uint64(8)
+_BYTES = np.uint64(0x0101010101010101)
+_HIGH = np.uint64(0x8080808080808080)
+_ZERO, _ONE, _3 = np.uint64(0), np.uint64(1), np.uint64(3)
+_U8_3, _U8_8 = np.uint8(3), np.uint8(8)
 
 
 class IntColumn(Sequence[int]):
@@ -95,6 +100,10 @@ class IntColumn(Sequence[int]):
 class KeyIndex:
     """Visited states: ``uint64`` keys in id order and a linear-probing table of ids.
 
+    Beside each slot, a one-byte tag (0: empty; else 8 more bits of the key's hash)
+    rejects most occupied slots without reading the key column; the tags are read
+    eight slots at a time (one aligned ``uint64`` word, a group of slots).
+
     >>> ix = KeyIndex()
     >>> ix.insert(np.array([7, 3, 9], dtype=np.uint64))
     >>> ix.lookup(np.array([3, 4, 9, 7], dtype=np.uint64)).tolist()
@@ -118,17 +127,23 @@ class KeyIndex:
         self.mask = (1 << bits) - 1
         self.shift = np.uint64(64 - bits)
         self.table = np.zeros(1 << bits, dtype=np.int32)  # id + 1; 0 is empty
+        self.tags = np.zeros(1 << bits, dtype=np.uint8)  # 0 is empty
+        self.groups = self.tags.view("<u8")  # the tags of slots 8g .. 8g + 7
 
-    def _hash(self, q: np.ndarray) -> np.ndarray:
+    def _hash(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Home slots (as ``int64``) and tags (``uint8``, never 0) of ``q``."""
+        h = q * _MUL
+        tag = (h >> (self.shift - _TAG_BITS)).astype(np.uint8)
+        np.maximum(tag, 1, out=tag)
         # below 2**bits, so the same bits read as int64: no conversion pass
-        return ((q * _MUL) >> self.shift).view(np.int64)
+        return (h >> self.shift).view(np.int64), tag
 
     def _rebuild(self, bits: int) -> None:
         """A fresh table of ``2**bits`` slots holding every stored key."""
         self._alloc(bits)
         self.stale = False
-        for lo in range(0, self.count, 1 << 18):  # in slices: small temporaries
-            hi = min(self.count, lo + (1 << 18))
+        for lo in range(0, self.count, 1 << 16):  # in slices: small temporaries
+            hi = min(self.count, lo + (1 << 16))
             self._place(self.keys[lo:hi], lo)
 
     def _fit(self, need: int, load: float) -> None:
@@ -154,7 +169,7 @@ class KeyIndex:
         if self.stale:
             self._rebuild(self.bits)
         table, keys, mask = self.table, self.keys, self.mask
-        h = self._hash(q)
+        h = self._hash(q)[0]
         # first probe for everyone at once (most keys are settled there)
         t = table[h].astype(np.int64) - 1
         out = np.where(keys[t] == q, t, -1)  # t = -1 (empty) reads the last key: masked below
@@ -173,50 +188,92 @@ class KeyIndex:
             h[active] = (slot[miss] + 1) & mask
         return out
 
+    def _probe(self, slot: np.ndarray, tags: np.ndarray | None
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Probes from ``slot`` to the end of its group of eight slots, branch-free:
+        the first slot there that is empty or holds the key's tag (``tags``: each
+        key's tag in all eight bytes; None: only empty slots), else the first slot
+        of the next group (not wrapped); whether one was found; whether it is empty."""
+        # the bytes before the start made nonzero: no zero byte there, nothing borrows
+        below = (_ONE << ((slot & 7).view(np.uint64) << _3)) - _ONE
+        w = self.groups[slot >> 3] | below
+        z = (w - _BYTES) & ~w  # the lowest zero byte has its high bit set, exactly
+        empty = z
+        if tags is not None:
+            x = (w ^ tags) | below
+            z = z | ((x - _BYTES) & ~x)
+        z &= _HIGH
+        low = z & (_ZERO - z)  # the first marker (0: none)
+        k = np.bitwise_count(low - _ONE) >> _U8_3  # slots before it (8: none)
+        return (slot & ~7) + k, k < _U8_8, (empty & low) != _ZERO
+
     def find_or_add(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Ids of ``q``, the absent keys appended with the next ids in order of first
         occurrence in ``q``; and the positions in ``q`` of those first occurrences.
 
         One probing pass: a key meeting an empty slot claims it with a tag naming
         its position in ``q`` (negative, to tell it from a stored id); the other
-        occurrences of that key find the tag (they probe the same slots in step)."""
+        occurrences of that key find the tag (they probe the same slots in step).
+        No boolean-mask selections on the probing keys (slow on random masks):
+        index lists and arithmetic."""
         m = len(q)
         self._fit(self.count + m, 0.9)  # never full during the pass
-        table, keys, mask = self.table, self.keys, self.mask
+        table, tags, keys, mask = self.table, self.tags, self.keys, self.mask
         ids = np.empty(m, dtype=np.int64)
         rep = np.full(m, -1, dtype=np.int64)  # absent key: the position that claimed its slot
         claimed = np.empty(m, dtype=np.int64)  # the claimer's slot
+        slot, tag = self._hash(q)
+        rtag = tag.astype(np.uint64) * _BYTES  # in all eight bytes
         a = None  # positions still probing (None: all of them, in order)
-        qa, slot = q, self._hash(q)
+        qa, ta = q, rtag
         while len(slot):
-            t = table[slot]
-            more = np.zeros(len(slot), dtype=bool)
-            i = np.flatnonzero(t > 0)  # a stored key
-            stored = t[i].astype(np.int64) - 1
-            hit = keys[stored] == qa[i]
-            ids[i[hit] if a is None else a[i[hit]]] = stored[hit]
-            more[i[~hit]] = True
-            i = np.flatnonzero(t < 0)  # a key claimed in this pass
+            at, found, empty = self._probe(slot, ta)
+            at &= mask  # where the next probe starts, unless settled below
+            more = ~found
+            i = np.flatnonzero(found & ~empty)  # the tag matches
             if len(i):
-                w = -1 - t[i].astype(np.int64)
-                same = q[w] == qa[i]
-                rep[i[same] if a is None else a[i[same]]] = w[same]
-                more[i[~same]] = True
-            i = np.flatnonzero(t == 0)  # empty: claim it
+                s = at[i]
+                t = table[s]
+                own = t > 0  # a stored key (else one claimed in this pass)
+                if own.all():
+                    stored = t.astype(np.int64) - 1
+                    hit = keys[stored] == qa[i]
+                    ids[i[hit] if a is None else a[i[hit]]] = stored[hit]
+                else:
+                    hit = np.zeros(len(i), dtype=bool)
+                    j = np.flatnonzero(own)
+                    stored = t[j].astype(np.int64) - 1
+                    h = keys[stored] == qa[i[j]]
+                    hit[j[h]] = True
+                    ids[i[j[h]] if a is None else a[i[j[h]]]] = stored[h]
+                    j = np.flatnonzero(~own)
+                    w = -1 - t[j].astype(np.int64)
+                    h = q[w] == qa[i[j]]
+                    hit[j[h]] = True
+                    rep[i[j[h]] if a is None else a[i[j[h]]]] = w[h]
+                if not hit.all():
+                    j = i[~hit]
+                    more[j] = True
+                    at[j] = (at[j] + 1) & mask
+            i = np.flatnonzero(empty)  # claim it
             if len(i):
                 ai = i if a is None else a[i]
-                s = slot[i]
+                s = at[i]
                 # written last to first, so the first occurrence wins (usually: checked below)
                 table[s[::-1]] = (-1 - ai[::-1]).astype(np.int32)
                 w = -1 - table[s].astype(np.int64)
+                won = w == ai
+                tags[s[won]] = tag[ai[won]]
+                claimed[ai[won]] = s[won]
                 same = q[w] == qa[i]
                 rep[ai[same]] = w[same]
-                won = w == ai
-                claimed[ai[won]] = s[won]
-                more[i[~same]] = True
+                if not same.all():  # lost to another key: on to the next slot
+                    j = i[~same]
+                    more[j] = True
+                    at[j] = (at[j] + 1) & mask
             i = np.flatnonzero(more)
             a = i if a is None else a[i]
-            qa, slot = q[a], (slot[i] + 1) & mask
+            slot, qa, ta = at[i], q[a], rtag[a]
         news = np.flatnonzero(rep >= 0)
         r = rep[news]
         winners = news[r == news]  # ascending
@@ -236,20 +293,27 @@ class KeyIndex:
         keys[base:base + k] = q[first]
         self.count = base + k
         if self.count > LOAD * len(table):
+            del table, tags  # the old table goes before the new one is filled
             self._fit(self.count, LOAD)
         return ids, first
 
     def _place(self, q: np.ndarray, first_id: int) -> None:
         """Put distinct keys absent from the table, ids ``first_id`` on, in their slots."""
-        slot = self._hash(q)
-        tags = np.arange(first_id + 1, first_id + 1 + len(q), dtype=np.int32)
-        table, mask = self.table, self.mask
+        slot, tag = self._hash(q)
+        ids = np.arange(first_id + 1, first_id + 1 + len(q), dtype=np.int32)
+        table, tags, mask = self.table, self.tags, self.mask
         while len(slot):
-            free = table[slot] == 0
-            table[slot[free]] = tags[free]  # of keys wanting one slot, one wins
-            more = ~free
-            more[free] = table[slot[free]] != tags[free]
-            slot, tags = (slot[more] + 1) & mask, tags[more]
+            at, _, empty = self._probe(slot, None)
+            at &= mask
+            i = np.flatnonzero(empty)
+            s = at[i]
+            table[s] = ids[i]  # of keys wanting one slot, one wins
+            won = table[s] == ids[i]
+            tags[s[won]] = tag[i[won]]
+            more = ~empty
+            more[i[~won]] = True  # on to the next slot (taken now)
+            j = np.flatnonzero(more)
+            slot, tag, ids = at[j], tag[j], ids[j]
 
     def insert(self, q: np.ndarray) -> None:
         """Append distinct keys, absent from the index, with the next ids."""
