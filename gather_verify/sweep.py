@@ -98,7 +98,7 @@ def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[st
 
 
 def verify_chunk(settings: SweepSettings, chunk: Sequence[tuple[int, Configuration]]) -> list[dict[str, Any]]:
-    """Worker entry point (picklable for process pools and Dask)."""
+    """Verify a chunk of configurations, in order."""
     return [verify_one(settings, i, c) for i, c in chunk]
 
 
@@ -161,10 +161,9 @@ def run_sweep(
             plan.append((one, sweep, todo))
         bar = Progress(sum(len(todo) for _, _, todo in plan), progress)
         try:
-            for one, sweep, todo in plan:
-                for rows in _execute(one, todo, workers, dask):
-                    store.add(sweep, rows)
-                    bar.advance(len(rows))
+            for sweep, rows in _execute(plan, workers, dask):
+                store.add(sweep, rows)
+                bar.advance(len(rows))
         finally:
             bar.close()
         rows = [row for _, sweep, _ in plan for row in store.results(sweep)]
@@ -173,32 +172,41 @@ def run_sweep(
     return summarise(rows, batch[0] if len(batch) == 1 else None)
 
 
+Task = tuple[int, SweepSettings, list[tuple[int, Configuration]]]
+"""One unit of work: the sweep's id in the store, its settings, a chunk of configurations."""
+
+
 def _execute(
-    settings: SweepSettings,
-    todo: list[tuple[int, Configuration]],
+    plan: list[tuple[SweepSettings, int, list[tuple[int, Configuration]]]],
     workers: int | None,
     dask: str | None,
-) -> Iterator[list[dict[str, Any]]]:
-    chunks = list(_chunks(todo, CHUNK))
-    if settings.max_memory_mb is None:  # the machine's memory, shared by the workers
-        from gather_verify.resources import memory_budget_mb
+) -> Iterator[tuple[int, list[dict[str, Any]]]]:
+    """Every chunk of every sweep of the plan, as ``(sweep id, rows)`` when done. One pool
+    (or cluster) runs them all, so its workers keep what they learnt (the algorithm's plans,
+    the shared configuration facts) from one sweep to the next and none waits idle at the
+    end of each sweep."""
+    local = dask is None and workers == 1
+    tasks: list[Task] = []
+    for settings, sweep, todo in plan:
+        chunks = list(_chunks(todo, CHUNK))
+        if settings.max_memory_mb is None:  # the machine's memory, shared by the workers
+            from gather_verify.resources import memory_budget_mb
 
-        settings = replace(settings, max_memory_mb=memory_budget_mb(
-            1 if dask is None and (workers == 1 or len(chunks) <= 1) else
-            (workers or os.cpu_count() or 1)))
+            settings = replace(settings, max_memory_mb=memory_budget_mb(
+                1 if local else (workers or os.cpu_count() or 1)))
+        tasks.extend((sweep, settings, chunk) for chunk in chunks)
     if dask is not None:
-        yield from _execute_dask(settings, chunks, dask, workers)
+        yield from _execute_dask(tasks, dask, workers)
         return
     workers = workers or os.cpu_count() or 1
-    if workers == 1 or len(chunks) <= 1:
-        for chunk in chunks:
-            yield verify_chunk(settings, chunk)
+    if workers == 1 or len(tasks) <= 1:
+        for task in tasks:
+            yield _run_task(task)
         return
     import multiprocessing
 
     with multiprocessing.get_context("fork").Pool(workers, initializer=_ignore_sigint) as pool:
-        tasks = [(settings, chunk) for chunk in chunks]
-        yield from pool.imap_unordered(_star_verify, tasks)
+        yield from pool.imap_unordered(_run_task, tasks)
 
 
 def _ignore_sigint() -> None:
@@ -209,14 +217,14 @@ def _ignore_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-def _star_verify(task: tuple[SweepSettings, list[tuple[int, Configuration]]]) -> list[dict[str, Any]]:
-    return verify_chunk(*task)
+def _run_task(task: Task) -> tuple[int, list[dict[str, Any]]]:
+    """Worker entry point (picklable for process pools and Dask)."""
+    sweep, settings, chunk = task
+    return sweep, verify_chunk(settings, chunk)
 
 
-def _execute_dask(
-    settings: SweepSettings, chunks: list[list[tuple[int, Configuration]]], address: str,
-    workers: int | None,
-) -> Iterator[list[dict[str, Any]]]:
+def _execute_dask(tasks: list[Task], address: str, workers: int | None
+                  ) -> Iterator[tuple[int, list[dict[str, Any]]]]:
     try:
         from dask.distributed import Client, LocalCluster, as_completed
     except ImportError:
@@ -229,7 +237,7 @@ def _execute_dask(
     else:
         client = Client(address)
     try:
-        futures = client.map(verify_chunk, [settings] * len(chunks), chunks, pure=False)
+        futures = client.map(_run_task, tasks, pure=False)
         for future in as_completed(futures):
             yield future.result()
     finally:
