@@ -105,15 +105,15 @@ class KeyIndex:
     eight slots at a time (one aligned ``uint64`` word, a group of slots).
 
     >>> ix = KeyIndex()
-    >>> ix.insert(np.array([7, 3, 9], dtype=np.uint64))
-    >>> ix.lookup(np.array([3, 4, 9, 7], dtype=np.uint64)).tolist()
-    [1, -1, 2, 0]
+    >>> ids, first = ix.find_or_add(np.array([7, 3, 9], dtype=np.uint64))
+    >>> ids.tolist(), first.tolist()
+    ([0, 1, 2], [0, 1, 2])
     >>> ids, first = ix.find_or_add(np.array([4, 3, 8, 4, 8, 5], dtype=np.uint64))
     >>> ids.tolist(), first.tolist(), ix.count
     ([3, 1, 4, 3, 4, 5], [0, 2, 5], 6)
     >>> ix.truncate(4)
-    >>> ix.lookup(np.array([4, 8], dtype=np.uint64)).tolist()
-    [3, -1]
+    >>> ix.find_or_add(np.array([4, 8], dtype=np.uint64))[0].tolist()
+    [3, 4]
     """
 
     def __init__(self, bits: int = 16, capacity: int = 1 << 16):
@@ -163,30 +163,6 @@ class KeyIndex:
         if count < self.count:
             self.count = count
             self.stale = True
-
-    def lookup(self, q: np.ndarray) -> np.ndarray:
-        """Ids of ``q`` (-1 where absent)."""
-        if self.stale:
-            self._rebuild(self.bits)
-        table, keys, mask = self.table, self.keys, self.mask
-        h = self._hash(q)[0]
-        # first probe for everyone at once (most keys are settled there)
-        t = table[h].astype(np.int64) - 1
-        out = np.where(keys[t] == q, t, -1)  # t = -1 (empty) reads the last key: masked below
-        out[t < 0] = -1
-        active = np.flatnonzero((out < 0) & (t >= 0))
-        h[active] = (h[active] + 1) & mask
-        while len(active):
-            slot = h[active]
-            t = table[slot].astype(np.int64)
-            full = t > 0
-            active, slot, t = active[full], slot[full], t[full]
-            hit = keys[t - 1] == q[active]
-            out[active[hit]] = t[hit] - 1
-            miss = ~hit
-            active = active[miss]
-            h[active] = (slot[miss] + 1) & mask
-        return out
 
     def _probe(self, slot: np.ndarray, tags: np.ndarray | None
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -314,14 +290,6 @@ class KeyIndex:
             more[i[~won]] = True  # on to the next slot (taken now)
             j = np.flatnonzero(more)
             slot, tag, ids = at[j], tag[j], ids[j]
-
-    def insert(self, q: np.ndarray) -> None:
-        """Append distinct keys, absent from the index, with the next ids."""
-        need = self.count + len(q)
-        self._fit(need, LOAD)
-        self.keys[self.count:need] = q
-        self._place(q, self.count)
-        self.count = need
 
 
 class Growing:
@@ -678,7 +646,7 @@ def explore_fast(
     # columns reserved up front: untouched pages cost no memory, and nothing is copied
     reserve = min(max_states + CHUNK * 8 * n + 1, 1 << 27)
     index = KeyIndex(capacity=reserve)
-    index.insert(np.array([start_key], dtype=np.uint64))
+    index.find_or_add(np.array([start_key], dtype=np.uint64))
     parents = Growing(np.int32, reserve)
     parents.extend(np.array([-1], dtype=np.int32))
     offsets = Growing(np.int64)
