@@ -84,4 +84,3 @@ def move_sets(
     """Move set of every occupied node (robots on one node share their view)."""
     frames = tuple(frames)
     return {v: move_set(algorithm, configuration, v, detection, frames) for v in configuration.counts}
-
