@@ -62,10 +62,14 @@ def test_rerun_resumes_without_recomputing(tmp_path: Path) -> None:
 
 
 def test_pool_and_dask_give_identical_results(tmp_path: Path) -> None:
+    """A batch of sweeps (one pool or cluster runs them all, its workers sharing the
+    configuration facts and the paper's plans) stores what one process stores."""
     pytest.importorskip("dask.distributed")
-    run_sweep(SMALL, str(tmp_path / "pool.sqlite"), workers=2, progress=False)
-    run_sweep(SMALL, str(tmp_path / "one.sqlite"), workers=1, progress=False)
-    run_sweep(SMALL, str(tmp_path / "dask.sqlite"), workers=2, dask="local", progress=False)
+    batch = [SMALL] + [SweepSettings(robots=n, meeting=2, box=(3, 3), algorithm="paper",
+                                     scheduler="async") for n in (2, 3)]
+    run_sweep(batch, str(tmp_path / "pool.sqlite"), workers=2, progress=False)
+    run_sweep(batch, str(tmp_path / "one.sqlite"), workers=1, progress=False)
+    run_sweep(batch, str(tmp_path / "dask.sqlite"), workers=2, dask="local", progress=False)
     pool = results_table(tmp_path / "pool.sqlite")
     assert pool == results_table(tmp_path / "one.sqlite")
     assert pool == results_table(tmp_path / "dask.sqlite")
