@@ -385,3 +385,32 @@ def test_fuzz_other_parsers(command: str, tokens: list[str]) -> None:
         build_parser().parse_args([command, *tokens])
     except UsageError as error:
         assert "\n" not in str(error)
+
+
+FINDING = str(Path(__file__).resolve().parent.parent / "scenarios" / "algorithm"
+              / "i22-make-multiplicity-onto-guard.json")
+
+
+@pytest.mark.parametrize("argv", [
+    ["check", FINDING, "--trace-out", "/proc/no-such/t.json"],
+    ["check", FINDING, "--svg", "/proc/no-such/t.svg"],
+    ["check", FINDING, "--junit", "/proc/no-such/j.xml"],
+    ["sweep", "--robots", "2", "--meeting", "2", "--box", "3x3", "--junit", "/proc/no-such/j.xml"],
+])
+def test_unwritable_outputs_fail_before_any_work(argv: list[str], tmp_path: Path,
+                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    """An output that could not be written is refused up front (one line, exit 2), never
+    after a long search whose result would be lost; nothing is stored meanwhile."""
+    db = tmp_path / "s.sqlite"
+    extra = ["--db", str(db)] if argv[0] == "sweep" else []
+    line = assert_usage_error([*argv, *extra], capsys)
+    assert "/proc/no-such" in line
+    assert not db.exists()
+
+
+def test_a_missing_output_folder_is_refused_before_the_check(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["check", FINDING, "--trace-out", str(tmp_path / "new" / "t.json")])
+    out, err = capsys.readouterr()
+    assert code == 2 and err.strip().endswith("its folder does not exist")
+    assert out == ""  # refused before the search, not after it

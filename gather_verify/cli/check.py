@@ -18,6 +18,7 @@ from gather_verify.cli.common import (
     load_configuration,
     print_json,
     without_timings,
+    writable_outputs,
 )
 from gather_verify.explore import (
     DEFAULT_MARGIN,
@@ -68,6 +69,7 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.render import render_trace, trace_svg
 
     configuration, scenario = load_configuration(args)
+    writable_outputs(trace_out=args.trace_out, svg=args.svg, junit=args.junit)
     algorithm = args.algorithm or (scenario.algorithm if scenario else "paper")
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
     detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")

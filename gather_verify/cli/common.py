@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from typing import Any
 
@@ -22,6 +23,21 @@ VERDICT_EXIT = {"VERIFIED": EXIT_OK, "VIOLATED": EXIT_VIOLATED, "INCOMPLETE": EX
 
 class UsageError(Exception):
     """Bad command-line usage; printed as one line, exit code 2."""
+
+
+def writable_outputs(**paths: str | None) -> None:
+    """Fail before any work when an output file could not be written afterwards, so a long
+    check or sweep never ends in an unwritable path."""
+    for option, path in paths.items():
+        if not path:
+            continue
+        name = f"--{option.replace('_', '-')} {path}"
+        folder = os.path.dirname(os.path.abspath(path))
+        if not os.path.isdir(folder):
+            raise UsageError(f"{name}: its folder does not exist")
+        if os.path.isdir(path) or not os.access(folder, os.W_OK) or (
+                os.path.exists(path) and not os.access(path, os.W_OK)):
+            raise UsageError(f"{name}: not a writable file")
 
 
 def add_configuration_arguments(parser: argparse.ArgumentParser) -> None:

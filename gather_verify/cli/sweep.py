@@ -13,6 +13,7 @@ from gather_verify.cli.common import (
     parse_box,
     print_json,
     without_timings,
+    writable_outputs,
 )
 
 HELP = "verify every configuration of a box (up to symmetry) and store the results"
@@ -71,6 +72,7 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.view import check_detection
 
     get_algorithm(args.algorithm)  # unknown names fail before any work
+    writable_outputs(junit=args.junit)
     check_detection(args.multiplicity)
     frames_for(args.frames)
     for n in args.robots:
