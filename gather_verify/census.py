@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gather_verify import geometry
+from gather_verify.canonical import Key, canonical_form
 from gather_verify.classes import CLASS_NAMES, classify_configuration
 from gather_verify.configuration import Configuration
 from gather_verify.geometry import Node
@@ -47,7 +48,7 @@ MAX_PLACEMENTS = 50_000_000
 """Largest ``C(w*h, n) * C(w*h, m)`` the census will sweep (minutes of work, GBs of memory beyond)."""
 _CHUNK = 1 << 20  # placements encoded per numpy batch
 
-CanonicalKey = tuple[tuple[Node, ...], tuple[Node, ...]]
+CanonicalKey = Key
 
 
 def _check_int(value: object, what: str, low: int, high: int) -> int:
@@ -90,19 +91,9 @@ def validate_census_arguments(n: object, m: object, w: object, h: object) -> tup
 
 
 def canonical_key(configuration: Configuration) -> CanonicalKey:
-    """``(sorted robots, sorted meeting nodes)`` of the canonical image (see module doc)."""
-    best: CanonicalKey | None = None
-    for g in geometry.ALL:
-        image = configuration.transformed(g)
-        x0, y0, _, _ = image.mer()
-        key = (
-            tuple((x - x0, y - y0) for x, y in image.robots),
-            tuple(sorted((x - x0, y - y0) for x, y in image.meeting_nodes)),
-        )
-        if best is None or key < best:
-            best = key
-    assert best is not None
-    return best
+    """``(sorted robots, sorted meeting nodes)`` of the canonical image (see module doc):
+    :func:`gather_verify.canonical.canonical_form` of the robot multiset."""
+    return canonical_form(configuration.robots, configuration.meeting_nodes).key
 
 
 def canonical(configuration: Configuration) -> Configuration:
