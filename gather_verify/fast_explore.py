@@ -383,11 +383,8 @@ class FactsTable:
         self.images = np.array([[(a(enc.node(c))[0] - x0) * h + a(enc.node(c))[1] - y0
                                  for c in range(enc.cells)] for a in group], dtype=np.int64)
         self.cpowers = np.array([(w * h) ** j for j in range(n)], dtype=np.int64)
-        self.perm = np.zeros((len(group), 32), dtype=np.uint8)
-        for i, a in enumerate(group):
-            index = [STEPS.index(geometry.apply(a.g, step)) for step in STEPS]
-            for m in range(32):
-                self.perm[i, m] = (m & 16) | sum(1 << k for k in range(4) if m >> index[k] & 1)
+        # masks of a representative, seen from the configuration that ``a`` maps onto it
+        self.perm = np.array([STEP_PERM[geometry.inverse(a.g)] for a in group], dtype=np.uint8)
         self.orbit: dict[int, int] = {}
         self.omasks = np.zeros((1024, n), dtype=np.uint8)
         self.oflags = np.zeros((1024, 3), dtype=np.int8)
