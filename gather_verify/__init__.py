@@ -16,24 +16,29 @@ classes; view -> algorithm -> move sets -> scheduler -> explorer -> properties
 
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, register
 from gather_verify.algorithms.go_to_target import GoToTarget
+from gather_verify.algorithms.moves import move_set, move_sets
 from gather_verify.algorithms.nearest_centre import NearestCentre
 from gather_verify.algorithms.paper import PaperAlgorithm
 from gather_verify.algorithms.random_equivariant import RandomEquivariant
-from gather_verify.census import Census, canonical, census, enumerate_configurations
 from gather_verify.check import run_check
-from gather_verify.classes import CLASS_NAMES, Classification, classify, classify_configuration
-from gather_verify.configuration import Configuration
-from gather_verify.explore import Exploration, Limits, explore
+from gather_verify.engine.explore import Exploration, Limits, explore
 from gather_verify.impossibility import ImpossibilityResult, check_impossibility
-from gather_verify.moves import move_set, move_sets
+from gather_verify.model.classes import (
+    CLASS_NAMES,
+    Classification,
+    classify,
+    classify_configuration,
+)
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.symmetry import Automorphism, automorphisms
+from gather_verify.model.view import MultiplicityHidden, View
 from gather_verify.properties import PROPERTIES, check_property_names
 from gather_verify.replay import replay
 from gather_verify.scenario import Scenario, ScenarioError, load_scenario
 from gather_verify.simulate import Run, simulate
-from gather_verify.sweep import SweepSettings, run_sweep
-from gather_verify.symmetry import Automorphism, automorphisms
+from gather_verify.sweeps.census import Census, canonical, census, enumerate_configurations
+from gather_verify.sweeps.sweep import SweepSettings, run_sweep
 from gather_verify.trace import load_trace
-from gather_verify.view import MultiplicityHidden, View
 
 __all__ = [
     "CLASS_NAMES",

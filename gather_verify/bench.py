@@ -40,8 +40,8 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float) -> dict[s
     """One measurement, inside the child process."""
     import resource
 
-    from gather_verify.configuration import Configuration
-    from gather_verify.explore import Limits, explore, rss_mb
+    from gather_verify.engine.explore import Limits, explore, rss_mb
+    from gather_verify.model.configuration import Configuration
 
     c = Configuration([tuple(r) for r in robots], [tuple(m) for m in meeting], initial=True)
     before = rss_mb()

@@ -11,7 +11,7 @@ class. Termination needs robot identities: when the reduced graph has a
 cycle, the space is explored again without reductions and the fair
 components are decided there.
 
->>> from gather_verify.configuration import Configuration
+>>> from gather_verify.model.configuration import Configuration
 >>> r = run_check(Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True),
 ...               algorithm="go-to-target", scheduler="async", max_states=10**5, max_seconds=60)
 >>> r["verdict"], r["max_moves"], r["ratio"]
@@ -26,22 +26,22 @@ from dataclasses import replace
 from typing import Any
 
 from gather_verify import properties as props
-from gather_verify.classes import classify_configuration
-from gather_verify.configuration import Configuration
-from gather_verify.explore import (
+from gather_verify.engine.explore import (
     DEFAULT_MARGIN,
     Exploration,
     Limits,
     Violation,
     explore,
 )
-from gather_verify.resources import memory_budget_mb
+from gather_verify.engine.resources import memory_budget_mb
+from gather_verify.model.classes import classify_configuration
+from gather_verify.model.configuration import Configuration
 from gather_verify.trace import build_trace
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine
 
 
 def _memory_limit(value: float | None) -> float:
-    """The memory limit asked for, else this machine's budget (:mod:`gather_verify.resources`)."""
+    """The memory limit asked for, else this machine's budget (:mod:`gather_verify.engine.resources`)."""
     return memory_budget_mb() if value is None else value
 
 

@@ -14,7 +14,7 @@ In both cases ``V'`` is exactly the set of nodes ``phi`` fixes, and ``phi`` is
 partitive on ``V \\ V'`` (every other orbit of ``H = <phi>`` has ``k`` nodes).
 
 The adversary then plays FSYNC rounds. Robots' move sets come from
-:func:`gather_verify.moves.move_sets` (all frames, the detection model given).
+:func:`gather_verify.algorithms.moves.move_sets` (all frames, the detection model given).
 Every round it groups the occupied nodes into *groups*:
 
 - each orbit ``H(v)`` of occupied nodes outside ``V'``: one destination ``u``
@@ -47,7 +47,7 @@ repeats (the adversary can then repeat the cycle forever). ``split_orbit=True``
 deliberately breaks the adversary: the nodes of the first orbit outside
 ``V'`` choose independently, so a test can show the check does fail.
 
->>> from gather_verify.configuration import Configuration
+>>> from gather_verify.model.configuration import Configuration
 >>> from gather_verify.algorithms.random_equivariant import RandomEquivariant
 >>> c = Configuration([(0, 1), (1, -1)], [(0, 0), (1, 0)], initial=True)
 >>> r = check_impossibility(c, [RandomEquivariant(1)], steps=6)
@@ -64,13 +64,13 @@ from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from gather_verify import geometry
 from gather_verify.algorithms.base import Algorithm, Unhandled
-from gather_verify.classes import Classification, classify_configuration
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import Node
-from gather_verify.moves import move_set
-from gather_verify.symmetry import Automorphism, configuration_automorphisms
+from gather_verify.algorithms.moves import move_set
+from gather_verify.model import geometry
+from gather_verify.model.classes import Classification, classify_configuration
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import Node
+from gather_verify.model.symmetry import Automorphism, configuration_automorphisms
 
 TRACE_FORMAT = "impossibility-trace/1"
 EXPLORE_MODES = ("all", "random")

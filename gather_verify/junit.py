@@ -58,7 +58,7 @@ def write_junit(path: str, suite: str, cases: Iterable[dict[str, Any]]) -> None:
 
 def write_sweep_junit(db_path: str, settings: Sequence[Any], path: str) -> None:
     """One test case per configuration of the sweeps with these settings."""
-    from gather_verify.store import Store
+    from gather_verify.sweeps.store import Store
 
     store = Store(db_path)
     try:

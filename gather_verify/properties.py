@@ -21,7 +21,7 @@ from collections import deque
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
-from gather_verify.explore import Exploration
+from gather_verify.engine.explore import Exploration
 
 PROPERTIES = ("final", "no-ungatherable", "target-invariance", "move-bound", "termination")
 ORDER = ("defined", *PROPERTIES)

@@ -15,7 +15,7 @@ from collections import Counter
 from collections.abc import Iterable, Sequence
 from typing import Any
 
-from gather_verify.geometry import Node, bounding_box
+from gather_verify.model.geometry import Node, bounding_box
 
 
 def ascii_grid(robots: Sequence[Node], meeting: Iterable[Node],

@@ -7,7 +7,7 @@ failure is re-established on the replayed states (a deadlock really has no
 move; the target really changes; a cycle really returns and is fair; ...).
 
 >>> from gather_verify.check import run_check
->>> from gather_verify.configuration import Configuration
+>>> from gather_verify.model.configuration import Configuration
 >>> r = run_check(Configuration([(0, 0), (2, 1)], [(1, 1)], initial=True), algorithm="go-to-target",
 ...               scheduler="fsync", max_states=1000, max_seconds=10, move_bound_c=0.1)
 >>> replay(r["trace"]).confirmed
@@ -20,8 +20,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from gather_verify.algorithms import Unhandled, get_algorithm, target_of
-from gather_verify.configuration import Configuration
-from gather_verify.moves import frames_for, move_sets
+from gather_verify.algorithms.moves import frames_for, move_sets
+from gather_verify.model.configuration import Configuration
 from gather_verify.trace import initial_of, load_trace, steps_of
 from schedulers import State, configuration_of, get_scheduler, initial_state
 
@@ -81,7 +81,7 @@ def replay(trace: dict[str, Any]) -> Replayed:
         return Replayed(ok, "deadlock confirmed: nothing can move and the robots are not gathered"
                         if ok else "the last state is not a deadlock", len(steps))
     if prop == "no-ungatherable":
-        from gather_verify.classes import classify_configuration
+        from gather_verify.model.classes import classify_configuration
         first, end = classify_configuration(initial), classify_configuration(conf(last))
         ok = not first.in_U and end.in_U
         return Replayed(ok, f"{first.name} -> {end.name}", len(steps))

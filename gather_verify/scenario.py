@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from gather_verify.configuration import Configuration
+from gather_verify.model.configuration import Configuration
 
 SCHEDULERS = ("fsync", "ssync", "async")
 VERDICTS = ("VERIFIED", "VIOLATED", "INCOMPLETE", "NOT-APPLICABLE")
@@ -122,7 +122,7 @@ def parse_scenario(data: object, where: str) -> Scenario:
 def _parse_expect(
     expect: dict[str, Any], where: str, data: dict[str, Any]
 ) -> tuple[str | None, tuple[Expectation, ...]]:
-    from gather_verify.classes import CLASS_NAMES
+    from gather_verify.model.classes import CLASS_NAMES
 
     known = {"class", "verdicts"}
     for key in expect:

@@ -15,7 +15,7 @@ set is ``{stay}``): ``gathered`` if every robot is on one meeting node, else
 or after ``max_steps`` steps (``max-steps``).
 
 >>> from gather_verify.algorithms import get_algorithm
->>> from gather_verify.configuration import Configuration
+>>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
 >>> run = simulate(c, get_algorithm("go-to-target"), "async", seed=1)
 >>> run.outcome, run.meeting_node, run.moves
@@ -29,10 +29,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from gather_verify.algorithms.base import Algorithm, Unhandled
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import Node
-from gather_verify.moves import frames_for, move_sets
-from gather_verify.view import check_detection
+from gather_verify.algorithms.moves import frames_for, move_sets
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import Node
+from gather_verify.model.view import check_detection
 from schedulers import Event, State, get_scheduler, initial_state
 from schedulers.base import configuration_of
 

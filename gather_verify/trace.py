@@ -6,7 +6,7 @@ pending destination, robots in the order of the initial configuration's
 sorted robot list), the failing property, why it fails, and for a cycle the
 index of the state where the cycle starts (``states[0]`` is the initial state).
 
->>> from gather_verify.configuration import Configuration
+>>> from gather_verify.model.configuration import Configuration
 >>> t = build_trace(Configuration([(0, 0)], [(1, 0)]), "go-to-target", "async", "local-weak",
 ...                 "all", [], "final", "example")
 >>> load_trace(t)["property"]
@@ -20,8 +20,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from gather_verify.configuration import Configuration, _as_node
-from gather_verify.geometry import Node
+from gather_verify.model.configuration import Configuration, _as_node
+from gather_verify.model.geometry import Node
 from schedulers import Event, State
 
 FORMAT = "gather-verify-trace"

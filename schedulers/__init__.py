@@ -7,8 +7,8 @@ through ``move_sets(configuration)``, so it never knows which algorithm runs,
 and the explorer never knows which scheduler it drives.
 
 >>> from gather_verify.algorithms import get_algorithm
->>> from gather_verify.configuration import Configuration
->>> from gather_verify.moves import move_sets
+>>> from gather_verify.model.configuration import Configuration
+>>> from gather_verify.algorithms.moves import move_sets
 >>> algo, m = get_algorithm("go-to-target"), frozenset({(2, 2)})
 >>> ms = lambda robots: move_sets(algo, Configuration.trusted(tuple(sorted(robots)), m))
 >>> s0 = initial_state([(0, 0), (3, 1), (1, 4)])

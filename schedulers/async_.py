@@ -12,7 +12,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from gather_verify.geometry import STEPS
+from gather_verify.model.geometry import STEPS
 from schedulers.base import Event, MoveSets, State, configuration_of
 
 LOOK_ORDER = tuple(sorted(range(len(STEPS)), key=STEPS.__getitem__))

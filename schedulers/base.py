@@ -6,7 +6,7 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from typing import Protocol
 
-from gather_verify.geometry import Node
+from gather_verify.model.geometry import Node
 
 Robot = tuple[Node, Node | None]
 """One robot: its node and its pending destination (None when idle)."""

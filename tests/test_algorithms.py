@@ -6,13 +6,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gather_verify import geometry
 from gather_verify.algorithms import REGISTRY, Unhandled, get_algorithm, register
+from gather_verify.algorithms.moves import move_set, move_sets
 from gather_verify.algorithms.nearest_centre import NearestCentre
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import ORIGIN, Node
-from gather_verify.moves import move_set, move_sets
-from gather_verify.view import MultiplicityHidden, View
+from gather_verify.model import geometry
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import ORIGIN, Node
+from gather_verify.model.view import MultiplicityHidden, View
 
 ALGORITHMS = sorted(REGISTRY) + ["paper:alpha=mer_f", "paper:outside=mer_f"]
 

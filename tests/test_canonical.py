@@ -5,12 +5,12 @@ searches of a sweep) give exactly what the direct computation gives."""
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gather_verify import geometry
-from gather_verify.canonical import canonical, canonical_form
-from gather_verify.configuration import Configuration
-from gather_verify.explore import Limits
-from gather_verify.fast_explore import explore_fast
-from gather_verify.view import View
+from gather_verify.engine.explore import Limits
+from gather_verify.engine.fast_explore import explore_fast
+from gather_verify.model import geometry
+from gather_verify.model.canonical import canonical, canonical_form
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.view import View
 
 nodes = st.tuples(st.integers(-3, 3), st.integers(-3, 3))
 configurations = st.builds(

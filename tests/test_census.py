@@ -10,16 +10,16 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gather_verify import geometry
-from gather_verify.census import (
+from gather_verify.model import geometry
+from gather_verify.model.classes import CLASS_NAMES, classify_configuration
+from gather_verify.model.configuration import Configuration
+from gather_verify.sweeps.census import (
     canonical,
     canonical_key,
     census,
     enumerate_configurations,
     validate_census_arguments,
 )
-from gather_verify.classes import CLASS_NAMES, classify_configuration
-from gather_verify.configuration import Configuration
 
 
 def _orbit(robots, meeting):
@@ -86,7 +86,7 @@ def test_canonical_is_invariant(robots, meeting, g, t):
 
 
 def test_enumeration_order_is_deterministic_across_hash_seeds():
-    code = ("from gather_verify.census import enumerate_configurations as e;"
+    code = ("from gather_verify.sweeps.census import enumerate_configurations as e;"
             "print([(c.robots, sorted(c.meeting_nodes)) for c in e(2, 2, 3, 3)])")
     outs = {subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                            env={**os.environ, "PYTHONHASHSEED": seed}).stdout for seed in ("1", "2")}

@@ -7,11 +7,16 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gather_verify import geometry
-from gather_verify.classes import CLASS_NAMES, classify, classify_configuration, describe_views
-from gather_verify.configuration import Configuration
+from gather_verify.model import geometry
+from gather_verify.model.classes import (
+    CLASS_NAMES,
+    classify,
+    classify_configuration,
+    describe_views,
+)
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.symmetry import configuration_automorphisms, meeting_automorphisms
 from gather_verify.scenario import load_scenario
-from gather_verify.symmetry import configuration_automorphisms, meeting_automorphisms
 
 ROOT = Path(__file__).resolve().parent.parent
 CLASS_FILES = sorted((ROOT / "scenarios" / "classes").glob("*.json"))

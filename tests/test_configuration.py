@@ -2,7 +2,7 @@
 
 import pytest
 
-from gather_verify.configuration import Configuration
+from gather_verify.model.configuration import Configuration
 
 
 def test_labels_follow_the_paper():

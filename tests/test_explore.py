@@ -7,8 +7,8 @@ from collections import deque
 import pytest
 
 from gather_verify.check import run_check
-from gather_verify.configuration import Configuration
-from gather_verify.explore import Limits, explore
+from gather_verify.engine.explore import Limits, explore
+from gather_verify.model.configuration import Configuration
 from schedulers import get_scheduler, initial_state
 
 YARD = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
@@ -24,7 +24,7 @@ def test_yardstick_counts_without_reduction(scheduler, states):
 
 def test_yardstick_matches_independent_bfs():
     from gather_verify.algorithms import get_algorithm
-    from gather_verify.moves import move_sets
+    from gather_verify.algorithms.moves import move_sets
     algo = get_algorithm("go-to-target")
 
     def ms(robots):

@@ -12,9 +12,9 @@ from hypothesis import strategies as st
 
 from gather_verify.algorithms.broken import register_broken
 from gather_verify.check import run_check
-from gather_verify.configuration import Configuration
-from gather_verify.explore import Limits, explore_reference
-from gather_verify.fast_explore import explore_fast, supports
+from gather_verify.engine.explore import Limits, explore_reference
+from gather_verify.engine.fast_explore import explore_fast, supports
+from gather_verify.model.configuration import Configuration
 from gather_verify.scenario import load_scenario
 
 YARD = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)

@@ -4,7 +4,7 @@ import itertools
 
 import pytest
 
-from gather_verify import geometry
+from gather_verify.model import geometry
 
 PROBES = [(1, 0), (0, 1), (2, -3), (-5, 7)]
 

@@ -266,7 +266,7 @@ def test_unwritable_outputs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
 @pytest.fixture(scope="module")
 def good_trace() -> dict:
     from gather_verify.check import run_check
-    from gather_verify.configuration import Configuration
+    from gather_verify.model.configuration import Configuration
 
     report = run_check(Configuration([(0, 0), (3, 1)], [(2, 2)], initial=True),
                        algorithm="mutant-gtt-stops-one-short", scheduler="async",

@@ -13,22 +13,22 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gather_verify import geometry
 from gather_verify.algorithms.go_to_target import nearest, step_towards
+from gather_verify.algorithms.moves import move_set
 from gather_verify.algorithms.random_equivariant import RandomEquivariant
 from gather_verify.cli import main
 from gather_verify.cli.impossibility import algorithms_for
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import ORIGIN, Node
 from gather_verify.impossibility import (
     AdversaryError,
     check_impossibility,
     in_v_prime,
     symmetry_defect,
 )
-from gather_verify.moves import move_set
+from gather_verify.model import geometry
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import ORIGIN, Node
+from gather_verify.model.view import View
 from gather_verify.scenario import load_scenario
-from gather_verify.view import View
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENARIOS = sorted((ROOT / "scenarios" / "impossibility").glob("*.json"))
@@ -247,8 +247,8 @@ def census_U(explore: str, steps: int, max_states: int, beyond_u: bool = False) 
     ``beyond_u``: on every UNCLASSIFIED one that meets Theorem 1's hypothesis instead."""
     from collections import Counter
 
-    from gather_verify.census import enumerate_configurations
-    from gather_verify.classes import classify_configuration
+    from gather_verify.model.classes import classify_configuration
+    from gather_verify.sweeps.census import enumerate_configurations
 
     start, classes, stats = time.perf_counter(), Counter(), Counter()
     for n in range(1, 5):

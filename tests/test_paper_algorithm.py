@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import pytest
 
-from gather_verify import strings
 from gather_verify.algorithms import Unhandled, get_algorithm
+from gather_verify.algorithms.moves import move_set, move_sets
 from gather_verify.algorithms.paper import PaperAlgorithm, analyse, ordering_O_second
-from gather_verify.canonical import canonical
-from gather_verify.classes import classify_configuration
-from gather_verify.configuration import Configuration
-from gather_verify.moves import move_set, move_sets
+from gather_verify.model import strings
+from gather_verify.model.canonical import canonical
+from gather_verify.model.classes import classify_configuration
+from gather_verify.model.configuration import Configuration
 from gather_verify.scenario import load_scenario
 
 PAPER = PaperAlgorithm()

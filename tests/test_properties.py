@@ -6,7 +6,7 @@ import pytest
 
 from gather_verify.algorithms.broken import register_broken
 from gather_verify.check import run_check
-from gather_verify.configuration import Configuration as C
+from gather_verify.model.configuration import Configuration as C
 from gather_verify.properties import check_property_names
 from gather_verify.replay import replay
 

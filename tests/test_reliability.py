@@ -26,8 +26,8 @@ from hypothesis import strategies as st
 
 from gather_verify.check import run_check
 from gather_verify.cli import main
-from gather_verify.configuration import Configuration
-from gather_verify.store import Store
+from gather_verify.model.configuration import Configuration
+from gather_verify.sweeps.store import Store
 
 ROOT = Path(__file__).resolve().parent.parent
 YARD = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
@@ -164,8 +164,8 @@ def test_sweep_over_the_memory_limit_is_incomplete(tmp_path: Path,
 
 
 def test_default_memory_limit_fits_the_machine() -> None:
-    from gather_verify.explore import DEFAULT_MAX_MEMORY_MB
-    from gather_verify.resources import machine_memory_mb, memory_budget_mb
+    from gather_verify.engine.explore import DEFAULT_MAX_MEMORY_MB
+    from gather_verify.engine.resources import machine_memory_mb, memory_budget_mb
 
     total = machine_memory_mb()
     budget = memory_budget_mb()

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from gather_verify.classes import classify_configuration
+from gather_verify.model.classes import classify_configuration
 from gather_verify.scenario import Expectation, Scenario, load_scenario
 
 ROOT = Path(__file__).resolve().parent.parent / "scenarios"

@@ -10,11 +10,11 @@ from pathlib import Path
 
 import pytest
 
-from gather_verify import strings
 from gather_verify.algorithms import REGISTRY, get_algorithm
-from gather_verify.classes import classify_configuration
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import manhattan
+from gather_verify.model import strings
+from gather_verify.model.classes import classify_configuration
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import manhattan
 from gather_verify.simulate import simulate
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -176,7 +176,7 @@ def test_finding_alpha_over_mer_moves_the_i12_target():
 @pytest.mark.parametrize("scheduler", SCHEDULERS)
 def test_census_i1_gathers_on_the_predicted_node(scheduler):
     """Every I1 configuration of 3 robots and 3 meeting nodes in a 3 x 3 box (paper:alpha=mer_f)."""
-    from gather_verify.census import enumerate_configurations
+    from gather_verify.sweeps.census import enumerate_configurations
 
     algorithm = get_algorithm("paper:alpha=mer_f")
     checked = 0

@@ -5,9 +5,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gather_verify import geometry, strings
-from gather_verify.classes import classify_configuration
-from gather_verify.configuration import Configuration
+from gather_verify.model import geometry, strings
+from gather_verify.model.classes import classify_configuration
+from gather_verify.model.configuration import Configuration
 from gather_verify.scenario import load_scenario
 
 STRING2 = "001001400004000000000000404000400401000000100"
@@ -80,7 +80,7 @@ def test_corner_strings_key_and_alpha_invariant_under_isometries(c, iso):
 def test_one_key_scan_exactly_when_configuration_asymmetric(c):
     """Paper §2: an asymmetric configuration has a unique largest string; a
     symmetry maps the key scan onto another scan with the same text."""
-    from gather_verify.symmetry import configuration_automorphisms
+    from gather_verify.model.symmetry import configuration_automorphisms
 
     asymmetric = len(configuration_automorphisms(c)) == 1
     assert (len(strings.key_scans(c)) == 1) == asymmetric

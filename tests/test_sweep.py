@@ -14,8 +14,8 @@ from pathlib import Path
 import pytest
 
 from gather_verify.cli import main
-from gather_verify.store import Store
-from gather_verify.sweep import SweepSettings, run_sweep
+from gather_verify.sweeps.store import Store
+from gather_verify.sweeps.sweep import SweepSettings, run_sweep
 
 SMALL = SweepSettings(robots=2, meeting=2, box=(3, 3), algorithm="go-to-target", scheduler="async")
 

@@ -6,9 +6,9 @@ import itertools
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gather_verify import geometry
-from gather_verify.configuration import Configuration
-from gather_verify.symmetry import (
+from gather_verify.model import geometry
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.symmetry import (
     Automorphism,
     automorphisms,
     configuration_automorphisms,

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 from typing import Protocol, runtime_checkable
 
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import Node
-from gather_verify.view import View
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import Node
+from gather_verify.model.view import View
 
 
 @runtime_checkable

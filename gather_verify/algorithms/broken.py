@@ -14,9 +14,9 @@ from __future__ import annotations
 
 from gather_verify.algorithms.base import Unhandled
 from gather_verify.algorithms.go_to_target import GoToTarget, nearest, step_towards
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import ORIGIN, Node, manhattan
-from gather_verify.view import View
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import ORIGIN, Node, manhattan
+from gather_verify.model.view import View
 
 
 def _away(target: Node) -> Node:

@@ -5,17 +5,17 @@ Meant for one meeting node: a robot off it steps to a neighbour closer to it
 on it stays. With several meeting nodes it heads for the nearest one when that
 is unique and stays otherwise, so it is defined everywhere.
 
->>> from gather_verify.configuration import Configuration
->>> from gather_verify.moves import move_set
+>>> from gather_verify.model.configuration import Configuration
+>>> from gather_verify.algorithms.moves import move_set
 >>> sorted(move_set(GoToTarget(), Configuration([(0, 0)], [(2, 2)]), (0, 0)))
 [(0, 1), (1, 0)]
 """
 
 from __future__ import annotations
 
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import ORIGIN, STEPS, Node, manhattan
-from gather_verify.view import View
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import ORIGIN, STEPS, Node, manhattan
+from gather_verify.model.view import View
 
 
 def nearest(nodes: frozenset[Node], v: Node) -> Node | None:

@@ -10,8 +10,8 @@ the centre of mass) are invariant under the grid isometries, so the algorithm
 is equivariant. The target is recomputed from every snapshot, so it may move
 as robots move: this is a yardstick, not a correct algorithm.
 
->>> from gather_verify.configuration import Configuration
->>> from gather_verify.moves import move_set
+>>> from gather_verify.model.configuration import Configuration
+>>> from gather_verify.algorithms.moves import move_set
 >>> c = Configuration([(0, 0), (4, 0)], [(2, 1), (9, 9)])
 >>> NearestCentre().target(c)
 (2, 1)
@@ -24,9 +24,9 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 from gather_verify.algorithms.go_to_target import step_towards
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import ORIGIN, Node, bounding_box
-from gather_verify.view import View
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import ORIGIN, Node, bounding_box
+from gather_verify.model.view import View
 
 
 def centre_target(occupied: Iterable[Node], meeting_nodes: Iterable[Node]) -> Node | None:

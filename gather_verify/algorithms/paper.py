@@ -58,8 +58,8 @@ I32 paragraph says) or ``unclassified=unhandled``; ``outside=distance``
 Algorithm 2's "exactly one robot outside MER_F" may pick a robot that is not
 the farthest, and it steps away from ``L ∪ {c}`` until it is).
 
->>> from gather_verify.moves import move_set
->>> from gather_verify.configuration import Configuration
+>>> from gather_verify.algorithms.moves import move_set
+>>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(0, 0), (4, 1)], [(1, 0), (3, 3), (0, 2)])
 >>> PaperAlgorithm().target(c)
 (3, 3)
@@ -73,13 +73,17 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from functools import lru_cache
 
-from gather_verify import geometry, strings
 from gather_verify.algorithms.base import Unhandled
-from gather_verify.canonical import Key
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import ORIGIN, STEPS, Node, manhattan
-from gather_verify.symmetry import Automorphism, configuration_automorphisms, meeting_automorphisms
-from gather_verify.view import View
+from gather_verify.model import geometry, strings
+from gather_verify.model.canonical import Key
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import ORIGIN, STEPS, Node, manhattan
+from gather_verify.model.symmetry import (
+    Automorphism,
+    configuration_automorphisms,
+    meeting_automorphisms,
+)
+from gather_verify.model.view import View
 
 CACHE_SIZE = 1 << 17
 """Plans remembered per algorithm instance, one per canonical form of a snapshot."""
@@ -291,7 +295,7 @@ def _symmetry_breaking(c: Configuration, symmetry: Automorphism,
 
 
 def _canonical_view(view: View) -> tuple[Key, int, Node]:
-    """The canonical form of the robot's snapshot (see :mod:`gather_verify.canonical`)."""
+    """The canonical form of the robot's snapshot (see :mod:`gather_verify.model.canonical`)."""
     return view.canonical()
 
 

@@ -22,8 +22,8 @@ an automorphism of ``C`` the move sets are ``psi``-invariant, which is what
 the adversary of Theorem 1 needs (tests/test_impossibility.py checks it with
 Hypothesis).
 
->>> from gather_verify.configuration import Configuration
->>> from gather_verify.view import View
+>>> from gather_verify.model.configuration import Configuration
+>>> from gather_verify.model.view import View
 >>> c = Configuration([(0, 1), (1, -1)], [(0, 0), (1, 0)])
 >>> a = RandomEquivariant(seed=3)
 >>> a.decide(View(c, (0, 1), 0, "local-weak")) == RandomEquivariant(3).decide(
@@ -38,8 +38,8 @@ from __future__ import annotations
 import hashlib
 import json
 
-from gather_verify.geometry import ORIGIN, STEPS, Node
-from gather_verify.view import View
+from gather_verify.model.geometry import ORIGIN, STEPS, Node
+from gather_verify.model.view import View
 
 MOVES: tuple[Node, ...] = (ORIGIN, *STEPS)
 """The five answers, in the order the hash indexes them."""

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from gather_verify.census import MAX_SIDE, census
-from gather_verify.classes import CLASS_NAMES, UNGATHERABLE
 from gather_verify.cli.common import bounded_int, parse_box, print_json
+from gather_verify.model.classes import CLASS_NAMES, UNGATHERABLE
+from gather_verify.sweeps.census import MAX_SIDE, census
 
 HELP = "count the configurations of a WxH box (up to translation and D4) per class"
 

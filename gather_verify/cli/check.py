@@ -20,7 +20,7 @@ from gather_verify.cli.common import (
     without_timings,
     writable_outputs,
 )
-from gather_verify.explore import (
+from gather_verify.engine.explore import (
     DEFAULT_MARGIN,
     DEFAULT_MAX_MEMORY_MB,
     DEFAULT_MAX_SECONDS,

@@ -8,8 +8,8 @@ import os
 import sys
 from typing import Any
 
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import parse_nodes
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import parse_nodes
 from gather_verify.scenario import Scenario, load_scenario
 
 EXIT_OK, EXIT_VIOLATED, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_NOT_APPLICABLE = 0, 1, 2, 3, 4

@@ -23,8 +23,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from gather_verify.report import summaries, write_html, write_plot
-    from gather_verify.sweep import format_summary
+    from gather_verify.sweeps.report import summaries, write_html, write_plot
+    from gather_verify.sweeps.sweep import format_summary
 
     found = summaries(args.db)
     if args.html:
@@ -32,7 +32,7 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         write_plot(args.db, args.plot)
     if args.regressions:
-        from gather_verify.regressions import write_regressions
+        from gather_verify.sweeps.regressions import write_regressions
 
         for path in write_regressions(args.db, args.regressions):
             print(f"wrote {path}", file=sys.stderr)

@@ -66,10 +66,10 @@ def count_range(text: str) -> range:
 
 def run(args: argparse.Namespace) -> int:
     from gather_verify.algorithms import get_algorithm
-    from gather_verify.census import validate_census_arguments
-    from gather_verify.moves import frames_for
-    from gather_verify.sweep import SweepSettings, format_summary, run_sweep
-    from gather_verify.view import check_detection
+    from gather_verify.algorithms.moves import frames_for
+    from gather_verify.model.view import check_detection
+    from gather_verify.sweeps.census import validate_census_arguments
+    from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
 
     get_algorithm(args.algorithm)  # unknown names fail before any work
     writable_outputs(junit=args.junit)

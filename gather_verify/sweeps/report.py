@@ -7,8 +7,8 @@ import json
 from pathlib import Path
 from typing import Any
 
-from gather_verify.store import Store
-from gather_verify.sweep import summarise
+from gather_verify.sweeps.store import Store
+from gather_verify.sweeps.sweep import summarise
 
 
 def load_sweeps(db_path: str) -> list[tuple[dict[str, Any], list[dict[str, Any]]]]:

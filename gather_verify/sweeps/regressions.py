@@ -23,7 +23,7 @@ import re
 from pathlib import Path
 from typing import Any
 
-from gather_verify.report import load_sweeps
+from gather_verify.sweeps.report import load_sweeps
 
 _POINT = re.compile(r"[\[(]-?\d+, ?-?\d+[\])]")
 _NUMBER = re.compile(r"-?\d+(\.\d+)?")

@@ -12,7 +12,7 @@ read along its shorter side; on a square, the larger of its two strings. The
 
 The paper's Figure "string2", laid out from its string in columns of 5:
 
->>> from gather_verify.configuration import Configuration
+>>> from gather_verify.model.configuration import Configuration
 >>> c = from_string("001001400004000000000000404000400401000000100", 5)
 >>> key_scans(c)[0].text
 '001001400004000000000000404000400401000000100'
@@ -24,14 +24,14 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Literal
 
-from gather_verify.configuration import (
+from gather_verify.model.configuration import (
     EMPTY,
     MEETING,
     ROBOT,
     ROBOT_ON_MEETING,
     Configuration,
 )
-from gather_verify.geometry import Node
+from gather_verify.model.geometry import Node
 
 Rect = tuple[int, int, int, int]
 AlphaRegion = Literal["mer", "mer_f"]

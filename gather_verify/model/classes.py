@@ -23,10 +23,10 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
-from gather_verify import strings
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import Node
-from gather_verify.symmetry import (
+from gather_verify.model import strings
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import Node
+from gather_verify.model.symmetry import (
     Automorphism,
     configuration_automorphisms,
     meeting_automorphisms,

@@ -19,9 +19,9 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
-from gather_verify import geometry
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import Node
+from gather_verify.model import geometry
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import Node
 
 Labelled = Mapping[Node, int]
 

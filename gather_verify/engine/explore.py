@@ -23,7 +23,7 @@ The explorer expands the *representative* of each class: every successor,
 event and per-configuration fact (move sets, class, target) is computed on a
 concrete state, and only the successor's key is canonicalised.
 
->>> from gather_verify.configuration import Configuration
+>>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
 >>> e = explore(c, "go-to-target", "async", reduction=False)
 >>> e.states, e.transitions, e.stopped
@@ -39,14 +39,14 @@ from array import array
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 
-from gather_verify import geometry
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, target_of
-from gather_verify.classes import classify_configuration
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import STEPS, Node
-from gather_verify.moves import frames_for, move_sets
-from gather_verify.symmetry import Automorphism, meeting_automorphisms
-from gather_verify.view import check_detection
+from gather_verify.algorithms.moves import frames_for, move_sets
+from gather_verify.model import geometry
+from gather_verify.model.classes import classify_configuration
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import STEPS, Node
+from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
+from gather_verify.model.view import check_detection
 from schedulers import Event, State, configuration_of, get_scheduler, initial_state
 
 STEP_INDEX = {step: i + 1 for i, step in enumerate(STEPS)}
@@ -317,7 +317,7 @@ def explore(
     if engine not in ENGINES:
         raise ValueError(f"unknown engine {engine!r}: use one of {', '.join(ENGINES)}")
     if engine != "reference":
-        from gather_verify import fast_explore
+        from gather_verify.engine import fast_explore
 
         keys = ("reduction", "anonymity", "symmetry", "frames", "limits")
         if fast_explore.supports(initial, scheduler, **{k: options[k] for k in keys if k in options}):

@@ -35,12 +35,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from gather_verify import geometry
-from gather_verify.canonical import Key, canonical_form
-from gather_verify.classes import CLASS_NAMES, classify_configuration
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import Node
-from gather_verify.symmetry import Automorphism, meeting_automorphisms
+from gather_verify.model import geometry
+from gather_verify.model.canonical import Key, canonical_form
+from gather_verify.model.classes import CLASS_NAMES, classify_configuration
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import Node
+from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
 
 MAX_SIDE = 8
 """Largest box side: an ``S x S`` frame must fit one 64-bit mask."""
@@ -92,7 +92,7 @@ def validate_census_arguments(n: object, m: object, w: object, h: object) -> tup
 
 def canonical_key(configuration: Configuration) -> CanonicalKey:
     """``(sorted robots, sorted meeting nodes)`` of the canonical image (see module doc):
-    :func:`gather_verify.canonical.canonical_form` of the robot multiset."""
+    :func:`gather_verify.model.canonical.canonical_form` of the robot multiset."""
     return canonical_form(configuration.robots, configuration.meeting_nodes).key
 
 

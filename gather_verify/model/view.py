@@ -7,7 +7,7 @@ multiplicity information its detection model allows; asking for more raises
 :class:`MultiplicityHidden`, so an algorithm cannot read what its robots could
 not see.
 
->>> from gather_verify.configuration import Configuration
+>>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(1, 1), (1, 1), (3, 1)], [(1, 1)])
 >>> v = View(c, (1, 1), frame=0, detection="local-weak")
 >>> sorted(v.robots), v.multiplicity()
@@ -15,17 +15,17 @@ not see.
 >>> v.multiplicity((2, 0))
 Traceback (most recent call last):
 ...
-gather_verify.view.MultiplicityHidden: local-weak detection shows multiplicity only on the robot's own node, not at (2, 0)
+gather_verify.model.view.MultiplicityHidden: local-weak detection shows multiplicity only on the robot's own node, not at (2, 0)
 """
 
 from __future__ import annotations
 
 from functools import cached_property
 
-from gather_verify import geometry
-from gather_verify.canonical import Key
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import ORIGIN, Node
+from gather_verify.model import geometry
+from gather_verify.model.canonical import Key
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import ORIGIN, Node
 
 DETECTION_MODELS = ("none", "local-weak", "local-strong", "global-weak", "global-strong")
 """Multiplicity detection models, weakest first. The paper's is ``local-weak``."""
@@ -144,7 +144,7 @@ class View:
         ``p``), so ``g`` reaches the key from the view exactly when ``g o F`` reaches it from
         the snapshot, with translation ``t_h + h(p)`` for ``h = g o F``.
 
-        >>> from gather_verify.canonical import canonical
+        >>> from gather_verify.model.canonical import canonical
         >>> c = Configuration([(1, 1), (3, 1), (3, 4)], [(2, 2)])
         >>> v = View(c, (3, 1), frame=geometry.ROT90, detection="local-weak")
         >>> v.canonical() == canonical(v.robots, v.meeting_nodes)

@@ -1,9 +1,9 @@
 """The bulk explorer: the same breadth-first search as :mod:`explore`, on numpy arrays.
 
 SEMANTICS.md §4-5, issue 8. It explores exactly the states of the reference
-explorer (:func:`gather_verify.explore.explore_reference`), gives them the same
+explorer (:func:`gather_verify.engine.explore.explore_reference`), gives them the same
 ids in the same order (so the same BFS parents, the same first witnesses and the
-same traces), and returns the same :class:`~gather_verify.explore.Exploration`.
+same traces), and returns the same :class:`~gather_verify.engine.explore.Exploration`.
 What changes is how:
 
 - a state is one ``uint64``: the reference key (robot codes ``cell * 5 + d``
@@ -24,7 +24,7 @@ without ``bulk_successors``, a key that does not fit 64 bits, or more states
 than an ``int32`` id holds make :func:`supports` say no and the caller uses the
 reference path.
 
->>> from gather_verify.configuration import Configuration
+>>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
 >>> e = explore_fast(c, "go-to-target", "async", reduction=False)
 >>> e.states, e.transitions, e.stopped
@@ -39,12 +39,9 @@ from typing import Any
 
 import numpy as np
 
-from gather_verify import geometry
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, target_of
-from gather_verify.canonical import canonical_form
-from gather_verify.classes import classify_configuration
-from gather_verify.configuration import Configuration
-from gather_verify.explore import (
+from gather_verify.algorithms.moves import frames_for, move_sets
+from gather_verify.engine.explore import (
     SAFETY,
     Encoding,
     Exploration,
@@ -55,10 +52,13 @@ from gather_verify.explore import (
     rss_mb,
     symmetry_group,
 )
-from gather_verify.geometry import STEPS, Node
-from gather_verify.moves import frames_for, move_sets
-from gather_verify.symmetry import Automorphism, meeting_automorphisms
-from gather_verify.view import check_detection
+from gather_verify.model import geometry
+from gather_verify.model.canonical import canonical_form
+from gather_verify.model.classes import classify_configuration
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import STEPS, Node
+from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
+from gather_verify.model.view import check_detection
 from schedulers import Event, get_scheduler, initial_state
 
 CHUNK = 1 << 14

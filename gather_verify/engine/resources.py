@@ -18,7 +18,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from gather_verify.explore import DEFAULT_MAX_MEMORY_MB
+from gather_verify.engine.explore import DEFAULT_MAX_MEMORY_MB
 
 SHARE = 0.75
 """Fraction of the machine's memory the searches of one command may use together (the

@@ -10,7 +10,7 @@ from one analysis.
 :func:`canonical_form` also keeps *every* minimising ``(g, t)``, so the canonical
 form of any view of a configuration (the configuration seen from one robot in
 one frame) follows from the configuration's own form without a second search
-(:meth:`gather_verify.view.View.canonical`).
+(:meth:`gather_verify.model.view.View.canonical`).
 
 >>> canonical([(2, 1), (5, 1)], [(3, 1)])  # rot90, then translated
 ((((0, 0), (0, 3)), ((0, 1),)), 1, (1, -2))
@@ -24,8 +24,8 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import NamedTuple
 
-from gather_verify import geometry
-from gather_verify.geometry import Node
+from gather_verify.model import geometry
+from gather_verify.model.geometry import Node
 
 Key = tuple[tuple[Node, ...], tuple[Node, ...]]
 """Sorted occupied nodes and sorted meeting nodes of the canonical image."""

@@ -7,7 +7,7 @@ closer" yields every such step; a common compass keeps the identity frame,
 common chirality the 4 rotations.
 
 >>> from gather_verify.algorithms import get_algorithm
->>> from gather_verify.configuration import Configuration
+>>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)])
 >>> sorted(move_sets(get_algorithm("go-to-target"), c)[(1, 4)])
 [(1, 3), (2, 4)]
@@ -17,11 +17,11 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from gather_verify import geometry
 from gather_verify.algorithms.base import Algorithm, AlgorithmError, Unhandled
-from gather_verify.configuration import Configuration
-from gather_verify.geometry import ORIGIN, STEPS, Node
-from gather_verify.view import FRAME_SETS, MultiplicityHidden, View, check_detection
+from gather_verify.model import geometry
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import ORIGIN, STEPS, Node
+from gather_verify.model.view import FRAME_SETS, MultiplicityHidden, View, check_detection
 
 ANSWERS = frozenset((ORIGIN, *STEPS))
 MAPPED_BACK = tuple({answer: geometry.apply(geometry.inverse(g), answer) for answer in ANSWERS}

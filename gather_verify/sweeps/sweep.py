@@ -18,8 +18,8 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import asdict, dataclass, field, replace
 from typing import Any
 
-from gather_verify.configuration import Configuration
-from gather_verify.store import Store
+from gather_verify.model.configuration import Configuration
+from gather_verify.sweeps.store import Store
 
 CHUNK = 8
 """Configurations per task: enough to amortise process overhead, small enough to lose little."""
@@ -44,7 +44,7 @@ class SweepSettings:
     extra: dict[str, Any] = field(default_factory=dict)
     max_memory_mb: float | None = None
     """Resident memory limit of each worker process; None: this machine's memory shared
-    by the workers (:func:`gather_verify.resources.memory_budget_mb`)."""
+    by the workers (:func:`gather_verify.engine.resources.memory_budget_mb`)."""
 
     def key(self) -> dict[str, Any]:
         """The identity of the sweep in the store (timing limits excluded only if
@@ -143,7 +143,7 @@ def run_sweep(
 ) -> dict[str, Any]:
     """Run (or resume) one sweep, or several (e.g. every n and m up to a bound) into
     one store; return the summary over all of them (see :func:`summarise`)."""
-    from gather_verify.census import enumerate_configurations
+    from gather_verify.sweeps.census import enumerate_configurations
 
     batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
     store = Store(db_path)
@@ -190,7 +190,7 @@ def _execute(
     for settings, sweep, todo in plan:
         chunks = list(_chunks(todo, CHUNK))
         if settings.max_memory_mb is None:  # the machine's memory, shared by the workers
-            from gather_verify.resources import memory_budget_mb
+            from gather_verify.engine.resources import memory_budget_mb
 
             settings = replace(settings, max_memory_mb=memory_budget_mb(
                 1 if local else (workers or os.cpu_count() or 1)))
@@ -248,7 +248,7 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None
 
 def summarise(rows: list[dict[str, Any]], settings: SweepSettings | None = None) -> dict[str, Any]:
     """Totals per class and verdict, failing properties, worst ratios, slowest configurations."""
-    from gather_verify.classes import CLASS_NAMES
+    from gather_verify.model.classes import CLASS_NAMES
 
     classes = dict.fromkeys(CLASS_NAMES, 0)
     verdicts: dict[str, dict[str, int]] = {}

@@ -18,9 +18,9 @@ from collections import Counter
 from collections.abc import Iterable
 from functools import cached_property
 
-from gather_verify import geometry
-from gather_verify.canonical import CanonicalForm, canonical_form
-from gather_verify.geometry import Node
+from gather_verify.model import geometry
+from gather_verify.model.canonical import CanonicalForm, canonical_form
+from gather_verify.model.geometry import Node
 
 EMPTY, MEETING, ROBOT_ON_MEETING, MULTI_ON_MEETING, ROBOT, MULTI = range(6)
 """The paper's node labels ``l(v)``."""
