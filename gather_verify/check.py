@@ -28,6 +28,7 @@ from typing import Any
 from gather_verify import properties as props
 from gather_verify.engine.explore import (
     DEFAULT_MARGIN,
+    PSEUDO,
     Exploration,
     Limits,
     Violation,
@@ -63,6 +64,13 @@ def _trace(e: Exploration, prop: str, reason: str, ids: Sequence[int],
 
 def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
     ids = e.path_to(v.state)
+    if v.property == "crash":  # the crash as the concrete last state of the trace meets it
+        steps = e.concretise(ids)
+        state = steps[-1][1] if steps else e.initial_state
+        crash = e.facts(tuple(sorted(n for n, _ in state))).crash
+        assert crash is not None  # the stored state's class crashes, so does each member
+        return build_trace(e.initial, e.algorithm.name, e.scheduler_name, e.detection, e.frames,
+                           steps, "crash", crash.reason, None, **crash.detail())
     if v.event is None:
         return _trace(e, v.property, v.reason, ids)
     steps = e.concretise(ids)
@@ -153,7 +161,7 @@ def run_check(
         # the trace's reason: it names the nodes of the concrete execution shown
         results[name] = {"holds": False, "reason": trace["reason"]}
         traces[name] = trace
-    stopped = e.stopped if e.stopped != "defined" else None
+    stopped = e.stopped if e.stopped not in PSEUDO else None
     complete = e.stopped is None
     for name in ("final", "no-ungatherable", "target-invariance"):
         if name in wanted and name not in traces:
@@ -204,8 +212,9 @@ def run_check(
                     results["termination"] = {"holds": False, "reason": reason}
                     traces["termination"] = _trace(lifted, "termination", reason,
                                                    lifted.path_to(live.cycle[0]), live.cycle)
-    if "defined" in e.violations:
-        results["defined"] = {"holds": False, "reason": e.violations["defined"].reason}
+    for name in PSEUDO & e.violations.keys():  # defined, crash: always checked
+        results[name] = {"holds": False, "reason": (traces[name] if name in traces
+                                                    else e.violations[name].__dict__)["reason"]}
     failing = [p for p in props.ORDER if p in traces]
     verdict = combine(failing, stopped)
     report["verdict"] = verdict

@@ -1,6 +1,6 @@
 """The properties checked on the reachable graph (SEMANTICS.md §5).
 
-Safety properties (``defined``, ``final``, ``no-ungatherable``,
+Safety properties (``crash`` and ``defined``, always checked; ``final``, ``no-ungatherable``,
 ``target-invariance``) are checked during the search by :mod:`explore`;
 this module holds their names and the graph analyses for the others:
 ``move-bound`` (longest path weighted by edges traversed) and ``termination``
@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from gather_verify.engine.explore import Exploration
 
 PROPERTIES = ("final", "no-ungatherable", "target-invariance", "move-bound", "termination")
-ORDER = ("defined", *PROPERTIES)
+ORDER = ("crash", "defined", *PROPERTIES)
 """The order in which a failing property is named when several fail."""
 
 

@@ -8,6 +8,7 @@ move; the target really changes; a cycle really returns and is fair; ...).
 
 >>> from gather_verify.check import run_check
 >>> from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import STEPS, add
 >>> r = run_check(Configuration([(0, 0), (2, 1)], [(1, 1)], initial=True), algorithm="go-to-target",
 ...               scheduler="fsync", max_states=1000, max_seconds=10, move_bound_c=0.1)
 >>> replay(r["trace"]).confirmed
@@ -19,11 +20,17 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from gather_verify.algorithms import Unhandled, get_algorithm, target_of
+from gather_verify.algorithms import AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
 from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import STEPS, add
 from gather_verify.trace import initial_of, load_trace, steps_of
 from schedulers import State, configuration_of, get_scheduler, initial_state
+
+
+class NoLongerReproduces(ValueError):
+    """Every step of the trace is a legal execution of the robots, but the algorithm no longer
+    takes it (it was changed since the trace was written): ``replay`` exits 5."""
 
 
 @dataclass
@@ -55,15 +62,26 @@ def replay(trace: dict[str, Any]) -> Replayed:
     def ms(robots: tuple) -> dict:
         return move_sets(algorithm, Configuration.trusted(robots, meeting), detection, frames)
 
+    def anything(robots: tuple) -> dict:  # every robot may stay or take any unit step
+        return {v: frozenset([v, *(add(v, step) for step in STEPS)]) for v in robots}
+
     states = [initial_state(initial.robots)]
     steps = steps_of(trace)
     for k, (event, state) in enumerate(steps, 1):
-        offered = dict(scheduler.successors(states[-1], ms))
-        if event not in offered:
+        possible = dict(scheduler.successors(states[-1], anything))
+        if event not in possible:
             raise ValueError(f"trace step {k}: event {event.to_json()} is not allowed from the "
                              "previous state")
-        if offered[event] != state:
+        if possible[event] != state:
             raise ValueError(f"trace step {k}: the recorded state is not the one the event reaches")
+        try:
+            offered = dict(scheduler.successors(states[-1], ms))
+        except (Unhandled, AlgorithmCrash) as error:
+            raise NoLongerReproduces(f"trace step {k}: the algorithm does not decide the previous "
+                                     f"state any more ({error})") from None
+        if event not in offered:  # a legal execution, but not this algorithm's (any more)
+            raise NoLongerReproduces(f"trace step {k}: the algorithm no longer allows event "
+                                     f"{event.to_json()}")
         states.append(state)
     prop = trace["property"]
     last = states[-1]
@@ -74,6 +92,13 @@ def replay(trace: dict[str, Any]) -> Replayed:
         except Unhandled as error:
             return Replayed(True, f"the algorithm has no rule in the last state: {error}", len(steps))
         return Replayed(False, "the algorithm decides every robot in the last state", len(steps))
+    if prop == "crash":
+        try:
+            ms(configuration_of(last))
+            target_of(algorithm, conf(last))
+        except AlgorithmCrash as crash:
+            return Replayed(True, str(crash), len(steps))
+        return Replayed(False, "the algorithm no longer crashes in the last state", len(steps))
     if prop == "final":
         sets = ms(configuration_of(last))
         stuck = all(s == {v} for v, s in sets.items()) and all(p is None for _, p in last)

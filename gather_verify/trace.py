@@ -101,6 +101,12 @@ def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
             raise ValueError(f"bad trace {source}: not JSON (nested too deeply)") from None
     if isinstance(data, dict) and "robots" in data and isinstance(data.get("trace"), dict):
         data = data["trace"]  # a scenario file that stores its counterexample
+    if not isinstance(source, dict) and isinstance(data, dict) \
+            and isinstance(data.get("algorithm"), str):  # a file path is relative to the file
+        from gather_verify.algorithms.loading import absolute_spec
+
+        data = {**data, "algorithm": absolute_spec(data["algorithm"],
+                                                   Path(source).resolve().parent)}
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         _fail(f"not a {FORMAT} object")
     if data.get("version") != VERSION:

@@ -13,6 +13,8 @@ from gather_verify.model.geometry import parse_nodes
 from gather_verify.scenario import Scenario, load_scenario
 
 EXIT_OK, EXIT_VIOLATED, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_NOT_APPLICABLE = 0, 1, 2, 3, 4
+EXIT_NO_LONGER_REPRODUCES = 5
+"""``replay``: the trace no longer reproduces (the algorithm changed since it was written)."""
 EXIT_INTERRUPTED = 130
 """Ctrl-C (SIGINT): 128 + 2, as shells report it; one line on stderr says what was kept."""
 TIMING_KEYS = ("seconds", "peak_rss_mb")

@@ -1,0 +1,186 @@
+"""Algorithms from anywhere: a file, an importable module, or an installed package.
+
+An algorithm spec names one of three things:
+
+- a registered name, ``paper`` or ``paper:alpha=mer_f`` (:data:`REGISTRY`);
+- a file, ``PATH.py:NAME`` or ``PATH.py:NAME:key=value,...``;
+- a module, ``package.module:NAME`` (with the same options);
+- a name an installed package registers in the ``gather_verify.algorithms``
+  entry-point group (``[project.entry-points."gather_verify.algorithms"]``).
+
+``NAME`` is a class or a factory, called with the options as keyword arguments
+(strings), or an object with ``decide`` (then no options). A loaded algorithm
+is named by its spec with the path made absolute, so traces and stored results
+name a file that ``replay`` and the workers of a sweep load again. A file is
+loaded afresh when its text changes.
+
+>>> split_external("/tmp/my alg.py:Centre:k=1,j=2")
+('/tmp/my alg.py', 'Centre', {'k': '1', 'j': '2'})
+>>> split_external("mypkg.algs:Centre")
+('mypkg.algs', 'Centre', {})
+>>> split_external("paper:alpha=mer_f") is None
+True
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import importlib.util
+import os
+import sys
+from importlib import metadata
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+ENTRY_POINT_GROUP = "gather_verify.algorithms"
+
+
+def parse_options(rest: str, spec: str) -> dict[str, str]:
+    """``key=value,...`` as a dict; ValueError names the bad item."""
+    options: dict[str, str] = {}
+    for item in filter(None, rest.split(",")):
+        key, eq, value = item.partition("=")
+        if not eq or not key.strip():
+            raise ValueError(f"bad algorithm option {item!r} in {spec!r}: expected key=value")
+        options[key.strip()] = value.strip()
+    return options
+
+
+def split_external(spec: str) -> tuple[str, str, dict[str, str]] | None:
+    """``(path or module, NAME, options)`` of a file or module spec; None for a plain name."""
+    at = spec.find(".py:")
+    if at >= 0:
+        where, rest = spec[:at + 3], spec[at + 4:]
+    else:
+        where, colon, rest = spec.partition(":")
+        if not colon or "=" in rest.partition(":")[0] or not _is_module_path(where):
+            return None
+    name, _, options = rest.partition(":")
+    if not name.strip() or "=" in name:
+        raise ValueError(f"algorithm {spec!r}: name the class or factory after the colon, "
+                         f"e.g. {where}:MyAlgorithm")
+    return where.strip(), name.strip(), parse_options(options, spec)
+
+
+def _is_module_path(text: str) -> bool:
+    parts = text.strip().split(".")
+    return len(parts) > 1 and all(p.isidentifier() for p in parts)
+
+
+def is_path_spec(spec: str) -> bool:
+    """Whether ``spec`` names a ``.py`` file."""
+    return ".py:" in spec
+
+
+def absolute_spec(spec: str, base: str | Path | None = None) -> str:
+    """``spec`` with a relative file path taken from ``base`` (a folder; default the
+    working directory) and made absolute; other specs unchanged.
+
+    >>> absolute_spec("alg.py:A:k=1", "/data/x")
+    '/data/x/alg.py:A:k=1'
+    >>> absolute_spec("paper", "/data/x")
+    'paper'
+    """
+    if not is_path_spec(spec):
+        return spec
+    at = spec.find(".py:")
+    path = os.path.expanduser(spec[:at + 3])
+    full = os.path.normpath(os.path.join(base or os.getcwd(), path))
+    return full + spec[at + 3:]
+
+
+def relative_spec(spec: str, folder: str | Path) -> str:
+    """``spec`` with its file path relative to ``folder`` (what a scenario file written there
+    stores, so the folder and the algorithm can move together)."""
+    if not is_path_spec(spec):
+        return spec
+    at = spec.find(".py:")
+    rel = os.path.relpath(spec[:at + 3], os.path.abspath(folder))
+    return rel.replace(os.sep, "/") + spec[at + 3:]
+
+
+_FILES: dict[str, tuple[bytes, ModuleType]] = {}
+"""Modules loaded from files: by absolute path, with the digest of the text they ran."""
+
+
+def load_file(path: str) -> ModuleType:
+    """The module of a ``.py`` file, executed again when the file's text changed. Its folder
+    goes on ``sys.path`` (as for a script), so it imports its neighbours."""
+    try:
+        text = Path(path).read_bytes()
+    except OSError as error:
+        raise ValueError(f"algorithm file {path}: cannot read ({error.strerror or error})") from None
+    digest = hashlib.sha256(text).digest()
+    known = _FILES.get(path)
+    if known is not None and known[0] == digest:
+        return known[1]
+    folder = os.path.dirname(path)
+    if folder not in sys.path:
+        sys.path.insert(0, folder)
+    name = f"gather_verify_user_{Path(path).stem}_{digest.hex()[:12]}"
+    loader_spec = importlib.util.spec_from_file_location(name, path)
+    if loader_spec is None or loader_spec.loader is None:
+        raise ValueError(f"algorithm file {path}: not a Python module")
+    module = importlib.util.module_from_spec(loader_spec)
+    sys.modules[name] = module  # classes defined there pickle by this name
+    try:
+        loader_spec.loader.exec_module(module)
+    except Exception as error:
+        del sys.modules[name]
+        raise ValueError(f"algorithm file {path}: importing it failed: "
+                         f"{type(error).__name__}: {error}") from None
+    _FILES[path] = (digest, module)
+    return module
+
+
+def load_module(name: str) -> ModuleType:
+    try:
+        return importlib.import_module(name)
+    except ImportError as error:
+        raise ValueError(f"algorithm module {name!r}: cannot import it ({error})") from None
+
+
+def entry_point_factory(name: str) -> Any | None:
+    """The factory an installed package registers under ``name``, if any."""
+    for point in metadata.entry_points(group=ENTRY_POINT_GROUP):
+        if point.name == name:
+            try:
+                return point.load()
+            except Exception as error:
+                raise ValueError(f"algorithm {name!r} (entry point {point.value}): "
+                                 f"loading it failed: {type(error).__name__}: {error}") from None
+    return None
+
+
+def entry_point_names() -> list[str]:
+    return sorted(point.name for point in metadata.entry_points(group=ENTRY_POINT_GROUP))
+
+
+def instantiate(target: Any, options: dict[str, str], spec: str) -> Any:
+    """``target`` itself when it has ``decide`` (an instance), else ``target(**options)``."""
+    if hasattr(target, "decide") and not isinstance(target, type):
+        if options:
+            raise ValueError(f"algorithm {spec!r}: an object takes no options")
+        algorithm = target
+    elif callable(target):
+        try:
+            algorithm = target(**options)
+        except TypeError as error:
+            raise ValueError(f"bad options for algorithm {spec!r}: {error}") from None
+    else:
+        raise ValueError(f"algorithm {spec!r}: not a class, a factory or an object with decide")
+    if not callable(getattr(algorithm, "decide", None)):
+        raise ValueError(f"algorithm {spec!r}: the object it gives has no decide(view) method")
+    return algorithm
+
+
+def load_external(spec: str) -> tuple[Any, Any]:
+    """``(factory or object, module)`` of a file or module spec (the path already absolute)."""
+    where, name, _ = split_external(spec)  # type: ignore[misc]
+    module = load_file(where) if is_path_spec(spec) else load_module(where)
+    try:
+        return getattr(module, name), module
+    except AttributeError:
+        raise ValueError(f"algorithm {spec!r}: {where} defines no {name!r}") from None
