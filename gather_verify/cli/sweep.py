@@ -26,7 +26,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--meeting", type=count_range, required=True,
                    help="meeting nodes m, or a range A-B")
     p.add_argument("--box", type=parse_box, required=True, help="box of nodes, WxH")
-    p.add_argument("--algorithm", default="paper")
+    p.add_argument("--algorithm", default="paper",
+                   help="a name, FILE.py:NAME or package.module:NAME (docs/algorithms.md)")
     p.add_argument("--scheduler", choices=("fsync", "ssync", "async"), default="async")
     p.add_argument("--multiplicity", default="local-weak", help="detection model")
     p.add_argument("--frames", default="all", choices=("all", "chirality", "compass"))
@@ -34,6 +35,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="property to check (repeat; default: all)")
     p.add_argument("--no-reduction", action="store_true")
     p.add_argument("--db", default=DEFAULT_DB, help=f"results database (default {DEFAULT_DB})")
+    p.add_argument("--fresh", action="store_true",
+                   help="drop the stored rows of these settings and compute every one again "
+                        "(rows of an edited algorithm are never reused anyway: they are keyed "
+                        "by its source's fingerprint)")
     p.add_argument("--workers", type=bounded_int(1, 512), default=None,
                    help="local processes (default: the number of cores)")
     p.add_argument("--dask", metavar="local|ADDRESS", default=None,
@@ -71,6 +76,9 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.sweeps.census import validate_census_arguments
     from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
 
+    from gather_verify.algorithms.loading import absolute_spec
+
+    args.algorithm = absolute_spec(args.algorithm)  # the workers load the same file
     get_algorithm(args.algorithm)  # unknown names fail before any work
     writable_outputs(junit=args.junit)
     check_detection(args.multiplicity)
@@ -91,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
     ) for n in args.robots for m in args.meeting]
     try:
         summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
-                            progress=not args.json, limit=args.limit)
+                            progress=not args.json, limit=args.limit, fresh=args.fresh)
     except KeyboardInterrupt:
         print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
               "run the same command again to resume", file=sys.stderr)
