@@ -24,10 +24,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from gather_verify.render import render_trace, trace_svg
-    from gather_verify.replay import replay
+    from gather_verify.replay import NoLongerReproduces, Replayed, replay
     from gather_verify.trace import load_trace
-
-    from gather_verify.replay import NoLongerReproduces, Replayed
 
     trace = load_trace(args.trace)
     try:

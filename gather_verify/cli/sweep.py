@@ -71,12 +71,11 @@ def count_range(text: str) -> range:
 
 def run(args: argparse.Namespace) -> int:
     from gather_verify.algorithms import get_algorithm
+    from gather_verify.algorithms.loading import absolute_spec
     from gather_verify.algorithms.moves import frames_for
     from gather_verify.model.view import check_detection
     from gather_verify.sweeps.census import validate_census_arguments
     from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
-
-    from gather_verify.algorithms.loading import absolute_spec
 
     args.algorithm = absolute_spec(args.algorithm)  # the workers load the same file
     get_algorithm(args.algorithm)  # unknown names fail before any work
