@@ -18,7 +18,7 @@ from gather_verify.algorithms.base import AlgorithmCrash
 from gather_verify.cli.common import EXIT_INTERRUPTED, EXIT_USAGE, EXIT_VIOLATED, UsageError
 
 COMMANDS = ("classify", "census", "simulate", "check", "replay", "sweep", "report",
-            "impossibility", "mutants", "bench")
+            "impossibility", "mutants", "bench", "test")
 
 
 class _Parser(argparse.ArgumentParser):
