@@ -4,6 +4,11 @@ The pipeline, one module per concept: configuration -> symmetry -> strings ->
 classes; view -> algorithm -> move sets -> scheduler -> explorer -> properties
 -> verdict and trace.
 
+The API in one call (docs/api.md): :func:`check` returns a typed :class:`CheckReport`.
+
+>>> import gather_verify as gv
+>>> gv.check(robots=[(0, 0), (3, 1), (1, 4)], meeting=[(2, 2)], algorithm="go-to-target").verdict
+'VERIFIED'
 >>> from gather_verify import classify, run_check, Configuration
 >>> classify([(0, 0), (3, 1), (1, 4)], [(2, 2)]).name
 'I13'
@@ -14,12 +19,14 @@ classes; view -> algorithm -> move sets -> scheduler -> explorer -> properties
 ('VERIFIED', 2184, 7032)
 """
 
-from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, register
+from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, register
 from gather_verify.algorithms.go_to_target import GoToTarget
 from gather_verify.algorithms.moves import move_set, move_sets
 from gather_verify.algorithms.nearest_centre import NearestCentre
 from gather_verify.algorithms.paper import PaperAlgorithm
 from gather_verify.algorithms.random_equivariant import RandomEquivariant
+from gather_verify.api import CheckReport, PropertyResult
+from gather_verify.api import check as _check
 from gather_verify.check import run_check
 from gather_verify.engine.explore import Exploration, Limits, explore
 from gather_verify.impossibility import ImpossibilityResult, check_impossibility
@@ -40,12 +47,18 @@ from gather_verify.sweeps.census import Census, canonical, census, enumerate_con
 from gather_verify.sweeps.sweep import SweepSettings, run_sweep
 from gather_verify.trace import load_trace
 
+check = _check
+"""The API's entry point (:func:`gather_verify.api.check`). Bound after the imports above:
+importing the module ``gather_verify.check`` binds the package attribute to it, once."""
+
 __all__ = [
     "CLASS_NAMES",
     "PROPERTIES",
     "Algorithm",
+    "AlgorithmCrash",
     "Automorphism",
     "Census",
+    "CheckReport",
     "Classification",
     "Configuration",
     "Exploration",
@@ -54,6 +67,7 @@ __all__ = [
     "Limits",
     "MultiplicityHidden",
     "NearestCentre",
+    "PropertyResult",
     "PaperAlgorithm",
     "RandomEquivariant",
     "Run",
@@ -65,6 +79,7 @@ __all__ = [
     "automorphisms",
     "canonical",
     "census",
+    "check",
     "check_impossibility",
     "check_property_names",
     "classify",

@@ -28,6 +28,8 @@ from typing import Any
 from gather_verify import properties as props
 from gather_verify.engine.explore import (
     DEFAULT_MARGIN,
+    DEFAULT_MAX_SECONDS,
+    DEFAULT_MAX_STATES,
     PSEUDO,
     Exploration,
     Limits,
@@ -96,8 +98,8 @@ def run_check(
     frames: str = "all",
     properties: Sequence[str] | None = None,
     reduction: bool = True,
-    max_states: int,
-    max_seconds: float,
+    max_states: int = DEFAULT_MAX_STATES,
+    max_seconds: float = DEFAULT_MAX_SECONDS,
     move_bound_c: float = 4.0,
     force: bool = False,
     engine: str = "auto",
