@@ -101,25 +101,47 @@ def relative_spec(spec: str, folder: str | Path) -> str:
     return rel.replace(os.sep, "/") + spec[at + 3:]
 
 
-_FILES: dict[str, tuple[bytes, ModuleType]] = {}
-"""Modules loaded from files: by absolute path, with the digest of the text they ran."""
+_FILES: dict[str, tuple[tuple[tuple[str, int, int], ...], ModuleType]] = {}
+"""Modules loaded from files: by absolute path, with the stamps (path, mtime, size) of the
+file and of the local modules it imports, when it ran."""
+
+
+def _stamps(files: list[Path]) -> tuple[tuple[str, int, int], ...]:
+    out = []
+    for f in files:
+        try:
+            st = f.stat()
+            out.append((str(f), st.st_mtime_ns, st.st_size))
+        except OSError:
+            out.append((str(f), -1, -1))
+    return tuple(out)
 
 
 def load_file(path: str) -> ModuleType:
-    """The module of a ``.py`` file, executed again when the file's text changed. Its folder
-    goes on ``sys.path`` (as for a script), so it imports its neighbours."""
+    """The module of a ``.py`` file, executed again when it or a local module it imports
+    changed (those are imported afresh too). Its folder goes on ``sys.path`` (as for a
+    script), so it imports its neighbours."""
+    from gather_verify.fingerprint import local_sources
+
+    if not os.path.isfile(path):
+        raise ValueError(f"algorithm file {path}: no such file")
+    known = _FILES.get(path)
+    if known is not None and _stamps([Path(f) for f, _, _ in known[0]]) == known[0]:
+        return known[1]
+    files = local_sources(path)
+    stamps = _stamps(files)
+    for name, module in list(sys.modules.items()):  # stale neighbours: import them again
+        where = getattr(module, "__file__", None)
+        if where and Path(where).resolve() in files:
+            del sys.modules[name]
+    folder = os.path.dirname(path)
+    if folder not in sys.path:
+        sys.path.insert(0, folder)
     try:
         text = Path(path).read_bytes()
     except OSError as error:
         raise ValueError(f"algorithm file {path}: cannot read ({error.strerror or error})") from None
-    digest = hashlib.sha256(text).digest()
-    known = _FILES.get(path)
-    if known is not None and known[0] == digest:
-        return known[1]
-    folder = os.path.dirname(path)
-    if folder not in sys.path:
-        sys.path.insert(0, folder)
-    name = f"gather_verify_user_{Path(path).stem}_{digest.hex()[:12]}"
+    name = f"gather_verify_user_{Path(path).stem}_{hashlib.sha256(text).hexdigest()[:12]}"
     loader_spec = importlib.util.spec_from_file_location(name, path)
     if loader_spec is None or loader_spec.loader is None:
         raise ValueError(f"algorithm file {path}: not a Python module")
@@ -131,7 +153,7 @@ def load_file(path: str) -> ModuleType:
         del sys.modules[name]
         raise ValueError(f"algorithm file {path}: importing it failed: "
                          f"{type(error).__name__}: {error}") from None
-    _FILES[path] = (digest, module)
+    _FILES[path] = (stamps, module)
     return module
 
 
