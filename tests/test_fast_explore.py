@@ -110,7 +110,8 @@ def test_scenarios_same_report(path, algorithm):
 
 
 ALGORITHMS = ["go-to-target", "paper", "broken-away", "broken-stay", "broken-drift",
-              "broken-wander", "broken-undefined"]
+              "broken-wander", "broken-undefined", "broken-crash", "broken-answer",
+              "broken-crash-target"]
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -85,7 +85,44 @@ class Undefined(GoToTarget):
         return super().decide(view)
 
 
-BROKEN = {cls.name: cls for cls in (Away, Stay, Drift, Wander, Undefined)}
+class Crash(GoToTarget):
+    """Divides by zero one step from the target (a bug: ``crash`` fails)."""
+
+    name = "broken-crash"
+
+    def decide(self, view: View) -> Node:
+        target = nearest(view.meeting_nodes, ORIGIN)
+        if target is not None and manhattan(ORIGIN, target) == 1:
+            return (1 // (manhattan(ORIGIN, target) - 1), 0)
+        return super().decide(view)
+
+
+class BadAnswer(GoToTarget):
+    """Answers a jump of two nodes one step from the target (not a move: ``crash`` fails)."""
+
+    name = "broken-answer"
+
+    def decide(self, view: View) -> Node:
+        target = nearest(view.meeting_nodes, ORIGIN)
+        if target is not None and manhattan(ORIGIN, target) == 1:
+            return (2 * target[0], 2 * target[1])
+        return super().decide(view)
+
+
+class CrashTarget(GoToTarget):
+    """Its ``target`` fails with a KeyError once a robot is one step from a meeting node."""
+
+    name = "broken-crash-target"
+
+    def target(self, configuration: Configuration) -> Node | None:
+        if any(manhattan(v, m) == 1 for v in configuration.robots
+               for m in configuration.meeting_nodes):
+            raise KeyError("no plan for a robot next to a meeting node")
+        return super().target(configuration)
+
+
+BROKEN = {cls.name: cls for cls in (Away, Stay, Drift, Wander, Undefined, Crash, BadAnswer,
+                                    CrashTarget)}
 
 
 def register_broken() -> None:
