@@ -8,7 +8,6 @@ move; the target really changes; a cycle really returns and is fair; ...).
 
 >>> from gather_verify.check import run_check
 >>> from gather_verify.model.configuration import Configuration
-from gather_verify.model.geometry import STEPS, add
 >>> r = run_check(Configuration([(0, 0), (2, 1)], [(1, 1)], initial=True), algorithm="go-to-target",
 ...               scheduler="fsync", max_states=1000, max_seconds=10, move_bound_c=0.1)
 >>> replay(r["trace"]).confirmed
