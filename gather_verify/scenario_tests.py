@@ -149,10 +149,21 @@ def _run_verdict(case: Case) -> Outcome:
              render_trace(trace) if trace else "(no trace)",
              f"reproduce: {reproduce_command(case.scenario, expectation)}"]
     if trace:
-        lines.append("replay: write the trace with --trace-out FILE, then "
-                     "gather-verify replay FILE")
+        lines.append(f"replay: gather-verify replay {shlex.quote(_saved(trace))}")
     return Outcome(case.name, False, "\n".join(lines),
                    report.get("property") or expectation.property, trace)
+
+
+def _saved(trace: dict[str, Any]) -> str:
+    """The trace written to a temporary file, so the replay command can name it."""
+    import json
+    import os
+    import tempfile
+
+    handle, path = tempfile.mkstemp(prefix="gather-verify-trace-", suffix=".json")
+    with os.fdopen(handle, "w", encoding="utf-8") as out:
+        out.write(json.dumps(trace, indent=1) + "\n")
+    return path
 
 
 def _run_replay(case: Case) -> Outcome:

@@ -264,6 +264,8 @@ def test_gather_verify_test_and_junit(tmp_path: Path, capsys) -> None:
     out = capsys.readouterr().out
     assert "FAIL" in out and "bad.json[broken-stay/fsync]: expected VERIFIED, got VIOLATED" in out
     assert "reproduce: gather-verify check" in out and " M " in out  # the trace as grids
+    saved = out.split("replay: gather-verify replay ", 1)[1].split()[0]
+    assert main(["replay", saved, "--quiet"]) == 1
     xml = junit.read_text()
     assert 'failures="1"' in xml and "property: final" in xml and "step 1" in xml
     (folder / "bad.json").unlink()
