@@ -316,3 +316,25 @@ def test_abbreviations_and_semicolons_are_refused(capsys) -> None:
     assert main(["check", "--robots", "0,0;3,1", "--meeting", "2,2"]) == 2
     err = capsys.readouterr().err
     assert "unrecognized arguments: --robot" in err and "separate points with spaces" in err
+
+
+def test_a_worker_without_the_file_receives_it(tmp_path: Path) -> None:
+    """A Dask worker on another machine: the sweep ships the algorithm's files with the task;
+    the worker loads its copy under the original path (the file is gone here)."""
+    from gather_verify.algorithms.loading import ship
+    from gather_verify.sweeps.sweep import SweepSettings, _run_task
+
+    path = write_algorithm(tmp_path / "away", "plug_helper_h")
+    sources = ship({f"{path}:Home:lazy=1", "paper"})
+    assert sorted(sources[path]) == ["home_alg.py", "plug_helper_h.py"]
+    moved = str(tmp_path / "elsewhere" / "home_alg.py")  # a path this process does not see
+    settings = SweepSettings(robots=2, meeting=1, box=(3, 3), algorithm=f"{moved}:Home",
+                             scheduler="fsync")
+    chunk = [(0, TWO)]
+    with pytest.raises(ValueError, match="no such file"):
+        _run_task((1, settings, chunk))
+    _, rows = _run_task((1, settings, chunk), sources={moved: sources[path]})
+    assert rows[0]["verdict"] == "VERIFIED"
+    edited = {**sources[path], "plug_helper_h.py": "def step(target):\n    return (0, 0)\n"}
+    _, rows = _run_task((1, settings, chunk), sources={moved: edited})  # a later, edited one
+    assert rows[0]["verdict"] == "VIOLATED"

@@ -123,6 +123,8 @@ def load_file(path: str) -> ModuleType:
     script), so it imports its neighbours."""
     from gather_verify.fingerprint import local_sources
 
+    if not os.path.isfile(path) and path in _RECEIVED:  # a worker that was sent the files
+        path = _RECEIVED[path][1]
     if not os.path.isfile(path):
         raise ValueError(f"algorithm file {path}: no such file")
     known = _FILES.get(path)
@@ -130,13 +132,14 @@ def load_file(path: str) -> ModuleType:
         return known[1]
     files = local_sources(path)
     stamps = _stamps(files)
-    for name, module in list(sys.modules.items()):  # stale neighbours: import them again
-        where = getattr(module, "__file__", None)
-        if where and Path(where).resolve() in files:
-            del sys.modules[name]
     folder = os.path.dirname(path)
-    if folder not in sys.path:
-        sys.path.insert(0, folder)
+    for f in files:  # its neighbours, imported again (from this folder) when it imports them
+        if f.is_relative_to(folder) and f != Path(path).resolve():
+            parts = f.relative_to(folder).with_suffix("").parts
+            sys.modules.pop(".".join(parts[:-1] if parts[-1] == "__init__" else parts), None)
+    if folder in sys.path:
+        sys.path.remove(folder)
+    sys.path.insert(0, folder)
     try:
         text = Path(path).read_bytes()
     except OSError as error:
@@ -155,6 +158,44 @@ def load_file(path: str) -> ModuleType:
                          f"{type(error).__name__}: {error}") from None
     _FILES[path] = (stamps, module)
     return module
+
+
+_RECEIVED: dict[str, tuple[str, str]] = {}
+"""Algorithm files this process does not see, by their path on the machine that sent them:
+the path of a copy of the files it received."""
+
+
+def ship(specs: set[str]) -> dict[str, dict[str, str]]:
+    """For each file spec, its path and the text of the file and of the local modules it
+    imports (relative to its folder): what a worker on another machine needs to load it."""
+    from gather_verify.fingerprint import local_sources
+
+    out = {}
+    for spec in specs:
+        external = split_external(spec) if is_path_spec(spec) else None
+        if external is None:
+            continue
+        path = external[0]
+        folder = Path(path).resolve().parent
+        out[path] = {str(f.relative_to(folder)): f.read_text(encoding="utf-8")
+                     for f in local_sources(path) if f.is_relative_to(folder)}
+    return out
+
+
+def receive(sources: dict[str, dict[str, str]]) -> None:
+    """Make shipped algorithm files loadable here under their original paths (a private
+    folder holds the copies; a file this process sees itself is used as it is)."""
+    import tempfile
+
+    for path, files in sources.items():
+        digest = hashlib.sha256(repr(sorted(files.items())).encode()).hexdigest()
+        if os.path.isfile(path) or _RECEIVED.get(path, ("",))[0] == digest:
+            continue
+        folder = Path(tempfile.mkdtemp(prefix="gather-verify-received-"))
+        for name, text in files.items():
+            (folder / name).parent.mkdir(parents=True, exist_ok=True)
+            (folder / name).write_text(text, encoding="utf-8")
+        _RECEIVED[path] = (digest, str(folder / Path(path).name))
 
 
 def load_module(name: str) -> ModuleType:

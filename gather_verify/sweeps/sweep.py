@@ -226,9 +226,16 @@ def _ignore_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-def _run_task(task: Task) -> tuple[int, list[dict[str, Any]]]:
-    """Worker entry point (picklable for process pools and Dask)."""
+def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None
+              ) -> tuple[int, list[dict[str, Any]]]:
+    """Worker entry point (picklable for process pools and Dask). ``sources``: the text of
+    the algorithm files (:func:`gather_verify.algorithms.loading.ship`), for a worker that
+    does not see them (a Dask cluster on other machines)."""
     sweep, settings, chunk = task
+    if sources:
+        from gather_verify.algorithms.loading import receive
+
+        receive(sources)
     return sweep, verify_chunk(settings, chunk)
 
 
@@ -246,7 +253,10 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None
     else:
         client = Client(address)
     try:
-        futures = client.map(_run_task, tasks, pure=False)
+        from gather_verify.algorithms.loading import ship
+
+        sources = ship({settings.algorithm for _, settings, _ in tasks}) or None
+        futures = client.map(_run_task, tasks, sources=sources, pure=False)
         for future in as_completed(futures):
             yield future.result()
     finally:
