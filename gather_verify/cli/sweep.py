@@ -112,6 +112,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         format_summary(summary)
         print(f"\nresults: {os.path.abspath(args.db)}")
+        if summary["settings"]:
+            print(f"algorithm fingerprint: {summary['settings']['fingerprint']} (its source, "
+                  "options and gather-verify's version: an edit computes again)")
     verdicts = {v for by in summary["verdicts"].values() for v in by}
     if "VIOLATED" in verdicts:
         return 1
