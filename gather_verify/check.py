@@ -26,6 +26,7 @@ from dataclasses import replace
 from typing import Any
 
 from gather_verify import properties as props
+from gather_verify.algorithms.base import Algorithm
 from gather_verify.engine.explore import (
     DEFAULT_MARGIN,
     DEFAULT_MAX_SECONDS,
@@ -92,7 +93,7 @@ def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
 def run_check(
     configuration: Configuration,
     *,
-    algorithm: str,
+    algorithm: str | Algorithm,
     scheduler: str,
     detection: str = "local-weak",
     frames: str = "all",
@@ -130,7 +131,8 @@ def run_check(
         "limits": {"max_states": max_states, "max_seconds": max_seconds,
                    "max_memory_mb": lim.max_memory_mb, "margin": lim.margin,
                    "margin_auto": fixed_margin is None},
-        "algorithm": algorithm, "scheduler": scheduler, "detection": detection, "frames": frames,
+        "algorithm": algorithm if isinstance(algorithm, str) else algorithm.name,
+        "scheduler": scheduler, "detection": detection, "frames": frames,
         "reduction": reduction,
     }
     if (cls.in_U or cls.name == "UNCLASSIFIED") and not force:
