@@ -25,6 +25,7 @@ False
 
 from __future__ import annotations
 
+import contextlib
 import html
 import json
 from importlib import resources
@@ -91,10 +92,8 @@ def _state_info(algorithm: Any, trace: dict[str, Any], robots: list[tuple[int, i
         out["class"] = f"? ({error})"
     if algorithm is None:
         return out
-    try:
+    with contextlib.suppress(Unhandled):
         out["target"] = _node(target_of(algorithm, conf))
-    except Unhandled:
-        pass
     plan = getattr(algorithm, "plan", None)
     if plan is not None:
         try:
