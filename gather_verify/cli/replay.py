@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from gather_verify.cli.common import EXIT_OK, EXIT_VIOLATED, print_json
+from gather_verify.cli.common import EXIT_OK, EXIT_VIOLATED, print_json, writable_outputs
 
 HELP = "re-execute a counterexample trace and confirm its violation independently"
 
@@ -27,7 +27,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from gather_verify.render import render_trace, trace_svg
     from gather_verify.replay import replay
-    from gather_verify.cli.common import writable_outputs
     from gather_verify.trace import load_trace
 
     writable_outputs(svg=args.svg, html=args.html)
