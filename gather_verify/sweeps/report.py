@@ -299,15 +299,15 @@ VERDICT_COLOURS = {"VERIFIED": "#2e7d32", "VIOLATED": "#c62828", "INCOMPLETE": "
 MARKERS = "os^Dv<>p*h"
 
 
-def write_plot(db_path: str, out: str) -> None:
+def write_plot(db_path: str, out: str) -> list[str]:
     """Scatter of the largest total moves against D·n, one series per verdict (and per batch
     when there are several), marker area growing with the number of configurations on a
-    point, and the line c·D·n of each batch's move bound (matplotlib)."""
-    _plot([(common, [r for _, rs in sweeps for r in rs]) for common, sweeps in batches(db_path)],
+    point, and the line c·D·n of each batch's move bound (matplotlib). Returns the legend."""
+    return _plot([(common, [r for _, rs in sweeps for r in rs]) for common, sweeps in batches(db_path)],
           out)
 
 
-def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -> None:
+def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -> list[str]:
     try:
         import matplotlib
 
@@ -346,7 +346,8 @@ def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -
     ax.set_xlim(left=0)
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="upper left")
+    legend = ax.legend(fontsize=8, loc="upper left")
     fig.tight_layout()
     fig.savefig(out, dpi=100)
     plt.close(fig)
+    return [t.get_text() for t in legend.get_texts()]
