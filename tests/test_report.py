@@ -67,6 +67,19 @@ def test_one_page_with_settings_table_links_and_viewers(db, tmp_path):
     assert (tmp_path / "report-files" / "plot-1.png").is_file()
 
 
+def test_long_lists_are_cut_and_say_so(db, tmp_path, monkeypatch):
+    import gather_verify.sweeps.report as report
+
+    monkeypatch.setattr(report, "LIST_LIMIT", 1)
+    out = tmp_path / "r.html"
+    write_html(str(db), str(out))
+    page = out.read_text()
+    cut = [int(n) for _, n in re.findall(r"<a href='#(list-[^']+)'>(\d+)</a>", page) if int(n) > 1]
+    assert cut and page.count("The first 1 of ") == len(cut)
+    for section in re.findall(r"<section class='list'.*?</section>", page, re.S):
+        assert section.count("<tr><td>") == 1
+
+
 def test_smallest_counterexample_is_shown(db, tmp_path):
     from gather_verify.sweeps.report import _smallest, load_sweeps
 

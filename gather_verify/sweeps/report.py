@@ -31,6 +31,9 @@ def summaries(db_path: str) -> list[dict[str, Any]]:
     return out
 
 
+LIST_LIMIT = 1000
+"""Configurations listed per table cell (the page of a 40,000-configuration sweep stays a
+few megabytes); the list says how many it leaves out."""
 BATCH_AXES = ("robots", "meeting")
 """Settings that vary inside one batch: ``sweep --robots 2-3 --meeting 2-4`` stores one sweep
 per (n, m) with everything else equal, and the report shows them as one batch."""
@@ -203,7 +206,7 @@ def _filtered_list(anchor: str, c: str, verdict: str, prop: str, found: list[dic
                    common: dict[str, Any]) -> str:
     """The configurations of one table cell, each with the command that re-checks it."""
     items = []
-    for r in found:
+    for r in found[:LIST_LIMIT]:
         command = (f"gather-verify check --robots \"{_nodes(r['robots'])}\" --meeting "
                    f"\"{_nodes(r['meeting_nodes'])}\" --algorithm {common.get('algorithm')} "
                    f"--scheduler {common.get('scheduler')}"
@@ -219,7 +222,10 @@ def _filtered_list(anchor: str, c: str, verdict: str, prop: str, found: list[dic
             "configuration(s) <a href='#top'>↑ back to the table</a></h4>"
             "<table><tr><th>n</th><th>m</th><th>robots</th><th>meeting nodes</th><th>max moves"
             "</th><th>moves / (D·n)</th><th>reason</th><th>re-check</th></tr>"
-            + "".join(items) + "</table></section>")
+            + "".join(items) + "</table>"
+            + (f"<p class='note'>The first {LIST_LIMIT} of {len(found)} are listed; "
+               "<code>gather-verify report --db DB --json</code> has the totals, the database "
+               "every row.</p>" if len(found) > LIST_LIMIT else "") + "</section>")
 
 
 STYLE = """
