@@ -262,6 +262,20 @@ def test_browser_livelock_and_deadlock_pages_load_cleanly(web, tmp_path):
     assert web.errors == [] and web.remote == []
 
 
+def test_browser_trace_without_events(web, tmp_path):
+    """A violation in the initial state (no event at all) still shows the state and the end."""
+    from gather_verify.model.configuration import Configuration
+    from gather_verify.trace import build_trace
+
+    trace = build_trace(Configuration([(0, 0), (1, 0)], [(3, 3)], initial=True), "go-to-target",
+                        "async", "local-weak", "all", [], "final", "an initial deadlock")
+    page = open_viewer(web, tmp_path, trace)
+    assert shown(web) == expected(trace, 0)
+    page.keyboard.press("ArrowRight")
+    assert shown(web)["step"] == 0 and "final fails" in page.inner_text("#end")
+    assert web.errors == [] and web.remote == []
+
+
 @pytest.mark.parametrize("broken", ["throw", "wrong-state"])
 def test_browser_test_catches_a_broken_viewer(web, tmp_path, broken):
     """The browser checks fail on a viewer that errors or shows the wrong state."""
