@@ -19,8 +19,9 @@ that snapshot beside the current configuration.
 >>> data = annotate(r["trace"])
 >>> data["states"][0]["class"], data["states"][0]["target"]
 ('I13', [1, 1])
->>> "<script src" in viewer_html(r["trace"]) or "http://" in viewer_html(r["trace"])
-False
+>>> page = viewer_html(r["trace"])
+>>> "<script src" in page, "<link" in page, "https://" in page
+(False, False, False)
 """
 
 from __future__ import annotations
