@@ -201,6 +201,9 @@ def test_browser_steps_through_the_trace(web, tmp_path):
     for k in range(n - 1, 2, -1):  # back with the button
         page.click("#prev")
         assert shown(web) == expected(trace, k)
+    changed = page.eval_on_selector_all("#robots td.changed", "ts => ts.map(t => "
+                                        "[t.closest('tr').dataset.robot, t.className])")
+    assert changed == [["1", "node changed"], ["1", "pending changed"]]  # event 3: r1 moved
     page.fill("#slider", "5")  # the slider
     assert shown(web) == expected(trace, 5)
     assert "Stale snapshot" in page.inner_text("#decision")
