@@ -287,7 +287,7 @@ def trace_svg(trace: dict[str, Any]) -> str:
     return "\n".join(out) + "\n"
 
 
-def thumbnail_svg(trace: dict[str, Any], cell: int = 20, uid: str = "t") -> str:
+def thumbnail_svg(trace: dict[str, Any], cell: int = 26, uid: str = "t") -> str:
     """A small picture of a counterexample (for reports): the initial and the last
     configuration side by side, robots coloured by identity, pending moves as arrows
     (``uid`` keeps the arrowhead ids of several thumbnails on one page apart)."""
