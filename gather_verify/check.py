@@ -31,9 +31,10 @@ from gather_verify.engine.explore import (
     Exploration,
     Limits,
     Violation,
-    explore,
 )
 from gather_verify.engine.resources import memory_budget_mb
+from gather_verify.engine.search import explore
+from gather_verify.errors import InvalidInput
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.trace import build_trace
@@ -109,7 +110,7 @@ def run_check(
                  max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),
                  margin=DEFAULT_MARGIN if fixed_margin is None else fixed_margin)
     if limits:
-        raise ValueError(f"unknown limit(s): {', '.join(sorted(limits))}")
+        raise InvalidInput(f"unknown limit(s): {', '.join(sorted(limits))}")
     cls = classify_configuration(configuration)
     n, D = configuration.n, configuration.D
     report: dict[str, Any] = {

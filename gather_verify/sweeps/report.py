@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
+from gather_verify.errors import InvalidInput
 from gather_verify.sweeps.store import Store
 from gather_verify.sweeps.sweep import summarise
 
@@ -14,7 +15,7 @@ from gather_verify.sweeps.sweep import summarise
 def load_sweeps(db_path: str) -> list[tuple[dict[str, Any], list[dict[str, Any]]]]:
     """Every sweep in a results database with its rows."""
     if not Path(db_path).is_file():
-        raise ValueError(f"{db_path}: no such results database")
+        raise InvalidInput(f"{db_path}: no such results database")
     store = Store(db_path)
     try:
         return [(settings, store.results(i)) for i, settings in store.sweeps()]
@@ -85,7 +86,7 @@ def write_plot(db_path: str, out: str) -> None:
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        raise ValueError("--plot needs matplotlib: pip install 'gather-verify[plot]'") from None
+        raise InvalidInput("--plot needs matplotlib: pip install 'gather-verify[plot]'") from None
     fig, ax = plt.subplots(figsize=(6, 4.5))
     for settings, rows in load_sweeps(db_path):
         xs = [r["D"] * r["n"] for r in rows if r.get("max_moves") is not None and r.get("D") is not None]
