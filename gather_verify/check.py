@@ -21,7 +21,7 @@ components are decided there.
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -95,6 +95,7 @@ def run_check(
     force: bool = False,
     engine: str = "auto",
     memo: bool = False,
+    on_exploration: Callable[[Exploration], object] | None = None,
     **limits: Any,
 ) -> dict[str, Any]:
     """Check ``algorithm`` from ``configuration``; the report as a JSON-able dict.
@@ -102,7 +103,8 @@ def run_check(
     Extra ``limits``: ``max_memory_mb`` and ``margin``. Without a ``margin`` the
     region grows by itself: a search stopped by the region is run again with the
     margin doubled, up to ``AUTO_MARGIN_MAX`` (the same exact search on a larger
-    region, so the verdict stays honest; only the last run is reported)."""
+    region, so the verdict stays honest; only the last run is reported).
+    ``on_exploration`` receives that last search (``check --graph-out`` exports it)."""
     started = time.perf_counter()
     wanted = props.check_property_names(properties)
     fixed_margin = limits.pop("margin", None)
@@ -139,6 +141,8 @@ def run_check(
         e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
                     frames=frames, reduction=reduction, properties=wanted, limits=lim, memo=memo)
     report["limits"]["margin"] = lim.margin
+    if on_exploration is not None:
+        on_exploration(e)
     report.update(states=e.states, transitions=e.transitions, peak_rss_mb=round(e.peak_rss_mb, 1))
     results = report["properties"]
     traces: dict[str, dict[str, Any] | None] = {}
