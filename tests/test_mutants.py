@@ -107,3 +107,12 @@ def test_the_paper_keeps_no_function_that_exists_only_as_a_mutation_site() -> No
     from gather_verify.algorithms import paper
 
     assert not hasattr(paper, "_canonical_view")
+
+
+def test_cli_passes_through_with_the_mutants_registered(tmp_path, capsys) -> None:
+    trace = tmp_path / "t.json"
+    args = ["cli", "check", "--robots", "0,0 3,1", "--meeting", "2,2", "--scheduler", "fsync",
+            "--algorithm", "mutant-gtt-stops-one-short", "--trace-out", str(trace)]
+    assert main(args) == 1
+    assert "property final" in capsys.readouterr().out
+    assert main(["cli", "replay", str(trace)]) == 1  # 1: the violation is confirmed

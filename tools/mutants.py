@@ -9,6 +9,8 @@ repository's root::
     python -m tools.mutants --json     # one JSON object
     python -m tools.mutants --list     # the mutants
     python -m tools.mutants --mutant mutant-gtt-stops-one-short
+    python -m tools.mutants cli check --robots "0,0 1,1" --meeting "2,2" \
+        --algorithm mutant-gtt-stops-one-short   # any gather-verify command, mutants known
 
 A *mutant* is a real code mutation: the source of ``algorithms/paper.py`` or
 ``algorithms/go_to_target.py`` with one decision changed (a snippet replaced
@@ -429,7 +431,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     """``python -m tools.mutants``: the mutation score of the verifier (docs/reliability.md).
 
     Exit 0 when the score reaches the goal (95%), 1 when it does not, 2 on bad input
-    (an unknown mutant name, a scenario whose baseline is not VERIFIED)."""
+    (an unknown mutant name, a scenario whose baseline is not VERIFIED). ``cli ARGS...``
+    runs ``gather-verify ARGS...`` with the mutants registered (check or replay one)."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["cli"]:
+        from gather_verify.cli import main as gather_verify_main
+
+        register_mutants()
+        return gather_verify_main(argv[1:])
     parser = argparse.ArgumentParser(
         prog="python -m tools.mutants",
         description="run the explorer against deliberately broken algorithms and report the "
