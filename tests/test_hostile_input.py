@@ -255,7 +255,7 @@ def test_deeply_nested_json(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
 
 def test_unwritable_outputs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert_usage_error(["check", "--robots", "0,0", "--meeting", "1,1", "--algorithm",
-                        "mutant-gtt-stops-one-short", "--trace-out",
+                        "broken-stay", "--trace-out",
                         str(tmp_path / "no" / "such" / "dir" / "t.json")], capsys)
 
 
@@ -268,7 +268,7 @@ def good_trace() -> dict:
     from gather_verify.model.configuration import Configuration
 
     report = run_check(Configuration([(0, 0), (3, 1)], [(2, 2)], initial=True),
-                       algorithm="mutant-gtt-stops-one-short", scheduler="async",
+                       algorithm="broken-stay", scheduler="async",
                        max_states=10_000, max_seconds=60)
     assert report["verdict"] == "VIOLATED" and len(report["trace"]["steps"]) >= 3
     return report["trace"]
