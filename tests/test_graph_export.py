@@ -42,6 +42,13 @@ def test_a_graph_that_disagrees_with_the_scheduler_is_refused() -> None:
         to_networkx(e)
 
 
+def test_an_exploration_without_edges_is_refused() -> None:
+    from gather_verify.errors import InvalidInput
+
+    with pytest.raises(InvalidInput, match="graph=False"):
+        to_networkx(explore_fast(YARD, "go-to-target", "async", graph=False))
+
+
 def test_check_graph_out_graphml(tmp_path, capsys) -> None:
     out = tmp_path / "yard.graphml"
     assert main([*ARGS, "--scheduler", "ssync", "--no-reduction", "--graph-out", str(out)]) == 0

@@ -55,7 +55,11 @@ def to_networkx(e: Exploration) -> nx.DiGraph:
     """The reachable graph of ``e`` as a networkx ``DiGraph`` (see the module docstring).
 
     A search that stopped early (``e.stopped``) gives the part it explored; the graph
-    attribute ``stopped`` says why (empty when the search was complete)."""
+    attribute ``stopped`` says why (empty when the search was complete). A search run
+    with ``graph=False`` kept no edges: InvalidInput."""
+    if len(e.offsets) == 0 and e.states:
+        raise InvalidInput("this exploration kept no edges (graph=False): explore again with "
+                           "graph=True to export its graph")
     g = nx.DiGraph(
         algorithm=e.algorithm.name, scheduler=e.scheduler_name, detection=e.detection,
         frames=e.frames, meeting=" ".join(_node(m) for m in sorted(e.initial.meeting_nodes)),
