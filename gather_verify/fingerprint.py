@@ -19,18 +19,13 @@ old table.
 
 from __future__ import annotations
 
-import ast
 import hashlib
 import os
 import sys
-import sysconfig
 from functools import lru_cache
 from importlib import metadata
 from pathlib import Path
 from typing import Any
-
-_LIBRARY = {os.path.abspath(sysconfig.get_paths()[k])
-            for k in ("stdlib", "platstdlib", "purelib", "platlib")}
 
 
 def version() -> str:
@@ -39,60 +34,6 @@ def version() -> str:
         return metadata.version("gather-verify")
     except metadata.PackageNotFoundError:  # pragma: no cover - run from a source tree
         return "unknown"
-
-
-def _imports(path: Path) -> set[tuple[str, ...]]:
-    """Dotted names a module imports, as tuples (``from a import b``: both ``a`` and ``a.b``)."""
-    try:
-        tree = ast.parse(path.read_bytes(), filename=str(path))
-    except (OSError, SyntaxError, ValueError):
-        return set()
-    out: set[tuple[str, ...]] = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            out |= {tuple(alias.name.split(".")) for alias in node.names}
-        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            base = tuple(node.module.split("."))
-            out.add(base)
-            out |= {(*base, alias.name) for alias in node.names}
-    return out
-
-
-def _module_file(root: Path, parts: tuple[str, ...]) -> Path | None:
-    """The file of module ``parts`` under ``root`` (a module or a package's ``__init__``)."""
-    stem = root.joinpath(*parts)
-    for candidate in (stem.with_suffix(".py"), stem / "__init__.py"):
-        if candidate.is_file():
-            return candidate
-    return None
-
-
-def local_sources(module_file: str | Path, module_name: str | None = None) -> list[Path]:
-    """The module's file and every local module it imports, transitively (sorted; a
-    package's ``__init__`` counts, but what it imports is not followed).
-
-    Local: under the module's folder for a file loaded by path or a top-level module
-    (unless that folder is the standard library or site-packages: then the file alone);
-    under its top-level package for a module of a package."""
-    first = Path(module_file).resolve()
-    parts = (module_name or "").split(".")
-    if module_name and len(parts) > 1 and not module_name.startswith("gather_verify_user_"):
-        root = first.parents[len(parts) - (first.name != "__init__.py")]
-        scope = root / parts[0]
-    else:
-        root = scope = first.parent
-        if str(scope) in _LIBRARY:
-            return [first]
-    seen, todo = {first}, [first]
-    while todo:
-        for dotted in _imports(todo.pop()):
-            found = _module_file(root, dotted)
-            found = found and found.resolve()
-            if found is not None and found.is_relative_to(scope) and found not in seen:
-                seen.add(found)
-                if found.name != "__init__.py":  # a package's hub of re-exports: not followed
-                    todo.append(found)
-    return sorted(seen)
 
 
 @lru_cache(maxsize=256)
@@ -124,6 +65,8 @@ def _modules_of(spec: str) -> list[Any]:
 def algorithm_fingerprint(spec: str) -> dict[str, Any]:
     """``digest`` (16 hex digits) of the algorithm's source, spec and gather-verify's version,
     with the ``files`` it read (relative to their root where possible) and the ``version``."""
+    from gather_verify.algorithms.loading import local_sources
+
     files: set[Path] = set()
     for module in _modules_of(spec):
         files |= set(local_sources(module.__file__, module.__name__))

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from gather_verify.errors import InvalidInput
 from gather_verify.scenario import Expectation, Scenario, load_scenario
 
 CHECK_OPTIONS = {
@@ -45,7 +46,7 @@ def run_expectation(scenario: Scenario, expectation: Expectation) -> dict[str, A
 
     unknown = set(expectation.options) - CHECK_OPTIONS - {"slow"}
     if unknown:
-        raise ValueError(f"{scenario.path}: unknown expectation options {sorted(unknown)}")
+        raise InvalidInput(f"{scenario.path}: unknown expectation options {sorted(unknown)}")
     options = {k: v for k, v in expectation.options.items() if k in CHECK_OPTIONS}
     options.setdefault("multiplicity", scenario.multiplicity)
     options.setdefault("frames", scenario.frames)
@@ -209,7 +210,7 @@ def scenario_files(paths: Iterable[str | Path], pattern: str = "*.json") -> list
         elif path.is_file():
             out.append(path)
         else:
-            raise ValueError(f"{path}: no such file or folder")
+            raise InvalidInput(f"{path}: no such file or folder")
     return list(dict.fromkeys(out))
 
 

@@ -14,12 +14,12 @@ import pytest
 
 import gather_verify as gv
 from gather_verify.algorithms import AlgorithmCrash, get_algorithm
-from gather_verify.algorithms.broken import register_broken
 from gather_verify.check import run_check
 from gather_verify.cli import main
 from gather_verify.model.configuration import Configuration
+from gather_verify.replay import replay
+from gather_verify.simulate import simulate
 
-register_broken()
 ROOT = Path(__file__).resolve().parent.parent
 TWO = Configuration([(0, 0), (3, 1)], [(2, 2)], initial=True)
 ALGORITHM = '''\
@@ -59,7 +59,7 @@ def test_file_specs_class_factory_object_and_options(tmp_path: Path) -> None:
     lazy = run_check(TWO, algorithm=f"{path}:Home:lazy=1", scheduler="async")
     assert (lazy["verdict"], lazy["property"]) == ("VIOLATED", "final")
     assert lazy["trace"]["algorithm"] == f"{path}:Home:lazy=1"  # replayable by its name
-    assert gv.replay(lazy["trace"]).confirmed
+    assert replay(lazy["trace"]).confirmed
     assert get_algorithm(f"{path}:HOME").decide  # an object with decide
     with pytest.raises(ValueError, match="takes no options"):
         get_algorithm(f"{path}:HOME:lazy=1")
@@ -197,7 +197,7 @@ def test_a_crash_is_a_counterexample_with_the_view(engine: str) -> None:
     assert any("broken.py" in f and "decide" in f for f in detail["traceback"])
     last = r["trace"]["steps"][-1]["state"]
     assert detail["robot_node"] in [robot["node"] for robot in last]
-    assert gv.replay(r["trace"]).confirmed
+    assert replay(r["trace"]).confirmed
     from gather_verify.render import render_trace
 
     text = render_trace(r["trace"])
@@ -220,7 +220,7 @@ def test_crash_outside_a_search_is_one_message_exit_1(capsys) -> None:
     assert code == 1 and err.startswith("crash: algorithm 'broken-crash' crashed in decide")
     assert "Traceback" not in err
     with pytest.raises(AlgorithmCrash):
-        gv.simulate(TWO, get_algorithm("broken-crash"), "fsync")
+        simulate(TWO, get_algorithm("broken-crash"), "fsync")
 
 
 # -- replay: no longer reproduces ------------------------------------------------------------

@@ -15,7 +15,7 @@ entry point (:mod:`gather_verify.algorithms.loading`, docs/algorithms.md).
 >>> get_algorithm("nope")  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-ValueError: unknown algorithm 'nope': use one of ...
+gather_verify.errors.InvalidInput: unknown algorithm 'nope': use one of ...
 """
 
 from __future__ import annotations
@@ -42,6 +42,7 @@ from gather_verify.algorithms.loading import (
 from gather_verify.algorithms.nearest_centre import NearestCentre
 from gather_verify.algorithms.paper import PaperAlgorithm
 from gather_verify.algorithms.random_equivariant import RandomEquivariant
+from gather_verify.errors import InvalidInput
 
 REGISTRY: dict[str, Callable[..., Algorithm]] = {
     "go-to-target": GoToTarget,
@@ -84,7 +85,7 @@ def get_algorithm(spec: str) -> Algorithm:
             factory, named = entry_point_factory(name), True
         if factory is None:
             known = sorted({*REGISTRY, *entry_point_names()})
-            raise ValueError(f"unknown algorithm {name!r}: use one of {', '.join(known)}, "
+            raise InvalidInput(f"unknown algorithm {name!r}: use one of {', '.join(known)}, "
                              "or FILE.py:NAME or package.module:NAME")
     algorithm = _INSTANCES.get((spec, factory))
     if algorithm is None:
@@ -93,22 +94,18 @@ def get_algorithm(spec: str) -> Algorithm:
             try:  # the spec, so a trace or a stored row names what loads it again
                 algorithm.name = spec
             except AttributeError:
-                raise ValueError(f"algorithm {spec!r}: cannot set its name attribute") from None
+                raise InvalidInput(f"algorithm {spec!r}: cannot set its name attribute") from None
         _INSTANCES[spec, factory] = algorithm
     return algorithm
 
 
 def _register_optional(name: str) -> None:
-    """The deliberately broken algorithms (``broken-*``, for tests and demos) and the mutants
-    of mutation testing (``mutant-*``) are registered on first use of one of their names."""
+    """The deliberately broken algorithms (``broken-*``, for tests and demos) are registered
+    on first use of one of their names."""
     if name.startswith("broken-"):
-        from gather_verify.algorithms.broken import register_broken
+        from gather_verify.algorithms.broken import BROKEN
 
-        register_broken()
-    elif name.startswith("mutant-"):
-        from gather_verify.mutants import register_mutants
-
-        register_mutants()
+        REGISTRY.update(BROKEN)
 
 
 __all__ = ["Algorithm", "AlgorithmCrash", "AlgorithmError", "REGISTRY", "Unhandled", "get_algorithm", "register",

@@ -20,6 +20,7 @@ import sysconfig
 import traceback
 from typing import Protocol, runtime_checkable
 
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.view import View
@@ -44,8 +45,9 @@ class Unhandled(Exception):
     """
 
 
-class AlgorithmError(ValueError):
-    """The algorithm answered something that is not a move (a bug in the algorithm)."""
+class AlgorithmError(InvalidInput):
+    """The algorithm answered something that is not a move: a bug in the *algorithm* (the
+    user's, when it is a plug-in), so exit 2 naming it, not a bug of gather-verify."""
 
 
 _PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

@@ -24,17 +24,23 @@ True
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import importlib
 import importlib.util
 import os
 import sys
+import sysconfig
 from importlib import metadata
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+from gather_verify.errors import InvalidInput
+
 ENTRY_POINT_GROUP = "gather_verify.algorithms"
+_LIBRARY = {os.path.abspath(sysconfig.get_paths()[k])
+            for k in ("stdlib", "platstdlib", "purelib", "platlib")}
 
 
 def parse_options(rest: str, spec: str) -> dict[str, str]:
@@ -43,7 +49,7 @@ def parse_options(rest: str, spec: str) -> dict[str, str]:
     for item in filter(None, rest.split(",")):
         key, eq, value = item.partition("=")
         if not eq or not key.strip():
-            raise ValueError(f"bad algorithm option {item!r} in {spec!r}: expected key=value")
+            raise InvalidInput(f"bad algorithm option {item!r} in {spec!r}: expected key=value")
         options[key.strip()] = value.strip()
     return options
 
@@ -59,7 +65,7 @@ def split_external(spec: str) -> tuple[str, str, dict[str, str]] | None:
             return None
     name, _, options = rest.partition(":")
     if not name.strip() or "=" in name:
-        raise ValueError(f"algorithm {spec!r}: name the class or factory after the colon, "
+        raise InvalidInput(f"algorithm {spec!r}: name the class or factory after the colon, "
                          f"e.g. {where}:MyAlgorithm")
     return where.strip(), name.strip(), parse_options(options, spec)
 
@@ -101,6 +107,61 @@ def relative_spec(spec: str, folder: str | Path) -> str:
     return rel.replace(os.sep, "/") + spec[at + 3:]
 
 
+def _imports(path: Path) -> set[tuple[str, ...]]:
+    """Dotted names a module imports, as tuples (``from a import b``: both ``a`` and ``a.b``)."""
+    try:
+        tree = ast.parse(path.read_bytes(), filename=str(path))
+    except (OSError, SyntaxError, ValueError):
+        return set()
+    out: set[tuple[str, ...]] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out |= {tuple(alias.name.split(".")) for alias in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            base = tuple(node.module.split("."))
+            out.add(base)
+            out |= {(*base, alias.name) for alias in node.names}
+    return out
+
+
+def _module_file(root: Path, parts: tuple[str, ...]) -> Path | None:
+    """The file of module ``parts`` under ``root`` (a module or a package's ``__init__``)."""
+    stem = root.joinpath(*parts)
+    for candidate in (stem.with_suffix(".py"), stem / "__init__.py"):
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def local_sources(module_file: str | Path, module_name: str | None = None) -> list[Path]:
+    """The module's file and every local module it imports, transitively (sorted; a
+    package's ``__init__`` counts, but what it imports is not followed).
+
+    Local: under the module's folder for a file loaded by path or a top-level module
+    (unless that folder is the standard library or site-packages: then the file alone);
+    under its top-level package for a module of a package."""
+    first = Path(module_file).resolve()
+    parts = (module_name or "").split(".")
+    if module_name and len(parts) > 1 and not module_name.startswith("gather_verify_user_"):
+        root = first.parents[len(parts) - (first.name != "__init__.py")]
+        scope = root / parts[0]
+    else:
+        root = scope = first.parent
+        if str(scope) in _LIBRARY:
+            return [first]
+    seen, todo = {first}, [first]
+    while todo:
+        for dotted in _imports(todo.pop()):
+            found = _module_file(root, dotted)
+            found = found and found.resolve()
+            if found is not None and found.is_relative_to(scope) and found not in seen:
+                seen.add(found)
+                if found.name != "__init__.py":  # a package's hub of re-exports: not followed
+                    todo.append(found)
+    return sorted(seen)
+
+
+
 _FILES: dict[str, tuple[tuple[tuple[str, int, int], ...], ModuleType]] = {}
 """Modules loaded from files: by absolute path, with the stamps (path, mtime, size) of the
 file and of the local modules it imports, when it ran."""
@@ -121,12 +182,10 @@ def load_file(path: str) -> ModuleType:
     """The module of a ``.py`` file, executed again when it or a local module it imports
     changed (those are imported afresh too). Its folder goes on ``sys.path`` (as for a
     script), so it imports its neighbours."""
-    from gather_verify.fingerprint import local_sources
-
     if not os.path.isfile(path) and path in _RECEIVED:  # a worker that was sent the files
         path = _RECEIVED[path][1]
     if not os.path.isfile(path):
-        raise ValueError(f"algorithm file {path}: no such file")
+        raise InvalidInput(f"algorithm file {path}: no such file")
     known = _FILES.get(path)
     if known is not None and _stamps([Path(f) for f, _, _ in known[0]]) == known[0]:
         return known[1]
@@ -143,18 +202,18 @@ def load_file(path: str) -> ModuleType:
     try:
         text = Path(path).read_bytes()
     except OSError as error:
-        raise ValueError(f"algorithm file {path}: cannot read ({error.strerror or error})") from None
+        raise InvalidInput(f"algorithm file {path}: cannot read ({error.strerror or error})") from None
     name = f"gather_verify_user_{Path(path).stem}_{hashlib.sha256(text).hexdigest()[:12]}"
     loader_spec = importlib.util.spec_from_file_location(name, path)
     if loader_spec is None or loader_spec.loader is None:
-        raise ValueError(f"algorithm file {path}: not a Python module")
+        raise InvalidInput(f"algorithm file {path}: not a Python module")
     module = importlib.util.module_from_spec(loader_spec)
     sys.modules[name] = module  # classes defined there pickle by this name
     try:
         loader_spec.loader.exec_module(module)
     except Exception as error:
         del sys.modules[name]
-        raise ValueError(f"algorithm file {path}: importing it failed: "
+        raise InvalidInput(f"algorithm file {path}: importing it failed: "
                          f"{type(error).__name__}: {error}") from None
     _FILES[path] = (stamps, module)
     return module
@@ -168,8 +227,6 @@ the path of a copy of the files it received."""
 def ship(specs: set[str]) -> dict[str, dict[str, str]]:
     """For each file spec, its path and the text of the file and of the local modules it
     imports (relative to its folder): what a worker on another machine needs to load it."""
-    from gather_verify.fingerprint import local_sources
-
     out = {}
     for spec in specs:
         external = split_external(spec) if is_path_spec(spec) else None
@@ -202,7 +259,7 @@ def load_module(name: str) -> ModuleType:
     try:
         return importlib.import_module(name)
     except ImportError as error:
-        raise ValueError(f"algorithm module {name!r}: cannot import it ({error})") from None
+        raise InvalidInput(f"algorithm module {name!r}: cannot import it ({error})") from None
 
 
 def entry_point_factory(name: str) -> Any | None:
@@ -212,7 +269,7 @@ def entry_point_factory(name: str) -> Any | None:
             try:
                 return point.load()
             except Exception as error:
-                raise ValueError(f"algorithm {name!r} (entry point {point.value}): "
+                raise InvalidInput(f"algorithm {name!r} (entry point {point.value}): "
                                  f"loading it failed: {type(error).__name__}: {error}") from None
     return None
 
@@ -225,17 +282,17 @@ def instantiate(target: Any, options: dict[str, str], spec: str) -> Any:
     """``target`` itself when it has ``decide`` (an instance), else ``target(**options)``."""
     if hasattr(target, "decide") and not isinstance(target, type):
         if options:
-            raise ValueError(f"algorithm {spec!r}: an object takes no options")
+            raise InvalidInput(f"algorithm {spec!r}: an object takes no options")
         algorithm = target
     elif callable(target):
         try:
             algorithm = target(**options)
         except TypeError as error:
-            raise ValueError(f"bad options for algorithm {spec!r}: {error}") from None
+            raise InvalidInput(f"bad options for algorithm {spec!r}: {error}") from None
     else:
-        raise ValueError(f"algorithm {spec!r}: not a class, a factory or an object with decide")
+        raise InvalidInput(f"algorithm {spec!r}: not a class, a factory or an object with decide")
     if not callable(getattr(algorithm, "decide", None)):
-        raise ValueError(f"algorithm {spec!r}: the object it gives has no decide(view) method")
+        raise InvalidInput(f"algorithm {spec!r}: the object it gives has no decide(view) method")
     return algorithm
 
 
@@ -246,4 +303,4 @@ def load_external(spec: str) -> tuple[Any, Any]:
     try:
         return getattr(module, name), module
     except AttributeError:
-        raise ValueError(f"algorithm {spec!r}: {where} defines no {name!r}") from None
+        raise InvalidInput(f"algorithm {spec!r}: {where} defines no {name!r}") from None

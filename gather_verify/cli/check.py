@@ -28,6 +28,7 @@ from gather_verify.engine.explore import (
     DEFAULT_MAX_MEMORY_MB,
     DEFAULT_MAX_SECONDS,
     DEFAULT_MAX_STATES,
+    Exploration,
 )
 from gather_verify.scenario import Scenario
 
@@ -65,6 +66,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--html", metavar="FILE",
                         help="write the trace as an interactive viewer (one self-contained HTML "
                              "file: step through it, stale snapshots, the cycle of a livelock)")
+    parser.add_argument("--graph-out", metavar="FILE",
+                        help="write the reachable state graph: GraphML (.graphml) or DOT (.dot, "
+                             ".gv); with reductions on, a node is a class of states "
+                             "(docs/explorer.md)")
     parser.add_argument("--junit", metavar="FILE",
                         help="write the verdict as a JUnit XML test case (for CI servers)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
@@ -75,20 +80,26 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from gather_verify.check import run_check
+    from gather_verify.engine.export import graph_format, write_graph
     from gather_verify.render import render_trace, trace_svg
 
     configuration, scenario = load_configuration(args)
-    writable_outputs(trace_out=args.trace_out, svg=args.svg, html=args.html, junit=args.junit)
+    writable_outputs(trace_out=args.trace_out, svg=args.svg, html=args.html, junit=args.junit,
+                     graph_out=args.graph_out)
+    if args.graph_out:
+        graph_format(args.graph_out)  # refuse an unknown suffix before the search
     algorithm = args.algorithm or (scenario.algorithm if scenario else "paper")
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
     detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")
     frames = args.frames or (scenario.frames if scenario else "all")
+    explored: list[Exploration] = []
     try:
         report = run_check(
             configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
             frames=frames, properties=args.properties, reduction=not args.no_reduction,
             max_states=args.max_states, max_seconds=args.max_seconds,
             move_bound_c=args.move_bound_c, force=args.force, max_memory_mb=args.max_memory,
+            on_exploration=explored.append if args.graph_out else None,
             **({} if args.margin is None else {"margin": args.margin}))
     except KeyboardInterrupt:
         print("interrupted: check keeps no partial results (nothing was written); run the same "
@@ -99,6 +110,12 @@ def run(args: argparse.Namespace) -> int:
     if expected is not None:
         report["expectation"] = expected
     trace = report["trace"]
+    if args.graph_out:
+        if explored:
+            write_graph(explored[-1], args.graph_out)
+        else:
+            print(f"note: nothing was explored ({report['verdict']}): {args.graph_out} not "
+                  "written", file=sys.stderr)
     if trace is not None and args.trace_out:
         Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
     if trace is not None and args.svg:
