@@ -11,7 +11,8 @@ module can be imported alone and the package has no import cycle. ``replay`` and
 (``from gather_verify.replay import replay``): a lazy name may not shadow a module.
 ``check`` is the one exception, on purpose: the API's entry point (docs/api.md). The
 module ``gather_verify.check`` is callable as the function, so ``gather_verify.check(...)``
-is the function :func:`gather_verify.check.check` whichever of the two the name holds.
+is the function :func:`gather_verify.check.check` (the name holds the module, as an
+import of the module would make it).
 
 >>> import gather_verify as gv
 >>> gv.check(robots=[(0, 0), (3, 1), (1, 4)], meeting=[(2, 2)], algorithm="go-to-target").verdict
@@ -74,7 +75,9 @@ def __getattr__(name: str) -> Any:
     module = _PUBLIC.get(name)
     if module is None:
         raise AttributeError(f"module 'gather_verify' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
+    value = importlib.import_module(module)
+    if name != "check":  # check: the module itself, callable as its function check()
+        value = getattr(value, name)
     globals()[name] = value
     return value
 

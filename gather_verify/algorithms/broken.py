@@ -5,8 +5,8 @@ adds them (``BROKEN``) on first use of a ``broken-*`` name, so the tests,
 ``gather-verify check --algorithm broken-stay`` and ``replay`` of their traces
 all find them. All assume one meeting node unless said otherwise.
 
->>> sorted(BROKEN)[:2]
-['broken-away', 'broken-drift']
+>>> sorted(BROKEN)[:3]
+['broken-answer', 'broken-away', 'broken-crash']
 """
 
 from __future__ import annotations

@@ -133,7 +133,7 @@ def parse_nodes(text: str) -> list[Node]:
     >>> parse_nodes("0,0;1,3")
     Traceback (most recent call last):
     ...
-    ValueError: bad points '0,0;1,3': separate points with spaces, e.g. "0,0 1,3"
+    gather_verify.errors.InvalidInput: bad points '0,0;1,3': separate points with spaces, e.g. "0,0 1,3"
     """
     if ";" in text:
         raise InvalidInput(f"bad points {text!r}: separate points with spaces, e.g. \"0,0 1,3\"")
