@@ -21,8 +21,8 @@ from pathlib import Path
 from typing import Any
 
 from gather_verify.model.configuration import Configuration
+from schedulers import SCHEDULERS
 
-SCHEDULERS = ("fsync", "ssync", "async")
 VERDICTS = ("VERIFIED", "VIOLATED", "INCOMPLETE", "NOT-APPLICABLE")
 TOP_LEVEL = {
     "name": str,

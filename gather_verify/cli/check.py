@@ -26,6 +26,7 @@ from gather_verify.engine.explore import (
     DEFAULT_MAX_SECONDS,
     DEFAULT_MAX_STATES,
 )
+from schedulers import SCHEDULERS
 
 HELP = "verify an algorithm from one initial configuration against every adversary"
 
@@ -33,7 +34,7 @@ HELP = "verify an algorithm from one initial configuration against every adversa
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_configuration_arguments(parser)
     parser.add_argument("--algorithm", help="algorithm name (default: the scenario's, else paper)")
-    parser.add_argument("--scheduler", choices=("fsync", "ssync", "async"))
+    parser.add_argument("--scheduler", choices=tuple(SCHEDULERS))
     parser.add_argument("--multiplicity", help="multiplicity detection model (default local-weak)")
     parser.add_argument("--frames", choices=("all", "compass", "chirality"))
     parser.add_argument("--property", action="append", dest="properties", metavar="P",

@@ -234,8 +234,8 @@ def explore(
             return fast_explore.explore_fast(initial, algorithm, scheduler, graph=graph,
                                              memo=memo, **options)
         if engine == "fast":
-            raise ValueError(f"the fast engine cannot run this request (scheduler {scheduler!r}): "
-                             "use engine='auto' or 'reference'")
+            raise ValueError("the fast engine cannot run this request (its keys do not fit 63 "
+                             "bits): use engine='auto' or 'reference'")
     return explore_reference(initial, algorithm, scheduler, **options)
 
 

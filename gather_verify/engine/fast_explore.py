@@ -14,15 +14,17 @@ What changes is how:
 - the frontier is expanded a chunk of states at a time: states are grouped by
   configuration, the facts of each configuration (move sets, deadlock, class,
   target) are computed once through the generic algorithm interface and kept
-  as a row of small integers, and the scheduler's ``bulk_successors`` applies
-  them to the whole chunk at once;
+  as a row of small integers, and the scheduler's ``bulk_successors`` (part of
+  the ``Scheduler`` protocol) applies them to the whole chunk at once, handed
+  the states in the engine's encoding (``encoding.Encoding.frontier``); an
+  event may change several robots (FSYNC/SSYNC rounds);
 - the graph (successor ids, edge weights) is kept only when asked for
   (``graph=True``, what ``move-bound`` and ``termination`` need).
 
-The explorer knows neither the algorithm nor the scheduler: a scheduler
-without ``bulk_successors``, a key that does not fit 64 bits, or more states
-than an ``int32`` id holds make :func:`supports` say no and the caller uses the
-reference path.
+The explorer knows neither the algorithm nor the scheduler (witness events are
+asked of the scheduler's ``successors``, by their rank among the state's events):
+only a key that does not fit 64 bits, or more states than an ``int32`` id holds,
+make :func:`supports` say no and the caller uses the reference path.
 
 >>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
