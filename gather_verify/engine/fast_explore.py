@@ -698,12 +698,15 @@ def explore_fast(
         src, weight = src[:cut], weight[:cut]
         changes = cut if single else int(np.searchsorted(event, cut))
         robot, new = robot[:changes], new[:changes]
-        event = np.arange(cut) if single else event[:changes]
-        old = codes[src[event], robot]
+        if single:
+            old = codes[src, robot]
+        else:
+            event = event[:changes]
+            old = codes[src[event], robot]
         succ_codes = None
         if group or anonymity or not single:
             succ_codes = codes[src]
-            succ_codes[event, robot] = new
+            succ_codes[np.arange(cut) if single else event, robot] = new
             succ = canon.keys(succ_codes)
         else:
             delta = (new - old).astype(np.uint64) * powers[robot]
@@ -721,9 +724,12 @@ def explore_fast(
                 keep = int(np.searchsorted(src, stop_src, side="right"))
                 transitions -= cut - keep
                 cut = keep
-                changes = int(np.searchsorted(event, cut))
                 src, weight, succ, ids = src[:cut], weight[:cut], succ[:cut], ids[:cut]
-                robot, new, old, event = (a[:changes] for a in (robot, new, old, event))
+                if single:
+                    robot, new, old = robot[:cut], new[:cut], old[:cut]
+                else:
+                    changes = int(np.searchsorted(event, cut))
+                    robot, new, old, event = (a[:changes] for a in (robot, new, old, event))
                 if succ_codes is not None:
                     succ_codes = succ_codes[:cut]
                 m = int(np.searchsorted(fresh_src, stop_src, side="right"))
