@@ -22,8 +22,8 @@ from typing import Any
 
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
+from schedulers import SCHEDULERS
 
-SCHEDULERS = ("fsync", "ssync", "async")
 VERDICTS = ("VERIFIED", "VIOLATED", "INCOMPLETE", "NOT-APPLICABLE")
 TOP_LEVEL = {
     "name": str,

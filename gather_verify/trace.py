@@ -23,11 +23,12 @@ from typing import Any
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration, _as_node
 from gather_verify.model.geometry import Node
-from schedulers import Event, State
+from schedulers import SCHEDULERS, Event, State
 
 FORMAT = "gather-verify-trace"
 VERSION = 1
-KINDS = ("round", "look", "move")
+KINDS = tuple(dict.fromkeys(kind for s in SCHEDULERS.values() for kind in s.kinds))
+"""Every event kind of the registered schedulers (``round``, ``look``, ``move``)."""
 
 
 def state_json(state: State) -> list[dict[str, Any]]:

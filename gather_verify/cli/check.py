@@ -31,6 +31,7 @@ from gather_verify.engine.explore import (
     Exploration,
 )
 from gather_verify.scenario import Scenario
+from schedulers import SCHEDULERS
 
 HELP = ("verify an algorithm from one initial configuration against every adversary; on a "
         "scenario with an expectation for the algorithm and scheduler, exit 0 when it is met")
@@ -40,7 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_configuration_arguments(parser)
     parser.add_argument("--algorithm", help="a name, FILE.py:NAME or package.module:NAME "
                         "(default: the scenario's, else paper)")
-    parser.add_argument("--scheduler", choices=("fsync", "ssync", "async"))
+    parser.add_argument("--scheduler", choices=tuple(SCHEDULERS))
     parser.add_argument("--multiplicity", help="multiplicity detection model (default local-weak)")
     parser.add_argument("--frames", choices=("all", "compass", "chirality"))
     parser.add_argument("--property", action="append", dest="properties", metavar="P",

@@ -15,6 +15,7 @@ from gather_verify.cli.common import (
     without_timings,
     writable_outputs,
 )
+from schedulers import SCHEDULERS
 
 HELP = "verify every configuration of a box (up to symmetry) and store the results"
 DEFAULT_DB = "gather-verify-results.sqlite"
@@ -28,7 +29,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--box", type=parse_box, required=True, help="box of nodes, WxH")
     p.add_argument("--algorithm", default="paper",
                    help="a name, FILE.py:NAME or package.module:NAME (docs/algorithms.md)")
-    p.add_argument("--scheduler", choices=("fsync", "ssync", "async"), default="async")
+    p.add_argument("--scheduler", choices=tuple(SCHEDULERS), default="async")
     p.add_argument("--multiplicity", default="local-weak", help="detection model")
     p.add_argument("--frames", default="all", choices=("all", "chirality", "compass"))
     p.add_argument("--property", action="append", dest="properties", metavar="P",

@@ -14,15 +14,17 @@ What changes is how:
 - the frontier is expanded a chunk of states at a time: states are grouped by
   configuration, the facts of each configuration (move sets, deadlock, class,
   target) are computed once through the generic algorithm interface and kept
-  as a row of small integers, and the scheduler's ``bulk_successors`` applies
-  them to the whole chunk at once;
+  as a row of small integers, and the scheduler's ``bulk_successors`` (part of
+  the ``Scheduler`` protocol) applies them to the whole chunk at once, handed
+  the states in the engine's encoding (``encoding.Encoding.frontier``); an
+  event may change several robots (FSYNC/SSYNC rounds);
 - the graph (successor ids, edge weights) is kept only when asked for
   (``graph=True``, what ``move-bound`` and ``termination`` need).
 
-The explorer knows neither the algorithm nor the scheduler: a scheduler
-without ``bulk_successors``, a key that does not fit 64 bits, or more states
-than an ``int32`` id holds make :func:`supports` say no and the caller uses the
-reference path.
+The explorer knows neither the algorithm nor the scheduler (witness events are
+asked of the scheduler's ``successors``, by their rank among the state's events):
+only a key that does not fit 64 bits, or more states than an ``int32`` id holds,
+make :func:`supports` say no and the caller uses the reference path.
 
 >>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
@@ -35,22 +37,26 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterable, Iterator, Sequence
+from itertools import islice
 from typing import Any
 
 import numpy as np
 
 from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
+from gather_verify.engine.encoding import (
+    NO_LIMITS,
+    Encoding,
+    Limits,
+    region_box,
+    symmetry_group,
+)
 from gather_verify.engine.explore import (
     SAFETY,
-    Encoding,
     Exploration,
-    Limits,
     Violation,
     facts_cache,
-    region_box,
     rss_mb,
-    symmetry_group,
     undefined,
 )
 from gather_verify.model import geometry
@@ -60,14 +66,16 @@ from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
 from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
 from gather_verify.model.view import check_detection
-from schedulers import Event, get_scheduler, initial_state
+from schedulers import Scheduler, get_scheduler, initial_state
 
 CHUNK = 1 << 14
 """States expanded per bulk step: bounds the transient arrays (a few MB)."""
+EVENTS = 1 << 19
+"""About how many events a bulk step may generate: the scheduler takes fewer states than
+``CHUNK`` when they have more events than this (FSYNC/SSYNC rounds: up to ``6**n`` per state)."""
 MAX_IDS = 2**31 - 2
 LOAD = 0.7
 """Largest load factor of the hash table before it doubles."""
-NO_LIMITS = Limits()
 _MUL = np.uint64(0x9E3779B97F4A7C15)
 _TAG_BITS = np.uint64(8)
 _BYTES = np.uint64(0x0101010101010101)
@@ -546,9 +554,9 @@ class FactsTable:
 def supports(initial: Configuration, scheduler: str, reduction: bool = True,
              anonymity: bool | None = None, symmetry: bool | None = None, frames: str = "all",
              limits: Limits = NO_LIMITS) -> bool:
-    """Whether the bulk path can run this request (else use the reference path)."""
-    if not hasattr(get_scheduler(scheduler), "bulk_successors"):
-        return False
+    """Whether the bulk path can run this request (else use the reference path): every
+    registered scheduler has the bulk interface; the key must fit 63 bits and the ids 31."""
+    get_scheduler(scheduler)  # an unknown name is an error, not a fallback
     symmetry = reduction if symmetry is None else symmetry
     group = symmetry_group(initial, frames) if symmetry else []
     x0, y0, x1, y1 = region_box(initial, limits.margin, group)
@@ -632,13 +640,6 @@ def explore_fast(
     canon = Canon(enc, n)
     base = enc.base
     powers = np.array([base ** j for j in range(n)], dtype=np.uint64)
-    neighbour = np.full((enc.cells, 4), -1, dtype=np.int64)
-    for cell in range(enc.cells):
-        v = enc.node(cell)
-        for k, (dx, dy) in enumerate(STEPS):
-            w = (v[0] + dx, v[1] + dy)
-            if enc.inside(w):
-                neighbour[cell, k] = (w[0] - enc.x0) * enc.height + (w[1] - enc.y0)
 
     start_key = enc.key(initial_state(initial.robots))
     init_cells = np.array([[enc.code(v, None) // 5 for v in initial.robots]], dtype=np.int64)
@@ -650,7 +651,7 @@ def explore_fast(
 
     max_states = min(limits.max_states, MAX_IDS)
     # columns reserved up front: untouched pages cost no memory, and nothing is copied
-    reserve = min(max_states + CHUNK * 8 * n + 1, 1 << 27)
+    reserve = min(max_states + max(CHUNK * 8 * n, EVENTS) + 1, 1 << 27)
     index = KeyIndex(capacity=reserve)
     index.find_or_add(np.array([start_key], dtype=np.uint64))
     parents = Growing(np.int32, reserve)
@@ -663,6 +664,7 @@ def explore_fast(
     stopped: str | None = None
     peak = rss_mb()
     sid = 0
+    chunk = CHUNK
     while sid < index.count and stopped is None:
         if time.perf_counter() - started > limits.max_seconds:
             stopped = "time"
@@ -671,7 +673,7 @@ def explore_fast(
         if peak > limits.max_memory_mb:
             stopped = "memory"
             break
-        hi = min(index.count, sid + CHUNK)
+        hi = min(index.count, sid + chunk)
         K = index.keys[sid:hi].copy()
         codes = _decode(K, base, n)
         cells = codes // 5
@@ -685,12 +687,22 @@ def explore_fast(
         # robot i's move mask: the mask of its cell's position in the sorted row
         rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
         masks = table.masks[rows[:, None], rank]
-        src, robot, new, weight = sched.bulk_successors(codes[:limit_src], masks[:limit_src],
-                                                        neighbour)
+        bulk = sched.bulk_successors(enc.frontier(codes[:limit_src], masks[:limit_src]), EVENTS)
+        if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
+            hi = sid + bulk.states
+            K, codes, cells, rows = K[:bulk.states], codes[:bulk.states], cells[:bulk.states], \
+                rows[:bulk.states]
+            limit_src = bulk.states
+            chunk = max(1, bulk.states)
+        elif chunk < CHUNK:
+            chunk = min(CHUNK, 2 * chunk)
+        src, weight = bulk.source, bulk.weight
+        robot, new, event = bulk.robot, bulk.code, bulk.event  # the changes
+        single = event is None  # one change per event (event c is change c)
         outside = np.flatnonzero(new < 0)
         cut = len(src)
         if len(outside):
-            cut = int(outside[0])
+            cut = int(outside[0]) if single else int(event[outside[0]])
             stop_src = int(src[cut])
             stop = "region"
             transitions += cut + 1
@@ -698,12 +710,19 @@ def explore_fast(
             stop_src = limit_src
             stop = "defined" if limit_src < len(K) else None
             transitions += cut
-        src, robot, new, weight = src[:cut], robot[:cut], new[:cut], weight[:cut]
-        old = codes[src, robot]
-        if group or anonymity:
-            rows_codes = codes[src]
-            rows_codes[np.arange(cut), robot] = new
-            succ = canon.keys(rows_codes)
+        src, weight = src[:cut], weight[:cut]
+        changes = cut if single else int(np.searchsorted(event, cut))
+        robot, new = robot[:changes], new[:changes]
+        if single:
+            old = codes[src, robot]
+        else:
+            event = event[:changes]
+            old = codes[src[event], robot]
+        succ_codes = None
+        if group or anonymity or not single:
+            succ_codes = codes[src]
+            succ_codes[np.arange(cut) if single else event, robot] = new
+            succ = canon.keys(succ_codes)
         else:
             delta = (new - old).astype(np.uint64) * powers[robot]
             succ = K[src] + delta  # wraps correctly for negative deltas
@@ -720,8 +739,14 @@ def explore_fast(
                 keep = int(np.searchsorted(src, stop_src, side="right"))
                 transitions -= cut - keep
                 cut = keep
-                src, robot, new, weight, old = (a[:cut] for a in (src, robot, new, weight, old))
-                succ, ids = succ[:cut], ids[:cut]
+                src, weight, succ, ids = src[:cut], weight[:cut], succ[:cut], ids[:cut]
+                if single:
+                    robot, new, old = robot[:cut], new[:cut], old[:cut]
+                else:
+                    changes = int(np.searchsorted(event, cut))
+                    robot, new, old, event = (a[:changes] for a in (robot, new, old, event))
+                if succ_codes is not None:
+                    succ_codes = succ_codes[:cut]
                 m = int(np.searchsorted(fresh_src, stop_src, side="right"))
                 fresh_src = fresh_src[:m]
                 index.truncate(known + m)
@@ -739,15 +764,19 @@ def explore_fast(
             before = table.need_target(rows[src])
             maybe = np.flatnonzero(before >= 0)
             if len(maybe):
-                succ_cells = cells[src[maybe]].copy()
-                succ_cells[np.arange(len(maybe)), robot[maybe]] = new[maybe] // 5
+                if single and succ_codes is None:
+                    succ_cells = cells[src[maybe]].copy()
+                    succ_cells[np.arange(len(maybe)), robot[maybe]] = new[maybe] // 5
+                else:
+                    succ_cells = succ_codes[maybe] // 5
                 s2, k2 = table.config_keys(succ_cells)
                 after = table.need_target(table.rows(k2, s2))
                 bad = np.flatnonzero((after >= 0) & (after != before[maybe]))
                 if len(bad):
                     f = int(maybe[bad[0]])
                     violations["target-invariance"] = _target_violation(
-                        enc, table, n, sid, K, codes, src[f], robot[f], new[f],
+                        enc, table, sched, facts, sid, int(K[src[f]]), int(src[f]),
+                        f - int(np.searchsorted(src, src[f])), succ_codes, f,
                         int(before[maybe[bad[0]]]), int(after[bad[0]]))
         if check_u and "no-ungatherable" not in violations and len(fresh_keys):
             fc = _decode(fresh_keys, base, n) // 5
@@ -757,7 +786,12 @@ def explore_fast(
                 violations["no-ungatherable"] = Violation(
                     "no-ungatherable", known + int(bad[0]),
                     "a configuration in U (I41/I42) is reached from one outside U")
-        changed_loops += int(np.count_nonzero((ids == sid + src) & (new != old)))
+        if single:
+            changed = new != old
+        else:
+            changed = np.zeros(cut, dtype=bool)
+            changed[event[new != old]] = True
+        changed_loops += int(np.count_nonzero((ids == sid + src) & changed))
         if graph:
             counts = np.bincount(src, minlength=expanded)[:expanded]
             starts = targets.size + np.cumsum(counts) - counts
@@ -792,18 +826,21 @@ def _decode(keys: np.ndarray, base: int, n: int) -> np.ndarray:
     return codes
 
 
-def _target_violation(enc: Encoding, table: FactsTable, n: int, sid: int, K: np.ndarray,
-                      codes: np.ndarray, src: int, robot: int, new: int, before: int,
-                      after: int) -> Violation:
-    state = enc.decode(int(K[src]), n)
-    succ_codes = codes[src].tolist()
-    succ_codes[robot] = int(new)
-    succ = tuple(enc.robot(c) for c in succ_codes)
-    node, pending = state[robot]
-    if pending is None:
-        event = Event("look", (robot,), ((robot, node, succ[robot][1]),))
-    else:
-        event = Event("move", (robot,), ((robot, node, pending),))
+def _target_violation(enc: Encoding, table: FactsTable, sched: Scheduler, facts: Any, sid: int,
+                      key: int, src: int, k: int, succ_codes: np.ndarray | None, f: int,
+                      before: int, after: int) -> Violation:
+    """The witness of a target change: the ``k``-th event of state ``sid + src``, asked of
+    the scheduler's concrete ``successors`` (the bulk events come in the same order)."""
+    state = enc.decode(key, table.n)
+
+    def ms(robots: tuple[Node, ...]) -> dict[Node, frozenset[Node]]:
+        got = facts(robots).move_sets
+        assert got is not None  # the state was expanded
+        return got
+
+    event, succ = next(islice(sched.successors(state, ms), k, None))
+    if succ_codes is not None:  # pragma: no branch - the two faces of the scheduler agree
+        assert [enc.code(v, p) for v, p in succ] == succ_codes[f].tolist()
     t0, t1 = table.target_nodes[before], table.target_nodes[after]
     return Violation("target-invariance", sid + src,
                      f"the target meeting node changes from {list(t0)} to {list(t1)}",
