@@ -58,6 +58,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--svg", metavar="FILE", help="write the trace as an SVG storyboard")
     parser.add_argument("--junit", metavar="FILE",
                         help="write the verdict as a JUnit XML test case (for CI servers)")
+    parser.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
+                        help="run the paper's algorithm under every reading of its ambiguous "
+                             "passages (docs/interpretations.md) and report the robustness")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--timings", action="store_true",
                         help="with --json, also print the wall-clock seconds and peak memory "
@@ -74,6 +77,12 @@ def run(args: argparse.Namespace) -> int:
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
     detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")
     frames = args.frames or (scenario.frames if scenario else "all")
+    if args.readings:  # every reading (gather_verify.readings), the first one reported in full
+        from functools import partial
+
+        from gather_verify.readings import check_readings
+
+        run_check = partial(check_readings, readings=args.readings)  # type: ignore[assignment]
     try:
         report = run_check(
             configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
@@ -114,4 +123,10 @@ def run(args: argparse.Namespace) -> int:
             print(f"  {name:18} {holds}  {result.get('reason', '')}".rstrip())
         if trace is not None:
             print(render_trace(trace))
+    if args.readings:
+        from gather_verify.readings import ROBUSTNESS_EXIT, format_readings
+
+        if not args.json:
+            format_readings(report)
+        return ROBUSTNESS_EXIT[report["robustness"]]
     return VERDICT_EXIT[report["verdict"]]
