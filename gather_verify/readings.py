@@ -259,3 +259,64 @@ def format_robustness(table: dict[str, dict[str, int]], write: Callable[[str], A
         if by:
             write(f"{name:<13}{sum(by.values()):>7}" + "".join(f"{by.get(c, 0):>19}"
                                                              for c in columns))
+
+
+def readings_sweep(settings: Sequence[Any], readings: str, db_path: str, *, on: str = "all",
+                   **run: Any) -> dict[str, dict[str, int]]:
+    """Sweep every reading of the covering set (:func:`sweep_plan`) into ``db_path``, one
+    stored sweep per reading and ``settings`` (their ``extra`` names the readings group
+    and the ``M`` types the reading runs on); ``on="violated"`` runs the readings other
+    than the base only on the configurations the base reading violates. Returns the
+    class x robustness table (:func:`robustness_table`)."""
+    from dataclasses import replace
+
+    from gather_verify.sweeps.store import Store
+    from gather_verify.sweeps.sweep import configuration_key, run_sweep
+
+    if on not in ("all", "violated"):
+        raise ValueError(f"--readings-on {on!r}: use all or violated")
+    algorithm = settings[0].algorithm
+    varied = parse_readings(readings, algorithm)
+    group = f"{algorithm}|{readings}|on={on}"
+    plan = sweep_plan(varied)
+
+    def of(spec: str, kinds: tuple[str, ...]) -> list[Any]:
+        return [replace(s, algorithm=spec, extra={**s.extra, "readings": group,
+                                                  "types": list(kinds)}) for s in settings]
+
+    (base, base_kinds), rest = plan[0], plan[1:]
+    run_sweep(of(base, base_kinds), db_path, **run)
+    violated: set[str] | None = None
+    if on == "violated":
+        store = Store(db_path)
+        try:
+            violated = {r["key"] for s in of(base, base_kinds)
+                        for r in store.results(store.sweep_id(s.key()))
+                        if r["verdict"] == "VIOLATED"}
+        finally:
+            store.close()
+
+    def where(one: Any, c: Configuration) -> bool:
+        return m_type(c) in one.extra["types"] and (
+            violated is None or configuration_key(c) in violated)
+
+    if rest:
+        run_sweep([s for spec, kinds in rest for s in of(spec, kinds)], db_path, where=where,
+                  **run)
+    return stored_robustness(db_path)[group]
+
+
+def stored_robustness(db_path: str) -> dict[str, dict[str, dict[str, int]]]:
+    """The class x robustness table of every readings group stored in ``db_path``."""
+    from gather_verify.sweeps.store import Store
+
+    store = Store(db_path)
+    try:
+        groups: dict[str, list[tuple[dict[str, Any], list[dict[str, Any]]]]] = {}
+        for i, settings in store.sweeps():
+            group = (settings.get("extra") or {}).get("readings")
+            if group:
+                groups.setdefault(group, []).append((settings, store.results(i)))
+    finally:
+        store.close()
+    return {group: robustness_table(sweeps) for group, sweeps in groups.items()}

@@ -47,6 +47,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--limit", type=bounded_int(1, 10**9), default=None,
                    help="only the first N configurations of the enumeration")
     p.add_argument("--junit", metavar="FILE", help="also write JUnit XML, one test case per configuration")
+    p.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
+                   help="sweep the paper's algorithm under every reading of its ambiguous "
+                        "passages and print the class x robustness table")
+    p.add_argument("--readings-on", choices=("all", "violated"), default="all",
+                   help="with --readings: run the other readings on every configuration, or "
+                        "only on those the base reading violates (the rest: DEFAULT-ONLY)")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.add_argument("--timings", action="store_true",
                    help="with --json, also print the slowest configurations and their seconds "
@@ -89,6 +95,8 @@ def run(args: argparse.Namespace) -> int:
         max_seconds=args.max_seconds_per_config, move_bound_c=args.move_bound_c,
         reduction=not args.no_reduction, max_memory_mb=args.max_memory_mb,
     ) for n in args.robots for m in args.meeting]
+    if args.readings:
+        return _readings(args, settings)
     try:
         summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
                             progress=not args.json, limit=args.limit)
@@ -109,3 +117,28 @@ def run(args: argparse.Namespace) -> int:
     if "VIOLATED" in verdicts:
         return 1
     return 3 if "INCOMPLETE" in verdicts else 0
+
+
+def _readings(args: argparse.Namespace, settings: list) -> int:
+    """``sweep --readings``: every reading into the store, then the class x robustness table."""
+    from gather_verify.readings import format_robustness, readings_sweep
+
+    if args.junit:
+        raise ValueError("--junit is not available with --readings")
+    try:
+        table = readings_sweep(settings, args.readings, args.db, on=args.readings_on,
+                               workers=args.workers, dask=args.dask, progress=not args.json,
+                               limit=args.limit)
+    except KeyboardInterrupt:
+        print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
+              "run the same command again to resume", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    if args.json:
+        print_json({"robustness": table})
+    else:
+        format_robustness(table)
+        print(f"\nresults: {os.path.abspath(args.db)}")
+    seen = {label for by in table.values() for label in by}
+    if seen & {"ROBUST-VIOLATED", "READING-DEPENDENT"}:
+        return 1
+    return 3 if seen & {"INCOMPLETE", "PARTIAL"} else 0

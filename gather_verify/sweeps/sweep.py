@@ -140,9 +140,12 @@ def run_sweep(
     dask: str | None = None,
     progress: bool = True,
     limit: int | None = None,
+    where: Callable[[SweepSettings, Configuration], bool] | None = None,
 ) -> dict[str, Any]:
     """Run (or resume) one sweep, or several (e.g. every n and m up to a bound) into
-    one store; return the summary over all of them (see :func:`summarise`)."""
+    one store; return the summary over all of them (see :func:`summarise`). ``where``
+    keeps only some configurations (the readings of :mod:`gather_verify.readings`; the
+    settings of such a sweep must say which, so the store does not mislead)."""
     from gather_verify.sweeps.census import enumerate_configurations
 
     batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
@@ -156,7 +159,7 @@ def run_sweep(
             for index, c in enumerate(enumerate_configurations(one.robots, one.meeting, *one.box)):
                 if limit is not None and index >= limit:
                     break
-                if configuration_key(c) not in done:
+                if configuration_key(c) not in done and (where is None or where(one, c)):
                     todo.append((index, c))
             plan.append((one, sweep, todo))
         bar = Progress(sum(len(todo) for _, _, todo in plan), progress)
