@@ -55,8 +55,8 @@ shows) or ``alpha=mer_f`` for the strings ``alpha`` behind ``O``/``O'``;
 ``L ∪ {c}``" (the distance to ``L`` is the same in both); ``oscan=key`` (default: the
 lines of ``O''`` parallel to the key corner's string direction) or ``guard`` (the
 guard's corner's own string direction); ``finalize=closest`` (default, rule 5),
-``target`` (rule 5 with ``q`` the target Algorithm 3 computes for the other position:
-the closest meeting node, ties by ``O''``), ``n1`` (rule 5 without "closest") or
+``target`` (rule 5, and when the other position is a MER corner, where Algorithm 3
+defines the target, ``q`` must be that target: ties by ``O''``), ``n1`` (rule 5 without "closest") or
 ``literal`` (Algorithm 4 in every asymmetric snapshot with ``n1 = 2``: each robot on
 neither a multiplicity nor a meeting node moves towards the other position, and
 MakeMultiplicity runs only when ``n1 >= 3``);
@@ -204,8 +204,11 @@ def analyse(c: Configuration, alpha: strings.AlphaRegion = "mer",
 def _finalization(c: Configuration, finalize: str = "closest", oscan: str = "key"
                   ) -> Plan | None:
     """Algorithm 4 (``GuardMovement``): ``n1 = 2``, one position ``q`` a meeting node,
-    and (``finalize=closest``) ``q`` a meeting node closest to the other position ``p``,
-    or (``finalize=target``) ``q`` the target Algorithm 3 computes for ``p`` as guard."""
+    and (``finalize=closest``) ``q`` a meeting node closest to the other position ``p``;
+    ``finalize=target`` adds: when ``p`` stands on a corner of MER (a placed guard,
+    where Algorithm 3 defines the target) and several meeting nodes are closest, ``q``
+    is the first of them in ``O''`` (once the guard walks off its corner, ``O''`` is no
+    longer defined and the closest condition alone remains)."""
     if len(c.occupied) != 2:
         return None
     on_meeting = [v for v in c.occupied if v in c.meeting_nodes]
@@ -217,8 +220,8 @@ def _finalization(c: Configuration, finalize: str = "closest", oscan: str = "key
     if finalize in ("closest", "target") and manhattan(other, target) > nearest:
         return None
     tied = sum(manhattan(other, m) == nearest for m in c.meeting_nodes) > 1
-    if finalize == "target" and tied and (  # Algorithm 3 breaks a tie by O'' from p's corner
-            other not in strings.corners(c.mer()) or target_meeting_node(c, other, oscan) != target):
+    if finalize == "target" and tied and other in strings.corners(c.mer()) and \
+            target_meeting_node(c, other, oscan) != target:  # p placed: O'' breaks the tie
         return None
     moves = {target: frozenset({target}), other: closer_steps(other, target)}
     return Plan("I2 finalization", target, moves, {other: frozenset({other})}, guard=other)
