@@ -262,12 +262,13 @@ def format_robustness(table: dict[str, dict[str, int]], write: Callable[[str], A
 
 
 def readings_sweep(settings: Sequence[Any], readings: str, db_path: str, *, on: str = "all",
-                   **run: Any) -> dict[str, dict[str, int]]:
+                   types: Sequence[str] = M_TYPES, **run: Any) -> dict[str, dict[str, int]]:
     """Sweep every reading of the covering set (:func:`sweep_plan`) into ``db_path``, one
     stored sweep per reading and ``settings`` (their ``extra`` names the readings group
     and the ``M`` types the reading runs on); ``on="violated"`` runs the readings other
-    than the base only on the configurations the base reading violates. Returns the
-    class x robustness table (:func:`robustness_table`)."""
+    than the base only on the configurations the base reading violates; ``types`` keeps
+    only the configurations whose ``M`` is of those types (:data:`M_TYPES`). Returns
+    the class x robustness table (:func:`robustness_table`)."""
     from dataclasses import replace
 
     from gather_verify.sweeps.store import Store
@@ -277,15 +278,22 @@ def readings_sweep(settings: Sequence[Any], readings: str, db_path: str, *, on: 
         raise ValueError(f"--readings-on {on!r}: use all or violated")
     algorithm = settings[0].algorithm
     varied = parse_readings(readings, algorithm)
-    group = f"{algorithm}|{readings}|on={on}"
-    plan = sweep_plan(varied)
+    bad = [t for t in types if t not in M_TYPES]
+    if bad or not types:
+        raise ValueError(f"--readings-types: unknown M type {bad[0] if bad else ''!r}: use "
+                         f"{', '.join(M_TYPES)}")
+    only = sorted(set(types))
+    group = f"{algorithm}|{readings}|on={on}" + ("" if len(only) == len(M_TYPES) else
+                                                 f"|types={','.join(only)}")
+    plan = [(spec, tuple(k for k in kinds if k in only)) for spec, kinds in sweep_plan(varied)]
+    plan = [(spec, kinds) for spec, kinds in plan if kinds]
 
     def of(spec: str, kinds: tuple[str, ...]) -> list[Any]:
         return [replace(s, algorithm=spec, extra={**s.extra, "readings": group,
                                                   "types": list(kinds)}) for s in settings]
 
     (base, base_kinds), rest = plan[0], plan[1:]
-    run_sweep(of(base, base_kinds), db_path, **run)
+    run_sweep(of(base, base_kinds), db_path, where=lambda one, c: m_type(c) in only, **run)
     violated: set[str] | None = None
     if on == "violated":
         store = Store(db_path)

@@ -250,3 +250,6 @@ def test_sweep_readings_stores_every_reading(tmp_path, capsys):
         list(enumerate_configurations(2, 2, 3, 2)))
     assert main(["report", "--db", str(db)]) == 0
     assert "class x robustness" in capsys.readouterr().out
+    assert main(["sweep", "--robots", "2", "--meeting", "2", "--box", "3x2", "--readings", "all",
+                 "--readings-types", "spiral", "--db", str(db)]) == 2
+    assert "spiral" in capsys.readouterr().err

@@ -53,6 +53,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--readings-on", choices=("all", "violated"), default="all",
                    help="with --readings: run the other readings on every configuration, or "
                         "only on those the base reading violates (the rest: DEFAULT-ONLY)")
+    p.add_argument("--readings-types", default=None, metavar="TYPE,...",
+                   help="with --readings: only configurations whose M is of these types "
+                        "(I1-ordered, I13, reflection, rotation; default all)")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.add_argument("--timings", action="store_true",
                    help="with --json, also print the slowest configurations and their seconds "
@@ -126,7 +129,11 @@ def _readings(args: argparse.Namespace, settings: list) -> int:
     if args.junit:
         raise ValueError("--junit is not available with --readings")
     try:
-        table = readings_sweep(settings, args.readings, args.db, on=args.readings_on,
+        from gather_verify.readings import M_TYPES
+
+        types = M_TYPES if args.readings_types is None else [
+            t.strip() for t in args.readings_types.split(",")]
+        table = readings_sweep(settings, args.readings, args.db, on=args.readings_on, types=types,
                                workers=args.workers, dask=args.dask, progress=not args.json,
                                limit=args.limit)
     except KeyboardInterrupt:
