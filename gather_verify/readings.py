@@ -218,7 +218,8 @@ def robustness_table(groups: Sequence[tuple[dict[str, Any], list[dict[str, Any]]
     reading and n, m): a configuration counts once, by the verdicts of every reading its
     ``M`` type needs; ``DEFAULT-ONLY`` when only the base reading ran on it (a sweep
     with ``--readings-on violated`` skips the configurations it verifies), ``PARTIAL``
-    when an interrupted sweep left some reading out."""
+    when an interrupted sweep left some reading out (``READING-DEPENDENT`` as soon as the
+    readings run hold a VIOLATED and a VERIFIED one: more readings cannot undo that)."""
     needed: dict[str, set[str]] = {}  # M type -> readings it needs
     by_key: dict[str, dict[str, Any]] = {}
     for settings, rows in groups:
@@ -233,12 +234,10 @@ def robustness_table(groups: Sequence[tuple[dict[str, Any], list[dict[str, Any]]
         if set(verdicts.values()) == {"NOT-APPLICABLE"}:
             label = "NOT-APPLICABLE"
         else:
-            if needed.get(CLASS_M_TYPE[entry["class"]], set()) <= set(verdicts):
-                label = robustness(verdicts.values())
-            elif len(verdicts) == 1:
-                label = "DEFAULT-ONLY"
-            else:
-                label = "PARTIAL"
+            label = robustness(verdicts.values())
+            if not needed.get(CLASS_M_TYPE[entry["class"]], set()) <= set(verdicts) and \
+                    label != "READING-DEPENDENT":  # that one is already true on a part
+                label = "DEFAULT-ONLY" if len(verdicts) == 1 else "PARTIAL"
         by = table.setdefault(entry["class"], {})
         by[label] = by.get(label, 0) + 1
     return table

@@ -230,12 +230,19 @@ def test_robustness_table_counts_only_complete_coverings():
           {"key": "k2", "class": "I22", "verdict": "VERIFIED"},
           {"key": "k3", "class": "I22", "verdict": "VIOLATED"},
           {"key": "k4", "class": "I13", "verdict": "VERIFIED"},
-          {"key": "k5", "class": "UNCLASSIFIED", "verdict": "NOT-APPLICABLE"}]),
+          {"key": "k5", "class": "UNCLASSIFIED", "verdict": "NOT-APPLICABLE"},
+          {"key": "k6", "class": "I22", "verdict": "VIOLATED"},
+          {"key": "k7", "class": "I22", "verdict": "VIOLATED"}]),
         ({"algorithm": other, "extra": {"types": ["rotation"]}},
-         [{"key": "k1", "class": "I22", "verdict": "VERIFIED"}]),
+         [{"key": "k1", "class": "I22", "verdict": "VERIFIED"},
+          {"key": "k6", "class": "I22", "verdict": "VIOLATED"}]),
+        ({"algorithm": "paper:c", "extra": {"types": ["rotation"]}},  # interrupted before k6
+         [{"key": "k1", "class": "I22", "verdict": "VIOLATED"}]),
     ]
     table = robustness_table(groups)
-    assert table["I22"] == {"READING-DEPENDENT": 1, "DEFAULT-ONLY": 2}
+    assert table["I22"] == {"READING-DEPENDENT": 1, "PARTIAL": 1, "DEFAULT-ONLY": 3}
+    complete = robustness_table(groups[:2])["I22"]
+    assert complete == {"READING-DEPENDENT": 1, "ROBUST-VIOLATED": 1, "DEFAULT-ONLY": 3}
     assert table["I13"] == {"ROBUST-VERIFIED": 1}  # I13 reads no option: one reading is all
     assert table["UNCLASSIFIED"] == {"NOT-APPLICABLE": 1}
 
