@@ -56,6 +56,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="check even when the initial configuration is in U or UNCLASSIFIED")
     parser.add_argument("--trace-out", metavar="FILE", help="write the counterexample trace (JSON)")
     parser.add_argument("--svg", metavar="FILE", help="write the trace as an SVG storyboard")
+    parser.add_argument("--html", metavar="FILE",
+                        help="write the trace as an interactive viewer (one self-contained HTML "
+                             "file: step through it, stale snapshots, the cycle of a livelock)")
     parser.add_argument("--junit", metavar="FILE",
                         help="write the verdict as a JUnit XML test case (for CI servers)")
     parser.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
@@ -72,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.render import render_trace, trace_svg
 
     configuration, scenario = load_configuration(args)
-    writable_outputs(trace_out=args.trace_out, svg=args.svg, junit=args.junit)
+    writable_outputs(trace_out=args.trace_out, svg=args.svg, html=args.html, junit=args.junit)
     algorithm = args.algorithm or (scenario.algorithm if scenario else "paper")
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
     detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")
@@ -100,6 +103,10 @@ def run(args: argparse.Namespace) -> int:
         Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
     if trace is not None and args.svg:
         Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
+    if trace is not None and args.html:
+        from gather_verify.viewer import write_viewer
+
+        write_viewer(trace, args.html)
     if args.junit:
         from gather_verify.junit import write_junit
 
