@@ -1,4 +1,5 @@
-"""``run_check``: classify, explore, decide every requested property, build the trace.
+"""``run_check``: classify, explore, decide every requested property, build the trace; and
+``check``, the Python API over it (defaults for every limit, a typed :class:`CheckReport`).
 
 The one entry point behind ``gather-verify check`` and the sweep; it returns
 the JSON-able report the CLI prints with ``--json``.
@@ -20,22 +21,30 @@ components are decided there.
 
 from __future__ import annotations
 
+import sys
 import time
-from collections.abc import Sequence
-from dataclasses import replace
+import types
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from gather_verify import properties as props
+from gather_verify.algorithms.base import Algorithm
 from gather_verify.engine.explore import (
     DEFAULT_MARGIN,
+    DEFAULT_MAX_SECONDS,
+    DEFAULT_MAX_STATES,
+    PSEUDO,
     Exploration,
     Limits,
     Violation,
-    explore,
 )
 from gather_verify.engine.resources import memory_budget_mb
+from gather_verify.engine.search import explore
+from gather_verify.errors import InvalidInput
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import Node
 from gather_verify.trace import build_trace
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine
 
@@ -63,6 +72,13 @@ def _trace(e: Exploration, prop: str, reason: str, ids: Sequence[int],
 
 def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
     ids = e.path_to(v.state)
+    if v.property == "crash":  # the crash as the concrete last state of the trace meets it
+        steps = e.concretise(ids)
+        state = steps[-1][1] if steps else e.initial_state
+        crash = e.facts(tuple(sorted(n for n, _ in state))).crash
+        assert crash is not None  # the stored state's class crashes, so does each member
+        return build_trace(e.initial, e.algorithm.name, e.scheduler_name, e.detection, e.frames,
+                           steps, "crash", crash.reason, None, **crash.detail())
     if v.event is None:
         return _trace(e, v.property, v.reason, ids)
     steps = e.concretise(ids)
@@ -82,18 +98,19 @@ def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
 def run_check(
     configuration: Configuration,
     *,
-    algorithm: str,
+    algorithm: str | Algorithm,
     scheduler: str,
     detection: str = "local-weak",
     frames: str = "all",
     properties: Sequence[str] | None = None,
     reduction: bool = True,
-    max_states: int,
-    max_seconds: float,
+    max_states: int = DEFAULT_MAX_STATES,
+    max_seconds: float = DEFAULT_MAX_SECONDS,
     move_bound_c: float = 4.0,
     force: bool = False,
     engine: str = "auto",
     memo: bool = False,
+    on_exploration: Callable[[Exploration], object] | None = None,
     **limits: Any,
 ) -> dict[str, Any]:
     """Check ``algorithm`` from ``configuration``; the report as a JSON-able dict.
@@ -101,7 +118,8 @@ def run_check(
     Extra ``limits``: ``max_memory_mb`` and ``margin``. Without a ``margin`` the
     region grows by itself: a search stopped by the region is run again with the
     margin doubled, up to ``AUTO_MARGIN_MAX`` (the same exact search on a larger
-    region, so the verdict stays honest; only the last run is reported)."""
+    region, so the verdict stays honest; only the last run is reported).
+    ``on_exploration`` receives that last search (``check --graph-out`` exports it)."""
     started = time.perf_counter()
     wanted = props.check_property_names(properties)
     fixed_margin = limits.pop("margin", None)
@@ -109,7 +127,7 @@ def run_check(
                  max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),
                  margin=DEFAULT_MARGIN if fixed_margin is None else fixed_margin)
     if limits:
-        raise ValueError(f"unknown limit(s): {', '.join(sorted(limits))}")
+        raise InvalidInput(f"unknown limit(s): {', '.join(sorted(limits))}")
     cls = classify_configuration(configuration)
     n, D = configuration.n, configuration.D
     report: dict[str, Any] = {
@@ -120,7 +138,8 @@ def run_check(
         "limits": {"max_states": max_states, "max_seconds": max_seconds,
                    "max_memory_mb": lim.max_memory_mb, "margin": lim.margin,
                    "margin_auto": fixed_margin is None},
-        "algorithm": algorithm, "scheduler": scheduler, "detection": detection, "frames": frames,
+        "algorithm": algorithm if isinstance(algorithm, str) else algorithm.name,
+        "scheduler": scheduler, "detection": detection, "frames": frames,
         "reduction": reduction,
     }
     if (cls.in_U or cls.name == "UNCLASSIFIED") and not force:
@@ -138,6 +157,8 @@ def run_check(
         e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
                     frames=frames, reduction=reduction, properties=wanted, limits=lim, memo=memo)
     report["limits"]["margin"] = lim.margin
+    if on_exploration is not None:
+        on_exploration(e)
     report.update(states=e.states, transitions=e.transitions, peak_rss_mb=round(e.peak_rss_mb, 1))
     results = report["properties"]
     traces: dict[str, dict[str, Any] | None] = {}
@@ -153,7 +174,7 @@ def run_check(
         # the trace's reason: it names the nodes of the concrete execution shown
         results[name] = {"holds": False, "reason": trace["reason"]}
         traces[name] = trace
-    stopped = e.stopped if e.stopped != "defined" else None
+    stopped = e.stopped if e.stopped not in PSEUDO else None
     complete = e.stopped is None
     for name in ("final", "no-ungatherable", "target-invariance"):
         if name in wanted and name not in traces:
@@ -204,8 +225,9 @@ def run_check(
                     results["termination"] = {"holds": False, "reason": reason}
                     traces["termination"] = _trace(lifted, "termination", reason,
                                                    lifted.path_to(live.cycle[0]), live.cycle)
-    if "defined" in e.violations:
-        results["defined"] = {"holds": False, "reason": e.violations["defined"].reason}
+    for name in PSEUDO & e.violations.keys():  # defined, crash: always checked
+        results[name] = {"holds": False, "reason": (traces[name] if name in traces
+                                                    else e.violations[name].__dict__)["reason"]}
     failing = [p for p in props.ORDER if p in traces]
     verdict = combine(failing, stopped)
     report["verdict"] = verdict
@@ -217,3 +239,140 @@ def run_check(
         report["reason"] = stopped
     report["seconds"] = time.perf_counter() - started
     return report
+
+
+# -- the Python API (docs/api.md): defaults, and a typed report ----------------------------
+
+@dataclass(frozen=True)
+class PropertyResult:
+    """One property: ``holds`` (None: not decided, the search stopped), why, and the numbers
+    some properties add (``move-bound``: ``max_moves`` and ``bound``)."""
+
+    holds: bool | None
+    reason: str | None = None
+    numbers: dict[str, Any] = field(default_factory=dict)
+
+    def to_json(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"holds": self.holds}
+        if self.reason is not None:
+            out["reason"] = self.reason
+        return {**out, **self.numbers}
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> PropertyResult:
+        rest = {k: v for k, v in data.items() if k not in ("holds", "reason")}
+        return cls(data["holds"], data.get("reason"), rest)
+
+
+@dataclass(frozen=True)
+class CheckReport:
+    """What a check found. ``verdict`` is VERIFIED, VIOLATED, INCOMPLETE or NOT-APPLICABLE;
+    ``property`` the first failing one (``failing``: every one), with its ``reason`` and
+    ``trace`` (a JSON object, docs/traces.md: it is a file format)."""
+
+    verdict: str
+    property: str | None
+    reason: str | None
+    configuration_class: str
+    n: int
+    D: int
+    states: int
+    transitions: int
+    max_moves: int | None
+    max_moves_infinite: bool
+    ratio: float | None
+    bound: float
+    properties: dict[str, PropertyResult]
+    trace: dict[str, Any] | None
+    algorithm: str
+    scheduler: str
+    detection: str
+    frames: str
+    reduction: bool
+    limits: dict[str, Any]
+    seconds: float
+    peak_rss_mb: float | None = None
+
+    @property
+    def failing(self) -> list[str]:
+        """Every property that fails."""
+        return [name for name, r in self.properties.items() if r.holds is False]
+
+    def to_json(self) -> dict[str, Any]:
+        """The report as ``run_check`` returns it (and ``check --json --timings`` prints it)."""
+        out = {
+            "class": self.configuration_class, "verdict": self.verdict, "property": self.property,
+            "reason": self.reason, "states": self.states, "transitions": self.transitions,
+            "max_moves": self.max_moves, "max_moves_infinite": self.max_moves_infinite,
+            "D": self.D, "n": self.n, "ratio": self.ratio, "bound": self.bound,
+            "seconds": self.seconds, "trace": self.trace,
+            "properties": {name: r.to_json() for name, r in self.properties.items()},
+            "limits": dict(self.limits), "algorithm": self.algorithm,
+            "scheduler": self.scheduler, "detection": self.detection, "frames": self.frames,
+            "reduction": self.reduction,
+        }
+        if self.peak_rss_mb is not None:
+            out["peak_rss_mb"] = self.peak_rss_mb
+        return out
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> CheckReport:
+        return cls(
+            verdict=data["verdict"], property=data["property"], reason=data["reason"],
+            configuration_class=data["class"], n=data["n"], D=data["D"], states=data["states"],
+            transitions=data["transitions"], max_moves=data["max_moves"],
+            max_moves_infinite=data["max_moves_infinite"], ratio=data["ratio"],
+            bound=data["bound"], trace=data["trace"],
+            properties={k: PropertyResult.from_json(v) for k, v in data["properties"].items()},
+            algorithm=data["algorithm"], scheduler=data["scheduler"],
+            detection=data["detection"], frames=data["frames"], reduction=data["reduction"],
+            limits=data["limits"], seconds=data["seconds"], peak_rss_mb=data.get("peak_rss_mb"))
+
+
+def check(
+    configuration: Configuration | None = None,
+    *,
+    robots: Iterable[Node] | None = None,
+    meeting: Iterable[Node] | None = None,
+    algorithm: str | Algorithm = "paper",
+    scheduler: str = "async",
+    detection: str = "local-weak",
+    frames: str = "all",
+    properties: Sequence[str] | None = None,
+    reduction: bool = True,
+    max_states: int = DEFAULT_MAX_STATES,
+    max_seconds: float = DEFAULT_MAX_SECONDS,
+    move_bound_c: float = 4.0,
+    force: bool = False,
+    **limits: Any,
+) -> CheckReport:
+    """Check ``algorithm`` from a configuration (or ``robots`` and ``meeting``) against every
+    adversary of ``scheduler``; the same search as ``gather-verify check``.
+
+    ``algorithm`` is a spec (``"paper"``, ``"my_alg.py:MyAlgorithm"``,
+    ``"package.module:NAME"``) or an object with ``name`` and ``decide(view)``. The limits
+    default to the command line's; ``max_memory_mb`` and ``margin`` may be given too."""
+    if configuration is None:
+        if robots is None or meeting is None:
+            raise InvalidInput("give a configuration, or both robots and meeting")
+        configuration = Configuration(list(robots), list(meeting), initial=True)
+    name = algorithm if isinstance(algorithm, str) else getattr(algorithm, "name", None)
+    if not isinstance(name, str):
+        raise InvalidInput("an algorithm object needs a name (a string attribute)")
+    report = run_check(configuration, algorithm=algorithm,  # type: ignore[arg-type]
+                       scheduler=scheduler, detection=detection, frames=frames,
+                       properties=properties, reduction=reduction, max_states=max_states,
+                       max_seconds=max_seconds, move_bound_c=move_bound_c, force=force, **limits)
+    report["algorithm"] = name
+    return CheckReport.from_json(report)
+
+
+class _CallableModule(types.ModuleType):
+    """``gather_verify.check(...)`` is :func:`check` also when the package attribute names this
+    module (importing ``gather_verify.check`` binds it so)."""
+
+    def __call__(self, *args: Any, **kwargs: Any) -> CheckReport:
+        return check(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule

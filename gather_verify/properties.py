@@ -1,6 +1,6 @@
 """The properties checked on the reachable graph (SEMANTICS.md §5).
 
-Safety properties (``defined``, ``final``, ``no-ungatherable``,
+Safety properties (``crash`` and ``defined``, always checked; ``final``, ``no-ungatherable``,
 ``target-invariance``) are checked during the search by :mod:`explore`;
 this module holds their names and the graph analyses for the others:
 ``move-bound`` (longest path weighted by edges traversed) and ``termination``
@@ -11,7 +11,7 @@ this module holds their names and the graph analyses for the others:
 >>> check_property_names(["nope"])
 Traceback (most recent call last):
 ...
-ValueError: unknown property 'nope' (choose from final, no-ungatherable, target-invariance, move-bound, termination)
+gather_verify.errors.InvalidInput: unknown property 'nope' (choose from final, no-ungatherable, target-invariance, move-bound, termination)
 """
 
 from __future__ import annotations
@@ -22,9 +22,10 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 from gather_verify.engine.explore import Exploration
+from gather_verify.errors import InvalidInput
 
 PROPERTIES = ("final", "no-ungatherable", "target-invariance", "move-bound", "termination")
-ORDER = ("defined", *PROPERTIES)
+ORDER = ("crash", "defined", *PROPERTIES)
 """The order in which a failing property is named when several fail."""
 
 
@@ -35,7 +36,7 @@ def check_property_names(names: Iterable[str] | None) -> list[str]:
     out = []
     for name in names:
         if name not in PROPERTIES:
-            raise ValueError(f"unknown property {name!r} (choose from {', '.join(PROPERTIES)})")
+            raise InvalidInput(f"unknown property {name!r} (choose from {', '.join(PROPERTIES)})")
         if name not in out:
             out.append(name)
     return out

@@ -50,6 +50,7 @@ from typing import Any
 
 from gather_verify.algorithms import parse_name
 from gather_verify.algorithms.paper import READINGS
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import meeting_automorphisms
 
@@ -107,25 +108,25 @@ def parse_readings(text: str, base: str = "paper") -> dict[str, tuple[str, ...]]
     """
     name, fixed = parse_name(base)
     if name != "paper":
-        raise ValueError(f"--readings needs the algorithm paper (its options are the "
+        raise InvalidInput(f"--readings needs the algorithm paper (its options are the "
                          f"readings), not {name!r}")
     for option, value in fixed.items():
         if option not in READINGS or value not in READINGS[option]:
-            raise ValueError(f"bad option {option}={value!r} of paper")
+            raise InvalidInput(f"bad option {option}={value!r} of paper")
     base_value = {o: fixed.get(o, values[0]) for o, values in READINGS.items()}
     varied: dict[str, tuple[str, ...]] = {o: (v,) for o, v in base_value.items()}
     items = list(READINGS) if text.strip() == "all" else [i.strip() for i in text.split(",")]
     if not any(items):
-        raise ValueError("--readings: give 'all' or a comma list of OPTION or OPTION=V1|V2")
+        raise InvalidInput("--readings: give 'all' or a comma list of OPTION or OPTION=V1|V2")
     for item in items:
         option, eq, values = item.partition("=")
         if option not in READINGS:
-            raise ValueError(f"--readings: unknown option {option!r}: use all or one of "
+            raise InvalidInput(f"--readings: unknown option {option!r}: use all or one of "
                              f"{', '.join(READINGS)}")
         chosen = tuple(v.strip() for v in values.split("|")) if eq else READINGS[option]
         bad = [v for v in chosen if v not in READINGS[option]]
         if bad or not chosen:
-            raise ValueError(f"--readings: bad value {bad[0] if bad else ''!r} for {option}: "
+            raise InvalidInput(f"--readings: bad value {bad[0] if bad else ''!r} for {option}: "
                              f"use {'|'.join(READINGS[option])}")
         ordered = sorted(set(chosen), key=lambda v: (v != base_value[option],
                                                      READINGS[option].index(v)))
@@ -274,12 +275,12 @@ def readings_sweep(settings: Sequence[Any], readings: str, db_path: str, *, on: 
     from gather_verify.sweeps.sweep import configuration_key, run_sweep
 
     if on not in ("all", "violated"):
-        raise ValueError(f"--readings-on {on!r}: use all or violated")
+        raise InvalidInput(f"--readings-on {on!r}: use all or violated")
     algorithm = settings[0].algorithm
     varied = parse_readings(readings, algorithm)
     bad = [t for t in types if t not in M_TYPES]
     if bad or not types:
-        raise ValueError(f"--readings-types: unknown M type {bad[0] if bad else ''!r}: use "
+        raise InvalidInput(f"--readings-types: unknown M type {bad[0] if bad else ''!r}: use "
                          f"{', '.join(M_TYPES)}")
     only = sorted(set(types))
     group = f"{algorithm}|{readings}|on={on}" + ("" if len(only) == len(M_TYPES) else

@@ -19,11 +19,18 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from gather_verify.algorithms import Unhandled, get_algorithm, target_of
+from gather_verify.algorithms import AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import STEPS, add
 from gather_verify.trace import initial_of, load_trace, steps_of
 from schedulers import State, configuration_of, get_scheduler, initial_state
+
+
+class NoLongerReproduces(InvalidInput):
+    """Every step of the trace is a legal execution of the robots, but the algorithm no longer
+    takes it (it was changed since the trace was written): ``replay`` exits 5."""
 
 
 @dataclass
@@ -36,12 +43,6 @@ class Replayed:
 def replay(trace: dict[str, Any]) -> Replayed:
     """Re-execute ``trace``; ValueError (one line) when it does not match its configuration."""
     trace = load_trace(trace)
-    if trace["algorithm"].startswith("broken-"):
-        from gather_verify.algorithms.broken import register_broken
-        register_broken()
-    if trace["algorithm"].startswith("mutant-"):
-        from gather_verify.mutants import register_mutants
-        register_mutants()
     algorithm = get_algorithm(trace["algorithm"])
     scheduler = get_scheduler(trace["scheduler"])
     frames = frames_for(trace["frames"])
@@ -55,15 +56,26 @@ def replay(trace: dict[str, Any]) -> Replayed:
     def ms(robots: tuple) -> dict:
         return move_sets(algorithm, Configuration.trusted(robots, meeting), detection, frames)
 
+    def anything(robots: tuple) -> dict:  # every robot may stay or take any unit step
+        return {v: frozenset([v, *(add(v, step) for step in STEPS)]) for v in robots}
+
     states = [initial_state(initial.robots)]
     steps = steps_of(trace)
     for k, (event, state) in enumerate(steps, 1):
-        offered = dict(scheduler.successors(states[-1], ms))
-        if event not in offered:
-            raise ValueError(f"trace step {k}: event {event.to_json()} is not allowed from the "
+        possible = dict(scheduler.successors(states[-1], anything))
+        if event not in possible:
+            raise InvalidInput(f"trace step {k}: event {event.to_json()} is not allowed from the "
                              "previous state")
-        if offered[event] != state:
-            raise ValueError(f"trace step {k}: the recorded state is not the one the event reaches")
+        if possible[event] != state:
+            raise InvalidInput(f"trace step {k}: the recorded state is not the one the event reaches")
+        try:
+            offered = dict(scheduler.successors(states[-1], ms))
+        except (Unhandled, AlgorithmCrash) as error:
+            raise NoLongerReproduces(f"trace step {k}: the algorithm does not decide the previous "
+                                     f"state any more ({error})") from None
+        if event not in offered:  # a legal execution, but not this algorithm's (any more)
+            raise NoLongerReproduces(f"trace step {k}: the algorithm no longer allows event "
+                                     f"{event.to_json()}")
         states.append(state)
     prop = trace["property"]
     last = states[-1]
@@ -74,6 +86,13 @@ def replay(trace: dict[str, Any]) -> Replayed:
         except Unhandled as error:
             return Replayed(True, f"the algorithm has no rule in the last state: {error}", len(steps))
         return Replayed(False, "the algorithm decides every robot in the last state", len(steps))
+    if prop == "crash":
+        try:
+            ms(configuration_of(last))
+            target_of(algorithm, conf(last))
+        except AlgorithmCrash as crash:
+            return Replayed(True, str(crash), len(steps))
+        return Replayed(False, "the algorithm no longer crashes in the last state", len(steps))
     if prop == "final":
         sets = ms(configuration_of(last))
         stuck = all(s == {v} for v, s in sets.items()) and all(p is None for _, p in last)
@@ -104,10 +123,10 @@ def replay(trace: dict[str, Any]) -> Replayed:
         detail = trace.get("detail", {})
         c, D, n = detail.get("c"), detail.get("D"), detail.get("n")
         if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in (c, D, n)):
-            raise ValueError("bad trace: a move-bound trace needs numbers c, D and n in 'detail'")
+            raise InvalidInput("bad trace: a move-bound trace needs numbers c, D and n in 'detail'")
         ok = total > c * D * n
         return Replayed(ok, f"{total} moves vs bound {c}*{D}*{n} = {c * D * n:g}", len(steps))
-    raise ValueError(f"bad trace: unknown property {prop!r}")
+    raise InvalidInput(f"bad trace: unknown property {prop!r}")
 
 
 def _fair_cycle(states: list[State], steps: list, cs: int, ms: Any) -> tuple[bool, str]:

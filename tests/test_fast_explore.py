@@ -10,7 +10,6 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gather_verify.algorithms.broken import register_broken
 from gather_verify.check import run_check
 from gather_verify.engine.explore import Limits, explore_reference
 from gather_verify.engine.fast_explore import explore_fast, supports
@@ -19,7 +18,6 @@ from gather_verify.scenario import load_scenario
 
 YARD = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
 ROOT = Path(__file__).resolve().parent.parent / "scenarios"
-register_broken()
 
 
 def same(c, algorithm, scheduler="async", **kw):
@@ -110,7 +108,8 @@ def test_scenarios_same_report(path, algorithm):
 
 
 ALGORITHMS = ["go-to-target", "paper", "broken-away", "broken-stay", "broken-drift",
-              "broken-wander", "broken-undefined"]
+              "broken-wander", "broken-undefined", "broken-crash", "broken-answer",
+              "broken-crash-target"]
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -4,13 +4,11 @@ from __future__ import annotations
 
 import pytest
 
-from gather_verify.algorithms.broken import register_broken
 from gather_verify.check import run_check
 from gather_verify.model.configuration import Configuration as C
 from gather_verify.properties import check_property_names
 from gather_verify.replay import replay
 
-register_broken()
 TWO = C([(0, 0), (3, 1)], [(2, 2)], initial=True)
 CASES = [
     ("broken-away", TWO, "termination"),
@@ -21,6 +19,9 @@ CASES = [
     ("broken-wander", C([(0, 2), (2, 2)], [(0, 0), (3, 0), (1, 1), (2, 1)], initial=True),
      "no-ungatherable"),
     ("broken-undefined", TWO, "defined"),
+    ("broken-crash", TWO, "crash"),
+    ("broken-answer", TWO, "crash"),
+    ("broken-crash-target", TWO, "crash"),
 ]
 
 
@@ -30,7 +31,8 @@ CASES = [
 def test_property_fails_with_confirmed_trace(case, scheduler, reduction):
     algo, c, prop = CASES[case]
     r = run_check(c, algorithm=algo, scheduler=scheduler, max_states=10**5, max_seconds=60,
-                  properties=None if prop == "defined" else [prop], reduction=reduction, margin=4)
+                  properties=None if prop in ("defined", "crash") else [prop],
+                  reduction=reduction, margin=4)
     assert r["verdict"] == "VIOLATED" and r["property"] == prop
     assert replay(r["trace"]).confirmed
 

@@ -9,12 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from gather_verify.algorithms.broken import register_broken
 from gather_verify.cli import main
 from gather_verify.sweeps.report import batches, write_html, write_plot
 from gather_verify.sweeps.sweep import SweepSettings, run_sweep
-
-register_broken()
 
 
 def sweep(db: Path, algorithm: str = "broken-away") -> None:

@@ -85,6 +85,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 
 from gather_verify.algorithms.base import Unhandled
+from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry, strings
 from gather_verify.model.canonical import Key
 from gather_verify.model.configuration import Configuration
@@ -370,11 +371,6 @@ def _symmetry_breaking(c: Configuration, symmetry: Automorphism,
 # -- canonical forms and the algorithm object ----------------------------------------
 
 
-def _canonical_view(view: View) -> tuple[Key, int, Node]:
-    """The canonical form of the robot's snapshot (see :mod:`gather_verify.model.canonical`)."""
-    return view.canonical()
-
-
 def first_step(allowed: Iterable[Node]) -> Node:
     """The robot's answer: stay, or the first allowed step in ``STEPS`` order."""
     allowed = set(allowed)
@@ -404,7 +400,7 @@ class PaperAlgorithm:
                  "outside": outside, "unclassified": unclassified}
         for option, value in given.items():
             if value not in READINGS[option]:
-                raise ValueError(f"bad option {option}={value!r}: use "
+                raise InvalidInput(f"bad option {option}={value!r}: use "
                                  f"{' or '.join(READINGS[option])}")
         self.alpha, self.unclassified, self.outside = alpha, unclassified, outside
         self.finalize, self.metric, self.oscan = finalize, metric, oscan
@@ -440,7 +436,7 @@ class PaperAlgorithm:
                     None if plan.guard is None else unmap(plan.guard))
 
     def decide(self, view: View) -> Node:
-        key, g, t = _canonical_view(view)
+        key, g, t = view.canonical()
         plan = self._plan(key)
         if isinstance(plan, Unhandled):
             raise Unhandled(str(plan))

@@ -7,10 +7,13 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import Any
 
 from gather_verify.check import AUTO_MARGIN_MAX
 from gather_verify.cli.common import (
     EXIT_INTERRUPTED,
+    EXIT_OK,
+    EXIT_VIOLATED,
     VERDICT_EXIT,
     add_configuration_arguments,
     bounded_float,
@@ -25,14 +28,18 @@ from gather_verify.engine.explore import (
     DEFAULT_MAX_MEMORY_MB,
     DEFAULT_MAX_SECONDS,
     DEFAULT_MAX_STATES,
+    Exploration,
 )
+from gather_verify.scenario import Scenario
 
-HELP = "verify an algorithm from one initial configuration against every adversary"
+HELP = ("verify an algorithm from one initial configuration against every adversary; on a "
+        "scenario with an expectation for the algorithm and scheduler, exit 0 when it is met")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_configuration_arguments(parser)
-    parser.add_argument("--algorithm", help="algorithm name (default: the scenario's, else paper)")
+    parser.add_argument("--algorithm", help="a name, FILE.py:NAME or package.module:NAME "
+                        "(default: the scenario's, else paper)")
     parser.add_argument("--scheduler", choices=("fsync", "ssync", "async"))
     parser.add_argument("--multiplicity", help="multiplicity detection model (default local-weak)")
     parser.add_argument("--frames", choices=("all", "compass", "chirality"))
@@ -59,6 +66,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--html", metavar="FILE",
                         help="write the trace as an interactive viewer (one self-contained HTML "
                              "file: step through it, stale snapshots, the cycle of a livelock)")
+    parser.add_argument("--graph-out", metavar="FILE",
+                        help="write the reachable state graph: GraphML (.graphml) or DOT (.dot, "
+                             ".gv); with reductions on, a node is a class of states "
+                             "(docs/explorer.md)")
     parser.add_argument("--junit", metavar="FILE",
                         help="write the verdict as a JUnit XML test case (for CI servers)")
     parser.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
@@ -72,14 +83,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from gather_verify.check import run_check
+    from gather_verify.engine.export import graph_format, write_graph
     from gather_verify.render import render_trace, trace_svg
 
     configuration, scenario = load_configuration(args)
-    writable_outputs(trace_out=args.trace_out, svg=args.svg, html=args.html, junit=args.junit)
+    writable_outputs(trace_out=args.trace_out, svg=args.svg, html=args.html, junit=args.junit,
+                     graph_out=args.graph_out)
+    if args.graph_out:
+        graph_format(args.graph_out)  # refuse an unknown suffix before the search
     algorithm = args.algorithm or (scenario.algorithm if scenario else "paper")
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
     detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")
     frames = args.frames or (scenario.frames if scenario else "all")
+    explored: list[Exploration] = []
     if args.readings:  # every reading (gather_verify.readings), the first one reported in full
         from functools import partial
 
@@ -92,13 +108,23 @@ def run(args: argparse.Namespace) -> int:
             frames=frames, properties=args.properties, reduction=not args.no_reduction,
             max_states=args.max_states, max_seconds=args.max_seconds,
             move_bound_c=args.move_bound_c, force=args.force, max_memory_mb=args.max_memory,
+            on_exploration=explored.append if args.graph_out else None,
             **({} if args.margin is None else {"margin": args.margin}))
     except KeyboardInterrupt:
         print("interrupted: check keeps no partial results (nothing was written); run the same "
               "command again to start over, with --max-seconds or --max-states to stop with "
               "INCOMPLETE and the statistics so far", file=sys.stderr)
         return EXIT_INTERRUPTED
+    expected = _expectation(scenario, algorithm, scheduler, report)
+    if expected is not None:
+        report["expectation"] = expected
     trace = report["trace"]
+    if args.graph_out:
+        if explored:
+            write_graph(explored[-1], args.graph_out)
+        else:
+            print(f"note: nothing was explored ({report['verdict']}): {args.graph_out} not "
+                  "written", file=sys.stderr)
     if trace is not None and args.trace_out:
         Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
     if trace is not None and args.svg:
@@ -130,10 +156,31 @@ def run(args: argparse.Namespace) -> int:
             print(f"  {name:18} {holds}  {result.get('reason', '')}".rstrip())
         if trace is not None:
             print(render_trace(trace))
+        if expected is not None:
+            print(f"expectation of {args.scenario}: "
+                  + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
     if args.readings:
         from gather_verify.readings import ROBUSTNESS_EXIT, format_readings
 
         if not args.json:
             format_readings(report)
         return ROBUSTNESS_EXIT[report["robustness"]]
+    if expected is not None:  # a scenario test: matched is success, whatever the verdict
+        return EXIT_OK if expected["matched"] else EXIT_VIOLATED
     return VERDICT_EXIT[report["verdict"]]
+
+
+def _expectation(scenario: Scenario | None, algorithm: str, scheduler: str,
+                 report: dict[str, Any]) -> dict[str, Any] | None:
+    """Whether ``report`` meets the scenario's expectation for this algorithm and scheduler
+    (and its expected class); None when the scenario has none."""
+    from gather_verify.scenario_tests import expectation_for, expectation_mismatch
+
+    expectation = scenario and expectation_for(scenario, algorithm, scheduler)
+    if not expectation:
+        return None
+    why = expectation_mismatch(expectation, report)
+    if why is None and scenario.expected_class not in (None, report["class"]):
+        why = f"expected class {scenario.expected_class}, got {report['class']}"
+    return {"matched": why is None, "mismatch": why, "verdict": expectation.verdict,
+            "property": expectation.property}

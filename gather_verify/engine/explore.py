@@ -25,7 +25,7 @@ concrete state, and only the successor's key is canonicalised.
 
 >>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
->>> e = explore(c, "go-to-target", "async", reduction=False)
+>>> e = explore_reference(c, "go-to-target", "async", reduction=False)
 >>> e.states, e.transitions, e.stopped
 (2184, 7032, None)
 """
@@ -39,7 +39,7 @@ from array import array
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 
-from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, target_of
+from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
 from gather_verify.model import geometry
 from gather_verify.model.classes import classify_configuration
@@ -169,12 +169,13 @@ class Encoding:
 class ConfigurationFacts:
     """What the properties need about one configuration (cached per configuration)."""
 
-    move_sets: dict[Node, frozenset[Node]] | None  # None: the algorithm raised Unhandled
+    move_sets: dict[Node, frozenset[Node]] | None  # None: Unhandled, or a crash
     unhandled: str | None
     stuck: bool  # every robot's move set is {its node}
     gathered: bool  # every robot on one meeting node
     in_U: bool
     target: Node | None
+    crash: AlgorithmCrash | None = None  # decide or target raised (the crash property)
 
 
 @dataclass
@@ -272,19 +273,25 @@ def facts_cache(algorithm: Algorithm, meeting: frozenset[Node], detection: str,
         got = cache.get(robots)
         if got is None:
             c = Configuration.trusted(robots, meeting)
+            crash = None
             try:
                 ms: dict[Node, frozenset[Node]] | None = move_sets(algorithm, c, detection, frames)
                 unhandled = None
             except Unhandled as error:
                 ms, unhandled = None, str(error) or "no rule for this view"
-            stuck = ms is not None and all(s == {v} for v, s in ms.items())
-            gathered = len(c.counts) == 1 and robots[0] in meeting
+            except AlgorithmCrash as error:
+                ms, unhandled, crash = None, None, error
             try:
                 target = target_of(algorithm, c)
             except Unhandled:
                 target = None
+            except AlgorithmCrash as error:
+                target, crash = None, crash or error
+                ms = None
+            stuck = ms is not None and all(s == {v} for v, s in ms.items())
+            gathered = len(c.counts) == 1 and robots[0] in meeting
             got = ConfigurationFacts(ms, unhandled, stuck, gathered,
-                                     classify_configuration(c).in_U, target)
+                                     classify_configuration(c).in_U, target, crash)
             cache[robots] = got
         return got
 
@@ -292,41 +299,17 @@ def facts_cache(algorithm: Algorithm, meeting: frozenset[Node], detection: str,
 
 
 SAFETY = ("defined", "final", "no-ungatherable", "target-invariance")
-ENGINES = ("auto", "fast", "reference")
+PSEUDO = {"crash", "defined"}
+"""Checked always, and the search stops at their first witness: the state has no successors
+the algorithm defines (a crash: SEMANTICS.md §5's ``defined``, for an exception)."""
 
 
-def explore(
-    initial: Configuration,
-    algorithm: str | Algorithm,
-    scheduler: str,
-    *,
-    engine: str = "auto",
-    graph: bool = True,
-    memo: bool = False,
-    **options: object,
-) -> Exploration:
-    """Every state reachable from ``initial``: the bulk engine when it supports the request
-    (``engine="auto"``, the default), else the reference BFS; both give the same result.
-
-    ``engine="fast"`` insists on the bulk engine (ValueError if it cannot run this request),
-    ``engine="reference"`` runs :func:`explore_reference`. ``graph=False`` lets the bulk
-    engine keep no edges (only states and safety witnesses; see :mod:`fast_explore`);
-    ``memo=True`` lets it share configuration facts with the other searches of this
-    process (sweeps). Other keyword arguments are those of :func:`explore_reference`.
-    """
-    if engine not in ENGINES:
-        raise ValueError(f"unknown engine {engine!r}: use one of {', '.join(ENGINES)}")
-    if engine != "reference":
-        from gather_verify.engine import fast_explore
-
-        keys = ("reduction", "anonymity", "symmetry", "frames", "limits")
-        if fast_explore.supports(initial, scheduler, **{k: options[k] for k in keys if k in options}):
-            return fast_explore.explore_fast(initial, algorithm, scheduler, graph=graph,
-                                             memo=memo, **options)
-        if engine == "fast":
-            raise ValueError(f"the fast engine cannot run this request (scheduler {scheduler!r}): "
-                             "use engine='auto' or 'reference'")
-    return explore_reference(initial, algorithm, scheduler, **options)
+def undefined(sid: int, unhandled: str | None, crash: AlgorithmCrash | None
+              ) -> tuple[str, Violation]:
+    """The ``crash`` or ``defined`` violation of a state whose move sets are not defined."""
+    if crash is not None:
+        return "crash", Violation("crash", sid, crash.reason, detail=crash.detail())
+    return "defined", Violation("defined", sid, f"the algorithm has no rule here: {unhandled}")
 
 
 def explore_reference(
@@ -394,9 +377,7 @@ def explore_reference(
         robots = configuration_of(state)
         here = facts(robots)
         if here.move_sets is None:
-            violations["defined"] = Violation(
-                "defined", sid, f"the algorithm has no rule here: {here.unhandled}")
-            stopped = "defined"
+            stopped, violations[stopped] = undefined(sid, here.unhandled, here.crash)
             break
         if (check_final and "final" not in violations and here.stuck and not here.gathered
                 and all(p is None for _, p in state)):

@@ -39,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, target_of
+from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
 from gather_verify.engine.explore import (
     SAFETY,
@@ -51,6 +51,7 @@ from gather_verify.engine.explore import (
     region_box,
     rss_mb,
     symmetry_group,
+    undefined,
 )
 from gather_verify.model import geometry
 from gather_verify.model.canonical import canonical_form
@@ -459,8 +460,11 @@ class FactsTable:
         c = Configuration.trusted(robots, self.meeting)
         try:
             ms = move_sets(self.algorithm, c, self.detection, self.frames)
+            target_of(self.algorithm, c)  # only whether it crashes: need_target gives values
         except Unhandled:
             return [0] * len(robots), (1, 0, 0)
+        except AlgorithmCrash:
+            return [0] * len(robots), (2, 0, 0)
         masks = [sum(BIT[x - vx, y - vy] for x, y in ms[vx, vy]) for vx, vy in robots]
         return masks, (0, all(s == {v} for v, s in ms.items()),
                        len(c.counts) == 1 and robots[0] in self.meeting)
@@ -496,13 +500,18 @@ class FactsTable:
         back = STEP_PERM[geometry.inverse(g)]
         return [back[known[0][w]] for w in image], known[1]
 
-    def reason(self, row: int) -> str:
-        """Why the algorithm has no rule in this configuration (computed on it)."""
+    def undefined(self, sid: int, row: int) -> tuple[str, Violation]:
+        """The ``defined`` or ``crash`` violation of state ``sid`` (configuration ``row``),
+        computed again on the configuration itself."""
+        c = self.configuration(row)
         try:
-            move_sets(self.algorithm, self.configuration(row), self.detection, self.frames)
+            move_sets(self.algorithm, c, self.detection, self.frames)
+            target_of(self.algorithm, c)
         except Unhandled as error:
-            return str(error) or "no rule for this view"
-        raise AssertionError("the orbit is unhandled, so is every member")  # pragma: no cover
+            return undefined(sid, str(error) or "no rule for this view", None)
+        except AlgorithmCrash as crash:
+            return undefined(sid, None, crash)
+        raise AssertionError("the orbit is undefined, so is every member")  # pragma: no cover
 
     def need_in_u(self, rows: np.ndarray) -> np.ndarray:
         # In U needs Aut(C) non-trivial, and Aut(C) is inside Aut(M): when no element of
@@ -522,7 +531,7 @@ class FactsTable:
         for r in np.unique(rows[self.target[rows] == -2]).tolist():
             try:
                 t = target_of(self.algorithm, self.configuration(r))
-            except Unhandled:
+            except (Unhandled, AlgorithmCrash):  # a crash stops the search at the orbit
                 t = None
             if t is None:
                 self.target[r] = -1
@@ -756,11 +765,8 @@ def explore_fast(
             targets.extend(ids.astype(np.int32))
             weights.extend(weight.astype(np.int8))
         parents.extend((sid + fresh_src).astype(np.int32))
-        if stop == "defined":
-            state = stop_src
-            violations["defined"] = Violation(
-                "defined", sid + state,
-                f"the algorithm has no rule here: {table.reason(int(rows[state]))}")
+        if stop == "defined":  # or a crash: the table computes which
+            stop, violations[stop] = table.undefined(sid + stop_src, int(rows[stop_src]))
         if stop is not None:
             stopped = stop
             break

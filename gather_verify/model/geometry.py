@@ -18,6 +18,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+from gather_verify.errors import InvalidInput
+
 Node = tuple[int, int]
 
 ORIGIN: Node = (0, 0)
@@ -115,14 +117,24 @@ def parse_node(text: str) -> Node:
     """
     parts = text.split(",")
     if len(parts) != 2:
-        raise ValueError(f"bad point {text!r}: expected 'x,y' with two integers")
+        raise InvalidInput(f"bad point {text!r}: expected 'x,y' with two integers")
     try:
         x, y = (int(p.strip(), 10) for p in parts)
     except ValueError:
-        raise ValueError(f"bad point {text!r}: coordinates must be integers") from None
+        raise InvalidInput(f"bad point {text!r}: coordinates must be integers") from None
     return (x, y)
 
 
 def parse_nodes(text: str) -> list[Node]:
-    """Parse ``"x,y x,y ..."`` (spaces or semicolons between points)."""
-    return [parse_node(p) for p in text.replace(";", " ").split()]
+    """Parse ``"x,y x,y ..."``: spaces between points, and nothing else.
+
+    >>> parse_nodes("0,0 1,3")
+    [(0, 0), (1, 3)]
+    >>> parse_nodes("0,0;1,3")
+    Traceback (most recent call last):
+    ...
+    gather_verify.errors.InvalidInput: bad points '0,0;1,3': separate points with spaces, e.g. "0,0 1,3"
+    """
+    if ";" in text:
+        raise InvalidInput(f"bad points {text!r}: separate points with spaces, e.g. \"0,0 1,3\"")
+    return [parse_node(p) for p in text.split()]

@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
+from gather_verify.errors import InvalidInput
 from gather_verify.sweeps.store import Store
 from gather_verify.sweeps.sweep import summarise
 
@@ -14,7 +15,7 @@ from gather_verify.sweeps.sweep import summarise
 def load_sweeps(db_path: str) -> list[tuple[dict[str, Any], list[dict[str, Any]]]]:
     """Every sweep in a results database with its rows."""
     if not Path(db_path).is_file():
-        raise ValueError(f"{db_path}: no such results database")
+        raise InvalidInput(f"{db_path}: no such results database")
     store = Store(db_path)
     try:
         return [(settings, store.results(i)) for i, settings in store.sweeps()]
@@ -269,7 +270,7 @@ def write_html(db_path: str, out: str, svg_dir: str | None = None) -> list[Path]
             folder.mkdir(parents=True, exist_ok=True)
             _plot([(common, [r for _, rs in sweeps for r in rs])], str(folder / f"plot-{k}.png"))
             plot = f"{folder.name}/plot-{k}.png"
-        except ValueError:  # no matplotlib: the page says so instead of showing the plot
+        except InvalidInput:  # no matplotlib: the page says so instead of showing the plot
             pass
         body = _batch_page(k, common, sweeps, folder, plot)
         if plot is None:
@@ -320,7 +321,7 @@ def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        raise ValueError("--plot needs matplotlib: pip install 'gather-verify[plot]'") from None
+        raise InvalidInput("--plot needs matplotlib: pip install 'gather-verify[plot]'") from None
     from collections import Counter
 
     from gather_verify.scenario import VERDICTS
