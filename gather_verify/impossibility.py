@@ -86,7 +86,8 @@ class AdversaryError(AssertionError):
 
 
 def partitive_automorphism(classification: Classification) -> Automorphism | None:
-    """``phi`` of Theorem 1 for a class in U (None outside U)."""
+    """``phi`` of Theorem 1 for a configuration in U (None outside U): the reflection
+    (I41, and UNCLASSIFIED with an empty axis) or the rotation (I42)."""
     symmetries = classification.configuration_symmetries
     if classification.name == "I41":
         mirrors = [a for a in symmetries if a.kind == "reflection"]
@@ -97,6 +98,9 @@ def partitive_automorphism(classification: Classification) -> Automorphism | Non
         rotations = [a for a in symmetries if a.kind == "rotation"]
         # 90 before 180; among the two 90-degree ones the counter-clockwise one
         return min(rotations, key=lambda a: (-a.order, a.g))
+    if classification.name == "UNCLASSIFIED" and classification.in_U:
+        (mirror,) = symmetries  # §3.2's U: a unique line of symmetry, its axis empty
+        return mirror
     return None
 
 
@@ -104,9 +108,9 @@ def theorem1_automorphism(c: Configuration) -> Automorphism | None:
     """Any ``phi`` in ``Aut(C, l)`` meeting Theorem 1's hypothesis, whatever the class:
     no robot and no meeting node on its fixed nodes ``V'`` (largest order first).
 
-    Outside U only UNCLASSIFIED configurations can have one (I12/I13/I31/I32 hold a
-    meeting node or robot on L or c, I1x/I2x have ``Aut(C)`` trivial), so Theorem 1
-    makes those ungatherable too.
+    Exactly the configurations in U have one (§3.2's description of U is Theorem 1's
+    hypothesis: I12/I13/I31/I32 hold a meeting node or robot on L or c, I1x/I2x have
+    ``Aut(C)`` trivial, an UNCLASSIFIED configuration is in U when its axis is empty).
 
     >>> theorem1_automorphism(Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)])).describe()
     'reflection, vertical axis x = 1 through nodes'

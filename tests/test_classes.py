@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from gather_verify.impossibility import theorem1_automorphism
 from gather_verify.model import geometry
 from gather_verify.model.classes import (
     CLASS_NAMES,
@@ -43,7 +44,19 @@ def test_scenario_files_classify_as_expected(path):
     s = load_scenario(path)
     result = classify_configuration(s.configuration)
     assert result.name == s.expected_class
-    assert result.in_U == (s.expected_class in ("I41", "I42"))
+    assert result.in_U == (s.expected_class in ("I41", "I42")
+                           or s.expected_class == "UNCLASSIFIED"
+                           and theorem1_automorphism(s.configuration) is not None)
+
+
+def test_in_U_as_the_paper_describes_it():
+    """§3.2's U: an UNCLASSIFIED configuration is in U exactly when its axis is empty."""
+    empty_axis = classify_configuration(Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)]))
+    assert (empty_axis.name, empty_axis.in_U) == ("UNCLASSIFIED", True)
+    meeting_on_axis = classify_configuration(
+        Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0), (1, 1), (1, -1)]))
+    assert (meeting_on_axis.name, meeting_on_axis.in_U) == ("UNCLASSIFIED", False)
+    assert meeting_on_axis.to_json()["in_U"] is False
 
 
 @settings(max_examples=200, deadline=None)
@@ -89,7 +102,7 @@ def test_classes_follow_the_semantics_rules(c):
 
 def test_unclassified_example_of_the_semantics():
     result = classify([(0, 1), (2, 1)], [(0, 0), (2, 0)])
-    assert result.name == "UNCLASSIFIED" and not result.in_U
+    assert result.name == "UNCLASSIFIED" and result.in_U  # its axis x = 1 is empty: §3.2
     assert result.symmetry is not None and result.symmetry.kind == "rotation"
     assert "misses" in result.reason
 

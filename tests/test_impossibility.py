@@ -108,7 +108,7 @@ def test_v_prime_matches_the_paper():
 @pytest.mark.parametrize(
     "robots, meeting, name",
     [([(0, 0), (3, 1), (1, 4)], [(2, 2)], "I13"),
-     ([(0, 1), (2, 1)], [(0, 0), (2, 0)], "UNCLASSIFIED"),
+     ([(0, 1), (2, 1)], [(0, 0), (2, 0), (1, 1), (1, -1)], "UNCLASSIFIED"),  # axis: meeting
      ([(0, 1)], [(0, 0), (3, 0), (1, 1), (2, 1)], "I21")],
 )
 def test_outside_U_is_not_partitive(robots, meeting, name):
@@ -119,7 +119,7 @@ def test_outside_U_is_not_partitive(robots, meeting, name):
 
 def test_theorem_1_beyond_U_on_an_unclassified_configuration():
     c = Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)], initial=True)
-    assert not check_impossibility(c, algorithms(2)).partitive
+    assert check_impossibility(c, [], steps=1).partitive  # in U as §3.2 describes it
     r = check_impossibility(c, algorithms(3), steps=4, max_states=150, beyond_u=True)
     assert r.class_name == "UNCLASSIFIED" and r.partitive and r.holds
     assert r.automorphism.describe() == "reflection, vertical axis x = 1 through nodes"

@@ -202,7 +202,7 @@ MUTANTS: tuple[Mutant, ...] = (
         "mutant-paper-target-tie-fixed-compass", _P,
         "a tie between meeting nodes closest to the guard is broken by a fixed compass (the "
         "lowest in the robot's own frame) instead of the order O''",
-        (("    return min(closest, key=ordering_O_second(c, guard).index)",
+        (("    return min(closest, key=ordering_O_second(c, guard, oscan).index)",
           "    return min(closest)"),
          _OWN_FRAME),
         ("target-invariance", "termination")),

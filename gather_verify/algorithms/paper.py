@@ -47,8 +47,19 @@ Where the paper leaves a choice open, every allowed step is returned as a set
 and the robot answers the first one in ``STEPS`` order in its own frame, so
 the union over the 8 frames is the whole set: the adversary chooses.
 
-Options: ``alpha=mer`` (default, the MER of ``R ∪ M`` as Figure "order1"
+Options (``READINGS``; each is one ambiguous passage, ``docs/interpretations.md``
+names it, and ``gather-verify check --readings all`` runs every combination):
+``alpha=mer`` (default, the MER of ``R ∪ M`` as Figure "order1"
 shows) or ``alpha=mer_f`` for the strings ``alpha`` behind ``O``/``O'``;
+``metric=manhattan`` (default) or ``euclid``: the distance to ``c`` in "farthest from
+``L ∪ {c}``" (the distance to ``L`` is the same in both); ``oscan=key`` (default: the
+lines of ``O''`` parallel to the key corner's string direction) or ``guard`` (the
+guard's corner's own string direction); ``finalize=closest`` (default, rule 5),
+``target`` (rule 5, and when the other position is a MER corner, where Algorithm 3
+defines the target, ``q`` must be that target: ties by ``O''``), ``n1`` (rule 5 without "closest") or
+``literal`` (Algorithm 4 in every asymmetric snapshot with ``n1 = 2``: each robot on
+neither a multiplicity nor a meeting node moves towards the other position, and
+MakeMultiplicity runs only when ``n1 >= 3``);
 ``unclassified=break`` (default: a snapshot whose ``M`` is rotational while
 ``C`` has a single reflection ``L'`` is broken on ``L'``, as the paper's
 I32 paragraph says) or ``unclassified=unhandled``; ``outside=distance``
@@ -86,6 +97,17 @@ from gather_verify.model.symmetry import (
 )
 from gather_verify.model.view import View
 
+READINGS: dict[str, tuple[str, ...]] = {
+    "alpha": ("mer", "mer_f"),
+    "metric": ("manhattan", "euclid"),
+    "oscan": ("key", "guard"),
+    "finalize": ("closest", "target", "n1", "literal"),
+    "outside": ("distance", "mer_f"),
+    "unclassified": ("break", "unhandled"),
+}
+"""Every option of ``paper``: one ambiguous passage of the paper each, its values, the default
+(the most charitable reading) first. ``docs/interpretations.md`` names the passages."""
+
 CACHE_SIZE = 1 << 17
 """Plans remembered per algorithm instance, one per canonical form of a snapshot."""
 
@@ -117,11 +139,27 @@ def closer_steps(v: Node, target: Node) -> frozenset[Node]:
     return frozenset(u for u in geometry.neighbours(v) if manhattan(u, target) < d)
 
 
-def distance_function(symmetry: Automorphism):
-    """``dist`` from ``L ∪ {c}`` in doubled units (see the module docstring)."""
+def distance_function(symmetry: Automorphism, metric: str = "manhattan"):
+    """``dist`` from ``L ∪ {c}`` in doubled units (see the module docstring).
+
+    For a reflection ``d(v, phi(v))`` is twice the distance to ``L`` in every metric
+    (the Euclidean distance to a diagonal axis is it divided by ``2·sqrt 2``), so
+    ``metric`` only changes the distance to a centre ``c``: ``euclid`` compares squared
+    Euclidean distances (exact integers, the same order).
+
+    >>> from gather_verify.model.symmetry import meeting_automorphisms
+    >>> c = Configuration([(0, 0)], [(3, 0), (3, 1)])
+    >>> rotation = meeting_automorphisms(c)[1]
+    >>> [distance_function(rotation)(v) for v in [(0, 0), (2, 3)]]
+    [7, 7]
+    >>> [distance_function(rotation, "euclid")(v) for v in [(0, 0), (2, 3)]]
+    [37, 29]
+    """
     if symmetry.kind == "reflection":
         return lambda v: manhattan(v, symmetry(v))
     cx, cy = symmetry.centre2  # type: ignore[misc]
+    if metric == "euclid":
+        return lambda v: (2 * v[0] - cx) ** 2 + (2 * v[1] - cy) ** 2
     return lambda v: abs(2 * v[0] - cx) + abs(2 * v[1] - cy)
 
 
@@ -138,7 +176,7 @@ def _everyone_to(c: Configuration, phase: str, target: Node) -> Plan:
 
 def analyse(c: Configuration, alpha: strings.AlphaRegion = "mer",
             unclassified: str = "break", outside: str = "distance",
-            finalize: str = "closest") -> Plan:
+            finalize: str = "closest", metric: str = "manhattan", oscan: str = "key") -> Plan:
     """The plan of ``Gathering()`` for snapshot ``c`` (robots on distinct nodes).
 
     >>> c = strings.from_string("001001400004000000000000404000400401000000100", 5)
@@ -161,12 +199,17 @@ def analyse(c: Configuration, alpha: strings.AlphaRegion = "mer",
         return _everyone_to(c, "I12", order[-1])
     if rotations and on_symmetry:
         return _everyone_to(c, "I13", on_symmetry[0])
-    return _gathering_asym(c, symmetry, unclassified, outside, finalize)
+    return _gathering_asym(c, symmetry, unclassified, outside, finalize, metric, oscan)
 
 
-def _finalization(c: Configuration, finalize: str = "closest") -> Plan | None:
+def _finalization(c: Configuration, finalize: str = "closest", oscan: str = "key"
+                  ) -> Plan | None:
     """Algorithm 4 (``GuardMovement``): ``n1 = 2``, one position ``q`` a meeting node,
-    and (``finalize=closest``) ``q`` a meeting node closest to the other position."""
+    and (``finalize=closest``) ``q`` a meeting node closest to the other position ``p``;
+    ``finalize=target`` adds: when ``p`` stands on a corner of MER (a placed guard,
+    where Algorithm 3 defines the target) and several meeting nodes are closest, ``q``
+    is the first of them in ``O''`` (once the guard walks off its corner, ``O''`` is no
+    longer defined and the closest condition alone remains)."""
     if len(c.occupied) != 2:
         return None
     on_meeting = [v for v in c.occupied if v in c.meeting_nodes]
@@ -174,24 +217,48 @@ def _finalization(c: Configuration, finalize: str = "closest") -> Plan | None:
         return None
     target = on_meeting[0]
     (other,) = c.occupied - {target}
-    if finalize == "closest" and manhattan(other, target) > min(
-            manhattan(other, m) for m in c.meeting_nodes):
+    nearest = min(manhattan(other, m) for m in c.meeting_nodes)
+    if finalize in ("closest", "target") and manhattan(other, target) > nearest:
+        return None
+    tied = sum(manhattan(other, m) == nearest for m in c.meeting_nodes) > 1
+    if finalize == "target" and tied and other in strings.corners(c.mer()) and \
+            target_meeting_node(c, other, oscan) != target:  # p placed: O'' breaks the tie
         return None
     moves = {target: frozenset({target}), other: closer_steps(other, target)}
     return Plan("I2 finalization", target, moves, {other: frozenset({other})}, guard=other)
 
 
+def _literal_finalization(c: Configuration) -> Plan:
+    """Algorithm 4 read literally (``finalize=literal``), whenever ``n1 = 2``: every robot
+    on neither a multiplicity nor a meeting node moves towards the other position."""
+    a, b = sorted(c.occupied)
+    movers = [v for v in (a, b) if v not in c.meeting_nodes]
+    if not movers:
+        raise Unhandled("Algorithm 4 (n1 = 2): both positions are meeting nodes, no robot "
+                        "qualifies as r")
+    on_meeting = [v for v in (a, b) if v in c.meeting_nodes]
+    moves = _stay_all(c)
+    for v, w in ((a, b), (b, a)):
+        if v in movers:
+            moves[v] = closer_steps(v, w)
+    return Plan("I2 finalization (literal)", on_meeting[0] if on_meeting else None, moves,
+                {v: frozenset({v}) for v in movers}, guard=movers[0] if len(movers) == 1 else None)
+
+
 def _gathering_asym(c: Configuration, symmetry: Automorphism, unclassified: str,
-                    outside: str = "distance", finalize: str = "closest") -> Plan:
+                    outside: str = "distance", finalize: str = "closest",
+                    metric: str = "manhattan", oscan: str = "key") -> Plan:
     if len(c.occupied) == 1 and c.robots[0] in c.meeting_nodes:
         return Plan("I2 gathered", c.robots[0], _stay_all(c))
-    final = _finalization(c, finalize)
+    final = _finalization(c, finalize, oscan) if finalize != "literal" else None
     if final is not None:
         return final
     aut_c = configuration_automorphisms(c)[1:]
     if aut_c:
         return _symmetry_breaking(c, symmetry, aut_c, unclassified)
-    dist = distance_function(symmetry)
+    if finalize == "literal" and len(c.occupied) == 2:
+        return _literal_finalization(c)
+    dist = distance_function(symmetry, metric)
     d1 = max(dist(m) for m in c.meeting_nodes)
     far = max(dist(r) for r in c.occupied)
     farthest = sorted(r for r in c.occupied if dist(r) == far)
@@ -203,7 +270,7 @@ def _gathering_asym(c: Configuration, symmetry: Automorphism, unclassified: str,
         return not (x0 <= v[0] <= x1 and y0 <= v[1] <= y1)
 
     if len(farthest) == 1 and is_outside(farthest[0]):
-        return _guard_placed_or_placing(c, farthest[0], dist)
+        return _guard_placed_or_placing(c, farthest[0], dist, oscan)
     outs = [r for r in c.occupied if is_outside(r)]
     if outs:  # Algorithm 2, first branch: the farthest of the robots outside MER_F
         top = max(dist(r) for r in outs)
@@ -217,7 +284,7 @@ def _gathering_asym(c: Configuration, symmetry: Automorphism, unclassified: str,
     return Plan("I2 guard selection", None, moves, guard=guard)
 
 
-def _guard_placed_or_placing(c: Configuration, guard: Node, dist) -> Plan:
+def _guard_placed_or_placing(c: Configuration, guard: Node, dist, oscan: str = "key") -> Plan:
     corners = strings.corners(c.mer())
     moves = _stay_all(c)
     if guard not in corners:
@@ -230,7 +297,7 @@ def _guard_placed_or_placing(c: Configuration, guard: Node, dist) -> Plan:
                             "corner without getting nearer L ∪ {c}")
         moves[guard] = steps
         return Plan("I2 guard placement", None, moves, guard=guard)
-    target = target_meeting_node(c, guard)
+    target = target_meeting_node(c, guard, oscan)
     others = [r for r in c.occupied if r != guard and r != target]
     if others:
         nearest = min(manhattan(r, target) for r in others)
@@ -240,23 +307,32 @@ def _guard_placed_or_placing(c: Configuration, guard: Node, dist) -> Plan:
     return Plan("I2 make multiplicity", target, moves, guard=guard)
 
 
-def target_meeting_node(c: Configuration, guard: Node) -> Node:
+def target_meeting_node(c: Configuration, guard: Node, oscan: str = "key") -> Node:
     """Algorithm 3: the meeting node closest to the placed guard, ties by ``O''``."""
     best = min(manhattan(guard, m) for m in c.meeting_nodes)
     closest = [m for m in c.meeting_nodes if manhattan(guard, m) == best]
     if len(closest) == 1:
         return closest[0]
-    return min(closest, key=ordering_O_second(c, guard).index)
+    return min(closest, key=ordering_O_second(c, guard, oscan).index)
 
 
-def ordering_O_second(c: Configuration, guard: Node) -> tuple[Node, ...]:
+def ordering_O_second(c: Configuration, guard: Node, oscan: str = "key") -> tuple[Node, ...]:
     """``O''``: the meeting nodes in the lambda scan of MER from the guard's corner,
-    its grid lines parallel to the key corner's string direction (paper §4)."""
-    keys = strings.key_scans(c, weak=True)
-    along_x = {s.fast[0] != 0 for s in keys}
-    if len(along_x) != 1:
-        raise Unhandled("I2 make multiplicity: the key corners' string directions differ, "
-                        "O'' is not defined")
+    its grid lines parallel to the string direction (paper §4) of the key corner
+    (``oscan=key``) or of the guard's own corner (``oscan=guard``). The two differ only
+    on a square MER, where a corner's string direction is that of its larger string."""
+    if oscan == "guard":
+        mine = [s for s in strings.representations(c.mer(), c.weak_label) if s.corner == guard]
+        along_x = {s.fast[0] != 0 for s in mine}
+        if len(along_x) != 1:
+            raise Unhandled("I2 make multiplicity: the guard's corner has two equal strings, "
+                            "its string direction (O'') is not defined")
+    else:
+        keys = strings.key_scans(c, weak=True)
+        along_x = {s.fast[0] != 0 for s in keys}
+        if len(along_x) != 1:
+            raise Unhandled("I2 make multiplicity: the key corners' string directions differ, "
+                            "O'' is not defined")
     horizontal = along_x.pop()
     (scan,) = [s for s in strings.all_scans(c.mer(), c.lam)
                if s.corner == guard and (s.fast[0] != 0) == horizontal]
@@ -318,17 +394,16 @@ class PaperAlgorithm:
     """The paper's ``Gathering()``; see the module docstring for the phases."""
 
     def __init__(self, alpha: str = "mer", unclassified: str = "break",
-                 outside: str = "distance", finalize: str = "closest") -> None:
-        if alpha not in ("mer", "mer_f"):
-            raise InvalidInput(f"bad option alpha={alpha!r}: use mer or mer_f")
-        if unclassified not in ("break", "unhandled"):
-            raise InvalidInput(f"bad option unclassified={unclassified!r}: use break or unhandled")
-        if outside not in ("distance", "mer_f"):
-            raise InvalidInput(f"bad option outside={outside!r}: use distance or mer_f")
-        if finalize not in ("closest", "n1"):
-            raise InvalidInput(f"bad option finalize={finalize!r}: use closest or n1")
+                 outside: str = "distance", finalize: str = "closest",
+                 metric: str = "manhattan", oscan: str = "key") -> None:
+        given = {"alpha": alpha, "metric": metric, "oscan": oscan, "finalize": finalize,
+                 "outside": outside, "unclassified": unclassified}
+        for option, value in given.items():
+            if value not in READINGS[option]:
+                raise InvalidInput(f"bad option {option}={value!r}: use "
+                                 f"{' or '.join(READINGS[option])}")
         self.alpha, self.unclassified, self.outside = alpha, unclassified, outside
-        self.finalize = finalize
+        self.finalize, self.metric, self.oscan = finalize, metric, oscan
         self.name = "paper"
         self._plan = lru_cache(maxsize=CACHE_SIZE)(self._plan_uncached)
 
@@ -336,8 +411,8 @@ class PaperAlgorithm:
         robots, meeting = key
         try:
             return analyse(Configuration.trusted(robots, frozenset(meeting)), self.alpha,
-                           self.unclassified, self.outside,
-                           self.finalize)  # type: ignore[arg-type]
+                           self.unclassified, self.outside, self.finalize,  # type: ignore[arg-type]
+                           self.metric, self.oscan)
         except Unhandled as error:
             return error
 

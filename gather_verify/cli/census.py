@@ -41,7 +41,8 @@ def run(args: argparse.Namespace) -> int:
     for name in CLASS_NAMES:
         count = result.counts[name]
         share = 100.0 * count / result.total if result.total else 0.0
-        mark = "  (U)" if name in UNGATHERABLE else ""
+        mark = "  (U)" if name in UNGATHERABLE else (
+            "  (in U when its axis is empty)" if name == "UNCLASSIFIED" else "")
         print(f"{name:<13} {count:>10} {share:>7.2f}%{mark}")
         for c in result.examples(name)[:args.examples]:
             print(f"    robots {' '.join(f'{x},{y}' for x, y in c.robots)}  "

@@ -73,6 +73,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "(docs/explorer.md)")
     parser.add_argument("--junit", metavar="FILE",
                         help="write the verdict as a JUnit XML test case (for CI servers)")
+    parser.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
+                        help="run the paper's algorithm under every reading of its ambiguous "
+                             "passages (docs/interpretations.md) and report the robustness")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--timings", action="store_true",
                         help="with --json, also print the wall-clock seconds and peak memory "
@@ -94,6 +97,12 @@ def run(args: argparse.Namespace) -> int:
     detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")
     frames = args.frames or (scenario.frames if scenario else "all")
     explored: list[Exploration] = []
+    if args.readings:  # every reading (gather_verify.readings), the first one reported in full
+        from functools import partial
+
+        from gather_verify.readings import check_readings
+
+        run_check = partial(check_readings, readings=args.readings)  # type: ignore[assignment]
     try:
         report = run_check(
             configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
@@ -151,6 +160,12 @@ def run(args: argparse.Namespace) -> int:
         if expected is not None:
             print(f"expectation of {args.scenario}: "
                   + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
+    if args.readings:
+        from gather_verify.readings import ROBUSTNESS_EXIT, format_readings
+
+        if not args.json:
+            format_readings(report)
+        return ROBUSTNESS_EXIT[report["robustness"]]
     if expected is not None:  # a scenario test: matched is success, whatever the verdict
         return EXIT_OK if expected["matched"] else EXIT_VIOLATED
     return VERDICT_EXIT[report["verdict"]]

@@ -24,7 +24,7 @@ def report(c: Configuration) -> dict[str, object]:
 
     >>> r = report(Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)], initial=True))
     >>> r["class"], r["in_U"], r["key_string"]
-    ('UNCLASSIFIED', False, '410041')
+    ('UNCLASSIFIED', True, '410041')
     """
     out = classify_configuration(c).to_json()
     out.update(describe_views(c, "mer"))

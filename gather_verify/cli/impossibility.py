@@ -44,8 +44,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--split-orbit", action="store_true",
                    help="deliberately break the adversary (one orbit chooses independently)")
     p.add_argument("--beyond-u", action="store_true",
-                   help="outside U, still play the adversary when some automorphism of C fixes "
-                        "no robot and no meeting node (Theorem 1's hypothesis, e.g. UNCLASSIFIED)")
+                   help="also play the adversary when any automorphism of C fixes no robot and "
+                        "no meeting node (Theorem 1's hypothesis; since U follows §3.2 this "
+                        "finds nothing outside U, kept for old scripts)")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
 
 
@@ -97,8 +98,7 @@ def run(args: argparse.Namespace) -> int:
 def _print(result, note: str) -> None:  # noqa: ANN001
     print(f"class: {result.class_name}")
     if not result.partitive:
-        print("partitive: no (not in U = I41 ∪ I42): Theorem 1 does not apply "
-              "(see --beyond-u)")
+        print("partitive: no (not in U as §3.2 describes it): Theorem 1 does not apply")
         return
     phi = result.automorphism
     print(f"partitive automorphism: {phi.describe()}, k = {phi.order}; V' = {result.v_prime()}")

@@ -36,11 +36,21 @@ def run(args: argparse.Namespace) -> int:
 
         for path in write_regressions(args.db, args.regressions):
             print(f"wrote {path}", file=sys.stderr)
+    from gather_verify.readings import format_robustness, stored_robustness
+
+    robust = stored_robustness(args.db)  # sweeps run with --readings: class x robustness
     if args.json:
-        print_json({"sweeps": found if args.timings else without_timings(found)})
+        print_json({"sweeps": found if args.timings else without_timings(found),
+                    **({"robustness": robust} if robust else {})})
         return 0
     for i, summary in enumerate(found):
+        if (summary["settings"].get("extra") or {}).get("readings"):
+            continue  # one of the readings below
         print(f"== sweep {i + 1}: {summary['settings']}")
         format_summary(summary)
+        print()
+    for group, table in robust.items():
+        print(f"== readings {group}: class x robustness")
+        format_robustness(table)
         print()
     return 0

@@ -15,6 +15,7 @@ from gather_verify.cli.common import (
     without_timings,
     writable_outputs,
 )
+from gather_verify.errors import InvalidInput
 from schedulers import SCHEDULERS
 
 HELP = "verify every configuration of a box (up to symmetry) and store the results"
@@ -53,6 +54,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--limit", type=bounded_int(1, 10**9), default=None,
                    help="only the first N configurations of the enumeration")
     p.add_argument("--junit", metavar="FILE", help="also write JUnit XML, one test case per configuration")
+    p.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
+                   help="sweep the paper's algorithm under every reading of its ambiguous "
+                        "passages and print the class x robustness table")
+    p.add_argument("--readings-on", choices=("all", "violated"), default="all",
+                   help="with --readings: run the other readings on every configuration, or "
+                        "only on those the base reading violates (the rest: DEFAULT-ONLY)")
+    p.add_argument("--readings-types", default=None, metavar="TYPE,...",
+                   help="with --readings: only configurations whose M is of these types "
+                        "(I1-ordered, I13, reflection, rotation; default all)")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.add_argument("--timings", action="store_true",
                    help="with --json, also print the slowest configurations and their seconds "
@@ -97,6 +107,8 @@ def run(args: argparse.Namespace) -> int:
         max_seconds=args.max_seconds_per_config, move_bound_c=args.move_bound_c,
         reduction=not args.no_reduction, max_memory_mb=args.max_memory_mb,
     ) for n in args.robots for m in args.meeting]
+    if args.readings:
+        return _readings(args, settings)
     try:
         summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
                             progress=not args.json, limit=args.limit, fresh=args.fresh)
@@ -120,3 +132,32 @@ def run(args: argparse.Namespace) -> int:
     if "VIOLATED" in verdicts:
         return 1
     return 3 if "INCOMPLETE" in verdicts else 0
+
+
+def _readings(args: argparse.Namespace, settings: list) -> int:
+    """``sweep --readings``: every reading into the store, then the class x robustness table."""
+    from gather_verify.readings import format_robustness, readings_sweep
+
+    if args.junit:
+        raise InvalidInput("--junit is not available with --readings")
+    try:
+        from gather_verify.readings import M_TYPES
+
+        types = M_TYPES if args.readings_types is None else [
+            t.strip() for t in args.readings_types.split(",")]
+        table = readings_sweep(settings, args.readings, args.db, on=args.readings_on, types=types,
+                               workers=args.workers, dask=args.dask, progress=not args.json,
+                               limit=args.limit)
+    except KeyboardInterrupt:
+        print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
+              "run the same command again to resume", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    if args.json:
+        print_json({"robustness": table})
+    else:
+        format_robustness(table)
+        print(f"\nresults: {os.path.abspath(args.db)}")
+    seen = {label for by in table.values() for label in by}
+    if seen & {"ROBUST-VIOLATED", "READING-DEPENDENT"}:
+        return 1
+    return 3 if seen & {"INCOMPLETE", "PARTIAL"} else 0

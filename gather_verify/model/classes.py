@@ -10,10 +10,20 @@ exactly as SEMANTICS.md §2 defines them:
   ``Aut(C)`` is trivial; else, when ``Aut(C)`` holds a rotation, I32 with a
   robot on c and I42 without.
 - UNCLASSIFIED: ``M`` has a rotation, no meeting node on c, and ``Aut(C)`` is a
-  single reflection. U = I41 ∪ I42 is ungatherable (Theorem 1).
+  single reflection.
+
+``in_U`` is a flag beside the class, as the end of the paper's §3.2 describes U
+(SEMANTICS.md §2): ``Aut(C)`` is a single reflection whose axis holds no robot
+and no meeting node, or holds a rotation whose centre holds neither. I41 and
+I42 are in U, and so is an UNCLASSIFIED configuration whose axis is empty
+(Theorem 1 makes it ungatherable); one whose axis holds a meeting node is not.
 
 >>> classify([(0, 1), (2, 1)], [(0, 0), (2, 0)]).name
 'UNCLASSIFIED'
+>>> classify([(0, 1), (2, 1)], [(0, 0), (2, 0)]).in_U  # the axis x = 1 holds nothing
+True
+>>> classify([(0, 0), (2, 2)], [(0, 2), (2, 0), (1, 1)]).in_U  # a meeting node on c: I13
+False
 >>> classify([(0, 1)], [(0, 0), (3, 0), (1, 1), (2, 1)]).name
 'I21'
 """
@@ -34,6 +44,7 @@ from gather_verify.model.symmetry import (
 
 CLASS_NAMES = ("I11", "I12", "I13", "I21", "I22", "I31", "I32", "I41", "I42", "UNCLASSIFIED")
 UNGATHERABLE = frozenset({"I41", "I42"})
+"""The classes wholly in U; UNCLASSIFIED configurations are in U when their axis is empty."""
 
 
 @dataclass(frozen=True)
@@ -46,11 +57,8 @@ class Classification:
     configuration_symmetries: tuple[Automorphism, ...] = field(default=())
     meeting_on: tuple[Node, ...] = ()  # meeting nodes on L or c
     robots_on: tuple[Node, ...] = ()  # robot nodes on L or c
-
-    @property
-    def in_U(self) -> bool:
-        """Ungatherable by Theorem 1 / Corollary 1."""
-        return self.name in UNGATHERABLE
+    in_U: bool = False
+    """In U as §3.2 describes it (:func:`in_U_of`): ungatherable by Theorem 1."""
 
     @property
     def group(self) -> str:
@@ -67,6 +75,19 @@ class Classification:
             "meeting_nodes_on_symmetry": [list(v) for v in self.meeting_on],
             "robots_on_symmetry": [list(v) for v in self.robots_on],
         }
+
+
+def in_U_of(c: Configuration, aut_c: Sequence[Automorphism]) -> bool:
+    """U as the end of the paper's §3.2 describes it, per configuration (full labels):
+    ``Aut(C)`` (without the identity: ``aut_c``) is a unique line of symmetry whose axis
+    holds no robot and no meeting node, or holds a rotation whose centre holds neither."""
+    if not aut_c:
+        return False
+    marked = c.occupied | c.meeting_nodes
+    rotation = next((a for a in aut_c if a.kind == "rotation"), None)
+    if rotation is not None:  # every rotation of a finite group has the same centre
+        return not any(rotation.fixes(v) for v in marked)
+    return len(aut_c) == 1 and not any(aut_c[0].fixes(v) for v in marked)
 
 
 def classify_configuration(
@@ -97,7 +118,8 @@ def classify_configuration(
             name, why = "I31", "C is symmetric about L, a robot lies on L, no meeting node"
         else:
             name, why = "I41", "C is symmetric about L with no robot or meeting node on L"
-        return Classification(name, f"{where}: {why}", mirror, aut_c, meeting_on, robots_on)
+        return Classification(name, f"{where}: {why}", mirror, aut_c, meeting_on, robots_on,
+                              in_U_of(c, aut_c))
     rotation = min(rotations, key=lambda a: a.order == 2)  # prefer the 90-degree one
     centre = rotation.centre2
     assert centre is not None
@@ -119,7 +141,8 @@ def classify_configuration(
             f"C has only a reflection ({aut_c[0].describe()}) while M is rotationally "
             "symmetric with no meeting node on c: the paper's partition misses this case"
         )
-    return Classification(name, f"{where}: {why}", rotation, aut_c, meeting_on, robots_on)
+    return Classification(name, f"{where}: {why}", rotation, aut_c, meeting_on, robots_on,
+                          in_U_of(c, aut_c))
 
 
 def classify(robots: Iterable[Node], meeting_nodes: Iterable[Node]) -> Classification:

@@ -145,12 +145,15 @@ def run_sweep(
     dask: str | None = None,
     progress: bool = True,
     limit: int | None = None,
+    where: Callable[[SweepSettings, Configuration], bool] | None = None,
     fresh: bool = False,
 ) -> dict[str, Any]:
     """Run (or resume) one sweep, or several (e.g. every n and m up to a bound) into
     one store; return the summary over all of them (see :func:`summarise`). Rows are
     keyed by the settings and the algorithm's fingerprint, so an edited algorithm is
-    checked again; ``fresh`` drops the stored rows of these settings first."""
+    checked again; ``fresh`` drops the stored rows of these settings first. ``where``
+    keeps only some configurations (the readings of :mod:`gather_verify.readings`; the
+    settings of such a sweep must say which, so the store does not mislead)."""
     from gather_verify.sweeps.census import enumerate_configurations
 
     batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
@@ -166,7 +169,7 @@ def run_sweep(
             for index, c in enumerate(enumerate_configurations(one.robots, one.meeting, *one.box)):
                 if limit is not None and index >= limit:
                     break
-                if configuration_key(c) not in done:
+                if configuration_key(c) not in done and (where is None or where(one, c)):
                     todo.append((index, c))
             plan.append((one, sweep, todo))
         bar = Progress(sum(len(todo) for _, _, todo in plan), progress)

@@ -1,0 +1,262 @@
+"""Readings (SEMANTICS.md §8): every option of ``paper`` changes a verdict somewhere, the
+covering set is sound, and robustness is never claimed on fewer readings than were run."""
+
+from __future__ import annotations
+
+import json
+import random
+from pathlib import Path
+
+import pytest
+
+from gather_verify.algorithms.base import Unhandled
+from gather_verify.algorithms.paper import READINGS, analyse
+from gather_verify.check import run_check
+from gather_verify.cli import main
+from gather_verify.model.configuration import Configuration
+from gather_verify.readings import (
+    check_readings,
+    covering,
+    m_type,
+    parse_readings,
+    reading_name,
+    relevant_options,
+    robustness,
+    robustness_table,
+)
+from gather_verify.scenario import load_scenario
+from gather_verify.sweeps.census import enumerate_configurations
+
+ROOT = Path(__file__).resolve().parents[1]
+F9 = ROOT / "scenarios/regressions/i22-target-invariance-paper-alpha-mer-f-async-c22c1622.json"
+F11_ROTATION = ROOT / "scenarios/regressions/i22-defined-paper-async-4cdeec30.json"
+LIMITS = {"max_states": 10**5, "max_seconds": 120}
+
+
+def verdict(c: Configuration, algorithm: str, scheduler: str = "async") -> tuple[str, str | None]:
+    r = run_check(c, algorithm=algorithm, scheduler=scheduler, **LIMITS)
+    return r["verdict"], r["property"]
+
+
+def configuration(path: Path) -> Configuration:
+    return load_scenario(str(path)).configuration
+
+
+# -- each option changes a verdict ----------------------------------------------------
+
+
+def test_metric_euclid_removes_f11_rotation_case():
+    """Manhattan ties (0,0) and (2,3) at 7 from c; Euclidean makes (0,0) the unique farthest."""
+    c = configuration(F11_ROTATION)
+    assert verdict(c, "paper") == ("VIOLATED", "defined")
+    assert verdict(c, "paper:metric=euclid") == ("VERIFIED", None)
+
+
+def test_oscan_guard_alone_removes_a_target_flip():
+    c = Configuration([(0, 0), (0, 1)], [(1, 0), (2, 1)], initial=True)
+    assert verdict(c, "paper") == ("VIOLATED", "target-invariance")
+    assert verdict(c, "paper:oscan=guard") == ("VERIFIED", None)
+
+
+def test_f9_needs_oscan_guard_and_finalize_target_together():
+    """F9 survives each of the two readings alone: they interact (the covering set is a
+    product for that reason)."""
+    c = configuration(F9)
+    for algorithm in ("paper", "paper:oscan=guard", "paper:finalize=target"):
+        assert verdict(c, algorithm) == ("VIOLATED", "target-invariance"), algorithm
+    assert verdict(c, "paper:oscan=guard,finalize=target") == ("VERIFIED", None)
+
+
+def test_finalize_target_has_failures_of_its_own():
+    """The walking guard is on a MER corner again and O'' picks the other tied node."""
+    c = Configuration([(0, 0), (1, 2)], [(1, 2), (2, 1)], initial=True)
+    assert verdict(c, "paper") == ("VERIFIED", None)
+    assert verdict(c, "paper:finalize=target") == ("VIOLATED", "target-invariance")
+
+
+def test_finalize_literal_walks_both_robots():
+    """Algorithm 4 whenever n1 = 2: two robots off meeting nodes both qualify as r."""
+    c = Configuration([(0, 0), (0, 1)], [(0, 2), (1, 0)], initial=True)
+    assert verdict(c, "paper") == ("VERIFIED", None)
+    assert verdict(c, "paper:finalize=literal")[0] == "VIOLATED"
+    plan = analyse(c, finalize="literal")
+    assert plan.phase == "I2 finalization (literal)"
+    assert plan.moves[(0, 0)] == {(0, 1)} and plan.moves[(0, 1)] == {(0, 0)}
+    both_on_meeting = Configuration([(0, 0), (1, 0)], [(0, 0), (1, 0), (1, 2), (2, 2)])
+    with pytest.raises(Unhandled, match="no robot qualifies"):
+        analyse(both_on_meeting, finalize="literal")
+
+
+def test_finalize_n1_and_unclassified_unhandled_change_verdicts():
+    c = Configuration([(0, 0), (0, 2)], [(1, 0), (1, 1)], initial=True)
+    assert verdict(c, "paper") == ("VERIFIED", None)
+    assert verdict(c, "paper:finalize=n1") == ("VIOLATED", "defined")
+    c = Configuration([(0, 1), (1, 1)], [(0, 0), (2, 2)], initial=True)
+    assert verdict(c, "paper") == ("VERIFIED", None)
+    assert verdict(c, "paper:unclassified=unhandled") == ("VIOLATED", "defined")
+
+
+def test_bad_reading_values_are_refused():
+    with pytest.raises(ValueError, match="metric"):
+        parse_readings("metric=taxicab")
+    with pytest.raises(ValueError, match="unknown option"):
+        parse_readings("colour")
+    with pytest.raises(ValueError, match="needs the algorithm paper"):
+        parse_readings("all", "go-to-target")
+
+
+# -- the covering set is sound ----------------------------------------------------------
+
+
+def _plan(c: Configuration, values: dict[str, str]) -> object:
+    try:
+        return analyse(c, values["alpha"], values["unclassified"], values["outside"],
+                       values["finalize"], values["metric"], values["oscan"])
+    except Unhandled as error:
+        return f"Unhandled: {error}"
+
+
+def _snapshots() -> list[Configuration]:
+    """Initial configurations of every M type and snapshots reached by moving robots."""
+    rng = random.Random(14)
+    out = []
+    for n, m in ((2, 2), (2, 3), (3, 2), (3, 4)):
+        out += rng.sample(list(enumerate_configurations(n, m, 3, 3)), 12)
+    out += rng.sample(list(enumerate_configurations(3, 2, 4, 4)), 12)
+    for c in list(out):  # a robot moved one step: snapshots met during runs
+        r = rng.choice(sorted(c.robots))
+        step = rng.choice([(1, 0), (-1, 0), (0, 1), (0, -1)])
+        moved = (r[0] + step[0], r[1] + step[1])
+        if moved not in c.robots:
+            out.append(Configuration([v for v in c.robots if v != r] + [moved], c.meeting_nodes))
+    return out
+
+
+def _covering_failures(snapshots: list[Configuration]) -> list[tuple]:
+    """Snapshots where changing an option their M type does not read changes the plan."""
+    rng = random.Random(8)
+    failures = []
+    for c in snapshots:
+        read = relevant_options(c)
+        for _ in range(3):
+            values = {o: rng.choice(v) for o, v in READINGS.items()}
+            plan = _plan(c, values)
+            failures += [(c, option, other) for option in set(READINGS) - set(read)
+                         for other in READINGS[option]
+                         if _plan(c, {**values, option: other}) != plan]
+    return failures
+
+
+def test_options_not_read_on_an_M_do_not_change_any_plan():
+    """The covering claim of :mod:`gather_verify.readings`: for every snapshot, changing an
+    option its M type does not read leaves the plan (or the Unhandled reason) equal."""
+    snapshots = _snapshots()
+    assert {m_type(c) for c in snapshots} == {"I1-ordered", "I13", "reflection", "rotation"}
+    assert _covering_failures(snapshots) == []
+
+
+def test_the_covering_claim_would_catch_an_option_read_where_it_is_said_not_to_be(monkeypatch):
+    """Broken on purpose: claim that rotational M do not read ``metric``."""
+    from gather_verify import readings
+
+    monkeypatch.setitem(readings._READ, "rotation", ("oscan", "finalize", "outside",
+                                                     "unclassified"))
+    failures = _covering_failures([configuration(F11_ROTATION)])
+    assert failures and {option for _, option, _ in failures} == {"metric"}
+
+
+# -- robustness ---------------------------------------------------------------------------
+
+
+def test_robustness_labels():
+    assert robustness(["VIOLATED"] * 3) == "ROBUST-VIOLATED"
+    assert robustness(["VERIFIED"] * 3) == "ROBUST-VERIFIED"
+    assert robustness(["VERIFIED", "VIOLATED", "INCOMPLETE"]) == "READING-DEPENDENT"
+    assert robustness(["VIOLATED", "INCOMPLETE"]) == "INCOMPLETE"  # never robust on fewer
+    assert robustness(["VERIFIED", "INCOMPLETE"]) == "INCOMPLETE"
+    assert robustness(["NOT-APPLICABLE"] * 2) == "NOT-APPLICABLE"
+
+
+def test_check_readings_reports_every_reading_run():
+    c = configuration(F11_ROTATION)
+    report = check_readings(c, "all", algorithm="paper", scheduler="async", **LIMITS)
+    specs = [r["algorithm"] for r in report["readings"]]
+    assert len(specs) == len(set(specs)) == 64 == len(covering(parse_readings("all"), c))
+    assert specs[0] == reading_name({o: v[0] for o, v in READINGS.items()})
+    assert report["algorithm"] == specs[0] and report["verdict"] == "VIOLATED"
+    assert report["robustness"] == "READING-DEPENDENT"
+    assert report["readings_not_read"] == {"alpha": ["mer", "mer_f"]}
+    removed = {r["algorithm"] for r in report["readings"] if r["verdict"] == "VERIFIED"}
+    assert removed and all("metric=euclid" in a for a in removed)
+
+
+def test_check_readings_incomplete_is_never_robust():
+    c = configuration(F11_ROTATION)
+    report = check_readings(c, "metric", algorithm="paper", scheduler="async", max_states=2,
+                            max_seconds=60)
+    assert {r["verdict"] for r in report["readings"]} <= {"INCOMPLETE", "VIOLATED"}
+    assert report["robustness"] in ("INCOMPLETE",)
+
+
+def test_check_cli_readings_json(capsys):
+    code = main(["check", str(F11_ROTATION), "--readings", "metric,finalize=closest|n1",
+                 "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 1 and out["robustness"] == "READING-DEPENDENT"
+    assert [(r["algorithm"].split(",")[1], r["algorithm"].split(",")[3], r["verdict"])
+            for r in out["readings"]] == [
+        ("metric=manhattan", "finalize=closest", "VIOLATED"),
+        ("metric=manhattan", "finalize=n1", "VIOLATED"),
+        ("metric=euclid", "finalize=closest", "VERIFIED"),
+        ("metric=euclid", "finalize=n1", "VIOLATED")]
+    assert set(out["readings"][0]) == {"algorithm", "verdict", "property"}
+    assert main(["check", str(F11_ROTATION), "--readings", "metric=taxicab"]) == 2
+    assert "metric" in capsys.readouterr().err
+
+
+def test_check_cli_robust_verdicts(capsys):
+    assert main(["check", "--robots", "0,0 3,1 1,4", "--meeting", "2,2", "--readings",
+                 "all"]) == 0
+    out = capsys.readouterr().out
+    assert "robustness: ROBUST-VERIFIED" in out and "readings (1 run)" in out
+
+
+def test_robustness_table_counts_only_complete_coverings():
+    base, other = "paper:a", "paper:b"
+    groups = [
+        ({"algorithm": base, "extra": {"types": ["I1-ordered", "rotation", "I13",
+                                                  "reflection"]}},
+         [{"key": "k1", "class": "I22", "verdict": "VIOLATED"},
+          {"key": "k2", "class": "I22", "verdict": "VERIFIED"},
+          {"key": "k3", "class": "I22", "verdict": "VIOLATED"},
+          {"key": "k4", "class": "I13", "verdict": "VERIFIED"},
+          {"key": "k5", "class": "UNCLASSIFIED", "verdict": "NOT-APPLICABLE"},
+          {"key": "k6", "class": "I22", "verdict": "VIOLATED"},
+          {"key": "k7", "class": "I22", "verdict": "VIOLATED"}]),
+        ({"algorithm": other, "extra": {"types": ["rotation"]}},
+         [{"key": "k1", "class": "I22", "verdict": "VERIFIED"},
+          {"key": "k6", "class": "I22", "verdict": "VIOLATED"}]),
+        ({"algorithm": "paper:c", "extra": {"types": ["rotation"]}},  # interrupted before k6
+         [{"key": "k1", "class": "I22", "verdict": "VIOLATED"}]),
+    ]
+    table = robustness_table(groups)
+    assert table["I22"] == {"READING-DEPENDENT": 1, "PARTIAL": 1, "DEFAULT-ONLY": 3}
+    complete = robustness_table(groups[:2])["I22"]
+    assert complete == {"READING-DEPENDENT": 1, "ROBUST-VIOLATED": 1, "DEFAULT-ONLY": 3}
+    assert table["I13"] == {"ROBUST-VERIFIED": 1}  # I13 reads no option: one reading is all
+    assert table["UNCLASSIFIED"] == {"NOT-APPLICABLE": 1}
+
+
+def test_sweep_readings_stores_every_reading(tmp_path, capsys):
+    db = tmp_path / "r.sqlite"
+    code = main(["sweep", "--robots", "2", "--meeting", "2", "--box", "3x2", "--readings",
+                 "metric,oscan", "--db", str(db), "--workers", "1", "--json"])
+    table = json.loads(capsys.readouterr().out)["robustness"]
+    assert code in (0, 1)
+    assert sum(sum(by.values()) for by in table.values()) == len(
+        list(enumerate_configurations(2, 2, 3, 2)))
+    assert main(["report", "--db", str(db)]) == 0
+    assert "class x robustness" in capsys.readouterr().out
+    assert main(["sweep", "--robots", "2", "--meeting", "2", "--box", "3x2", "--readings", "all",
+                 "--readings-types", "spiral", "--db", str(db)]) == 2
+    assert "spiral" in capsys.readouterr().err
