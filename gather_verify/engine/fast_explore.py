@@ -41,12 +41,11 @@ import numpy as np
 
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
+from gather_verify.engine.checks import Checks, ColumnChecks
 from gather_verify.engine.explore import (
-    SAFETY,
     Encoding,
     Exploration,
     Limits,
-    Violation,
     facts_cache,
     region_box,
     rss_mb,
@@ -59,7 +58,8 @@ from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
 from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
 from gather_verify.model.view import check_detection
-from schedulers import Event, get_scheduler, initial_state
+from gather_verify.properties.facts import StateFacts
+from schedulers import get_scheduler, initial_state
 
 CHUNK = 1 << 14
 """States expanded per bulk step: bounds the transient arrays (a few MB)."""
@@ -534,6 +534,52 @@ class FactsTable:
         return self.target[rows]
 
 
+class RowFacts:
+    """The :class:`~gather_verify.properties.facts.Facts` of one row of a :class:`FactsTable`,
+    each read from the table (class and target computed on first use)."""
+
+    __slots__ = ("table", "row", "initial")
+
+    def __init__(self, table: FactsTable, row: int, initial: Configuration):
+        self.table, self.row, self.initial = table, row, initial
+
+    @property
+    def configuration(self) -> Configuration:
+        return self.table.configuration(self.row)
+
+    @property
+    def move_sets(self) -> dict[Node, frozenset[Node]] | None:
+        if self.table.flags[self.row, 0]:
+            return None
+        out = {}
+        for cell, mask in zip(self.table.cells[self.row].tolist(),
+                              self.table.masks[self.row].tolist(), strict=True):
+            v = self.table.enc.node(cell)
+            out[v] = frozenset(geometry.add(v, d) for d, bit in BIT.items() if mask & bit)
+        return out
+
+    @property
+    def unhandled(self) -> str | None:
+        return self.table.reason(self.row) if self.table.flags[self.row, 0] else None
+
+    @property
+    def stuck(self) -> bool:
+        return bool(self.table.flags[self.row, 1])
+
+    @property
+    def gathered(self) -> bool:
+        return bool(self.table.flags[self.row, 2])
+
+    @property
+    def in_U(self) -> bool:
+        return bool(self.table.need_in_u(np.array([self.row]))[0])
+
+    @property
+    def target(self) -> Node | None:
+        t = int(self.table.need_target(np.array([self.row]))[0])
+        return None if t < 0 else self.table.target_nodes[t]
+
+
 def supports(initial: Configuration, scheduler: str, reduction: bool = True,
              anonymity: bool | None = None, symmetry: bool | None = None, frames: str = "all",
              limits: Limits = NO_LIMITS) -> bool:
@@ -591,7 +637,7 @@ def explore_fast(
     reduction: bool = True,
     anonymity: bool | None = None,
     symmetry: bool | None = None,
-    properties: Iterable[str] = SAFETY,
+    properties: Iterable[str] | None = None,
     limits: Limits = NO_LIMITS,
     graph: bool = True,
     memo: bool = False,
@@ -615,8 +661,7 @@ def explore_fast(
     group = symmetry_group(initial, frames) if symmetry else []
     enc = Encoding(region_box(initial, limits.margin, group), group, anonymity)
     n = initial.n
-    wanted = set(properties)
-    facts = facts_cache(algo, initial.meeting_nodes, detection, frame_elements)
+    facts = facts_cache(algo, initial, detection, frame_elements)
     table = FactsTable(enc, n, algo, initial.meeting_nodes, detection, frame_elements,
                        meeting_automorphisms(initial),
                        facts_memo(algo, detection, frames) if memo else None)
@@ -634,10 +679,11 @@ def explore_fast(
     start_key = enc.key(initial_state(initial.robots))
     init_cells = np.array([[enc.code(v, None) // 5 for v in initial.robots]], dtype=np.int64)
     srt, ck = table.config_keys(init_cells)
-    initial_in_U = bool(table.need_in_u(table.rows(ck, srt))[0])
-    check_u = "no-ungatherable" in wanted and not initial_in_U
-    check_target = "target-invariance" in wanted
-    check_final = "final" in wanted
+    init_row = table.rows(ck, srt)
+    checks = Checks(properties,
+                    StateFacts(RowFacts(table, int(init_row[0]), initial), True))
+    bulk = ColumnChecks(checks, lambda row: RowFacts(table, row, initial))
+    bulk.states(0, init_row, np.ones(1, dtype=bool), checks.on_discovery)
 
     max_states = min(limits.max_states, MAX_IDS)
     # columns reserved up front: untouched pages cost no memory, and nothing is copied
@@ -649,7 +695,6 @@ def explore_fast(
     offsets = Growing(np.int64)
     targets = Growing(np.int32)
     weights = Growing(np.int8)
-    violations: dict[str, Violation] = {}
     transitions = changed_loops = 0
     stopped: str | None = None
     peak = rss_mb()
@@ -668,11 +713,14 @@ def explore_fast(
         cells = codes // 5
         srt, ck = table.config_keys(cells)
         rows = table.rows(ck, srt)
-        # the last source state to expand, and how far (defined: not at all)
+        idle = np.all(codes % 5 == 0, axis=1)
+        # the last source state to expand: a halting property stops before the state it fails in
         limit_src = len(K)
-        unhandled = np.flatnonzero(table.flags[rows, 0])
-        if len(unhandled):
-            limit_src = int(unhandled[0])
+        halt = bulk.first_failure(checks.halting, rows, idle)
+        if halt is not None:
+            limit_src = halt[0]
+        assert not table.flags[rows[:limit_src], 0].any(), \
+            "a state without move sets needs a halting property"
         # robot i's move mask: the mask of its cell's position in the sorted row
         rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
         masks = table.masks[rows[:, None], rank]
@@ -687,7 +735,7 @@ def explore_fast(
             transitions += cut + 1
         else:
             stop_src = limit_src
-            stop = "defined" if limit_src < len(K) else None
+            stop = halt[1].name if halt is not None else None
             transitions += cut
         src, robot, new, weight = src[:cut], robot[:cut], new[:cut], weight[:cut]
         old = codes[src, robot]
@@ -718,36 +766,18 @@ def explore_fast(
                 index.truncate(known + m)
         fresh_keys = index.keys[known:index.count]
         expanded = stop_src + (stop in ("region", "states"))
-        if check_final and "final" not in violations and expanded:
-            dead = (table.flags[rows[:expanded], 1] == 1) & (table.flags[rows[:expanded], 2] == 0) \
-                & np.all(codes[:expanded] % 5 == 0, axis=1)
-            hit = np.flatnonzero(dead)
-            if len(hit):
-                violations["final"] = Violation(
-                    "final", sid + int(hit[0]), "deadlock: no robot can move, nothing is pending, "
-                    "and the robots are not all on one meeting node")
-        if check_target and "target-invariance" not in violations and cut:
-            before = table.need_target(rows[src])
-            maybe = np.flatnonzero(before >= 0)
-            if len(maybe):
-                succ_cells = cells[src[maybe]].copy()
-                succ_cells[np.arange(len(maybe)), robot[maybe]] = new[maybe] // 5
-                s2, k2 = table.config_keys(succ_cells)
-                after = table.need_target(table.rows(k2, s2))
-                bad = np.flatnonzero((after >= 0) & (after != before[maybe]))
-                if len(bad):
-                    f = int(maybe[bad[0]])
-                    violations["target-invariance"] = _target_violation(
-                        enc, table, n, sid, K, codes, src[f], robot[f], new[f],
-                        int(before[maybe[bad[0]]]), int(after[bad[0]]))
-        if check_u and "no-ungatherable" not in violations and len(fresh_keys):
-            fc = _decode(fresh_keys, base, n) // 5
-            s3, k3 = table.config_keys(fc)
-            bad = np.flatnonzero(table.need_in_u(table.rows(k3, s3)))
-            if len(bad):
-                violations["no-ungatherable"] = Violation(
-                    "no-ungatherable", known + int(bad[0]),
-                    "a configuration in U (I41/I42) is reached from one outside U")
+        bulk.states(sid, rows[:expanded], idle[:expanded], checks.on_expansion)
+        if checks.open(checks.on_transition) and cut:
+            # the configuration each transition reaches
+            succ_cells = cells[src].copy()
+            succ_cells[np.arange(cut), robot] = new // 5
+            s2, k2 = table.config_keys(succ_cells)
+            bulk.transitions(sid, src, rows[src], table.rows(k2, s2))
+        if checks.open(checks.on_discovery) and len(fresh_keys):
+            fresh = _decode(fresh_keys, base, n)
+            s3, k3 = table.config_keys(fresh // 5)
+            bulk.states(known, table.rows(k3, s3), np.all(fresh % 5 == 0, axis=1),
+                        checks.on_discovery)
         changed_loops += int(np.count_nonzero((ids == sid + src) & (new != old)))
         if graph:
             counts = np.bincount(src, minlength=expanded)[:expanded]
@@ -756,11 +786,8 @@ def explore_fast(
             targets.extend(ids.astype(np.int32))
             weights.extend(weight.astype(np.int8))
         parents.extend((sid + fresh_src).astype(np.int32))
-        if stop == "defined":
-            state = stop_src
-            violations["defined"] = Violation(
-                "defined", sid + state,
-                f"the algorithm has no rule here: {table.reason(int(rows[state]))}")
+        if halt is not None and stop == halt[1].name:
+            bulk.record_halt(sid + stop_src, int(rows[stop_src]), bool(idle[stop_src]), halt[1])
         if stop is not None:
             stopped = stop
             break
@@ -772,8 +799,8 @@ def explore_fast(
     return Exploration(
         initial, algo, scheduler, detection, frames, anonymity, symmetry, enc, IntColumn(keys),
         IntColumn(parents.array()), IntColumn(offsets.array()), IntColumn(targets.array()),
-        IntColumn(weights.array()), changed_loops, index.count, transitions, stopped, violations,
-        time.perf_counter() - started, peak, facts, initial_in_U)
+        IntColumn(weights.array()), changed_loops, index.count, transitions, stopped,
+        checks.violations, time.perf_counter() - started, peak, facts, checks.vacuous)
 
 
 def _decode(keys: np.ndarray, base: int, n: int) -> np.ndarray:
@@ -785,20 +812,3 @@ def _decode(keys: np.ndarray, base: int, n: int) -> np.ndarray:
         rest = quot
     return codes
 
-
-def _target_violation(enc: Encoding, table: FactsTable, n: int, sid: int, K: np.ndarray,
-                      codes: np.ndarray, src: int, robot: int, new: int, before: int,
-                      after: int) -> Violation:
-    state = enc.decode(int(K[src]), n)
-    succ_codes = codes[src].tolist()
-    succ_codes[robot] = int(new)
-    succ = tuple(enc.robot(c) for c in succ_codes)
-    node, pending = state[robot]
-    if pending is None:
-        event = Event("look", (robot,), ((robot, node, succ[robot][1]),))
-    else:
-        event = Event("move", (robot,), ((robot, node, pending),))
-    t0, t1 = table.target_nodes[before], table.target_nodes[after]
-    return Violation("target-invariance", sid + src,
-                     f"the target meeting node changes from {list(t0)} to {list(t1)}",
-                     event, succ, {"target_before": list(t0), "target_after": list(t1)})
