@@ -35,6 +35,7 @@ from gather_verify.engine.explore import (
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
+from gather_verify.properties.facts import StateFacts
 from gather_verify.properties.graph import GraphFacts, longest_path
 from gather_verify.properties.registry import check_property_names, get_property, registered
 from gather_verify.trace import build_trace
@@ -66,14 +67,16 @@ def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
     """The trace of a state or transition property's witness; for a transition, the first
     concrete transition out of the witness state's concrete member that fails (None when
     none does: a ``value`` that is not equivariant, the caller re-checks without reductions)."""
-    ids = e.path_to(v.state)
     prop = get_property(v.property)
-    if prop.kind == "state":
-        return _trace(e, v.property, v.reason, ids)
-    assert prop.value is not None and prop.holds is not None
-    steps = e.concretise(ids)
+    steps = e.concretise(e.path_to(v.state))
     state = steps[-1][1] if steps else e.initial_state
-    before = prop.value(e.facts(tuple(sorted(n for n, _ in state))))
+    here = e.facts(tuple(sorted(n for n, _ in state)))
+    if prop.kind == "state":  # the reason, on the concrete state shown
+        reason = prop.message_for(StateFacts(here, all(p is None for _, p in state)))
+        return build_trace(e.initial, e.algorithm.name, e.scheduler_name, e.detection, e.frames,
+                           steps, v.property, reason)
+    assert prop.value is not None and prop.holds is not None
+    before = prop.value(here)
     for event, succ in e.concrete_successors(state):
         after = prop.value(e.facts(tuple(sorted(n for n, _ in succ))))
         if not prop.holds(before, after):
@@ -194,9 +197,9 @@ def run_check(
                 if w is not None:
                     traces[prop.name] = _trace(w.exploration, prop.name, w.reason, w.path,
                                                w.cycle, **w.detail)
-    for name, v in e.violations.items():
+    for name, v in e.violations.items():  # always checked, so never requested: add them
         if get_property(name).pseudo:
-            results[name] = {"holds": False, "reason": v.reason}
+            results.setdefault(name, {"holds": False, "reason": v.reason})
     failing = [p.name for p in registered() if p.name in traces]
     verdict = combine(failing, stopped)
     report["verdict"] = verdict

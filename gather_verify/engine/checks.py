@@ -94,11 +94,14 @@ class Checks:
 
 class ColumnChecks:
     """:class:`Checks` over the bulk engine's columns: ``facts(row)`` gives the facts of a
-    row of its facts table (computed lazily, attribute by attribute)."""
+    row of its facts table (computed lazily, attribute by attribute), ``facts(row, idle)``
+    those of a state, with an attribute ``read_idle`` (whether a predicate read ``idle``)."""
 
-    def __init__(self, checks: Checks, facts: Callable[[int], Facts]):
+    def __init__(self, checks: Checks, facts: Callable[..., Any],
+                 many: Callable[[np.ndarray, np.ndarray], list[Any]]):
         self.checks = checks
         self.facts = facts
+        self.many = many  # (rows, idle) -> the state facts of each pair, in one go
         self.verdicts: dict[str, np.ndarray] = {}  # per (row * 2 + idle): -1 unknown, 0, 1
         self.values: dict[str, tuple[np.ndarray, dict[Any, int], list[Any]]] = {}
         self.pairs: dict[str, dict[tuple[int, int], bool]] = {}
@@ -114,9 +117,18 @@ class ColumnChecks:
             if col is not None:
                 grown[:len(col)] = col
             self.verdicts[prop.name] = col = grown
-        got = col[key]
-        for k in np.unique(key[got < 0]).tolist():
-            col[k] = bool(prop.holds(StateFacts(self.facts(k >> 1), bool(k & 1))))  # type: ignore[misc]
+        todo = np.unique(key[col[key] < 0])
+        if len(todo):
+            holds = prop.holds
+            assert holds is not None
+            for k, s in zip(todo.tolist(), self.many(todo >> 1, (todo & 1).astype(bool)),
+                            strict=True):
+                if col[k] >= 0:
+                    continue  # settled with the other idle value (the predicate did not read it)
+                ok = bool(holds(s))
+                col[k] = ok
+                if not s.read_idle:  # the answer does not depend on idle
+                    col[k ^ 1] = ok
         return col[key] == 0
 
     def first_failure(self, props: list[Property], rows: np.ndarray, idle: np.ndarray
@@ -130,7 +142,7 @@ class ColumnChecks:
         return best
 
     def record_halt(self, sid: int, row: int, idle: bool, prop: Property) -> None:
-        self.checks._record(prop, sid, StateFacts(self.facts(row), idle))
+        self.checks._record(prop, sid, self.facts(row, idle))
 
     def states(self, first_id: int, rows: np.ndarray, idle: np.ndarray,
                props: list[Property]) -> None:
@@ -141,8 +153,7 @@ class ColumnChecks:
             hit = np.flatnonzero(self.fails(p, rows, idle))
             if len(hit):
                 i = int(hit[0])
-                self.checks._record(p, first_id + i, StateFacts(self.facts(int(rows[i])),
-                                                                bool(idle[i])))
+                self.checks._record(p, first_id + i, self.facts(int(rows[i]), bool(idle[i])))
 
     def value_ids(self, prop: Property, rows: np.ndarray) -> tuple[np.ndarray, list[Any]]:
         """Per row, the id of ``prop.value`` of its facts (values numbered as first seen)."""

@@ -58,7 +58,6 @@ from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
 from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
 from gather_verify.model.view import check_detection
-from gather_verify.properties.facts import StateFacts
 from schedulers import get_scheduler, initial_state
 
 CHUNK = 1 << 14
@@ -505,43 +504,79 @@ class FactsTable:
         raise AssertionError("the orbit is unhandled, so is every member")  # pragma: no cover
 
     def need_in_u(self, rows: np.ndarray) -> np.ndarray:
+        for r in np.unique(rows[self.in_u[rows] == -2]).tolist():
+            self.in_u_of(r)
+        return self.in_u[rows] == 1
+
+    def in_u_of(self, row: int) -> bool:
+        """Whether the configuration of ``row`` is in U (computed once)."""
+        known = int(self.in_u[row])
+        if known != -2:
+            return known == 1
         # In U needs Aut(C) non-trivial, and Aut(C) is inside Aut(M): when no element of
         # Aut(M) but the identity maps the occupied nodes onto themselves, C is not in U.
         aut = self.aut_m
-        for r in np.unique(rows[self.in_u[rows] == -2]).tolist():
-            c = self.configuration(r)
-            occupied = set(c.robots)
-            if any(all(a(v) in occupied for v in occupied) for a in aut[1:]):
-                self.in_u[r] = classify_configuration(c, aut_m_all=aut).in_U
-            else:
-                self.in_u[r] = 0
-        return self.in_u[rows] == 1
+        c = self.configuration(row)
+        occupied = set(c.robots)
+        if any(all(a(v) in occupied for v in occupied) for a in aut[1:]):
+            self.in_u[row] = classify_configuration(c, aut_m_all=aut).in_U
+        else:
+            self.in_u[row] = 0
+        return bool(self.in_u[row] == 1)
 
     def need_target(self, rows: np.ndarray) -> np.ndarray:
         """Target id per row (-1: none)."""
         for r in np.unique(rows[self.target[rows] == -2]).tolist():
-            try:
-                t = target_of(self.algorithm, self.configuration(r))
-            except Unhandled:
-                t = None
-            if t is None:
-                self.target[r] = -1
-            else:
-                if t not in self.target_ids:
-                    self.target_ids[t] = len(self.target_nodes)
-                    self.target_nodes.append(t)
-                self.target[r] = self.target_ids[t]
+            self.target_id_of(r)
         return self.target[rows]
+
+    def target_id_of(self, row: int) -> int:
+        """The id of the target of ``row`` in ``target_nodes`` (-1: none; computed once)."""
+        known = int(self.target[row])
+        if known != -2:
+            return known
+        try:
+            t = target_of(self.algorithm, self.configuration(row))
+        except Unhandled:
+            t = None
+        if t is None:
+            self.target[row] = -1
+        else:
+            if t not in self.target_ids:
+                self.target_ids[t] = len(self.target_nodes)
+                self.target_nodes.append(t)
+            self.target[row] = self.target_ids[t]
+        return int(self.target[row])
 
 
 class RowFacts:
     """The :class:`~gather_verify.properties.facts.Facts` of one row of a :class:`FactsTable`,
-    each read from the table (class and target computed on first use)."""
+    read from the table (class and target computed on first use); with ``idle`` given, also
+    a state's facts (:class:`~gather_verify.properties.facts.StateFacts`), and ``read_idle``
+    tells whether a predicate read it (if not, its answer holds for both values)."""
 
-    __slots__ = ("table", "row", "initial")
+    __slots__ = ("table", "row", "initial", "flags", "_idle", "read_idle")
 
-    def __init__(self, table: FactsTable, row: int, initial: Configuration):
+    def __init__(self, table: FactsTable, row: int, initial: Configuration,
+                 idle: bool | None = None, flags: Sequence[int] | None = None):
         self.table, self.row, self.initial = table, row, initial
+        self.flags = table.flags[row].tolist() if flags is None else flags
+        self._idle = idle
+        self.read_idle = False
+
+    @staticmethod
+    def many(table: FactsTable, initial: Configuration, rows: np.ndarray,
+             idle: np.ndarray) -> list[RowFacts]:
+        """The state facts of many (row, idle) pairs, their flags read in one go."""
+        return [RowFacts(table, r, initial, i, f) for r, i, f in
+                zip(rows.tolist(), idle.tolist(), table.flags[rows].tolist(), strict=True)]
+
+    @property
+    def idle(self) -> bool:
+        if self._idle is None:
+            raise AttributeError("idle: the facts of a configuration, not of a state")
+        self.read_idle = True
+        return self._idle
 
     @property
     def configuration(self) -> Configuration:
@@ -549,7 +584,7 @@ class RowFacts:
 
     @property
     def move_sets(self) -> dict[Node, frozenset[Node]] | None:
-        if self.table.flags[self.row, 0]:
+        if self.flags[0]:
             return None
         out = {}
         for cell, mask in zip(self.table.cells[self.row].tolist(),
@@ -560,23 +595,23 @@ class RowFacts:
 
     @property
     def unhandled(self) -> str | None:
-        return self.table.reason(self.row) if self.table.flags[self.row, 0] else None
+        return self.table.reason(self.row) if self.flags[0] else None
 
     @property
     def stuck(self) -> bool:
-        return bool(self.table.flags[self.row, 1])
+        return bool(self.flags[1])
 
     @property
     def gathered(self) -> bool:
-        return bool(self.table.flags[self.row, 2])
+        return bool(self.flags[2])
 
     @property
     def in_U(self) -> bool:
-        return bool(self.table.need_in_u(np.array([self.row]))[0])
+        return self.table.in_u_of(self.row)
 
     @property
     def target(self) -> Node | None:
-        t = int(self.table.need_target(np.array([self.row]))[0])
+        t = self.table.target_id_of(self.row)
         return None if t < 0 else self.table.target_nodes[t]
 
 
@@ -680,9 +715,9 @@ def explore_fast(
     init_cells = np.array([[enc.code(v, None) // 5 for v in initial.robots]], dtype=np.int64)
     srt, ck = table.config_keys(init_cells)
     init_row = table.rows(ck, srt)
-    checks = Checks(properties,
-                    StateFacts(RowFacts(table, int(init_row[0]), initial), True))
-    bulk = ColumnChecks(checks, lambda row: RowFacts(table, row, initial))
+    checks = Checks(properties, RowFacts(table, int(init_row[0]), initial, True))
+    bulk = ColumnChecks(checks, lambda row, idle=None: RowFacts(table, row, initial, idle),
+                        lambda rows, idle: RowFacts.many(table, initial, rows, idle))
     bulk.states(0, init_row, np.ones(1, dtype=bool), checks.on_discovery)
 
     max_states = min(limits.max_states, MAX_IDS)
