@@ -19,6 +19,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--svg", metavar="FILE", help="write the trace as an SVG storyboard")
     parser.add_argument("--quiet", action="store_true", help="no ASCII grids")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument("--property", action="append", default=[], metavar="FILE.py:NAME",
+                        help="load a property defined in a file (for a trace of a property "
+                             "checked with check --property FILE.py:NAME); repeatable")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -26,6 +29,12 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.replay import replay
     from gather_verify.trace import load_trace
 
+    for spec in args.property:
+        from gather_verify.properties.registry import load_property
+
+        if ":" not in spec:
+            raise ValueError(f"--property {spec}: expected FILE.py:NAME")
+        load_property(spec)
     trace = load_trace(args.trace)
     result = replay(trace)
     if args.svg:

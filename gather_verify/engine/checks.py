@@ -31,6 +31,18 @@ class Violation:
     reason: str
 
 
+def selected(names: Iterable[str] | None) -> list[Property]:
+    """The properties a search checks: those named (None: all) and the pseudo-properties."""
+    wanted = None if names is None else {get_property(name).name for name in names}
+    return [p for p in registered() if p.pseudo or wanted is None or p.name in wanted]
+
+
+def symmetric(names: Iterable[str] | None) -> bool:
+    """Whether the symmetry reduction is sound for every property named (see
+    :attr:`~gather_verify.properties.base.Property.symmetric`)."""
+    return all(p.symmetric for p in selected(names))
+
+
 class Checks:
     """The state and transition properties one search checks, and what it found.
 
@@ -40,9 +52,7 @@ class Checks:
     checked and :attr:`vacuous` says why)."""
 
     def __init__(self, names: Iterable[str] | None, initial: StateFacts):
-        wanted = None if names is None else {get_property(name).name for name in names}
-        props = [p for p in registered()
-                 if p.kind != "graph" and (p.pseudo or wanted is None or p.name in wanted)]
+        props = [p for p in selected(names) if p.kind != "graph"]
         self.vacuous: dict[str, str] = {}
         for p in props:
             why = p.vacuous(initial) if p.vacuous is not None else None

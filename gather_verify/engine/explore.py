@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm
 from gather_verify.algorithms.moves import frames_for
-from gather_verify.engine.checks import Checks, Violation
+from gather_verify.engine.checks import Checks, Violation, symmetric
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
@@ -320,7 +320,7 @@ def explore_reference(
     check_detection(detection)
     frame_elements = frames_for(frames)
     anonymity = reduction if anonymity is None else anonymity
-    symmetry = reduction if symmetry is None else symmetry
+    symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
     group = symmetry_group(initial, frames) if symmetry else []
     enc = Encoding(region_box(initial, limits.margin, group), group, anonymity)
     facts = facts_cache(algo, initial, detection, frame_elements)

@@ -41,7 +41,7 @@ import numpy as np
 
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
-from gather_verify.engine.checks import Checks, ColumnChecks
+from gather_verify.engine.checks import Checks, ColumnChecks, symmetric
 from gather_verify.engine.explore import (
     Encoding,
     Exploration,
@@ -692,7 +692,7 @@ def explore_fast(
     check_detection(detection)
     frame_elements = frames_for(frames)
     anonymity = reduction if anonymity is None else anonymity
-    symmetry = reduction if symmetry is None else symmetry
+    symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
     group = symmetry_group(initial, frames) if symmetry else []
     enc = Encoding(region_box(initial, limits.margin, group), group, anonymity)
     n = initial.n

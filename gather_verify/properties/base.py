@@ -100,6 +100,11 @@ class Property:
     - ``pseudo``: always checked and never requested by name (``defined``: the algorithm has
       a rule wherever the search goes); ``halts``: a failing state cannot be expanded, so
       the search stops there; ``when``: see :data:`WHEN`.
+    - ``symmetric``: the answer is the same on the images of a state under ``Aut(M)``, so the
+      symmetry reduction (which stores one state per class) is sound for it. False (the
+      default) switches that reduction off while the property is checked: a predicate that
+      reads absolute nodes (the initial MER, a fixed node) is not symmetric. Anonymity needs
+      nothing: facts are those of the robot multiset.
     """
 
     name: str
@@ -114,6 +119,7 @@ class Property:
     pseudo: bool = False
     halts: bool = False
     when: str = "expansion"
+    symmetric: bool = False
     doc: str = ""
 
     def __post_init__(self) -> None:

@@ -27,6 +27,7 @@ DEFINED = Property(
     holds=lambda s: s.unhandled is None,
     message=lambda s: f"the algorithm has no rule here: {s.unhandled}",
     confirm=_confirm_defined, pseudo=True, halts=True,
+    symmetric=True,
     doc="the algorithm has a rule for every robot of every reached configuration (the search "
         "cannot go on where it has none)")
 
@@ -43,6 +44,7 @@ FINAL = Property(
     message="deadlock: no robot can move, nothing is pending, and the robots are not all on "
             "one meeting node",
     confirm=_confirm_final,
+    symmetric=True,
     doc="a state where no robot can do anything but stay, with nothing pending, has every "
         "robot on one meeting node")
 
@@ -64,6 +66,7 @@ NO_UNGATHERABLE = Property(
     holds=lambda s: not s.in_U,
     message="a configuration in U (I41/I42) is reached from one outside U",
     vacuous=_initially_in_u, confirm=_confirm_no_ungatherable, when="discovery",
+    symmetric=True,
     doc="from an initial configuration outside U, no reachable configuration is in U")
 
 
@@ -82,6 +85,7 @@ TARGET_INVARIANCE = Property(
                                   f"{list(after)}",
     detail=lambda before, after: {"target_before": list(before), "target_after": list(after)},
     confirm=_confirm_target,
+    symmetric=True,
     doc="where the algorithm exposes its target meeting node, once defined it never changes "
         "along a transition")
 
@@ -126,6 +130,7 @@ def _confirm_move_bound(prop: Property, run: Run) -> tuple[bool, str]:
 
 MOVE_BOUND = Property(
     "move-bound", "graph", decide=_decide_move_bound, confirm=_confirm_move_bound,
+    symmetric=True,
     doc="the largest total moves over all executions is at most c * D * n")
 
 
@@ -152,6 +157,7 @@ def _confirm_termination(prop: Property, run: Run) -> tuple[bool, str]:
 
 TERMINATION = Property(
     "termination", "graph", decide=_decide_termination, confirm=_confirm_termination,
+    symmetric=True,
     doc="no fair infinite execution that never reaches a final state")
 
 

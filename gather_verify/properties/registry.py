@@ -84,6 +84,15 @@ def is_spec(text: str) -> bool:
     return bool(sep and name and path.endswith(".py"))
 
 
+def absolute_spec(text: str) -> str:
+    """``FILE.py:NAME`` with the file's absolute path (what a sweep stores, so its workers
+    load the same file from anywhere); a plain name unchanged."""
+    if not is_spec(text):
+        return text
+    path, _, name = text.rpartition(":")
+    return f"{Path(path).expanduser().resolve()}:{name}"
+
+
 def load_property(spec: str) -> Property:
     """The property ``NAME`` defined in ``FILE.py`` (``spec = "FILE.py:NAME"``, the path relative
     to the working directory), registered; the same file and name load once per process.
