@@ -302,3 +302,17 @@ def test_networkx_and_hand_written_analyses_agree(algo, c, scheduler, monkeypatc
     large = (graph_module.strongly_connected(e), graph_module.longest_path(e),
              graph_module.livelock(e), graph_module.any_cycle(e))
     assert small == large
+
+
+def test_docs_examples_run(monkeypatch):
+    """The Python blocks of docs/properties.md run as written."""
+    import re
+
+    text = (ROOT / "docs" / "properties.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
+    assert len(blocks) == 3
+    monkeypatch.chdir(ROOT)
+    try:
+        exec(compile("\n".join(blocks), "docs/properties.md", "exec"), {})
+    finally:
+        unregister("stays-near")
