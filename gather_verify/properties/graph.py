@@ -11,7 +11,7 @@ iterative Tarjan for the components), which gives the same answers in the same o
 >>> from gather_verify.model.configuration import Configuration
 >>> e = explore(Configuration([(0, 0), (3, 1)], [(2, 2)], initial=True), "go-to-target", "async")
 >>> longest_path(e).max_moves, strongly_connected(e)
-(3, [])
+(6, [])
 """
 
 from __future__ import annotations
