@@ -316,3 +316,35 @@ def test_docs_examples_run(monkeypatch):
         exec(compile("\n".join(blocks), "docs/properties.md", "exec"), {})
     finally:
         unregister("stays-near")
+
+
+def test_a_halting_pseudo_property_stops_both_engines_at_the_same_state():
+    """The shape of ``defined`` (and of a future ``crash``): always checked, and the search
+    stops at its first failing state, on both engines alike."""
+    from gather_verify.engine.explore import explore_reference
+    from gather_verify.engine.fast_explore import explore_fast
+
+    arrived = Property("test-arrived", "state", pseudo=True, halts=True, symmetric=True,
+                       holds=lambda s: not set(s.configuration.robots) & s.initial.meeting_nodes,
+                       message="a robot reached a meeting node")
+    register(arrived)
+    try:
+        c = C([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
+        ref = explore_reference(c, "go-to-target", "async", properties=[])
+        fast = explore_fast(c, "go-to-target", "async", properties=[])
+        assert ref.stopped == fast.stopped == "test-arrived"
+        assert (ref.states, ref.transitions, list(ref.keys)) == \
+            (fast.states, fast.transitions, list(fast.keys))
+        assert ref.violations == fast.violations and list(ref.violations) == ["test-arrived"]
+        r = run_check(c, algorithm="go-to-target", scheduler="async", properties=["final"],
+                      max_states=10**5, max_seconds=60)
+        assert r["verdict"] == "VIOLATED" and r["property"] == "test-arrived"
+        assert r["properties"] == {"final": {"holds": None,
+                                             "reason": "search stopped (test-arrived)"},
+                                   "test-arrived": {"holds": False,
+                                                    "reason": "a robot reached a meeting node"}}
+        assert replay(r["trace"]).confirmed
+        with pytest.raises(ValueError, match="unknown property 'test-arrived'"):
+            check_property_names(["test-arrived"])  # always on, never requested
+    finally:
+        unregister("test-arrived")
