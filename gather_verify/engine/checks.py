@@ -47,9 +47,8 @@ class Checks:
     """The state and transition properties one search checks, and what it found.
 
     ``names``: the requested properties (None: all; pseudo-properties are always checked);
-    ``initial``:
-    the facts of the initial state, on which a property may be ``vacuous`` (then it is not
-    checked and :attr:`vacuous` says why)."""
+    ``initial``: the facts of the initial state, on which a property may be ``vacuous``
+    (then it is not checked and :attr:`vacuous` says why)."""
 
     def __init__(self, names: Iterable[str] | None, initial: StateFacts):
         props = [p for p in selected(names) if p.kind != "graph"]
@@ -120,7 +119,7 @@ class ColumnChecks:
         """Per state (configuration row, idle flag), whether state property ``prop`` fails."""
         key = rows.astype(np.int64) * 2 + idle
         col = self.verdicts.get(prop.name)
-        need = int(key.max()) + 1 if len(key) else 0
+        need = (int(key.max()) | 1) + 1 if len(key) else 0  # both idle values of each row
         if col is None or len(col) < need:
             grown = np.full(max(need, 2 * (0 if col is None else len(col)), 1024), -1,
                             dtype=np.int8)
