@@ -111,58 +111,88 @@ class ColumnChecks:
         self.checks = checks
         self.facts = facts
         self.many = many  # (rows, idle) -> the state facts of each pair, in one go
-        self.verdicts: dict[str, np.ndarray] = {}  # per (row * 2 + idle): -1 unknown, 0, 1
+        self.verdicts: dict[tuple[str, ...], np.ndarray] = {}  # [row * 2 + idle, j]: -1, 0, 1
         self.values: dict[str, tuple[np.ndarray, dict[Any, int], list[Any]]] = {}
         self.pairs: dict[str, dict[tuple[int, int], bool]] = {}
 
-    def fails(self, prop: Property, rows: np.ndarray, idle: np.ndarray) -> np.ndarray:
-        """Per state (configuration row, idle flag), whether state property ``prop`` fails."""
-        key = rows.astype(np.int64) * 2 + idle
-        col = self.verdicts.get(prop.name)
+    def failures(self, props: list[Property], rows: np.ndarray, idle: np.ndarray,
+                 gate: int = 0) -> np.ndarray:
+        """Per state (configuration row, idle flag) and property of ``props`` (state
+        properties), whether it fails: a ``(len(rows), len(props))`` boolean array. The
+        verdicts are kept per (row, idle) in one table per list of properties. Where one of
+        the first ``gate`` properties (the halting ones) fails, the state is never expanded:
+        the others are not evaluated there (as in the reference engine)."""
+        key = rows * 2 + idle if rows.dtype == np.int64 else rows.astype(np.int64) * 2 + idle
+        names = tuple(p.name for p in props)
+        table = self.verdicts.get(names)
         need = (int(key.max()) | 1) + 1 if len(key) else 0  # both idle values of each row
-        if col is None or len(col) < need:
-            grown = np.full(max(need, 2 * (0 if col is None else len(col)), 1024), -1,
-                            dtype=np.int8)
-            if col is not None:
-                grown[:len(col)] = col
-            self.verdicts[prop.name] = col = grown
-        todo = np.unique(key[col[key] < 0])
-        if len(todo):
-            holds = prop.holds
-            assert holds is not None
-            for k, s in zip(todo.tolist(), self.many(todo >> 1, (todo & 1).astype(bool)),
-                            strict=True):
-                if col[k] >= 0:
-                    continue  # settled with the other idle value (the predicate did not read it)
-                ok = bool(holds(s))
-                col[k] = ok
-                if not s.read_idle:  # the answer does not depend on idle
-                    col[k ^ 1] = ok
-        return col[key] == 0
+        if table is None or len(table) < need:
+            size = max(need, 2 * (0 if table is None else len(table)), 1024)
+            grown = np.full((size, len(props)), -1, dtype=np.int8)
+            if table is not None:
+                grown[:len(table)] = table
+            self.verdicts[names] = table = grown
+        got = table[key]
+        unknown = (got < 0).any(axis=1)
+        if unknown.any():
+            todo = np.unique(key[unknown])
+            lines = table[todo].tolist()
+            spread: list[tuple[int, int, bool]] = []  # (key, j, verdict) for the other idle value
+            done = dict(zip(todo.tolist(), lines, strict=True))
+            for (k, line), s in zip(done.items(), self.many(todo >> 1, (todo & 1).astype(bool)),
+                                    strict=True):
+                for j, p in enumerate(props):
+                    if j == gate and gate and 0 in line[:gate]:
+                        line[gate:] = [1] * (len(props) - gate)  # halting: nothing else checked
+                        break
+                    if line[j] >= 0:
+                        continue  # settled with the other idle value (its predicate did not read it)
+                    s.read_idle = False
+                    ok = bool(p.holds(s))  # type: ignore[misc]
+                    line[j] = ok
+                    if not s.read_idle:  # the answer does not depend on idle
+                        twin = done.get(k ^ 1)
+                        if twin is not None:
+                            twin[j] = ok
+                        else:
+                            spread.append((k ^ 1, j, ok))
+            table[todo] = lines
+            if spread:
+                ks, js, oks = zip(*spread, strict=True)
+                table[list(ks), list(js)] = oks
+            got = table[key]
+        return got == 0
 
-    def first_failure(self, props: list[Property], rows: np.ndarray, idle: np.ndarray
+    def first_failure(self, props: list[Property], failures: np.ndarray
                       ) -> tuple[int, Property] | None:
-        """The first state (index) where one of ``props`` fails, and the first such property."""
-        best: tuple[int, Property] | None = None
-        for p in props:
-            hit = np.flatnonzero(self.fails(p, rows, idle))
-            if len(hit) and (best is None or int(hit[0]) < best[0]):
-                best = (int(hit[0]), p)
-        return best
+        """The first state (index) where one of ``props`` fails (``failures``, their columns),
+        and the first such property."""
+        hit = np.flatnonzero(failures.any(axis=1)) if len(props) else []
+        if not len(hit):
+            return None
+        i = int(hit[0])
+        return i, props[int(np.flatnonzero(failures[i])[0])]
 
     def record_halt(self, sid: int, row: int, idle: bool, prop: Property) -> None:
         self.checks._record(prop, sid, self.facts(row, idle))
 
-    def states(self, first_id: int, rows: np.ndarray, idle: np.ndarray,
-               props: list[Property]) -> None:
-        """Check state properties ``props`` on states ``first_id, first_id + 1, ...``."""
-        if not len(rows):
-            return
-        for p in self.checks.open(props):
-            hit = np.flatnonzero(self.fails(p, rows, idle))
+    def record(self, first_id: int, props: list[Property], failures: np.ndarray,
+               rows: np.ndarray, idle: np.ndarray) -> None:
+        """The first witness of each property of ``props`` without one yet, among states
+        ``first_id, first_id + 1, ...`` (``failures``: :meth:`failures` of those states)."""
+        for j, p in enumerate(props):
+            if p.name in self.checks.violations:
+                continue
+            hit = np.flatnonzero(failures[:, j])
             if len(hit):
                 i = int(hit[0])
                 self.checks._record(p, first_id + i, self.facts(int(rows[i]), bool(idle[i])))
+
+    def states(self, first_id: int, rows: np.ndarray, idle: np.ndarray,
+               props: list[Property]) -> None:
+        """Check state properties ``props`` on states ``first_id, first_id + 1, ...``."""
+        if len(rows) and self.checks.open(props):
+            self.record(first_id, props, self.failures(props, rows, idle), rows, idle)
 
     def value_ids(self, prop: Property, rows: np.ndarray) -> tuple[np.ndarray, list[Any]]:
         """Per row, the id of ``prop.value`` of its facts (values numbered as first seen)."""
@@ -173,13 +203,17 @@ class ColumnChecks:
             grown[:len(col)] = col
             col = grown
         self.values[prop.name] = (col, index, values)
-        for r in np.unique(rows[col[rows] < 0]).tolist():
-            v = prop.value(self.facts(r))  # type: ignore[misc]
-            if v not in index:
-                index[v] = len(values)
-                values.append(v)
-            col[r] = index[v]
-        return col[rows], values
+        got = col[rows]
+        unknown = got < 0
+        if unknown.any():
+            for r in np.unique(rows[unknown]).tolist():
+                v = prop.value(self.facts(r))  # type: ignore[misc]
+                if v not in index:
+                    index[v] = len(values)
+                    values.append(v)
+                col[r] = index[v]
+            got = col[rows]
+        return got, values
 
     def transitions(self, first_id: int, src: np.ndarray, before: np.ndarray,
                     after: np.ndarray) -> None:

@@ -719,6 +719,7 @@ def explore_fast(
     bulk = ColumnChecks(checks, lambda row, idle=None: RowFacts(table, row, initial, idle),
                         lambda rows, idle: RowFacts.many(table, initial, rows, idle))
     bulk.states(0, init_row, np.ones(1, dtype=bool), checks.on_discovery)
+    on_chunk = checks.halting + checks.on_expansion
 
     max_states = min(limits.max_states, MAX_IDS)
     # columns reserved up front: untouched pages cost no memory, and nothing is copied
@@ -751,7 +752,9 @@ def explore_fast(
         idle = np.all(codes % 5 == 0, axis=1)
         # the last source state to expand: a halting property stops before the state it fails in
         limit_src = len(K)
-        halt = bulk.first_failure(checks.halting, rows, idle)
+        # the halting and the expansion properties, evaluated together on the whole chunk
+        failing = bulk.failures(on_chunk, rows, idle, gate=len(checks.halting))
+        halt = bulk.first_failure(checks.halting, failing[:, :len(checks.halting)])
         if halt is not None:
             limit_src = halt[0]
         assert not table.flags[rows[:limit_src], 0].any(), \
@@ -801,7 +804,8 @@ def explore_fast(
                 index.truncate(known + m)
         fresh_keys = index.keys[known:index.count]
         expanded = stop_src + (stop in ("region", "states"))
-        bulk.states(sid, rows[:expanded], idle[:expanded], checks.on_expansion)
+        bulk.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
+                    rows, idle)
         if checks.open(checks.on_transition) and cut:
             # the configuration each transition reaches
             succ_cells = cells[src].copy()
