@@ -23,6 +23,7 @@ from typing import Any
 
 from gather_verify.algorithms import get_algorithm
 from gather_verify.algorithms.moves import frames_for, move_sets
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.properties.base import Run
 from gather_verify.properties.facts import configuration_facts
@@ -41,12 +42,6 @@ class Replayed:
 def replay(trace: dict[str, Any]) -> Replayed:
     """Re-execute ``trace``; ValueError (one line) when it does not match its configuration."""
     trace = load_trace(trace)
-    if trace["algorithm"].startswith("broken-"):
-        from gather_verify.algorithms.broken import register_broken
-        register_broken()
-    if trace["algorithm"].startswith("mutant-"):
-        from gather_verify.mutants import register_mutants
-        register_mutants()
     algorithm = get_algorithm(trace["algorithm"])
     scheduler = get_scheduler(trace["scheduler"])
     frames = frames_for(trace["frames"])
@@ -65,15 +60,15 @@ def replay(trace: dict[str, Any]) -> Replayed:
     for k, (event, state) in enumerate(steps, 1):
         offered = dict(scheduler.successors(states[-1], ms))
         if event not in offered:
-            raise ValueError(f"trace step {k}: event {event.to_json()} is not allowed from the "
+            raise InvalidInput(f"trace step {k}: event {event.to_json()} is not allowed from the "
                              "previous state")
         if offered[event] != state:
-            raise ValueError(f"trace step {k}: the recorded state is not the one the event reaches")
+            raise InvalidInput(f"trace step {k}: the recorded state is not the one the event reaches")
         states.append(state)
     try:
         prop = get_property(trace["property"])
-    except ValueError as error:
-        raise ValueError(f"bad trace: {error}") from None
+    except InvalidInput as error:
+        raise InvalidInput(f"bad trace: {error}") from None
     run = Run(trace, states, steps,
               lambda state: configuration_facts(algorithm, conf(state), initial, detection, frames),
               ms)

@@ -10,7 +10,6 @@ from pathlib import Path
 
 import pytest
 
-from gather_verify.algorithms.broken import register_broken
 from gather_verify.check import run_check
 from gather_verify.engine.explore import Limits, explore
 from gather_verify.model.configuration import Configuration as C
@@ -29,7 +28,6 @@ from gather_verify.properties import graph as graph_module
 from gather_verify.properties.registry import load_property
 from gather_verify.replay import replay
 
-register_broken()
 TWO = C([(0, 0), (3, 1)], [(2, 2)], initial=True)
 CASES = [
     ("broken-away", TWO, "termination"),

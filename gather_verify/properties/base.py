@@ -22,7 +22,7 @@ pair of values) of its facts table, ``replay`` on the facts of the replayed stat
 >>> Property("x", "liveness")
 Traceback (most recent call last):
 ...
-ValueError: property 'x': kind must be one of state, transition, graph, not 'liveness'
+gather_verify.errors.InvalidInput: property 'x': kind must be one of state, transition, graph, not 'liveness'
 """
 
 from __future__ import annotations
@@ -31,6 +31,7 @@ from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from gather_verify.errors import InvalidInput
 from gather_verify.properties.facts import Facts, StateFacts
 
 if TYPE_CHECKING:
@@ -125,21 +126,21 @@ class Property:
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name or any(
                 ch.isspace() or ch == ":" for ch in self.name):
-            raise ValueError(f"bad property name {self.name!r}: a non-empty word without ':'")
+            raise InvalidInput(f"bad property name {self.name!r}: a non-empty word without ':'")
         what = f"property {self.name!r}"
         if self.kind not in KINDS:
-            raise ValueError(f"{what}: kind must be one of {', '.join(KINDS)}, not {self.kind!r}")
+            raise InvalidInput(f"{what}: kind must be one of {', '.join(KINDS)}, not {self.kind!r}")
         if self.when not in WHEN:
-            raise ValueError(f"{what}: when must be one of {', '.join(WHEN)}, not {self.when!r}")
+            raise InvalidInput(f"{what}: when must be one of {', '.join(WHEN)}, not {self.when!r}")
         if self.kind == "graph":
             if not callable(self.decide) or not callable(self.confirm):
-                raise ValueError(f"{what}: a graph property needs decide and confirm")
+                raise InvalidInput(f"{what}: a graph property needs decide and confirm")
         elif not callable(self.holds):
-            raise ValueError(f"{what}: a {self.kind} property needs a holds predicate")
+            raise InvalidInput(f"{what}: a {self.kind} property needs a holds predicate")
         if self.kind == "transition" and not callable(self.value):
-            raise ValueError(f"{what}: a transition property needs a value function")
+            raise InvalidInput(f"{what}: a transition property needs a value function")
         if self.halts and self.kind != "state":
-            raise ValueError(f"{what}: only a state property can stop the search")
+            raise InvalidInput(f"{what}: only a state property can stop the search")
 
     def message_for(self, *args: Any) -> str:
         """The failure message for the arguments of a failing ``holds``."""
@@ -170,7 +171,7 @@ def fails_at_end(prop: Property, run: Run) -> tuple[bool, tuple[Any, ...]]:
         assert value is not None and prop.holds is not None
         args = (value(run.facts(run.states[-2])), value(run.facts(run.states[-1])))
         return not prop.holds(*args), args
-    raise ValueError(f"property {prop.name!r}: a graph property confirms itself")
+    raise AssertionError(f"property {prop.name!r}: a graph property confirms itself")
 
 
 def default_confirm(prop: Property, run: Run) -> tuple[bool, str]:

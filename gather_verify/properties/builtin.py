@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from gather_verify.errors import InvalidInput
 from gather_verify.properties.base import Outcome, Property, Run, Witness, fails_at_end
 from gather_verify.properties.facts import StateFacts
 from gather_verify.properties.graph import GraphFacts, any_cycle, livelock
@@ -123,7 +124,7 @@ def _confirm_move_bound(prop: Property, run: Run) -> tuple[bool, str]:
     detail = run.trace.get("detail", {})
     c, D, n = detail.get("c"), detail.get("D"), detail.get("n")
     if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in (c, D, n)):
-        raise ValueError("bad trace: a move-bound trace needs numbers c, D and n in 'detail'")
+        raise InvalidInput("bad trace: a move-bound trace needs numbers c, D and n in 'detail'")
     total = sum(ev.distance for ev, _ in steps)
     return total > c * D * n, f"{total} moves vs bound {c}*{D}*{n} = {c * D * n:g}"
 
@@ -151,7 +152,7 @@ def _decide_termination(g: GraphFacts) -> Outcome:
 def _confirm_termination(prop: Property, run: Run) -> tuple[bool, str]:
     cs = run.trace.get("cycle_start")
     if cs is None:
-        raise ValueError("bad trace: a termination trace needs 'cycle_start' (its cycle)")
+        raise InvalidInput("bad trace: a termination trace needs 'cycle_start' (its cycle)")
     return fair_cycle(run, cs)
 
 

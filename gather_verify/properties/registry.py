@@ -9,7 +9,7 @@ last), or a file loaded with ``--property FILE.py:NAME`` (:func:`load_property`)
 >>> check_property_names(["nope"])
 Traceback (most recent call last):
 ...
-ValueError: unknown property 'nope' (choose from final, no-ungatherable, target-invariance, move-bound, termination)
+gather_verify.errors.InvalidInput: unknown property 'nope' (choose from final, no-ungatherable, target-invariance, move-bound, termination)
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ import sys
 from collections.abc import Iterable
 from pathlib import Path
 
+from gather_verify.errors import InvalidInput
 from gather_verify.properties.base import Property
 from gather_verify.properties.builtin import BUILTIN
 
@@ -37,15 +38,15 @@ PROPERTIES = tuple(p.name for p in BUILTIN if not p.pseudo)
 
 def register(prop: Property) -> Property:
     """Add ``prop`` to the registry, after the others; registering the same object again is
-    a no-op. ValueError when another property already has its name."""
+    a no-op. InvalidInput when another property already has its name."""
     if not isinstance(prop, Property):
-        raise ValueError(f"cannot register {prop!r}: not a gather_verify Property")
+        raise InvalidInput(f"cannot register {prop!r}: not a gather_verify Property")
     if prop.name in RESERVED:
-        raise ValueError(f"cannot register property {prop.name!r}: the name of a search limit "
+        raise InvalidInput(f"cannot register property {prop.name!r}: the name of a search limit "
                          f"({', '.join(RESERVED)})")
     known = _REGISTRY.get(prop.name)
     if known is not None and known is not prop:
-        raise ValueError(f"cannot register property {prop.name!r}: another property has that name")
+        raise InvalidInput(f"cannot register property {prop.name!r}: another property has that name")
     _REGISTRY[prop.name] = prop
     return prop
 
@@ -53,7 +54,7 @@ def register(prop: Property) -> Property:
 def unregister(name: str) -> None:
     """Remove a registered property (built-in ones stay)."""
     if name in ORDER:
-        raise ValueError(f"cannot unregister the built-in property {name!r}")
+        raise InvalidInput(f"cannot unregister the built-in property {name!r}")
     _REGISTRY.pop(name, None)
     for key in [k for k, p in _LOADED.items() if p.name == name]:
         del _LOADED[key]
@@ -70,10 +71,10 @@ def names() -> tuple[str, ...]:
 
 
 def get_property(name: str) -> Property:
-    """The registered property ``name``; ValueError (one line) if there is none."""
+    """The registered property ``name``; InvalidInput (one line) if there is none."""
     prop = _REGISTRY.get(name)
     if prop is None:
-        raise ValueError(f"unknown property {name!r} (registered: {', '.join(_REGISTRY)}; load "
+        raise InvalidInput(f"unknown property {name!r} (registered: {', '.join(_REGISTRY)}; load "
                          "one with --property FILE.py:NAME)")
     return prop
 
@@ -96,20 +97,20 @@ def absolute_spec(text: str) -> str:
 def load_property(spec: str) -> Property:
     """The property ``NAME`` defined in ``FILE.py`` (``spec = "FILE.py:NAME"``, the path relative
     to the working directory), registered; the same file and name load once per process.
-    ValueError (one line) when the file cannot be read or run, or ``NAME`` is no Property."""
+    InvalidInput (one line) when the file cannot be read or run, or ``NAME`` is no Property."""
     text, _, attr = spec.rpartition(":")
     path = Path(text).expanduser().resolve()
     key = (str(path), attr)
     if key in _LOADED:
         return _LOADED[key]
     if not path.is_file():
-        raise ValueError(f"cannot load property {spec!r}: no file {text}")
+        raise InvalidInput(f"cannot load property {spec!r}: no file {text}")
     module_name = "gather_verify_user_property_" + hashlib.sha1(str(path).encode()).hexdigest()[:12]
     module = sys.modules.get(module_name)
     if module is None:
         loader_spec = importlib.util.spec_from_file_location(module_name, path)
         if loader_spec is None or loader_spec.loader is None:
-            raise ValueError(f"cannot load property {spec!r}: {text} is not a Python file")
+            raise InvalidInput(f"cannot load property {spec!r}: {text} is not a Python file")
         module = importlib.util.module_from_spec(loader_spec)
         sys.modules[module_name] = module
         try:
@@ -119,13 +120,13 @@ def load_property(spec: str) -> Property:
             if isinstance(error, KeyboardInterrupt):
                 raise
             why = " ".join(str(error).split()) or "no message"
-            raise ValueError(f"cannot load property {spec!r}: {text} raised "
+            raise InvalidInput(f"cannot load property {spec!r}: {text} raised "
                              f"{type(error).__name__}: {why}") from None
     prop = getattr(module, attr, None)
     if prop is None:
-        raise ValueError(f"cannot load property {spec!r}: {text} defines no {attr!r}")
+        raise InvalidInput(f"cannot load property {spec!r}: {text} defines no {attr!r}")
     if not isinstance(prop, Property):
-        raise ValueError(f"cannot load property {spec!r}: {attr} is a {type(prop).__name__}, "
+        raise InvalidInput(f"cannot load property {spec!r}: {attr} is a {type(prop).__name__}, "
                          "not a gather_verify.properties.Property")
     register(prop)
     _LOADED[key] = prop
@@ -135,7 +136,7 @@ def load_property(spec: str) -> Property:
 def check_property_names(requested: Iterable[str] | None) -> list[str]:
     """The names of the requested properties, in the order given (every registered one that
     may be requested when ``requested`` is empty or None); a ``FILE.py:NAME`` entry is loaded
-    and registered (:func:`load_property`). ValueError on an unknown name."""
+    and registered (:func:`load_property`). InvalidInput on an unknown name."""
     choices = [p.name for p in _REGISTRY.values() if not p.pseudo]
     if not requested:
         return choices
@@ -144,9 +145,9 @@ def check_property_names(requested: Iterable[str] | None) -> list[str]:
         if is_spec(name):
             name = load_property(name).name
             if _REGISTRY[name].pseudo:
-                raise ValueError(f"property {name!r} is always checked: do not request it")
+                raise InvalidInput(f"property {name!r} is always checked: do not request it")
         elif name not in choices:
-            raise ValueError(f"unknown property {name!r} (choose from {', '.join(choices)})")
+            raise InvalidInput(f"unknown property {name!r} (choose from {', '.join(choices)})")
         if name not in out:
             out.append(name)
     return out
