@@ -18,7 +18,6 @@ from pathlib import Path
 
 import pytest
 
-from gather_verify.algorithms.broken import register_broken
 from gather_verify.cli import main
 
 GOLDEN = Path(__file__).resolve().parent / "golden" / "check_json.json"
@@ -51,7 +50,6 @@ def _cases() -> list[tuple[str, list[str]]]:
 
 
 def _run(argv: list[str]) -> dict[str, object]:
-    register_broken()
     argv = [*argv, "--max-seconds", "100"]
     out = io.StringIO()
     with redirect_stdout(out):

@@ -7,7 +7,7 @@ Small graphs go through networkx (topological order, Tarjan's SCCs); large ones 
 the hand-written code (the bulk engine's numpy columns for the longest path; an
 iterative Tarjan for the components), which gives the same answers in the same order.
 
->>> from gather_verify.engine.explore import explore
+>>> from gather_verify.engine.search import explore
 >>> from gather_verify.model.configuration import Configuration
 >>> e = explore(Configuration([(0, 0), (3, 1)], [(2, 2)], initial=True), "go-to-target", "async")
 >>> longest_path(e).max_moves, strongly_connected(e)
