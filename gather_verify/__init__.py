@@ -9,6 +9,14 @@ nothing else, and each name below imports its module on first use, so every
 module can be imported alone and the package has no import cycle. ``replay`` and
 ``simulate`` are modules of this package, so their functions are imported from them
 (``from gather_verify.replay import replay``): a lazy name may not shadow a module.
+``check`` is the one exception, on purpose: the API's entry point (docs/api.md). The
+module ``gather_verify.check`` is callable as the function, so ``gather_verify.check(...)``
+is the function :func:`gather_verify.check.check` (the name holds the module, as an
+import of the module would make it).
+
+>>> import gather_verify as gv
+>>> gv.check(robots=[(0, 0), (3, 1), (1, 4)], meeting=[(2, 2)], algorithm="go-to-target").verdict
+'VERIFIED'
 
 >>> from gather_verify import classify, run_check, Configuration
 >>> classify([(0, 0), (3, 1), (1, 4)], [(2, 2)]).name
@@ -35,6 +43,7 @@ _PUBLIC: dict[str, str] = {
     # algorithms
     "Algorithm": "gather_verify.algorithms",
     "Unhandled": "gather_verify.algorithms",
+    "AlgorithmCrash": "gather_verify.algorithms",
     "get_algorithm": "gather_verify.algorithms",
     "register": "gather_verify.algorithms",
     # the search and its verdict
@@ -43,6 +52,9 @@ _PUBLIC: dict[str, str] = {
     "explore": "gather_verify.engine.search",
     "to_networkx": "gather_verify.engine.export",
     "run_check": "gather_verify.check",
+    "check": "gather_verify.check",
+    "CheckReport": "gather_verify.check",
+    "PropertyResult": "gather_verify.check",
     "load_trace": "gather_verify.trace",
     "check_impossibility": "gather_verify.impossibility",
     # inputs and sweeps
@@ -63,7 +75,9 @@ def __getattr__(name: str) -> Any:
     module = _PUBLIC.get(name)
     if module is None:
         raise AttributeError(f"module 'gather_verify' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
+    value = importlib.import_module(module)
+    if name != "check":  # check: the module itself, callable as its function check()
+        value = getattr(value, name)
     globals()[name] = value
     return value
 

@@ -1,4 +1,5 @@
-"""``run_check``: classify, explore, decide every requested property, build the trace.
+"""``run_check``: classify, explore, decide every requested property, build the trace; and
+``check``, the Python API over it (defaults for every limit, a typed :class:`CheckReport`).
 
 The one entry point behind ``gather-verify check`` and the sweep; it returns
 the JSON-able report the CLI prints with ``--json``.
@@ -20,14 +21,19 @@ components are decided there.
 
 from __future__ import annotations
 
+import sys
 import time
-from collections.abc import Callable, Sequence
-from dataclasses import replace
+import types
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field, replace
 from typing import Any
 
+from gather_verify.algorithms.base import Algorithm
 from gather_verify.engine.checks import Violation
 from gather_verify.engine.explore import (
     DEFAULT_MARGIN,
+    DEFAULT_MAX_SECONDS,
+    DEFAULT_MAX_STATES,
     Exploration,
     Limits,
 )
@@ -36,6 +42,7 @@ from gather_verify.engine.search import explore
 from gather_verify.errors import InvalidInput
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import Node
 from gather_verify.properties.facts import StateFacts
 from gather_verify.properties.graph import GraphFacts, longest_path
 from gather_verify.properties.registry import check_property_names, get_property, registered
@@ -73,9 +80,10 @@ def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
     state = steps[-1][1] if steps else e.initial_state
     here = e.facts(tuple(sorted(n for n, _ in state)))
     if prop.kind == "state":  # the reason, on the concrete state shown
-        reason = prop.message_for(StateFacts(here, all(p is None for _, p in state)))
+        seen = StateFacts(here, all(p is None for _, p in state))
         return build_trace(e.initial, e.algorithm.name, e.scheduler_name, e.detection, e.frames,
-                           steps, v.property, reason)
+                           steps, v.property, prop.message_for(seen), None,
+                           **prop.detail_for(seen))
     assert prop.value is not None and prop.holds is not None
     before = prop.value(here)
     for event, succ in e.concrete_successors(state):
@@ -92,14 +100,14 @@ def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
 def run_check(
     configuration: Configuration,
     *,
-    algorithm: str,
+    algorithm: str | Algorithm,
     scheduler: str,
     detection: str = "local-weak",
     frames: str = "all",
     properties: Sequence[str] | None = None,
     reduction: bool = True,
-    max_states: int,
-    max_seconds: float,
+    max_states: int = DEFAULT_MAX_STATES,
+    max_seconds: float = DEFAULT_MAX_SECONDS,
     move_bound_c: float = 4.0,
     force: bool = False,
     engine: str = "auto",
@@ -132,7 +140,8 @@ def run_check(
         "limits": {"max_states": max_states, "max_seconds": max_seconds,
                    "max_memory_mb": lim.max_memory_mb, "margin": lim.margin,
                    "margin_auto": fixed_margin is None},
-        "algorithm": algorithm, "scheduler": scheduler, "detection": detection, "frames": frames,
+        "algorithm": algorithm if isinstance(algorithm, str) else algorithm.name,
+        "scheduler": scheduler, "detection": detection, "frames": frames,
         "reduction": reduction,
     }
     if (cls.in_U or cls.name == "UNCLASSIFIED") and not force:
@@ -216,3 +225,140 @@ def run_check(
         report["reason"] = stopped
     report["seconds"] = time.perf_counter() - started
     return report
+
+
+# -- the Python API (docs/api.md): defaults, and a typed report ----------------------------
+
+@dataclass(frozen=True)
+class PropertyResult:
+    """One property: ``holds`` (None: not decided, the search stopped), why, and the numbers
+    some properties add (``move-bound``: ``max_moves`` and ``bound``)."""
+
+    holds: bool | None
+    reason: str | None = None
+    numbers: dict[str, Any] = field(default_factory=dict)
+
+    def to_json(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"holds": self.holds}
+        if self.reason is not None:
+            out["reason"] = self.reason
+        return {**out, **self.numbers}
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> PropertyResult:
+        rest = {k: v for k, v in data.items() if k not in ("holds", "reason")}
+        return cls(data["holds"], data.get("reason"), rest)
+
+
+@dataclass(frozen=True)
+class CheckReport:
+    """What a check found. ``verdict`` is VERIFIED, VIOLATED, INCOMPLETE or NOT-APPLICABLE;
+    ``property`` the first failing one (``failing``: every one), with its ``reason`` and
+    ``trace`` (a JSON object, docs/traces.md: it is a file format)."""
+
+    verdict: str
+    property: str | None
+    reason: str | None
+    configuration_class: str
+    n: int
+    D: int
+    states: int
+    transitions: int
+    max_moves: int | None
+    max_moves_infinite: bool
+    ratio: float | None
+    bound: float
+    properties: dict[str, PropertyResult]
+    trace: dict[str, Any] | None
+    algorithm: str
+    scheduler: str
+    detection: str
+    frames: str
+    reduction: bool
+    limits: dict[str, Any]
+    seconds: float
+    peak_rss_mb: float | None = None
+
+    @property
+    def failing(self) -> list[str]:
+        """Every property that fails."""
+        return [name for name, r in self.properties.items() if r.holds is False]
+
+    def to_json(self) -> dict[str, Any]:
+        """The report as ``run_check`` returns it (and ``check --json --timings`` prints it)."""
+        out = {
+            "class": self.configuration_class, "verdict": self.verdict, "property": self.property,
+            "reason": self.reason, "states": self.states, "transitions": self.transitions,
+            "max_moves": self.max_moves, "max_moves_infinite": self.max_moves_infinite,
+            "D": self.D, "n": self.n, "ratio": self.ratio, "bound": self.bound,
+            "seconds": self.seconds, "trace": self.trace,
+            "properties": {name: r.to_json() for name, r in self.properties.items()},
+            "limits": dict(self.limits), "algorithm": self.algorithm,
+            "scheduler": self.scheduler, "detection": self.detection, "frames": self.frames,
+            "reduction": self.reduction,
+        }
+        if self.peak_rss_mb is not None:
+            out["peak_rss_mb"] = self.peak_rss_mb
+        return out
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> CheckReport:
+        return cls(
+            verdict=data["verdict"], property=data["property"], reason=data["reason"],
+            configuration_class=data["class"], n=data["n"], D=data["D"], states=data["states"],
+            transitions=data["transitions"], max_moves=data["max_moves"],
+            max_moves_infinite=data["max_moves_infinite"], ratio=data["ratio"],
+            bound=data["bound"], trace=data["trace"],
+            properties={k: PropertyResult.from_json(v) for k, v in data["properties"].items()},
+            algorithm=data["algorithm"], scheduler=data["scheduler"],
+            detection=data["detection"], frames=data["frames"], reduction=data["reduction"],
+            limits=data["limits"], seconds=data["seconds"], peak_rss_mb=data.get("peak_rss_mb"))
+
+
+def check(
+    configuration: Configuration | None = None,
+    *,
+    robots: Iterable[Node] | None = None,
+    meeting: Iterable[Node] | None = None,
+    algorithm: str | Algorithm = "paper",
+    scheduler: str = "async",
+    detection: str = "local-weak",
+    frames: str = "all",
+    properties: Sequence[str] | None = None,
+    reduction: bool = True,
+    max_states: int = DEFAULT_MAX_STATES,
+    max_seconds: float = DEFAULT_MAX_SECONDS,
+    move_bound_c: float = 4.0,
+    force: bool = False,
+    **limits: Any,
+) -> CheckReport:
+    """Check ``algorithm`` from a configuration (or ``robots`` and ``meeting``) against every
+    adversary of ``scheduler``; the same search as ``gather-verify check``.
+
+    ``algorithm`` is a spec (``"paper"``, ``"my_alg.py:MyAlgorithm"``,
+    ``"package.module:NAME"``) or an object with ``name`` and ``decide(view)``. The limits
+    default to the command line's; ``max_memory_mb`` and ``margin`` may be given too."""
+    if configuration is None:
+        if robots is None or meeting is None:
+            raise InvalidInput("give a configuration, or both robots and meeting")
+        configuration = Configuration(list(robots), list(meeting), initial=True)
+    name = algorithm if isinstance(algorithm, str) else getattr(algorithm, "name", None)
+    if not isinstance(name, str):
+        raise InvalidInput("an algorithm object needs a name (a string attribute)")
+    report = run_check(configuration, algorithm=algorithm,  # type: ignore[arg-type]
+                       scheduler=scheduler, detection=detection, frames=frames,
+                       properties=properties, reduction=reduction, max_states=max_states,
+                       max_seconds=max_seconds, move_bound_c=move_bound_c, force=force, **limits)
+    report["algorithm"] = name
+    return CheckReport.from_json(report)
+
+
+class _CallableModule(types.ModuleType):
+    """``gather_verify.check(...)`` is :func:`check` also when the package attribute names this
+    module (importing ``gather_verify.check`` binds it so)."""
+
+    def __call__(self, *args: Any, **kwargs: Any) -> CheckReport:
+        return check(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule

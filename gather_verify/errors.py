@@ -8,7 +8,7 @@
   the traceback and exits 70 (``EX_SOFTWARE`` of ``sysexits.h``).
 
 A bug in the user's *algorithm* is neither: it is a counterexample (the
-``defined`` property), never an exception here.
+``crash`` property, beside ``defined`` for Unhandled), never an exception here.
 
 >>> raise InvalidInput("bad node 'x': expected x,y")
 Traceback (most recent call last):

@@ -1,7 +1,7 @@
 """JUnit XML output, so a CI server shows each checked configuration as a test case.
 
-A VIOLATED verdict is a failure (with the failing property and the trace in
-the message), INCOMPLETE an error (the check did not finish), NOT-APPLICABLE
+A VIOLATED verdict is a failure (the failing property in the message; the reason
+and the trace as ASCII grids in the body), INCOMPLETE an error (the check did not finish), NOT-APPLICABLE
 a skip, VERIFIED a pass.
 
 >>> print(junit_xml("demo", [{"name": "c1", "verdict": "VERIFIED", "seconds": 0.5}]))
@@ -11,7 +11,6 @@ a skip, VERIFIED a pass.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
@@ -28,8 +27,7 @@ def junit_xml(suite: str, cases: Iterable[dict[str, Any]]) -> str:
         head = (f"<testcase classname={quoteattr(suite)} name={quoteattr(str(case['name']))} "
                 f'time="{seconds:.3f}"')
         verdict = case["verdict"]
-        detail = escape(json.dumps({k: case.get(k) for k in ("property", "reason", "trace")},
-                                   sort_keys=True))
+        detail = escape(failure_text(case))
         prop, reason = case.get("property"), case.get("reason")
         if verdict == "VERIFIED":
             body.append(head + " />")
@@ -50,6 +48,22 @@ def junit_xml(suite: str, cases: Iterable[dict[str, Any]]) -> str:
             f'<testsuite name={quoteattr(suite)} tests="{len(cases)}" failures="{counts["failures"]}" '
             f'errors="{counts["errors"]}" skipped="{counts["skipped"]}" time="{total:.3f}">'
             + "".join(body) + "</testsuite>")
+
+
+def failure_text(case: dict[str, Any]) -> str:
+    """A failure's body as a person reads it: the property, the reason and the trace as ASCII
+    grids (:func:`gather_verify.render.render_trace`).
+
+    >>> print(failure_text({"property": "final", "reason": "deadlock", "trace": None}))
+    property: final
+    reason: deadlock
+    (no trace)
+    """
+    from gather_verify.render import render_trace
+
+    trace = case.get("trace")
+    return (f"property: {case.get('property')}\nreason: {case.get('reason')}\n"
+            + (render_trace(trace) if trace else "(no trace)"))
 
 
 def write_junit(path: str, suite: str, cases: Iterable[dict[str, Any]]) -> None:

@@ -70,6 +70,51 @@ def render_trace(trace: dict[str, Any]) -> str:
         pending = [f"r{i}->{tuple(r['pending'])}" for i, r in enumerate(state) if r["pending"]]
         if pending:
             out.append("pending: " + " ".join(pending))
+    if trace["property"] == "crash":
+        out.append(crash_text(trace))
+    return "\n".join(out)
+
+
+def view_grid(robots: Sequence[Node], meeting: Iterable[Node]) -> str:
+    """A robot's view as text rows: ``@`` the robot (at the origin of its frame), ``o`` another
+    occupied node, ``M`` a meeting node (``[@]``, ``[o]`` when occupied).
+
+    >>> print(view_grid([(0, 0), (2, 1)], [(1, 1)]))
+     .  M  o
+     @  .  .
+    """
+    meeting, occupied = set(meeting), set(robots)
+    x0, y0, x1, y1 = bounding_box([(0, 0), *occupied, *meeting])
+    rows = []
+    for y in range(y1, y0 - 1, -1):
+        cells = []
+        for x in range(x0, x1 + 1):
+            mark = "@" if (x, y) == (0, 0) else "o" if (x, y) in occupied else ""
+            cells.append((f"[{mark}]" if mark else " M ") if (x, y) in meeting
+                         else f" {mark or '.'} ")
+        rows.append("".join(cells).rstrip())
+    return "\n".join(rows)
+
+
+def crash_text(trace: dict[str, Any]) -> str:
+    """Who crashed in the last state of a ``crash`` trace: the robot, its view (its own frame,
+    the robot at ``(0, 0)``), the exception and the frames of the algorithm's own code."""
+    detail = trace.get("detail") or {}
+    last = _states(trace)[-1]
+    node = detail.get("robot_node")
+    out = []
+    if node is not None:
+        robots = [f"r{i}" for i, r in enumerate(last) if list(r["node"]) == list(node)]
+        out.append(f"crash in {detail.get('call', 'decide')} of robot {'/'.join(robots) or '?'} "
+                   f"at {tuple(node)}, frame {detail.get('frame')}; its view in its own frame "
+                   "(@ the robot, o another robot, M a meeting node):")
+        view = detail.get("view") or {}
+        out.append(view_grid([tuple(v) for v in view.get("robots", [])],
+                             [tuple(m) for m in view.get("meeting_nodes", [])]))
+    else:
+        out.append(f"crash in {detail.get('call', 'target')} on the last configuration")
+    out.append(f"exception: {detail.get('exception', trace.get('reason', ''))}")
+    out += [f"  at {frame}" for frame in detail.get("traceback", [])]
     return "\n".join(out)
 
 

@@ -21,15 +21,21 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from gather_verify.algorithms import get_algorithm
+from gather_verify.algorithms import AlgorithmCrash, Unhandled, get_algorithm
 from gather_verify.algorithms.moves import frames_for, move_sets
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import STEPS, add
 from gather_verify.properties.base import Run
 from gather_verify.properties.facts import configuration_facts
 from gather_verify.properties.registry import get_property
 from gather_verify.trace import initial_of, load_trace, steps_of
 from schedulers import State, configuration_of, get_scheduler, initial_state
+
+
+class NoLongerReproduces(InvalidInput):
+    """Every step of the trace is a legal execution of the robots, but the algorithm no longer
+    takes it (it was changed since the trace was written): ``replay`` exits 5."""
 
 
 @dataclass
@@ -55,15 +61,26 @@ def replay(trace: dict[str, Any]) -> Replayed:
     def ms(robots: tuple) -> dict:
         return move_sets(algorithm, Configuration.trusted(robots, meeting), detection, frames)
 
+    def anything(robots: tuple) -> dict:  # every robot may stay or take any unit step
+        return {v: frozenset([v, *(add(v, step) for step in STEPS)]) for v in robots}
+
     states = [initial_state(initial.robots)]
     steps = steps_of(trace)
     for k, (event, state) in enumerate(steps, 1):
-        offered = dict(scheduler.successors(states[-1], ms))
-        if event not in offered:
+        possible = dict(scheduler.successors(states[-1], anything))
+        if event not in possible:
             raise InvalidInput(f"trace step {k}: event {event.to_json()} is not allowed from the "
                              "previous state")
-        if offered[event] != state:
+        if possible[event] != state:
             raise InvalidInput(f"trace step {k}: the recorded state is not the one the event reaches")
+        try:
+            offered = dict(scheduler.successors(states[-1], ms))
+        except (Unhandled, AlgorithmCrash) as error:
+            raise NoLongerReproduces(f"trace step {k}: the algorithm does not decide the previous "
+                                     f"state any more ({error})") from None
+        if event not in offered:  # a legal execution, but not this algorithm's (any more)
+            raise NoLongerReproduces(f"trace step {k}: the algorithm no longer allows event "
+                                     f"{event.to_json()}")
         states.append(state)
     try:
         prop = get_property(trace["property"])

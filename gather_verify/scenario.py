@@ -22,8 +22,8 @@ from typing import Any
 
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
+from schedulers import SCHEDULERS
 
-SCHEDULERS = ("fsync", "ssync", "async")
 VERDICTS = ("VERIFIED", "VIOLATED", "INCOMPLETE", "NOT-APPLICABLE")
 TOP_LEVEL = {
     "name": str,
@@ -203,4 +203,18 @@ def load_scenario(path: str | Path) -> Scenario:
         raise ScenarioError(f"{where}: invalid JSON: nested too deeply") from None
     except ValueError as error:  # duplicate keys; integers of thousands of digits
         raise ScenarioError(f"{where}: invalid JSON: {str(error).split(';')[0]}") from None
-    return parse_scenario(data, where)
+    return _files_relative_to(parse_scenario(data, where), Path(path).resolve().parent)
+
+
+def _files_relative_to(scenario: Scenario, folder: Path) -> Scenario:
+    """The scenario with algorithm files (``PATH.py:NAME``) taken relative to ``folder``."""
+    from dataclasses import replace
+
+    from gather_verify.algorithms.loading import absolute_spec, is_path_spec
+
+    if not is_path_spec(scenario.algorithm) and not any(
+            is_path_spec(e.algorithm) for e in scenario.expectations):
+        return scenario
+    return replace(scenario, algorithm=absolute_spec(scenario.algorithm, folder),
+                   expectations=tuple(replace(e, algorithm=absolute_spec(e.algorithm, folder))
+                                      for e in scenario.expectations))

@@ -23,11 +23,12 @@ from typing import Any
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration, _as_node
 from gather_verify.model.geometry import Node
-from schedulers import Event, State
+from schedulers import SCHEDULERS, Event, State
 
 FORMAT = "gather-verify-trace"
 VERSION = 1
-KINDS = ("round", "look", "move")
+KINDS = tuple(dict.fromkeys(kind for s in SCHEDULERS.values() for kind in s.kinds))
+"""Every event kind of the registered schedulers (``round``, ``look``, ``move``)."""
 
 
 def state_json(state: State) -> list[dict[str, Any]]:
@@ -102,6 +103,12 @@ def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
             raise InvalidInput(f"bad trace {source}: not JSON (nested too deeply)") from None
     if isinstance(data, dict) and "robots" in data and isinstance(data.get("trace"), dict):
         data = data["trace"]  # a scenario file that stores its counterexample
+    if not isinstance(source, dict) and isinstance(data, dict) \
+            and isinstance(data.get("algorithm"), str):  # a file path is relative to the file
+        from gather_verify.algorithms.loading import absolute_spec
+
+        data = {**data, "algorithm": absolute_spec(data["algorithm"],
+                                                   Path(source).resolve().parent)}
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         _fail(f"not a {FORMAT} object")
     if data.get("version") != VERSION:

@@ -79,7 +79,7 @@ def _load_algorithm(name: str) -> Any:
 def _state_info(algorithm: Any, trace: dict[str, Any], robots: list[tuple[int, int]],
                 with_moves: bool) -> dict[str, Any]:
     """Class, target, phase, guard and move sets of one configuration (None where unknown)."""
-    from gather_verify.algorithms import AlgorithmError, Unhandled, target_of
+    from gather_verify.algorithms import AlgorithmCrash, AlgorithmError, Unhandled, target_of
     from gather_verify.algorithms.moves import frames_for, move_sets
     from gather_verify.model.classes import classify_configuration
 
@@ -94,7 +94,7 @@ def _state_info(algorithm: Any, trace: dict[str, Any], robots: list[tuple[int, i
         out["class"] = f"? ({error})"
     if algorithm is None:
         return out
-    with contextlib.suppress(Unhandled):
+    with contextlib.suppress(Unhandled, AlgorithmCrash):
         out["target"] = _node(target_of(algorithm, conf))
     plan = getattr(algorithm, "plan", None)
     if plan is not None:
@@ -110,7 +110,7 @@ def _state_info(algorithm: Any, trace: dict[str, Any], robots: list[tuple[int, i
                             for v, s in sets.items()}
         except Unhandled as error:
             out["unhandled"] = out["unhandled"] or str(error)
-        except AlgorithmError as error:  # the algorithm answered a non-move
+        except (AlgorithmError, AlgorithmCrash) as error:  # a crash, or a non-move answer
             out["unhandled"] = str(error)
     return out
 

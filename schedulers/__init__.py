@@ -20,19 +20,30 @@ from __future__ import annotations
 
 from gather_verify.errors import InvalidInput
 from schedulers.async_ import Async
-from schedulers.base import Event, MoveSets, Scheduler, State, configuration_of, initial_state
+from schedulers.base import (
+    Event,
+    Frontier,
+    MoveSets,
+    Scheduler,
+    State,
+    Successors,
+    configuration_of,
+    initial_state,
+)
 from schedulers.fsync import FSync
 from schedulers.ssync import SSync
 
-SCHEDULERS: dict[str, type] = {"fsync": FSync, "ssync": SSync, "async": Async}
+SCHEDULERS: dict[str, type[Scheduler]] = {"fsync": FSync, "ssync": SSync, "async": Async}
+"""Every scheduler by name, in the order the CLI and the scenario loader list them: a new
+scheduler is one module implementing :class:`Scheduler` and one line here."""
 
 
 def get_scheduler(name: str) -> Scheduler:
-    """The scheduler called ``name`` (``fsync``, ``ssync`` or ``async``)."""
+    """The scheduler called ``name`` (a key of :data:`SCHEDULERS`)."""
     if name not in SCHEDULERS:
         raise InvalidInput(f"unknown scheduler {name!r}: use one of {', '.join(SCHEDULERS)}")
     return SCHEDULERS[name]()
 
 
-__all__ = ["Async", "Event", "FSync", "MoveSets", "SCHEDULERS", "SSync", "Scheduler", "State",
-           "configuration_of", "get_scheduler", "initial_state"]
+__all__ = ["Async", "Event", "FSync", "Frontier", "MoveSets", "SCHEDULERS", "SSync", "Scheduler",
+           "State", "Successors", "configuration_of", "get_scheduler", "initial_state"]

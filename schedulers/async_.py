@@ -13,7 +13,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from gather_verify.model.geometry import STEPS
-from schedulers.base import Event, MoveSets, State, configuration_of
+from schedulers.base import Event, Frontier, MoveSets, State, Successors, configuration_of
 
 LOOK_ORDER = tuple(sorted(range(len(STEPS)), key=STEPS.__getitem__))
 """Step indices in the order :meth:`Async.successors` yields Looks (sorted destinations)."""
@@ -25,6 +25,7 @@ _EVENTS = np.array([sum(1 << 8 * slot for slot, k in enumerate(LOOK_ORDER) if m 
 
 class Async:
     name = "async"
+    kinds = ("look", "move")
 
     def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
         options = None
@@ -40,18 +41,15 @@ class Async:
                 yield (Event("move", (i,), ((i, node, pending),)),
                        state[:i] + ((pending, None),) + state[i + 1:])
 
-    def bulk_successors(self, codes: np.ndarray, masks: np.ndarray, neighbour: np.ndarray
-                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """:meth:`successors` for many states at once, in the same order.
-
-        ``codes[s, i]`` is robot i of state s as ``cell * 5 + d`` (d = 0 idle, else 1 +
-        the index in ``STEPS`` of its pending step), ``masks[s, i]`` its move set as
-        bits (bit k: ``STEPS[k]`` allowed), ``neighbour[cell, k]`` the cell one
-        ``STEPS[k]`` away (-1 outside the region). Returns, one entry per event
-        (each changes exactly one robot): the state index, the robot, its new code
-        (-1 when the robot moves out of the region) and the edges traversed.
-        """
+    def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
+        """:meth:`successors` for many states at once, in the same order: one change per
+        event (a Look sets the robot's pending step, a Move takes it to its destination,
+        -1 when that leaves the region)."""
+        codes, masks, neighbour = frontier
         s, n = codes.shape
+        if s * 4 * n > budget:  # at most four Looks (or one Move) per robot
+            s = max(1, budget // (4 * n))
+            codes, masks = codes[:s], masks[:s]
         idle = codes == codes // 5 * 5  # (floor division by a constant is the fast one)
         # per robot, its events in order as four bytes (the Looks in LOOK_ORDER, or its one
         # Move in the first), then the events of the chunk in order where a byte is set
@@ -70,4 +68,4 @@ class Async:
             new[move] = np.where(dest >= 0, dest * 5, -1)
         weight = np.zeros(len(flat), dtype=np.int8)
         weight[move] = 1
-        return src, robot, new, weight
+        return Successors(len(codes), src, weight, robot, new, None)

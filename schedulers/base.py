@@ -1,12 +1,22 @@
-"""States, events and the scheduler protocol shared by FSYNC, SSYNC and ASYNC."""
+"""States, events and the scheduler protocol shared by FSYNC, SSYNC and ASYNC.
+
+A scheduler has two faces that must agree event for event: ``successors``
+(one concrete state, what the reference engine, replay and traces use) and
+``bulk_successors`` (many encoded states at once, what the bulk engine uses).
+The engine owns the encoding (``gather_verify.engine.encoding``) and hands the
+states over as a :class:`Frontier`; the scheduler answers with
+:class:`Successors`, a format in which one event may change several robots.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
-from typing import Protocol
+from typing import NamedTuple, Protocol
 
-from gather_verify.model.geometry import Node
+import numpy as np
+
+from gather_verify.model.geometry import STEPS, Node
 
 Robot = tuple[Node, Node | None]
 """One robot: its node and its pending destination (None when idle)."""
@@ -43,11 +53,58 @@ class Event:
                 "moves": [[i, list(a), list(b)] for i, a, b in self.moves]}
 
 
+class Frontier(NamedTuple):
+    """Encoded states handed to :meth:`Scheduler.bulk_successors` by the engine.
+
+    ``codes[s, i]`` is robot i of state s as ``cell * 5 + d``: ``cell`` a node of
+    the engine's region, ``d`` 0 when idle, else 1 + the index in ``STEPS`` of
+    its pending step. ``masks[s, i]`` is robot i's move set in the configuration
+    of state s as bits: bit k for ``STEPS[k]``, bit 4 for staying.
+    ``neighbour[cell, k]`` is the cell one ``STEPS[k]`` away (-1: outside the
+    region). A scheduler reads these and nothing else of the engine.
+    """
+
+    codes: np.ndarray  # (S, n) int64
+    masks: np.ndarray  # (S, n) uint8
+    neighbour: np.ndarray  # (cells, 4) int64
+
+
+class Successors(NamedTuple):
+    """Every event of the first ``states`` states of a :class:`Frontier`, in the order
+    ``successors`` yields them, state after state.
+
+    Per event e: ``source[e]`` (its state's row, non-decreasing) and ``weight[e]``
+    (edges traversed, :attr:`Event.distance`). Its successor is its source with
+    some robots changed: per change c, robot ``robot[c]`` of event ``event[c]``
+    gets code ``code[c]`` (-1 when it leaves the region); changes are listed by
+    event, non-decreasing. ``event`` is None when there is exactly one change per
+    event (change c belongs to event c: ASYNC's Looks and Moves), which saves the
+    engine work; an event with no change is a self-loop.
+    """
+
+    states: int
+    source: np.ndarray  # (E,) int64
+    weight: np.ndarray  # (E,) int8
+    robot: np.ndarray  # (C,) int64
+    code: np.ndarray  # (C,) int64
+    event: np.ndarray | None  # (C,) int64, or None: C == E and event[c] == c
+
+
 class Scheduler(Protocol):
+    """An adversary: the events it may choose in a state, one state at a time and in bulk."""
+
     name: str
+    kinds: tuple[str, ...]
+    """The :attr:`Event.kind` values its events carry."""
 
     def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
         """Every (event, successor) the adversary can choose from ``state``."""
+        ...
+
+    def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
+        """:meth:`successors` of the leading states of ``frontier``, as many as fit in about
+        ``budget`` events (at least one state when there is one; all of them is fine when
+        they fit): the same events, in the same order."""
         ...
 
 
@@ -59,3 +116,73 @@ def initial_state(robots: Iterable[Node]) -> State:
 def configuration_of(state: State) -> tuple[Node, ...]:
     """The robot nodes of a state, sorted (what every robot sees)."""
     return tuple(sorted(node for node, _ in state))
+
+
+def _sorted_choices() -> tuple[tuple[int, ...], tuple[int, ...]]:
+    """Per move mask, the allowed choices in the order of their sorted destinations
+    (as ``successors`` tries them), each as its step index (4: stay); and how many."""
+    order = sorted(range(5), key=lambda k: STEPS[k] if k < 4 else (0, 0))
+    table, count = [], []
+    for mask in range(32):
+        allowed = [k for k in order if mask >> k & 1]
+        count.append(len(allowed))
+        table.extend(allowed + [4] * (5 - len(allowed)))
+    return tuple(table), tuple(count)
+
+
+_NTH, _COUNT = (np.array(t, dtype=np.int64) for t in _sorted_choices())
+_NTH = _NTH.reshape(32, 5)
+
+
+def bulk_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Successors:
+    """The events of round schedulers in bulk: per state, for each activated subset in
+    the order of the rows of ``subsets`` (a boolean ``(k, n)`` matrix), every choice of
+    destinations of the activated robots in the order of ``itertools.product`` over
+    their sorted move sets; the activated robots move at once, the others stay.
+    Pending destinations play no part (round schedulers keep every robot idle)."""
+    codes, masks, neighbour = frontier
+    s, n = codes.shape
+    k = len(subsets)
+    count = _COUNT[masks]  # (S, n) choices per robot
+    width = np.where(subsets[None, :, :], count[:, None, :], 1)  # (S, k, n)
+    per = width.prod(axis=2)  # events per (state, subset)
+    if s:
+        total = np.cumsum(per.sum(axis=1))
+        s = min(len(total), max(1, int(np.searchsorted(total, budget, side="right"))))
+    width, per = width[:s].reshape(s * k, n), per[:s].reshape(-1)
+    # per (state, robot): its new code for its j-th choice (j < 5), or when not activated
+    # (j = 5); and whether that choice moves it
+    nth = _NTH[masks[:s]]  # (S, n, 5): step index of the j-th choice (4: stay)
+    cell = codes[:s] // 5
+    go = nth < 4
+    dest = neighbour[cell[:, :, None], np.where(go, nth, 0)]
+    choice = np.empty((s, n, 6), dtype=np.int64)
+    choice[:, :, :5] = np.where(go, np.where(dest >= 0, dest * 5, -1), cell[:, :, None] * 5)
+    choice[:, :, 5] = codes[:s]
+    moves = np.zeros((s, n, 6), dtype=bool)
+    moves[:, :, :5] = go
+    choice, moves = choice.reshape(-1), moves.reshape(-1)
+    # per (state, subset) and robot: where its choices start in those flat tables
+    slot = ((np.arange(s)[:, None] * n + np.arange(n)) * 6)[:, None, :] + \
+        np.where(subsets, 0, 5)[None, :, :]
+    slot = slot.reshape(s * k, n)
+    group = np.repeat(np.arange(s * k), per)  # the (state, subset) of each event
+    e = len(group)
+    rank = np.arange(e) - (np.cumsum(per) - per)[group]  # the event's rank in its group
+    new = np.empty((e, n), dtype=np.int64)
+    moved = np.empty((e, n), dtype=bool)
+    for i in range(n - 1, -1, -1):  # product: the last robot varies fastest
+        rank, digit = np.divmod(rank, width[group, i])
+        at = slot[group, i] + digit
+        new[:, i] = choice[at]
+        moved[:, i] = moves[at]
+    flat = np.flatnonzero(moved.reshape(-1))
+    event, robot = np.divmod(flat, n)
+    return Successors(s, group // k, moved.sum(axis=1, dtype=np.int8), robot,
+                      new.reshape(-1)[flat], event)
+
+
+def subsets_matrix(subsets: Iterable[Iterable[int]], n: int) -> np.ndarray:
+    """Activated subsets as a boolean matrix, one row per subset, in order."""
+    rows = [[i in set(a) for i in range(n)] for a in subsets]
+    return np.array(rows, dtype=bool).reshape(len(rows), n)

@@ -3,13 +3,31 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
+from functools import cache
 from itertools import product
 
-from schedulers.base import Event, MoveSets, State, configuration_of
+import numpy as np
+
+from schedulers.base import (
+    Event,
+    Frontier,
+    MoveSets,
+    State,
+    Successors,
+    bulk_rounds,
+    configuration_of,
+    subsets_matrix,
+)
+
+
+@cache
+def _everyone(n: int) -> np.ndarray:
+    return subsets_matrix([range(n)], n)
 
 
 class FSync:
     name = "fsync"
+    kinds = ("round",)
 
     def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
         options = move_sets(configuration_of(state))
@@ -17,3 +35,6 @@ class FSync:
         for choice in product(*(sorted(options[node]) for node, _ in state)):
             moves = tuple((i, state[i][0], d) for i, d in enumerate(choice) if d != state[i][0])
             yield Event("round", robots, moves), tuple((d, None) for d in choice)
+
+    def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
+        return bulk_rounds(frontier, budget, _everyone(frontier.codes.shape[1]))

@@ -4,24 +4,49 @@ robots look at one snapshot and move at once."""
 from __future__ import annotations
 
 from collections.abc import Iterator
+from functools import cache
 from itertools import combinations, product
 
-from schedulers.base import Event, MoveSets, State, configuration_of
+import numpy as np
+
+from schedulers.base import (
+    Event,
+    Frontier,
+    MoveSets,
+    State,
+    Successors,
+    bulk_rounds,
+    configuration_of,
+    subsets_matrix,
+)
+
+
+def _active_sets(n: int) -> Iterator[tuple[int, ...]]:
+    """The non-empty subsets of robots, by size, then in lexicographic order."""
+    for k in range(1, n + 1):
+        yield from combinations(range(n), k)
+
+
+@cache
+def _subsets(n: int) -> np.ndarray:
+    return subsets_matrix(_active_sets(n), n)
 
 
 class SSync:
     name = "ssync"
+    kinds = ("round",)
 
     def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
         options = move_sets(configuration_of(state))
-        n = len(state)
-        for k in range(1, n + 1):
-            for active in combinations(range(n), k):
-                choices = [sorted(options[state[i][0]]) for i in active]
-                for choice in product(*choices):
-                    nodes = [node for node, _ in state]
-                    for i, d in zip(active, choice, strict=True):
-                        nodes[i] = d
-                    moves = tuple((i, state[i][0], d)
-                                  for i, d in zip(active, choice, strict=True) if d != state[i][0])
-                    yield Event("round", active, moves), tuple((v, None) for v in nodes)
+        for active in _active_sets(len(state)):
+            choices = [sorted(options[state[i][0]]) for i in active]
+            for choice in product(*choices):
+                nodes = [node for node, _ in state]
+                for i, d in zip(active, choice, strict=True):
+                    nodes[i] = d
+                moves = tuple((i, state[i][0], d)
+                              for i, d in zip(active, choice, strict=True) if d != state[i][0])
+                yield Event("round", active, moves), tuple((v, None) for v in nodes)
+
+    def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
+        return bulk_rounds(frontier, budget, _subsets(frontier.codes.shape[1]))

@@ -1,6 +1,6 @@
-"""The bulk explorer against the reference one (issue 8): same states, same ids, same
-graph, same witnesses; and through ``run_check`` the same verdicts, max moves and
-traces on every scenario under ``scenarios/``."""
+"""The bulk explorer against the reference one (issues 8 and 13): same states, same ids,
+same graph, same witnesses, under every registered scheduler; and through ``run_check``
+the same verdicts, max moves and traces on every scenario under ``scenarios/``."""
 
 from __future__ import annotations
 
@@ -10,11 +10,15 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from gather_verify.algorithms import get_algorithm
+from gather_verify.algorithms.moves import move_sets
 from gather_verify.check import run_check
 from gather_verify.engine.explore import Limits, explore_reference
 from gather_verify.engine.fast_explore import explore_fast, supports
 from gather_verify.model.configuration import Configuration
 from gather_verify.scenario import load_scenario
+from gather_verify.sweeps.census import enumerate_configurations
+from schedulers import SCHEDULERS, initial_state
 
 YARD = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
 ROOT = Path(__file__).resolve().parent.parent / "scenarios"
@@ -37,11 +41,18 @@ def same(c, algorithm, scheduler="async", **kw):
     return fast
 
 
+ALL = list(SCHEDULERS)
+YARD_STATES = {"fsync": 18, "ssync": 216, "async": 2184}  # SEMANTICS.md §4
+
+
+@pytest.mark.parametrize("scheduler", ALL)
 @pytest.mark.parametrize("reduction", [False, True])
-def test_yardstick(reduction):
-    e = same(YARD, "go-to-target", reduction=reduction)
+def test_yardstick(reduction, scheduler):
+    e = same(YARD, "go-to-target", scheduler, reduction=reduction)
     if not reduction:
-        assert (e.states, e.transitions) == (2184, 7032)
+        assert e.states == YARD_STATES[scheduler]
+        if scheduler == "async":
+            assert e.transitions == 7032
 
 
 def test_yardstick_without_graph():
@@ -50,52 +61,117 @@ def test_yardstick_without_graph():
     assert len(e.targets) == 0
 
 
+@pytest.mark.parametrize("scheduler", ALL)
 @pytest.mark.parametrize("reduction", [False, True])
 @pytest.mark.parametrize("anonymity", [None, False])
-def test_reductions_one_at_a_time(reduction, anonymity):
+def test_reductions_one_at_a_time(reduction, anonymity, scheduler):
     c = Configuration([(0, 1), (3, 3), (2, 0)], [(1, 1), (3, 1)], initial=True)
-    same(c, "go-to-target", reduction=reduction, anonymity=anonymity)
+    same(c, "go-to-target", scheduler, reduction=reduction, anonymity=anonymity)
 
 
-@pytest.mark.parametrize("max_states", [1, 2, 50, 333, 2183, 2184])
-def test_states_limit(max_states):
-    same(YARD, "go-to-target", reduction=False, limits=Limits(max_states=max_states))
+@pytest.mark.parametrize("scheduler", ALL)
+@pytest.mark.parametrize("fraction", [0, 0.001, 0.02, 0.15, 0.999, 1])
+def test_states_limit(fraction, scheduler):
+    total = YARD_STATES[scheduler]
+    max_states = max(1, min(total, round(fraction * total)))
+    same(YARD, "go-to-target", scheduler, reduction=False, limits=Limits(max_states=max_states))
 
 
+@pytest.mark.parametrize("scheduler", ALL)
 @pytest.mark.parametrize("margin", [0, 1])
-def test_region_limit(margin):
+def test_region_limit(margin, scheduler):
     # nearest-centre and the paper walk outside the MER; a small margin cuts them
     c = Configuration([(0, 0), (0, 1), (3, 3)], [(1, 2), (2, 1)], initial=True)
     for algorithm in ("nearest-centre", "paper", "broken-wander"):
-        same(c, algorithm, reduction=False, limits=Limits(margin=margin))
+        same(c, algorithm, scheduler, reduction=False, limits=Limits(margin=margin))
 
 
-def test_fallback_for_other_schedulers():
-    assert not supports(YARD, "fsync") and not supports(YARD, "ssync")
-    assert supports(YARD, "async")
+@pytest.mark.parametrize("scheduler", ALL)
+def test_target_change_witness(scheduler):
+    """A target-invariance witness: the event comes from the scheduler (a round of several
+    robots under FSYNC/SSYNC, a Look or a Move under ASYNC), the same in both engines."""
+    c = Configuration([(0, 0), (0, 1), (1, 0)], [(0, 2), (2, 1)], initial=True)
+    for reduction in (False, True):
+        e = same(c, "broken-drift", scheduler, reduction=reduction)
+        v = e.violations["target-invariance"]
+        assert v.event.kind in SCHEDULERS[scheduler].kinds
+        if scheduler == "fsync" and not reduction:
+            assert len(v.event.moves) == 3  # one event, three robots moved
+
+
+@pytest.mark.parametrize("scheduler", ALL)
+def test_small_budget_same_result(scheduler, monkeypatch):
+    """The scheduler may take fewer states than offered (its event budget): the engine
+    expands the rest in later steps, with the same result."""
+    from gather_verify.engine import fast_explore
+
+    want = explore_fast(YARD, "go-to-target", scheduler, reduction=False)
+    monkeypatch.setattr(fast_explore, "EVENTS", 7)
+    got = same(YARD, "go-to-target", scheduler, reduction=False)
+    assert list(got.keys) == list(want.keys)
+
+
+def test_every_scheduler_runs_on_the_bulk_engine():
+    for name in SCHEDULERS:
+        assert supports(YARD, name)
+    # beyond 64-bit keys the reference path runs instead
+    wide = Configuration([(0, 0), (40, 0), (0, 40), (40, 40), (20, 20), (20, 0)], [(20, 10)],
+                         initial=True)
+    assert not supports(wide, "ssync")
+
+
+def _bulk_order(scheduler, c):
+    """Events of the bulk interface, as (source, successor) codes, for one state."""
+    import numpy as np
+
+    from gather_verify.engine.encoding import Encoding
+    from gather_verify.engine.fast_explore import BIT
+
+    enc = Encoding((-1, -1, 5, 5))
+    algo = get_algorithm("go-to-target")
+    ms = move_sets(algo, c)
+    masks = np.array([[sum(BIT[x - v[0], y - v[1]] for x, y in ms[v]) for v in c.robots]],
+                     dtype=np.uint8)
+    codes = np.array([[enc.code(v, None) for v in c.robots]], dtype=np.int64)
+    bulk = SCHEDULERS[scheduler]().bulk_successors(enc.frontier(codes, masks), 1 << 20)
+    out = [list(codes[0]) for _ in bulk.source]
+    for k, (r, code) in enumerate(zip(bulk.robot, bulk.code, strict=True)):
+        out[k if bulk.event is None else bulk.event[k]][r] = int(code)
+    return enc, out, bulk.weight.tolist()
+
+
+@pytest.mark.parametrize("scheduler", ALL)
+def test_bulk_interface_matches_successors(scheduler):
+    """The two faces of a scheduler agree event by event, in order, on one state."""
+    c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
+    enc, bulk, weights = _bulk_order(scheduler, c)
+    algo = get_algorithm("go-to-target")
+    ms = lambda robots: move_sets(algo, Configuration.trusted(robots, c.meeting_nodes))  # noqa: E731
+    one = list(SCHEDULERS[scheduler]().successors(initial_state(c.robots), ms))
+    assert bulk == [[enc.code(v, p) for v, p in succ] for _, succ in one]
+    assert weights == [event.distance for event, _ in one]
 
 
 def _scenario_cases():
     cases = []
     for path in sorted(ROOT.rglob("*.json")):
         s = load_scenario(path)
-        runs = {(e.algorithm, e.scheduler, bool(e.options.get("slow"))) for e in s.expectations}
-        runs.add((s.algorithm or "paper", s.scheduler or "async", False))
-        for algorithm, scheduler, slow in sorted(runs):
-            if scheduler != "async":
-                continue
-            marks = [pytest.mark.slow] if slow else []
-            cases.append(pytest.param(path, algorithm, marks=marks,
-                                      id=f"{path.relative_to(ROOT)}[{algorithm}]"))
+        slow = {(e.algorithm, e.scheduler) for e in s.expectations if e.options.get("slow")}
+        algorithms = {e.algorithm for e in s.expectations} | {s.algorithm or "paper"}
+        for algorithm in sorted(algorithms):
+            for scheduler in ALL:  # every scheduler on every scenario, not only those recorded
+                marks = [pytest.mark.slow] if (algorithm, scheduler) in slow else []
+                cases.append(pytest.param(path, algorithm, scheduler, marks=marks,
+                                          id=f"{path.relative_to(ROOT)}[{algorithm}/{scheduler}]"))
     return cases
 
 
-@pytest.mark.parametrize("path,algorithm", _scenario_cases())
-def test_scenarios_same_report(path, algorithm):
+@pytest.mark.parametrize("path,algorithm,scheduler", _scenario_cases())
+def test_scenarios_same_report(path, algorithm, scheduler):
     s = load_scenario(path)
     c = s.configuration
     for reduction in (True, False):
-        kw = dict(algorithm=algorithm, scheduler="async", reduction=reduction,
+        kw = dict(algorithm=algorithm, scheduler=scheduler, reduction=reduction,
                   max_states=200_000, max_seconds=120, force=True)
         ref = run_check(c, engine="reference", **kw)
         fast = run_check(c, engine="fast", **kw)
@@ -108,7 +184,8 @@ def test_scenarios_same_report(path, algorithm):
 
 
 ALGORITHMS = ["go-to-target", "paper", "broken-away", "broken-stay", "broken-drift",
-              "broken-wander", "broken-undefined"]
+              "broken-wander", "broken-undefined", "broken-crash", "broken-answer",
+              "broken-crash-target"]
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -118,30 +195,47 @@ ALGORITHMS = ["go-to-target", "paper", "broken-away", "broken-stay", "broken-dri
     meeting=st.lists(st.tuples(st.integers(0, 3), st.integers(0, 3)), min_size=1, max_size=2,
                      unique=True),
     algorithm=st.sampled_from(ALGORITHMS),
+    scheduler=st.sampled_from(ALL),
     reduction=st.booleans(),
 )
-def test_random_configurations(robots, meeting, algorithm, reduction):
+def test_random_configurations(robots, meeting, algorithm, scheduler, reduction):
     from gather_verify import properties as props
 
     c = Configuration(robots, meeting, initial=True)
-    fast = same(c, algorithm, reduction=reduction, limits=Limits(max_states=20_000, margin=1))
+    limits = Limits(max_states=20_000, margin=1)
+    fast = same(c, algorithm, scheduler, reduction=reduction, limits=limits)
     if fast.stopped is None:
-        plain = explore_reference(c, algorithm, "async", reduction=reduction,
-                                  limits=Limits(max_states=20_000, margin=1))
+        plain = explore_reference(c, algorithm, scheduler, reduction=reduction, limits=limits)
         assert props.longest_path(fast) == props.longest_path(plain)
 
 
+CENSUS = [(n, m) for n in (1, 2, 3) for m in (1, 2, 3)]
+
+
+@pytest.mark.parametrize("scheduler", ["fsync", "ssync"])
+@pytest.mark.parametrize("n,m", [pytest.param(n, m, marks=[pytest.mark.slow] if n * m > 2 else [])
+                                 for n, m in CENSUS])
+def test_census_box(n, m, scheduler):
+    """Every configuration of a 3x3 box (once per symmetry class), the paper's algorithm,
+    reductions on and off: the bulk engine equals the reference field by field."""
+    for c in enumerate_configurations(n, m, 3, 3):
+        for reduction in (False, True):
+            same(c, "paper", scheduler, reduction=reduction,
+                 limits=Limits(max_states=20_000, margin=1))
+
+
+@pytest.mark.parametrize("scheduler", ALL)
 @pytest.mark.parametrize("reduction", [False, True])
 @pytest.mark.parametrize("case", [
     (YARD, "go-to-target"),
     (Configuration([(0, 0), (4, 0), (2, 3)], [(2, 1)], initial=True), "go-to-target"),
     (Configuration([(0, 0), (0, 1), (3, 3)], [(1, 2), (2, 1)], initial=True), "paper"),
 ])
-def test_longest_path_bulk(case, reduction):
+def test_longest_path_bulk(case, reduction, scheduler):
     from gather_verify import properties as props
 
     c, algorithm = case
-    e = explore_fast(c, algorithm, "async", reduction=reduction)
+    e = explore_fast(c, algorithm, scheduler, reduction=reduction)
     bulk = props.longest_path(e)
     if e.changed_loops:
         return

@@ -43,4 +43,6 @@ def test_parse_node_rejects_with_the_text_named(text):
 
 
 def test_parse_nodes():
-    assert geometry.parse_nodes("0,0 3,-1;2,2") == [(0, 0), (3, -1), (2, 2)]
+    assert geometry.parse_nodes("0,0 3,-1  2,2") == [(0, 0), (3, -1), (2, 2)]
+    with pytest.raises(ValueError, match="separate points with spaces"):
+        geometry.parse_nodes("0,0 3,-1;2,2")  # one separator: spaces

@@ -39,6 +39,9 @@ CASES = [
     ("broken-wander", C([(0, 2), (2, 2)], [(0, 0), (3, 0), (1, 1), (2, 1)], initial=True),
      "no-ungatherable"),
     ("broken-undefined", TWO, "defined"),
+    ("broken-crash", TWO, "crash"),
+    ("broken-answer", TWO, "crash"),
+    ("broken-crash-target", TWO, "crash"),
 ]
 
 
@@ -48,7 +51,8 @@ CASES = [
 def test_property_fails_with_confirmed_trace(case, scheduler, reduction):
     algo, c, prop = CASES[case]
     r = run_check(c, algorithm=algo, scheduler=scheduler, max_states=10**5, max_seconds=60,
-                  properties=None if prop == "defined" else [prop], reduction=reduction, margin=4)
+                  properties=None if prop in ("defined", "crash") else [prop],
+                  reduction=reduction, margin=4)
     assert r["verdict"] == "VIOLATED" and r["property"] == prop
     assert replay(r["trace"]).confirmed
 
@@ -187,7 +191,8 @@ def test_a_violation_replay_does_not_confirm_is_refused(user_properties):
 
 
 def test_registry_order_and_names(user_properties):
-    assert [p.name for p in registered()][:6] == list(ORDER)
+    assert [p.name for p in registered()][:len(ORDER)] == list(ORDER)
+    assert ORDER[:2] == ("crash", "defined")  # the pseudo-properties first, as main's verdict order
     assert names()[-2:] == ("test-stays-near", "test-closer")
     assert check_property_names(None)[-2:] == ["test-stays-near", "test-closer"]
     assert get_property("final").kind == "state"
@@ -318,7 +323,7 @@ def test_docs_examples_run(monkeypatch):
 
 
 def test_a_halting_pseudo_property_stops_both_engines_at_the_same_state():
-    """The shape of ``defined`` (and of a future ``crash``): always checked, and the search
+    """The shape of ``defined`` and ``crash``: always checked, and the search
     stops at its first failing state, on both engines alike."""
     from gather_verify.engine.explore import explore_reference
     from gather_verify.engine.fast_explore import explore_fast

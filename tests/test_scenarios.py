@@ -17,16 +17,11 @@ from pathlib import Path
 import pytest
 
 from gather_verify.model.classes import classify_configuration
-from gather_verify.scenario import Expectation, Scenario, load_scenario
+from gather_verify.scenario import load_scenario
+from gather_verify.scenario_tests import run_expectation
 
 ROOT = Path(__file__).resolve().parent.parent / "scenarios"
 FILES = sorted(ROOT.rglob("*.json"))
-CHECK_OPTIONS = {
-    "multiplicity", "frames", "properties", "reduction", "max_states", "max_seconds",
-    "move_bound_c", "force",
-}
-
-
 def _id(path: Path) -> str:
     return str(path.relative_to(ROOT))
 
@@ -55,29 +50,6 @@ def test_scenario_loads_and_classifies(path: Path) -> None:
     found = classify_configuration(scenario.configuration)
     assert found.name == scenario.expected_class, (
         f"{path}: class {found.name} ({found.reason}), expected {scenario.expected_class}"
-    )
-
-
-def run_expectation(scenario: Scenario, expectation: Expectation) -> dict:
-    """Run the explorer as the expectation says."""
-    from gather_verify.check import run_check
-
-    unknown = set(expectation.options) - CHECK_OPTIONS - {"slow"}
-    assert not unknown, f"{scenario.path}: unknown expectation options {sorted(unknown)}"
-    options = {k: v for k, v in expectation.options.items() if k in CHECK_OPTIONS}
-    options.setdefault("multiplicity", scenario.multiplicity)
-    options.setdefault("frames", scenario.frames)
-    return run_check(
-        scenario.configuration,
-        algorithm=expectation.algorithm,
-        scheduler=expectation.scheduler,
-        detection=options.pop("multiplicity"),
-        frames=options.pop("frames"),
-        properties=options.pop("properties", None),
-        reduction=options.pop("reduction", True),
-        max_states=options.pop("max_states", 2_000_000),
-        max_seconds=options.pop("max_seconds", 600.0),
-        **options,
     )
 
 

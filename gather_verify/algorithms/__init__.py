@@ -1,8 +1,10 @@
 """Algorithms and their registry: names used by the CLI and scenario files.
 
-A new algorithm is one module and one line in ``REGISTRY``. A name may carry
-options after a colon, ``name:key=value,key=value``; the factory receives them
-as keyword arguments (strings).
+A new algorithm of the project is one module and one line in ``REGISTRY``. A
+name may carry options after a colon, ``name:key=value,key=value``; the factory
+receives them as keyword arguments (strings). An algorithm of your own needs no
+edit here: ``my_alg.py:MyAlgorithm``, ``package.module:MyAlgorithm`` or an
+entry point (:mod:`gather_verify.algorithms.loading`, docs/algorithms.md).
 
 >>> get_algorithm("go-to-target").name
 'go-to-target'
@@ -20,8 +22,23 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from gather_verify.algorithms.base import Algorithm, AlgorithmError, Unhandled, target_of
+from gather_verify.algorithms.base import (
+    Algorithm,
+    AlgorithmCrash,
+    AlgorithmError,
+    Unhandled,
+    target_of,
+)
 from gather_verify.algorithms.go_to_target import GoToTarget
+from gather_verify.algorithms.loading import (
+    absolute_spec,
+    entry_point_factory,
+    entry_point_names,
+    instantiate,
+    load_external,
+    parse_options,
+    split_external,
+)
 from gather_verify.algorithms.nearest_centre import NearestCentre
 from gather_verify.algorithms.paper import PaperAlgorithm
 from gather_verify.algorithms.random_equivariant import RandomEquivariant
@@ -43,36 +60,41 @@ def register(name: str, factory: Callable[..., Algorithm]) -> None:
 def parse_name(spec: str) -> tuple[str, dict[str, str]]:
     """Split ``name:key=value,...`` into the name and its options."""
     name, _, rest = spec.partition(":")
-    options: dict[str, str] = {}
-    for item in filter(None, rest.split(",")):
-        key, eq, value = item.partition("=")
-        if not eq or not key:
-            raise InvalidInput(f"bad algorithm option {item!r} in {spec!r}: expected key=value")
-        options[key.strip()] = value.strip()
-    return name.strip(), options
+    return name.strip(), parse_options(rest, spec)
 
 
-_INSTANCES: dict[tuple[str, Callable[..., Algorithm]], Algorithm] = {}
+_INSTANCES: dict[tuple[str, object], Algorithm] = {}
 """One instance per name and factory in a process: algorithms are pure functions of the view,
 so every check of a sweep shares the caches an algorithm keeps (the paper's plans)."""
 
 
 def get_algorithm(spec: str) -> Algorithm:
-    """The algorithm registered under ``spec`` (with its options)."""
-    name, options = parse_name(spec)
-    if name not in REGISTRY:
-        _register_optional(name)
-    if name not in REGISTRY:
-        raise InvalidInput(f"unknown algorithm {name!r}: use one of {', '.join(sorted(REGISTRY))}")
-    factory = REGISTRY[name]
+    """The algorithm ``spec`` names (with its options): registered, in a file or module, or
+    an entry point of an installed package (:mod:`gather_verify.algorithms.loading`)."""
+    external = split_external(spec)
+    if external is not None:
+        spec = absolute_spec(spec)
+        factory, _ = load_external(spec)
+        options, named = external[2], True
+    else:
+        name, options = parse_name(spec)
+        if name not in REGISTRY:
+            _register_optional(name)
+        factory, named = REGISTRY.get(name), bool(options)
+        if factory is None:
+            factory, named = entry_point_factory(name), True
+        if factory is None:
+            known = sorted({*REGISTRY, *entry_point_names()})
+            raise InvalidInput(f"unknown algorithm {name!r}: use one of {', '.join(known)}, "
+                             "or FILE.py:NAME or package.module:NAME")
     algorithm = _INSTANCES.get((spec, factory))
     if algorithm is None:
-        try:
-            algorithm = factory(**options)
-        except TypeError as error:
-            raise InvalidInput(f"bad options for algorithm {name!r}: {error}") from None
-        if options:
-            algorithm.name = spec
+        algorithm = instantiate(factory, options, spec)
+        if named and getattr(algorithm, "name", None) != spec:
+            try:  # the spec, so a trace or a stored row names what loads it again
+                algorithm.name = spec
+            except AttributeError:
+                raise InvalidInput(f"algorithm {spec!r}: cannot set its name attribute") from None
         _INSTANCES[spec, factory] = algorithm
     return algorithm
 
@@ -86,5 +108,5 @@ def _register_optional(name: str) -> None:
         REGISTRY.update(BROKEN)
 
 
-__all__ = ["Algorithm", "AlgorithmError", "REGISTRY", "Unhandled", "get_algorithm", "register",
+__all__ = ["Algorithm", "AlgorithmCrash", "AlgorithmError", "REGISTRY", "Unhandled", "get_algorithm", "register",
            "target_of"]

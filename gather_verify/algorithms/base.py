@@ -15,6 +15,9 @@ explorer then checks that it never changes (target invariance).
 
 from __future__ import annotations
 
+import os
+import sysconfig
+import traceback
 from typing import Protocol, runtime_checkable
 
 from gather_verify.errors import InvalidInput
@@ -47,7 +50,54 @@ class AlgorithmError(InvalidInput):
     user's, when it is a plug-in), so exit 2 naming it, not a bug of gather-verify."""
 
 
+_PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+_LIBRARY = tuple(os.path.abspath(p) + os.sep for p in {
+    sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")})
+
+
+class AlgorithmCrash(Exception):
+    """An exception escaped the algorithm's ``decide`` or ``target``, or ``decide`` answered
+    something that is not a move: a bug in the algorithm. The explorer reports the state as
+    a violation of the ``crash`` property, with the shortest trace that reaches it.
+
+    Plain data only (it crosses process boundaries): ``call`` (decide or target), the robot's
+    ``node`` and its ``view`` (robots and meeting nodes in its frame) for ``decide``, the
+    ``exception`` as text and the ``frames`` of the traceback outside gather-verify (the
+    algorithm's own file)."""
+
+    def __init__(self, algorithm: str, call: str, error: BaseException,
+                 node: Node | None = None, view: View | None = None):
+        self.algorithm, self.call, self.node = algorithm, call, node
+        self.frame = None if view is None else view._frame
+        self.view = None if view is None else {
+            "robots": sorted(map(list, view.robots)),
+            "meeting_nodes": sorted(map(list, view.meeting_nodes))}
+        self.exception = f"{type(error).__name__}: {error}"
+        frames = traceback.extract_tb(error.__traceback__)
+        own = [f for f in frames if not f.filename.startswith(_PACKAGE + os.sep)]
+        mine = [f for f in own if not f.filename.startswith(_LIBRARY)]
+        self.frames = [f"{f.filename}:{f.lineno} in {f.name}: {(f.line or '').strip()}"
+                       for f in (mine or own or frames[-3:])]
+        where = "" if node is None else f" for the robot at {tuple(node)}"
+        self.reason = f"the algorithm crashed in {call}{where}: {self.exception}"
+        super().__init__(f"algorithm {algorithm!r} crashed in {call}{where}: {self.exception}")
+
+    def detail(self) -> dict[str, object]:
+        """What a ``crash`` trace records under ``detail`` (JSON)."""
+        return {"call": self.call, "robot_node": None if self.node is None else list(self.node),
+                "frame": self.frame, "view": self.view, "exception": self.exception,
+                "traceback": self.frames}
+
+
 def target_of(algorithm: object, configuration: Configuration) -> Node | None:
-    """The algorithm's target meeting node for ``configuration``, if it exposes one."""
+    """The algorithm's target meeting node for ``configuration``, if it exposes one
+    (an exception other than :class:`Unhandled` is an :class:`AlgorithmCrash`)."""
     target = getattr(algorithm, "target", None)
-    return None if target is None else target(configuration)
+    if target is None:
+        return None
+    try:
+        return target(configuration)
+    except Unhandled:
+        raise
+    except Exception as error:
+        raise AlgorithmCrash(getattr(algorithm, "name", "?"), "target", error) from None

@@ -5,8 +5,8 @@ adds them (``BROKEN``) on first use of a ``broken-*`` name, so the tests,
 ``gather-verify check --algorithm broken-stay`` and ``replay`` of their traces
 all find them. All assume one meeting node unless said otherwise.
 
->>> sorted(BROKEN)[:2]
-['broken-away', 'broken-drift']
+>>> sorted(BROKEN)[:3]
+['broken-answer', 'broken-away', 'broken-crash']
 """
 
 from __future__ import annotations
@@ -84,5 +84,42 @@ class Undefined(GoToTarget):
         return super().decide(view)
 
 
-BROKEN = {cls.name: cls for cls in (Away, Stay, Drift, Wander, Undefined)}
+class Crash(GoToTarget):
+    """Divides by zero one step from the target (a bug: ``crash`` fails)."""
+
+    name = "broken-crash"
+
+    def decide(self, view: View) -> Node:
+        target = nearest(view.meeting_nodes, ORIGIN)
+        if target is not None and manhattan(ORIGIN, target) == 1:
+            return (1 // (manhattan(ORIGIN, target) - 1), 0)
+        return super().decide(view)
+
+
+class BadAnswer(GoToTarget):
+    """Answers a jump of two nodes one step from the target (not a move: ``crash`` fails)."""
+
+    name = "broken-answer"
+
+    def decide(self, view: View) -> Node:
+        target = nearest(view.meeting_nodes, ORIGIN)
+        if target is not None and manhattan(ORIGIN, target) == 1:
+            return (2 * target[0], 2 * target[1])
+        return super().decide(view)
+
+
+class CrashTarget(GoToTarget):
+    """Its ``target`` fails with a KeyError once a robot is one step from a meeting node."""
+
+    name = "broken-crash-target"
+
+    def target(self, configuration: Configuration) -> Node | None:
+        if any(manhattan(v, m) == 1 for v in configuration.robots
+               for m in configuration.meeting_nodes):
+            raise KeyError("no plan for a robot next to a meeting node")
+        return super().target(configuration)
+
+
+BROKEN = {cls.name: cls for cls in (Away, Stay, Drift, Wander, Undefined, Crash, BadAnswer,
+                                    CrashTarget)}
 

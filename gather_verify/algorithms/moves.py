@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from gather_verify.algorithms.base import Algorithm, AlgorithmError, Unhandled
+from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, AlgorithmError, Unhandled
 from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
@@ -60,18 +60,23 @@ def move_set(
     out = set()
     decide, (x, y), view = algorithm.decide, node, View.trusted
     for g in frames:
+        seen = view(configuration, node, g, detection)
         try:
-            answer = decide(view(configuration, node, g, detection))
+            answer = decide(seen)
         except MultiplicityHidden as error:  # a rule its robots cannot apply: no rule at all
             raise HiddenRead(f"algorithm {algorithm.name!r} reads multiplicity its robots cannot "
                             f"see: {error}") from None
+        except Unhandled:
+            raise
+        except Exception as error:  # a bug in the algorithm: the crash property fails
+            raise AlgorithmCrash(algorithm.name, "decide", error, node, seen) from None
         try:
             dx, dy = MAPPED_BACK[g][answer]  # the answer, mapped back to global coordinates
         except (KeyError, TypeError):
-            raise AlgorithmError(
+            error = AlgorithmError(
                 f"algorithm {algorithm.name!r} answered {answer!r}: a move must be (0, 0) "
-                "or a unit step (1, 0), (0, 1), (-1, 0), (0, -1) in the robot's frame"
-            ) from None
+                "or a unit step (1, 0), (0, 1), (-1, 0), (0, -1) in the robot's frame")
+            raise AlgorithmCrash(algorithm.name, "decide", error, node, seen) from None
         out.add((x + dx, y + dy))
     return frozenset(out)
 

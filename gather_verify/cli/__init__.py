@@ -4,7 +4,7 @@ Every subcommand module defines ``HELP``, ``add_arguments(parser)`` and
 ``run(args) -> int``. Exit codes are shared by all commands: 0 success or
 VERIFIED, 1 VIOLATED, 2 bad input or usage (:class:`~gather_verify.errors.InvalidInput`
 or an unreadable/unwritable file: one line on stderr, never a traceback), 3 INCOMPLETE,
-4 NOT-APPLICABLE, 70 a bug of gather-verify (any other exception: it says so and prints
+4 NOT-APPLICABLE, 5 a replayed trace no longer reproduces, 70 a bug of gather-verify (any other exception: it says so and prints
 the traceback), 130 interrupted by Ctrl-C (one line on stderr says what was kept and how
 to resume). See docs/reliability.md.
 """
@@ -17,11 +17,18 @@ import sys
 import traceback
 from collections.abc import Sequence
 
-from gather_verify.cli.common import EXIT_BUG, EXIT_INTERRUPTED, EXIT_USAGE, UsageError
+from gather_verify.algorithms.base import AlgorithmCrash
+from gather_verify.cli.common import (
+    EXIT_BUG,
+    EXIT_INTERRUPTED,
+    EXIT_USAGE,
+    EXIT_VIOLATED,
+    UsageError,
+)
 from gather_verify.errors import InvalidInput
 
 COMMANDS = ("classify", "census", "simulate", "check", "replay", "sweep", "report",
-            "impossibility", "bench")
+            "impossibility", "bench", "test")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -32,7 +39,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="gather-verify", description=__doc__.splitlines()[0])
+    parser = _Parser(prog="gather-verify", description=__doc__.splitlines()[0], allow_abbrev=False)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name in COMMANDS:
         try:
@@ -41,7 +48,7 @@ def build_parser() -> argparse.ArgumentParser:
             if error.name == f"gather_verify.cli.{name}":
                 continue  # not built yet
             raise
-        p = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        p = sub.add_parser(name, help=module.HELP, description=module.HELP, allow_abbrev=False)
         module.add_arguments(p)
         p.set_defaults(_run=module.run)
     return parser
@@ -61,6 +68,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as error:  # unreadable input or unwritable output file
         print(f"error: {error}", file=sys.stderr)
         return EXIT_USAGE
+    except AlgorithmCrash as crash:  # outside a search (simulate, impossibility ...)
+        print("crash: " + "\n  at ".join([str(crash), *crash.frames]), file=sys.stderr)
+        return EXIT_VIOLATED
     except KeyboardInterrupt:
         print("interrupted: nothing was written; run the same command again", file=sys.stderr)
         return EXIT_INTERRUPTED

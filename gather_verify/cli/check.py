@@ -7,10 +7,13 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import Any
 
 from gather_verify.check import AUTO_MARGIN_MAX
 from gather_verify.cli.common import (
     EXIT_INTERRUPTED,
+    EXIT_OK,
+    EXIT_VIOLATED,
     VERDICT_EXIT,
     add_configuration_arguments,
     bounded_float,
@@ -27,14 +30,18 @@ from gather_verify.engine.explore import (
     DEFAULT_MAX_STATES,
     Exploration,
 )
+from gather_verify.scenario import Scenario
+from schedulers import SCHEDULERS
 
-HELP = "verify an algorithm from one initial configuration against every adversary"
+HELP = ("verify an algorithm from one initial configuration against every adversary; on a "
+        "scenario with an expectation for the algorithm and scheduler, exit 0 when it is met")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_configuration_arguments(parser)
-    parser.add_argument("--algorithm", help="algorithm name (default: the scenario's, else paper)")
-    parser.add_argument("--scheduler", choices=("fsync", "ssync", "async"))
+    parser.add_argument("--algorithm", help="a name, FILE.py:NAME or package.module:NAME "
+                        "(default: the scenario's, else paper)")
+    parser.add_argument("--scheduler", choices=tuple(SCHEDULERS))
     parser.add_argument("--multiplicity", help="multiplicity detection model (default local-weak)")
     parser.add_argument("--frames", choices=("all", "compass", "chirality"))
     parser.add_argument("--property", action="append", dest="properties", metavar="P",
@@ -101,6 +108,9 @@ def run(args: argparse.Namespace) -> int:
               "command again to start over, with --max-seconds or --max-states to stop with "
               "INCOMPLETE and the statistics so far", file=sys.stderr)
         return EXIT_INTERRUPTED
+    expected = _expectation(scenario, algorithm, scheduler, report)
+    if expected is not None:
+        report["expectation"] = expected
     trace = report["trace"]
     if args.graph_out:
         if explored:
@@ -139,4 +149,25 @@ def run(args: argparse.Namespace) -> int:
             print(f"  {name:18} {holds}  {result.get('reason', '')}".rstrip())
         if trace is not None:
             print(render_trace(trace))
+        if expected is not None:
+            print(f"expectation of {args.scenario}: "
+                  + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
+    if expected is not None:  # a scenario test: matched is success, whatever the verdict
+        return EXIT_OK if expected["matched"] else EXIT_VIOLATED
     return VERDICT_EXIT[report["verdict"]]
+
+
+def _expectation(scenario: Scenario | None, algorithm: str, scheduler: str,
+                 report: dict[str, Any]) -> dict[str, Any] | None:
+    """Whether ``report`` meets the scenario's expectation for this algorithm and scheduler
+    (and its expected class); None when the scenario has none."""
+    from gather_verify.scenario_tests import expectation_for, expectation_mismatch
+
+    expectation = scenario and expectation_for(scenario, algorithm, scheduler)
+    if not expectation:
+        return None
+    why = expectation_mismatch(expectation, report)
+    if why is None and scenario.expected_class not in (None, report["class"]):
+        why = f"expected class {scenario.expected_class}, got {report['class']}"
+    return {"matched": why is None, "mismatch": why, "verdict": expectation.verdict,
+            "property": expectation.property}

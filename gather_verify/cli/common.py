@@ -14,6 +14,8 @@ from gather_verify.model.geometry import parse_nodes
 from gather_verify.scenario import Scenario, load_scenario
 
 EXIT_OK, EXIT_VIOLATED, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_NOT_APPLICABLE = 0, 1, 2, 3, 4
+EXIT_NO_LONGER_REPRODUCES = 5
+"""``replay``: the trace no longer reproduces (the algorithm changed since it was written)."""
 EXIT_BUG = 70
 """An unexpected exception: a bug of gather-verify (``EX_SOFTWARE`` of ``sysexits.h``)."""
 EXIT_INTERRUPTED = 130

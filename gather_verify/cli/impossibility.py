@@ -38,6 +38,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-states", type=bounded_int(1, 10_000_000), default=2000, metavar="N",
                    help="configurations explored per algorithm with --explore all (default 2000)")
     p.add_argument("--no-paper", action="store_true", help="leave out the paper's algorithm")
+    p.add_argument("--algorithm", action="append", dest="user_algorithms", metavar="SPEC",
+                   default=[], help="also play against this algorithm (a name, FILE.py:NAME or "
+                                    "package.module:NAME; repeatable)")
     p.add_argument("--split-orbit", action="store_true",
                    help="deliberately break the adversary (one orbit chooses independently)")
     p.add_argument("--beyond-u", action="store_true",
@@ -68,7 +71,10 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.impossibility import check_impossibility
 
     configuration, scenario = load_configuration(args)
+    from gather_verify.algorithms import get_algorithm
+
     algorithms, note = algorithms_for(args.algorithms, args.seed, not args.no_paper)
+    algorithms += [get_algorithm(spec) for spec in args.user_algorithms]
     if not algorithms:
         raise UsageError("no algorithm to play against: give --algorithms K >= 1")
     detection = scenario.multiplicity if scenario else "local-weak"

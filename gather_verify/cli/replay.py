@@ -1,15 +1,21 @@
 """``gather-verify replay TRACE.json``: re-execute a trace from scratch and confirm its violation.
 
-Exit 1 when the violation is confirmed (it stands, as ``check`` said), 0 when
-every step is legal but the property does not fail at the end, 2 when the
-trace does not match its configuration or is malformed."""
+Exit 1 when the violation is confirmed (it stands, as ``check`` said); 5 when it no longer
+reproduces (the algorithm no longer takes one of its steps, or the property no longer fails
+at its end: the algorithm was changed since); 2 when the trace does not match its
+configuration or is malformed."""
 
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
 
-from gather_verify.cli.common import EXIT_OK, EXIT_VIOLATED, print_json, writable_outputs
+from gather_verify.cli.common import (
+    EXIT_NO_LONGER_REPRODUCES,
+    EXIT_VIOLATED,
+    print_json,
+    writable_outputs,
+)
 from gather_verify.errors import InvalidInput
 
 HELP = "re-execute a counterexample trace and confirm its violation independently"
@@ -30,7 +36,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from gather_verify.render import render_trace, trace_svg
-    from gather_verify.replay import replay
+    from gather_verify.replay import NoLongerReproduces, Replayed, replay
     from gather_verify.trace import load_trace
 
     writable_outputs(svg=args.svg, html=args.html)
@@ -41,7 +47,10 @@ def run(args: argparse.Namespace) -> int:
             raise InvalidInput(f"--property {spec}: expected FILE.py:NAME")
         load_property(spec)
     trace = load_trace(args.trace)
-    result = replay(trace)
+    try:
+        result = replay(trace)
+    except NoLongerReproduces as error:
+        result = Replayed(False, str(error), len(trace["steps"]))
     if args.svg:
         Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
     if args.html:
@@ -54,6 +63,6 @@ def run(args: argparse.Namespace) -> int:
     else:
         if not args.quiet:
             print(render_trace(trace))
-        word = "CONFIRMED" if result.confirmed else "NOT CONFIRMED"
+        word = "CONFIRMED" if result.confirmed else "NO LONGER REPRODUCES"
         print(f"{word}: {trace['property']} ({result.steps} steps) - {result.message}")
-    return EXIT_VIOLATED if result.confirmed else EXIT_OK
+    return EXIT_VIOLATED if result.confirmed else EXIT_NO_LONGER_REPRODUCES

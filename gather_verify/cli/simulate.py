@@ -11,6 +11,7 @@ from gather_verify.cli.common import (
     load_configuration,
     print_json,
 )
+from schedulers import SCHEDULERS
 
 HELP = "run one execution under a random fair adversary and show it step by step"
 
@@ -18,7 +19,7 @@ HELP = "run one execution under a random fair adversary and show it step by step
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_configuration_arguments(parser)
     parser.add_argument("--algorithm", help="algorithm name (default: the scenario's, else paper)")
-    parser.add_argument("--scheduler", choices=("fsync", "ssync", "async"))
+    parser.add_argument("--scheduler", choices=tuple(SCHEDULERS))
     parser.add_argument("--multiplicity", help="multiplicity detection model (default local-weak)")
     parser.add_argument("--frames", choices=("all", "compass", "chirality"))
     parser.add_argument("--seed", type=bounded_int(0, 2**63 - 1), default=0)

@@ -15,6 +15,7 @@ from gather_verify.cli.common import (
     without_timings,
     writable_outputs,
 )
+from schedulers import SCHEDULERS
 
 HELP = "verify every configuration of a box (up to symmetry) and store the results"
 DEFAULT_DB = "gather-verify-results.sqlite"
@@ -26,8 +27,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--meeting", type=count_range, required=True,
                    help="meeting nodes m, or a range A-B")
     p.add_argument("--box", type=parse_box, required=True, help="box of nodes, WxH")
-    p.add_argument("--algorithm", default="paper")
-    p.add_argument("--scheduler", choices=("fsync", "ssync", "async"), default="async")
+    p.add_argument("--algorithm", default="paper",
+                   help="a name, FILE.py:NAME or package.module:NAME (docs/algorithms.md)")
+    p.add_argument("--scheduler", choices=tuple(SCHEDULERS), default="async")
     p.add_argument("--multiplicity", default="local-weak", help="detection model")
     p.add_argument("--frames", default="all", choices=("all", "chirality", "compass"))
     p.add_argument("--property", action="append", dest="properties", metavar="P",
@@ -35,6 +37,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "repeat; default: all")
     p.add_argument("--no-reduction", action="store_true")
     p.add_argument("--db", default=DEFAULT_DB, help=f"results database (default {DEFAULT_DB})")
+    p.add_argument("--fresh", action="store_true",
+                   help="drop the stored rows of these settings and compute every one again "
+                        "(rows of an edited algorithm are never reused anyway: they are keyed "
+                        "by its source's fingerprint)")
     p.add_argument("--workers", type=bounded_int(1, 512), default=None,
                    help="local processes (default: the number of cores)")
     p.add_argument("--dask", metavar="local|ADDRESS", default=None,
@@ -67,11 +73,13 @@ def count_range(text: str) -> range:
 
 def run(args: argparse.Namespace) -> int:
     from gather_verify.algorithms import get_algorithm
+    from gather_verify.algorithms.loading import absolute_spec
     from gather_verify.algorithms.moves import frames_for
     from gather_verify.model.view import check_detection
     from gather_verify.sweeps.census import validate_census_arguments
     from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
 
+    args.algorithm = absolute_spec(args.algorithm)  # the workers load the same file
     get_algorithm(args.algorithm)  # unknown names fail before any work
     writable_outputs(junit=args.junit)
     check_detection(args.multiplicity)
@@ -93,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
     ) for n in args.robots for m in args.meeting]
     try:
         summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
-                            progress=not args.json, limit=args.limit)
+                            progress=not args.json, limit=args.limit, fresh=args.fresh)
     except KeyboardInterrupt:
         print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
               "run the same command again to resume", file=sys.stderr)
@@ -107,6 +115,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         format_summary(summary)
         print(f"\nresults: {os.path.abspath(args.db)}")
+        if summary["settings"]:
+            print(f"algorithm fingerprint: {summary['settings']['fingerprint']} (its source, "
+                  "options and gather-verify's version: an edit computes again)")
     verdicts = {v for by in summary["verdicts"].values() for v in by}
     if "VIOLATED" in verdicts:
         return 1

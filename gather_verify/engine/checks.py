@@ -11,7 +11,7 @@ the reference engine, evaluated on the same facts.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -19,16 +19,22 @@ import numpy as np
 from gather_verify.properties.base import Property
 from gather_verify.properties.facts import Facts, StateFacts
 from gather_verify.properties.registry import get_property, registered
+from schedulers import Event, State
 
 
 @dataclass
 class Violation:
     """The first (shortest) witness of a safety property: the state it fails in (for a
-    transition property, the state the failing transition leaves) and why."""
+    transition property, the state the failing transition leaves, and the ``event`` and
+    ``successor`` of that transition, as the scheduler's ``successors`` gives them), why, and
+    the property's ``detail`` there."""
 
     property: str
     state: int
     reason: str
+    event: Event | None = None
+    successor: State | None = None
+    detail: dict[str, Any] = field(default_factory=dict)
 
 
 def selected(names: Iterable[str] | None) -> list[Property]:
@@ -66,8 +72,11 @@ class Checks:
         self.on_transition = [p for p in active if p.kind == "transition"]
         self.violations: dict[str, Violation] = {}
 
-    def _record(self, prop: Property, sid: int, *args: Any) -> None:
-        self.violations[prop.name] = Violation(prop.name, sid, prop.message_for(*args))
+    def _record(self, prop: Property, sid: int, *args: Any,
+                step: tuple[Event, State] | None = None) -> None:
+        event, succ = (None, None) if step is None else step
+        self.violations[prop.name] = Violation(prop.name, sid, prop.message_for(*args), event,
+                                               succ, prop.detail_for(*args))
 
     def open(self, props: list[Property]) -> list[Property]:
         """Those of ``props`` without a witness yet."""
@@ -88,9 +97,11 @@ class Checks:
             if p.name not in self.violations and not p.holds(s):  # type: ignore[misc]
                 self._record(p, sid, s)
 
-    def transition(self, sid: int, before: Facts, after: Callable[[], Facts]) -> None:
+    def transition(self, sid: int, before: Facts, after: Callable[[], Facts],
+                   step: tuple[Event, State]) -> None:
         """The transition properties on one transition out of ``sid`` (``after``: the
-        successor's facts, computed only if some property is still open)."""
+        successor's facts, computed only if some property is still open; ``step``: its event
+        and successor)."""
         got = None
         for p in self.on_transition:
             if p.name in self.violations:
@@ -98,7 +109,7 @@ class Checks:
             got = after() if got is None else got
             b, a = p.value(before), p.value(got)  # type: ignore[misc]
             if not p.holds(b, a):  # type: ignore[misc]
-                self._record(p, sid, b, a)
+                self._record(p, sid, b, a, step=step)
 
 
 class ColumnChecks:
@@ -216,9 +227,10 @@ class ColumnChecks:
         return got, values
 
     def transitions(self, first_id: int, src: np.ndarray, before: np.ndarray,
-                    after: np.ndarray) -> None:
+                    after: np.ndarray, step: Callable[[int], tuple[Event, State]]) -> None:
         """Check the transition properties on transitions from states ``first_id + src`` whose
-        configurations are the rows ``before`` and ``after`` (in BFS and event order)."""
+        configurations are the rows ``before`` and ``after`` (in BFS and event order);
+        ``step(i)`` gives the event and successor of the ``i``-th (for a witness)."""
         if not len(src):
             return
         for p in self.checks.open(self.checks.on_transition):
@@ -238,4 +250,4 @@ class ColumnChecks:
                 hit = np.flatnonzero(np.isin(key, np.array(bad, dtype=np.int64)))
                 i = int(hit[0])
                 self.checks._record(p, first_id + int(src[i]), values[int(vb[i])],
-                                    values[int(va[i])])
+                                    values[int(va[i])], step=step(i))

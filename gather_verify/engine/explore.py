@@ -42,31 +42,30 @@ from dataclasses import dataclass
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm
 from gather_verify.algorithms.moves import frames_for
 from gather_verify.engine.checks import Checks, Violation, symmetric
-from gather_verify.model import geometry
+from gather_verify.engine.encoding import (
+    DEFAULT_MARGIN,
+    DEFAULT_MAX_MEMORY_MB,
+    DEFAULT_MAX_SECONDS,
+    DEFAULT_MAX_STATES,
+    NO_LIMITS,
+    STEP_INDEX,
+    Encoding,
+    Limits,
+    region_box,
+    symmetry_group,
+)
 from gather_verify.model.configuration import Configuration
-from gather_verify.model.geometry import STEPS, Node
-from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
+from gather_verify.model.geometry import Node
 from gather_verify.model.view import check_detection
 from gather_verify.properties.facts import ConfigurationFacts, StateFacts, configuration_facts
 from schedulers import Event, State, configuration_of, get_scheduler, initial_state
 
-STEP_INDEX = {step: i + 1 for i, step in enumerate(STEPS)}
-
-DEFAULT_MAX_STATES = 30_000_000
-DEFAULT_MAX_SECONDS = 3600.0
-DEFAULT_MAX_MEMORY_MB = 16_000
-"""Defaults sized for a 24 GiB machine (the reference path needs ~300 bytes/state)."""
-DEFAULT_MARGIN = 2
-
-
-@dataclass(frozen=True)
-class Limits:
-    """When to stop: any limit hit makes the search INCOMPLETE (never VERIFIED)."""
-
-    max_states: int = DEFAULT_MAX_STATES
-    max_seconds: float = DEFAULT_MAX_SECONDS
-    max_memory_mb: float = DEFAULT_MAX_MEMORY_MB
-    margin: int = DEFAULT_MARGIN
+__all__ = ["DEFAULT_MARGIN", "DEFAULT_MAX_MEMORY_MB", "DEFAULT_MAX_SECONDS", "DEFAULT_MAX_STATES",
+           "STEP_INDEX", "ConfigurationFacts", "Encoding", "Exploration",
+           "Limits", "Violation", "explore_reference", "facts_cache", "region_box",
+           "rss_mb", "symmetry_group"]
+"""(``Encoding``, ``Limits``, the defaults, ``region_box`` and ``symmetry_group`` live in
+:mod:`gather_verify.engine.encoding`; they are re-exported here for existing callers.)"""
 
 
 def rss_mb() -> float:
@@ -76,94 +75,6 @@ def rss_mb() -> float:
             return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
     except (OSError, ValueError, IndexError):
         return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-
-
-def symmetry_group(initial: Configuration, frames: str) -> list[Automorphism]:
-    """The elements of ``Aut(M)`` the symmetry reduction may use with ``frames``."""
-    allowed = set(frames_for(frames))
-    group = [a for a in meeting_automorphisms(initial)]
-    if allowed == set(geometry.ALL):
-        return group
-    return [a for a in group if a.g in allowed and all(
-        geometry.compose(geometry.compose(a.g, f), geometry.inverse(a.g)) in allowed
-        for f in allowed)]
-
-
-def region_box(initial: Configuration, margin: int,
-               group: Sequence[Automorphism] = ()) -> tuple[int, int, int, int]:
-    """The MER of ``initial`` grown by ``margin``, closed under ``group``."""
-    x0, y0, x1, y1 = initial.mer()
-    corners = [(x0 - margin, y0 - margin), (x1 + margin, y1 + margin)]
-    images = [a(v) for a in group for v in corners] + corners
-    return geometry.bounding_box(images)
-
-
-class Encoding:
-    """Robots and states as integers over a box of the grid.
-
-    >>> enc = Encoding((0, 0, 2, 2))
-    >>> s = (((0, 0), (1, 0)), ((2, 2), None))
-    >>> enc.decode(enc.key(s), 2) == s
-    True
-    """
-
-    def __init__(self, box: tuple[int, int, int, int], group: Sequence[Automorphism] = (),
-                 anonymity: bool = True):
-        self.x0, self.y0, x1, y1 = box
-        self.width, self.height = x1 - self.x0 + 1, y1 - self.y0 + 1
-        self.cells = self.width * self.height
-        self.base = self.cells * 5
-        self.anonymity = anonymity
-        self.tables = [self._table(a) for a in group if a.g != geometry.IDENTITY or a.t != (0, 0)]
-
-    def inside(self, v: Node) -> bool:
-        return 0 <= v[0] - self.x0 < self.width and 0 <= v[1] - self.y0 < self.height
-
-    def node(self, cell: int) -> Node:
-        return (self.x0 + cell // self.height, self.y0 + cell % self.height)
-
-    def code(self, v: Node, pending: Node | None) -> int:
-        cell = (v[0] - self.x0) * self.height + (v[1] - self.y0)
-        return cell * 5 + (0 if pending is None else STEP_INDEX[(pending[0] - v[0], pending[1] - v[1])])
-
-    def robot(self, code: int) -> tuple[Node, Node | None]:
-        cell, d = divmod(code, 5)
-        v = self.node(cell)
-        return v, (None if d == 0 else geometry.add(v, STEPS[d - 1]))
-
-    def _table(self, a: Automorphism) -> list[int]:
-        out = []
-        for code in range(self.base):
-            v, p = self.robot(code)
-            out.append(self.code(a(v), None if p is None else a(p)))
-        return out
-
-    def pack(self, codes: Iterable[int]) -> int:
-        key, scale = 0, 1
-        for c in codes:
-            key += c * scale
-            scale *= self.base
-        return key
-
-    def key(self, state: State) -> int:
-        """The stored key of ``state`` (its class under the enabled reductions)."""
-        codes = [self.code(v, p) for v, p in state]
-        if self.anonymity:
-            codes.sort()
-        best = self.pack(codes)
-        for table in self.tables:
-            image = [table[c] for c in codes]
-            if self.anonymity:
-                image.sort()
-            best = min(best, self.pack(image))
-        return best
-
-    def decode(self, key: int, n: int) -> State:
-        out = []
-        for _ in range(n):
-            key, c = divmod(key, self.base)
-            out.append(self.robot(c))
-        return tuple(out)
 
 
 @dataclass
@@ -269,14 +180,14 @@ def explore_reference(
     anonymity: bool | None = None,
     symmetry: bool | None = None,
     properties: Iterable[str] | None = None,
-    limits: Limits = Limits(),
+    limits: Limits = NO_LIMITS,
 ) -> Exploration:
     """Breadth-first search of every state reachable from ``initial`` (reference path).
 
     The state and transition properties named in ``properties`` (default: every registered
-    one; the pseudo-properties such as ``defined`` always) are checked on the way and their
+    one; the pseudo-properties ``crash`` and ``defined`` always) are checked on the way and their
     first witness kept (:mod:`gather_verify.engine.checks`); the search stops at a violation
-    of a halting property (``defined``: the state cannot be expanded; ``stopped`` names the
+    of a halting property (``crash``, ``defined``: the state cannot be expanded; ``stopped`` names the
     property) or when a limit is hit (``stopped`` names it).
     """
     started = time.perf_counter()
@@ -333,7 +244,8 @@ def explore_reference(
                 stopped = "region"
                 break
             if checks.on_transition:
-                checks.transition(sid, here, lambda: facts(configuration_of(succ)))  # noqa: B023
+                checks.transition(sid, here, lambda: facts(configuration_of(succ)),  # noqa: B023
+                                  (event, succ))
             key = enc.key(succ)
             did = visited.get(key)
             if did is None:

@@ -14,15 +14,17 @@ What changes is how:
 - the frontier is expanded a chunk of states at a time: states are grouped by
   configuration, the facts of each configuration (move sets, deadlock, class,
   target) are computed once through the generic algorithm interface and kept
-  as a row of small integers, and the scheduler's ``bulk_successors`` applies
-  them to the whole chunk at once;
+  as a row of small integers, and the scheduler's ``bulk_successors`` (part of
+  the ``Scheduler`` protocol) applies them to the whole chunk at once, handed
+  the states in the engine's encoding (``encoding.Encoding.frontier``); an
+  event may change several robots (FSYNC/SSYNC rounds);
 - the graph (successor ids, edge weights) is kept only when asked for
   (``graph=True``, what ``move-bound`` and ``termination`` need).
 
-The explorer knows neither the algorithm nor the scheduler: a scheduler
-without ``bulk_successors``, a key that does not fit 64 bits, or more states
-than an ``int32`` id holds make :func:`supports` say no and the caller uses the
-reference path.
+The explorer knows neither the algorithm nor the scheduler (witness events are
+asked of the scheduler's ``successors``, by their rank among the state's events):
+only a key that does not fit 64 bits, or more states than an ``int32`` id holds,
+make :func:`supports` say no and the caller uses the reference path.
 
 >>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
@@ -35,21 +37,26 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterable, Iterator, Sequence
+from functools import partial
+from itertools import islice
 from typing import Any
 
 import numpy as np
 
-from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, target_of
+from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
 from gather_verify.engine.checks import Checks, ColumnChecks, symmetric
-from gather_verify.engine.explore import (
+from gather_verify.engine.encoding import (
+    NO_LIMITS,
     Encoding,
-    Exploration,
     Limits,
-    facts_cache,
     region_box,
-    rss_mb,
     symmetry_group,
+)
+from gather_verify.engine.explore import (
+    Exploration,
+    facts_cache,
+    rss_mb,
 )
 from gather_verify.model import geometry
 from gather_verify.model.canonical import canonical_form
@@ -58,14 +65,16 @@ from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
 from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
 from gather_verify.model.view import check_detection
-from schedulers import get_scheduler, initial_state
+from schedulers import State, get_scheduler, initial_state
 
 CHUNK = 1 << 14
 """States expanded per bulk step: bounds the transient arrays (a few MB)."""
+EVENTS = 1 << 19
+"""About how many events a bulk step may generate: the scheduler takes fewer states than
+``CHUNK`` when they have more events than this (FSYNC/SSYNC rounds: up to ``6**n`` per state)."""
 MAX_IDS = 2**31 - 2
 LOAD = 0.7
 """Largest load factor of the hash table before it doubles."""
-NO_LIMITS = Limits()
 _MUL = np.uint64(0x9E3779B97F4A7C15)
 _TAG_BITS = np.uint64(8)
 _BYTES = np.uint64(0x0101010101010101)
@@ -362,7 +371,7 @@ class FactsTable:
         self.index = KeyIndex(bits=10, capacity=1024)  # configuration key -> row
         self.cells = np.zeros((1024, n), dtype=np.int32)
         self.masks = np.zeros((1024, n), dtype=np.uint8)
-        self.flags = np.zeros((1024, 3), dtype=np.int8)  # unhandled, stuck, gathered
+        self.flags = np.zeros((1024, 3), dtype=np.int8)  # undefined (1, 2: crash), stuck, gathered
         self.in_u = np.full(1024, -2, dtype=np.int8)
         self.target = np.full(1024, -2, dtype=np.int32)
         self.size = 0
@@ -454,12 +463,26 @@ class FactsTable:
         return r
 
     def _facts(self, robots: tuple[Node, ...]) -> tuple[list[int], tuple[int, int, int]]:
-        """Move masks of ``robots`` (in order) and the flags (unhandled, stuck, gathered)."""
+        """Move masks of ``robots`` (in order) and the flags (no move sets: 0, or 1 when the
+        algorithm has no rule, 2 when it crashed in ``decide`` or ``target``; stuck; gathered),
+        as :func:`~gather_verify.properties.facts.configuration_facts` defines them."""
         c = Configuration.trusted(robots, self.meeting)
+        undefined = 0
         try:
             ms = move_sets(self.algorithm, c, self.detection, self.frames)
         except Unhandled:
-            return [0] * len(robots), (1, 0, 0)
+            undefined = 1
+        except AlgorithmCrash:
+            undefined = 2
+        if undefined != 2:
+            try:
+                target_of(self.algorithm, c)  # only whether it crashes: need_target gives values
+            except Unhandled:
+                pass
+            except AlgorithmCrash:
+                undefined = 2
+        if undefined:
+            return [0] * len(robots), (undefined, 0, 0)
         masks = [sum(BIT[x - vx, y - vy] for x, y in ms[vx, vy]) for vx, vy in robots]
         return masks, (0, all(s == {v} for v, s in ms.items()),
                        len(c.counts) == 1 and robots[0] in self.meeting)
@@ -495,13 +518,34 @@ class FactsTable:
         back = STEP_PERM[geometry.inverse(g)]
         return [back[known[0][w]] for w in image], known[1]
 
-    def reason(self, row: int) -> str:
-        """Why the algorithm has no rule in this configuration (computed on it)."""
+    def reason(self, row: int) -> str | None:
+        """Why the algorithm has no rule in this configuration (computed on it; None: it has
+        one, or it crashed in ``decide``)."""
         try:
             move_sets(self.algorithm, self.configuration(row), self.detection, self.frames)
         except Unhandled as error:
             return str(error) or "no rule for this view"
-        raise AssertionError("the orbit is unhandled, so is every member")  # pragma: no cover
+        except AlgorithmCrash:
+            return None
+        return None
+
+    def crash_of(self, row: int) -> AlgorithmCrash:
+        """The exception of the algorithm in this configuration (computed on it: ``decide``'s
+        first, else ``target``'s, as :func:`~gather_verify.properties.facts.configuration_facts`)."""
+        c = self.configuration(row)
+        try:
+            move_sets(self.algorithm, c, self.detection, self.frames)
+        except Unhandled:
+            pass
+        except AlgorithmCrash as crash:
+            return crash
+        try:
+            target_of(self.algorithm, c)
+        except Unhandled:
+            pass
+        except AlgorithmCrash as crash:
+            return crash
+        raise AssertionError("the orbit crashes, so does every member")  # pragma: no cover
 
     def need_in_u(self, rows: np.ndarray) -> np.ndarray:
         for r in np.unique(rows[self.in_u[rows] == -2]).tolist():
@@ -537,7 +581,7 @@ class FactsTable:
             return known
         try:
             t = target_of(self.algorithm, self.configuration(row))
-        except Unhandled:
+        except (Unhandled, AlgorithmCrash):  # a crash stops the search at the orbit
             t = None
         if t is None:
             self.target[row] = -1
@@ -595,7 +639,15 @@ class RowFacts:
 
     @property
     def unhandled(self) -> str | None:
-        return self.table.reason(self.row) if self.flags[0] else None
+        if not self.flags[0]:
+            return None
+        got = self.table.reason(self.row)
+        assert got is not None or self.flags[0] == 2, "the orbit is unhandled, so is every member"
+        return got
+
+    @property
+    def crash(self) -> AlgorithmCrash | None:
+        return self.table.crash_of(self.row) if self.flags[0] == 2 else None
 
     @property
     def stuck(self) -> bool:
@@ -618,9 +670,9 @@ class RowFacts:
 def supports(initial: Configuration, scheduler: str, reduction: bool = True,
              anonymity: bool | None = None, symmetry: bool | None = None, frames: str = "all",
              limits: Limits = NO_LIMITS) -> bool:
-    """Whether the bulk path can run this request (else use the reference path)."""
-    if not hasattr(get_scheduler(scheduler), "bulk_successors"):
-        return False
+    """Whether the bulk path can run this request (else use the reference path): every
+    registered scheduler has the bulk interface; the key must fit 63 bits and the ids 31."""
+    get_scheduler(scheduler)  # an unknown name is an error, not a fallback
     symmetry = reduction if symmetry is None else symmetry
     group = symmetry_group(initial, frames) if symmetry else []
     x0, y0, x1, y1 = region_box(initial, limits.margin, group)
@@ -703,27 +755,20 @@ def explore_fast(
     canon = Canon(enc, n)
     base = enc.base
     powers = np.array([base ** j for j in range(n)], dtype=np.uint64)
-    neighbour = np.full((enc.cells, 4), -1, dtype=np.int64)
-    for cell in range(enc.cells):
-        v = enc.node(cell)
-        for k, (dx, dy) in enumerate(STEPS):
-            w = (v[0] + dx, v[1] + dy)
-            if enc.inside(w):
-                neighbour[cell, k] = (w[0] - enc.x0) * enc.height + (w[1] - enc.y0)
 
     start_key = enc.key(initial_state(initial.robots))
     init_cells = np.array([[enc.code(v, None) // 5 for v in initial.robots]], dtype=np.int64)
     srt, ck = table.config_keys(init_cells)
     init_row = table.rows(ck, srt)
     checks = Checks(properties, RowFacts(table, int(init_row[0]), initial, True))
-    bulk = ColumnChecks(checks, lambda row, idle=None: RowFacts(table, row, initial, idle),
-                        lambda rows, idle: RowFacts.many(table, initial, rows, idle))
-    bulk.states(0, init_row, np.ones(1, dtype=bool), checks.on_discovery)
+    columns = ColumnChecks(checks, lambda row, idle=None: RowFacts(table, row, initial, idle),
+                           lambda rows, idle: RowFacts.many(table, initial, rows, idle))
+    columns.states(0, init_row, np.ones(1, dtype=bool), checks.on_discovery)
     on_chunk = checks.halting + checks.on_expansion
 
     max_states = min(limits.max_states, MAX_IDS)
     # columns reserved up front: untouched pages cost no memory, and nothing is copied
-    reserve = min(max_states + CHUNK * 8 * n + 1, 1 << 27)
+    reserve = min(max_states + max(CHUNK * 8 * n, EVENTS) + 1, 1 << 27)
     index = KeyIndex(capacity=reserve)
     index.find_or_add(np.array([start_key], dtype=np.uint64))
     parents = Growing(np.int32, reserve)
@@ -735,6 +780,7 @@ def explore_fast(
     stopped: str | None = None
     peak = rss_mb()
     sid = 0
+    chunk = CHUNK
     while sid < index.count and stopped is None:
         if time.perf_counter() - started > limits.max_seconds:
             stopped = "time"
@@ -743,7 +789,7 @@ def explore_fast(
         if peak > limits.max_memory_mb:
             stopped = "memory"
             break
-        hi = min(index.count, sid + CHUNK)
+        hi = min(index.count, sid + chunk)
         K = index.keys[sid:hi].copy()
         codes = _decode(K, base, n)
         cells = codes // 5
@@ -753,8 +799,8 @@ def explore_fast(
         # the last source state to expand: a halting property stops before the state it fails in
         limit_src = len(K)
         # the halting and the expansion properties, evaluated together on the whole chunk
-        failing = bulk.failures(on_chunk, rows, idle, gate=len(checks.halting))
-        halt = bulk.first_failure(checks.halting, failing[:, :len(checks.halting)])
+        failing = columns.failures(on_chunk, rows, idle, gate=len(checks.halting))
+        halt = columns.first_failure(checks.halting, failing[:, :len(checks.halting)])
         if halt is not None:
             limit_src = halt[0]
         assert not table.flags[rows[:limit_src], 0].any(), \
@@ -762,25 +808,42 @@ def explore_fast(
         # robot i's move mask: the mask of its cell's position in the sorted row
         rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
         masks = table.masks[rows[:, None], rank]
-        src, robot, new, weight = sched.bulk_successors(codes[:limit_src], masks[:limit_src],
-                                                        neighbour)
+        bulk = sched.bulk_successors(enc.frontier(codes[:limit_src], masks[:limit_src]), EVENTS)
+        if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
+            hi = sid + bulk.states
+            K, codes, cells, rows = K[:bulk.states], codes[:bulk.states], cells[:bulk.states], \
+                rows[:bulk.states]
+            limit_src = bulk.states
+            chunk = max(1, bulk.states)
+        elif chunk < CHUNK:
+            chunk = min(CHUNK, 2 * chunk)
+        src, weight = bulk.source, bulk.weight
+        robot, new, event = bulk.robot, bulk.code, bulk.event  # the changes
+        single = event is None  # one change per event (event c is change c)
         outside = np.flatnonzero(new < 0)
         cut = len(src)
         if len(outside):
-            cut = int(outside[0])
+            cut = int(outside[0]) if single else int(event[outside[0]])
             stop_src = int(src[cut])
             stop = "region"
             transitions += cut + 1
         else:
             stop_src = limit_src
-            stop = halt[1].name if halt is not None else None
+            stop = halt[1].name if halt is not None and halt[0] == limit_src else None
             transitions += cut
-        src, robot, new, weight = src[:cut], robot[:cut], new[:cut], weight[:cut]
-        old = codes[src, robot]
-        if group or anonymity:
-            rows_codes = codes[src]
-            rows_codes[np.arange(cut), robot] = new
-            succ = canon.keys(rows_codes)
+        src, weight = src[:cut], weight[:cut]
+        changes = cut if single else int(np.searchsorted(event, cut))
+        robot, new = robot[:changes], new[:changes]
+        if single:
+            old = codes[src, robot]
+        else:
+            event = event[:changes]
+            old = codes[src[event], robot]
+        succ_codes = None
+        if group or anonymity or not single:
+            succ_codes = codes[src]
+            succ_codes[np.arange(cut) if single else event, robot] = new
+            succ = canon.keys(succ_codes)
         else:
             delta = (new - old).astype(np.uint64) * powers[robot]
             succ = K[src] + delta  # wraps correctly for negative deltas
@@ -797,27 +860,42 @@ def explore_fast(
                 keep = int(np.searchsorted(src, stop_src, side="right"))
                 transitions -= cut - keep
                 cut = keep
-                src, robot, new, weight, old = (a[:cut] for a in (src, robot, new, weight, old))
-                succ, ids = succ[:cut], ids[:cut]
+                src, weight, succ, ids = src[:cut], weight[:cut], succ[:cut], ids[:cut]
+                if single:
+                    robot, new, old = robot[:cut], new[:cut], old[:cut]
+                else:
+                    changes = int(np.searchsorted(event, cut))
+                    robot, new, old, event = (a[:changes] for a in (robot, new, old, event))
+                if succ_codes is not None:
+                    succ_codes = succ_codes[:cut]
                 m = int(np.searchsorted(fresh_src, stop_src, side="right"))
                 fresh_src = fresh_src[:m]
                 index.truncate(known + m)
         fresh_keys = index.keys[known:index.count]
         expanded = stop_src + (stop in ("region", "states"))
-        bulk.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
-                    rows, idle)
+        columns.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
+                       rows, idle)
         if checks.open(checks.on_transition) and cut:
-            # the configuration each transition reaches
-            succ_cells = cells[src].copy()
-            succ_cells[np.arange(cut), robot] = new // 5
+            # the configuration each transition reaches, from the scheduler's changes
+            if succ_codes is None:  # one change per event, no reduction: event c is change c
+                succ_cells = cells[src].copy()
+                succ_cells[np.arange(cut), robot] = new // 5
+            else:
+                succ_cells = succ_codes // 5
             s2, k2 = table.config_keys(succ_cells)
-            bulk.transitions(sid, src, rows[src], table.rows(k2, s2))
+            columns.transitions(sid, src, rows[src], table.rows(k2, s2),
+                                partial(_step, enc, sched, facts, n, K, src, succ_codes))
         if checks.open(checks.on_discovery) and len(fresh_keys):
             fresh = _decode(fresh_keys, base, n)
             s3, k3 = table.config_keys(fresh // 5)
-            bulk.states(known, table.rows(k3, s3), np.all(fresh % 5 == 0, axis=1),
-                        checks.on_discovery)
-        changed_loops += int(np.count_nonzero((ids == sid + src) & (new != old)))
+            columns.states(known, table.rows(k3, s3), np.all(fresh % 5 == 0, axis=1),
+                           checks.on_discovery)
+        if single:
+            changed = new != old
+        else:
+            changed = np.zeros(cut, dtype=bool)
+            changed[event[new != old]] = True
+        changed_loops += int(np.count_nonzero((ids == sid + src) & changed))
         if graph:
             counts = np.bincount(src, minlength=expanded)[:expanded]
             starts = targets.size + np.cumsum(counts) - counts
@@ -825,8 +903,8 @@ def explore_fast(
             targets.extend(ids.astype(np.int32))
             weights.extend(weight.astype(np.int8))
         parents.extend((sid + fresh_src).astype(np.int32))
-        if halt is not None and stop == halt[1].name:
-            bulk.record_halt(sid + stop_src, int(rows[stop_src]), bool(idle[stop_src]), halt[1])
+        if halt is not None and stop == halt[1].name and halt[0] == stop_src:
+            columns.record_halt(sid + stop_src, int(rows[stop_src]), bool(idle[stop_src]), halt[1])
         if stop is not None:
             stopped = stop
             break
@@ -851,3 +929,24 @@ def _decode(keys: np.ndarray, base: int, n: int) -> np.ndarray:
         rest = quot
     return codes
 
+
+
+def _step(enc: Encoding, sched: Any, facts: Any, n: int, K: np.ndarray, src: np.ndarray,
+          succ_codes: np.ndarray | None, i: int) -> tuple[Any, State]:
+    """The event and successor of the ``i``-th transition of a bulk step (from state
+    ``K[src[i]]``), asked of the scheduler's concrete ``successors``: its ``k``-th event, k
+    its rank among its state's events (the bulk events come in the same order);
+    ``succ_codes``: the successors' codes the bulk step computed, when it did."""
+    state = enc.decode(int(K[src[i]]), n)
+    k = i - int(np.searchsorted(src, src[i]))
+    codes = None if succ_codes is None else succ_codes[i]
+
+    def ms(robots: tuple[Node, ...]) -> dict[Node, frozenset[Node]]:
+        got = facts(robots).move_sets
+        assert got is not None  # the state was expanded
+        return got
+
+    event, succ = next(islice(sched.successors(state, ms), k, None))
+    if codes is not None:  # pragma: no branch - the two faces of the scheduler agree
+        assert [enc.code(v, p) for v, p in succ] == codes.tolist()
+    return event, succ

@@ -49,6 +49,6 @@ def explore(
             return fast_explore.explore_fast(initial, algorithm, scheduler, graph=graph,
                                              memo=memo, **options)  # type: ignore[arg-type]
         if engine == "fast":
-            raise InvalidInput(f"the fast engine cannot run this request (scheduler "
-                               f"{scheduler!r}): use engine='auto' or 'reference'")
+            raise InvalidInput("the fast engine cannot run this request (its keys do not fit 63 "
+                               "bits): use engine='auto' or 'reference'")
     return explore_reference(initial, algorithm, scheduler, **options)  # type: ignore[arg-type]

@@ -126,5 +126,15 @@ def parse_node(text: str) -> Node:
 
 
 def parse_nodes(text: str) -> list[Node]:
-    """Parse ``"x,y x,y ..."`` (spaces or semicolons between points)."""
-    return [parse_node(p) for p in text.replace(";", " ").split()]
+    """Parse ``"x,y x,y ..."``: spaces between points, and nothing else.
+
+    >>> parse_nodes("0,0 1,3")
+    [(0, 0), (1, 3)]
+    >>> parse_nodes("0,0;1,3")
+    Traceback (most recent call last):
+    ...
+    gather_verify.errors.InvalidInput: bad points '0,0;1,3': separate points with spaces, e.g. "0,0 1,3"
+    """
+    if ";" in text:
+        raise InvalidInput(f"bad points {text!r}: separate points with spaces, e.g. \"0,0 1,3\"")
+    return [parse_node(p) for p in text.split()]

@@ -92,7 +92,8 @@ class Property:
       ``holds(before, after) -> bool`` over ``value`` of each side.
     - ``value``: transition: ``value(facts) -> hashable``, a function of the configuration.
     - ``message``: why it fails, a string or a function of the same arguments as ``holds``.
-    - ``detail``: transition: ``detail(before, after) -> dict`` for the trace's ``detail``.
+    - ``detail``: ``detail(...) -> dict`` (the same arguments as ``holds``) for the witness's
+      and the trace's ``detail`` (``crash``: the robot, its view, the exception).
     - ``vacuous``: ``vacuous(s) -> str | None`` on the initial state: a reason the property
       holds without checking (then it is not checked).
     - ``confirm``: ``confirm(prop, run) -> (confirmed, message)`` for ``replay``; by default

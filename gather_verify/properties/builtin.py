@@ -1,7 +1,7 @@
 """The properties of SEMANTICS.md §5, each written once, in verdict order.
 
 >>> [p.name for p in BUILTIN]
-['defined', 'final', 'no-ungatherable', 'target-invariance', 'move-bound', 'termination']
+['crash', 'defined', 'final', 'no-ungatherable', 'target-invariance', 'move-bound', 'termination']
 """
 
 from __future__ import annotations
@@ -14,6 +14,25 @@ from gather_verify.properties.facts import StateFacts
 from gather_verify.properties.graph import GraphFacts, any_cycle, livelock
 
 # -- safety: state and transition properties, checked during the search ------------------
+
+
+def _confirm_crash(prop: Property, run: Run) -> tuple[bool, str]:
+    s = run.state_facts()
+    if s.crash is not None:
+        return True, str(s.crash)
+    return False, "the algorithm no longer crashes in the last state"
+
+
+CRASH = Property(
+    "crash", "state",
+    holds=lambda s: s.crash is None,
+    message=lambda s: s.crash.reason,
+    detail=lambda s: s.crash.detail(),
+    confirm=_confirm_crash, pseudo=True, halts=True,
+    symmetric=True,
+    doc="the algorithm's decide and target raise no exception (nor decide answers something "
+        "that is not a move) in any reached configuration (the search cannot go on where one "
+        "does)")
 
 
 def _confirm_defined(prop: Property, run: Run) -> tuple[bool, str]:
@@ -182,5 +201,5 @@ def fair_cycle(run: Run, cs: int) -> tuple[bool, str]:
     return True, f"fair cycle of {len(states) - 1 - cs} steps confirmed"
 
 
-BUILTIN = (DEFINED, FINAL, NO_UNGATHERABLE, TARGET_INVARIANCE, MOVE_BOUND, TERMINATION)
+BUILTIN = (CRASH, DEFINED, FINAL, NO_UNGATHERABLE, TARGET_INVARIANCE, MOVE_BOUND, TERMINATION)
 """The built-in properties in verdict order: when several fail, the first is named."""

@@ -21,7 +21,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
 
-from gather_verify.algorithms.base import Algorithm, Unhandled, target_of
+from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, Unhandled, target_of
 from gather_verify.algorithms.moves import move_sets
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
@@ -47,6 +47,8 @@ class Facts(Protocol):
     def in_U(self) -> bool: ...  # SEMANTICS.md §2
     @property
     def target(self) -> Node | None: ...  # the algorithm's target meeting node, if it has one
+    @property
+    def crash(self) -> AlgorithmCrash | None: ...  # decide or target raised (None: neither did)
 
 
 @dataclass
@@ -61,27 +63,37 @@ class ConfigurationFacts:
     gathered: bool
     in_U: bool
     target: Node | None
+    crash: AlgorithmCrash | None = None
 
 
 def configuration_facts(algorithm: Algorithm, configuration: Configuration,
                         initial: Configuration, detection: str,
                         frames: Sequence[int]) -> ConfigurationFacts:
-    """The facts of ``configuration`` under ``algorithm`` (the definition every engine follows)."""
+    """The facts of ``configuration`` under ``algorithm`` (the definition every engine follows).
+
+    An exception of the algorithm's own (:class:`AlgorithmCrash`, in ``decide`` or
+    ``target``) is recorded in ``crash`` (the first one: ``decide``'s) and leaves no move
+    sets: the search cannot go on from there."""
+    crash = None
     try:
         ms: dict[Node, frozenset[Node]] | None = move_sets(algorithm, configuration, detection,
                                                            frames)
         unhandled = None
     except Unhandled as error:
         ms, unhandled = None, str(error) or "no rule for this view"
-    robots = configuration.robots
-    stuck = ms is not None and all(s == {v} for v, s in ms.items())
-    gathered = len(configuration.counts) == 1 and robots[0] in configuration.meeting_nodes
+    except AlgorithmCrash as error:
+        ms, unhandled, crash = None, None, error
     try:
         target = target_of(algorithm, configuration)
     except Unhandled:
         target = None
+    except AlgorithmCrash as error:
+        target, crash, ms = None, crash or error, None
+    robots = configuration.robots
+    stuck = ms is not None and all(s == {v} for v, s in ms.items())
+    gathered = len(configuration.counts) == 1 and robots[0] in configuration.meeting_nodes
     return ConfigurationFacts(configuration, initial, ms, unhandled, stuck, gathered,
-                              classify_configuration(configuration).in_U, target)
+                              classify_configuration(configuration).in_U, target, crash)
 
 
 class StateFacts:

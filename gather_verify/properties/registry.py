@@ -33,7 +33,7 @@ _LOADED: dict[tuple[str, str], Property] = {}
 ORDER = tuple(p.name for p in BUILTIN)
 """The built-in properties' names in verdict order (:func:`names` adds registered ones)."""
 PROPERTIES = tuple(p.name for p in BUILTIN if not p.pseudo)
-"""The built-in properties a check may request (the pseudo-property ``defined`` is always on)."""
+"""The built-in properties a check may request (the pseudo-properties ``crash`` and ``defined`` are always on)."""
 
 
 def register(prop: Property) -> Property:

@@ -50,9 +50,14 @@ def distinct_counterexamples(db_path: str) -> list[tuple[dict[str, Any], dict[st
     return [(settings, row) for _, (_, settings, row) in sorted(best.items())]
 
 
-def scenario_for(settings: dict[str, Any], row: dict[str, Any]) -> dict[str, Any]:
-    """The regression scenario of one witness (deterministic: same row, same text)."""
+def scenario_for(settings: dict[str, Any], row: dict[str, Any],
+                 folder: str | Path = "scenarios/regressions") -> dict[str, Any]:
+    """The regression scenario of one witness, to be written into ``folder`` (deterministic:
+    same row and folder, same text). An algorithm file is named relative to ``folder``."""
+    from gather_verify.algorithms.loading import relative_spec
+
     algorithm, scheduler = settings["algorithm"], settings["scheduler"]
+    here = relative_spec(algorithm, folder)
     digest = hashlib.sha256(json.dumps([algorithm, scheduler, row["key"]]).encode()).hexdigest()
     slug = re.sub(r"[^a-z0-9]+", "-", f"{row['class']}-{row['property']}-{algorithm}-{scheduler}".lower())
     name = f"{slug.strip('-')}-{digest[:8]}"
@@ -63,17 +68,17 @@ def scenario_for(settings: dict[str, Any], row: dict[str, Any]) -> dict[str, Any
         "name": name,
         "description": (f"Counterexample found by a sweep ({found_by}): {row['class']}, "
                         f"{row['property']} fails - {row['reason']}. "
-                        f"Replay: gather-verify replay scenarios/regressions/{name}.json"),
+                        f"Replay: gather-verify replay {Path(folder).as_posix()}/{name}.json"),
         "robots": row["robots"],
         "meeting_nodes": row["meeting_nodes"],
-        "algorithm": algorithm,
+        "algorithm": here,
         "scheduler": scheduler,
         "multiplicity": settings.get("detection", "local-weak"),
         "frames": settings.get("frames", "all"),
         "expect": {"class": row["class"], "verdicts": [
-            {"algorithm": algorithm, "scheduler": scheduler, "verdict": "VIOLATED",
+            {"algorithm": here, "scheduler": scheduler, "verdict": "VIOLATED",
              "property": row["property"]}]},
-        "trace": row["trace"],
+        "trace": row["trace"] if here == algorithm else {**row["trace"], "algorithm": here},
     }
 
 
@@ -85,7 +90,7 @@ def write_regressions(db_path: str, folder: str | Path) -> list[Path]:
     out.mkdir(parents=True, exist_ok=True)
     written = []
     for settings, row in distinct_counterexamples(db_path):
-        scenario = scenario_for(settings, row)
+        scenario = scenario_for(settings, row, folder)
         path = out / f"{scenario['name']}.json"
         if not path.exists():
             path.write_text(json.dumps(scenario, indent=1, sort_keys=False) + "\n", encoding="utf-8")

@@ -1,7 +1,9 @@
 """The results store: one SQLite database (standard library) per sweep directory.
 
 A sweep is identified by its settings (algorithm, scheduler, detection, frames,
-properties, limits, box and counts); a result row by the sweep and the
+properties, limits, box and counts) and the fingerprint of its algorithm's source
+(:mod:`gather_verify.fingerprint`: an edited algorithm is another sweep, never the
+old rows); a result row by the sweep and the
 configuration's canonical key. Rows are written in transactions as results
 arrive, so a sweep killed at any moment keeps everything committed, and a
 re-run skips what is there. Timings live in their own table: the results
@@ -26,8 +28,11 @@ from gather_verify.errors import InvalidInput
 
 COLUMNS = (
     "key", "index", "robots", "meeting_nodes", "class", "verdict", "property", "reason",
-    "states", "transitions", "max_moves", "D", "n", "ratio", "trace",
+    "states", "transitions", "max_moves", "D", "n", "ratio", "trace", "failing",
 )
+JSON_COLUMNS = ("robots", "meeting_nodes", "trace", "failing")
+"""``failing``: every property that fails (``property`` names the first); added to older
+databases when they are opened."""
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS sweeps (
     id INTEGER PRIMARY KEY,
@@ -39,7 +44,7 @@ CREATE TABLE IF NOT EXISTS results (
     "index" INTEGER NOT NULL,
     robots TEXT, meeting_nodes TEXT, class TEXT, verdict TEXT, property TEXT, reason TEXT,
     states INTEGER, transitions INTEGER, max_moves INTEGER, D INTEGER, n INTEGER, ratio REAL,
-    trace TEXT,
+    trace TEXT, failing TEXT,
     PRIMARY KEY (sweep, key)
 );
 CREATE TABLE IF NOT EXISTS timings (
@@ -62,6 +67,10 @@ class Store:
         for table, wanted in (("sweeps", ("id", "settings")), ("results", ("sweep", *COLUMNS)),
                               ("timings", ("sweep", "key", "seconds"))):
             have = {row[1] for row in self.db.execute(f"PRAGMA table_info({table})")}
+            if table == "results" and have and "failing" not in have:
+                with self.db:
+                    self.db.execute("ALTER TABLE results ADD COLUMN failing TEXT")
+                have.add("failing")
             missing = [c for c in wanted if c not in have]
             if missing:
                 self.db.close()
@@ -97,7 +106,7 @@ class Store:
         for row in rows:
             record = [row.get(c) for c in COLUMNS]
             for i, c in enumerate(COLUMNS):
-                if c in ("robots", "meeting_nodes", "trace") and record[i] is not None \
+                if c in JSON_COLUMNS and record[i] is not None \
                         and not isinstance(record[i], str):
                     record[i] = json.dumps(record[i], sort_keys=True, separators=(",", ":"))
             values.append((sweep, *record))
@@ -112,6 +121,12 @@ class Store:
                 [(sweep, r["key"], r.get("seconds")) for r in rows],
             )
 
+    def forget(self, sweep: int) -> None:
+        """Drop every stored row of a sweep (``sweep --fresh``)."""
+        with self.db:
+            self.db.execute("DELETE FROM results WHERE sweep = ?", (sweep,))
+            self.db.execute("DELETE FROM timings WHERE sweep = ?", (sweep,))
+
     def results(self, sweep: int) -> list[dict[str, Any]]:
         """All results of a sweep in enumeration order, with their timings."""
         names = ",".join(f'r."{c}"' for c in COLUMNS)
@@ -123,7 +138,7 @@ class Store:
         out = []
         for row in cursor:
             record = dict(zip((*COLUMNS, "seconds"), row, strict=True))
-            for c in ("robots", "meeting_nodes", "trace"):
+            for c in JSON_COLUMNS:
                 if record[c] is not None:
                     record[c] = json.loads(record[c])
             out.append(record)

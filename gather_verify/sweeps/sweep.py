@@ -56,6 +56,9 @@ class SweepSettings:
         out["properties"] = list(self.properties)
         if self.max_memory_mb is None:
             del out["max_memory_mb"]
+        from gather_verify.fingerprint import algorithm_fingerprint
+
+        out["fingerprint"] = algorithm_fingerprint(self.algorithm)["digest"]  # never stale
         return out
 
 
@@ -94,6 +97,7 @@ def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[st
         "n": report.get("n"),
         "ratio": report.get("ratio"),
         "trace": report.get("trace"),
+        "failing": [p for p, r in report["properties"].items() if r.get("holds") is False],
         "seconds": time.perf_counter() - started,
     }
 
@@ -141,9 +145,12 @@ def run_sweep(
     dask: str | None = None,
     progress: bool = True,
     limit: int | None = None,
+    fresh: bool = False,
 ) -> dict[str, Any]:
     """Run (or resume) one sweep, or several (e.g. every n and m up to a bound) into
-    one store; return the summary over all of them (see :func:`summarise`)."""
+    one store; return the summary over all of them (see :func:`summarise`). Rows are
+    keyed by the settings and the algorithm's fingerprint, so an edited algorithm is
+    checked again; ``fresh`` drops the stored rows of these settings first."""
     from gather_verify.sweeps.census import enumerate_configurations
 
     batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
@@ -152,6 +159,8 @@ def run_sweep(
         plan = []
         for one in batch:
             sweep = store.sweep_id(one.key())
+            if fresh:
+                store.forget(sweep)
             done = store.done_keys(sweep)
             todo = []
             for index, c in enumerate(enumerate_configurations(one.robots, one.meeting, *one.box)):
@@ -218,9 +227,16 @@ def _ignore_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-def _run_task(task: Task) -> tuple[int, list[dict[str, Any]]]:
-    """Worker entry point (picklable for process pools and Dask)."""
+def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None
+              ) -> tuple[int, list[dict[str, Any]]]:
+    """Worker entry point (picklable for process pools and Dask). ``sources``: the text of
+    the algorithm files (:func:`gather_verify.algorithms.loading.ship`), for a worker that
+    does not see them (a Dask cluster on other machines)."""
     sweep, settings, chunk = task
+    if sources:
+        from gather_verify.algorithms.loading import receive
+
+        receive(sources)
     return sweep, verify_chunk(settings, chunk)
 
 
@@ -238,7 +254,10 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None
     else:
         client = Client(address)
     try:
-        futures = client.map(_run_task, tasks, pure=False)
+        from gather_verify.algorithms.loading import ship
+
+        sources = ship({settings.algorithm for _, settings, _ in tasks}) or None
+        futures = client.map(_run_task, tasks, sources=sources, pure=False)
         for future in as_completed(futures):
             yield future.result()
     finally:
@@ -248,12 +267,15 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None
 
 
 def summarise(rows: list[dict[str, Any]], settings: SweepSettings | None = None) -> dict[str, Any]:
-    """Totals per class and verdict, failing properties, worst ratios, slowest configurations."""
+    """Totals per class and verdict, failing properties (``failing_properties``: the one each
+    configuration names first; ``failing_every``: every one that fails), worst ratios,
+    slowest configurations."""
     from gather_verify.model.classes import CLASS_NAMES
 
     classes = dict.fromkeys(CLASS_NAMES, 0)
     verdicts: dict[str, dict[str, int]] = {}
     failing: dict[str, dict[str, int]] = {}
+    every: dict[str, dict[str, int]] = {}
     worst: dict[str, float] = {}
     for row in rows:
         name = row["class"]
@@ -263,6 +285,9 @@ def summarise(rows: list[dict[str, Any]], settings: SweepSettings | None = None)
         if row["verdict"] == "VIOLATED" and row.get("property"):
             f = failing.setdefault(name, {})
             f[row["property"]] = f.get(row["property"], 0) + 1
+            e = every.setdefault(name, {})
+            for prop in row.get("failing") or [row["property"]]:
+                e[prop] = e.get(prop, 0) + 1
         if row.get("ratio") is not None:
             worst[name] = max(worst.get(name, 0.0), float(row["ratio"]))
     slowest = sorted(rows, key=lambda r: -(r.get("seconds") or 0.0))[:5]
@@ -272,6 +297,7 @@ def summarise(rows: list[dict[str, Any]], settings: SweepSettings | None = None)
         "classes": classes,
         "verdicts": verdicts,
         "failing_properties": failing,
+        "failing_every": every,
         "max_ratio": worst,
         "slowest": [{"robots": r["robots"], "meeting_nodes": r["meeting_nodes"],
                      "class": r["class"], "seconds": round(r.get("seconds") or 0.0, 3)}
@@ -298,6 +324,10 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
         write("")
         write("failing properties:")
         for name, props in summary["failing_properties"].items():
+            write(f"  {name}: " + ", ".join(f"{p} x{k}" for p, k in sorted(props.items())))
+    if summary.get("failing_every", summary["failing_properties"]) != summary["failing_properties"]:
+        write("every failing property (a configuration counts once for each):")
+        for name, props in summary["failing_every"].items():
             write(f"  {name}: " + ", ".join(f"{p} x{k}" for p, k in sorted(props.items())))
     if summary["slowest"]:
         write("")

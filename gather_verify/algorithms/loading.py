@@ -1,0 +1,306 @@
+"""Algorithms from anywhere: a file, an importable module, or an installed package.
+
+An algorithm spec names one of three things:
+
+- a registered name, ``paper`` or ``paper:alpha=mer_f`` (:data:`REGISTRY`);
+- a file, ``PATH.py:NAME`` or ``PATH.py:NAME:key=value,...``;
+- a module, ``package.module:NAME`` (with the same options);
+- a name an installed package registers in the ``gather_verify.algorithms``
+  entry-point group (``[project.entry-points."gather_verify.algorithms"]``).
+
+``NAME`` is a class or a factory, called with the options as keyword arguments
+(strings), or an object with ``decide`` (then no options). A loaded algorithm
+is named by its spec with the path made absolute, so traces and stored results
+name a file that ``replay`` and the workers of a sweep load again. A file is
+loaded afresh when its text changes.
+
+>>> split_external("/tmp/my alg.py:Centre:k=1,j=2")
+('/tmp/my alg.py', 'Centre', {'k': '1', 'j': '2'})
+>>> split_external("mypkg.algs:Centre")
+('mypkg.algs', 'Centre', {})
+>>> split_external("paper:alpha=mer_f") is None
+True
+"""
+
+from __future__ import annotations
+
+import ast
+import hashlib
+import importlib
+import importlib.util
+import os
+import sys
+import sysconfig
+from importlib import metadata
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+from gather_verify.errors import InvalidInput
+
+ENTRY_POINT_GROUP = "gather_verify.algorithms"
+_LIBRARY = {os.path.abspath(sysconfig.get_paths()[k])
+            for k in ("stdlib", "platstdlib", "purelib", "platlib")}
+
+
+def parse_options(rest: str, spec: str) -> dict[str, str]:
+    """``key=value,...`` as a dict; ValueError names the bad item."""
+    options: dict[str, str] = {}
+    for item in filter(None, rest.split(",")):
+        key, eq, value = item.partition("=")
+        if not eq or not key.strip():
+            raise InvalidInput(f"bad algorithm option {item!r} in {spec!r}: expected key=value")
+        options[key.strip()] = value.strip()
+    return options
+
+
+def split_external(spec: str) -> tuple[str, str, dict[str, str]] | None:
+    """``(path or module, NAME, options)`` of a file or module spec; None for a plain name."""
+    at = spec.find(".py:")
+    if at >= 0:
+        where, rest = spec[:at + 3], spec[at + 4:]
+    else:
+        where, colon, rest = spec.partition(":")
+        if not colon or "=" in rest.partition(":")[0] or not _is_module_path(where):
+            return None
+    name, _, options = rest.partition(":")
+    if not name.strip() or "=" in name:
+        raise InvalidInput(f"algorithm {spec!r}: name the class or factory after the colon, "
+                         f"e.g. {where}:MyAlgorithm")
+    return where.strip(), name.strip(), parse_options(options, spec)
+
+
+def _is_module_path(text: str) -> bool:
+    parts = text.strip().split(".")
+    return len(parts) > 1 and all(p.isidentifier() for p in parts)
+
+
+def is_path_spec(spec: str) -> bool:
+    """Whether ``spec`` names a ``.py`` file."""
+    return ".py:" in spec
+
+
+def absolute_spec(spec: str, base: str | Path | None = None) -> str:
+    """``spec`` with a relative file path taken from ``base`` (a folder; default the
+    working directory) and made absolute; other specs unchanged.
+
+    >>> absolute_spec("alg.py:A:k=1", "/data/x")
+    '/data/x/alg.py:A:k=1'
+    >>> absolute_spec("paper", "/data/x")
+    'paper'
+    """
+    if not is_path_spec(spec):
+        return spec
+    at = spec.find(".py:")
+    path = os.path.expanduser(spec[:at + 3])
+    full = os.path.normpath(os.path.join(base or os.getcwd(), path))
+    return full + spec[at + 3:]
+
+
+def relative_spec(spec: str, folder: str | Path) -> str:
+    """``spec`` with its file path relative to ``folder`` (what a scenario file written there
+    stores, so the folder and the algorithm can move together)."""
+    if not is_path_spec(spec):
+        return spec
+    at = spec.find(".py:")
+    rel = os.path.relpath(spec[:at + 3], os.path.abspath(folder))
+    return rel.replace(os.sep, "/") + spec[at + 3:]
+
+
+def _imports(path: Path) -> set[tuple[str, ...]]:
+    """Dotted names a module imports, as tuples (``from a import b``: both ``a`` and ``a.b``)."""
+    try:
+        tree = ast.parse(path.read_bytes(), filename=str(path))
+    except (OSError, SyntaxError, ValueError):
+        return set()
+    out: set[tuple[str, ...]] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out |= {tuple(alias.name.split(".")) for alias in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            base = tuple(node.module.split("."))
+            out.add(base)
+            out |= {(*base, alias.name) for alias in node.names}
+    return out
+
+
+def _module_file(root: Path, parts: tuple[str, ...]) -> Path | None:
+    """The file of module ``parts`` under ``root`` (a module or a package's ``__init__``)."""
+    stem = root.joinpath(*parts)
+    for candidate in (stem.with_suffix(".py"), stem / "__init__.py"):
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def local_sources(module_file: str | Path, module_name: str | None = None) -> list[Path]:
+    """The module's file and every local module it imports, transitively (sorted; a
+    package's ``__init__`` counts, but what it imports is not followed).
+
+    Local: under the module's folder for a file loaded by path or a top-level module
+    (unless that folder is the standard library or site-packages: then the file alone);
+    under its top-level package for a module of a package."""
+    first = Path(module_file).resolve()
+    parts = (module_name or "").split(".")
+    if module_name and len(parts) > 1 and not module_name.startswith("gather_verify_user_"):
+        root = first.parents[len(parts) - (first.name != "__init__.py")]
+        scope = root / parts[0]
+    else:
+        root = scope = first.parent
+        if str(scope) in _LIBRARY:
+            return [first]
+    seen, todo = {first}, [first]
+    while todo:
+        for dotted in _imports(todo.pop()):
+            found = _module_file(root, dotted)
+            found = found and found.resolve()
+            if found is not None and found.is_relative_to(scope) and found not in seen:
+                seen.add(found)
+                if found.name != "__init__.py":  # a package's hub of re-exports: not followed
+                    todo.append(found)
+    return sorted(seen)
+
+
+
+_FILES: dict[str, tuple[tuple[tuple[str, int, int], ...], ModuleType]] = {}
+"""Modules loaded from files: by absolute path, with the stamps (path, mtime, size) of the
+file and of the local modules it imports, when it ran."""
+
+
+def _stamps(files: list[Path]) -> tuple[tuple[str, int, int], ...]:
+    out = []
+    for f in files:
+        try:
+            st = f.stat()
+            out.append((str(f), st.st_mtime_ns, st.st_size))
+        except OSError:
+            out.append((str(f), -1, -1))
+    return tuple(out)
+
+
+def load_file(path: str) -> ModuleType:
+    """The module of a ``.py`` file, executed again when it or a local module it imports
+    changed (those are imported afresh too). Its folder goes on ``sys.path`` (as for a
+    script), so it imports its neighbours."""
+    if not os.path.isfile(path) and path in _RECEIVED:  # a worker that was sent the files
+        path = _RECEIVED[path][1]
+    if not os.path.isfile(path):
+        raise InvalidInput(f"algorithm file {path}: no such file")
+    known = _FILES.get(path)
+    if known is not None and _stamps([Path(f) for f, _, _ in known[0]]) == known[0]:
+        return known[1]
+    files = local_sources(path)
+    stamps = _stamps(files)
+    folder = os.path.dirname(path)
+    for f in files:  # its neighbours, imported again (from this folder) when it imports them
+        if f.is_relative_to(folder) and f != Path(path).resolve():
+            parts = f.relative_to(folder).with_suffix("").parts
+            sys.modules.pop(".".join(parts[:-1] if parts[-1] == "__init__" else parts), None)
+    if folder in sys.path:
+        sys.path.remove(folder)
+    sys.path.insert(0, folder)
+    try:
+        text = Path(path).read_bytes()
+    except OSError as error:
+        raise InvalidInput(f"algorithm file {path}: cannot read ({error.strerror or error})") from None
+    name = f"gather_verify_user_{Path(path).stem}_{hashlib.sha256(text).hexdigest()[:12]}"
+    loader_spec = importlib.util.spec_from_file_location(name, path)
+    if loader_spec is None or loader_spec.loader is None:
+        raise InvalidInput(f"algorithm file {path}: not a Python module")
+    module = importlib.util.module_from_spec(loader_spec)
+    sys.modules[name] = module  # classes defined there pickle by this name
+    try:
+        loader_spec.loader.exec_module(module)
+    except Exception as error:
+        del sys.modules[name]
+        raise InvalidInput(f"algorithm file {path}: importing it failed: "
+                         f"{type(error).__name__}: {error}") from None
+    _FILES[path] = (stamps, module)
+    return module
+
+
+_RECEIVED: dict[str, tuple[str, str]] = {}
+"""Algorithm files this process does not see, by their path on the machine that sent them:
+the path of a copy of the files it received."""
+
+
+def ship(specs: set[str]) -> dict[str, dict[str, str]]:
+    """For each file spec, its path and the text of the file and of the local modules it
+    imports (relative to its folder): what a worker on another machine needs to load it."""
+    out = {}
+    for spec in specs:
+        external = split_external(spec) if is_path_spec(spec) else None
+        if external is None:
+            continue
+        path = external[0]
+        folder = Path(path).resolve().parent
+        out[path] = {str(f.relative_to(folder)): f.read_text(encoding="utf-8")
+                     for f in local_sources(path) if f.is_relative_to(folder)}
+    return out
+
+
+def receive(sources: dict[str, dict[str, str]]) -> None:
+    """Make shipped algorithm files loadable here under their original paths (a private
+    folder holds the copies; a file this process sees itself is used as it is)."""
+    import tempfile
+
+    for path, files in sources.items():
+        digest = hashlib.sha256(repr(sorted(files.items())).encode()).hexdigest()
+        if os.path.isfile(path) or _RECEIVED.get(path, ("",))[0] == digest:
+            continue
+        folder = Path(tempfile.mkdtemp(prefix="gather-verify-received-"))
+        for name, text in files.items():
+            (folder / name).parent.mkdir(parents=True, exist_ok=True)
+            (folder / name).write_text(text, encoding="utf-8")
+        _RECEIVED[path] = (digest, str(folder / Path(path).name))
+
+
+def load_module(name: str) -> ModuleType:
+    try:
+        return importlib.import_module(name)
+    except ImportError as error:
+        raise InvalidInput(f"algorithm module {name!r}: cannot import it ({error})") from None
+
+
+def entry_point_factory(name: str) -> Any | None:
+    """The factory an installed package registers under ``name``, if any."""
+    for point in metadata.entry_points(group=ENTRY_POINT_GROUP):
+        if point.name == name:
+            try:
+                return point.load()
+            except Exception as error:
+                raise InvalidInput(f"algorithm {name!r} (entry point {point.value}): "
+                                 f"loading it failed: {type(error).__name__}: {error}") from None
+    return None
+
+
+def entry_point_names() -> list[str]:
+    return sorted(point.name for point in metadata.entry_points(group=ENTRY_POINT_GROUP))
+
+
+def instantiate(target: Any, options: dict[str, str], spec: str) -> Any:
+    """``target`` itself when it has ``decide`` (an instance), else ``target(**options)``."""
+    if hasattr(target, "decide") and not isinstance(target, type):
+        if options:
+            raise InvalidInput(f"algorithm {spec!r}: an object takes no options")
+        algorithm = target
+    elif callable(target):
+        try:
+            algorithm = target(**options)
+        except TypeError as error:
+            raise InvalidInput(f"bad options for algorithm {spec!r}: {error}") from None
+    else:
+        raise InvalidInput(f"algorithm {spec!r}: not a class, a factory or an object with decide")
+    if not callable(getattr(algorithm, "decide", None)):
+        raise InvalidInput(f"algorithm {spec!r}: the object it gives has no decide(view) method")
+    return algorithm
+
+
+def load_external(spec: str) -> tuple[Any, Any]:
+    """``(factory or object, module)`` of a file or module spec (the path already absolute)."""
+    where, name, _ = split_external(spec)  # type: ignore[misc]
+    module = load_file(where) if is_path_spec(spec) else load_module(where)
+    try:
+        return getattr(module, name), module
+    except AttributeError:
+        raise InvalidInput(f"algorithm {spec!r}: {where} defines no {name!r}") from None

@@ -1,0 +1,152 @@
+"""The engine's state encoding: robots and states as integers over a box of the grid.
+
+SEMANTICS.md §4. Both engines store a state as one integer key and hand its
+robots to the schedulers as *codes* ``cell * 5 + d``: ``cell`` indexes a node
+of the search region (a box, column-major), ``d`` is 0 when the robot is idle,
+else 1 + the index in ``geometry.STEPS`` of its pending unit step. A state
+packs its codes in base ``5 * cells``; with the reductions on, the codes are
+sorted (anonymity) and the key is the least over the usable elements of
+``Aut(M)`` (symmetry). The region, the group and the limits of a search are
+decided here too, so the engines and the schedulers share one encoding.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from gather_verify.algorithms.moves import frames_for
+from gather_verify.model import geometry
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import STEPS, Node
+from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
+from schedulers.base import Frontier, State
+
+STEP_INDEX = {step: i + 1 for i, step in enumerate(STEPS)}
+
+DEFAULT_MAX_STATES = 30_000_000
+DEFAULT_MAX_SECONDS = 3600.0
+DEFAULT_MAX_MEMORY_MB = 16_000
+"""Defaults sized for a 24 GiB machine (the reference path needs ~300 bytes/state)."""
+DEFAULT_MARGIN = 2
+
+
+@dataclass(frozen=True)
+class Limits:
+    """When to stop: any limit hit makes the search INCOMPLETE (never VERIFIED)."""
+
+    max_states: int = DEFAULT_MAX_STATES
+    max_seconds: float = DEFAULT_MAX_SECONDS
+    max_memory_mb: float = DEFAULT_MAX_MEMORY_MB
+    margin: int = DEFAULT_MARGIN
+
+
+NO_LIMITS = Limits()
+"""The default limits (a module-level value, so it can be a default argument)."""
+
+
+def symmetry_group(initial: Configuration, frames: str) -> list[Automorphism]:
+    """The elements of ``Aut(M)`` the symmetry reduction may use with ``frames``."""
+    allowed = set(frames_for(frames))
+    group = [a for a in meeting_automorphisms(initial)]
+    if allowed == set(geometry.ALL):
+        return group
+    return [a for a in group if a.g in allowed and all(
+        geometry.compose(geometry.compose(a.g, f), geometry.inverse(a.g)) in allowed
+        for f in allowed)]
+
+
+def region_box(initial: Configuration, margin: int,
+               group: Sequence[Automorphism] = ()) -> tuple[int, int, int, int]:
+    """The MER of ``initial`` grown by ``margin``, closed under ``group``."""
+    x0, y0, x1, y1 = initial.mer()
+    corners = [(x0 - margin, y0 - margin), (x1 + margin, y1 + margin)]
+    images = [a(v) for a in group for v in corners] + corners
+    return geometry.bounding_box(images)
+
+
+class Encoding:
+    """Robots and states as integers over a box of the grid.
+
+    >>> enc = Encoding((0, 0, 2, 2))
+    >>> s = (((0, 0), (1, 0)), ((2, 2), None))
+    >>> enc.decode(enc.key(s), 2) == s
+    True
+    """
+
+    def __init__(self, box: tuple[int, int, int, int], group: Sequence[Automorphism] = (),
+                 anonymity: bool = True):
+        self.x0, self.y0, x1, y1 = box
+        self.width, self.height = x1 - self.x0 + 1, y1 - self.y0 + 1
+        self.cells = self.width * self.height
+        self.base = self.cells * 5
+        self.anonymity = anonymity
+        self.tables = [self._table(a) for a in group if a.g != geometry.IDENTITY or a.t != (0, 0)]
+
+    def inside(self, v: Node) -> bool:
+        return 0 <= v[0] - self.x0 < self.width and 0 <= v[1] - self.y0 < self.height
+
+    def node(self, cell: int) -> Node:
+        return (self.x0 + cell // self.height, self.y0 + cell % self.height)
+
+    def code(self, v: Node, pending: Node | None) -> int:
+        cell = (v[0] - self.x0) * self.height + (v[1] - self.y0)
+        return cell * 5 + (0 if pending is None else STEP_INDEX[(pending[0] - v[0], pending[1] - v[1])])
+
+    def robot(self, code: int) -> tuple[Node, Node | None]:
+        cell, d = divmod(code, 5)
+        v = self.node(cell)
+        return v, (None if d == 0 else geometry.add(v, STEPS[d - 1]))
+
+    def _table(self, a: Automorphism) -> list[int]:
+        out = []
+        for code in range(self.base):
+            v, p = self.robot(code)
+            out.append(self.code(a(v), None if p is None else a(p)))
+        return out
+
+    def pack(self, codes: Iterable[int]) -> int:
+        key, scale = 0, 1
+        for c in codes:
+            key += c * scale
+            scale *= self.base
+        return key
+
+    def key(self, state: State) -> int:
+        """The stored key of ``state`` (its class under the enabled reductions)."""
+        codes = [self.code(v, p) for v, p in state]
+        if self.anonymity:
+            codes.sort()
+        best = self.pack(codes)
+        for table in self.tables:
+            image = [table[c] for c in codes]
+            if self.anonymity:
+                image.sort()
+            best = min(best, self.pack(image))
+        return best
+
+    def decode(self, key: int, n: int) -> State:
+        out = []
+        for _ in range(n):
+            key, c = divmod(key, self.base)
+            out.append(self.robot(c))
+        return tuple(out)
+
+    @cached_property
+    def neighbour(self) -> np.ndarray:
+        """``neighbour[cell, k]``: the cell one ``STEPS[k]`` away (-1 outside the box)."""
+        out = np.full((self.cells, len(STEPS)), -1, dtype=np.int64)
+        for cell in range(self.cells):
+            v = self.node(cell)
+            for k, step in enumerate(STEPS):
+                w = geometry.add(v, step)
+                if self.inside(w):
+                    out[cell, k] = (w[0] - self.x0) * self.height + (w[1] - self.y0)
+        return out
+
+    def frontier(self, codes: np.ndarray, masks: np.ndarray) -> Frontier:
+        """States as a scheduler's bulk interface takes them (``schedulers.base.Frontier``)."""
+        return Frontier(codes, masks, self.neighbour)
