@@ -352,3 +352,43 @@ def test_a_halting_pseudo_property_stops_both_engines_at_the_same_state():
             check_property_names(["test-arrived"])  # always on, never requested
     finally:
         unregister("test-arrived")
+
+
+@pytest.mark.parametrize("scheduler", ["fsync", "async"])
+def test_crash_wins_over_defined_on_both_engines(scheduler):
+    """``crash`` and ``defined`` fail in the same configuration (decide has no rule, target
+    raises): both engines and the report name ``crash``, the first in verdict order, with
+    the crash's detail; the fast engine's flags mark the crash as the reference's facts do."""
+    from gather_verify.algorithms.broken import Undefined
+    from gather_verify.engine.explore import explore_reference
+    from gather_verify.engine.fast_explore import explore_fast
+
+    class UndefinedAndCrash(Undefined):
+        name = "test-undefined-and-crash"
+
+        def target(self, configuration):
+            if any(manhattan(v, m) == 1 for v in configuration.robots
+                   for m in configuration.meeting_nodes):
+                raise KeyError("no plan")
+            return super().target(configuration)
+
+    algo = UndefinedAndCrash()
+    ref = explore_reference(TWO, algo, scheduler)
+    fast = explore_fast(TWO, algo, scheduler)
+    assert ref.stopped == fast.stopped == "crash"
+    assert {k: vars(v) for k, v in ref.violations.items()} == \
+        {k: vars(v) for k, v in fast.violations.items()}
+    assert ref.violations["crash"].detail["call"] == "target"
+    r = run_check(TWO, algorithm=algo, scheduler=scheduler, engine="fast")
+    assert (r["verdict"], r["property"]) == ("VIOLATED", "crash")
+    assert r["trace"]["detail"]["exception"] == "KeyError: 'no plan'"
+    assert "defined" not in r["properties"]
+
+
+def test_the_engines_name_no_property():
+    """The engines and the checker loop take every property from the registry."""
+    root = Path(__file__).resolve().parent.parent / "gather_verify" / "engine"
+    for path in ("explore.py", "fast_explore.py", "checks.py", "search.py"):
+        text = (root / path).read_text(encoding="utf-8")
+        for name in ORDER:
+            assert f'"{name}"' not in text and f"'{name}'" not in text, (path, name)
