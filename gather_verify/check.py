@@ -28,16 +28,14 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from gather_verify import properties as props
 from gather_verify.algorithms.base import Algorithm
+from gather_verify.engine.checks import Violation
 from gather_verify.engine.explore import (
     DEFAULT_MARGIN,
     DEFAULT_MAX_SECONDS,
     DEFAULT_MAX_STATES,
-    PSEUDO,
     Exploration,
     Limits,
-    Violation,
 )
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.engine.search import explore
@@ -45,6 +43,9 @@ from gather_verify.errors import InvalidInput
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
+from gather_verify.properties.facts import StateFacts
+from gather_verify.properties.graph import GraphFacts, longest_path
+from gather_verify.properties.registry import check_property_names, get_property, registered
 from gather_verify.trace import build_trace
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine
 
@@ -71,28 +72,29 @@ def _trace(e: Exploration, prop: str, reason: str, ids: Sequence[int],
 
 
 def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
-    ids = e.path_to(v.state)
-    if v.property == "crash":  # the crash as the concrete last state of the trace meets it
-        steps = e.concretise(ids)
-        state = steps[-1][1] if steps else e.initial_state
-        crash = e.facts(tuple(sorted(n for n, _ in state))).crash
-        assert crash is not None  # the stored state's class crashes, so does each member
-        return build_trace(e.initial, e.algorithm.name, e.scheduler_name, e.detection, e.frames,
-                           steps, "crash", crash.reason, None, **crash.detail())
-    if v.event is None:
-        return _trace(e, v.property, v.reason, ids)
-    steps = e.concretise(ids)
+    """The trace of a state or transition property's witness; for a transition, the first
+    concrete transition out of the witness state's concrete member that fails (None when
+    none does: a ``value`` that is not equivariant, the caller re-checks without reductions)."""
+    prop = get_property(v.property)
+    steps = e.concretise(e.path_to(v.state))
     state = steps[-1][1] if steps else e.initial_state
-    before = e.facts(tuple(sorted(n for n, _ in state))).target
+    here = e.facts(tuple(sorted(n for n, _ in state)))
+    if prop.kind == "state":  # the reason, on the concrete state shown
+        seen = StateFacts(here, all(p is None for _, p in state))
+        return build_trace(e.initial, e.algorithm.name, e.scheduler_name, e.detection, e.frames,
+                           steps, v.property, prop.message_for(seen), None,
+                           **prop.detail_for(seen))
+    assert prop.value is not None and prop.holds is not None
+    before = prop.value(here)
     for event, succ in e.concrete_successors(state):
-        after = e.facts(tuple(sorted(n for n, _ in succ))).target
-        if before is not None and after is not None and after != before:
+        after = prop.value(e.facts(tuple(sorted(n for n, _ in succ))))
+        if not prop.holds(before, after):
             steps.append((event, succ))
             return build_trace(
                 e.initial, e.algorithm.name, e.scheduler_name, e.detection, e.frames, steps,
-                v.property, f"the target meeting node changes from {list(before)} to {list(after)}",
-                None, target_before=list(before), target_after=list(after))
-    return None  # the target is not equivariant: the caller re-checks without reductions
+                v.property, prop.message_for(before, after), None,
+                **prop.detail_for(before, after))
+    return None
 
 
 def run_check(
@@ -121,7 +123,7 @@ def run_check(
     region, so the verdict stays honest; only the last run is reported).
     ``on_exploration`` receives that last search (``check --graph-out`` exports it)."""
     started = time.perf_counter()
-    wanted = props.check_property_names(properties)
+    wanted = check_property_names(properties)
     fixed_margin = limits.pop("margin", None)
     lim = Limits(max_states=max_states, max_seconds=max_seconds,
                  max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),
@@ -174,16 +176,19 @@ def run_check(
         # the trace's reason: it names the nodes of the concrete execution shown
         results[name] = {"holds": False, "reason": trace["reason"]}
         traces[name] = trace
-    stopped = e.stopped if e.stopped not in PSEUDO else None
+    halted = e.stopped is not None and e.stopped in e.violations  # a halting property
+    stopped = None if halted else e.stopped
     complete = e.stopped is None
-    for name in ("final", "no-ungatherable", "target-invariance"):
-        if name in wanted and name not in traces:
-            results[name] = {"holds": True} if complete else {"holds": None,
-                                                               "reason": f"search stopped ({e.stopped})"}
-    if "no-ungatherable" in wanted and e.initial_in_U and complete:
-        results["no-ungatherable"] = {"holds": True, "reason": "initial configuration is in U"}
-    if complete and ({"move-bound", "termination"} & set(wanted)):
-        longest = props.longest_path(e)
+    chosen = [p for p in registered() if p.name in wanted]
+    for prop in chosen:
+        if prop.kind != "graph" and prop.name not in traces:
+            results[prop.name] = {"holds": True} if complete else {
+                "holds": None, "reason": f"search stopped ({e.stopped})"}
+            if complete and prop.name in e.vacuous:
+                results[prop.name] = {"holds": True, "reason": e.vacuous[prop.name]}
+    on_graph = [p for p in chosen if p.kind == "graph"]
+    if complete and on_graph:
+        longest = longest_path(e)
         lifted = e
         if longest.max_moves is None and (e.anonymity or e.symmetry):
             lifted = explore(configuration, algorithm, scheduler, engine=engine,
@@ -193,42 +198,23 @@ def run_check(
         if longest.max_moves is not None:
             report["max_moves"] = longest.max_moves
             report["ratio"] = longest.max_moves / (D * n) if D * n else None
-            if "termination" in wanted:
-                results["termination"] = {"holds": True, "reason": "the reachable graph is acyclic"}
-            if "move-bound" in wanted:
-                ok = longest.max_moves <= move_bound_c * D * n
-                results["move-bound"] = {
-                    "holds": ok, "max_moves": longest.max_moves, "bound": move_bound_c * D * n,
-                    "reason": f"largest total moves {longest.max_moves} "
-                              f"{'<=' if ok else '>'} {move_bound_c:g}*D*n = {move_bound_c * D * n:g}"}
-                if not ok:
-                    traces["move-bound"] = _trace(
-                        e, "move-bound", results["move-bound"]["reason"], longest.path,
-                        max_moves=longest.max_moves, c=move_bound_c, D=D, n=n)
         elif not lifted.stopped:
             report["max_moves_infinite"] = True
-            if "move-bound" in wanted:
-                cyc = props.any_cycle(lifted)
-                assert cyc is not None
-                results["move-bound"] = {"holds": False, "max_moves": None,
-                                         "reason": "a cycle with moves: no bound"}
-                traces["move-bound"] = _trace(
-                    lifted, "move-bound", "a reachable cycle makes moves forever: no bound",
-                    lifted.path_to(cyc[0]), cyc, max_moves=None, c=move_bound_c, D=D, n=n)
-            if "termination" in wanted:
-                live = props.livelock(lifted)
-                if live is None:
-                    results["termination"] = {"holds": True, "reason": "every cycle is unfair"}
-                else:
-                    reason = ("livelock: a fair execution stays forever in a component of "
-                              f"{len(live.component)} states without reaching a final state")
-                    results["termination"] = {"holds": False, "reason": reason}
-                    traces["termination"] = _trace(lifted, "termination", reason,
-                                                   lifted.path_to(live.cycle[0]), live.cycle)
-    for name in PSEUDO & e.violations.keys():  # defined, crash: always checked
-        results[name] = {"holds": False, "reason": (traces[name] if name in traces
-                                                    else e.violations[name].__dict__)["reason"]}
-    failing = [p for p in props.ORDER if p in traces]
+        if longest.max_moves is not None or not lifted.stopped:
+            graph = GraphFacts(e, longest, None if longest.max_moves is not None else lifted,
+                               D, n, move_bound_c)
+            for prop in on_graph:
+                assert prop.decide is not None
+                outcome = prop.decide(graph)
+                results[prop.name] = outcome.result
+                w = outcome.witness
+                if w is not None:
+                    traces[prop.name] = _trace(w.exploration, prop.name, w.reason, w.path,
+                                               w.cycle, **w.detail)
+    for name, v in e.violations.items():  # always checked, so never requested: add them
+        if get_property(name).pseudo:
+            results.setdefault(name, {"holds": False, "reason": v.reason})
+    failing = [p.name for p in registered() if p.name in traces]
     verdict = combine(failing, stopped)
     report["verdict"] = verdict
     if failing:

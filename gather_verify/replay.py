@@ -3,8 +3,10 @@
 Uses only the algorithm, :mod:`moves` and the schedulers (never the
 explorer): every event must be one the scheduler offers from the previous
 state, every recorded state must be the one reached, and the property's
-failure is re-established on the replayed states (a deadlock really has no
-move; the target really changes; a cycle really returns and is fair; ...).
+failure is re-established on the replayed states by the property object itself
+(:meth:`~gather_verify.properties.Property.confirmed`: a state or transition property
+re-evaluates its predicate on facts computed here from the algorithm; a graph property
+checks its cycle or its move count).
 
 >>> from gather_verify.check import run_check
 >>> from gather_verify.model.configuration import Configuration
@@ -19,11 +21,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from gather_verify.algorithms import AlgorithmCrash, Unhandled, get_algorithm, target_of
+from gather_verify.algorithms import AlgorithmCrash, Unhandled, get_algorithm
 from gather_verify.algorithms.moves import frames_for, move_sets
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, add
+from gather_verify.properties.base import Run
+from gather_verify.properties.facts import configuration_facts
+from gather_verify.properties.registry import get_property
 from gather_verify.trace import initial_of, load_trace, steps_of
 from schedulers import State, configuration_of, get_scheduler, initial_state
 
@@ -77,71 +82,12 @@ def replay(trace: dict[str, Any]) -> Replayed:
             raise NoLongerReproduces(f"trace step {k}: the algorithm no longer allows event "
                                      f"{event.to_json()}")
         states.append(state)
-    prop = trace["property"]
-    last = states[-1]
-    gathered = len(set(v for v, _ in last)) == 1 and last[0][0] in meeting
-    if prop == "defined":
-        try:
-            ms(configuration_of(last))
-        except Unhandled as error:
-            return Replayed(True, f"the algorithm has no rule in the last state: {error}", len(steps))
-        return Replayed(False, "the algorithm decides every robot in the last state", len(steps))
-    if prop == "crash":
-        try:
-            ms(configuration_of(last))
-            target_of(algorithm, conf(last))
-        except AlgorithmCrash as crash:
-            return Replayed(True, str(crash), len(steps))
-        return Replayed(False, "the algorithm no longer crashes in the last state", len(steps))
-    if prop == "final":
-        sets = ms(configuration_of(last))
-        stuck = all(s == {v} for v, s in sets.items()) and all(p is None for _, p in last)
-        ok = stuck and not gathered
-        return Replayed(ok, "deadlock confirmed: nothing can move and the robots are not gathered"
-                        if ok else "the last state is not a deadlock", len(steps))
-    if prop == "no-ungatherable":
-        from gather_verify.model.classes import classify_configuration
-        first, end = classify_configuration(initial), classify_configuration(conf(last))
-        ok = not first.in_U and end.in_U
-        return Replayed(ok, f"{first.name} -> {end.name}", len(steps))
-    if prop == "target-invariance":
-        if len(states) < 2:
-            return Replayed(False, "no transition", len(steps))
-        before, after = target_of(algorithm, conf(states[-2])), target_of(algorithm, conf(last))
-        ok = before is not None and after is not None and before != after
-        return Replayed(ok, f"target {before} -> {after}", len(steps))
-    total = sum(ev.distance for ev, _ in steps)
-    cs = trace.get("cycle_start")
-    if cs is not None:
-        ok, why = _fair_cycle(states, steps, cs, ms)
-        if prop == "move-bound":
-            moves = sum(ev.distance for ev, _ in steps[cs:])
-            ok = ok or (states[cs] == last and moves > 0)
-            why = f"the cycle returns and makes {moves} moves per turn" if ok else why
-        return Replayed(ok, why, len(steps))
-    if prop == "move-bound":
-        detail = trace.get("detail", {})
-        c, D, n = detail.get("c"), detail.get("D"), detail.get("n")
-        if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in (c, D, n)):
-            raise InvalidInput("bad trace: a move-bound trace needs numbers c, D and n in 'detail'")
-        ok = total > c * D * n
-        return Replayed(ok, f"{total} moves vs bound {c}*{D}*{n} = {c * D * n:g}", len(steps))
-    raise InvalidInput(f"bad trace: unknown property {prop!r}")
-
-
-def _fair_cycle(states: list[State], steps: list, cs: int, ms: Any) -> tuple[bool, str]:
-    """The cycle from state ``cs`` returns to it, changes something, and is fair: every robot
-    has an event in it or is idle somewhere in it with staying in its move set; and it never
-    passes a final gathered state."""
-    if states[cs] != states[-1] or cs == len(states) - 1:
-        return False, "the cycle does not return to its first state"
-    n = len(states[0])
-    active = set()
-    for ev, _ in steps[cs:]:
-        active |= set(ev.robots)
-    for state in states[cs:]:
-        sets = ms(configuration_of(state))
-        active |= {i for i, (v, p) in enumerate(state) if p is None and v in sets[v]}
-    if active != set(range(n)):
-        return False, f"unfair: robots {sorted(set(range(n)) - active)} never act in the cycle"
-    return True, f"fair cycle of {len(states) - 1 - cs} steps confirmed"
+    try:
+        prop = get_property(trace["property"])
+    except InvalidInput as error:
+        raise InvalidInput(f"bad trace: {error}") from None
+    run = Run(trace, states, steps,
+              lambda state: configuration_facts(algorithm, conf(state), initial, detection, frames),
+              ms)
+    confirmed, message = prop.confirmed(run)
+    return Replayed(confirmed, message, len(steps))

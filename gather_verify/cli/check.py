@@ -45,7 +45,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--multiplicity", help="multiplicity detection model (default local-weak)")
     parser.add_argument("--frames", choices=("all", "compass", "chirality"))
     parser.add_argument("--property", action="append", dest="properties", metavar="P",
-                        help="property to check (repeatable; default all)")
+                        help="property to check, a name or FILE.py:NAME (a Property object "
+                             "defined in that file, docs/properties.md); repeatable; default all")
     parser.add_argument("--no-reduction", action="store_true",
                         help="switch off the anonymity and Aut(M) reductions")
     parser.add_argument("--max-states", type=bounded_int(1, 10**10), default=DEFAULT_MAX_STATES)

@@ -16,6 +16,7 @@ from gather_verify.cli.common import (
     print_json,
     writable_outputs,
 )
+from gather_verify.errors import InvalidInput
 
 HELP = "re-execute a counterexample trace and confirm its violation independently"
 
@@ -28,6 +29,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "file: step through it, stale snapshots, the cycle of a livelock)")
     parser.add_argument("--quiet", action="store_true", help="no ASCII grids")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument("--property", action="append", default=[], metavar="FILE.py:NAME",
+                        help="load a property defined in a file (for a trace of a property "
+                             "checked with check --property FILE.py:NAME); repeatable")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -36,6 +40,12 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.trace import load_trace
 
     writable_outputs(svg=args.svg, html=args.html)
+    for spec in args.property:
+        from gather_verify.properties.registry import load_property
+
+        if ":" not in spec:
+            raise InvalidInput(f"--property {spec}: expected FILE.py:NAME")
+        load_property(spec)
     trace = load_trace(args.trace)
     try:
         result = replay(trace)

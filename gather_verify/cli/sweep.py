@@ -34,7 +34,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--multiplicity", default="local-weak", help="detection model")
     p.add_argument("--frames", default="all", choices=("all", "chirality", "compass"))
     p.add_argument("--property", action="append", dest="properties", metavar="P",
-                   help="property to check (repeat; default: all)")
+                   help="property to check, a name or FILE.py:NAME (docs/properties.md); "
+                        "repeat; default: all")
     p.add_argument("--no-reduction", action="store_true")
     p.add_argument("--db", default=DEFAULT_DB, help=f"results database (default {DEFAULT_DB})")
     p.add_argument("--fresh", action="store_true",
@@ -97,8 +98,9 @@ def run(args: argparse.Namespace) -> int:
         for m in args.meeting:
             validate_census_arguments(n, m, *args.box)
     if args.properties:
-        from gather_verify.properties import check_property_names
+        from gather_verify.properties.registry import absolute_spec, check_property_names
 
+        args.properties = [absolute_spec(p) for p in args.properties]  # workers load the file
         check_property_names(args.properties)
     settings = [SweepSettings(
         robots=n, meeting=m, box=args.box, algorithm=args.algorithm,

@@ -37,10 +37,11 @@ import resource
 import time
 from array import array
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
-from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
-from gather_verify.algorithms.moves import frames_for, move_sets
+from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm
+from gather_verify.algorithms.moves import frames_for
+from gather_verify.engine.checks import Checks, Violation, symmetric
 from gather_verify.engine.encoding import (
     DEFAULT_MARGIN,
     DEFAULT_MAX_MEMORY_MB,
@@ -53,14 +54,14 @@ from gather_verify.engine.encoding import (
     region_box,
     symmetry_group,
 )
-from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.view import check_detection
+from gather_verify.properties.facts import ConfigurationFacts, StateFacts, configuration_facts
 from schedulers import Event, State, configuration_of, get_scheduler, initial_state
 
 __all__ = ["DEFAULT_MARGIN", "DEFAULT_MAX_MEMORY_MB", "DEFAULT_MAX_SECONDS", "DEFAULT_MAX_STATES",
-           "SAFETY", "STEP_INDEX", "ConfigurationFacts", "Encoding", "Exploration",
+           "STEP_INDEX", "ConfigurationFacts", "Encoding", "Exploration",
            "Limits", "Violation", "explore_reference", "facts_cache", "region_box",
            "rss_mb", "symmetry_group"]
 """(``Encoding``, ``Limits``, the defaults, ``region_box`` and ``symmetry_group`` live in
@@ -74,32 +75,6 @@ def rss_mb() -> float:
             return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
     except (OSError, ValueError, IndexError):
         return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-
-
-@dataclass
-class ConfigurationFacts:
-    """What the properties need about one configuration (cached per configuration)."""
-
-    move_sets: dict[Node, frozenset[Node]] | None  # None: Unhandled, or a crash
-    unhandled: str | None
-    stuck: bool  # every robot's move set is {its node}
-    gathered: bool  # every robot on one meeting node
-    in_U: bool
-    target: Node | None
-    crash: AlgorithmCrash | None = None  # decide or target raised (the crash property)
-
-
-@dataclass
-class Violation:
-    """The first (shortest) witness of a safety property: the state it ends in, and for a
-    transition property the event leaving it and the target values."""
-
-    property: str
-    state: int
-    reason: str
-    event: Event | None = None
-    successor: State | None = None
-    detail: dict[str, object] = field(default_factory=dict)
 
 
 @dataclass
@@ -127,7 +102,7 @@ class Exploration:
     seconds: float
     peak_rss_mb: float
     facts: Callable[[tuple[Node, ...]], ConfigurationFacts]
-    initial_in_U: bool
+    vacuous: dict[str, str]  # properties not checked: they hold from this initial state, why
 
     @property
     def n(self) -> int:
@@ -175,52 +150,23 @@ class Exploration:
         return initial_state(self.initial.robots)
 
 
-def facts_cache(algorithm: Algorithm, meeting: frozenset[Node], detection: str,
+def facts_cache(algorithm: Algorithm, initial: Configuration, detection: str,
                 frames: Sequence[int]) -> Callable[[tuple[Node, ...]], ConfigurationFacts]:
     """A memoised ``robots -> ConfigurationFacts`` (decisions depend on the configuration only)."""
     cache: dict[tuple[Node, ...], ConfigurationFacts] = {}
+    meeting = initial.meeting_nodes
 
     def facts(robots: tuple[Node, ...]) -> ConfigurationFacts:
         got = cache.get(robots)
         if got is None:
-            c = Configuration.trusted(robots, meeting)
-            crash = None
-            try:
-                ms: dict[Node, frozenset[Node]] | None = move_sets(algorithm, c, detection, frames)
-                unhandled = None
-            except Unhandled as error:
-                ms, unhandled = None, str(error) or "no rule for this view"
-            except AlgorithmCrash as error:
-                ms, unhandled, crash = None, None, error
-            try:
-                target = target_of(algorithm, c)
-            except Unhandled:
-                target = None
-            except AlgorithmCrash as error:
-                target, crash = None, crash or error
-                ms = None
-            stuck = ms is not None and all(s == {v} for v, s in ms.items())
-            gathered = len(c.counts) == 1 and robots[0] in meeting
-            got = ConfigurationFacts(ms, unhandled, stuck, gathered,
-                                     classify_configuration(c).in_U, target, crash)
+            got = configuration_facts(algorithm, Configuration.trusted(robots, meeting), initial,
+                                      detection, frames)
             cache[robots] = got
         return got
 
     return facts
 
 
-SAFETY = ("defined", "final", "no-ungatherable", "target-invariance")
-PSEUDO = {"crash", "defined"}
-"""Checked always, and the search stops at their first witness: the state has no successors
-the algorithm defines (a crash: SEMANTICS.md §5's ``defined``, for an exception)."""
-
-
-def undefined(sid: int, unhandled: str | None, crash: AlgorithmCrash | None
-              ) -> tuple[str, Violation]:
-    """The ``crash`` or ``defined`` violation of a state whose move sets are not defined."""
-    if crash is not None:
-        return "crash", Violation("crash", sid, crash.reason, detail=crash.detail())
-    return "defined", Violation("defined", sid, f"the algorithm has no rule here: {unhandled}")
 
 
 def explore_reference(
@@ -233,15 +179,16 @@ def explore_reference(
     reduction: bool = True,
     anonymity: bool | None = None,
     symmetry: bool | None = None,
-    properties: Iterable[str] = SAFETY,
+    properties: Iterable[str] | None = None,
     limits: Limits = NO_LIMITS,
 ) -> Exploration:
     """Breadth-first search of every state reachable from ``initial`` (reference path).
 
-    Safety properties in ``properties`` (``final``, ``no-ungatherable``,
-    ``target-invariance``; ``defined`` always) are checked on the way and their
-    first witness kept; the search stops at a ``defined`` violation (the state
-    cannot be expanded) or when a limit is hit (``stopped`` names it).
+    The state and transition properties named in ``properties`` (default: every registered
+    one; the pseudo-properties ``crash`` and ``defined`` always) are checked on the way and their
+    first witness kept (:mod:`gather_verify.engine.checks`); the search stops at a violation
+    of a halting property (``crash``, ``defined``: the state cannot be expanded; ``stopped`` names the
+    property) or when a limit is hit (``stopped`` names it).
     """
     started = time.perf_counter()
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
@@ -249,15 +196,11 @@ def explore_reference(
     check_detection(detection)
     frame_elements = frames_for(frames)
     anonymity = reduction if anonymity is None else anonymity
-    symmetry = reduction if symmetry is None else symmetry
+    symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
     group = symmetry_group(initial, frames) if symmetry else []
     enc = Encoding(region_box(initial, limits.margin, group), group, anonymity)
-    wanted = set(properties)
-    facts = facts_cache(algo, initial.meeting_nodes, detection, frame_elements)
-    initial_in_U = facts(initial.robots).in_U
-    check_u = "no-ungatherable" in wanted and not initial_in_U
-    check_target = "target-invariance" in wanted
-    check_final = "final" in wanted
+    facts = facts_cache(algo, initial, detection, frame_elements)
+    checks = Checks(properties, StateFacts(facts(initial.robots), True))
 
     def ms(robots: tuple[Node, ...]) -> dict[Node, frozenset[Node]]:
         got = facts(robots).move_sets
@@ -268,7 +211,7 @@ def explore_reference(
     keys = [enc.key(start)]
     visited = {keys[0]: 0}
     parents, offsets, targets, weights = array("q", [-1]), array("q"), array("l"), array("b")
-    violations: dict[str, Violation] = {}
+    checks.state(0, StateFacts(facts(initial.robots), True), checks.on_discovery)
     transitions = changed_loops = 0
     stopped: str | None = None
     peak = rss_mb()
@@ -287,27 +230,22 @@ def explore_reference(
         state = enc.decode(keys[sid], n)
         robots = configuration_of(state)
         here = facts(robots)
-        if here.move_sets is None:
-            stopped, violations[stopped] = undefined(sid, here.unhandled, here.crash)
+        seen = StateFacts(here, all(p is None for _, p in state))
+        halted = checks.halt(sid, seen)
+        if halted:
+            stopped = halted
             break
-        if (check_final and "final" not in violations and here.stuck and not here.gathered
-                and all(p is None for _, p in state)):
-            violations["final"] = Violation(
-                "final", sid, "deadlock: no robot can move, nothing is pending, and the "
-                "robots are not all on one meeting node")
+        assert here.move_sets is not None, "a state without move sets needs a halting property"
+        checks.state(sid, seen, checks.on_expansion)
         offsets.append(len(targets))
         for event, succ in sched.successors(state, ms):
             transitions += 1
             if not all(enc.inside(v) for v, _ in succ):
                 stopped = "region"
                 break
-            if check_target and here.target is not None and "target-invariance" not in violations:
-                after = facts(configuration_of(succ)).target
-                if after is not None and after != here.target:
-                    violations["target-invariance"] = Violation(
-                        "target-invariance", sid,
-                        f"the target meeting node changes from {list(here.target)} to {list(after)}",
-                        event, succ, {"target_before": list(here.target), "target_after": list(after)})
+            if checks.on_transition:
+                checks.transition(sid, here, lambda: facts(configuration_of(succ)),  # noqa: B023
+                                  (event, succ))
             key = enc.key(succ)
             did = visited.get(key)
             if did is None:
@@ -315,11 +253,10 @@ def explore_reference(
                 visited[key] = did
                 keys.append(key)
                 parents.append(sid)
-                if check_u and "no-ungatherable" not in violations and \
-                        facts(configuration_of(succ)).in_U:
-                    violations["no-ungatherable"] = Violation(
-                        "no-ungatherable", did, "a configuration in U (I41/I42) is reached from "
-                        "one outside U")
+                if checks.on_discovery:
+                    checks.state(did, StateFacts(facts(configuration_of(succ)),
+                                                 all(p is None for _, p in succ)),
+                                 checks.on_discovery)
             elif did == sid and succ != state:
                 changed_loops += 1
             targets.append(did)
@@ -334,5 +271,5 @@ def explore_reference(
     peak = max(peak, rss_mb())
     return Exploration(
         initial, algo, scheduler, detection, frames, anonymity, symmetry, enc, keys, parents,
-        offsets, targets, weights, changed_loops, len(keys), transitions, stopped, violations,
-        time.perf_counter() - started, peak, facts, initial_in_U)
+        offsets, targets, weights, changed_loops, len(keys), transitions, stopped,
+        checks.violations, time.perf_counter() - started, peak, facts, checks.vacuous)

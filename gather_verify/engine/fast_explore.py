@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterable, Iterator, Sequence
+from functools import partial
 from itertools import islice
 from typing import Any
 
@@ -44,6 +45,7 @@ import numpy as np
 
 from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
+from gather_verify.engine.checks import Checks, ColumnChecks, symmetric
 from gather_verify.engine.encoding import (
     NO_LIMITS,
     Encoding,
@@ -52,12 +54,9 @@ from gather_verify.engine.encoding import (
     symmetry_group,
 )
 from gather_verify.engine.explore import (
-    SAFETY,
     Exploration,
-    Violation,
     facts_cache,
     rss_mb,
-    undefined,
 )
 from gather_verify.model import geometry
 from gather_verify.model.canonical import canonical_form
@@ -66,7 +65,7 @@ from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
 from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
 from gather_verify.model.view import check_detection
-from schedulers import Scheduler, get_scheduler, initial_state
+from schedulers import State, get_scheduler, initial_state
 
 CHUNK = 1 << 14
 """States expanded per bulk step: bounds the transient arrays (a few MB)."""
@@ -372,7 +371,7 @@ class FactsTable:
         self.index = KeyIndex(bits=10, capacity=1024)  # configuration key -> row
         self.cells = np.zeros((1024, n), dtype=np.int32)
         self.masks = np.zeros((1024, n), dtype=np.uint8)
-        self.flags = np.zeros((1024, 3), dtype=np.int8)  # unhandled, stuck, gathered
+        self.flags = np.zeros((1024, 3), dtype=np.int8)  # undefined (1, 2: crash), stuck, gathered
         self.in_u = np.full(1024, -2, dtype=np.int8)
         self.target = np.full(1024, -2, dtype=np.int32)
         self.size = 0
@@ -464,15 +463,26 @@ class FactsTable:
         return r
 
     def _facts(self, robots: tuple[Node, ...]) -> tuple[list[int], tuple[int, int, int]]:
-        """Move masks of ``robots`` (in order) and the flags (unhandled, stuck, gathered)."""
+        """Move masks of ``robots`` (in order) and the flags (no move sets: 0, or 1 when the
+        algorithm has no rule, 2 when it crashed in ``decide`` or ``target``; stuck; gathered),
+        as :func:`~gather_verify.properties.facts.configuration_facts` defines them."""
         c = Configuration.trusted(robots, self.meeting)
+        undefined = 0
         try:
             ms = move_sets(self.algorithm, c, self.detection, self.frames)
-            target_of(self.algorithm, c)  # only whether it crashes: need_target gives values
         except Unhandled:
-            return [0] * len(robots), (1, 0, 0)
+            undefined = 1
         except AlgorithmCrash:
-            return [0] * len(robots), (2, 0, 0)
+            undefined = 2
+        if undefined != 2:
+            try:
+                target_of(self.algorithm, c)  # only whether it crashes: need_target gives values
+            except Unhandled:
+                pass
+            except AlgorithmCrash:
+                undefined = 2
+        if undefined:
+            return [0] * len(robots), (undefined, 0, 0)
         masks = [sum(BIT[x - vx, y - vy] for x, y in ms[vx, vy]) for vx, vy in robots]
         return masks, (0, all(s == {v} for v, s in ms.items()),
                        len(c.counts) == 1 and robots[0] in self.meeting)
@@ -508,47 +518,153 @@ class FactsTable:
         back = STEP_PERM[geometry.inverse(g)]
         return [back[known[0][w]] for w in image], known[1]
 
-    def undefined(self, sid: int, row: int) -> tuple[str, Violation]:
-        """The ``defined`` or ``crash`` violation of state ``sid`` (configuration ``row``),
-        computed again on the configuration itself."""
+    def reason(self, row: int) -> str | None:
+        """Why the algorithm has no rule in this configuration (computed on it; None: it has
+        one, or it crashed in ``decide``)."""
+        try:
+            move_sets(self.algorithm, self.configuration(row), self.detection, self.frames)
+        except Unhandled as error:
+            return str(error) or "no rule for this view"
+        except AlgorithmCrash:
+            return None
+        return None
+
+    def crash_of(self, row: int) -> AlgorithmCrash:
+        """The exception of the algorithm in this configuration (computed on it: ``decide``'s
+        first, else ``target``'s, as :func:`~gather_verify.properties.facts.configuration_facts`)."""
         c = self.configuration(row)
         try:
             move_sets(self.algorithm, c, self.detection, self.frames)
-            target_of(self.algorithm, c)
-        except Unhandled as error:
-            return undefined(sid, str(error) or "no rule for this view", None)
+        except Unhandled:
+            pass
         except AlgorithmCrash as crash:
-            return undefined(sid, None, crash)
-        raise AssertionError("the orbit is undefined, so is every member")  # pragma: no cover
+            return crash
+        try:
+            target_of(self.algorithm, c)
+        except Unhandled:
+            pass
+        except AlgorithmCrash as crash:
+            return crash
+        raise AssertionError("the orbit crashes, so does every member")  # pragma: no cover
 
     def need_in_u(self, rows: np.ndarray) -> np.ndarray:
+        for r in np.unique(rows[self.in_u[rows] == -2]).tolist():
+            self.in_u_of(r)
+        return self.in_u[rows] == 1
+
+    def in_u_of(self, row: int) -> bool:
+        """Whether the configuration of ``row`` is in U (computed once)."""
+        known = int(self.in_u[row])
+        if known != -2:
+            return known == 1
         # In U needs Aut(C) non-trivial, and Aut(C) is inside Aut(M): when no element of
         # Aut(M) but the identity maps the occupied nodes onto themselves, C is not in U.
         aut = self.aut_m
-        for r in np.unique(rows[self.in_u[rows] == -2]).tolist():
-            c = self.configuration(r)
-            occupied = set(c.robots)
-            if any(all(a(v) in occupied for v in occupied) for a in aut[1:]):
-                self.in_u[r] = classify_configuration(c, aut_m_all=aut).in_U
-            else:
-                self.in_u[r] = 0
-        return self.in_u[rows] == 1
+        c = self.configuration(row)
+        occupied = set(c.robots)
+        if any(all(a(v) in occupied for v in occupied) for a in aut[1:]):
+            self.in_u[row] = classify_configuration(c, aut_m_all=aut).in_U
+        else:
+            self.in_u[row] = 0
+        return bool(self.in_u[row] == 1)
 
     def need_target(self, rows: np.ndarray) -> np.ndarray:
         """Target id per row (-1: none)."""
         for r in np.unique(rows[self.target[rows] == -2]).tolist():
-            try:
-                t = target_of(self.algorithm, self.configuration(r))
-            except (Unhandled, AlgorithmCrash):  # a crash stops the search at the orbit
-                t = None
-            if t is None:
-                self.target[r] = -1
-            else:
-                if t not in self.target_ids:
-                    self.target_ids[t] = len(self.target_nodes)
-                    self.target_nodes.append(t)
-                self.target[r] = self.target_ids[t]
+            self.target_id_of(r)
         return self.target[rows]
+
+    def target_id_of(self, row: int) -> int:
+        """The id of the target of ``row`` in ``target_nodes`` (-1: none; computed once)."""
+        known = int(self.target[row])
+        if known != -2:
+            return known
+        try:
+            t = target_of(self.algorithm, self.configuration(row))
+        except (Unhandled, AlgorithmCrash):  # a crash stops the search at the orbit
+            t = None
+        if t is None:
+            self.target[row] = -1
+        else:
+            if t not in self.target_ids:
+                self.target_ids[t] = len(self.target_nodes)
+                self.target_nodes.append(t)
+            self.target[row] = self.target_ids[t]
+        return int(self.target[row])
+
+
+class RowFacts:
+    """The :class:`~gather_verify.properties.facts.Facts` of one row of a :class:`FactsTable`,
+    read from the table (class and target computed on first use); with ``idle`` given, also
+    a state's facts (:class:`~gather_verify.properties.facts.StateFacts`), and ``read_idle``
+    tells whether a predicate read it (if not, its answer holds for both values)."""
+
+    __slots__ = ("table", "row", "initial", "flags", "_idle", "read_idle")
+
+    def __init__(self, table: FactsTable, row: int, initial: Configuration,
+                 idle: bool | None = None, flags: Sequence[int] | None = None):
+        self.table, self.row, self.initial = table, row, initial
+        self.flags = table.flags[row].tolist() if flags is None else flags
+        self._idle = idle
+        self.read_idle = False
+
+    @staticmethod
+    def many(table: FactsTable, initial: Configuration, rows: np.ndarray,
+             idle: np.ndarray) -> list[RowFacts]:
+        """The state facts of many (row, idle) pairs, their flags read in one go."""
+        return [RowFacts(table, r, initial, i, f) for r, i, f in
+                zip(rows.tolist(), idle.tolist(), table.flags[rows].tolist(), strict=True)]
+
+    @property
+    def idle(self) -> bool:
+        if self._idle is None:
+            raise AttributeError("idle: the facts of a configuration, not of a state")
+        self.read_idle = True
+        return self._idle
+
+    @property
+    def configuration(self) -> Configuration:
+        return self.table.configuration(self.row)
+
+    @property
+    def move_sets(self) -> dict[Node, frozenset[Node]] | None:
+        if self.flags[0]:
+            return None
+        out = {}
+        for cell, mask in zip(self.table.cells[self.row].tolist(),
+                              self.table.masks[self.row].tolist(), strict=True):
+            v = self.table.enc.node(cell)
+            out[v] = frozenset(geometry.add(v, d) for d, bit in BIT.items() if mask & bit)
+        return out
+
+    @property
+    def unhandled(self) -> str | None:
+        if not self.flags[0]:
+            return None
+        got = self.table.reason(self.row)
+        assert got is not None or self.flags[0] == 2, "the orbit is unhandled, so is every member"
+        return got
+
+    @property
+    def crash(self) -> AlgorithmCrash | None:
+        return self.table.crash_of(self.row) if self.flags[0] == 2 else None
+
+    @property
+    def stuck(self) -> bool:
+        return bool(self.flags[1])
+
+    @property
+    def gathered(self) -> bool:
+        return bool(self.flags[2])
+
+    @property
+    def in_U(self) -> bool:
+        return self.table.in_u_of(self.row)
+
+    @property
+    def target(self) -> Node | None:
+        t = self.table.target_id_of(self.row)
+        return None if t < 0 else self.table.target_nodes[t]
 
 
 def supports(initial: Configuration, scheduler: str, reduction: bool = True,
@@ -608,7 +724,7 @@ def explore_fast(
     reduction: bool = True,
     anonymity: bool | None = None,
     symmetry: bool | None = None,
-    properties: Iterable[str] = SAFETY,
+    properties: Iterable[str] | None = None,
     limits: Limits = NO_LIMITS,
     graph: bool = True,
     memo: bool = False,
@@ -628,12 +744,11 @@ def explore_fast(
     check_detection(detection)
     frame_elements = frames_for(frames)
     anonymity = reduction if anonymity is None else anonymity
-    symmetry = reduction if symmetry is None else symmetry
+    symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
     group = symmetry_group(initial, frames) if symmetry else []
     enc = Encoding(region_box(initial, limits.margin, group), group, anonymity)
     n = initial.n
-    wanted = set(properties)
-    facts = facts_cache(algo, initial.meeting_nodes, detection, frame_elements)
+    facts = facts_cache(algo, initial, detection, frame_elements)
     table = FactsTable(enc, n, algo, initial.meeting_nodes, detection, frame_elements,
                        meeting_automorphisms(initial),
                        facts_memo(algo, detection, frames) if memo else None)
@@ -644,10 +759,12 @@ def explore_fast(
     start_key = enc.key(initial_state(initial.robots))
     init_cells = np.array([[enc.code(v, None) // 5 for v in initial.robots]], dtype=np.int64)
     srt, ck = table.config_keys(init_cells)
-    initial_in_U = bool(table.need_in_u(table.rows(ck, srt))[0])
-    check_u = "no-ungatherable" in wanted and not initial_in_U
-    check_target = "target-invariance" in wanted
-    check_final = "final" in wanted
+    init_row = table.rows(ck, srt)
+    checks = Checks(properties, RowFacts(table, int(init_row[0]), initial, True))
+    columns = ColumnChecks(checks, lambda row, idle=None: RowFacts(table, row, initial, idle),
+                           lambda rows, idle: RowFacts.many(table, initial, rows, idle))
+    columns.states(0, init_row, np.ones(1, dtype=bool), checks.on_discovery)
+    on_chunk = checks.halting + checks.on_expansion
 
     max_states = min(limits.max_states, MAX_IDS)
     # columns reserved up front: untouched pages cost no memory, and nothing is copied
@@ -659,7 +776,6 @@ def explore_fast(
     offsets = Growing(np.int64)
     targets = Growing(np.int32)
     weights = Growing(np.int8)
-    violations: dict[str, Violation] = {}
     transitions = changed_loops = 0
     stopped: str | None = None
     peak = rss_mb()
@@ -679,11 +795,16 @@ def explore_fast(
         cells = codes // 5
         srt, ck = table.config_keys(cells)
         rows = table.rows(ck, srt)
-        # the last source state to expand, and how far (defined: not at all)
+        idle = np.all(codes % 5 == 0, axis=1)
+        # the last source state to expand: a halting property stops before the state it fails in
         limit_src = len(K)
-        unhandled = np.flatnonzero(table.flags[rows, 0])
-        if len(unhandled):
-            limit_src = int(unhandled[0])
+        # the halting and the expansion properties, evaluated together on the whole chunk
+        failing = columns.failures(on_chunk, rows, idle, gate=len(checks.halting))
+        halt = columns.first_failure(checks.halting, failing[:, :len(checks.halting)])
+        if halt is not None:
+            limit_src = halt[0]
+        assert not table.flags[rows[:limit_src], 0].any(), \
+            "a state without move sets needs a halting property"
         # robot i's move mask: the mask of its cell's position in the sorted row
         rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
         masks = table.masks[rows[:, None], rank]
@@ -708,7 +829,7 @@ def explore_fast(
             transitions += cut + 1
         else:
             stop_src = limit_src
-            stop = "defined" if limit_src < len(K) else None
+            stop = halt[1].name if halt is not None and halt[0] == limit_src else None
             transitions += cut
         src, weight = src[:cut], weight[:cut]
         changes = cut if single else int(np.searchsorted(event, cut))
@@ -752,40 +873,23 @@ def explore_fast(
                 index.truncate(known + m)
         fresh_keys = index.keys[known:index.count]
         expanded = stop_src + (stop in ("region", "states"))
-        if check_final and "final" not in violations and expanded:
-            dead = (table.flags[rows[:expanded], 1] == 1) & (table.flags[rows[:expanded], 2] == 0) \
-                & np.all(codes[:expanded] % 5 == 0, axis=1)
-            hit = np.flatnonzero(dead)
-            if len(hit):
-                violations["final"] = Violation(
-                    "final", sid + int(hit[0]), "deadlock: no robot can move, nothing is pending, "
-                    "and the robots are not all on one meeting node")
-        if check_target and "target-invariance" not in violations and cut:
-            before = table.need_target(rows[src])
-            maybe = np.flatnonzero(before >= 0)
-            if len(maybe):
-                if single and succ_codes is None:
-                    succ_cells = cells[src[maybe]].copy()
-                    succ_cells[np.arange(len(maybe)), robot[maybe]] = new[maybe] // 5
-                else:
-                    succ_cells = succ_codes[maybe] // 5
-                s2, k2 = table.config_keys(succ_cells)
-                after = table.need_target(table.rows(k2, s2))
-                bad = np.flatnonzero((after >= 0) & (after != before[maybe]))
-                if len(bad):
-                    f = int(maybe[bad[0]])
-                    violations["target-invariance"] = _target_violation(
-                        enc, table, sched, facts, sid, int(K[src[f]]), int(src[f]),
-                        f - int(np.searchsorted(src, src[f])), succ_codes, f,
-                        int(before[maybe[bad[0]]]), int(after[bad[0]]))
-        if check_u and "no-ungatherable" not in violations and len(fresh_keys):
-            fc = _decode(fresh_keys, base, n) // 5
-            s3, k3 = table.config_keys(fc)
-            bad = np.flatnonzero(table.need_in_u(table.rows(k3, s3)))
-            if len(bad):
-                violations["no-ungatherable"] = Violation(
-                    "no-ungatherable", known + int(bad[0]),
-                    "a configuration in U (I41/I42) is reached from one outside U")
+        columns.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
+                       rows, idle)
+        if checks.open(checks.on_transition) and cut:
+            # the configuration each transition reaches, from the scheduler's changes
+            if succ_codes is None:  # one change per event, no reduction: event c is change c
+                succ_cells = cells[src].copy()
+                succ_cells[np.arange(cut), robot] = new // 5
+            else:
+                succ_cells = succ_codes // 5
+            s2, k2 = table.config_keys(succ_cells)
+            columns.transitions(sid, src, rows[src], table.rows(k2, s2),
+                                partial(_step, enc, sched, facts, n, K, src, succ_codes))
+        if checks.open(checks.on_discovery) and len(fresh_keys):
+            fresh = _decode(fresh_keys, base, n)
+            s3, k3 = table.config_keys(fresh // 5)
+            columns.states(known, table.rows(k3, s3), np.all(fresh % 5 == 0, axis=1),
+                           checks.on_discovery)
         if single:
             changed = new != old
         else:
@@ -799,8 +903,8 @@ def explore_fast(
             targets.extend(ids.astype(np.int32))
             weights.extend(weight.astype(np.int8))
         parents.extend((sid + fresh_src).astype(np.int32))
-        if stop == "defined":  # or a crash: the table computes which
-            stop, violations[stop] = table.undefined(sid + stop_src, int(rows[stop_src]))
+        if halt is not None and stop == halt[1].name and halt[0] == stop_src:
+            columns.record_halt(sid + stop_src, int(rows[stop_src]), bool(idle[stop_src]), halt[1])
         if stop is not None:
             stopped = stop
             break
@@ -812,8 +916,8 @@ def explore_fast(
     return Exploration(
         initial, algo, scheduler, detection, frames, anonymity, symmetry, enc, IntColumn(keys),
         IntColumn(parents.array()), IntColumn(offsets.array()), IntColumn(targets.array()),
-        IntColumn(weights.array()), changed_loops, index.count, transitions, stopped, violations,
-        time.perf_counter() - started, peak, facts, initial_in_U)
+        IntColumn(weights.array()), changed_loops, index.count, transitions, stopped,
+        checks.violations, time.perf_counter() - started, peak, facts, checks.vacuous)
 
 
 def _decode(keys: np.ndarray, base: int, n: int) -> np.ndarray:
@@ -826,12 +930,16 @@ def _decode(keys: np.ndarray, base: int, n: int) -> np.ndarray:
     return codes
 
 
-def _target_violation(enc: Encoding, table: FactsTable, sched: Scheduler, facts: Any, sid: int,
-                      key: int, src: int, k: int, succ_codes: np.ndarray | None, f: int,
-                      before: int, after: int) -> Violation:
-    """The witness of a target change: the ``k``-th event of state ``sid + src``, asked of
-    the scheduler's concrete ``successors`` (the bulk events come in the same order)."""
-    state = enc.decode(key, table.n)
+
+def _step(enc: Encoding, sched: Any, facts: Any, n: int, K: np.ndarray, src: np.ndarray,
+          succ_codes: np.ndarray | None, i: int) -> tuple[Any, State]:
+    """The event and successor of the ``i``-th transition of a bulk step (from state
+    ``K[src[i]]``), asked of the scheduler's concrete ``successors``: its ``k``-th event, k
+    its rank among its state's events (the bulk events come in the same order);
+    ``succ_codes``: the successors' codes the bulk step computed, when it did."""
+    state = enc.decode(int(K[src[i]]), n)
+    k = i - int(np.searchsorted(src, src[i]))
+    codes = None if succ_codes is None else succ_codes[i]
 
     def ms(robots: tuple[Node, ...]) -> dict[Node, frozenset[Node]]:
         got = facts(robots).move_sets
@@ -839,9 +947,6 @@ def _target_violation(enc: Encoding, table: FactsTable, sched: Scheduler, facts:
         return got
 
     event, succ = next(islice(sched.successors(state, ms), k, None))
-    if succ_codes is not None:  # pragma: no branch - the two faces of the scheduler agree
-        assert [enc.code(v, p) for v, p in succ] == succ_codes[f].tolist()
-    t0, t1 = table.target_nodes[before], table.target_nodes[after]
-    return Violation("target-invariance", sid + src,
-                     f"the target meeting node changes from {list(t0)} to {list(t1)}",
-                     event, succ, {"target_before": list(t0), "target_after": list(t1)})
+    if codes is not None:  # pragma: no branch - the two faces of the scheduler agree
+        assert [enc.code(v, p) for v, p in succ] == codes.tolist()
+    return event, succ

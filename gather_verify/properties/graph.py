@@ -1,17 +1,17 @@
-"""The properties checked on the reachable graph (SEMANTICS.md §5).
+"""The graph analyses behind the graph properties (SEMANTICS.md §5): the longest path
+weighted by edges traversed (``move-bound``) and the fair strongly connected components
+(``termination``), on the reachable graph of an
+:class:`~gather_verify.engine.explore.Exploration`.
 
-Safety properties (``crash`` and ``defined``, always checked; ``final``, ``no-ungatherable``,
-``target-invariance``) are checked during the search by :mod:`explore`;
-this module holds their names and the graph analyses for the others:
-``move-bound`` (longest path weighted by edges traversed) and ``termination``
-(fair strongly connected components).
+Small graphs go through networkx (topological order, Tarjan's SCCs); large ones through
+the hand-written code (the bulk engine's numpy columns for the longest path; an
+iterative Tarjan for the components), which gives the same answers in the same order.
 
->>> check_property_names(["final", "termination"])
-['final', 'termination']
->>> check_property_names(["nope"])
-Traceback (most recent call last):
-...
-gather_verify.errors.InvalidInput: unknown property 'nope' (choose from final, no-ungatherable, target-invariance, move-bound, termination)
+>>> from gather_verify.engine.search import explore
+>>> from gather_verify.model.configuration import Configuration
+>>> e = explore(Configuration([(0, 0), (3, 1)], [(2, 2)], initial=True), "go-to-target", "async")
+>>> longest_path(e).max_moves, strongly_connected(e)
+(6, [])
 """
 
 from __future__ import annotations
@@ -20,26 +20,16 @@ from array import array
 from collections import deque
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from gather_verify.engine.explore import Exploration
-from gather_verify.errors import InvalidInput
+if TYPE_CHECKING:
+    import networkx as nx
 
-PROPERTIES = ("final", "no-ungatherable", "target-invariance", "move-bound", "termination")
-ORDER = ("crash", "defined", *PROPERTIES)
-"""The order in which a failing property is named when several fail."""
+    from gather_verify.engine.explore import Exploration
 
-
-def check_property_names(names: Iterable[str] | None) -> list[str]:
-    """The requested properties (all when ``names`` is empty or None); ValueError on a bad name."""
-    if not names:
-        return list(PROPERTIES)
-    out = []
-    for name in names:
-        if name not in PROPERTIES:
-            raise InvalidInput(f"unknown property {name!r} (choose from {', '.join(PROPERTIES)})")
-        if name not in out:
-            out.append(name)
-    return out
+NX_MAX_STATES = 200_000
+"""Graphs up to this many states go through networkx; larger ones through the hand-written
+code (networkx holds a few hundred bytes per edge)."""
 
 
 def real_edges(e: Exploration, sid: int) -> Iterable[tuple[int, int]]:
@@ -70,12 +60,52 @@ class LongestPath:
 
 
 def longest_path(e: Exploration) -> LongestPath:
-    """Longest path over the reachable graph weighted by edges traversed (Kahn + DP)."""
+    """Longest path over the reachable graph weighted by edges traversed: a topological
+    order (networkx on small graphs, Kahn's algorithm on large ones; the numpy columns of the
+    bulk engine a round at a time), then the best total per state in reverse order, keeping
+    the first best successor in edge order (so every order gives the same path)."""
     if hasattr(e.targets, "array") and not e.changed_loops:
         return _longest_path_bulk(e)
     n = e.states
-    indegree = array("q", [0]) * n
     succs: list[list[tuple[int, int]]] = [list(real_edges(e, s)) for s in range(n)]
+    order = _topological_order(succs)
+    if order is None:
+        return LongestPath(None, [])
+    best = [0] * n
+    choice = [-1] * n
+    for s in reversed(order):
+        for t, w in succs[s]:
+            if w + best[t] > best[s] or choice[s] < 0 and w + best[t] == best[s]:
+                best[s], choice[s] = w + best[t], t
+    path = [0]
+    while choice[path[-1]] >= 0:
+        path.append(choice[path[-1]])
+    return LongestPath(best[0], path)
+
+
+def digraph(succs: Sequence[Sequence[int | tuple[int, int]]]) -> nx.DiGraph:
+    """A networkx ``DiGraph`` of states ``0 .. len(succs) - 1``, nodes and edges inserted in
+    id and edge order (so networkx visits them in the order the hand-written code does)."""
+    import networkx as nx
+
+    g = nx.DiGraph()
+    g.add_nodes_from(range(len(succs)))
+    g.add_edges_from((s, t if isinstance(t, int) else t[0])
+                     for s, out in enumerate(succs) for t in out)
+    return g
+
+
+def _topological_order(succs: list[list[tuple[int, int]]]) -> list[int] | None:
+    """The states in a topological order, or None when the graph has a cycle."""
+    n = len(succs)
+    if n <= NX_MAX_STATES:
+        import networkx as nx
+
+        try:
+            return list(nx.topological_sort(digraph(succs)))
+        except nx.NetworkXUnfeasible:
+            return None
+    indegree = array("q", [0]) * n
     for out in succs:
         for t, _ in out:
             indegree[t] += 1
@@ -88,18 +118,7 @@ def longest_path(e: Exploration) -> LongestPath:
             indegree[t] -= 1
             if indegree[t] == 0:
                 order.append(t)
-    if len(order) < n:
-        return LongestPath(None, [])
-    best = [0] * n
-    choice = [-1] * n
-    for s in reversed(order):
-        for t, w in succs[s]:
-            if w + best[t] > best[s] or choice[s] < 0 and w + best[t] == best[s]:
-                best[s], choice[s] = w + best[t], t
-    path = [0]
-    while choice[path[-1]] >= 0:
-        path.append(choice[path[-1]])
-    return LongestPath(best[0], path)
+    return order if len(order) == n else None
 
 
 def _longest_path_bulk(e: Exploration) -> LongestPath:
@@ -156,9 +175,25 @@ def has_cycle(e: Exploration) -> bool:
 
 
 def strongly_connected(e: Exploration) -> list[list[int]]:
-    """Components with an edge between distinct states (iterative Tarjan)."""
-    n = e.states
-    succs = [[t for t, _ in real_edges(e, s)] for s in range(n)]
+    """Components with an edge between distinct states, each sorted, in the order Tarjan's
+    algorithm finds them from state 0 (networkx on small graphs)."""
+    succs = [[t for t, _ in real_edges(e, s)] for s in range(e.states)]
+    if e.states <= NX_MAX_STATES:
+        import networkx as nx
+
+        g = digraph(succs)
+        return [sorted(c) for c in nx.strongly_connected_components(g)
+                if len(c) > 1 or g.has_edge(next(iter(c)), next(iter(c)))]
+    return tarjan(succs)
+
+
+def tarjan(succs: Sequence[Sequence[int]]) -> list[list[int]]:
+    """:func:`strongly_connected` on successor lists, by an iterative Tarjan (large graphs).
+
+    >>> tarjan([[1], [0, 2], [2], []])
+    [[2], [0, 1]]
+    """
+    n = len(succs)
     index = [-1] * n
     low = [0] * n
     on_stack = [False] * n
@@ -299,3 +334,18 @@ def any_cycle(e: Exploration) -> list[int] | None:
         nxt = next(t for t, _ in real_edges(e, entry) if t in inside)
         return [entry, *walk(e, inside, nxt, entry)] if nxt != entry else [entry, entry]
     return None
+
+
+@dataclass
+class GraphFacts:
+    """What a graph property reads once a search is complete: the explored graph, its longest
+    path, and when that path is unbounded (a cycle) the graph ``lifted`` to concrete states
+    (robot identity matters for fairness, SEMANTICS.md §5; the same graph when the search ran
+    without reductions); ``D``, ``n`` and the move bound's ``c``."""
+
+    exploration: Exploration
+    longest: LongestPath
+    lifted: Exploration | None
+    D: int
+    n: int
+    c: float
