@@ -132,17 +132,28 @@ def test_sweep_engines_store_the_same_rows(tmp_path: Path, capsys: pytest.Captur
     out = {}
     for engine in ("union", "per-config"):
         db = tmp_path / f"{engine}.sqlite"
-        assert main(["sweep", "--robots", "1-2", "--meeting", "2", "--box", "3x3", "--algorithm",
-                     "paper", "--db", str(db), "--workers", "1", "--engine", engine,
-                     "--json"]) == 0
+        out[engine + "-exit"] = main([
+            "sweep", "--robots", "1-2", "--meeting", "2", "--box", "3x3", "--algorithm", "paper",
+            "--db", str(db), "--workers", "1", "--engine", engine, "--json"])
         out[engine] = json.loads(capsys.readouterr().out)
         out[engine + "-rows"] = _table(db)
     assert out["union"] == out["per-config"]
+    assert out["union-exit"] == out["per-config-exit"] == 1  # I22 violations in this box
     assert out["union-rows"] == out["per-config-rows"]
 
 
 def test_sweep_engine_bad_name_is_refused(tmp_path: Path) -> None:
-    with pytest.raises(SystemExit) as stop:
-        main(["sweep", "--robots", "1", "--meeting", "1", "--box", "2x2", "--engine", "nope",
-              "--db", str(tmp_path / "x.sqlite")])
-    assert stop.value.code == 2
+    assert main(["sweep", "--robots", "1", "--meeting", "1", "--box", "2x2", "--engine", "nope",
+                 "--db", str(tmp_path / "x.sqlite")]) == 2
+
+
+def test_union_sweep_resumes_a_prefix(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A store holding a prefix (``--limit``) is completed class by class to the rows of a
+    clean run."""
+    argv = ["sweep", "--robots", "2", "--meeting", "2", "--box", "3x3", "--algorithm", "paper",
+            "--workers", "1", "--json"]
+    main([*argv, "--db", str(tmp_path / "a.sqlite"), "--limit", "40"])
+    main([*argv, "--db", str(tmp_path / "a.sqlite")])
+    main([*argv, "--db", str(tmp_path / "b.sqlite")])
+    capsys.readouterr()
+    assert _table(tmp_path / "a.sqlite") == _table(tmp_path / "b.sqlite")
