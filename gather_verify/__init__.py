@@ -4,6 +4,12 @@ The pipeline, one module per concept: configuration -> symmetry -> strings ->
 classes; view -> algorithm -> move sets -> scheduler -> explorer -> properties
 -> verdict and trace.
 
+The public surface is small and lazy (PEP 562): ``import gather_verify`` loads
+nothing else, and each name below imports its module on first use, so every
+module can be imported alone and the package has no import cycle. ``replay`` and
+``simulate`` are modules of this package, so their functions are imported from them
+(``from gather_verify.replay import replay``): a lazy name may not shadow a module.
+
 >>> from gather_verify import classify, run_check, Configuration
 >>> classify([(0, 0), (3, 1), (1, 4)], [(2, 2)]).name
 'I13'
@@ -14,71 +20,53 @@ classes; view -> algorithm -> move sets -> scheduler -> explorer -> properties
 ('VERIFIED', 2184, 7032)
 """
 
-from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm, register
-from gather_verify.algorithms.go_to_target import GoToTarget
-from gather_verify.algorithms.moves import move_set, move_sets
-from gather_verify.algorithms.nearest_centre import NearestCentre
-from gather_verify.algorithms.paper import PaperAlgorithm
-from gather_verify.algorithms.random_equivariant import RandomEquivariant
-from gather_verify.check import run_check
-from gather_verify.engine.explore import Exploration, Limits, explore
-from gather_verify.impossibility import ImpossibilityResult, check_impossibility
-from gather_verify.model.classes import (
-    CLASS_NAMES,
-    Classification,
-    classify,
-    classify_configuration,
-)
-from gather_verify.model.configuration import Configuration
-from gather_verify.model.symmetry import Automorphism, automorphisms
-from gather_verify.model.view import MultiplicityHidden, View
-from gather_verify.properties import PROPERTIES, check_property_names
-from gather_verify.replay import replay
-from gather_verify.scenario import Scenario, ScenarioError, load_scenario
-from gather_verify.simulate import Run, simulate
-from gather_verify.sweeps.census import Census, canonical, census, enumerate_configurations
-from gather_verify.sweeps.sweep import SweepSettings, run_sweep
-from gather_verify.trace import load_trace
+from __future__ import annotations
 
-__all__ = [
-    "CLASS_NAMES",
-    "PROPERTIES",
-    "Algorithm",
-    "Automorphism",
-    "Census",
-    "Classification",
-    "Configuration",
-    "Exploration",
-    "GoToTarget",
-    "ImpossibilityResult",
-    "Limits",
-    "MultiplicityHidden",
-    "NearestCentre",
-    "PaperAlgorithm",
-    "RandomEquivariant",
-    "Run",
-    "Scenario",
-    "ScenarioError",
-    "SweepSettings",
-    "Unhandled",
-    "View",
-    "automorphisms",
-    "canonical",
-    "census",
-    "check_impossibility",
-    "check_property_names",
-    "classify",
-    "classify_configuration",
-    "enumerate_configurations",
-    "explore",
-    "get_algorithm",
-    "load_scenario",
-    "load_trace",
-    "move_set",
-    "move_sets",
-    "register",
-    "replay",
-    "run_check",
-    "run_sweep",
-    "simulate",
-]
+import importlib
+from typing import Any
+
+_PUBLIC: dict[str, str] = {
+    # the model
+    "Configuration": "gather_verify.model.configuration",
+    "CLASS_NAMES": "gather_verify.model.classes",
+    "Classification": "gather_verify.model.classes",
+    "classify": "gather_verify.model.classes",
+    "classify_configuration": "gather_verify.model.classes",
+    # algorithms
+    "Algorithm": "gather_verify.algorithms",
+    "Unhandled": "gather_verify.algorithms",
+    "get_algorithm": "gather_verify.algorithms",
+    "register": "gather_verify.algorithms",
+    # the search and its verdict
+    "Exploration": "gather_verify.engine.explore",
+    "Limits": "gather_verify.engine.explore",
+    "explore": "gather_verify.engine.search",
+    "to_networkx": "gather_verify.engine.export",
+    "run_check": "gather_verify.check",
+    "load_trace": "gather_verify.trace",
+    "check_impossibility": "gather_verify.impossibility",
+    # inputs and sweeps
+    "Scenario": "gather_verify.scenario",
+    "load_scenario": "gather_verify.scenario",
+    "census": "gather_verify.sweeps.census",
+    "SweepSettings": "gather_verify.sweeps.sweep",
+    "run_sweep": "gather_verify.sweeps.sweep",
+    # errors
+    "InvalidInput": "gather_verify.errors",
+}
+
+__all__ = sorted(_PUBLIC)
+
+
+def __getattr__(name: str) -> Any:
+    """Import the module of a public name on first use (PEP 562)."""
+    module = _PUBLIC.get(name)
+    if module is None:
+        raise AttributeError(f"module 'gather_verify' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_PUBLIC})

@@ -40,7 +40,8 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float) -> dict[s
     """One measurement, inside the child process."""
     import resource
 
-    from gather_verify.engine.explore import Limits, explore, rss_mb
+    from gather_verify.engine.explore import Limits, rss_mb
+    from gather_verify.engine.search import explore
     from gather_verify.model.configuration import Configuration
 
     c = Configuration([tuple(r) for r in robots], [tuple(m) for m in meeting], initial=True)

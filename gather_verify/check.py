@@ -21,7 +21,7 @@ components are decided there.
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -31,9 +31,10 @@ from gather_verify.engine.explore import (
     Exploration,
     Limits,
     Violation,
-    explore,
 )
 from gather_verify.engine.resources import memory_budget_mb
+from gather_verify.engine.search import explore
+from gather_verify.errors import InvalidInput
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.trace import build_trace
@@ -94,6 +95,7 @@ def run_check(
     force: bool = False,
     engine: str = "auto",
     memo: bool = False,
+    on_exploration: Callable[[Exploration], object] | None = None,
     **limits: Any,
 ) -> dict[str, Any]:
     """Check ``algorithm`` from ``configuration``; the report as a JSON-able dict.
@@ -101,7 +103,8 @@ def run_check(
     Extra ``limits``: ``max_memory_mb`` and ``margin``. Without a ``margin`` the
     region grows by itself: a search stopped by the region is run again with the
     margin doubled, up to ``AUTO_MARGIN_MAX`` (the same exact search on a larger
-    region, so the verdict stays honest; only the last run is reported)."""
+    region, so the verdict stays honest; only the last run is reported).
+    ``on_exploration`` receives that last search (``check --graph-out`` exports it)."""
     started = time.perf_counter()
     wanted = props.check_property_names(properties)
     fixed_margin = limits.pop("margin", None)
@@ -109,7 +112,7 @@ def run_check(
                  max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),
                  margin=DEFAULT_MARGIN if fixed_margin is None else fixed_margin)
     if limits:
-        raise ValueError(f"unknown limit(s): {', '.join(sorted(limits))}")
+        raise InvalidInput(f"unknown limit(s): {', '.join(sorted(limits))}")
     cls = classify_configuration(configuration)
     n, D = configuration.n, configuration.D
     report: dict[str, Any] = {
@@ -138,6 +141,8 @@ def run_check(
         e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
                     frames=frames, reduction=reduction, properties=wanted, limits=lim, memo=memo)
     report["limits"]["margin"] = lim.margin
+    if on_exploration is not None:
+        on_exploration(e)
     report.update(states=e.states, transitions=e.transitions, peak_rss_mb=round(e.peak_rss_mb, 1))
     results = report["properties"]
     traces: dict[str, dict[str, Any] | None] = {}

@@ -66,6 +66,7 @@ from typing import Any
 
 from gather_verify.algorithms.base import Algorithm, Unhandled
 from gather_verify.algorithms.moves import move_set
+from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.classes import Classification, classify_configuration
 from gather_verify.model.configuration import Configuration
@@ -468,11 +469,11 @@ def check_impossibility(
     automorphism of ``C`` that meets Theorem 1's hypothesis (:func:`theorem1_automorphism`).
     """
     if explore not in EXPLORE_MODES:
-        raise ValueError(f"unknown exploration {explore!r}: use one of {', '.join(EXPLORE_MODES)}")
+        raise InvalidInput(f"unknown exploration {explore!r}: use one of {', '.join(EXPLORE_MODES)}")
     if steps < 1:
-        raise ValueError(f"steps must be at least 1, not {steps}")
+        raise InvalidInput(f"steps must be at least 1, not {steps}")
     if configuration.has_multiplicity:
-        raise ValueError("Theorem 1 is about initial configurations: robots on distinct nodes")
+        raise InvalidInput("Theorem 1 is about initial configurations: robots on distinct nodes")
     classification = classify_configuration(configuration)
     phi = partitive_automorphism(classification)
     if phi is None and beyond_u:

@@ -11,7 +11,7 @@ this module holds their names and the graph analyses for the others:
 >>> check_property_names(["nope"])
 Traceback (most recent call last):
 ...
-ValueError: unknown property 'nope' (choose from final, no-ungatherable, target-invariance, move-bound, termination)
+gather_verify.errors.InvalidInput: unknown property 'nope' (choose from final, no-ungatherable, target-invariance, move-bound, termination)
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 from gather_verify.engine.explore import Exploration
+from gather_verify.errors import InvalidInput
 
 PROPERTIES = ("final", "no-ungatherable", "target-invariance", "move-bound", "termination")
 ORDER = ("defined", *PROPERTIES)
@@ -35,7 +36,7 @@ def check_property_names(names: Iterable[str] | None) -> list[str]:
     out = []
     for name in names:
         if name not in PROPERTIES:
-            raise ValueError(f"unknown property {name!r} (choose from {', '.join(PROPERTIES)})")
+            raise InvalidInput(f"unknown property {name!r} (choose from {', '.join(PROPERTIES)})")
         if name not in out:
             out.append(name)
     return out

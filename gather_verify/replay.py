@@ -21,6 +21,7 @@ from typing import Any
 
 from gather_verify.algorithms import Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.trace import initial_of, load_trace, steps_of
 from schedulers import State, configuration_of, get_scheduler, initial_state
@@ -36,12 +37,6 @@ class Replayed:
 def replay(trace: dict[str, Any]) -> Replayed:
     """Re-execute ``trace``; ValueError (one line) when it does not match its configuration."""
     trace = load_trace(trace)
-    if trace["algorithm"].startswith("broken-"):
-        from gather_verify.algorithms.broken import register_broken
-        register_broken()
-    if trace["algorithm"].startswith("mutant-"):
-        from gather_verify.mutants import register_mutants
-        register_mutants()
     algorithm = get_algorithm(trace["algorithm"])
     scheduler = get_scheduler(trace["scheduler"])
     frames = frames_for(trace["frames"])
@@ -60,10 +55,10 @@ def replay(trace: dict[str, Any]) -> Replayed:
     for k, (event, state) in enumerate(steps, 1):
         offered = dict(scheduler.successors(states[-1], ms))
         if event not in offered:
-            raise ValueError(f"trace step {k}: event {event.to_json()} is not allowed from the "
+            raise InvalidInput(f"trace step {k}: event {event.to_json()} is not allowed from the "
                              "previous state")
         if offered[event] != state:
-            raise ValueError(f"trace step {k}: the recorded state is not the one the event reaches")
+            raise InvalidInput(f"trace step {k}: the recorded state is not the one the event reaches")
         states.append(state)
     prop = trace["property"]
     last = states[-1]
@@ -104,10 +99,10 @@ def replay(trace: dict[str, Any]) -> Replayed:
         detail = trace.get("detail", {})
         c, D, n = detail.get("c"), detail.get("D"), detail.get("n")
         if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in (c, D, n)):
-            raise ValueError("bad trace: a move-bound trace needs numbers c, D and n in 'detail'")
+            raise InvalidInput("bad trace: a move-bound trace needs numbers c, D and n in 'detail'")
         ok = total > c * D * n
         return Replayed(ok, f"{total} moves vs bound {c}*{D}*{n} = {c * D * n:g}", len(steps))
-    raise ValueError(f"bad trace: unknown property {prop!r}")
+    raise InvalidInput(f"bad trace: unknown property {prop!r}")
 
 
 def _fair_cycle(states: list[State], steps: list, cs: int, ms: Any) -> tuple[bool, str]:

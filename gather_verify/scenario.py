@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 
 SCHEDULERS = ("fsync", "ssync", "async")
@@ -42,7 +43,7 @@ TOP_LEVEL = {
 EXPECTATION_FIELDS = {"algorithm", "scheduler", "verdict", "property", "max_moves", "options"}
 
 
-class ScenarioError(ValueError):
+class ScenarioError(InvalidInput):
     """A scenario file is malformed; the message names the file and the problem."""
 
 

@@ -20,6 +20,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration, _as_node
 from gather_verify.model.geometry import Node
 from schedulers import Event, State
@@ -48,14 +49,14 @@ def build_trace(initial: Configuration, algorithm: str, scheduler: str, detectio
 
 
 def _fail(message: str) -> None:
-    raise ValueError(f"bad trace: {message}")
+    raise InvalidInput(f"bad trace: {message}")
 
 
 def _node(value: object, what: str) -> Node:
     try:
         return _as_node(value, what)
     except ValueError as error:
-        raise ValueError(f"bad trace: {error}") from None
+        raise InvalidInput(f"bad trace: {error}") from None
 
 
 def parse_state(raw: object, n: int, where: str) -> State:
@@ -96,9 +97,9 @@ def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
         try:
             data = json.loads(Path(source).read_text(encoding="utf-8"))
         except json.JSONDecodeError as error:
-            raise ValueError(f"bad trace {source}: not JSON ({error.msg} at line {error.lineno})") from None
+            raise InvalidInput(f"bad trace {source}: not JSON ({error.msg} at line {error.lineno})") from None
         except RecursionError:
-            raise ValueError(f"bad trace {source}: not JSON (nested too deeply)") from None
+            raise InvalidInput(f"bad trace {source}: not JSON (nested too deeply)") from None
     if isinstance(data, dict) and "robots" in data and isinstance(data.get("trace"), dict):
         data = data["trace"]  # a scenario file that stores its counterexample
     if not isinstance(data, dict) or data.get("format") != FORMAT:

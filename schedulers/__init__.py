@@ -18,6 +18,7 @@ and the explorer never knows which scheduler it drives.
 
 from __future__ import annotations
 
+from gather_verify.errors import InvalidInput
 from schedulers.async_ import Async
 from schedulers.base import Event, MoveSets, Scheduler, State, configuration_of, initial_state
 from schedulers.fsync import FSync
@@ -29,7 +30,7 @@ SCHEDULERS: dict[str, type] = {"fsync": FSync, "ssync": SSync, "async": Async}
 def get_scheduler(name: str) -> Scheduler:
     """The scheduler called ``name`` (``fsync``, ``ssync`` or ``async``)."""
     if name not in SCHEDULERS:
-        raise ValueError(f"unknown scheduler {name!r}: use one of {', '.join(SCHEDULERS)}")
+        raise InvalidInput(f"unknown scheduler {name!r}: use one of {', '.join(SCHEDULERS)}")
     return SCHEDULERS[name]()
 
 

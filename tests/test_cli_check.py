@@ -4,10 +4,8 @@ from __future__ import annotations
 
 import json
 
-from gather_verify.algorithms.broken import register_broken
 from gather_verify.cli import main
 
-register_broken()
 YARD = ["--robots", "0,0 3,1 1,4", "--meeting", "2,2"]
 
 

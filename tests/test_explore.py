@@ -7,7 +7,8 @@ from collections import deque
 import pytest
 
 from gather_verify.check import run_check
-from gather_verify.engine.explore import Limits, explore
+from gather_verify.engine.explore import Limits
+from gather_verify.engine.search import explore
 from gather_verify.model.configuration import Configuration
 from schedulers import get_scheduler, initial_state
 
@@ -83,8 +84,6 @@ def test_limits_give_incomplete(limit):
     c = Configuration([(0, 0), (5, 1), (1, 5)], [(3, 3)], initial=True)
     kwargs = {"max_states": 10**6, "max_seconds": 60.0, **limit}
     if "margin" in limit:  # broken-away leaves the MER
-        from gather_verify.algorithms.broken import register_broken
-        register_broken()
         r = run_check(YARD, algorithm="broken-away", scheduler="async", properties=["termination"],
                       **kwargs)
     else:

@@ -10,7 +10,6 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gather_verify.algorithms.broken import register_broken
 from gather_verify.check import run_check
 from gather_verify.engine.explore import Limits, explore_reference
 from gather_verify.engine.fast_explore import explore_fast, supports
@@ -19,7 +18,6 @@ from gather_verify.scenario import load_scenario
 
 YARD = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
 ROOT = Path(__file__).resolve().parent.parent / "scenarios"
-register_broken()
 
 
 def same(c, algorithm, scheduler="async", **kw):

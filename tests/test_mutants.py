@@ -1,7 +1,7 @@
 """Mutation testing: every deliberate bug is caught by the property it is expected to break.
 
-``gather-verify mutants`` runs the explorer on ``scenarios/mutants/`` against each
-mutant of :mod:`gather_verify.mutants`; the score must reach the goal and every
+``python -m tools.mutants`` runs the explorer on ``scenarios/mutants/`` against each
+mutant of :mod:`tools.mutants`; the score must reach the goal and every
 survivor must be an argued equivalent mutant.
 """
 
@@ -13,19 +13,19 @@ from pathlib import Path
 import pytest
 
 from gather_verify.check import run_check
-from gather_verify.cli import main
-from gather_verify.mutants import (
+from gather_verify.replay import replay
+from gather_verify.scenario import parse_scenario
+from tools.mutants import (
     GOAL,
     MUTANTS,
     Mutant,
     MutationSiteError,
     get_mutant,
     load_mutant_scenarios,
+    main,
     register_mutants,
     run_mutants,
 )
-from gather_verify.replay import replay
-from gather_verify.scenario import parse_scenario
 
 
 def test_at_least_twelve_named_and_described_mutants() -> None:
@@ -56,7 +56,7 @@ def test_a_vanished_mutation_site_is_one_line_error() -> None:
 
 def test_mutants_command_catches_every_mutant_by_its_expected_property(
         capsys: pytest.CaptureFixture[str]) -> None:
-    code = main(["mutants", "--json"])
+    code = main(["--json"])
     summary = json.loads(capsys.readouterr().out)
     assert code == 0
     assert summary["total"] == len(MUTANTS) and summary["score"] >= GOAL
@@ -72,7 +72,7 @@ def test_mutants_command_catches_every_mutant_by_its_expected_property(
 
 
 def test_mutants_text_table(capsys: pytest.CaptureFixture[str]) -> None:
-    code = main(["mutants", "--mutant", "mutant-gtt-stops-one-short",
+    code = main(["--mutant", "mutant-gtt-stops-one-short",
                  "--mutant", "mutant-paper-i11-first-of-O"])
     out = capsys.readouterr().out
     assert code == 1  # 1 of 2 is below the goal
@@ -95,3 +95,24 @@ def test_a_scenario_whose_baseline_fails_is_refused() -> None:
                           "expect": {"verdicts": [{"verdict": "VERIFIED"}]}}, "tie.json")
     with pytest.raises(ValueError, match="not VERIFIED"):
         run_mutants([get_mutant("mutant-gtt-stops-one-short")], [bad])
+
+
+def test_an_unknown_mutant_is_one_line_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["--mutant", "mutant-nope"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: unknown mutant 'mutant-nope'") and err.count("\n") == 1
+
+
+def test_the_paper_keeps_no_function_that_exists_only_as_a_mutation_site() -> None:
+    from gather_verify.algorithms import paper
+
+    assert not hasattr(paper, "_canonical_view")
+
+
+def test_cli_passes_through_with_the_mutants_registered(tmp_path, capsys) -> None:
+    trace = tmp_path / "t.json"
+    args = ["cli", "check", "--robots", "0,0 3,1", "--meeting", "2,2", "--scheduler", "fsync",
+            "--algorithm", "mutant-gtt-stops-one-short", "--trace-out", str(trace)]
+    assert main(args) == 1
+    assert "property final" in capsys.readouterr().out
+    assert main(["cli", "replay", str(trace)]) == 1  # 1: the violation is confirmed

@@ -4,13 +4,11 @@ from __future__ import annotations
 
 import pytest
 
-from gather_verify.algorithms.broken import register_broken
 from gather_verify.check import run_check
 from gather_verify.model.configuration import Configuration as C
 from gather_verify.properties import check_property_names
 from gather_verify.replay import replay
 
-register_broken()
 TWO = C([(0, 0), (3, 1)], [(2, 2)], initial=True)
 CASES = [
     ("broken-away", TWO, "termination"),

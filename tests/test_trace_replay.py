@@ -9,7 +9,6 @@ from collections import deque
 import pytest
 
 from gather_verify.algorithms import get_algorithm
-from gather_verify.algorithms.broken import register_broken
 from gather_verify.algorithms.moves import move_sets
 from gather_verify.check import run_check
 from gather_verify.model.configuration import Configuration as C
@@ -17,7 +16,6 @@ from gather_verify.render import render_trace, trace_svg
 from gather_verify.replay import replay
 from schedulers import configuration_of, get_scheduler, initial_state
 
-register_broken()
 TWO = C([(0, 0), (3, 1)], [(2, 2)], initial=True)
 
 

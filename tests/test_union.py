@@ -12,8 +12,9 @@ import pytest
 
 from gather_verify.cli import main
 from gather_verify.engine import union
-from gather_verify.engine.explore import Limits, explore
+from gather_verify.engine.explore import Limits
 from gather_verify.engine.fast_explore import explore_fast
+from gather_verify.engine.search import explore
 from gather_verify.model.configuration import Configuration
 from gather_verify.sweeps.census import enumerate_configurations
 from gather_verify.sweeps.mclass import class_tasks, verify_class

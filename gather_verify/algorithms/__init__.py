@@ -13,7 +13,7 @@ as keyword arguments (strings).
 >>> get_algorithm("nope")  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-ValueError: unknown algorithm 'nope': use one of ...
+gather_verify.errors.InvalidInput: unknown algorithm 'nope': use one of ...
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ from gather_verify.algorithms.go_to_target import GoToTarget
 from gather_verify.algorithms.nearest_centre import NearestCentre
 from gather_verify.algorithms.paper import PaperAlgorithm
 from gather_verify.algorithms.random_equivariant import RandomEquivariant
+from gather_verify.errors import InvalidInput
 
 REGISTRY: dict[str, Callable[..., Algorithm]] = {
     "go-to-target": GoToTarget,
@@ -46,7 +47,7 @@ def parse_name(spec: str) -> tuple[str, dict[str, str]]:
     for item in filter(None, rest.split(",")):
         key, eq, value = item.partition("=")
         if not eq or not key:
-            raise ValueError(f"bad algorithm option {item!r} in {spec!r}: expected key=value")
+            raise InvalidInput(f"bad algorithm option {item!r} in {spec!r}: expected key=value")
         options[key.strip()] = value.strip()
     return name.strip(), options
 
@@ -62,14 +63,14 @@ def get_algorithm(spec: str) -> Algorithm:
     if name not in REGISTRY:
         _register_optional(name)
     if name not in REGISTRY:
-        raise ValueError(f"unknown algorithm {name!r}: use one of {', '.join(sorted(REGISTRY))}")
+        raise InvalidInput(f"unknown algorithm {name!r}: use one of {', '.join(sorted(REGISTRY))}")
     factory = REGISTRY[name]
     algorithm = _INSTANCES.get((spec, factory))
     if algorithm is None:
         try:
             algorithm = factory(**options)
         except TypeError as error:
-            raise ValueError(f"bad options for algorithm {name!r}: {error}") from None
+            raise InvalidInput(f"bad options for algorithm {name!r}: {error}") from None
         if options:
             algorithm.name = spec
         _INSTANCES[spec, factory] = algorithm
@@ -77,16 +78,12 @@ def get_algorithm(spec: str) -> Algorithm:
 
 
 def _register_optional(name: str) -> None:
-    """The deliberately broken algorithms (``broken-*``, for tests and demos) and the mutants
-    of mutation testing (``mutant-*``) are registered on first use of one of their names."""
+    """The deliberately broken algorithms (``broken-*``, for tests and demos) are registered
+    on first use of one of their names."""
     if name.startswith("broken-"):
-        from gather_verify.algorithms.broken import register_broken
+        from gather_verify.algorithms.broken import BROKEN
 
-        register_broken()
-    elif name.startswith("mutant-"):
-        from gather_verify.mutants import register_mutants
-
-        register_mutants()
+        REGISTRY.update(BROKEN)
 
 
 __all__ = ["Algorithm", "AlgorithmError", "REGISTRY", "Unhandled", "get_algorithm", "register",

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from typing import Protocol, runtime_checkable
 
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.view import View
@@ -41,8 +42,9 @@ class Unhandled(Exception):
     """
 
 
-class AlgorithmError(ValueError):
-    """The algorithm answered something that is not a move (a bug in the algorithm)."""
+class AlgorithmError(InvalidInput):
+    """The algorithm answered something that is not a move: a bug in the *algorithm* (the
+    user's, when it is a plug-in), so exit 2 naming it, not a bug of gather-verify."""
 
 
 def target_of(algorithm: object, configuration: Configuration) -> Node | None:

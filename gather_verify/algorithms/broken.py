@@ -1,13 +1,12 @@
 """Deliberately broken algorithms: each makes one property fail (for tests and demos).
 
-They are not in the default registry; :func:`register_broken` adds them under
-``broken-*`` names (the tests call it, and ``gather-verify replay`` does when a
-trace names one). All assume one meeting node unless said otherwise.
+They are not in the default registry: :func:`gather_verify.algorithms.get_algorithm`
+adds them (``BROKEN``) on first use of a ``broken-*`` name, so the tests,
+``gather-verify check --algorithm broken-stay`` and ``replay`` of their traces
+all find them. All assume one meeting node unless said otherwise.
 
->>> register_broken()
->>> from gather_verify.algorithms import get_algorithm
->>> get_algorithm("broken-stay").name
-'broken-stay'
+>>> sorted(BROKEN)[:2]
+['broken-away', 'broken-drift']
 """
 
 from __future__ import annotations
@@ -87,10 +86,3 @@ class Undefined(GoToTarget):
 
 BROKEN = {cls.name: cls for cls in (Away, Stay, Drift, Wander, Undefined)}
 
-
-def register_broken() -> None:
-    """Add the broken algorithms to the registry under their ``broken-*`` names."""
-    from gather_verify.algorithms import register
-
-    for name, cls in BROKEN.items():
-        register(name, cls)

@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 from gather_verify.algorithms.base import Algorithm, AlgorithmError, Unhandled
+from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import ORIGIN, STEPS, Node
@@ -37,7 +38,7 @@ class HiddenRead(Unhandled, MultiplicityHidden):
 def frames_for(name: str) -> tuple[int, ...]:
     """The frames of a frame-set name (``all``, ``chirality``, ``compass``)."""
     if name not in FRAME_SETS:
-        raise ValueError(f"unknown frames {name!r}: use one of {', '.join(FRAME_SETS)}")
+        raise InvalidInput(f"unknown frames {name!r}: use one of {', '.join(FRAME_SETS)}")
     return FRAME_SETS[name]
 
 

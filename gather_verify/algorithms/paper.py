@@ -74,6 +74,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 
 from gather_verify.algorithms.base import Unhandled
+from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry, strings
 from gather_verify.model.canonical import Key
 from gather_verify.model.configuration import Configuration
@@ -294,11 +295,6 @@ def _symmetry_breaking(c: Configuration, symmetry: Automorphism,
 # -- canonical forms and the algorithm object ----------------------------------------
 
 
-def _canonical_view(view: View) -> tuple[Key, int, Node]:
-    """The canonical form of the robot's snapshot (see :mod:`gather_verify.model.canonical`)."""
-    return view.canonical()
-
-
 def first_step(allowed: Iterable[Node]) -> Node:
     """The robot's answer: stay, or the first allowed step in ``STEPS`` order."""
     allowed = set(allowed)
@@ -324,13 +320,13 @@ class PaperAlgorithm:
     def __init__(self, alpha: str = "mer", unclassified: str = "break",
                  outside: str = "distance", finalize: str = "closest") -> None:
         if alpha not in ("mer", "mer_f"):
-            raise ValueError(f"bad option alpha={alpha!r}: use mer or mer_f")
+            raise InvalidInput(f"bad option alpha={alpha!r}: use mer or mer_f")
         if unclassified not in ("break", "unhandled"):
-            raise ValueError(f"bad option unclassified={unclassified!r}: use break or unhandled")
+            raise InvalidInput(f"bad option unclassified={unclassified!r}: use break or unhandled")
         if outside not in ("distance", "mer_f"):
-            raise ValueError(f"bad option outside={outside!r}: use distance or mer_f")
+            raise InvalidInput(f"bad option outside={outside!r}: use distance or mer_f")
         if finalize not in ("closest", "n1"):
-            raise ValueError(f"bad option finalize={finalize!r}: use closest or n1")
+            raise InvalidInput(f"bad option finalize={finalize!r}: use closest or n1")
         self.alpha, self.unclassified, self.outside = alpha, unclassified, outside
         self.finalize = finalize
         self.name = "paper"
@@ -365,7 +361,7 @@ class PaperAlgorithm:
                     None if plan.guard is None else unmap(plan.guard))
 
     def decide(self, view: View) -> Node:
-        key, g, t = _canonical_view(view)
+        key, g, t = view.canonical()
         plan = self._plan(key)
         if isinstance(plan, Unhandled):
             raise Unhandled(str(plan))

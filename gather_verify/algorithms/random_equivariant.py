@@ -38,6 +38,7 @@ from __future__ import annotations
 import hashlib
 import json
 
+from gather_verify.errors import InvalidInput
 from gather_verify.model.geometry import ORIGIN, STEPS, Node
 from gather_verify.model.view import View
 
@@ -74,7 +75,7 @@ class RandomEquivariant:
         try:
             self.seed = int(seed)
         except (TypeError, ValueError):
-            raise ValueError(f"bad seed {seed!r} for the random algorithm: expected an integer") from None
+            raise InvalidInput(f"bad seed {seed!r} for the random algorithm: expected an integer") from None
         self.name = f"random:seed={self.seed}"
 
     def decide(self, view: View) -> Node:

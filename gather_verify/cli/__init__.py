@@ -2,9 +2,11 @@
 
 Every subcommand module defines ``HELP``, ``add_arguments(parser)`` and
 ``run(args) -> int``. Exit codes are shared by all commands: 0 success or
-VERIFIED, 1 VIOLATED, 2 bad input or usage (one line on stderr, never a
-traceback), 3 INCOMPLETE, 4 NOT-APPLICABLE, 130 interrupted by Ctrl-C (one line on stderr
-says what was kept and how to resume). See docs/reliability.md.
+VERIFIED, 1 VIOLATED, 2 bad input or usage (:class:`~gather_verify.errors.InvalidInput`
+or an unreadable/unwritable file: one line on stderr, never a traceback), 3 INCOMPLETE,
+4 NOT-APPLICABLE, 70 a bug of gather-verify (any other exception: it says so and prints
+the traceback), 130 interrupted by Ctrl-C (one line on stderr says what was kept and how
+to resume). See docs/reliability.md.
 """
 
 from __future__ import annotations
@@ -12,12 +14,14 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+import traceback
 from collections.abc import Sequence
 
-from gather_verify.cli.common import EXIT_INTERRUPTED, EXIT_USAGE, UsageError
+from gather_verify.cli.common import EXIT_BUG, EXIT_INTERRUPTED, EXIT_USAGE, UsageError
+from gather_verify.errors import InvalidInput
 
 COMMANDS = ("classify", "census", "simulate", "check", "replay", "sweep", "report",
-            "impossibility", "mutants", "bench")
+            "impossibility", "bench")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -51,10 +55,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             build_parser().print_help(sys.stderr)
             return EXIT_USAGE
         return int(args._run(args))
-    except UsageError as error:
-        print(f"error: {error}", file=sys.stderr)
-        return EXIT_USAGE
-    except ValueError as error:  # validation errors name the bad value
+    except InvalidInput as error:  # the user's mistake: the message names the bad value
         print(f"error: {error}", file=sys.stderr)
         return EXIT_USAGE
     except OSError as error:  # unreadable input or unwritable output file
@@ -63,6 +64,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted: nothing was written; run the same command again", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except Exception:  # anything else is ours
+        traceback.print_exc(file=sys.stderr)
+        print("internal error: this is a bug of gather-verify, not a mistake in your input; "
+              "please report it with the command line and the traceback above", file=sys.stderr)
+        return EXIT_BUG
 
 
 if __name__ == "__main__":

@@ -25,6 +25,7 @@ from gather_verify.engine.explore import (
     DEFAULT_MAX_MEMORY_MB,
     DEFAULT_MAX_SECONDS,
     DEFAULT_MAX_STATES,
+    Exploration,
 )
 
 HELP = "verify an algorithm from one initial configuration against every adversary"
@@ -56,6 +57,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="check even when the initial configuration is in U or UNCLASSIFIED")
     parser.add_argument("--trace-out", metavar="FILE", help="write the counterexample trace (JSON)")
     parser.add_argument("--svg", metavar="FILE", help="write the trace as an SVG storyboard")
+    parser.add_argument("--html", metavar="FILE",
+                        help="write the trace as an interactive viewer (one self-contained HTML "
+                             "file: step through it, stale snapshots, the cycle of a livelock)")
+    parser.add_argument("--graph-out", metavar="FILE",
+                        help="write the reachable state graph: GraphML (.graphml) or DOT (.dot, "
+                             ".gv); with reductions on, a node is a class of states "
+                             "(docs/explorer.md)")
     parser.add_argument("--junit", metavar="FILE",
                         help="write the verdict as a JUnit XML test case (for CI servers)")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
@@ -66,20 +74,26 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from gather_verify.check import run_check
+    from gather_verify.engine.export import graph_format, write_graph
     from gather_verify.render import render_trace, trace_svg
 
     configuration, scenario = load_configuration(args)
-    writable_outputs(trace_out=args.trace_out, svg=args.svg, junit=args.junit)
+    writable_outputs(trace_out=args.trace_out, svg=args.svg, html=args.html, junit=args.junit,
+                     graph_out=args.graph_out)
+    if args.graph_out:
+        graph_format(args.graph_out)  # refuse an unknown suffix before the search
     algorithm = args.algorithm or (scenario.algorithm if scenario else "paper")
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
     detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")
     frames = args.frames or (scenario.frames if scenario else "all")
+    explored: list[Exploration] = []
     try:
         report = run_check(
             configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
             frames=frames, properties=args.properties, reduction=not args.no_reduction,
             max_states=args.max_states, max_seconds=args.max_seconds,
             move_bound_c=args.move_bound_c, force=args.force, max_memory_mb=args.max_memory,
+            on_exploration=explored.append if args.graph_out else None,
             **({} if args.margin is None else {"margin": args.margin}))
     except KeyboardInterrupt:
         print("interrupted: check keeps no partial results (nothing was written); run the same "
@@ -87,10 +101,20 @@ def run(args: argparse.Namespace) -> int:
               "INCOMPLETE and the statistics so far", file=sys.stderr)
         return EXIT_INTERRUPTED
     trace = report["trace"]
+    if args.graph_out:
+        if explored:
+            write_graph(explored[-1], args.graph_out)
+        else:
+            print(f"note: nothing was explored ({report['verdict']}): {args.graph_out} not "
+                  "written", file=sys.stderr)
     if trace is not None and args.trace_out:
         Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
     if trace is not None and args.svg:
         Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
+    if trace is not None and args.html:
+        from gather_verify.viewer import write_viewer
+
+        write_viewer(trace, args.html)
     if args.junit:
         from gather_verify.junit import write_junit
 

@@ -8,11 +8,14 @@ import os
 import sys
 from typing import Any
 
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import parse_nodes
 from gather_verify.scenario import Scenario, load_scenario
 
 EXIT_OK, EXIT_VIOLATED, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_NOT_APPLICABLE = 0, 1, 2, 3, 4
+EXIT_BUG = 70
+"""An unexpected exception: a bug of gather-verify (``EX_SOFTWARE`` of ``sysexits.h``)."""
 EXIT_INTERRUPTED = 130
 """Ctrl-C (SIGINT): 128 + 2, as shells report it; one line on stderr says what was kept."""
 TIMING_KEYS = ("seconds", "peak_rss_mb")
@@ -21,7 +24,7 @@ VERDICT_EXIT = {"VERIFIED": EXIT_OK, "VIOLATED": EXIT_VIOLATED, "INCOMPLETE": EX
                 "NOT-APPLICABLE": EXIT_NOT_APPLICABLE}
 
 
-class UsageError(Exception):
+class UsageError(InvalidInput):
     """Bad command-line usage; printed as one line, exit code 2."""
 
 

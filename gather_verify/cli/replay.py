@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from gather_verify.cli.common import EXIT_OK, EXIT_VIOLATED, print_json
+from gather_verify.cli.common import EXIT_OK, EXIT_VIOLATED, print_json, writable_outputs
 
 HELP = "re-execute a counterexample trace and confirm its violation independently"
 
@@ -17,6 +17,9 @@ HELP = "re-execute a counterexample trace and confirm its violation independentl
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("trace", help="trace JSON file (docs/traces.md)")
     parser.add_argument("--svg", metavar="FILE", help="write the trace as an SVG storyboard")
+    parser.add_argument("--html", metavar="FILE",
+                        help="write the trace as an interactive viewer (one self-contained HTML "
+                             "file: step through it, stale snapshots, the cycle of a livelock)")
     parser.add_argument("--quiet", action="store_true", help="no ASCII grids")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
 
@@ -26,10 +29,15 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.replay import replay
     from gather_verify.trace import load_trace
 
+    writable_outputs(svg=args.svg, html=args.html)
     trace = load_trace(args.trace)
     result = replay(trace)
     if args.svg:
         Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
+    if args.html:
+        from gather_verify.viewer import write_viewer
+
+        write_viewer(trace, args.html)
     if args.json:
         print_json({"confirmed": result.confirmed, "message": result.message,
                     "steps": result.steps, "property": trace["property"]})

@@ -25,7 +25,7 @@ concrete state, and only the successor's key is canonicalised.
 
 >>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
->>> e = explore(c, "go-to-target", "async", reduction=False)
+>>> e = explore_reference(c, "go-to-target", "async", reduction=False)
 >>> e.states, e.transitions, e.stopped
 (2184, 7032, None)
 """
@@ -292,41 +292,6 @@ def facts_cache(algorithm: Algorithm, meeting: frozenset[Node], detection: str,
 
 
 SAFETY = ("defined", "final", "no-ungatherable", "target-invariance")
-ENGINES = ("auto", "fast", "reference")
-
-
-def explore(
-    initial: Configuration,
-    algorithm: str | Algorithm,
-    scheduler: str,
-    *,
-    engine: str = "auto",
-    graph: bool = True,
-    memo: bool = False,
-    **options: object,
-) -> Exploration:
-    """Every state reachable from ``initial``: the bulk engine when it supports the request
-    (``engine="auto"``, the default), else the reference BFS; both give the same result.
-
-    ``engine="fast"`` insists on the bulk engine (ValueError if it cannot run this request),
-    ``engine="reference"`` runs :func:`explore_reference`. ``graph=False`` lets the bulk
-    engine keep no edges (only states and safety witnesses; see :mod:`fast_explore`);
-    ``memo=True`` lets it share configuration facts with the other searches of this
-    process (sweeps). Other keyword arguments are those of :func:`explore_reference`.
-    """
-    if engine not in ENGINES:
-        raise ValueError(f"unknown engine {engine!r}: use one of {', '.join(ENGINES)}")
-    if engine != "reference":
-        from gather_verify.engine import fast_explore
-
-        keys = ("reduction", "anonymity", "symmetry", "frames", "limits")
-        if fast_explore.supports(initial, scheduler, **{k: options[k] for k in keys if k in options}):
-            return fast_explore.explore_fast(initial, algorithm, scheduler, graph=graph,
-                                             memo=memo, **options)
-        if engine == "fast":
-            raise ValueError(f"the fast engine cannot run this request (scheduler {scheduler!r}): "
-                             "use engine='auto' or 'reference'")
-    return explore_reference(initial, algorithm, scheduler, **options)
 
 
 def explore_reference(

@@ -18,6 +18,7 @@ from collections import Counter
 from collections.abc import Iterable
 from functools import cached_property
 
+from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.canonical import CanonicalForm, canonical_form
 from gather_verify.model.geometry import Node
@@ -35,15 +36,15 @@ MER already takes minutes and gigabytes, while every exhaustive check needs far 
 
 def _as_node(value: object, what: str) -> Node:
     if isinstance(value, str | bytes) or not isinstance(value, list | tuple):
-        raise ValueError(f"bad {what} {value!r}: expected a pair of integers [x, y]")
+        raise InvalidInput(f"bad {what} {value!r}: expected a pair of integers [x, y]")
     if len(value) != 2:
-        raise ValueError(f"bad {what} {value!r}: expected exactly two coordinates")
+        raise InvalidInput(f"bad {what} {value!r}: expected exactly two coordinates")
     out = []
     for coordinate in value:
         if isinstance(coordinate, bool) or not isinstance(coordinate, numbers.Integral):
-            raise ValueError(f"bad {what} {list(value)!r}: coordinates must be integers")
+            raise InvalidInput(f"bad {what} {list(value)!r}: coordinates must be integers")
         if abs(int(coordinate)) > MAX_COORDINATE:
-            raise ValueError(f"bad {what} {list(value)!r}: |coordinate| > {MAX_COORDINATE}")
+            raise InvalidInput(f"bad {what} {list(value)!r}: |coordinate| > {MAX_COORDINATE}")
         out.append(int(coordinate))
     return (out[0], out[1])
 
@@ -67,19 +68,19 @@ class Configuration:
         rs = [_as_node(r, "robot") for r in robots]
         ms = [_as_node(m, "meeting node") for m in meeting_nodes]
         if not rs:
-            raise ValueError("no robots: a configuration needs at least one robot")
+            raise InvalidInput("no robots: a configuration needs at least one robot")
         if not ms:
-            raise ValueError("no meeting nodes: a configuration needs at least one meeting node")
+            raise InvalidInput("no meeting nodes: a configuration needs at least one meeting node")
         seen: set[Node] = set()
         for m in ms:
             if m in seen:
-                raise ValueError(f"duplicate meeting node {list(m)}")
+                raise InvalidInput(f"duplicate meeting node {list(m)}")
             seen.add(m)
         if initial:
             seen.clear()
             for r in rs:
                 if r in seen:
-                    raise ValueError(
+                    raise InvalidInput(
                         f"duplicate robot {list(r)}: robots of an initial configuration "
                         "stand on distinct nodes"
                     )
@@ -87,7 +88,7 @@ class Configuration:
             xs, ys = [v[0] for v in rs + ms], [v[1] for v in rs + ms]
             extent = max(max(xs) - min(xs), max(ys) - min(ys))
             if extent > MAX_EXTENT:
-                raise ValueError(
+                raise InvalidInput(
                     f"the nodes span {extent} edges (MER {max(xs) - min(xs)} x "
                     f"{max(ys) - min(ys)}): at most {MAX_EXTENT} is supported; move them closer"
                 )

@@ -18,6 +18,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+from gather_verify.errors import InvalidInput
+
 Node = tuple[int, int]
 
 ORIGIN: Node = (0, 0)
@@ -115,11 +117,11 @@ def parse_node(text: str) -> Node:
     """
     parts = text.split(",")
     if len(parts) != 2:
-        raise ValueError(f"bad point {text!r}: expected 'x,y' with two integers")
+        raise InvalidInput(f"bad point {text!r}: expected 'x,y' with two integers")
     try:
         x, y = (int(p.strip(), 10) for p in parts)
     except ValueError:
-        raise ValueError(f"bad point {text!r}: coordinates must be integers") from None
+        raise InvalidInput(f"bad point {text!r}: coordinates must be integers") from None
     return (x, y)
 
 

@@ -24,6 +24,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Literal
 
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import (
     EMPTY,
     MEETING,
@@ -212,11 +213,11 @@ def from_string(text: str, column: int) -> Configuration:
     is the y axis. Labels 3 and 5 are not allowed (initial configurations).
     """
     if column < 1 or len(text) % column:
-        raise ValueError(f"string of length {len(text)} does not split into columns of {column}")
+        raise InvalidInput(f"string of length {len(text)} does not split into columns of {column}")
     robots, meeting = [], []
     for k, ch in enumerate(text):
         if ch not in "0124":
-            raise ValueError(f"bad label {ch!r} at position {k}: use 0, 1, 2 or 4")
+            raise InvalidInput(f"bad label {ch!r} at position {k}: use 0, 1, 2 or 4")
         label = int(ch)
         v = (k // column, k % column)
         if label in _ROBOTS:

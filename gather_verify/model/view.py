@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from functools import cached_property
 
+from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.canonical import Key
 from gather_verify.model.configuration import Configuration
@@ -43,7 +44,7 @@ class MultiplicityHidden(LookupError):
 
 def check_detection(detection: str) -> str:
     if detection not in DETECTION_MODELS:
-        raise ValueError(
+        raise InvalidInput(
             f"unknown multiplicity model {detection!r}: use one of {', '.join(DETECTION_MODELS)}"
         )
     return detection
@@ -62,7 +63,7 @@ class View:
     def __init__(self, configuration: Configuration, node: Node, frame: int, detection: str):
         check_detection(detection)
         if node not in configuration.counts:
-            raise ValueError(f"no robot at {node} to take a view from")
+            raise InvalidInput(f"no robot at {node} to take a view from")
         self.detection = detection
         self._snapshot, self._node, self._frame = configuration, node, frame
         self._meeting = self._robots = self._cnt = None

@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.canonical import Key, canonical_form
 from gather_verify.model.classes import CLASS_NAMES, classify_configuration
@@ -53,9 +54,9 @@ CanonicalKey = Key
 
 def _check_int(value: object, what: str, low: int, high: int) -> int:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise ValueError(f"bad {what} {value!r}: expected an integer")
+        raise InvalidInput(f"bad {what} {value!r}: expected an integer")
     if not low <= int(value) <= high:
-        raise ValueError(f"bad {what} {value}: must be in [{low}, {high}]")
+        raise InvalidInput(f"bad {what} {value}: must be in [{low}, {high}]")
     return int(value)
 
 
@@ -67,7 +68,7 @@ def validate_census_arguments(n: object, m: object, w: object, h: object) -> tup
     >>> validate_census_arguments(17, 1, 4, 4)
     Traceback (most recent call last):
     ...
-    ValueError: bad robot count n=17: a 4x4 box has only 16 nodes
+    gather_verify.errors.InvalidInput: bad robot count n=17: a 4x4 box has only 16 nodes
     """
     w = _check_int(w, "box width", 1, MAX_SIDE)
     h = _check_int(h, "box height", 1, MAX_SIDE)
@@ -75,12 +76,12 @@ def validate_census_arguments(n: object, m: object, w: object, h: object) -> tup
     m = _check_int(m, "meeting node count", 1, MAX_SIDE * MAX_SIDE)
     cells = w * h
     if n > cells:
-        raise ValueError(f"bad robot count n={n}: a {w}x{h} box has only {cells} nodes")
+        raise InvalidInput(f"bad robot count n={n}: a {w}x{h} box has only {cells} nodes")
     if m > cells:
-        raise ValueError(f"bad meeting node count m={m}: a {w}x{h} box has only {cells} nodes")
+        raise InvalidInput(f"bad meeting node count m={m}: a {w}x{h} box has only {cells} nodes")
     placements = math.comb(cells, n) * math.comb(cells, m)
     if placements > MAX_PLACEMENTS:
-        raise ValueError(
+        raise InvalidInput(
             f"census of n={n}, m={m} in a {w}x{h} box has {placements} placements, "
             f"more than the limit {MAX_PLACEMENTS}: use a smaller box or fewer robots"
         )

@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
+from gather_verify.errors import InvalidInput
 from gather_verify.sweeps.store import Store
 from gather_verify.sweeps.sweep import summarise
 
@@ -14,7 +15,7 @@ from gather_verify.sweeps.sweep import summarise
 def load_sweeps(db_path: str) -> list[tuple[dict[str, Any], list[dict[str, Any]]]]:
     """Every sweep in a results database with its rows."""
     if not Path(db_path).is_file():
-        raise ValueError(f"{db_path}: no such results database")
+        raise InvalidInput(f"{db_path}: no such results database")
     store = Store(db_path)
     try:
         return [(settings, store.results(i)) for i, settings in store.sweeps()]
@@ -31,72 +32,329 @@ def summaries(db_path: str) -> list[dict[str, Any]]:
     return out
 
 
-def write_html(db_path: str, out: str, svg_dir: str | None = None) -> None:
-    """One page: per sweep, the class x verdict table and every counterexample,
-    each linked to its SVG storyboard (written beside the page)."""
+LIST_LIMIT = 1000
+"""Configurations listed per table cell (the page of a 40,000-configuration sweep stays a
+few megabytes); the list says how many it leaves out."""
+BATCH_AXES = ("robots", "meeting")
+"""Settings that vary inside one batch: ``sweep --robots 2-3 --meeting 2-4`` stores one sweep
+per (n, m) with everything else equal, and the report shows them as one batch."""
+
+
+def batches(db_path: str) -> list[tuple[dict[str, Any], list[tuple[dict[str, Any], list[dict[str, Any]]]]]]:
+    """The sweeps of a database grouped into batches: (common settings, [(settings, rows)])."""
+    groups: dict[str, tuple[dict[str, Any], list]] = {}
+    for settings, rows in load_sweeps(db_path):
+        common = {k: v for k, v in settings.items() if k not in BATCH_AXES}
+        key = json.dumps(common, sort_keys=True)
+        groups.setdefault(key, (common, []))[1].append((settings, rows))
+    return list(groups.values())
+
+
+def _esc(value: Any) -> str:
+    return html.escape(str(value), quote=True)
+
+
+def _nodes(nodes: Any) -> str:
+    return " ".join(f"{x},{y}" for x, y in nodes)
+
+
+def _slug(*parts: Any) -> str:
+    return "-".join("".join(c if c.isalnum() else "_" for c in str(p)) for p in parts)
+
+
+def _settings_table(common: dict[str, Any], sweeps: list[tuple[dict[str, Any], list]]) -> str:
+    """The settings of a batch as a table, and its configurations per (n, m)."""
+    from gather_verify.properties import PROPERTIES
+
+    labels = {"algorithm": "algorithm", "scheduler": "scheduler", "detection": "multiplicity "
+              "detection", "frames": "frames", "box": "box", "properties": "properties",
+              "move_bound_c": "move bound c (c·D·n)", "reduction": "reductions (anonymity, Aut(M))",
+              "max_states": "state limit per configuration", "max_seconds": "time limit per "
+              "configuration (s)", "max_memory_mb": "memory limit per worker (MB)",
+              "extra": "other settings"}
+    shown = dict(common)
+    if "box" in shown and isinstance(shown["box"], list):
+        shown["box"] = " × ".join(map(str, shown["box"]))
+    if "properties" in shown:
+        shown["properties"] = ", ".join(shown["properties"]) or f"all ({', '.join(PROPERTIES)})"
+    if "reduction" in shown:
+        shown["reduction"] = "on" if shown["reduction"] else "off"
+    if shown.get("extra") in ({}, None):
+        shown.pop("extra", None)
+    rows = []
+    for key in [*labels, *sorted(k for k in shown if k not in labels)]:
+        if key in shown:
+            value = shown[key]
+            text = json.dumps(value, sort_keys=True) if isinstance(value, dict | list) else value
+            rows.append(f"<tr><th>{_esc(labels.get(key, key))}</th><td>{_esc(text)}</td></tr>")
+    ns = sorted({s.get("robots") for s, _ in sweeps}, key=str)
+    ms = sorted({s.get("meeting") for s, _ in sweeps}, key=str)
+    count = {(s.get("robots"), s.get("meeting")): len(r) for s, r in sweeps}
+    grid = ("<table class='counts'><tr><th>robots n \\ meeting nodes m</th>"
+            + "".join(f"<th>{_esc(m)}</th>" for m in ms) + "<th>total</th></tr>"
+            + "".join(f"<tr><th>{_esc(n)}</th>"
+                      + "".join(f"<td>{count.get((n, m), '')}</td>" for m in ms)
+                      + f"<td>{sum(c for (a, _), c in count.items() if a == n)}</td></tr>"
+                      for n in ns) + "</table>")
+    return ("<div class='settings'><table class='kv'>" + "".join(rows) + "</table>"
+            "<div><p class='note'>configurations (up to translation and the 8 isometries)</p>"
+            + grid + "</div></div>")
+
+
+def _smallest(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """The smallest counterexample: fewest events, then fewest robots, meeting nodes, the
+    smallest D, then the first in enumeration order."""
+    return min(rows, key=lambda r: (len((r.get("trace") or {}).get("steps", ())) if r.get("trace")
+                                    else 10**9, len(r["robots"]), len(r["meeting_nodes"]),
+                                    r.get("D") or 0, r["index"]))
+
+
+def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
+                plot: str | None) -> str:
+    from gather_verify.model.classes import CLASS_NAMES
+    from gather_verify.properties import ORDER
+    from gather_verify.render import thumbnail_svg
     from gather_verify.scenario import VERDICTS
+    from gather_verify.viewer import write_viewer
 
+    rows = [dict(r, robots_n=s.get("robots"), meeting_m=s.get("meeting"))
+            for s, rs in sweeps for r in rs]
+    title = (f"{common.get('algorithm')} / {common.get('scheduler')}"
+             + (f", box {' × '.join(map(str, common['box']))}" if common.get("box") else ""))
+    parts = [f"<h2 id='batch{number}'>Batch {number}: {_esc(title)}</h2>",
+             f"<p>{len(rows)} configurations in {len(sweeps)} sweep(s) of one command "
+             "(one sweep per number of robots and of meeting nodes).</p>",
+             "<h3>Settings</h3>", _settings_table(common, sweeps)]
+    # class x verdict x property: every count links to the list of its configurations
+    cells: dict[tuple[str, str, str], list[dict[str, Any]]] = {}
+    for r in rows:
+        prop = (r.get("property") or "") if r["verdict"] == "VIOLATED" else ""
+        cells.setdefault((r["class"], r["verdict"], prop), []).append(r)
+    props = [p for p in ORDER if any(k[2] == p for k in cells)]
+    props += sorted({k[2] for k in cells if k[2] and k[2] not in props})
+    columns = [("VERIFIED", "")] + [("VIOLATED", p) for p in props] + \
+              ([("VIOLATED", "")] if any(k[1:] == ("VIOLATED", "") for k in cells) else []) + \
+              [(v, "") for v in VERDICTS if v not in ("VERIFIED", "VIOLATED")]
+    classes = [c for c in CLASS_NAMES if any(k[0] == c for k in cells)]
+    classes += sorted({k[0] for k in cells} - set(classes))
+    head = ("<tr><th rowspan=2>class</th><th rowspan=2>configurations</th><th rowspan=2>VERIFIED</th>"
+            + (f"<th colspan={len(props)} class='bad'>VIOLATED, by failing property</th>" if props else "")
+            + "".join(f"<th rowspan=2>{v}</th>" for v, p in columns[1 + len(props):])
+            + "<th rowspan=2>largest moves / (D·n)</th></tr><tr>"
+            + "".join(f"<th class='bad'>{_esc(p)}</th>" for p in props) + "</tr>")
+    body = []
+    lists = []
+    for c in classes:
+        total = sum(len(v) for k, v in cells.items() if k[0] == c)
+        ratios = [r["ratio"] for k, v in cells.items() if k[0] == c for r in v
+                  if r.get("ratio") is not None]
+        tds = []
+        for verdict, prop in columns:
+            found = cells.get((c, verdict, prop), [])
+            if not found:
+                tds.append("<td class='zero'>0</td>")
+                continue
+            anchor = _slug("list", number, c, verdict, prop)
+            kind = "bad" if verdict == "VIOLATED" else "ok" if verdict == "VERIFIED" else ""
+            tds.append(f"<td class='{kind}'><a href='#{anchor}'>{len(found)}</a></td>")
+            lists.append(_filtered_list(anchor, c, verdict, prop, found, common))
+        body.append(f"<tr><th>{_esc(c)}</th><td>{total}</td>" + "".join(tds)
+                    + f"<td>{max(ratios):.2f}</td></tr>" if ratios else
+                    f"<tr><th>{_esc(c)}</th><td>{total}</td>" + "".join(tds) + "<td>–</td></tr>")
+    parts += ["<h3>Verdicts: class × verdict × failing property</h3>",
+              "<p class='note'>Each count opens the list of its configurations. One property is "
+              "named per configuration: the first that fails in the order "
+              f"{', '.join(ORDER)}.</p>",
+              "<table class='verdicts'>" + head + "".join(body) + "</table>"]
+    # the smallest counterexample of each (class, property), as a thumbnail opening its viewer
+    figures = []
+    for c in classes:
+        for p in props:
+            found = [r for r in cells.get((c, "VIOLATED", p), []) if r.get("trace")]
+            if not found:
+                continue
+            r = _smallest(found)
+            name = f"{_slug('batch', number, c, p)}.html"
+            folder.mkdir(parents=True, exist_ok=True)
+            write_viewer(r["trace"], str(folder / name),
+                         title=f"{c}: {p} fails ({common.get('algorithm')} / "
+                               f"{common.get('scheduler')})")
+            steps = len(r["trace"]["steps"])
+            figures.append(
+                f"<figure><a href='{_esc(folder.name)}/{name}' title='open the viewer'>"
+                f"{thumbnail_svg(r['trace'], uid=_slug('t', number, c, p))}</a>"
+                f"<figcaption><b>{_esc(c)}</b> · <span class='bad'>{_esc(p)}</span> · "
+                f"{steps} event{'s' if steps != 1 else ''}<br>robots {_esc(_nodes(r['robots']))}"
+                f"<br>meeting {_esc(_nodes(r['meeting_nodes']))}<br>"
+                f"<a href='{_esc(folder.name)}/{name}'>open the viewer</a> · "
+                f"<a href='#{_slug('list', number, c, 'VIOLATED', p)}'>all "
+                f"{len(cells[(c, 'VIOLATED', p)])}</a></figcaption></figure>")
+    if figures:
+        parts += ["<h3>Smallest counterexample of each class and property</h3>",
+                  "<p class='note'>Initial configuration → last state (robots coloured by "
+                  "identity, meeting nodes as squares, dashed arrows = pending moves). Click one to "
+                  "step through it.</p>", "<div class='thumbs'>" + "".join(figures) + "</div>"]
+    if plot:
+        parts += ["<h3>Moves against D·n</h3>",
+                  f"<img class='plot' src='{_esc(plot)}' alt='largest total moves against D·n, "
+                  "coloured by verdict, with the line c·D·n'>"]
+    parts += ["<h3>Configurations</h3><p class='note'>The list of a count in the table above "
+              "shows here when you click it.</p>", *lists]
+    return "\n".join(parts)
+
+
+def _filtered_list(anchor: str, c: str, verdict: str, prop: str, found: list[dict[str, Any]],
+                   common: dict[str, Any]) -> str:
+    """The configurations of one table cell, each with the command that re-checks it."""
+    items = []
+    for r in found[:LIST_LIMIT]:
+        command = (f"gather-verify check --robots \"{_nodes(r['robots'])}\" --meeting "
+                   f"\"{_nodes(r['meeting_nodes'])}\" --algorithm {common.get('algorithm')} "
+                   f"--scheduler {common.get('scheduler')}"
+                   + (" --html trace.html" if verdict == "VIOLATED" else ""))
+        ratio = "" if r.get("ratio") is None else f"{r['ratio']:.2f}"
+        items.append(f"<tr><td>{r['robots_n']}</td><td>{r['meeting_m']}</td>"
+                     f"<td>{_esc(_nodes(r['robots']))}</td><td>{_esc(_nodes(r['meeting_nodes']))}</td>"
+                     f"<td>{'' if r.get('max_moves') is None else r['max_moves']}</td><td>{ratio}</td>"
+                     f"<td class='reason'>{_esc(r.get('reason') or '')}</td>"
+                     f"<td><code>{_esc(command)}</code></td></tr>")
+    what = f"{verdict}" + (f", {prop} fails" if prop else "")
+    return (f"<section class='list' id='{anchor}'><h4>{_esc(c)}: {_esc(what)} — {len(found)} "
+            "configuration(s) <a href='#top'>↑ back to the table</a></h4>"
+            "<table><tr><th>n</th><th>m</th><th>robots</th><th>meeting nodes</th><th>max moves"
+            "</th><th>moves / (D·n)</th><th>reason</th><th>re-check</th></tr>"
+            + "".join(items) + "</table>"
+            + (f"<p class='note'>The first {LIST_LIMIT} of {len(found)} are listed; "
+               "<code>gather-verify report --db DB --json</code> has the totals, the database "
+               "every row.</p>" if len(found) > LIST_LIMIT else "") + "</section>")
+
+
+STYLE = """
+body{font:14px/1.45 system-ui,sans-serif;margin:16px auto;max-width:1200px;padding:0 16px;color:#222}
+h1{font-size:22px} h2{border-bottom:2px solid #ddd;padding-bottom:4px;margin-top:28px}
+table{border-collapse:collapse;margin:6px 0} td,th{padding:3px 10px;border:1px solid #e3e3e3}
+th{background:#f4f4f4;font-weight:600;text-align:left} td{text-align:right}
+.kv td{text-align:left} .settings{display:flex;gap:32px;flex-wrap:wrap;align-items:flex-start}
+.note{color:#666;font-size:13px;margin:4px 0} .zero{color:#bbb}
+.bad{color:#b3261e} td.bad{background:#fdecea} td.ok{background:#eef6ee}
+th.bad{background:#fbe1de}
+a{color:#1f5fbf} td a{font-weight:600;text-decoration:none}
+.thumbs{display:flex;flex-wrap:wrap;gap:12px}
+figure{margin:0;border:1px solid #ddd;border-radius:6px;padding:8px;background:#fff}
+figure svg{display:block;margin-bottom:4px} figcaption{font-size:12px;color:#444}
+.list{display:none;margin:10px 0;padding:8px;border:2px solid #1f5fbf;border-radius:6px}
+.list:target{display:block} .list td{text-align:left;font-size:12px} .reason{max-width:360px}
+.list code{font-size:11px;white-space:nowrap}
+.plot{max-width:100%;border:1px solid #ddd;border-radius:6px}
+nav a{margin-right:12px}
+"""
+
+
+def write_html(db_path: str, out: str, svg_dir: str | None = None) -> list[Path]:
+    """The report: one page per batch of sweeps (one ``sweep`` command), with a settings table,
+    the class × verdict × property table whose counts open filtered lists, the smallest
+    counterexample of each (class, property) as a thumbnail opening its viewer, and the plot
+    of moves against D·n (when matplotlib is installed). With several batches ``out`` is an
+    index and the batches are ``<out stem>-<k>.html`` beside it; the viewers and the plot go
+    into the folder ``svg_dir`` (default ``<out stem>-files``). Returns the pages written."""
     page = Path(out)
-    svg_folder = Path(svg_dir) if svg_dir else page.with_suffix("").with_name(page.stem + "-traces")
-    parts = ["<!doctype html><meta charset=utf-8><title>gather-verify report</title>",
-             "<style>body{font-family:sans-serif}td,th{padding:2px 8px;text-align:right}"
-             "th{background:#eee}</style><h1>gather-verify report</h1>"]
-    for number, (settings, rows) in enumerate(load_sweeps(db_path)):
-        s = summarise(rows)
-        parts.append(f"<h2>Sweep {number + 1}</h2><pre>{html.escape(json.dumps(settings, sort_keys=True))}</pre>")
-        parts.append("<table><tr><th>class</th><th>count</th>"
-                     + "".join(f"<th>{v}</th>" for v in VERDICTS) + "<th>max ratio</th></tr>")
-        for name, count in s["classes"].items():
-            if count:
-                by = s["verdicts"].get(name, {})
-                ratio = s["max_ratio"].get(name)
-                parts.append(f"<tr><td>{name}</td><td>{count}</td>"
-                             + "".join(f"<td>{by.get(v, 0)}</td>" for v in VERDICTS)
-                             + f"<td>{'' if ratio is None else f'{ratio:.2f}'}</td></tr>")
-        parts.append("</table>")
-        bad = [r for r in rows if r["verdict"] == "VIOLATED"]
-        if bad:
-            parts.append("<h3>Counterexamples</h3><ul>")
-            for r in bad:
-                link = ""
-                if r.get("trace"):
-                    svg_folder.mkdir(parents=True, exist_ok=True)
-                    name = f"sweep{number + 1}-{r['index']}.svg"
-                    _write_svg(r["trace"], svg_folder / name)
-                    link = f' <a href="{html.escape(svg_folder.name)}/{name}">trace</a>'
-                parts.append(f"<li>{html.escape(r['class'])} {html.escape(str(r['property']))}: "
-                             f"robots {r['robots']} meeting {r['meeting_nodes']}{link}</li>")
-            parts.append("</ul>")
+    folder = Path(svg_dir) if svg_dir else page.with_name(page.stem + "-files")
+    groups = batches(db_path)
     page.parent.mkdir(parents=True, exist_ok=True)
-    page.write_text("\n".join(parts), encoding="utf-8")
+    written = []
+    names = [page] if len(groups) <= 1 else [page.with_name(f"{page.stem}-{k}.html")
+                                            for k in range(1, len(groups) + 1)]
+    for k, ((common, sweeps), target) in enumerate(zip(groups, names, strict=False), 1):
+        plot = None
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            _plot([(common, [r for _, rs in sweeps for r in rs])], str(folder / f"plot-{k}.png"))
+            plot = f"{folder.name}/plot-{k}.png"
+        except InvalidInput:  # no matplotlib: the page says so instead of showing the plot
+            pass
+        body = _batch_page(k, common, sweeps, folder, plot)
+        if plot is None:
+            body += "<p class='note'>(install matplotlib for the plot: pip install 'gather-verify[plot]')</p>"
+        back = f"<nav><a href='{_esc(page.name)}'>← all batches</a></nav>" if len(groups) > 1 else ""
+        target.write_text(_document("gather-verify report", back + body), encoding="utf-8")
+        written.append(target)
+    if len(groups) != 1:
+        index = ["<p>One page per batch of sweeps (one <code>gather-verify sweep</code> command "
+                 "each).</p><ul>"]
+        for k, ((common, sweeps), target) in enumerate(zip(groups, names, strict=False), 1):
+            n = sum(len(rs) for _, rs in sweeps)
+            bad = sum(r["verdict"] == "VIOLATED" for _, rs in sweeps for r in rs)
+            index.append(f"<li><a href='{_esc(target.name)}'>Batch {k}: "
+                         f"{_esc(common.get('algorithm'))} / {_esc(common.get('scheduler'))}</a>: "
+                         f"{n} configurations, {bad} VIOLATED</li>")
+        if not groups:
+            index.append("<li>(no sweep in this database)</li>")
+        page.write_text(_document("gather-verify report", "".join(index) + "</ul>"),
+                        encoding="utf-8")
+        written.insert(0, page)
+    return written
 
 
-def _write_svg(trace: dict[str, Any], path: Path) -> None:
-    from gather_verify.render import trace_svg
+def _document(title: str, body: str) -> str:
+    return (f"<!doctype html><html lang='en'><head><meta charset='utf-8'><title>{_esc(title)}"
+            f"</title><style>{STYLE}</style></head><body><h1 id='top'>{_esc(title)}</h1>"
+            f"{body}</body></html>\n")
 
-    path.write_text(trace_svg(trace), encoding="utf-8")
+
+VERDICT_COLOURS = {"VERIFIED": "#2e7d32", "VIOLATED": "#c62828", "INCOMPLETE": "#9e9e9e",
+                   "NOT-APPLICABLE": "#6d4c9e"}
+MARKERS = "os^Dv<>p*h"
 
 
-def write_plot(db_path: str, out: str) -> None:
-    """Scatter of max moves against D·n for every verified configuration (matplotlib)."""
+def write_plot(db_path: str, out: str) -> list[str]:
+    """Scatter of the largest total moves against D·n, one series per verdict (and per batch
+    when there are several), marker area growing with the number of configurations on a
+    point, and the line c·D·n of each batch's move bound (matplotlib). Returns the legend."""
+    return _plot([(common, [r for _, rs in sweeps for r in rs]) for common, sweeps in batches(db_path)],
+          out)
+
+
+def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -> list[str]:
     try:
         import matplotlib
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        raise ValueError("--plot needs matplotlib: pip install 'gather-verify[plot]'") from None
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    for settings, rows in load_sweeps(db_path):
-        xs = [r["D"] * r["n"] for r in rows if r.get("max_moves") is not None and r.get("D") is not None]
-        ys = [r["max_moves"] for r in rows if r.get("max_moves") is not None and r.get("D") is not None]
-        ax.scatter(xs, ys, s=10, alpha=0.5,
-                   label=f"{settings.get('algorithm')} {settings.get('scheduler')}")
-    top = max([1, *ax.get_xlim()])
-    ax.plot([0, top], [0, 4 * top], "k--", linewidth=0.8, label="4·D·n")
-    ax.set_xlabel("D·n")
-    ax.set_ylabel("max moves over all executions")
-    ax.legend(fontsize=8)
+        raise InvalidInput("--plot needs matplotlib: pip install 'gather-verify[plot]'") from None
+    from collections import Counter
+
+    from gather_verify.scenario import VERDICTS
+
+    fig, ax = plt.subplots(figsize=(7, 4.8))
+    top = 1.0
+    bounds: set[float] = set()
+    for b, (common, rows) in enumerate(groups):
+        bounds.add(float(common.get("move_bound_c", 4.0)))
+        name = f"{common.get('algorithm')} / {common.get('scheduler')} · " if len(groups) > 1 else ""
+        for verdict in VERDICTS:
+            points = Counter((r["D"] * r["n"], r["max_moves"]) for r in rows
+                             if r["verdict"] == verdict and r.get("max_moves") is not None
+                             and r.get("D") is not None and r.get("n") is not None)
+            if not points:
+                continue
+            xs, ys = zip(*points, strict=True)
+            top = max(top, *xs)
+            sizes = [12 + 6 * points[p] ** 0.5 for p in points]
+            ax.scatter(xs, ys, s=sizes, alpha=0.55, color=VERDICT_COLOURS.get(verdict, "#333"),
+                       marker=MARKERS[b % len(MARKERS)], edgecolors="none",
+                       label=f"{name}{verdict} ({sum(points.values())})")
+    xs = [0, top * 1.05]
+    for c in sorted(bounds):
+        ax.plot(xs, [c * x for x in xs], "k--", linewidth=1, label=f"bound {c:g}·D·n")
+    ax.set_xlabel("D·n (D: longer side of the initial MER, n: robots)")
+    ax.set_ylabel("largest total moves over all executions")
+    ax.set_title("Moves against D·n (marker area: configurations on the point)", fontsize=10)
+    ax.set_xlim(left=0)
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    legend = ax.legend(fontsize=8, loc="upper left")
     fig.tight_layout()
-    fig.savefig(out)
+    fig.savefig(out, dpi=100)
     plt.close(fig)
+    return [t.get_text() for t in legend.get_texts()]

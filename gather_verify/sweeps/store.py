@@ -22,6 +22,8 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
+from gather_verify.errors import InvalidInput
+
 COLUMNS = (
     "key", "index", "robots", "meeting_nodes", "class", "verdict", "property", "reason",
     "states", "transitions", "max_moves", "D", "n", "ratio", "trace",
@@ -56,14 +58,14 @@ class Store:
             self.db = sqlite3.connect(str(path), timeout=60)
             self.db.executescript(_SCHEMA)
         except sqlite3.DatabaseError as error:
-            raise ValueError(f"{path}: not a gather-verify results database ({error})") from None
+            raise InvalidInput(f"{path}: not a gather-verify results database ({error})") from None
         for table, wanted in (("sweeps", ("id", "settings")), ("results", ("sweep", *COLUMNS)),
                               ("timings", ("sweep", "key", "seconds"))):
             have = {row[1] for row in self.db.execute(f"PRAGMA table_info({table})")}
             missing = [c for c in wanted if c not in have]
             if missing:
                 self.db.close()
-                raise ValueError(f"{path}: not a gather-verify results database (table {table} "
+                raise InvalidInput(f"{path}: not a gather-verify results database (table {table} "
                                  f"has no column {missing[0]!r})")
         self.db.execute("PRAGMA journal_mode=WAL")
         self.db.execute("PRAGMA synchronous=NORMAL")

@@ -18,6 +18,7 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import asdict, dataclass, field, replace
 from typing import Any
 
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.sweeps.store import Store
 
@@ -151,7 +152,7 @@ def run_sweep(
     from gather_verify.sweeps.mclass import ENGINES
 
     if engine not in ENGINES:
-        raise ValueError(f"unknown sweep engine {engine!r}: use one of {', '.join(ENGINES)}")
+        raise InvalidInput(f"unknown sweep engine {engine!r}: use one of {', '.join(ENGINES)}")
     from gather_verify.sweeps.census import enumerate_configurations
 
     batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
@@ -257,7 +258,7 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None,
     try:
         from dask.distributed import Client, LocalCluster, as_completed
     except ImportError:
-        raise ValueError("--dask needs the dask extra: pip install 'gather-verify[dask]'") from None
+        raise InvalidInput("--dask needs the dask extra: pip install 'gather-verify[dask]'") from None
     cluster = None
     if address == "local":
         cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,

@@ -1,5 +1,17 @@
 """Mutation testing of the verifier: deliberate bugs in the paper's algorithm and in go-to-target.
 
+Test tooling, not part of the installed package: it patches the *source* of
+``gather_verify/algorithms/paper.py`` and ``go_to_target.py`` and reads the
+scenario set ``scenarios/mutants/`` of a source checkout. Run it from the
+repository's root::
+
+    python -m tools.mutants            # the table and the score (exit 0: goal reached)
+    python -m tools.mutants --json     # one JSON object
+    python -m tools.mutants --list     # the mutants
+    python -m tools.mutants --mutant mutant-gtt-stops-one-short
+    python -m tools.mutants cli check --robots "0,0 1,1" --meeting "2,2" \
+        --algorithm mutant-gtt-stops-one-short   # any gather-verify command, mutants known
+
 A *mutant* is a real code mutation: the source of ``algorithms/paper.py`` or
 ``algorithms/go_to_target.py`` with one decision changed (a snippet replaced
 by another, each snippet found exactly once, so a mutation cannot silently
@@ -25,6 +37,7 @@ True
 
 from __future__ import annotations
 
+import argparse
 import sys
 import time
 from collections.abc import Callable, Sequence
@@ -33,15 +46,26 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-from gather_verify.algorithms import Algorithm
+from gather_verify.algorithms import Algorithm, register
 from gather_verify.algorithms import go_to_target as _go_to_target
 from gather_verify.algorithms import paper as _paper
+from gather_verify.check import run_check
+from gather_verify.cli.common import (
+    EXIT_OK,
+    EXIT_USAGE,
+    EXIT_VIOLATED,
+    print_json,
+    without_timings,
+)
+from gather_verify.errors import InvalidInput
+from gather_verify.properties import ORDER
+from gather_verify.scenario import load_scenario
 
 PAPER_BASELINE = "paper:alpha=mer_f"
 GTT_BASELINE = "go-to-target"
 SCENARIO_DIR = Path(__file__).resolve().parent.parent / "scenarios" / "mutants"
 GOAL = 0.95
-"""The mutation score ``gather-verify mutants`` requires for exit code 0."""
+"""The mutation score ``python -m tools.mutants`` requires for exit code 0."""
 MAX_STATES = 3000
 MAX_SECONDS = 600.0
 """Limits of each check: every baseline space of the set has under 1200 states, so a mutant
@@ -50,7 +74,7 @@ The state limit, not the time limit, is the one meant to stop a search, so the r
 not depend on the machine's speed."""
 
 
-class MutationSiteError(ValueError):
+class MutationSiteError(InvalidInput):
     """A mutant's snippet is not found exactly once in its module (the module changed)."""
 
 
@@ -112,10 +136,10 @@ def _mutated_module(mutant: Mutant) -> ModuleType:
 
 _P, _G = PAPER_BASELINE, GTT_BASELINE
 _OWN_FRAME = (
-    "    return view.canonical()\n",
-    "    # the view as the robot holds it: no canonical form\n"
-    "    return ((tuple(sorted(view.robots)), tuple(sorted(view.meeting_nodes))),\n"
-    "            geometry.IDENTITY, (0, 0))\n")
+    "        key, g, t = view.canonical()\n",
+    "        # the view as the robot holds it: no canonical form\n"
+    "        key, g, t = ((tuple(sorted(view.robots)), tuple(sorted(view.meeting_nodes))),\n"
+    "                     geometry.IDENTITY, (0, 0))\n")
 """Part of a compass mutant: each robot analyses its snapshot in its own frame, so a tie
 broken by coordinates is broken by the robot's private compass."""
 _GTT_STEP = "        x, y = target\n"
@@ -288,14 +312,12 @@ def get_mutant(name: str) -> Mutant:
     for m in MUTANTS:
         if m.name == name:
             return m
-    raise ValueError(f"unknown mutant {name!r}: use one of {', '.join(m.name for m in MUTANTS)}")
+    raise InvalidInput(f"unknown mutant {name!r}: use one of {', '.join(m.name for m in MUTANTS)}")
 
 
 def register_mutants() -> None:
     """Add every mutant to the algorithm registry under its ``mutant-*`` name (the tests,
-    ``gather-verify mutants`` and ``replay`` of a mutant's trace call it)."""
-    from gather_verify.algorithms import register
-
+    :func:`run_mutants` and ``replay`` of a mutant's trace in this process need it)."""
     for m in MUTANTS:
         register(m.name, m.build)
 
@@ -313,8 +335,6 @@ class MutantResult:
     @property
     def caught_by(self) -> list[str]:
         """Every property found violated on some scenario (in the explorer's order)."""
-        from gather_verify.properties import ORDER
-
         found = {p for r in self.runs for p in r["violated"]}
         return [p for p in (*ORDER, *sorted(found - set(ORDER))) if p in found]
 
@@ -340,17 +360,13 @@ class MutantResult:
 
 def load_mutant_scenarios(directory: Path = SCENARIO_DIR) -> list[Any]:
     """The fixed scenario set, in file-name order."""
-    from gather_verify.scenario import load_scenario
-
     files = sorted(directory.glob("*.json"))
     if not files:
-        raise ValueError(f"{directory}: no scenario files")
+        raise InvalidInput(f"{directory}: no scenario files (run from a source checkout)")
     return [load_scenario(f) for f in files]
 
 
 def _check(scenario: Any, algorithm: str, scheduler: str) -> dict[str, Any]:
-    from gather_verify.check import run_check
-
     started = time.perf_counter()
     report = run_check(scenario.configuration, algorithm=algorithm, scheduler=scheduler,
                        detection=scenario.multiplicity, frames=scenario.frames,
@@ -373,7 +389,7 @@ def run_mutants(mutants: Sequence[Mutant] = MUTANTS, scenarios: Sequence[Any] | 
     """Run every mutant against every scenario of its baseline; the JSON-able summary.
 
     The baselines are checked first: a scenario whose baseline is not VERIFIED is an
-    error (the set would not measure anything), reported as ValueError."""
+    error (the set would not measure anything), reported as InvalidInput."""
     register_mutants()
     scenarios = load_mutant_scenarios() if scenarios is None else list(scenarios)
     started = time.perf_counter()
@@ -381,7 +397,7 @@ def run_mutants(mutants: Sequence[Mutant] = MUTANTS, scenarios: Sequence[Any] | 
         for baseline, scheduler in scenario_runs(s):
             got = _check(s, baseline, scheduler)
             if got["verdict"] != "VERIFIED":
-                raise ValueError(f"scenario {s.name}: the baseline {baseline} / {scheduler} is "
+                raise InvalidInput(f"scenario {s.name}: the baseline {baseline} / {scheduler} is "
                                  f"{got['verdict']} ({got['reason']}), not VERIFIED")
     results = []
     for m in mutants:
@@ -406,3 +422,70 @@ def run_mutants(mutants: Sequence[Mutant] = MUTANTS, scenarios: Sequence[Any] | 
         if len(results) > len(equivalent) else 1.0,
         "seconds": round(time.perf_counter() - started, 1),
     }
+
+
+# -- the command line ----------------------------------------------------------------------
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m tools.mutants``: the mutation score of the verifier (docs/reliability.md).
+
+    Exit 0 when the score reaches the goal (95%), 1 when it does not, 2 on bad input
+    (an unknown mutant name, a scenario whose baseline is not VERIFIED). ``cli ARGS...``
+    runs ``gather-verify ARGS...`` with the mutants registered (check or replay one)."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["cli"]:
+        from gather_verify.cli import main as gather_verify_main
+
+        register_mutants()
+        return gather_verify_main(argv[1:])
+    parser = argparse.ArgumentParser(
+        prog="python -m tools.mutants",
+        description="run the explorer against deliberately broken algorithms and report the "
+                    "mutation score")
+    parser.add_argument("--mutant", action="append", dest="names", metavar="NAME",
+                        help="only this mutant (repeatable; default: all)")
+    parser.add_argument("--list", action="store_true", help="list the mutants and exit")
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument("--timings", action="store_true", help="with --json, add the seconds")
+    args = parser.parse_args(argv)
+    try:
+        chosen = [get_mutant(n) for n in args.names] if args.names else list(MUTANTS)
+        if args.list:
+            for m in chosen:
+                print(f"{m.name:48} {m.baseline:18} {m.description}")
+            return EXIT_OK
+        progress = None if args.json else (lambda line: print(line, file=sys.stderr, flush=True))
+        summary = run_mutants(chosen, progress=progress if sys.stderr.isatty() else None)
+    except InvalidInput as error:
+        print(f"error: {error}", file=sys.stderr)
+        return EXIT_USAGE
+    if args.json:
+        print_json(summary if args.timings else without_timings(summary))
+    else:
+        _print_table(summary)
+    return EXIT_OK if summary["score"] >= GOAL else EXIT_VIOLATED
+
+
+def _print_table(summary: dict[str, Any]) -> None:
+    rows = [(m["mutant"], ", ".join(m["caught_by"]) or
+             ("SURVIVED (equivalent)" if m["equivalent"] else "SURVIVED"),
+             m["witness"] or "-") for m in summary["mutants"]]
+    widths = [max(len(r[i]) for r in rows) for i in range(2)]
+    print(f"{'mutant':{widths[0]}}  {'caught by':{widths[1]}}  first witness")
+    print("-" * (sum(widths) + 40))
+    for name, got, witness in rows:
+        print(f"{name:{widths[0]}}  {got:{widths[1]}}  {witness}")
+    print()
+    print(f"score {summary['caught']}/{summary['total']} = {100 * summary['score']:.1f}% "
+          f"(goal {100 * GOAL:.0f}%) on {len(summary['scenarios'])} scenarios; "
+          f"without the argued-equivalent survivors "
+          f"{100 * summary['score_without_equivalent']:.1f}%")
+    for m in summary["mutants"]:
+        if not m["caught"]:
+            why = m["equivalent"] or "not explained: add a scenario that catches it"
+            print(f"survivor {m['mutant']}: {why}")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

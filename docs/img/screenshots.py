@@ -1,0 +1,74 @@
+"""Regenerate the screenshots of docs/img/ with headless chromium (the system's) via Playwright.
+
+    pip install -e '.[plot,browser]'
+    gather-verify sweep --robots 2-3 --meeting 2-4 --box 3x3 --algorithm paper --scheduler async --db out/paper.sqlite
+    python docs/img/screenshots.py out/paper.sqlite
+
+Writes viewer-f4-deadlock.png, viewer-f6-livelock.png, viewer-async-stale.png, report.png,
+trace-svg.png and moves.png next to this file (PNG, palette-reduced to stay small).
+"""
+
+from __future__ import annotations
+
+import base64
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from PIL import Image
+from playwright.sync_api import sync_playwright
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent.parent
+ALGORITHM = ROOT / "scenarios/algorithm"
+REGRESSIONS = ROOT / "scenarios/regressions"
+
+
+def gv(*args: str) -> None:
+    subprocess.run(["gather-verify", *args], check=False, capture_output=True)
+
+
+def small(path: Path) -> None:
+    """Palette PNG: the pictures are flat colours, so 256 colours lose nothing visible."""
+    image = Image.open(path).convert("RGB")
+    image.quantize(colors=256, method=Image.Quantize.MEDIANCUT).save(path, optimize=True)
+
+
+def main(db: str) -> None:
+    work = Path(tempfile.mkdtemp())
+    f4, f6, stale = work / "f4.html", work / "f6.html", work / "stale.html"
+    gv("check", str(ALGORITHM / "i22-make-multiplicity-onto-guard.json"), "--html", str(f4),
+       "--svg", str(work / "trace.svg"))
+    gv("check", str(ALGORITHM / "i22-livelock-guard-on-axis-of-M.json"), "--scheduler", "fsync",
+       "--property", "final", "--property", "termination", "--html", str(f6))
+    gv("replay", str(REGRESSIONS / "i22-defined-paper-alpha-mer-f-async-df2289d6.json"),
+       "--quiet", "--html", str(stale))
+    gv("report", "--db", db, "--html", str(work / "report.html"), "--plot", str(work / "moves.png"))
+    chromium = shutil.which("chromium") or "/usr/bin/chromium"
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=chromium, args=["--disable-gpu", "--no-sandbox"])
+        page = browser.new_page(viewport={"width": 1100, "height": 760})
+        for source, step, out in ((f4, "End", "viewer-f4-deadlock.png"),
+                                  (f6, 1, "viewer-f6-livelock.png"),
+                                  (stale, 5, "viewer-async-stale.png")):
+            page.goto(source.as_uri())
+            page.evaluate(f"window.viewer.go({step if step != 'End' else 'Infinity'})")
+            page.screenshot(path=HERE / out, full_page=True)
+        page.goto((work / "report.html").as_uri())
+        page.screenshot(path=HERE / "report.png", full_page=True)
+        svg = base64.b64encode((work / "trace.svg").read_bytes()).decode()
+        page.set_viewport_size({"width": 640, "height": 300})
+        page.set_content(f"<body style='margin:8px'><img src='data:image/svg+xml;base64,{svg}'>")
+        page.screenshot(path=HERE / "trace-svg.png", full_page=True)
+        browser.close()
+    shutil.copy(work / "moves.png", HERE / "moves.png")
+    for name in ("viewer-f4-deadlock.png", "viewer-f6-livelock.png", "viewer-async-stale.png",
+                 "report.png", "trace-svg.png", "moves.png"):
+        small(HERE / name)
+        print(f"{name}: {(HERE / name).stat().st_size // 1024} KB")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1] if len(sys.argv) > 1 else "out/paper.sqlite")

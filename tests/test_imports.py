@@ -1,0 +1,113 @@
+"""The import graph: every module imports alone, nothing is imported eagerly, no cycle.
+
+The layers contract itself (the pipeline order) is checked by ``lint-imports``
+(import-linter, configured in ``pyproject.toml``), which ``.ci/run`` runs.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import networkx as nx
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+PACKAGES = ("gather_verify", "schedulers")
+
+
+def all_modules() -> list[str]:
+    """Every module of the two packages, from the files on disk (importing nothing)."""
+    names = []
+    for package in PACKAGES:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            parts = path.relative_to(ROOT).with_suffix("").parts
+            names.append(".".join(parts[:-1] if parts[-1] == "__init__" else parts))
+    return names
+
+
+ALONE = """
+import importlib, json, sys, traceback
+failed = {}
+for name in json.loads(sys.argv[1]):
+    for loaded in [m for m in sys.modules if m.split(".")[0] in ("gather_verify", "schedulers")]:
+        del sys.modules[loaded]
+    try:
+        importlib.import_module(name)
+    except Exception:
+        failed[name] = traceback.format_exc(limit=-3)
+print(json.dumps(failed))
+"""
+
+
+def test_every_module_imports_alone_in_a_fresh_interpreter() -> None:
+    """One subprocess; before each module, every module of ours is forgotten, so each import
+    starts as in a fresh interpreter (a cycle through a package ``__init__`` fails here)."""
+    modules = all_modules()
+    assert "schedulers" in modules and "gather_verify.engine.explore" in modules
+    out = subprocess.run([sys.executable, "-c", ALONE, json.dumps(modules)], cwd=ROOT,
+                         capture_output=True, text=True, check=True).stdout
+    failed = json.loads(out)
+    assert not failed, "\n".join(f"{name}:\n{tb}" for name, tb in failed.items())
+
+
+def test_import_gather_verify_is_cheap_and_lazy() -> None:
+    code = ("import sys, gather_verify\n"
+            "ours = sorted(m for m in sys.modules if m.startswith(('gather_verify', 'schedulers')))\n"
+            "print(ours, 'numpy' in sys.modules)\n"
+            "from gather_verify import Configuration, run_check\n"
+            "print(run_check.__module__, Configuration.__module__)")
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
+                         check=True).stdout.splitlines()
+    assert out[0] == "['gather_verify'] False"
+    assert out[1] == "gather_verify.check gather_verify.model.configuration"
+
+
+def test_public_names_resolve_and_unknown_names_raise() -> None:
+    import gather_verify
+
+    for name in gather_verify.__all__:
+        assert getattr(gather_verify, name) is not None, name
+    assert set(gather_verify.__all__) <= set(dir(gather_verify))
+    with pytest.raises(AttributeError, match="no attribute 'nope'"):
+        gather_verify.nope  # noqa: B018
+
+
+def import_graph() -> nx.DiGraph:
+    """Module -> imported module, for every import statement of ours, also those inside
+    functions (grimp, the graph builder of import-linter); ``if TYPE_CHECKING:`` imports,
+    which never run, are left out."""
+    grimp = pytest.importorskip("grimp")
+    g = grimp.build_graph(*PACKAGES, exclude_type_checking_imports=True)
+    graph = nx.DiGraph()
+    for module in g.modules:
+        graph.add_node(module)
+        graph.add_edges_from((module, imported) for imported in g.find_modules_directly_imported_by(module))
+    return graph
+
+
+def cycles(graph: nx.DiGraph) -> list[list[str]]:
+    return sorted(sorted(c) for c in nx.strongly_connected_components(graph) if len(c) > 1)
+
+
+def test_no_import_cycle_module_level_or_inside_functions() -> None:
+    graph = import_graph()
+    assert graph.has_edge("gather_verify.engine.search", "gather_verify.engine.fast_explore")
+    assert cycles(graph) == []
+
+
+def test_the_cycle_finder_finds_a_cycle() -> None:
+    """The check above can fail: one edge back from the model to the explorer makes a cycle."""
+    graph = import_graph()
+    graph.add_edge("gather_verify.model.configuration", "gather_verify.engine.explore")
+    assert any("gather_verify.engine.explore" in c for c in cycles(graph))
+
+
+def test_schedulers_import_only_the_model_layer() -> None:
+    graph = import_graph()
+    ours = {m for s in graph if s.startswith("schedulers") for m in graph.successors(s)
+            if m.startswith("gather_verify")}
+    assert ours and all(m.startswith(("gather_verify.model", "gather_verify.errors"))
+                        for m in ours), ours

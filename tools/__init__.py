@@ -1,0 +1,1 @@
+"""Developer tooling that needs a source checkout (not installed with the package)."""
