@@ -17,8 +17,8 @@ from gather_verify.engine.fast_explore import explore_fast
 from gather_verify.engine.search import explore
 from gather_verify.model.configuration import Configuration
 from gather_verify.sweeps.census import enumerate_configurations
-from gather_verify.sweeps.mclass import class_tasks, verify_class
-from gather_verify.sweeps.sweep import SweepSettings, verify_one
+from gather_verify.sweeps.mclass import class_tasks, decide_class, verify_class
+from gather_verify.sweeps.sweep import SweepSettings, configuration_key, verify_one
 
 
 def _without_seconds(row: dict) -> dict:
@@ -35,10 +35,10 @@ def assert_rows_equal(n: int, m: int, box: tuple[int, int], algorithm: str,
     seen: dict[int, dict] = {}
     settled = fallback = 0
     for members in class_tasks(items):
-        decided = union.decide_class(s, members)
+        decided = decide_class(s, members, configuration_key)
         settled += len(decided.rows)
         fallback += len(decided.fallback)
-        rows = verify_class(s, members)
+        rows = verify_class(s, members, verify_one, configuration_key)
         assert [r["index"] for r in rows] == sorted(i for i, _ in members)
         seen.update((r["index"], r) for r in rows)
     assert sorted(seen) == [i for i, _ in items]
@@ -81,7 +81,7 @@ def test_violations_are_found_in_the_union_graph() -> None:
     """A broken algorithm's deadlocks are decided from the union (not only by fallback)."""
     s = SweepSettings(robots=2, meeting=1, box=(3, 3), algorithm="broken-stay", scheduler="async")
     items = list(enumerate(enumerate_configurations(2, 1, 3, 3)))
-    rows = [r for members in class_tasks(items) for r in union.decide_class(s, members).rows]
+    rows = [r for members in class_tasks(items) for r in decide_class(s, members, configuration_key).rows]
     assert any(r["verdict"] == "VIOLATED" and r["property"] == "final" and r["trace"]
                for r in rows)
 
@@ -104,9 +104,9 @@ def test_the_union_holds_each_seeds_space() -> None:
 def test_the_margin_rule() -> None:
     c = Configuration([(0, 0), (1, 0)], [(1, 1)])
     group = [a for a in union.meeting_automorphisms(c)]
-    assert union._margin(c, group, np.array([-2, -2, 3, 3])) == 2
-    assert union._margin(c, group, np.array([-3, 0, 1, 1])) == 4
-    assert union._margin(c, group, np.array([-40, 0, 1, 1])) is None
+    assert union.margin_needed(c, group, np.array([-2, -2, 3, 3])) == 2
+    assert union.margin_needed(c, group, np.array([-3, 0, 1, 1])) == 4
+    assert union.margin_needed(c, group, np.array([-40, 0, 1, 1])) is None
 
 
 def test_witness_paths_are_the_searchs_own() -> None:

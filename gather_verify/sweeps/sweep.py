@@ -249,7 +249,7 @@ def _run_class_task(task: Task) -> tuple[int, list[dict[str, Any]]]:
     from gather_verify.sweeps.mclass import verify_class
 
     sweep, settings, chunk = task
-    return sweep, verify_class(settings, chunk)
+    return sweep, verify_class(settings, chunk, verify_one, configuration_key)
 
 
 def _execute_dask(tasks: list[Task], address: str, workers: int | None,
