@@ -39,9 +39,9 @@ violation's trace is the per-configuration search's own, run only until its
 first witness (``explore_fast(until=...)``): the BFS ids up to it are those of
 the whole search, so the trace is identical.
 
-Time and memory limits are the only ones this does not reproduce: a search the
-per-configuration check would stop by time is decided here (those limits are
-not deterministic anyway).
+Time and memory limits are not deterministic: a class whose union search takes
+longer than one configuration's time limit, or leaves the process over its memory
+limit, is handed to the per-configuration checks whole.
 """
 
 from __future__ import annotations

@@ -27,8 +27,10 @@ from gather_verify.engine.explore import (
     Violation,
     facts_cache,
     region_box,
+    rss_mb,
     symmetry_group,
 )
+from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.model import geometry
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
@@ -73,6 +75,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     ``configuration_key``); the rest in ``fallback``."""
 
     wanted = props.check_property_names(settings.properties or None)
+    memory = memory_budget_mb() if settings.max_memory_mb is None else settings.max_memory_mb
     fallback: list[tuple[int, Configuration]] = []
     todo: list[tuple[int, Configuration, Any, Configuration]] = []
     for index, c in members:
@@ -99,7 +102,8 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
                           settings.scheduler, detection=settings.detection,
                           frames=settings.frames, properties=wanted, box=box,
                           max_states=max(union.UNION_MAX_STATES, settings.max_states))
-        if u is None:
+        if u is None or rss_mb() > memory or u.seconds > settings.max_seconds:
+            # too large, or past a limit the per-configuration searches might hit: they decide
             fallback.extend((todo[k][0], todo[k][1]) for k in ks)
             continue
         union_states += u.states
