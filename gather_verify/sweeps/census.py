@@ -159,15 +159,63 @@ def _decode(mask: int, side: int) -> tuple[Node, ...]:
     return tuple(sorted(divmod(top - bit, side) for bit in range(top + 1) if mask >> bit & 1))
 
 
+def _canonical_masks_lazy(n: int, m: int, w: int, h: int) -> Iterator[np.ndarray]:
+    """The rows of :func:`_canonical_masks`, in the same order, a block at a time.
+
+    Every class has its canonical image among the placements of the ``side x side``
+    frame whose MER touches the origin (the image fits ``w x h`` or ``h x w``). So
+    the robot sets of the frame, taken in ``itertools.combinations`` order over
+    the nodes sorted by ``(x, y)``, each with every meeting set in that order,
+    come in increasing canonical key; keeping the placements that are their own
+    canonical image and fit the box gives every class once, in order, without
+    looking past the last one asked for. Blocks start small and double, so the
+    first configurations cost next to nothing (``sweep --limit``)."""
+    side = max(w, h)
+    # the nodes of the box and of its transpose, sorted by (x, y)
+    frame = np.array([(x, y) for x in range(side) for y in range(side)
+                      if (x < w and y < h) or (x < h and y < w)], dtype=np.int64)
+    meeting_sets = _subsets(len(frame), m)
+    mx, my = frame[meeting_sets, 0], frame[meeting_sets, 1]
+    robots_iter = itertools.combinations(range(len(frame)), n)
+    per_block = 1
+    while True:
+        block = np.array(list(itertools.islice(robots_iter, per_block)), dtype=np.int64)
+        if not len(block):
+            return
+        per_block = min(2 * per_block, max(1, _CHUNK // len(meeting_sets)))
+        bx, by = frame[block, 0], frame[block, 1]
+        k = len(meeting_sets)
+        xs = np.concatenate([np.repeat(bx, k, axis=0), np.tile(mx, (len(block), 1))], axis=1)
+        ys = np.concatenate([np.repeat(by, k, axis=0), np.tile(my, (len(block), 1))], axis=1)
+        wide, high = xs.max(axis=1), ys.max(axis=1)  # MER sides, in edges
+        keep = ((xs.min(axis=1) == 0) & (ys.min(axis=1) == 0)
+                & (((wide < w) & (high < h)) | ((wide < h) & (high < w))))
+        xs, ys = xs[keep], ys[keep]
+        own_r, own_m = _masks(xs[:, :n], ys[:, :n], side), _masks(xs[:, n:], ys[:, n:], side)
+        canonical_rows = np.ones(len(xs), dtype=bool)
+        for g in geometry.ALL:
+            if g == geometry.IDENTITY:
+                continue
+            a, b, c, d = geometry.MATRICES[g]
+            gx, gy = a * xs + b * ys, c * xs + d * ys
+            gx -= gx.min(axis=1, keepdims=True)
+            gy -= gy.min(axis=1, keepdims=True)
+            mr, mm = _masks(gx[:, :n], gy[:, :n], side), _masks(gx[:, n:], gy[:, n:], side)
+            canonical_rows &= ~((mr > own_r) | ((mr == own_r) & (mm > own_m)))
+        if canonical_rows.any():
+            yield np.stack([own_r[canonical_rows], own_m[canonical_rows]], axis=1)
+
+
 def enumerate_configurations(n: int, m: int, w: int, h: int) -> Iterator[Configuration]:
     """Canonical representatives of every configuration with ``n`` robots on
     distinct nodes and ``m`` meeting nodes that fits a ``w x h`` box, sorted by
-    canonical key (deterministic)."""
+    canonical key (deterministic). Lazy: taking the first ``k`` costs about ``k``."""
     n, m, w, h = validate_census_arguments(n, m, w, h)
     side = max(w, h)
-    for robot_mask, meeting_mask in _canonical_masks(n, m, w, h).tolist():
-        yield Configuration.trusted(_decode(robot_mask, side),
-                                    frozenset(_decode(meeting_mask, side)))
+    for block in _canonical_masks_lazy(n, m, w, h):
+        for robot_mask, meeting_mask in block.tolist():
+            yield Configuration.trusted(_decode(robot_mask, side),
+                                        frozenset(_decode(meeting_mask, side)))
 
 
 @dataclass(frozen=True)

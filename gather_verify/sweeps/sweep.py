@@ -147,13 +147,22 @@ def run_sweep(
     limit: int | None = None,
     where: Callable[[SweepSettings, Configuration], bool] | None = None,
     fresh: bool = False,
+    engine: str = "union",
 ) -> dict[str, Any]:
     """Run (or resume) one sweep, or several (e.g. every n and m up to a bound) into
     one store; return the summary over all of them (see :func:`summarise`). Rows are
     keyed by the settings and the algorithm's fingerprint, so an edited algorithm is
     checked again; ``fresh`` drops the stored rows of these settings first. ``where``
     keeps only some configurations (the readings of :mod:`gather_verify.readings`; the
-    settings of such a sweep must say which, so the store does not mislead)."""
+    settings of such a sweep must say which, so the store does not mislead).
+
+    ``engine="union"`` decides a meeting-node class at a time from one state graph
+    (:mod:`gather_verify.sweeps.mclass`), ``"per-config"`` checks each configuration on
+    its own; the rows are the same (timings aside)."""
+    from gather_verify.sweeps.mclass import ENGINES
+
+    if engine not in ENGINES:
+        raise InvalidInput(f"unknown sweep engine {engine!r}: use one of {', '.join(ENGINES)}")
     from gather_verify.sweeps.census import enumerate_configurations
 
     batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
@@ -174,7 +183,7 @@ def run_sweep(
             plan.append((one, sweep, todo))
         bar = Progress(sum(len(todo) for _, _, todo in plan), progress)
         try:
-            for sweep, rows in _execute(plan, workers, dask):
+            for sweep, rows in _execute(plan, workers, dask, engine):
                 store.add(sweep, rows)
                 bar.advance(len(rows))
         finally:
@@ -193,6 +202,7 @@ def _execute(
     plan: list[tuple[SweepSettings, int, list[tuple[int, Configuration]]]],
     workers: int | None,
     dask: str | None,
+    engine: str = "per-config",
 ) -> Iterator[tuple[int, list[dict[str, Any]]]]:
     """Every chunk of every sweep of the plan, as ``(sweep id, rows)`` when done. One pool
     (or cluster) runs them all, so its workers keep what they learnt (the algorithm's plans,
@@ -201,25 +211,35 @@ def _execute(
     local = dask is None and workers == 1
     tasks: list[Task] = []
     for settings, sweep, todo in plan:
-        chunks = list(_chunks(todo, CHUNK))
+        if engine == "union":  # a task is a meeting-node class, the largest first
+            from gather_verify.sweeps.mclass import class_tasks
+
+            chunks = class_tasks(todo)
+        else:
+            chunks = list(_chunks(todo, CHUNK))
         if settings.max_memory_mb is None:  # the machine's memory, shared by the workers
             from gather_verify.engine.resources import memory_budget_mb
 
             settings = replace(settings, max_memory_mb=memory_budget_mb(
                 1 if local else (workers or os.cpu_count() or 1)))
         tasks.extend((sweep, settings, chunk) for chunk in chunks)
+    if engine == "union":
+        tasks.sort(key=lambda task: -len(task[2]))  # the largest classes of every sweep first
+        run = _run_class_task
+    else:
+        run = _run_task
     if dask is not None:
-        yield from _execute_dask(tasks, dask, workers)
+        yield from _execute_dask(tasks, dask, workers, run)
         return
     workers = workers or os.cpu_count() or 1
     if workers == 1 or len(tasks) <= 1:
         for task in tasks:
-            yield _run_task(task)
+            yield run(task)
         return
     import multiprocessing
 
     with multiprocessing.get_context("fork").Pool(workers, initializer=_ignore_sigint) as pool:
-        yield from pool.imap_unordered(_run_task, tasks)
+        yield from pool.imap_unordered(run, tasks)
 
 
 def _ignore_sigint() -> None:
@@ -243,7 +263,22 @@ def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None
     return sweep, verify_chunk(settings, chunk)
 
 
-def _execute_dask(tasks: list[Task], address: str, workers: int | None
+def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None
+                    ) -> tuple[int, list[dict[str, Any]]]:
+    """Worker entry point of ``engine="union"``: the chunk is one meeting-node class
+    (``sources`` as for :func:`_run_task`)."""
+    from gather_verify.sweeps.mclass import verify_class
+
+    sweep, settings, chunk = task
+    if sources:
+        from gather_verify.algorithms.loading import receive
+
+        receive(sources)
+    return sweep, verify_class(settings, chunk, verify_one, configuration_key)
+
+
+def _execute_dask(tasks: list[Task], address: str, workers: int | None,
+                  run: Callable[[Task], tuple[int, list[dict[str, Any]]]] = _run_task,
                   ) -> Iterator[tuple[int, list[dict[str, Any]]]]:
     try:
         from dask.distributed import Client, LocalCluster, as_completed
@@ -260,7 +295,7 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None
         from gather_verify.algorithms.loading import ship
 
         sources = ship({settings.algorithm for _, settings, _ in tasks}) or None
-        futures = client.map(_run_task, tasks, sources=sources, pure=False)
+        futures = client.map(run, tasks, sources=sources, pure=False)
         for future in as_completed(futures):
             yield future.result()
     finally:

@@ -1,0 +1,419 @@
+"""One state graph per meeting-node set: every initial configuration sharing M at once.
+
+Issue 17. The configurations of a sweep that share their meeting nodes ``M``
+(up to an isometry) explore largely the same states: on the 4 x 4 box the
+union of their reachable states is 80-120 times smaller than the sum of
+their searches. This module explores that union once (the bulk explorer's
+machinery: :class:`~gather_verify.engine.fast_explore.KeyIndex`,
+``FactsTable``, ``Canon``, the scheduler's ``bulk_successors``) and decides
+every configuration's row from it:
+
+- each configuration is moved by an isometry so that its ``M`` is the class's
+  canonical ``M0`` (results are invariant under isometries: the frames are
+  all 8, SEMANTICS.md §3), and the search is seeded with all of them;
+- per state, the facts the per-configuration search checks: a deadlock
+  (``final``), a configuration in U (``no-ungatherable``), an edge that changes
+  the target (``target-invariance``), no rule (``defined``), a cycle (a changed
+  self-loop of the quotient, or a component), and the bounding box, closed
+  under ``Aut(M0)``, of its robots;
+- one peeling of sinks (Kahn's algorithm on the reverse graph) orders the
+  states that reach no cycle, and one pass in that order gives, per state,
+  every violation reachable from it, the largest total moves (the longest
+  path) and the box of every node reachable from it;
+- per configuration, the number of states and transitions its own search
+  would count (the orbits it reaches and their events) come from one pass of
+  64-bit sets of seeds.
+
+The region rule (``check.run_check`` searches the MER grown by a margin of
+2, doubled while the region stops the search, up to 32): the union is explored
+in the union of the configurations' regions with margin ``UNION_MARGIN``; a
+configuration's own search ends at the least margin of 2, 4, 8, 16, 32 whose
+region holds every node it reaches, and its counts, verdict and moves are
+those of that last search. A configuration is handed to the per-configuration
+check instead (:func:`gather_verify.sweeps.mclass.decide_class` returns it in ``fallback``) when that is
+not settled here exactly: a reachable state left the union's region or has
+no rule, a cycle is reachable, its space passes ``max_states``, the target is
+not equivariant on a reachable configuration, or move-bound is its first
+failing property (its trace is the longest path of its own graph). A safety
+violation's trace is the per-configuration search's own, run only until its
+first witness (``explore_fast(until=...)``): the BFS ids up to it are those of
+the whole search, so the trace is identical.
+
+Time and memory limits are not deterministic: a class whose union search takes
+longer than one configuration's time limit, or leaves the process over its memory
+limit, is handed to the per-configuration checks whole.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
+from gather_verify.algorithms.moves import frames_for
+from gather_verify.engine.explore import DEFAULT_MARGIN, Encoding, region_box
+from gather_verify.engine.fast_explore import (
+    Canon,
+    FactsTable,
+    Growing,
+    KeyIndex,
+    _decode,
+    facts_memo,
+)
+from gather_verify.model import geometry
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import STEPS, Node
+from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
+from schedulers import Frontier, get_scheduler, initial_state
+
+UNION_MARGIN = 2
+"""The margin of the configurations' regions whose union the class is explored in."""
+MARGINS = tuple(DEFAULT_MARGIN << k for k in range(5))
+"""The margins ``run_check`` tries in turn (2 doubled up to ``check.AUTO_MARGIN_MAX``)."""
+UNION_MAX_STATES = 6_000_000
+"""Largest union graph explored; a larger class is checked configuration by configuration."""
+
+# per-state flags
+DEFINED, FINAL, UNGATHERABLE, TARGET, TAINT, CYCLE = (1 << k for k in range(6))
+SAFETY_BITS = {"final": FINAL, "no-ungatherable": UNGATHERABLE, "target-invariance": TARGET}
+
+
+def supports(scheduler: str, reduction: bool, frames: str) -> bool:
+    """Whether a sweep with these settings can be decided a meeting-node class at a time."""
+    return scheduler == "async" and reduction and frames == "all"
+
+
+def meeting_form(c: Configuration) -> tuple[tuple[Node, ...], tuple[int, Node]]:
+    """``M`` translated so that its MER starts at the origin, and that translation (as
+    ``(identity, t)``). Only translations: they keep the order of nodes, so the
+    representative of every orbit, and the order of every state's successors, are those
+    of each configuration's own search, and a BFS of the union from one seed is that
+    search (its first witnesses, its traces)."""
+    x0, y0, _, _ = geometry.bounding_box(c.meeting_nodes)
+    return (tuple(sorted((x - x0, y - y0) for x, y in c.meeting_nodes)),
+            (geometry.IDENTITY, (-x0, -y0)))
+
+
+def normalise(c: Configuration, iso: tuple[int, Node]) -> Configuration:
+    """``c`` moved by ``v -> g(v) + t``."""
+    g, t = iso
+    robots = tuple(sorted(geometry.add(geometry.apply(g, v), t) for v in c.robots))
+    return Configuration.trusted(robots, frozenset(geometry.add(geometry.apply(g, v), t)
+                                                   for v in c.meeting_nodes))
+
+
+def meeting_classes(items: Sequence[tuple[int, Configuration]]
+                    ) -> list[list[tuple[int, Configuration]]]:
+    """``items`` grouped by meeting-node set up to translation, in order of first occurrence."""
+    groups: dict[tuple[Node, ...], list[tuple[int, Configuration]]] = {}
+    for item in items:
+        groups.setdefault(meeting_form(item[1])[0], []).append(item)
+    return list(groups.values())
+
+
+@dataclass
+class UnionGraph:
+    """The union of the reachable states of a class's seeds, as the decisions need it."""
+
+    seeds: np.ndarray  # state id of each seed
+    states: int
+    reach: np.ndarray  # per state: the flags reachable from it (CYCLE: not peeled)
+    best: np.ndarray  # per state: the largest total moves from it (acyclic part)
+    box: np.ndarray  # per state: (x0, y0, x1, y1) of every node reachable from it, Aut-closed
+    counts: np.ndarray  # per seed: states reachable (-1: not counted)
+    transitions: np.ndarray  # per seed: events of those states
+    seconds: float
+    encoding: Encoding
+    keys: np.ndarray  # per state: its key
+    flags: np.ndarray  # per state: its own flags
+    offsets: np.ndarray  # successors of state s: targets[offsets[s]:offsets[s + 1]], in
+    targets: np.ndarray  # the search's order (self-loops left out)
+
+    def witness_path(self, seed: int, bit: int, fresh: bool) -> list[int] | None:
+        """The union ids from seed ``seed`` (an index of ``seeds``) to the first state with
+        flag ``bit`` in its own search's BFS order (``fresh``: the seed itself excluded),
+        along BFS parents: the witness and the path that search reports."""
+        start = int(self.seeds[seed])
+        parent = {start: -1}
+        found = start if not fresh and self.flags[start] & bit else -1
+        queue, head = [start], 0
+        off, tgt, flags = self.offsets, self.targets, self.flags
+        while found < 0 and head < len(queue):
+            s = queue[head]
+            head += 1
+            for t in tgt[off[s]:off[s + 1]].tolist():
+                if t not in parent:
+                    parent[t] = s
+                    if flags[t] & bit:
+                        found = t
+                        break
+                    queue.append(t)
+        if found < 0:
+            return None
+        path = [found]
+        while parent[path[-1]] >= 0:
+            path.append(parent[path[-1]])
+        return path[::-1]
+
+
+def _neighbours(enc: Encoding) -> np.ndarray:
+    neighbour = np.full((enc.cells, 4), -1, dtype=np.int64)
+    for cell in range(enc.cells):
+        v = enc.node(cell)
+        for k, (dx, dy) in enumerate(STEPS):
+            w = (v[0] + dx, v[1] + dy)
+            if enc.inside(w):
+                neighbour[cell, k] = (w[0] - enc.x0) * enc.height + (w[1] - enc.y0)
+    return neighbour
+
+
+def _closed_boxes(box: np.ndarray, group: Sequence[Automorphism]) -> np.ndarray:
+    """Each row ``(x0, y0, x1, y1)`` grown to the bounding box of its images under ``group``."""
+    out = box.copy()
+    for a in group:
+        ma, mb, mc, md = geometry.MATRICES[a.g]
+        for xs, ys in ((box[:, 0], box[:, 1]), (box[:, 2], box[:, 3])):
+            x, y = ma * xs + mb * ys + a.t[0], mc * xs + md * ys + a.t[1]
+            np.minimum(out[:, 0], x, out=out[:, 0])
+            np.minimum(out[:, 1], y, out=out[:, 1])
+            np.maximum(out[:, 2], x, out=out[:, 2])
+            np.maximum(out[:, 3], y, out=out[:, 3])
+    return out
+
+
+class _Equivariance:
+    """Per configuration row: whether the target commutes with ``Aut(M0)`` there
+    (``target(a C) == a(target C)``); what lets one quotient graph decide target-invariance
+    for every seed."""
+
+    def __init__(self, table: FactsTable, algorithm: Algorithm, group: Sequence[Automorphism]):
+        self.table, self.algorithm, self.group = table, algorithm, list(group)[1:]
+        self.known: dict[int, bool] = {}
+
+    def _target(self, c: Configuration) -> Node | None:
+        try:
+            return target_of(self.algorithm, c)
+        except Unhandled:
+            return None
+
+    def broken(self, rows: np.ndarray) -> np.ndarray:
+        if not self.group:
+            return np.zeros(len(rows), dtype=bool)
+        unique, back = np.unique(rows, return_inverse=True)
+        out = np.zeros(len(unique), dtype=bool)
+        for i, r in enumerate(unique.tolist()):
+            ok = self.known.get(r)
+            if ok is None:
+                c = self.table.configuration(r)
+                try:
+                    t = self._target(c)
+                    ok = True
+                    for a in self.group:
+                        image = Configuration.trusted(tuple(a(v) for v in c.robots),
+                                                      c.meeting_nodes)
+                        if self._target(image) != (None if t is None else a(t)):
+                            ok = False
+                            break
+                except AlgorithmCrash:  # a crash is the per-configuration check's to report
+                    ok = False
+                self.known[r] = ok
+            out[i] = not ok
+        return out[back]
+
+
+def explore_union(
+    meeting: frozenset[Node],
+    seeds: Sequence[tuple[Node, ...]],
+    algorithm: str | Algorithm,
+    scheduler: str,
+    *,
+    detection: str = "local-weak",
+    frames: str = "all",
+    properties: Sequence[str],
+    box: tuple[int, int, int, int],
+    count_seeds: np.ndarray | None = None,
+    max_states: int = UNION_MAX_STATES,
+) -> UnionGraph | None:
+    """Explore the union of the states reachable from every seed (robots, all with
+    ``meeting``) in ``box`` (closed under ``Aut(meeting)``), with both reductions; the
+    graph facts above. ``count_seeds`` (a bool per seed, default all): the seeds whose
+    states and transitions are counted. None when the union passes ``max_states``."""
+    started = time.perf_counter()
+    algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
+    sched = get_scheduler(scheduler)
+    frame_elements = frames_for(frames)
+    n = len(seeds[0])
+    group = meeting_automorphisms(Configuration.trusted(seeds[0], meeting))
+    enc = Encoding(box, group, True)
+    if enc.base ** n >= 2**63:
+        return None
+    wanted = set(properties)
+    table = FactsTable(enc, n, algo, meeting, detection, frame_elements, group,
+                       facts_memo(algo, detection, frames))
+    equivariance = _Equivariance(table, algo, group)
+    canon = Canon(enc, n)
+    base = enc.base
+    neighbour = _neighbours(enc)
+    index = KeyIndex()
+    seed_ids, _ = index.find_or_add(np.array([enc.key(initial_state(r)) for r in seeds],
+                                             dtype=np.uint64))
+    e_src, e_tgt, e_w = Growing(np.int32), Growing(np.int32), Growing(np.int8)
+    flags, events = Growing(np.uint8), Growing(np.int32)
+    boxes_rows: list[np.ndarray] = []
+    sid = 0
+    while sid < index.count:
+        hi = min(index.count, sid + (1 << 14))
+        K = index.keys[sid:hi].copy()
+        codes = _decode(K, base, n)
+        cells = codes // 5
+        srt, ck = table.config_keys(cells)
+        rows = table.rows(ck, srt)
+        f = np.zeros(len(K), dtype=np.uint8)
+        f[table.flags[rows, 0] != 0] |= DEFINED  # no rule, or a crash: the per-config check's
+        ok = np.flatnonzero(table.flags[rows, 0] == 0)
+        rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
+        masks = table.masks[rows[:, None], rank]
+        got = sched.bulk_successors(Frontier(codes[ok], masks[ok], neighbour),
+                                    4 * n * len(ok) + 1)
+        assert got.event is None and got.states == len(ok), "ASYNC: one change per event"
+        src, robot, new, weight = got.source, got.robot, got.code, got.weight
+        src = ok[src]
+        events.extend(np.bincount(src, minlength=len(K)).astype(np.int32))
+        outside = new < 0
+        if outside.any():
+            f[src[outside]] |= TAINT
+            keep = ~outside
+            src, robot, new, weight = src[keep], robot[keep], new[keep], weight[keep]
+        old = codes[src, robot]
+        succ_codes = codes[src]
+        succ_codes[np.arange(len(src)), robot] = new
+        ids, _ = index.find_or_add(canon.keys(succ_codes))
+        if index.count > max_states:
+            return None
+        if "final" in wanted:
+            dead = (table.flags[rows, 1] == 1) & (table.flags[rows, 2] == 0) \
+                & np.all(codes % 5 == 0, axis=1)
+            f[dead] |= FINAL
+        if "no-ungatherable" in wanted:
+            f[table.need_in_u(rows)] |= UNGATHERABLE
+        if "target-invariance" in wanted and len(src):
+            f[equivariance.broken(rows)] |= TAINT
+            before = table.need_target(rows[src])
+            maybe = np.flatnonzero(before >= 0)
+            if len(maybe):
+                s2, k2 = table.config_keys(succ_codes[maybe] // 5)
+                after = table.need_target(table.rows(k2, s2))
+                bad = (after >= 0) & (after != before[maybe])
+                f[src[maybe[bad]]] |= TARGET
+        loop = ids == sid + src
+        f[src[loop & (new != old)]] |= CYCLE  # a changed self-loop lifts to a real cycle
+        edge = ~loop
+        e_src.extend((sid + src[edge]).astype(np.int32))
+        e_tgt.extend(ids[edge].astype(np.int32))
+        e_w.extend(weight[edge])
+        flags.extend(f)
+        xs, ys = enc.x0 + cells // enc.height, enc.y0 + cells % enc.height
+        boxes_rows.append(np.stack([xs.min(axis=1), ys.min(axis=1), xs.max(axis=1),
+                                    ys.max(axis=1)], axis=1))
+        sid = hi
+    S = index.count
+    own_box = _closed_boxes(np.concatenate(boxes_rows).astype(np.int64), group)
+    graph = _analyse(S, e_src.array().astype(np.int64), e_tgt.array().astype(np.int64),
+                     e_w.array().astype(np.int64), flags.array(), own_box)
+    reach, best, reach_box, rounds, pred_off, pred_src, out_off, out_tgt = graph
+    counts = np.full(len(seeds), -1, dtype=np.int64)
+    transitions = np.full(len(seeds), -1, dtype=np.int64)
+    wanted_seeds = np.ones(len(seeds), dtype=bool) if count_seeds is None else count_seeds
+    wanted_seeds = wanted_seeds & ((reach[seed_ids] & CYCLE) == 0)
+    _count(seed_ids, np.flatnonzero(wanted_seeds), rounds, pred_off, pred_src,
+           events.array().astype(np.int64), S, counts, transitions)
+    return UnionGraph(seed_ids, S, reach, best, reach_box, counts, transitions,
+                      time.perf_counter() - started, enc, index.keys[:S].copy(), flags.array(),
+                      out_off, out_tgt)
+
+
+def _analyse(S: int, src: np.ndarray, tgt: np.ndarray, w: np.ndarray, flags: np.ndarray,
+             own_box: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Peel sinks round by round (the states that reach no cycle, successors first) and,
+    in that order, the reachable flags, longest paths and node boxes; the unpeeled states
+    get ``CYCLE`` in their reachable flags."""
+    order = np.argsort(src, kind="stable")  # already sorted: cheap
+    src, tgt, w = src[order], tgt[order], w[order]
+    out_off = np.zeros(S + 1, dtype=np.int64)
+    np.cumsum(np.bincount(src, minlength=S), out=out_off[1:])
+    by_tgt = np.argsort(tgt, kind="stable")
+    pred_src = src[by_tgt]
+    pred_off = np.zeros(S + 1, dtype=np.int64)
+    np.cumsum(np.bincount(tgt, minlength=S), out=pred_off[1:])
+    outdeg = np.diff(out_off) + ((flags & CYCLE) != 0)
+    reach = flags.astype(np.uint8).copy()
+    best = np.zeros(S, dtype=np.int64)
+    box = own_box.copy()
+    rounds: list[np.ndarray] = []
+    frontier = np.flatnonzero(outdeg == 0)
+    while len(frontier):
+        if rounds:  # every state here has successors, all in earlier rounds
+            idx, starts = _gather(out_off, frontier)
+            t = tgt[idx]
+            reach[frontier] |= np.bitwise_or.reduceat(reach[t], starts)
+            best[frontier] = np.maximum.reduceat(w[idx] + best[t], starts)
+            for k, op in enumerate((np.minimum, np.minimum, np.maximum, np.maximum)):
+                box[frontier, k] = op(box[frontier, k], op.reduceat(box[t, k], starts))
+        rounds.append(frontier)
+        idx, _ = _gather(pred_off, frontier)
+        p, k = np.unique(pred_src[idx], return_counts=True)
+        outdeg[p] -= k
+        frontier = p[outdeg[p] == 0]
+    peeled = np.zeros(S, dtype=bool)
+    for r in rounds:
+        peeled[r] = True
+    reach[~peeled] |= CYCLE
+    return reach, best, box, rounds, pred_off, pred_src, out_off, tgt
+
+
+def _gather(off: np.ndarray, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Edge positions of ``states`` in a CSR (state by state) and where each state's run starts."""
+    counts = off[states + 1] - off[states]
+    starts = np.cumsum(counts) - counts
+    idx = np.repeat(off[states] - starts, counts) + np.arange(int(counts.sum()))
+    return idx, starts
+
+
+def _count(seed_ids: np.ndarray, which: np.ndarray, rounds: list[np.ndarray],
+           pred_off: np.ndarray, pred_src: np.ndarray, events: np.ndarray, S: int,
+           counts: np.ndarray, transitions: np.ndarray) -> None:
+    """States and events reachable from each seed in ``which`` (all in the peeled part):
+    the set of seeds reaching each state, 64 seeds a word, pulled from the predecessors
+    from the sources down."""
+    for lo in range(0, len(which), 64):
+        group = which[lo:lo + 64]
+        mark = np.zeros(S, dtype=np.uint64)
+        bits = np.left_shift(np.uint64(1), np.arange(len(group), dtype=np.uint64))
+        np.bitwise_or.at(mark, seed_ids[group], bits)
+        for states in reversed(rounds):
+            idx, starts = _gather(pred_off, states)
+            if len(idx):
+                has = np.diff(np.r_[starts, len(idx)]) > 0  # zero-length runs left out
+                mark[states[has]] |= np.bitwise_or.reduceat(mark[pred_src[idx]], starts[has])
+        c = np.zeros(64, dtype=np.int64)
+        t = np.zeros(64, dtype=np.int64)
+        for a in range(0, S, 1 << 16):
+            block = np.unpackbits(mark[a:a + (1 << 16)].view(np.uint8).reshape(-1, 8), axis=1,
+                                  bitorder="little")
+            c += block.sum(axis=0, dtype=np.int64)
+            t += events[a:a + (1 << 16)] @ block.astype(np.int64)
+        counts[group] = c[:len(group)]
+        transitions[group] = t[:len(group)]
+
+
+def margin_needed(c: Configuration, group: Sequence[Automorphism], box: np.ndarray) -> int | None:
+    """The margin ``run_check`` ends its search with: the least whose region holds ``box``."""
+    x0, y0, x1, y1 = box.tolist()
+    for margin in MARGINS:
+        a0, b0, a1, b1 = region_box(c, margin, group)
+        if a0 <= x0 and b0 <= y0 and x1 <= a1 and y1 <= b1:
+            return margin
+    return None

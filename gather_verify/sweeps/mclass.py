@@ -1,0 +1,192 @@
+"""A sweep's unit of work as one meeting-node class (issue 17, ``sweep --engine union``).
+
+:func:`verify_class` gives the rows of every configuration of one class, the
+same rows :func:`gather_verify.sweeps.sweep.verify_one` gives one at a time:
+most from one union graph (:mod:`gather_verify.engine.union`, which documents
+the rules), the others (NOT-APPLICABLE ones, and those the union does not
+settle exactly) from the per-configuration check. :func:`class_tasks` cuts a
+sweep's configurations into classes, largest first, so a pool starts the long
+ones early.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from gather_verify import properties as props
+from gather_verify.algorithms import get_algorithm
+from gather_verify.algorithms.moves import frames_for
+from gather_verify.check import _safety_trace
+from gather_verify.engine import union
+from gather_verify.engine.explore import (
+    Encoding,
+    Exploration,
+    Violation,
+    facts_cache,
+    region_box,
+    rss_mb,
+    symmetry_group,
+)
+from gather_verify.engine.resources import memory_budget_mb
+from gather_verify.model import geometry
+from gather_verify.model.classes import classify_configuration
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.symmetry import meeting_automorphisms
+
+ENGINES = ("union", "per-config")
+Row = dict[str, Any]
+
+
+def verify_class(settings: Any, members: Sequence[tuple[int, Configuration]],
+                 verify_one: Callable[[Any, int, Configuration], Row],
+                 configuration_key: Callable[[Configuration], str]) -> list[Row]:
+    """The rows of ``members`` (configurations sharing ``M`` up to translation), in index
+    order; ``verify_one`` checks one configuration on its own (the sweep's)."""
+    if not union.supports(settings.scheduler, settings.reduction, settings.frames):
+        return [verify_one(settings, i, c) for i, c in members]
+    decided = decide_class(settings, members, configuration_key)
+    rows = decided.rows + [verify_one(settings, i, c) for i, c in decided.fallback]
+    return sorted(rows, key=lambda r: r["index"])
+
+
+def class_tasks(todo: Sequence[tuple[int, Configuration]]
+                ) -> list[list[tuple[int, Configuration]]]:
+    """``todo`` as meeting-node classes, the largest first (ties: enumeration order)."""
+    classes = union.meeting_classes(todo)
+    return sorted(classes, key=lambda members: (-len(members), members[0][0]))
+
+
+@dataclass
+class ClassDecision:
+    """Rows decided from the union graph, and the members left to the per-configuration check."""
+
+    rows: list[dict[str, Any]]
+    fallback: list[tuple[int, Configuration]]
+    union_states: int = 0
+
+
+def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
+                 configuration_key: Callable[[Configuration], str]) -> ClassDecision:
+    """The sweep rows of ``members`` (one meeting-node class) that the union graph settles
+    exactly as :func:`gather_verify.sweeps.sweep.verify_one` would (rows keyed by
+    ``configuration_key``); the rest in ``fallback``."""
+
+    wanted = props.check_property_names(settings.properties or None)
+    if set(wanted) - DECIDED:  # a property of the user's: only its own search knows it
+        return ClassDecision([], list(members))
+    memory = memory_budget_mb() if settings.max_memory_mb is None else settings.max_memory_mb
+    fallback: list[tuple[int, Configuration]] = []
+    todo: list[tuple[int, Configuration, Any, Configuration]] = []
+    for index, c in members:
+        cls = classify_configuration(c)
+        if cls.in_U or cls.name == "UNCLASSIFIED":
+            fallback.append((index, c))  # NOT-APPLICABLE: decided at once
+        else:
+            todo.append((index, c, cls, union.normalise(c, union.meeting_form(c)[1])))
+    if not todo:
+        return ClassDecision([], fallback)
+    by_n: dict[int, list[int]] = {}
+    for k, (_, c, _, _) in enumerate(todo):
+        by_n.setdefault(c.n, []).append(k)
+    rows: list[dict[str, Any]] = []
+    union_states = 0
+    graph_props = bool({"move-bound", "termination"} & set(wanted))
+    for ks in by_n.values():
+        normal = [todo[k][3] for k in ks]
+        meeting = normal[0].meeting_nodes
+        group = meeting_automorphisms(normal[0])
+        box = geometry.bounding_box([v for c in normal for b in [region_box(c, union.UNION_MARGIN, group)]
+                                     for v in (b[:2], b[2:])])
+        u = union.explore_union(meeting, [c.robots for c in normal], settings.algorithm,
+                          settings.scheduler, detection=settings.detection,
+                          frames=settings.frames, properties=wanted, box=box,
+                          max_states=max(union.UNION_MAX_STATES, settings.max_states))
+        if u is None or rss_mb() > memory or u.seconds > settings.max_seconds:
+            # too large, or past a limit the per-configuration searches might hit: they decide
+            fallback.extend((todo[k][0], todo[k][1]) for k in ks)
+            continue
+        union_states += u.states
+        share = u.seconds / len(ks)
+        for j, k in enumerate(ks):
+            index, c, cls, nc = todo[k]
+            s = int(u.seeds[j])
+            reach = int(u.reach[s])
+            count = int(u.counts[j])
+            margin = union.margin_needed(nc, group, u.box[s])
+            if (reach & (union.DEFINED | union.TAINT | union.CYCLE) or margin is None or count < 0
+                    or count > settings.max_states):
+                fallback.append((index, c))
+                continue
+            D, n = c.D, c.n
+            max_moves = int(u.best[s]) if graph_props else None
+            failing = [p for p in props.ORDER if union.SAFETY_BITS.get(p, 0) & reach and p in wanted]
+            bound = settings.move_bound_c * D * n
+            if not failing and max_moves is not None and "move-bound" in wanted \
+                    and max_moves > bound:
+                fallback.append((index, c))  # its trace is its own graph's longest path
+                continue
+            t0 = time.perf_counter()
+            trace = None
+            if failing:
+                trace = witness_trace(u, j, c, failing[0], margin, settings)
+                if trace is None:
+                    fallback.append((index, c))
+                    continue
+            rows.append({
+                "key": configuration_key(c),
+                "index": index,
+                "robots": [list(r) for r in c.robots],
+                "meeting_nodes": sorted(list(m) for m in c.meeting_nodes),
+                "class": cls.name,
+                "verdict": "VIOLATED" if failing else "VERIFIED",
+                "property": failing[0] if failing else None,
+                "reason": trace["reason"] if trace else None,
+                "states": count,
+                "transitions": int(u.transitions[j]),
+                "max_moves": max_moves,
+                "D": D,
+                "n": n,
+                "ratio": None if max_moves is None or not D * n else max_moves / (D * n),
+                "trace": trace,
+                "seconds": share + time.perf_counter() - t0,
+                # every failing property, as the check lists them (acyclic: termination holds)
+                "failing": failing + (["move-bound"] if max_moves is not None
+                                      and "move-bound" in wanted and max_moves > bound else []),
+            })
+    return ClassDecision(rows, fallback, union_states)
+
+
+DECIDED = {"final", "no-ungatherable", "target-invariance", "move-bound", "termination"}
+"""The properties the union graph decides (every other one falls back)."""
+
+_TRANSITION = object()  # marks a transition witness: the trace finds the edge itself
+
+
+def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, prop: str, margin: int,
+                  settings: Any) -> dict[str, Any] | None:
+    """The trace ``run_check`` reports for the safety property ``prop`` from ``c`` (seed
+    ``seed`` of ``u``): its first witness and BFS path found in the
+    union graph, mapped back and concretised as the check does (:func:`check._safety_trace`,
+    on the keys of the check's own encoding, margin ``margin``)."""
+    path = u.witness_path(seed, union.SAFETY_BITS[prop], fresh=prop == "no-ungatherable")
+    if path is None:
+        return None
+    algo = get_algorithm(settings.algorithm)
+    group = symmetry_group(c, settings.frames)
+    enc = Encoding(region_box(c, margin, group), group, True)
+    tx, ty = union.meeting_form(c)[1][1]  # normal = c + t
+    dx, dy = -tx, -ty
+    keys = []
+    for sid in path:
+        state = u.encoding.decode(int(u.keys[sid]), c.n)
+        keys.append(enc.key(tuple(((x + dx, y + dy), None if p is None else (p[0] + dx, p[1] + dy))
+                                  for (x, y), p in state)))
+    e = Exploration(c, algo, settings.scheduler, settings.detection, settings.frames, True, True,
+                    enc, keys, [-1, *range(len(path) - 1)], [], [], [], 0, len(path), 0, None,
+                    {}, 0.0, 0.0, facts_cache(algo, c, settings.detection,
+                                              frames_for(settings.frames)), {})
+    event = _TRANSITION if prop == "target-invariance" else None
+    return _safety_trace(e, Violation(prop, len(path) - 1, "", event))  # type: ignore[arg-type]

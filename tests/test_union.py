@@ -1,0 +1,160 @@
+"""The union engine (engine/union.py, sweeps/mclass.py): every row equal to the
+per-configuration check's, on every configuration of small boxes."""
+
+from __future__ import annotations
+
+import json
+import sqlite3
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gather_verify.cli import main
+from gather_verify.engine import union
+from gather_verify.engine.explore import Limits
+from gather_verify.engine.fast_explore import explore_fast
+from gather_verify.engine.search import explore
+from gather_verify.model.configuration import Configuration
+from gather_verify.sweeps.census import enumerate_configurations
+from gather_verify.sweeps.mclass import class_tasks, decide_class, verify_class
+from gather_verify.sweeps.sweep import SweepSettings, configuration_key, verify_one
+
+
+def _without_seconds(row: dict) -> dict:
+    return {k: v for k, v in row.items() if k != "seconds"}
+
+
+def assert_rows_equal(n: int, m: int, box: tuple[int, int], algorithm: str,
+                      properties: tuple[str, ...] = ()) -> dict[str, int]:
+    """Every configuration of the box: the class rows equal the per-configuration rows.
+    Returns how many were settled by the union graph and how many fell back."""
+    s = SweepSettings(robots=n, meeting=m, box=box, algorithm=algorithm, scheduler="async",
+                      properties=properties, max_memory_mb=8000)
+    items = list(enumerate(enumerate_configurations(n, m, *box)))
+    seen: dict[int, dict] = {}
+    settled = fallback = 0
+    for members in class_tasks(items):
+        decided = decide_class(s, members, configuration_key)
+        settled += len(decided.rows)
+        fallback += len(decided.fallback)
+        rows = verify_class(s, members, verify_one, configuration_key)
+        assert [r["index"] for r in rows] == sorted(i for i, _ in members)
+        seen.update((r["index"], r) for r in rows)
+    assert sorted(seen) == [i for i, _ in items]
+    for i, c in items:
+        assert _without_seconds(seen[i]) == _without_seconds(verify_one(s, i, c)), (i, c)
+    return {"settled": settled, "fallback": fallback}
+
+
+@pytest.mark.parametrize("n,m,algorithm", [
+    (2, 2, "paper"), (2, 3, "paper"), (1, 3, "paper"), (3, 1, "go-to-target"),
+    (2, 2, "go-to-target"),
+])
+def test_union_rows_equal_per_config_rows_3x3(n: int, m: int, algorithm: str) -> None:
+    counts = assert_rows_equal(n, m, (3, 3), algorithm)
+    assert counts["settled"] > 0  # the union graph decided something, not only fallbacks
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("n,m,algorithm", [
+    (n, m, a) for a in ("paper", "go-to-target") for n in (1, 2, 3) for m in (1, 2, 3)
+] + [(3, 4, "paper"), (3, 2, "paper:alpha=mer_f"), (2, 1, "go-to-target")])
+def test_union_rows_equal_per_config_rows_every_small_box(n: int, m: int, algorithm: str) -> None:
+    assert_rows_equal(n, m, (3, 3) if (n, m) != (2, 1) else (4, 4), algorithm)
+
+
+@pytest.mark.parametrize("algorithm", ["broken-stay", "broken-drift", "broken-wander",
+                                       "broken-undefined", "broken-away"])
+def test_union_rows_equal_on_broken_algorithms(algorithm: str) -> None:
+    """Each property failing (deadlock, target moves and is not equivariant, robots
+    wander out of the region, no rule, livelock): still the same rows."""
+    assert_rows_equal(2, 1, (3, 3), algorithm)
+
+
+def test_union_rows_equal_with_some_properties() -> None:
+    assert_rows_equal(2, 2, (3, 3), "broken-stay", properties=("target-invariance",))
+    assert_rows_equal(2, 2, (3, 3), "paper", properties=("final", "move-bound"))
+
+
+def test_violations_are_found_in_the_union_graph() -> None:
+    """A broken algorithm's deadlocks are decided from the union (not only by fallback)."""
+    s = SweepSettings(robots=2, meeting=1, box=(3, 3), algorithm="broken-stay", scheduler="async")
+    items = list(enumerate(enumerate_configurations(2, 1, 3, 3)))
+    rows = [r for members in class_tasks(items) for r in decide_class(s, members, configuration_key).rows]
+    assert any(r["verdict"] == "VIOLATED" and r["property"] == "final" and r["trace"]
+               for r in rows)
+
+
+def test_the_union_holds_each_seeds_space() -> None:
+    """States and transitions counted per seed equal each seed's own search."""
+    meeting = frozenset({(1, 1)})
+    seeds = [((0, 0), (2, 2)), ((0, 1), (2, 0)), ((0, 0), (0, 2))]
+    box = (-2, -2, 4, 4)
+    u = union.explore_union(meeting, seeds, "go-to-target", "async",
+                            properties=["final"], box=box)
+    assert u is not None
+    for j, robots in enumerate(seeds):
+        e = explore(Configuration(robots, meeting, initial=True), "go-to-target", "async",
+                    limits=Limits(margin=2))
+        assert (u.counts[j], u.transitions[j]) == (e.states, e.transitions)
+    assert u.states < sum(int(c) for c in u.counts)  # shared states are stored once
+
+
+def test_the_margin_rule() -> None:
+    c = Configuration([(0, 0), (1, 0)], [(1, 1)])
+    group = [a for a in union.meeting_automorphisms(c)]
+    assert union.margin_needed(c, group, np.array([-2, -2, 3, 3])) == 2
+    assert union.margin_needed(c, group, np.array([-3, 0, 1, 1])) == 4
+    assert union.margin_needed(c, group, np.array([-40, 0, 1, 1])) is None
+
+
+def test_witness_paths_are_the_searchs_own() -> None:
+    """The first witness found by a BFS of the union from one seed is the one the
+    configuration's own search finds, at the same BFS depth."""
+    c = Configuration([(0, 0), (2, 2)], [(1, 1), (3, 1)], initial=True)
+    u = union.explore_union(c.meeting_nodes, [c.robots], "broken-stay", "async",
+                            properties=["final"], box=(-2, -2, 5, 4))
+    path = u.witness_path(0, union.FINAL, fresh=False)
+    whole = explore_fast(c, "broken-stay", "async", properties=["final"], limits=Limits(margin=2))
+    assert len(path) == len(whole.path_to(whole.violations["final"].state))
+    # the same concrete state (the representatives agree: translations keep the node order)
+    assert u.encoding.decode(int(u.keys[path[-1]]), 2) == whole.state(whole.violations["final"].state)
+
+
+def _table(db: Path) -> list[tuple]:
+    with sqlite3.connect(db) as con:
+        rows = con.execute("SELECT * FROM results ORDER BY sweep, key").fetchall()
+    return rows
+
+
+def test_sweep_engines_store_the_same_rows(tmp_path: Path, capsys: pytest.CaptureFixture[str]
+                                           ) -> None:
+    out = {}
+    for engine in ("union", "per-config"):
+        db = tmp_path / f"{engine}.sqlite"
+        out[engine + "-exit"] = main([
+            "sweep", "--robots", "1-2", "--meeting", "2", "--box", "3x3", "--algorithm", "paper",
+            "--db", str(db), "--workers", "1", "--engine", engine, "--json"])
+        out[engine] = json.loads(capsys.readouterr().out)
+        out[engine + "-rows"] = _table(db)
+    assert out["union"] == out["per-config"]
+    assert out["union-exit"] == out["per-config-exit"] == 1  # I22 violations in this box
+    assert out["union-rows"] == out["per-config-rows"]
+
+
+def test_sweep_engine_bad_name_is_refused(tmp_path: Path) -> None:
+    assert main(["sweep", "--robots", "1", "--meeting", "1", "--box", "2x2", "--engine", "nope",
+                 "--db", str(tmp_path / "x.sqlite")]) == 2
+
+
+def test_union_sweep_resumes_a_prefix(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A store holding a prefix (``--limit``) is completed class by class to the rows of a
+    clean run."""
+    argv = ["sweep", "--robots", "2", "--meeting", "2", "--box", "3x3", "--algorithm", "paper",
+            "--workers", "1", "--json"]
+    main([*argv, "--db", str(tmp_path / "a.sqlite"), "--limit", "40"])
+    main([*argv, "--db", str(tmp_path / "a.sqlite")])
+    main([*argv, "--db", str(tmp_path / "b.sqlite")])
+    capsys.readouterr()
+    assert _table(tmp_path / "a.sqlite") == _table(tmp_path / "b.sqlite")
