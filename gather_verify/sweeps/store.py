@@ -99,17 +99,21 @@ class Store:
     def done_keys(self, sweep: int) -> set[str]:
         return {k for (k,) in self.db.execute("SELECT key FROM results WHERE sweep = ?", (sweep,))}
 
+    @staticmethod
+    def encode(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+        """``rows`` with their JSON columns (traces, nodes) as the text the store keeps: what
+        a worker does before it sends them, so the process that writes only writes."""
+        for row in rows:
+            for c in JSON_COLUMNS:
+                value = row.get(c)
+                if value is not None and not isinstance(value, str):
+                    row[c] = json.dumps(value, sort_keys=True, separators=(",", ":"))
+        return rows
+
     def add(self, sweep: int, rows: Iterable[dict[str, Any]]) -> None:
         """Store finished results in one transaction."""
-        rows = list(rows)
-        values = []
-        for row in rows:
-            record = [row.get(c) for c in COLUMNS]
-            for i, c in enumerate(COLUMNS):
-                if c in JSON_COLUMNS and record[i] is not None \
-                        and not isinstance(record[i], str):
-                    record[i] = json.dumps(record[i], sort_keys=True, separators=(",", ":"))
-            values.append((sweep, *record))
+        rows = self.encode(list(rows))
+        values = [(sweep, *(row.get(c) for c in COLUMNS)) for row in rows]
         marks = ",".join("?" * (len(COLUMNS) + 1))
         names = ",".join(f'"{c}"' for c in COLUMNS)
         with self.db:

@@ -260,7 +260,7 @@ def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None
         from gather_verify.algorithms.loading import receive
 
         receive(sources)
-    return sweep, verify_chunk(settings, chunk)
+    return sweep, Store.encode(verify_chunk(settings, chunk))
 
 
 def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None
@@ -274,7 +274,7 @@ def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None
         from gather_verify.algorithms.loading import receive
 
         receive(sources)
-    return sweep, verify_class(settings, chunk, verify_one, configuration_key)
+    return sweep, Store.encode(verify_class(settings, chunk, verify_one, configuration_key))
 
 
 def _execute_dask(tasks: list[Task], address: str, workers: int | None,
