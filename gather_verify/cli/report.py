@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from gather_verify.cli.common import print_json, without_timings
+from gather_verify.errors import InvalidInput
 
 HELP = "render the sweeps stored in a results database"
 
@@ -17,6 +18,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--regressions", metavar="DIR",
                    help="write one scenario file per distinct counterexample into DIR "
                         "(e.g. scenarios/regressions)")
+    p.add_argument("--workers-curve", metavar="N,N,...",
+                   help="predict the wall time of these sweeps on N workers (a pool or a Dask "
+                        "cluster), from the stored seconds of their tasks")
     p.add_argument("--json", action="store_true")
     p.add_argument("--timings", action="store_true",
                    help="with --json, also print the slowest configurations and their seconds")
@@ -39,9 +43,24 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.readings import format_robustness, stored_robustness
 
     robust = stored_robustness(args.db)  # sweeps run with --readings: class x robustness
+    curve = None
+    if args.workers_curve:
+        from gather_verify.sweeps.schedule import predict, task_seconds
+        from gather_verify.sweeps.store import Store
+
+        workers = parse_workers(args.workers_curve)
+        store = Store(args.db)
+        try:
+            seconds = task_seconds(store.seconds())
+        finally:
+            store.close()
+        curve = {"tasks": len(seconds), "seconds": round(sum(seconds), 3),
+                 "largest": round(seconds[0], 3) if seconds else 0.0,
+                 "wall": predict(seconds, workers)}
     if args.json:
         print_json({"sweeps": found if args.timings else without_timings(found),
-                    **({"robustness": robust} if robust else {})})
+                    **({"robustness": robust} if robust else {}),
+                    **({"workers_curve": curve} if curve else {})})
         return 0
     for i, summary in enumerate(found):
         if (summary["settings"].get("extra") or {}).get("readings"):
@@ -53,4 +72,20 @@ def run(args: argparse.Namespace) -> int:
         print(f"== readings {group}: class x robustness")
         format_robustness(table)
         print()
+    if curve is not None:
+        from gather_verify.sweeps.schedule import format_prediction
+
+        print("== predicted wall time on N workers (tasks largest first, from stored seconds)")
+        format_prediction(seconds, curve["wall"])
     return 0
+
+
+def parse_workers(text: str) -> list[int]:
+    """``1,2,8`` as worker counts (each 1 to 100,000)."""
+    try:
+        out = [int(w) for w in text.split(",")]
+    except ValueError:
+        out = []
+    if not out or any(not 1 <= w <= 100_000 for w in out):
+        raise InvalidInput(f"bad --workers-curve {text!r}: use worker counts like 1,2,4,8")
+    return out

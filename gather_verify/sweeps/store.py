@@ -125,6 +125,14 @@ class Store:
                 [(sweep, r["key"], r.get("seconds")) for r in rows],
             )
 
+    def seconds(self) -> list[dict[str, Any]]:
+        """Every stored row's sweep, meeting nodes and seconds (no traces read)."""
+        cursor = self.db.execute(
+            "SELECT r.sweep, r.meeting_nodes, t.seconds FROM results r JOIN timings t "
+            "ON t.sweep = r.sweep AND t.key = r.key")
+        return [{"sweep": sweep, "meeting_nodes": json.loads(m), "seconds": sec}
+                for sweep, m, sec in cursor]
+
     def forget(self, sweep: int) -> None:
         """Drop every stored row of a sweep (``sweep --fresh``)."""
         with self.db:

@@ -1,0 +1,59 @@
+"""How long a sweep takes on W workers, from the seconds its tasks took.
+
+A sweep's unit of work is a task (:func:`gather_verify.sweeps.mclass.class_tasks`:
+one shape of ``M``, its meeting-node classes in turn), handed out largest first
+to whichever worker is free: a process pool and a Dask cluster both do that. So
+from the stored seconds of each row, summed per task, the wall time on W workers
+is the makespan of that list schedule; no run on a cluster is needed to see
+where adding workers stops paying (the largest task, and the work each one
+costs beside the others). The seconds are those of the machine that ran the
+sweep, under its load.
+
+>>> predict([5.0, 3.0, 2.0, 2.0], [1, 2, 4])
+{1: 12.0, 2: 7.0, 4: 5.0}
+"""
+
+from __future__ import annotations
+
+import heapq
+from collections.abc import Iterable, Sequence
+from typing import Any
+
+from gather_verify.model.canonical import canonical_form
+
+
+def task_seconds(rows: Iterable[dict[str, Any]]) -> list[float]:
+    """The seconds of each task of a sweep's stored rows (one task per shape of ``M`` and
+    per sweep), largest first."""
+    tasks: dict[tuple[Any, Any], float] = {}
+    for row in rows:
+        meeting = [tuple(m) for m in row["meeting_nodes"]]
+        shape = canonical_form((), meeting).key
+        key = (row.get("sweep"), shape)
+        tasks[key] = tasks.get(key, 0.0) + float(row.get("seconds") or 0.0)
+    return sorted(tasks.values(), reverse=True)
+
+
+def makespan(seconds: Sequence[float], workers: int) -> float:
+    """Wall time of the tasks handed out in the given order, each to the first free worker."""
+    free = [0.0] * max(1, workers)
+    for s in seconds:
+        heapq.heapreplace(free, free[0] + s)
+    return max(free)
+
+
+def predict(seconds: Sequence[float], workers: Iterable[int]) -> dict[int, float]:
+    """The makespan for each number of workers (``seconds``: task costs, largest first)."""
+    return {w: round(makespan(seconds, w), 3) for w in workers}
+
+
+def format_prediction(seconds: Sequence[float], curve: dict[int, float],
+                      write: Any = print) -> None:
+    """The curve as a table, with what bounds it."""
+    total = sum(seconds)
+    write(f"{len(seconds)} tasks, {total:.1f} s of work in all, the largest {seconds[0]:.1f} s"
+          if seconds else "no stored rows")
+    write(f"{'workers':>8}{'wall s':>10}{'speed-up':>10}{'efficiency':>12}")
+    for w, t in curve.items():
+        speed = total / t if t else 0.0
+        write(f"{w:>8}{t:>10.1f}{speed:>10.2f}{speed / w:>12.0%}")
