@@ -22,6 +22,11 @@ from gather_verify.properties.registry import get_property, registered
 from schedulers import Event, State
 
 
+DENSE_VALUES = 256
+"""A transition property with at most this many distinct values keeps its verdicts of value
+pairs in a matrix (one lookup per transition); more values: a sorted set of pairs."""
+
+
 @dataclass
 class Violation:
     """The first (shortest) witness of a safety property: the state it fails in (for a
@@ -125,6 +130,7 @@ class ColumnChecks:
         self.verdicts: dict[tuple[str, ...], np.ndarray] = {}  # [row * 2 + idle, j]: -1, 0, 1
         self.values: dict[str, tuple[np.ndarray, dict[Any, int], list[Any]]] = {}
         self.pairs: dict[str, dict[tuple[int, int], bool]] = {}
+        self.matrices: dict[str, np.ndarray] = {}  # per property: verdicts of value-id pairs
 
     def failures(self, props: list[Property], rows: np.ndarray, idle: np.ndarray,
                  gate: int = 0) -> np.ndarray:
@@ -226,6 +232,27 @@ class ColumnChecks:
             got = col[rows]
         return got, values
 
+    def _dense_failures(self, p: Property, vb: np.ndarray, va: np.ndarray, values: list[Any],
+                        pairs: dict[tuple[int, int], bool]) -> np.ndarray:
+        """Where ``p.holds`` fails on the pairs of value ids ``(vb, va)``, through a matrix of
+        verdicts (-1: not evaluated yet) kept per property: each distinct pair once."""
+        size = len(values)
+        matrix = self.matrices.get(p.name)
+        if matrix is None or len(matrix) < size:
+            grown = np.full((DENSE_VALUES, DENSE_VALUES), -1, dtype=np.int8)
+            for (a, b), ok in pairs.items():
+                grown[a, b] = ok
+            self.matrices[p.name] = matrix = grown
+        got = matrix[vb, va]
+        unknown = np.flatnonzero(got < 0)
+        if len(unknown):
+            for k in np.unique(vb[unknown].astype(np.int64) * size + va[unknown]).tolist():
+                a, b = divmod(k, size)
+                pairs[a, b] = ok = bool(p.holds(values[a], values[b]))  # type: ignore[misc]
+                matrix[a, b] = ok
+            got = matrix[vb, va]
+        return np.flatnonzero(got == 0)
+
     def transitions(self, first_id: int, src: np.ndarray, before: np.ndarray,
                     after: np.ndarray, step: Callable[[int], tuple[Event, State]]) -> None:
         """Check the transition properties on transitions from states ``first_id + src`` whose
@@ -237,6 +264,13 @@ class ColumnChecks:
             vb, values = self.value_ids(p, before)
             va, values = self.value_ids(p, after)
             pairs = self.pairs.setdefault(p.name, {})
+            if len(values) <= DENSE_VALUES:  # few values: a verdict matrix, no sorting
+                hit = self._dense_failures(p, vb, va, values, pairs)
+                if len(hit):
+                    i = int(hit[0])
+                    self.checks._record(p, first_id + int(src[i]), values[int(vb[i])],
+                                        values[int(va[i])], step=step(i))
+                continue
             key = vb.astype(np.int64) << 32 | va
             bad = []
             for k in np.unique(key).tolist():

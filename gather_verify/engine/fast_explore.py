@@ -45,6 +45,7 @@ import numpy as np
 
 from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
+from gather_verify.engine import kernels
 from gather_verify.engine.checks import Checks, ColumnChecks, symmetric
 from gather_verify.engine.encoding import (
     NO_LIMITS,
@@ -124,10 +125,12 @@ class KeyIndex:
     [3, 4]
     """
 
-    def __init__(self, bits: int = 16, capacity: int = 1 << 16):
+    def __init__(self, bits: int = 16, capacity: int = 1 << 16, compiled: bool | None = None):
         self.keys = np.empty(capacity, dtype=np.uint64)
         self.count = 0
         self.stale = False
+        # the compiled index (kernels.find_or_add) keeps no tags: the same ids, in the same order
+        self.compiled = kernels.enabled() if compiled is None else compiled
         self._alloc(bits)
 
     def _alloc(self, bits: int) -> None:
@@ -135,8 +138,9 @@ class KeyIndex:
         self.mask = (1 << bits) - 1
         self.shift = np.uint64(64 - bits)
         self.table = np.zeros(1 << bits, dtype=np.int32)  # id + 1; 0 is empty
-        self.tags = np.zeros(1 << bits, dtype=np.uint8)  # 0 is empty
-        self.groups = self.tags.view("<u8")  # the tags of slots 8g .. 8g + 7
+        if not self.compiled:
+            self.tags = np.zeros(1 << bits, dtype=np.uint8)  # 0 is empty
+            self.groups = self.tags.view("<u8")  # the tags of slots 8g .. 8g + 7
 
     def _hash(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Home slots (as ``int64``) and tags (``uint8``, never 0) of ``q``."""
@@ -150,6 +154,9 @@ class KeyIndex:
         """A fresh table of ``2**bits`` slots holding every stored key."""
         self._alloc(bits)
         self.stale = False
+        if self.compiled:
+            kernels.place(self.table, self.keys, 0, self.count, self.shift)
+            return
         for lo in range(0, self.count, 1 << 16):  # in slices: small temporaries
             hi = min(self.count, lo + (1 << 16))
             self._place(self.keys[lo:hi], lo)
@@ -202,6 +209,15 @@ class KeyIndex:
         index lists and arithmetic."""
         m = len(q)
         self._fit(self.count + m, 0.9)  # never full during the pass
+        if self.compiled:
+            ids = np.empty(m, dtype=np.int64)
+            first = np.empty(m, dtype=np.int64)
+            q = np.ascontiguousarray(q, dtype=np.uint64)
+            self.count, added = kernels.find_or_add(self.table, self.keys, self.count,
+                                                    self.shift, q, ids, first)
+            if self.count > LOAD * len(self.table):
+                self._fit(self.count, LOAD)
+            return ids, first[:added]
         table, tags, keys, mask = self.table, self.tags, self.keys, self.mask
         ids = np.empty(m, dtype=np.int64)
         rep = np.full(m, -1, dtype=np.int64)  # absent key: the position that claimed its slot
@@ -318,6 +334,11 @@ class Growing:
 
     def array(self) -> np.ndarray:
         return self.data[:self.size]
+
+    def widen(self, dtype: Any) -> None:
+        """Hold larger values from now on (the values so far kept)."""
+        if self.data.dtype != dtype:
+            self.data = self.data.astype(dtype)
 
 
 FactsMemo = dict
@@ -667,6 +688,40 @@ class RowFacts:
         return None if t < 0 else self.table.target_nodes[t]
 
 
+class PairRows:
+    """The configuration row a one-robot change reaches, cached per (row, sorted position of
+    the robot's cell, new cell): a configuration and its few moves are met by many states
+    (the robots' pending steps differ), so the successor's configuration is sorted and
+    looked up once per such pair, not once per transition."""
+
+    def __init__(self, table: FactsTable):
+        self.table = table
+        self.index = KeyIndex(bits=12, capacity=1 << 12)
+        self.rows = Growing(np.int64, 1 << 12)
+        self.stride = table.n * table.enc.cells
+
+    def after(self, rows: np.ndarray, cells: np.ndarray, rank: np.ndarray, src: np.ndarray,
+              robot: np.ndarray, old: np.ndarray, new: np.ndarray) -> np.ndarray:
+        """The row of each transition's successor configuration (``src``: source states of
+        the chunk; robot ``robot`` goes from code ``old`` to code ``new``)."""
+        out = rows[src]
+        cell = new // 5
+        moved = np.flatnonzero(cell != old // 5)
+        if not len(moved):
+            return out
+        s, r, c = src[moved], robot[moved], cell[moved]
+        key = (rows[s] * self.stride + rank[s, r] * self.table.enc.cells + c).astype(np.uint64)
+        ids, first = self.index.find_or_add(key)
+        if len(first):
+            f = moved[first]
+            succ = cells[src[f]].copy()
+            succ[np.arange(len(f)), robot[f]] = cell[f]
+            srt, k = self.table.config_keys(succ)
+            self.rows.extend(self.table.rows(k, srt))
+        out[moved] = self.rows.array()[ids]
+        return out
+
+
 def supports(initial: Configuration, scheduler: str, reduction: bool = True,
              anonymity: bool | None = None, symmetry: bool | None = None, frames: str = "all",
              limits: Limits = NO_LIMITS) -> bool:
@@ -773,11 +828,12 @@ def explore_fast(
     index.find_or_add(np.array([start_key], dtype=np.uint64))
     parents = Growing(np.int32, reserve)
     parents.extend(np.array([-1], dtype=np.int32))
-    offsets = Growing(np.int64)
+    offsets = Growing(np.int32)  # int64 once the edges pass what an int32 holds (widen)
     targets = Growing(np.int32)
     weights = Growing(np.int8)
     transitions = changed_loops = 0
     stopped: str | None = None
+    pair_rows = PairRows(table) if kernels.enabled() else None
     peak = rss_mb()
     sid = 0
     chunk = CHUNK
@@ -875,20 +931,32 @@ def explore_fast(
         expanded = stop_src + (stop in ("region", "states"))
         columns.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
                        rows, idle)
-        if checks.open(checks.on_transition) and cut:
-            # the configuration each transition reaches, from the scheduler's changes
-            if succ_codes is None:  # one change per event, no reduction: event c is change c
-                succ_cells = cells[src].copy()
-                succ_cells[np.arange(cut), robot] = new // 5
-            else:
-                succ_cells = succ_codes // 5
-            s2, k2 = table.config_keys(succ_cells)
-            columns.transitions(sid, src, rows[src], table.rows(k2, s2),
+        open_transition = checks.open(checks.on_transition) and cut
+        open_discovery = checks.open(checks.on_discovery) and len(fresh_keys)
+        after = None
+        if single and pair_rows is not None and (open_transition or open_discovery):
+            # the configuration each transition reaches, once per (row, cell, destination)
+            after = pair_rows.after(rows, cells, rank, src, robot, old, new)
+        if open_transition:
+            if after is None:
+                # the configuration each transition reaches, from the scheduler's changes
+                if succ_codes is None:  # one change per event, no reduction: event c is change c
+                    succ_cells = cells[src].copy()
+                    succ_cells[np.arange(cut), robot] = new // 5
+                else:
+                    succ_cells = succ_codes // 5
+                s2, k2 = table.config_keys(succ_cells)
+                after = table.rows(k2, s2)
+            columns.transitions(sid, src, rows[src], after,
                                 partial(_step, enc, sched, facts, n, K, src, succ_codes))
-        if checks.open(checks.on_discovery) and len(fresh_keys):
+        if open_discovery:
             fresh = _decode(fresh_keys, base, n)
-            s3, k3 = table.config_keys(fresh // 5)
-            columns.states(known, table.rows(k3, s3), np.all(fresh % 5 == 0, axis=1),
+            if after is not None and single and pair_rows is not None:
+                fresh_rows = after[first[:len(fresh_keys)]]
+            else:
+                s3, k3 = table.config_keys(fresh // 5)
+                fresh_rows = table.rows(k3, s3)
+            columns.states(known, fresh_rows, np.all(fresh % 5 == 0, axis=1),
                            checks.on_discovery)
         if single:
             changed = new != old
@@ -899,6 +967,8 @@ def explore_fast(
         if graph:
             counts = np.bincount(src, minlength=expanded)[:expanded]
             starts = targets.size + np.cumsum(counts) - counts
+            if targets.size + len(ids) > MAX_IDS:
+                offsets.widen(np.int64)
             offsets.extend(starts)
             targets.extend(ids.astype(np.int32))
             weights.extend(weight.astype(np.int8))

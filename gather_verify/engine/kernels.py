@@ -1,0 +1,310 @@
+"""Compiled kernels (numba) for the bulk engine's hot loops (issue 17).
+
+Each kernel does, in compiled code, what a numpy/Python function of the engine does,
+with the same result: the hash index of visited keys (:class:`KeyIndex`'s
+``find_or_add``), the ASYNC scheduler's bulk step, the longest path over the kept graph
+(``move-bound``) and Tarjan's strongly connected components (``termination``). The numpy
+and Python code stays the tested reference: set ``GATHER_VERIFY_KERNELS=0`` (or call
+:func:`use` with False) to run it instead; the tests compare the two paths field by field.
+
+Kernels are compiled on first use and cached on disk (``cache=True``: numba's cache next
+to this module, or under ``NUMBA_CACHE_DIR``), so only the first process pays the compile.
+
+>>> import numpy as np
+>>> table, keys = np.zeros(16, dtype=np.int32), np.empty(8, dtype=np.uint64)
+>>> ids, first = np.empty(3, dtype=np.int64), np.empty(3, dtype=np.int64)
+>>> find_or_add(table, keys, 0, np.uint64(60), np.array([5, 2, 5], dtype=np.uint64), ids, first)
+(2, 2)
+>>> ids.tolist(), first[:2].tolist(), keys[:2].tolist()
+([0, 1, 0], [0, 1], [5, 2])
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+try:  # numba is a dependency; without it (or with it switched off) the reference path runs
+    import numba
+    from numba import njit
+except ImportError:  # pragma: no cover - numba is installed with the package
+    numba = None
+
+ENV = "GATHER_VERIFY_KERNELS"
+"""Environment variable: ``0`` selects the numpy/Python reference path."""
+_forced: bool | None = None
+
+
+def use(flag: bool | None) -> None:
+    """Force the kernels on or off for this process (None: back to :data:`ENV`)."""
+    global _forced
+    _forced = flag
+
+
+def enabled() -> bool:
+    """Whether the compiled kernels run (numba importable, not switched off)."""
+    if numba is None:
+        return False
+    if _forced is not None:
+        return _forced
+    return os.environ.get(ENV, "1") not in ("0", "false", "no", "off")
+
+
+if numba is None:  # pragma: no cover
+    def njit(*args, **kwargs):  # type: ignore[no-redef]
+        return lambda f: f
+
+_MUL = np.uint64(0x9E3779B97F4A7C15)
+_BATCH = 4096
+
+
+# -- the hash index ----------------------------------------------------------------------
+
+@njit(cache=True, nogil=True)
+def find_or_add(table, keys, count, shift, q, ids, first):  # pragma: no cover - compiled
+    """Ids of the keys ``q`` in a linear-probing table of ``id + 1`` (0: empty) over the key
+    column ``keys`` (ids ``0 .. count - 1``); absent keys get the next ids in order of first
+    occurrence (``first``: their positions in ``q``). Returns the new count and how many
+    were added. ``shift``: 64 - log2(len(table)); the table must have room for them all.
+
+    Probed a batch at a time: the home slots and their stored keys are loaded first
+    (independent loads, overlapped by the processor), then each key not found at home
+    probes on in order, so new keys are numbered in order."""
+    mask = len(table) - 1
+    m = len(q)
+    added = 0
+    slots = np.empty(_BATCH, dtype=np.int64)
+    held = np.empty(_BATCH, dtype=np.int32)
+    for lo in range(0, m, _BATCH):
+        hi = min(m, lo + _BATCH)
+        for i in range(lo, hi):
+            slots[i - lo] = np.int64((q[i] * _MUL) >> shift)
+        for i in range(lo, hi):
+            held[i - lo] = table[slots[i - lo]]
+        for i in range(lo, hi):
+            t = held[i - lo]
+            k = q[i]
+            if t > 0 and keys[t - 1] == k:
+                ids[i] = t - 1
+                continue
+            s = slots[i - lo]
+            while True:
+                t = table[s]
+                if t == 0:
+                    table[s] = count + 1
+                    keys[count] = k
+                    ids[i] = count
+                    first[added] = i
+                    added += 1
+                    count += 1
+                    break
+                if keys[t - 1] == k:
+                    ids[i] = t - 1
+                    break
+                s = (s + 1) & mask
+    return count, added
+
+
+@njit(cache=True, nogil=True)
+def place(table, keys, lo, hi, shift):  # pragma: no cover - compiled
+    """Put the distinct keys ``keys[lo:hi]`` (absent from the table) in it, with their ids."""
+    mask = len(table) - 1
+    for i in range(lo, hi):
+        s = np.int64((keys[i] * _MUL) >> shift)
+        while table[s] != 0:
+            s = (s + 1) & mask
+        table[s] = i + 1
+
+
+# -- the ASYNC scheduler's bulk step -----------------------------------------------------
+
+@njit(cache=True, nogil=True)
+def async_successors(codes, masks, neighbour, look_order):  # pragma: no cover - compiled
+    """Every event of the states ``codes`` (robots ``cell * 5 + d``) in the order of
+    ``Async.successors``: per robot, its Looks (idle: one per step of its move mask, in
+    ``look_order``) or its Move (pending). Returns (source, weight, robot, new code; -1
+    when the Move leaves the region)."""
+    s_count, n = codes.shape
+    total = 0
+    for s in range(s_count):
+        for i in range(n):
+            c = codes[s, i]
+            if c % 5 == 0:
+                m = masks[s, i]
+                for k in range(4):
+                    total += (m >> k) & 1
+            else:
+                total += 1
+    src = np.empty(total, dtype=np.int64)
+    weight = np.zeros(total, dtype=np.int8)
+    robot = np.empty(total, dtype=np.int64)
+    new = np.empty(total, dtype=np.int64)
+    e = 0
+    for s in range(s_count):
+        for i in range(n):
+            c = codes[s, i]
+            if c % 5 == 0:
+                m = masks[s, i]
+                for j in range(4):
+                    k = look_order[j]
+                    if (m >> k) & 1:
+                        src[e] = s
+                        robot[e] = i
+                        new[e] = c + 1 + k
+                        e += 1
+            else:
+                cell = c // 5
+                dest = neighbour[cell, c - cell * 5 - 1]
+                src[e] = s
+                robot[e] = i
+                new[e] = dest * 5 if dest >= 0 else -1
+                weight[e] = 1
+                e += 1
+    return src, weight, robot, new
+
+
+# -- graph analyses over the kept CSR graph ----------------------------------------------
+
+@njit(cache=True, nogil=True)
+def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
+    """The best total weight from every state over the graph (self-loops left out), by an
+    iterative depth-first search from state 0 (every state is reachable from it); -1 as
+    the first value when a cycle exists. ``best`` is int32: a move count."""
+    n = len(offsets) - 1
+    best = np.full(n, -1, dtype=np.int32)  # -1: unvisited, -2: on the DFS stack
+    stack = np.empty(64, dtype=np.int64)
+    edge = np.empty(64, dtype=np.int64)
+    for root in range(n):
+        if best[root] != -1:
+            continue
+        depth = 0
+        stack[0] = root
+        edge[0] = offsets[root]
+        best[root] = -2
+        while depth >= 0:
+            v = stack[depth]
+            k = edge[depth]
+            end = offsets[v + 1]
+            pushed = False
+            while k < end:
+                t = targets[k]
+                k += 1
+                if t == v:
+                    continue
+                bt = best[t]
+                if bt == -2:
+                    out = np.full(1, -1, dtype=np.int32)
+                    return out
+                if bt == -1:
+                    edge[depth] = k
+                    depth += 1
+                    if depth == len(stack):
+                        stack = np.concatenate((stack, np.empty(len(stack), dtype=np.int64)))
+                        edge = np.concatenate((edge, np.empty(len(edge), dtype=np.int64)))
+                    stack[depth] = t
+                    edge[depth] = offsets[t]
+                    best[t] = -2
+                    pushed = True
+                    break
+            if pushed:
+                continue
+            top = 0
+            for j in range(offsets[v], end):
+                t = targets[j]
+                if t != v:
+                    val = weights[j] + best[t]
+                    if val > top:
+                        top = val
+            best[v] = top
+            depth -= 1
+    return best
+
+
+@njit(cache=True, nogil=True)
+def tarjan_csr(offsets, targets, skip_loops):  # pragma: no cover - compiled
+    """Tarjan's strongly connected components over a CSR graph, iteratively, roots in id
+    order and edges in CSR order (the order of :func:`gather_verify.properties.graph.tarjan`).
+    Self-loops are left out when ``skip_loops``. Returns (members, starts): the components
+    with an edge between distinct states (or a self-loop kept), each unsorted, in the order
+    found; component c is ``members[starts[c]:starts[c + 1]]``."""
+    n = len(offsets) - 1
+    index = np.full(n, -1, dtype=np.int32)
+    low = np.zeros(n, dtype=np.int32)
+    on_stack = np.zeros(n, dtype=np.bool_)
+    stack = np.empty(n, dtype=np.int32)
+    sp = 0
+    work_v = np.empty(n, dtype=np.int32)
+    work_k = np.empty(n, dtype=np.int64)
+    members = np.empty(n, dtype=np.int32)
+    mcount = 0
+    starts = [0]
+    counter = 0
+    for root in range(n):
+        if index[root] >= 0:
+            continue
+        wp = 0
+        work_v[0] = root
+        work_k[0] = offsets[root]
+        index[root] = counter
+        low[root] = counter
+        counter += 1
+        stack[sp] = root
+        sp += 1
+        on_stack[root] = True
+        while wp >= 0:
+            v = work_v[wp]
+            k = work_k[wp]
+            end = offsets[v + 1]
+            recurse = False
+            while k < end:
+                w = targets[k]
+                k += 1
+                if skip_loops and w == v:
+                    continue
+                if index[w] < 0:
+                    work_k[wp] = k
+                    wp += 1
+                    work_v[wp] = w
+                    work_k[wp] = offsets[w]
+                    index[w] = counter
+                    low[w] = counter
+                    counter += 1
+                    stack[sp] = w
+                    sp += 1
+                    on_stack[w] = True
+                    recurse = True
+                    break
+                if on_stack[w] and index[w] < low[v]:
+                    low[v] = index[w]
+            if recurse:
+                continue
+            if low[v] == index[v]:
+                begin = mcount
+                while True:
+                    sp -= 1
+                    w = stack[sp]
+                    on_stack[w] = False
+                    members[mcount] = w
+                    mcount += 1
+                    if w == v:
+                        break
+                keep = mcount - begin > 1
+                if not keep and not skip_loops:
+                    for j in range(offsets[v], offsets[v + 1]):
+                        if targets[j] == v:
+                            keep = True
+                            break
+                if keep:
+                    starts.append(mcount)
+                else:
+                    mcount = begin
+            wp -= 1
+            if wp >= 0:
+                u = work_v[wp]
+                if low[v] < low[u]:
+                    low[u] = low[v]
+    out = np.empty(len(starts), dtype=np.int64)
+    for i in range(len(starts)):
+        out[i] = starts[i]
+    return members[:mcount].copy(), out
