@@ -92,3 +92,29 @@ def test_one_key_scan_exactly_when_configuration_asymmetric(c):
 def test_from_string_rejects(bad):
     with pytest.raises(ValueError):
         strings.from_string(*bad)
+
+
+def _dense_text(scan, value):
+    return "".join(str(value(u)) for u in scan.nodes)
+
+
+@settings(max_examples=300, deadline=None)
+@given(configurations, st.sampled_from(["label", "weak_label", "lam"]))
+def test_sparse_scans_read_and_order_as_the_dense_strings(c, name):
+    """Scans are held sparsely (labelled nodes only): their text, positions and order are
+    those of the dense string read node by node over the whole rectangle."""
+    value = getattr(c, name)
+    rect = c.mer() if name != "lam" else c.mer_f()
+    sparse = strings.all_scans(rect, value, c.labelled)
+    dense = strings.all_scans(rect, value)  # every node of the rectangle is looked at
+    assert [s.labels for s in sparse] == [s.labels for s in dense]
+    for s in sparse:
+        assert s.text == _dense_text(s, value)
+        assert [s.index(v) for v in s.nodes] == list(range(len(s.nodes)))
+    for a in sparse:
+        for b in sparse:
+            if a.line == b.line:
+                assert (a.order < b.order) == (a.text < b.text)
+    reps = strings.representations(rect, value, c.labelled)
+    top = max(s.text for s in reps)
+    assert [s.text for s in strings.largest(reps)] == [s.text for s in reps if s.text == top]

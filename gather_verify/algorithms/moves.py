@@ -87,6 +87,22 @@ def move_sets(
     detection: str = "local-weak",
     frames: Iterable[int] = geometry.ALL,
 ) -> dict[Node, frozenset[Node]]:
-    """Move set of every occupied node (robots on one node share their view)."""
+    """Move set of every occupied node (robots on one node share their view).
+
+    An algorithm may compute them itself, at once for every robot and frame: an optional
+    method ``move_sets(configuration, detection, frames)`` returning this dict, or None
+    where it cannot (then every view is asked, as :func:`move_set` does). It must equal
+    the union of ``decide`` over the frames; the paper's algorithm's is tested against
+    it on whole boxes (``tests/test_planned_moves.py``)."""
     frames = tuple(frames)
+    planned = getattr(algorithm, "move_sets", None)
+    if planned is not None:  # the algorithm computes the union over the frames itself
+        try:
+            out = planned(configuration, detection, frames)
+        except Unhandled:
+            raise
+        except Exception as error:
+            raise AlgorithmCrash(algorithm.name, "move_sets", error) from None
+        if out is not None:
+            return out
     return {v: move_set(algorithm, configuration, v, detection, frames) for v in configuration.counts}

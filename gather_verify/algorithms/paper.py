@@ -322,7 +322,8 @@ def ordering_O_second(c: Configuration, guard: Node, oscan: str = "key") -> tupl
     (``oscan=key``) or of the guard's own corner (``oscan=guard``). The two differ only
     on a square MER, where a corner's string direction is that of its larger string."""
     if oscan == "guard":
-        mine = [s for s in strings.representations(c.mer(), c.weak_label) if s.corner == guard]
+        mine = [s for s in strings.representations(c.mer(), c.weak_label, c.labelled)
+                if s.corner == guard]
         along_x = {s.fast[0] != 0 for s in mine}
         if len(along_x) != 1:
             raise Unhandled("I2 make multiplicity: the guard's corner has two equal strings, "
@@ -334,7 +335,7 @@ def ordering_O_second(c: Configuration, guard: Node, oscan: str = "key") -> tupl
             raise Unhandled("I2 make multiplicity: the key corners' string directions differ, "
                             "O'' is not defined")
     horizontal = along_x.pop()
-    (scan,) = [s for s in strings.all_scans(c.mer(), c.lam)
+    (scan,) = [s for s in strings.all_scans(c.mer(), c.lam, c.meeting_nodes)
                if s.corner == guard and (s.fast[0] != 0) == horizontal]
     return strings.meeting_order(scan, c.meeting_nodes)
 
@@ -390,6 +391,14 @@ def _answer(allowed: frozenset[Node], me: Node, g: int) -> Node:
     return first_step(geometry.apply(back, geometry.sub(a, me)) for a in allowed)
 
 
+@lru_cache(maxsize=CACHE_SIZE)
+def _global_answer(relative: frozenset[Node], g: int) -> Node:
+    """The step, in global coordinates, of a robot in frame ``g`` whose allowed steps are
+    ``relative`` (global coordinates, the robot at the origin)."""
+    answer = first_step(geometry.apply(g, d) for d in relative)
+    return geometry.apply(geometry.inverse(g), answer)
+
+
 class PaperAlgorithm:
     """The paper's ``Gathering()``; see the module docstring for the phases."""
 
@@ -434,6 +443,28 @@ class PaperAlgorithm:
         return Plan(plan.phase, None if plan.target is None else unmap(plan.target),
                     unmap_all(plan.moves), unmap_all(plan.if_multiplicity),
                     None if plan.guard is None else unmap(plan.guard))
+
+    def move_sets(self, configuration: Configuration, detection: str,
+                  frames: tuple[int, ...]) -> dict[Node, frozenset[Node]] | None:
+        """Every robot's move set from one plan, without a view per robot and frame: the
+        robot on ``v`` in frame ``F`` answers ``first_step(F(A - v))`` for its allowed
+        destinations ``A``, so its move set is the union of ``v + F^-1`` of those answers
+        (what :func:`~gather_verify.algorithms.moves.move_set` collects from
+        :meth:`decide`). None under detection ``none``: the plan may read a multiplicity
+        that model hides, and only :meth:`decide` says so."""
+        if detection == "none":
+            return None
+        plan = self.plan(configuration)
+        counts = configuration.counts
+        out = {}
+        for v in counts:
+            allowed = plan.moves[v]
+            if v in plan.if_multiplicity and counts[v] > 1:
+                allowed = plan.if_multiplicity[v]
+            relative = frozenset((x - v[0], y - v[1]) for x, y in allowed)
+            out[v] = frozenset((v[0] + dx, v[1] + dy)
+                               for dx, dy in (_global_answer(relative, g) for g in frames))
+        return out
 
     def decide(self, view: View) -> Node:
         key, g, t = view.canonical()

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Literal
 
 from gather_verify.errors import InvalidInput
@@ -40,17 +41,58 @@ AlphaRegion = Literal["mer", "mer_f"]
 
 @dataclass(frozen=True)
 class Scan:
-    """One corner string: where it starts, how it runs, what it reads."""
+    """One corner string: where it starts, how it runs, what it reads.
+
+    Held sparsely: ``labels`` lists the position and label of every node with a
+    non-zero label, so a scan costs the number of labelled nodes, not the area of
+    its rectangle (robots that walk far away make the MER large). ``nodes`` and
+    ``text`` give the dense string when one is shown."""
 
     corner: Node
     fast: Node  # unit step along the scanned grid line
     slow: Node  # unit step from one grid line to the next
-    nodes: tuple[Node, ...]
-    text: str
+    rect: Rect
+    labels: tuple[tuple[int, int], ...]  # (position, label), non-zero labels, by position
+
+    @cached_property
+    def line(self) -> int:
+        """Nodes on one scanned grid line."""
+        x0, y0, x1, y1 = self.rect
+        return (x1 - x0 if self.fast[0] else y1 - y0) + 1
+
+    @cached_property
+    def size(self) -> int:
+        x0, y0, x1, y1 = self.rect
+        return (x1 - x0 + 1) * (y1 - y0 + 1)
 
     def index(self, v: Node) -> int:
         """Position of ``v`` in the scan: the paper's ``d'`` of the configuration view."""
-        return self.nodes.index(v)
+        x0, y0, x1, y1 = self.rect
+        if not (x0 <= v[0] <= x1 and y0 <= v[1] <= y1):
+            raise ValueError(f"{v} is not in the scanned rectangle {self.rect}")
+        dx, dy = v[0] - self.corner[0], v[1] - self.corner[1]
+        i = dx * self.fast[0] + dy * self.fast[1]
+        j = dx * self.slow[0] + dy * self.slow[1]
+        return j * self.line + i
+
+    @cached_property
+    def order(self) -> tuple[tuple[int, int], ...]:
+        """A key that orders scans of one length as their ``text`` (the first differing
+        label decides, and label 0 is the least): the earlier a non-zero label, the larger."""
+        return tuple((-p, label) for p, label in self.labels)
+
+    @cached_property
+    def nodes(self) -> tuple[Node, ...]:
+        """Every node of the rectangle, in scan order."""
+        return scan_nodes(self.rect, self.corner, self.fast, self.slow)
+
+    @cached_property
+    def text(self) -> str:
+        """The dense string: one label digit per node."""
+        out = ["0"] * self.size
+        for p, label in self.labels:
+            out[p] = str(label)
+        return "".join(out)
 
     def describe(self) -> str:
         return f"corner {list(self.corner)} along {list(self.fast)} then {list(self.slow)}"
@@ -83,40 +125,52 @@ def _directions(rect: Rect, corner: Node) -> tuple[Node, Node]:
     return h, v
 
 
-def all_scans(rect: Rect, value: Callable[[Node], int]) -> list[Scan]:
-    """The eight corner strings of ``rect`` (two per corner)."""
+def all_scans(rect: Rect, value: Callable[[Node], int],
+              support: Iterable[Node] | None = None) -> list[Scan]:
+    """The eight corner strings of ``rect`` (two per corner). ``support``: the nodes where
+    ``value`` may be non-zero (default: every node of ``rect``)."""
+    x0, y0, x1, y1 = rect
+    if support is None:
+        support = scan_nodes(rect, (x0, y0), (1, 0), (0, 1))
+    marked = [(v, k) for v in support if (k := value(v))
+              and x0 <= v[0] <= x1 and y0 <= v[1] <= y1]
     out = []
     for corner in corners(rect):
         h, v = _directions(rect, corner)
         for fast, slow in ((h, v), (v, h)):
-            nodes = scan_nodes(rect, corner, fast, slow)
-            out.append(Scan(corner, fast, slow, nodes, "".join(str(value(u)) for u in nodes)))
+            blank = Scan(corner, fast, slow, rect, ())
+            labels = tuple(sorted((blank.index(u), k) for u, k in marked))
+            out.append(Scan(corner, fast, slow, rect, labels))
     return out
 
 
-def representations(rect: Rect, value: Callable[[Node], int]) -> list[Scan]:
+def representations(rect: Rect, value: Callable[[Node], int],
+                    support: Iterable[Node] | None = None) -> list[Scan]:
     """Each corner's string representation(s): along the shorter side; on a
-    square the larger of the two, both when they are equal."""
+    square the larger of the two, both when they are equal (``support`` as for
+    :func:`all_scans`)."""
     x0, y0, x1, y1 = rect
     width, height = x1 - x0, y1 - y0
-    scans = all_scans(rect, value)
+    scans = all_scans(rect, value, support)
     if width != height:
         along_x = width < height  # the fast side is the shorter one
         return [s for s in scans if (s.fast[0] != 0) == along_x]
     out = []
     for a, b in zip(scans[0::2], scans[1::2], strict=True):
-        if a.text == b.text:
+        if a.labels == b.labels:
             out.extend((a, b))
         else:
-            out.append(max(a, b, key=lambda s: s.text))
+            out.append(max(a, b, key=lambda s: s.order))
     return out
 
 
 def largest(scans: Iterable[Scan]) -> list[Scan]:
-    """The scans whose text is lexicographically largest (ties kept, order kept)."""
+    """The scans whose text is lexicographically largest (ties kept, order kept); all
+    of one rectangle and one line length, as a representation's are."""
     scans = list(scans)
-    top = max(s.text for s in scans)
-    return [s for s in scans if s.text == top]
+    assert len({(s.rect, s.line) for s in scans}) == 1, "strings of different lengths"
+    top = max(s.order for s in scans)
+    return [s for s in scans if s.order == top]
 
 
 # -- the configuration: key corners and views -------------------------------------
@@ -129,7 +183,8 @@ def label_function(configuration: Configuration, *, weak: bool) -> Callable[[Nod
 
 def key_scans(configuration: Configuration, *, weak: bool = False) -> list[Scan]:
     """The largest string representation(s) over MER; their corners are the key corners."""
-    return largest(representations(configuration.mer(), label_function(configuration, weak=weak)))
+    return largest(representations(configuration.mer(), label_function(configuration, weak=weak),
+                                   configuration.occupied | configuration.meeting_nodes))
 
 
 def key_corners(configuration: Configuration, *, weak: bool = False) -> list[Node]:
@@ -167,7 +222,7 @@ def alpha_rect(configuration: Configuration, region: AlphaRegion) -> Rect:
 def leading_scans(configuration: Configuration, region: AlphaRegion = "mer") -> list[Scan]:
     """The largest ``alpha`` string(s); their corners are the leading corners."""
     rect = alpha_rect(configuration, region)
-    return largest(representations(rect, configuration.lam))
+    return largest(representations(rect, configuration.lam, configuration.meeting_nodes))
 
 
 def leading_corners(configuration: Configuration, region: AlphaRegion = "mer") -> list[Node]:
@@ -176,8 +231,7 @@ def leading_corners(configuration: Configuration, region: AlphaRegion = "mer") -
 
 def meeting_order(scan: Scan, meeting_nodes: Iterable[Node]) -> tuple[Node, ...]:
     """Meeting nodes in the order they appear in ``scan`` (the paper's O, O', O'')."""
-    wanted = set(meeting_nodes)
-    return tuple(v for v in scan.nodes if v in wanted)
+    return tuple(sorted(meeting_nodes, key=scan.index))
 
 
 def ordering_O(configuration: Configuration, region: AlphaRegion = "mer") -> tuple[Node, ...] | None:
