@@ -13,6 +13,9 @@ is unique and stays otherwise, so it is defined everywhere.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
+from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import ORIGIN, STEPS, Node, manhattan
 from gather_verify.model.view import View
@@ -36,6 +39,32 @@ def step_towards(target: Node) -> Node:
     raise AssertionError("some step always gets closer")
 
 
+_STEPS_MEMO: dict[tuple[tuple[int, ...], tuple[Node, ...]], tuple[Node, ...]] = {}
+"""(frames, meeting nodes relative to a robot) -> its global steps (``GoToTarget.move_sets``)."""
+
+
+def _steps(offsets: tuple[Node, ...], frames: tuple[int, ...]) -> tuple[Node, ...]:
+    """The global steps of a robot whose meeting nodes lie at ``offsets`` from it: per frame
+    ``g``, what :meth:`GoToTarget.decide` answers on the view (the offsets mapped by ``g``),
+    mapped back to global coordinates."""
+    steps = set()
+    for g in frames:
+        a, b, c, d = geometry.MATRICES[g]
+        seen = frozenset((a * x + b * y, c * x + d * y) for x, y in offsets)
+        answer = GoToTarget().decide(_Seen(seen))  # type: ignore[arg-type]
+        steps.add(geometry.apply(geometry.inverse(g), answer))
+    return tuple(sorted(steps))
+
+
+class _Seen:
+    """The part of a view ``decide`` reads: the meeting nodes in the robot's frame."""
+
+    __slots__ = ("meeting_nodes",)
+
+    def __init__(self, meeting_nodes: frozenset[Node]):
+        self.meeting_nodes = meeting_nodes
+
+
 class GoToTarget:
     """Every robot walks to the (unique nearest) meeting node along any shortest path."""
 
@@ -53,6 +82,31 @@ class GoToTarget:
         x, y = target
         return (1, 0) if x > 0 else (0, 1) if y > 0 else (-1, 0) if x < 0 else \
             (0, -1) if y < 0 else ORIGIN
+
+    def move_sets(self, configuration: Configuration, detection: str,
+                  frames: Iterable[int]) -> dict[Node, frozenset[Node]] | None:
+        """The union of :meth:`decide` over ``frames`` for every occupied node, at once (the
+        optional hook of :func:`~gather_verify.algorithms.moves.move_sets`): a robot's
+        answer depends only on where the meeting nodes lie relative to it, so the steps are
+        computed once per such offset pattern and frame set. ``decide`` reads no
+        multiplicity: the same for every detection model. None (ask ``decide`` view by view)
+        for a subclass that answers otherwise (the broken variants)."""
+        if type(self).decide is not GoToTarget.decide:
+            return None
+        meeting = sorted(configuration.meeting_nodes)
+        frames = tuple(frames)
+        out = {}
+        for v in configuration.counts:
+            x, y = v
+            offsets = (frames, tuple((mx - x, my - y) for mx, my in meeting))
+            steps = _STEPS_MEMO.get(offsets)
+            if steps is None:
+                steps = _steps(offsets[1], frames)
+                if len(_STEPS_MEMO) >= 1 << 16:
+                    _STEPS_MEMO.clear()
+                _STEPS_MEMO[offsets] = steps
+            out[v] = frozenset((x + dx, y + dy) for dx, dy in steps)
+        return out
 
     def target(self, configuration: Configuration) -> Node | None:
         if len(configuration.meeting_nodes) == 1:

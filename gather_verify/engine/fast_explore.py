@@ -390,6 +390,7 @@ class FactsTable:
         self.aut_m = list(group)  # Aut(M), identity first
         assert not self.aut_m or self.aut_m[0].g == geometry.IDENTITY and self.aut_m[0].t == (0, 0)
         self.index = KeyIndex(bits=10, capacity=1024)  # configuration key -> row
+        self.compiled = self.index.compiled  # the bulk paths of the compiled engine
         self.cells = np.zeros((1024, n), dtype=np.int32)
         self.masks = np.zeros((1024, n), dtype=np.uint8)
         self.flags = np.zeros((1024, 3), dtype=np.int8)  # undefined (1, 2: crash), stuck, gathered
@@ -569,14 +570,34 @@ class FactsTable:
         raise AssertionError("the orbit crashes, so does every member")  # pragma: no cover
 
     def need_in_u(self, rows: np.ndarray) -> np.ndarray:
-        for r in np.unique(rows[self.in_u[rows] == -2]).tolist():
+        for r in np.unique(rows[self.in_u[rows] < 0]).tolist():
             self.in_u_of(r)
         return self.in_u[rows] == 1
+
+    def _settle_asymmetric(self) -> None:
+        """The first test of :meth:`in_u_of`, in bulk on every row not settled yet: rows
+        whose occupied nodes no element of Aut(M) but the identity maps onto themselves are
+        not in U (they get ``in_u`` 0); the others are left to :meth:`in_u_of`."""
+        rows = np.flatnonzero(self.in_u[:self.size] == -2)
+        cells = self.cells[rows].astype(np.int64)
+        x = self.enc.x0 + cells // self.enc.height
+        y = self.enc.y0 + cells % self.enc.height
+        some = np.zeros(len(rows), dtype=bool)
+        for a in self.aut_m[1:]:
+            m = geometry.MATRICES[a.g]
+            ax = m[0] * x + m[1] * y + a.t[0]
+            ay = m[2] * x + m[3] * y + a.t[1]
+            inside = ((ax[:, :, None] == x[:, None, :]) & (ay[:, :, None] == y[:, None, :]))
+            some |= inside.any(axis=2).all(axis=1)
+        self.in_u[rows] = np.where(some, -3, 0)  # -3: left to in_u_of's classification
 
     def in_u_of(self, row: int) -> bool:
         """Whether the configuration of ``row`` is in U (computed once)."""
         known = int(self.in_u[row])
-        if known != -2:
+        if known == -2 and self.compiled:
+            self._settle_asymmetric()
+            known = int(self.in_u[row])
+        if known >= 0:
             return known == 1
         # In U needs Aut(C) non-trivial, and Aut(C) is inside Aut(M): when no element of
         # Aut(M) but the identity maps the occupied nodes onto themselves, C is not in U.

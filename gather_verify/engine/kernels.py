@@ -76,6 +76,7 @@ def find_or_add(table, keys, count, shift, q, ids, first):  # pragma: no cover -
     added = 0
     slots = np.empty(_BATCH, dtype=np.int64)
     held = np.empty(_BATCH, dtype=np.int32)
+    cand = np.empty(_BATCH, dtype=np.uint64)
     for lo in range(0, m, _BATCH):
         hi = min(m, lo + _BATCH)
         for i in range(lo, hi):
@@ -84,9 +85,11 @@ def find_or_add(table, keys, count, shift, q, ids, first):  # pragma: no cover -
             held[i - lo] = table[slots[i - lo]]
         for i in range(lo, hi):
             t = held[i - lo]
+            cand[i - lo] = keys[t - 1] if t > 0 else ~q[i]
+        for i in range(lo, hi):
             k = q[i]
-            if t > 0 and keys[t - 1] == k:
-                ids[i] = t - 1
+            if cand[i - lo] == k:
+                ids[i] = held[i - lo] - 1
                 continue
             s = slots[i - lo]
             while True:
