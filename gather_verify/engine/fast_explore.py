@@ -726,17 +726,15 @@ class PairRows:
         """The row of each transition's successor configuration (``src``: source states of
         the chunk; robot ``robot`` goes from code ``old`` to code ``new``)."""
         out = rows[src]
-        cell = new // 5
-        moved = np.flatnonzero(cell != old // 5)
+        moved, key = kernels.pair_keys(rows, rank, src, robot, old, new, self.stride,
+                                       self.table.enc.cells)
         if not len(moved):
             return out
-        s, r, c = src[moved], robot[moved], cell[moved]
-        key = (rows[s] * self.stride + rank[s, r] * self.table.enc.cells + c).astype(np.uint64)
         ids, first = self.index.find_or_add(key)
         if len(first):
             f = moved[first]
             succ = cells[src[f]].copy()
-            succ[np.arange(len(f)), robot[f]] = cell[f]
+            succ[np.arange(len(f)), robot[f]] = new[f] // 5
             srt, k = self.table.config_keys(succ)
             self.rows.extend(self.table.rows(k, srt))
         out[moved] = self.rows.array()[ids]
@@ -854,7 +852,8 @@ def explore_fast(
     weights = Growing(np.int8)
     transitions = changed_loops = 0
     stopped: str | None = None
-    pair_rows = PairRows(table) if kernels.enabled() else None
+    compiled = kernels.enabled()
+    pair_rows = PairRows(table) if compiled else None
     peak = rss_mb()
     sid = 0
     chunk = CHUNK
@@ -868,11 +867,14 @@ def explore_fast(
             break
         hi = min(index.count, sid + chunk)
         K = index.keys[sid:hi].copy()
-        codes = _decode(K, base, n)
-        cells = codes // 5
-        srt, ck = table.config_keys(cells)
+        if compiled:
+            codes, cells, srt, ck, idle, rank = kernels.decode_chunk(K, base, n, table.weights)
+        else:
+            codes = _decode(K, base, n)
+            cells = codes // 5
+            srt, ck = table.config_keys(cells)
+            idle = np.all(codes % 5 == 0, axis=1)
         rows = table.rows(ck, srt)
-        idle = np.all(codes % 5 == 0, axis=1)
         # the last source state to expand: a halting property stops before the state it fails in
         limit_src = len(K)
         # the halting and the expansion properties, evaluated together on the whole chunk
@@ -883,7 +885,8 @@ def explore_fast(
         assert not table.flags[rows[:limit_src], 0].any(), \
             "a state without move sets needs a halting property"
         # robot i's move mask: the mask of its cell's position in the sorted row
-        rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
+        if not compiled:
+            rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
         masks = table.masks[rows[:, None], rank]
         bulk = sched.bulk_successors(enc.frontier(codes[:limit_src], masks[:limit_src]), EVENTS)
         if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
@@ -911,7 +914,9 @@ def explore_fast(
         src, weight = src[:cut], weight[:cut]
         changes = cut if single else int(np.searchsorted(event, cut))
         robot, new = robot[:changes], new[:changes]
-        if single:
+        if single and compiled and not (group or anonymity):
+            succ, old = kernels.successor_keys(K, codes, src, robot, new, powers)
+        elif single:
             old = codes[src, robot]
         else:
             event = event[:changes]
@@ -921,6 +926,8 @@ def explore_fast(
             succ_codes = codes[src]
             succ_codes[np.arange(cut) if single else event, robot] = new
             succ = canon.keys(succ_codes)
+        elif compiled:
+            pass  # the keys came with the old codes
         else:
             delta = (new - old).astype(np.uint64) * powers[robot]
             succ = K[src] + delta  # wraps correctly for negative deltas

@@ -57,6 +57,7 @@ if numba is None:  # pragma: no cover
 
 _MUL = np.uint64(0x9E3779B97F4A7C15)
 _BATCH = 4096
+_ROUNDS = 3
 
 
 # -- the hash index ----------------------------------------------------------------------
@@ -68,30 +69,58 @@ def find_or_add(table, keys, count, shift, q, ids, first):  # pragma: no cover -
     occurrence (``first``: their positions in ``q``). Returns the new count and how many
     were added. ``shift``: 64 - log2(len(table)); the table must have room for them all.
 
-    Probed a batch at a time: the home slots and their stored keys are loaded first
-    (independent loads, overlapped by the processor), then each key not found at home
-    probes on in order, so new keys are numbered in order."""
+    Probed a batch at a time, in rounds of independent loads (the processor overlaps
+    them): each key still probing reads its slot and the key stored there; found keys are
+    settled, the others move one slot on. Keys that meet an empty slot, or are still
+    probing after a few rounds, are then looked up (and added) one by one, in order, so
+    new keys are numbered in order of first occurrence."""
     mask = len(table) - 1
     m = len(q)
     added = 0
     slots = np.empty(_BATCH, dtype=np.int64)
     held = np.empty(_BATCH, dtype=np.int32)
     cand = np.empty(_BATCH, dtype=np.uint64)
+    live = np.empty(_BATCH, dtype=np.int64)
+    late = np.empty(_BATCH, dtype=np.int64)
     for lo in range(0, m, _BATCH):
         hi = min(m, lo + _BATCH)
-        for i in range(lo, hi):
-            slots[i - lo] = np.int64((q[i] * _MUL) >> shift)
-        for i in range(lo, hi):
-            held[i - lo] = table[slots[i - lo]]
-        for i in range(lo, hi):
-            t = held[i - lo]
-            cand[i - lo] = keys[t - 1] if t > 0 else ~q[i]
-        for i in range(lo, hi):
+        nlive = hi - lo
+        for j in range(nlive):
+            live[j] = j
+            slots[j] = np.int64((q[lo + j] * _MUL) >> shift)
+        nlate = 0
+        for _ in range(_ROUNDS):
+            for j in range(nlive):
+                held[j] = table[slots[live[j]]]
+            for j in range(nlive):
+                t = held[j]
+                cand[j] = keys[t - 1] if t > 0 else 0
+            keep = 0
+            for j in range(nlive):
+                r = live[j]
+                t = held[j]
+                if t == 0:
+                    late[nlate] = r
+                    nlate += 1
+                elif cand[j] == q[lo + r]:
+                    ids[lo + r] = t - 1
+                else:
+                    slots[r] = (slots[r] + 1) & mask
+                    live[keep] = r
+                    keep += 1
+            nlive = keep
+            if nlive == 0:
+                break
+        for j in range(nlive):
+            late[nlate] = live[j]
+            nlate += 1
+        if nlate == 0:
+            continue
+        late[:nlate].sort()  # in order: new keys are numbered in order of first occurrence
+        for j in range(nlate):
+            i = lo + late[j]
             k = q[i]
-            if cand[i - lo] == k:
-                ids[i] = held[i - lo] - 1
-                continue
-            s = slots[i - lo]
+            s = np.int64((k * _MUL) >> shift)
             while True:
                 t = table[s]
                 if t == 0:
@@ -311,3 +340,84 @@ def tarjan_csr(offsets, targets, skip_loops):  # pragma: no cover - compiled
     for i in range(len(starts)):
         out[i] = starts[i]
     return members[:mcount].copy(), out
+
+
+# -- the bulk engine's per-chunk arithmetic ----------------------------------------------
+
+@njit(cache=True, nogil=True)
+def decode_chunk(keys, base, n, weights):  # pragma: no cover - compiled
+    """Per state key: its robot codes (digits in base ``base``), their cells, the cells
+    sorted, the packed configuration key (sorted cells by ``weights``), whether every robot
+    is idle, and each robot's position among the sorted cells (the first equal one)."""
+    s_count = len(keys)
+    codes = np.empty((s_count, n), dtype=np.int64)
+    cells = np.empty((s_count, n), dtype=np.int64)
+    srt = np.empty((s_count, n), dtype=np.int64)
+    ck = np.empty(s_count, dtype=np.int64)
+    idle = np.empty(s_count, dtype=np.bool_)
+    rank = np.empty((s_count, n), dtype=np.int64)
+    b = np.uint64(base)
+    for s in range(s_count):
+        rest = keys[s]
+        all_idle = True
+        for j in range(n):
+            quot = rest // b
+            c = np.int64(rest - quot * b)
+            rest = quot
+            codes[s, j] = c
+            cell = c // 5
+            cells[s, j] = cell
+            if c - cell * 5 != 0:
+                all_idle = False
+            # insertion into the sorted prefix
+            k = j
+            while k > 0 and srt[s, k - 1] > cell:
+                srt[s, k] = srt[s, k - 1]
+                k -= 1
+            srt[s, k] = cell
+        idle[s] = all_idle
+        key = 0
+        for j in range(n):
+            key += srt[s, j] * weights[j]
+        ck[s] = key
+        for i in range(n):
+            cell = cells[s, i]
+            for j in range(n):
+                if srt[s, j] == cell:
+                    rank[s, i] = j
+                    break
+    return codes, cells, srt, ck, idle, rank
+
+
+@njit(cache=True, nogil=True)
+def successor_keys(keys, codes, src, robot, new, powers):  # pragma: no cover - compiled
+    """One change per event, no reduction: each successor's key (its source's key with robot
+    ``robot`` recoded from its old code to ``new``), and the old codes."""
+    m = len(src)
+    succ = np.empty(m, dtype=np.uint64)
+    old = np.empty(m, dtype=np.int64)
+    for e in range(m):
+        s = src[e]
+        r = robot[e]
+        o = codes[s, r]
+        old[e] = o
+        succ[e] = keys[s] + np.uint64(new[e] - o) * powers[r]  # wraps for negative steps
+    return succ, old
+
+
+@njit(cache=True, nogil=True)
+def pair_keys(rows, rank, src, robot, old, new, stride, cells):  # pragma: no cover - compiled
+    """The transitions that move a robot to another cell, and for each the key of its
+    (configuration row, sorted position of the cell left, cell entered)."""
+    m = len(src)
+    moved = np.empty(m, dtype=np.int64)
+    keys = np.empty(m, dtype=np.uint64)
+    k = 0
+    for e in range(m):
+        c = new[e] // 5
+        if c != old[e] // 5:
+            s = src[e]
+            moved[k] = e
+            keys[k] = np.uint64(rows[s] * stride + rank[s, robot[e]] * cells + c)
+            k += 1
+    return moved[:k], keys[:k]

@@ -67,7 +67,7 @@ def longest_path(e: Exploration) -> LongestPath:
     if hasattr(e.targets, "array") and not e.changed_loops:
         from gather_verify.engine import kernels
 
-        if kernels.enabled():
+        if kernels.enabled() and _whole(e):
             return _longest_path_compiled(e)
         return _longest_path_bulk(e)
     n = e.states
@@ -173,6 +173,12 @@ def _longest_path_bulk(e: Exploration) -> LongestPath:
     return LongestPath(int(best[0]), path)
 
 
+def _whole(e: Exploration) -> bool:
+    """Whether every state of ``e`` was expanded (the CSR columns cover every id the edges
+    name: what the compiled kernels, which do not check bounds, need)."""
+    return len(e.offsets) == e.states + 1 and e.stopped is None
+
+
 def _longest_path_compiled(e: Exploration) -> LongestPath:
     """:func:`_longest_path_bulk` by the compiled depth-first search over the int32 columns
     (:func:`gather_verify.engine.kernels.longest_path`): the same value, and the same path
@@ -211,7 +217,7 @@ def strongly_connected(e: Exploration) -> list[list[int]]:
     if hasattr(e.targets, "array") and not e.changed_loops:
         from gather_verify.engine import kernels
 
-        if kernels.enabled():  # every self-loop is of an unchanged state: none is an edge
+        if kernels.enabled() and _whole(e):  # every self-loop is unchanged: none is an edge
             import numpy as np
 
             members, starts = kernels.tarjan_csr(e.offsets.array[:e.states + 1],  # type: ignore[attr-defined]
