@@ -85,9 +85,12 @@ def _box(algorithm: str):
     return out
 
 
-@pytest.mark.parametrize("algorithm", ["go-to-target", "paper"])
-@pytest.mark.parametrize("scheduler", ["async", "ssync"])
-@pytest.mark.parametrize("reduction", [True, False])
+BOXES = [pytest.param(a, s, r, marks=[] if (a, s, r) == ("go-to-target", "async", False)
+                       else [pytest.mark.slow])
+         for a in ("go-to-target", "paper") for s in ("async", "ssync") for r in (True, False)]
+
+
+@pytest.mark.parametrize(("algorithm", "scheduler", "reduction"), BOXES)
 def test_whole_small_box_gives_the_same_reports(algorithm, scheduler, reduction) -> None:
     """The 3 x 3 census, n <= 3, m <= 2: every configuration, every property."""
     checked = 0
