@@ -847,9 +847,12 @@ def explore_fast(
     index.find_or_add(np.array([start_key], dtype=np.uint64))
     parents = Growing(np.int32, reserve)
     parents.extend(np.array([-1], dtype=np.int32))
-    offsets = Growing(np.int32)  # int64 once the edges pass what an int32 holds (widen)
-    targets = Growing(np.int32)
-    weights = Growing(np.int8)
+    # the graph's columns reserved too (untouched pages cost nothing): no copy as they grow,
+    # so no transient second copy of the graph
+    edges = min(8 * reserve, 1 << 28) if graph else 1 << 16
+    offsets = Growing(np.int32, reserve if graph else 1 << 16)  # int64 past 2**31 edges (widen)
+    targets = Growing(np.int32, edges)
+    weights = Growing(np.int8, edges)
     transitions = changed_loops = 0
     stopped: str | None = None
     compiled = kernels.enabled()
