@@ -21,7 +21,6 @@ from gather_verify.properties.facts import Facts, StateFacts
 from gather_verify.properties.registry import get_property, registered
 from schedulers import Event, State
 
-
 DENSE_VALUES = 256
 """A transition property with at most this many distinct values keeps its verdicts of value
 pairs in a matrix (one lookup per transition); more values: a sorted set of pairs."""

@@ -222,7 +222,7 @@ def strongly_connected(e: Exploration) -> list[list[int]]:
 
             members, starts = kernels.tarjan_csr(e.offsets.array[:e.states + 1],  # type: ignore[attr-defined]
                                                  e.targets.array, True)  # type: ignore[attr-defined]
-            return [np.sort(members[a:b]).tolist() for a, b in zip(starts[:-1], starts[1:])]
+            return [np.sort(members[a:b]).tolist() for a, b in zip(starts[:-1], starts[1:], strict=True)]
     succs = [[t for t, _ in real_edges(e, s)] for s in range(e.states)]
     if e.states <= NX_MAX_STATES:
         import networkx as nx
