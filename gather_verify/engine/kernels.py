@@ -27,7 +27,10 @@ import numpy as np
 
 try:  # numba is a dependency; without it (or with it switched off) the reference path runs
     import numba
-    from numba import njit
+    from llvmlite import ir
+    from numba import njit, types
+    from numba.core import cgutils
+    from numba.extending import intrinsic
 except ImportError:  # pragma: no cover - numba is installed with the package
     numba = None
 
@@ -55,8 +58,36 @@ if numba is None:  # pragma: no cover
     def njit(*args, **kwargs):  # type: ignore[no-redef]
         return lambda f: f
 
+    def intrinsic(f):  # type: ignore[no-redef]
+        return f
+
 _MUL = np.uint64(0x9E3779B97F4A7C15)
-_BATCH = 4096
+_AHEAD = 32
+"""How many keys ahead :func:`find_or_add` requests the memory it will read."""
+
+
+@intrinsic
+def prefetch(typingctx, array, index):  # pragma: no cover - compiled
+    """Ask the processor to bring ``array[index]`` into the cache (a hint: no effect on the
+    result; ``index`` must be inside the array)."""
+    sig = types.void(array, index)
+
+    def codegen(context, builder, signature, args):
+        aryty = signature.args[0]
+        ary = context.make_array(aryty)(context, builder, args[0])
+        ptr = cgutils.get_item_pointer(context, builder, aryty, ary, [args[1]],
+                                       wraparound=False)
+        byte = ir.PointerType(ir.IntType(8))
+        i32 = ir.IntType(32)
+        fn = cgutils.get_or_insert_function(
+            builder.module, ir.FunctionType(ir.VoidType(), [byte, i32, i32, i32]),
+            "llvm.prefetch.p0i8")
+        # read, high temporal locality, data cache
+        builder.call(fn, [builder.bitcast(ptr, byte), ir.Constant(i32, 0), ir.Constant(i32, 3),
+                          ir.Constant(i32, 1)])
+        return context.get_dummy_value()
+
+    return sig, codegen
 
 
 # -- the hash index ----------------------------------------------------------------------
@@ -68,41 +99,38 @@ def find_or_add(table, keys, count, shift, q, ids, first):  # pragma: no cover -
     occurrence (``first``: their positions in ``q``). Returns the new count and how many
     were added. ``shift``: 64 - log2(len(table)); the table must have room for them all.
 
-    Probed a batch at a time: the home slots and their stored keys are loaded first
-    (independent loads, overlapped by the processor), then each key not found at home
-    probes on in order, so new keys are numbered in order."""
+    One key at a time, in order; the memory it will read is requested ahead (prefetch): the
+    table slot of the key ``_AHEAD`` places on, and the stored key that the slot of the key
+    half as far on names, so the processor's loads overlap."""
     mask = len(table) - 1
     m = len(q)
     added = 0
-    slots = np.empty(_BATCH, dtype=np.int64)
-    held = np.empty(_BATCH, dtype=np.int32)
-    for lo in range(0, m, _BATCH):
-        hi = min(m, lo + _BATCH)
-        for i in range(lo, hi):
-            slots[i - lo] = np.int64((q[i] * _MUL) >> shift)
-        for i in range(lo, hi):
-            held[i - lo] = table[slots[i - lo]]
-        for i in range(lo, hi):
-            t = held[i - lo]
-            k = q[i]
-            if t > 0 and keys[t - 1] == k:
+    half = _AHEAD // 2
+    for i in range(min(_AHEAD, m)):
+        prefetch(table, np.int64((q[i] * _MUL) >> shift))
+    for i in range(m):
+        if i + _AHEAD < m:
+            prefetch(table, np.int64((q[i + _AHEAD] * _MUL) >> shift))
+        if i + half < m:
+            ahead = table[np.int64((q[i + half] * _MUL) >> shift)]
+            if ahead > 0:
+                prefetch(keys, ahead - 1)
+        k = q[i]
+        s = np.int64((k * _MUL) >> shift)
+        while True:
+            t = table[s]
+            if t == 0:
+                table[s] = count + 1
+                keys[count] = k
+                ids[i] = count
+                first[added] = i
+                added += 1
+                count += 1
+                break
+            if keys[t - 1] == k:
                 ids[i] = t - 1
-                continue
-            s = slots[i - lo]
-            while True:
-                t = table[s]
-                if t == 0:
-                    table[s] = count + 1
-                    keys[count] = k
-                    ids[i] = count
-                    first[added] = i
-                    added += 1
-                    count += 1
-                    break
-                if keys[t - 1] == k:
-                    ids[i] = t - 1
-                    break
-                s = (s + 1) & mask
+                break
+            s = (s + 1) & mask
     return count, added
 
 
