@@ -15,7 +15,7 @@ process and is timed *whole* (interpreter start, imports, search), as SPIN's
   ``move-bound`` and ``termination``) on the same space as SPIN's safety search:
   states/s of the whole process beside SPIN's, and the peak resident memory grown
   during the check per state (the baseline taken once the compiled kernels are
-  loaded, :func:`gather_verify.engine.kernels.warm`);
+  loaded, :func:`gather_verify.kernels.warm`);
 - ``spin``: ``bench/spin/run_spin.py`` when ``spin`` and the script are there,
   else the stored result in ``bench/spin/results/`` (labelled ``stored``);
 - ``sweep`` (optional): configurations/s of the paper's algorithm, n=3, m=3,
@@ -63,7 +63,7 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float) -> dict[s
     from gather_verify.check import run_check
 
     if kind == "full":
-        from gather_verify.engine import kernels
+        from gather_verify import kernels
 
         kernels.warm()
         before = rss_mb()

@@ -12,7 +12,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from gather_verify.engine import kernels
+from gather_verify import kernels
 from gather_verify.model.geometry import STEPS
 from schedulers.base import Event, Frontier, MoveSets, State, Successors, configuration_of
 

@@ -1,4 +1,4 @@
-"""The compiled kernels (``gather_verify.engine.kernels``) against the numpy/Python reference
+"""The compiled kernels (``gather_verify.kernels``) against the numpy/Python reference
 path they replace, field by field: the explorations (keys, parents, graph, counts,
 violations) and the whole ``run_check`` reports (verdicts, per-property results, max moves,
 traces), on every scenario under ``scenarios/`` and on whole small boxes."""
@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from gather_verify import kernels
 from gather_verify.check import run_check
-from gather_verify.engine import kernels
 from gather_verify.engine.fast_explore import KeyIndex, explore_fast
 from gather_verify.model.configuration import Configuration
 from gather_verify.properties.graph import longest_path, strongly_connected

@@ -43,9 +43,9 @@ from typing import Any
 
 import numpy as np
 
+from gather_verify import kernels
 from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
-from gather_verify.engine import kernels
 from gather_verify.engine.checks import Checks, ColumnChecks, symmetric
 from gather_verify.engine.encoding import (
     NO_LIMITS,

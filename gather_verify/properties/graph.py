@@ -65,7 +65,7 @@ def longest_path(e: Exploration) -> LongestPath:
     bulk engine a round at a time), then the best total per state in reverse order, keeping
     the first best successor in edge order (so every order gives the same path)."""
     if hasattr(e.targets, "array") and not e.changed_loops:
-        from gather_verify.engine import kernels
+        from gather_verify import kernels
 
         if kernels.enabled() and _whole(e):
             return _longest_path_compiled(e)
@@ -181,11 +181,11 @@ def _whole(e: Exploration) -> bool:
 
 def _longest_path_compiled(e: Exploration) -> LongestPath:
     """:func:`_longest_path_bulk` by the compiled depth-first search over the int32 columns
-    (:func:`gather_verify.engine.kernels.longest_path`): the same value, and the same path
+    (:func:`gather_verify.kernels.longest_path`): the same value, and the same path
     (from each state, the first successor in edge order that attains its best total)."""
     import numpy as np
 
-    from gather_verify.engine import kernels
+    from gather_verify import kernels
 
     off = e.offsets.array[:e.states + 1]  # type: ignore[attr-defined]
     tgt = e.targets.array  # type: ignore[attr-defined]
@@ -215,7 +215,7 @@ def strongly_connected(e: Exploration) -> list[list[int]]:
     """Components with an edge between distinct states, each sorted, in the order Tarjan's
     algorithm finds them from state 0 (networkx on small graphs)."""
     if hasattr(e.targets, "array") and not e.changed_loops:
-        from gather_verify.engine import kernels
+        from gather_verify import kernels
 
         if kernels.enabled() and _whole(e):  # every self-loop is unchanged: none is an edge
             import numpy as np

@@ -1,13 +1,16 @@
 """Compiled kernels (numba) for the bulk engine's hot loops (issue 17).
 
 Each kernel does, in compiled code, what a numpy/Python function of the engine does,
-with the same result: the hash index of visited keys (:class:`KeyIndex`'s
-``find_or_add``), the ASYNC scheduler's bulk step, the longest path over the kept graph
+with the same result: the hash index of visited keys (``KeyIndex.find_or_add`` of
+:mod:`gather_verify.engine.fast_explore`), the per-chunk arithmetic (decoding states,
+successor keys, the keys of (configuration, move) pairs), the ASYNC scheduler's bulk step, the longest path over the kept graph
 (``move-bound``) and Tarjan's strongly connected components (``termination``). The numpy
 and Python code stays the tested reference: set ``GATHER_VERIFY_KERNELS=0`` (or call
 :func:`use` with False) to run it instead; the tests compare the two paths field by field.
 
-Kernels are compiled on first use and cached on disk (``cache=True``: numba's cache next
+The module imports nothing of the project (the engine, the graph properties and the
+ASYNC scheduler all use it: it sits at the bottom of the import layers, beside
+``errors``). Kernels are compiled on first use and cached on disk (``cache=True``: numba's cache next
 to this module, or under ``NUMBA_CACHE_DIR``), so only the first process pays the compile.
 
 >>> import numpy as np
