@@ -12,7 +12,6 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from gather_verify import kernels
 from gather_verify.model.geometry import STEPS
 from schedulers.base import Event, Frontier, MoveSets, State, Successors, configuration_of
 
@@ -52,6 +51,8 @@ class Async:
         if s * 4 * n > budget:  # at most four Looks (or one Move) per robot
             s = max(1, budget // (4 * n))
             codes, masks = codes[:s], masks[:s]
+        from gather_verify import kernels  # here: importing numba costs every command 0.25 s
+
         if kernels.enabled():  # the same events, in compiled code
             src, weight, robot, new = kernels.async_successors(
                 np.ascontiguousarray(codes, dtype=np.int64),

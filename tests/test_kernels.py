@@ -19,7 +19,7 @@ from gather_verify.scenario import load_scenario
 from gather_verify.scenario_tests import run_expectation
 from gather_verify.sweeps.census import enumerate_configurations
 
-pytestmark = pytest.mark.skipif(kernels.numba is None, reason="numba is not installed")
+pytestmark = pytest.mark.skipif(not kernels.available(), reason="numba is not installed")
 
 ROOT = Path(__file__).resolve().parent.parent / "scenarios"
 FILES = sorted(ROOT.rglob("*.json"))

@@ -1,17 +1,5 @@
-"""Compiled kernels (numba) for the bulk engine's hot loops (issue 17).
-
-Each kernel does, in compiled code, what a numpy/Python function of the engine does,
-with the same result: the hash index of visited keys (``KeyIndex.find_or_add`` of
-:mod:`gather_verify.engine.fast_explore`), the per-chunk arithmetic (decoding states,
-successor keys, the keys of (configuration, move) pairs), the ASYNC scheduler's bulk step, the longest path over the kept graph
-(``move-bound``) and Tarjan's strongly connected components (``termination``). The numpy
-and Python code stays the tested reference: set ``GATHER_VERIFY_KERNELS=0`` (or call
-:func:`use` with False) to run it instead; the tests compare the two paths field by field.
-
-The module imports nothing of the project (the engine, the graph properties and the
-ASYNC scheduler all use it: it sits at the bottom of the import layers, beside
-``errors``). Kernels are compiled on first use and cached on disk (``cache=True``: numba's cache next
-to this module, or under ``NUMBA_CACHE_DIR``), so only the first process pays the compile.
+"""The numba-compiled kernels themselves (see :mod:`gather_verify.kernels`, which imports this
+module on first use, so that importing the project does not import numba).
 
 >>> import numpy as np
 >>> table, keys = np.zeros(16, dtype=np.int32), np.empty(8, dtype=np.uint64)
@@ -24,45 +12,11 @@ to this module, or under ``NUMBA_CACHE_DIR``), so only the first process pays th
 
 from __future__ import annotations
 
-import os
-
 import numpy as np
-
-try:  # numba is a dependency; without it (or with it switched off) the reference path runs
-    import numba
-    from llvmlite import ir
-    from numba import njit, types
-    from numba.core import cgutils
-    from numba.extending import intrinsic
-except ImportError:  # pragma: no cover - numba is installed with the package
-    numba = None
-
-ENV = "GATHER_VERIFY_KERNELS"
-"""Environment variable: ``0`` selects the numpy/Python reference path."""
-_forced: bool | None = None
-
-
-def use(flag: bool | None) -> None:
-    """Force the kernels on or off for this process (None: back to :data:`ENV`)."""
-    global _forced
-    _forced = flag
-
-
-def enabled() -> bool:
-    """Whether the compiled kernels run (numba importable, not switched off)."""
-    if numba is None:
-        return False
-    if _forced is not None:
-        return _forced
-    return os.environ.get(ENV, "1") not in ("0", "false", "no", "off")
-
-
-if numba is None:  # pragma: no cover
-    def njit(*args, **kwargs):  # type: ignore[no-redef]
-        return lambda f: f
-
-    def intrinsic(f):  # type: ignore[no-redef]
-        return f
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 _MUL = np.uint64(0x9E3779B97F4A7C15)
 _AHEAD = 32
@@ -420,30 +374,3 @@ def pair_keys(rows, rank, src, robot, old, new, stride, cells):  # pragma: no co
             keys[k] = np.uint64(rows[s] * stride + rank[s, robot[e]] * cells + c)
             k += 1
     return moved[:k], keys[:k]
-
-
-def warm() -> None:
-    """Load (or compile) every kernel now, on tiny inputs of the engine's types: a caller
-    measuring memory per state takes its baseline after this fixed cost."""
-    if not enabled():
-        return
-    table = np.zeros(16, dtype=np.int32)
-    keys = np.empty(16, dtype=np.uint64)
-    ids, first = np.empty(2, dtype=np.int64), np.empty(2, dtype=np.int64)
-    q = np.array([3, 3], dtype=np.uint64)
-    count, _ = find_or_add(table, keys, 0, np.uint64(60), q, ids, first)
-    place(np.zeros(16, dtype=np.int32), keys, 0, count, np.uint64(60))
-    k = np.array([7], dtype=np.uint64)
-    weights = np.array([1, 9], dtype=np.int64)
-    codes, cells, srt, ck, idle, rank = decode_chunk(k, 45, 2, weights)
-    masks = np.ones((1, 2), dtype=np.uint8)
-    neighbour = np.full((9, 4), -1, dtype=np.int64)
-    src, weight, robot, new = async_successors(codes, masks, neighbour,
-                                               np.arange(4, dtype=np.int64))
-    powers = np.array([1, 45], dtype=np.uint64)
-    succ, old = successor_keys(k, codes, src, robot, new, powers)
-    pair_keys(ck, rank, src, robot, old, new, 18, 9)
-    off = np.array([0, 1, 1], dtype=np.int32)
-    tgt = np.array([1], dtype=np.int32)
-    longest_path(off, tgt, np.zeros(1, dtype=np.int8))
-    tarjan_csr(off, tgt, True)
