@@ -390,6 +390,7 @@ class FactsTable:
         self.aut_m = list(group)  # Aut(M), identity first
         assert not self.aut_m or self.aut_m[0].g == geometry.IDENTITY and self.aut_m[0].t == (0, 0)
         self.index = KeyIndex(bits=10, capacity=1024)  # configuration key -> row
+        self.nodes = [enc.node(c) for c in range(enc.cells)]  # the node of each cell
         self.compiled = self.index.compiled  # the bulk paths of the compiled engine
         self.cells = np.zeros((1024, n), dtype=np.int32)
         self.masks = np.zeros((1024, n), dtype=np.uint8)
@@ -425,8 +426,8 @@ class FactsTable:
         return srt, srt @ self.weights
 
     def configuration(self, row: int) -> Configuration:
-        node = self.enc.node
-        return Configuration.trusted(tuple(node(c) for c in self.cells[row].tolist()),
+        node = self.nodes
+        return Configuration.trusted(tuple([node[c] for c in self.cells[row].tolist()]),
                                      self.meeting)
 
     def rows(self, keys: np.ndarray, sorted_cells: np.ndarray) -> np.ndarray:

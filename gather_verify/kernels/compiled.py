@@ -154,23 +154,28 @@ def async_successors(codes, masks, neighbour, look_order):  # pragma: no cover -
 @njit(cache=True, nogil=True)
 def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
     """The best total weight from every state over the graph (self-loops left out), by an
-    iterative depth-first search from state 0 (every state is reachable from it); -1 as
-    the first value when a cycle exists. ``best`` is int32: a move count."""
+    iterative depth-first search from state 0 (every state is reachable from it), each edge
+    read once: a finished successor's total is taken when its edge is read (or when it
+    finishes, for the edge that led to it); -1 as the first value when a cycle exists.
+    ``best`` is int32: a move count."""
     n = len(offsets) - 1
     best = np.full(n, -1, dtype=np.int32)  # -1: unvisited, -2: on the DFS stack
     stack = np.empty(64, dtype=np.int64)
     edge = np.empty(64, dtype=np.int64)
+    top = np.empty(64, dtype=np.int64)  # the best total so far of the state at each depth
     for root in range(n):
         if best[root] != -1:
             continue
         depth = 0
         stack[0] = root
         edge[0] = offsets[root]
+        top[0] = 0
         best[root] = -2
         while depth >= 0:
             v = stack[depth]
             k = edge[depth]
             end = offsets[v + 1]
+            run = top[depth]
             pushed = False
             while k < end:
                 t = targets[k]
@@ -183,26 +188,29 @@ def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
                     return out
                 if bt == -1:
                     edge[depth] = k
+                    top[depth] = run
                     depth += 1
                     if depth == len(stack):
                         stack = np.concatenate((stack, np.empty(len(stack), dtype=np.int64)))
                         edge = np.concatenate((edge, np.empty(len(edge), dtype=np.int64)))
+                        top = np.concatenate((top, np.empty(len(top), dtype=np.int64)))
                     stack[depth] = t
                     edge[depth] = offsets[t]
+                    top[depth] = 0
                     best[t] = -2
                     pushed = True
                     break
+                val = weights[k - 1] + bt
+                if val > run:
+                    run = val
             if pushed:
                 continue
-            top = 0
-            for j in range(offsets[v], end):
-                t = targets[j]
-                if t != v:
-                    val = weights[j] + best[t]
-                    if val > top:
-                        top = val
-            best[v] = top
+            best[v] = run
             depth -= 1
+            if depth >= 0:  # the edge that led to v is the one before the parent's position
+                val = weights[edge[depth] - 1] + run
+                if val > top[depth]:
+                    top[depth] = val
     return best
 
 
