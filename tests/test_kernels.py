@@ -158,3 +158,25 @@ def test_switching_the_kernels_off_runs_the_reference(monkeypatch) -> None:
     assert not KeyIndex().compiled
     monkeypatch.setenv(kernels.ENV, "1")
     assert kernels.enabled() and KeyIndex().compiled
+
+
+@pytest.mark.parametrize(("n", "m"), [(2, 1), (3, 1), (2, 3), (3, 3)])  # m = 2: a rotation swaps them
+def test_never_in_u_is_exact_on_a_whole_box(n, m) -> None:
+    """Where every symmetry of M fixes a meeting node, no configuration is in U (the shortcut
+    of FactsTable.in_u_of), with multiplicities too; and the shortcut does not claim more."""
+    from gather_verify.engine.fast_explore import never_in_u
+    from gather_verify.model.classes import classify_configuration
+    from gather_verify.model.symmetry import meeting_automorphisms
+
+    claimed = 0
+    for c in enumerate_configurations(n, m, 3, 3):
+        aut = meeting_automorphisms(c)
+        if never_in_u(aut, c.meeting_nodes):
+            claimed += 1
+            merged = Configuration((c.robots[0],) + c.robots[:-1], c.meeting_nodes)
+            assert not any(classify_configuration(x, aut_m_all=aut).in_U for x in (c, merged))
+    assert claimed
+    # where a symmetry of M fixes no meeting node, U is possible: no claim
+    c = Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)])
+    assert classify_configuration(c).in_U
+    assert not never_in_u(meeting_automorphisms(c), c.meeting_nodes)

@@ -366,6 +366,15 @@ BIT = {(0, 0): 16} | {step: 1 << k for k, step in enumerate(STEPS)}
 """The mask bit of each destination, relative to the robot."""
 
 
+def never_in_u(aut_m: Sequence[Automorphism], meeting: Iterable[Node]) -> bool:
+    """Whether no configuration over these meeting nodes is in U: U needs a symmetry of C
+    (an element of Aut(M)) whose axis or centre holds no meeting node
+    (:func:`~gather_verify.model.classes.in_U_of`), and here every element of Aut(M) but the
+    identity fixes a meeting node (its axis or centre holds one)."""
+    meeting = list(meeting)
+    return all(any(a.fixes(m) for m in meeting) for a in aut_m[1:])
+
+
 class FactsTable:
     """Per configuration (sorted robot cells, packed), the facts as small integers.
 
@@ -388,6 +397,7 @@ class FactsTable:
         self.detection, self.frames = detection, tuple(frames)
         self.meeting_form = canonical_form((), meeting, self.frames)
         self.aut_m = list(group)  # Aut(M), identity first
+        self.never_in_u = never_in_u(self.aut_m, meeting)
         assert not self.aut_m or self.aut_m[0].g == geometry.IDENTITY and self.aut_m[0].t == (0, 0)
         self.index = KeyIndex(bits=10, capacity=1024)  # configuration key -> row
         self.nodes = [enc.node(c) for c in range(enc.cells)]  # the node of each cell
@@ -595,6 +605,8 @@ class FactsTable:
     def in_u_of(self, row: int) -> bool:
         """Whether the configuration of ``row`` is in U (computed once)."""
         known = int(self.in_u[row])
+        if known < 0 and self.never_in_u:
+            self.in_u[row] = known = 0
         if known == -2 and self.compiled:
             self._settle_asymmetric()
             known = int(self.in_u[row])
