@@ -180,3 +180,17 @@ def test_never_in_u_is_exact_on_a_whole_box(n, m) -> None:
     c = Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)])
     assert classify_configuration(c).in_U
     assert not never_in_u(meeting_automorphisms(c), c.meeting_nodes)
+
+
+def test_the_hashed_successor_rows_give_the_same_exploration(monkeypatch) -> None:
+    """Past ``PairRows.DIRECT_ROWS`` rows the (row, cell, step) triples go through a hash
+    index: forced here from the first row."""
+    from gather_verify.engine.fast_explore import PairRows
+
+    monkeypatch.setattr(PairRows, "DIRECT_ROWS", 0)
+    c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
+    fast, ref = both(lambda: explore_fast(c, "go-to-target", "async", reduction=False))
+    same_exploration(fast, ref)
+    fast, ref = both(lambda: run_check(c, algorithm="paper", scheduler="async",
+                                       reduction=False, max_seconds=600))
+    same_report(fast, ref)

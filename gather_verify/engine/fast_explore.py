@@ -723,13 +723,19 @@ class RowFacts:
 
 
 class PairRows:
-    """The configuration row a one-robot change reaches, cached per (row, sorted position of
-    the robot's cell, new cell): a configuration and its few moves are met by many states
-    (the robots' pending steps differ), so the successor's configuration is sorted and
-    looked up once per such pair, not once per transition."""
+    """The configuration row a one-robot change reaches, kept per (configuration row, sorted
+    position of the robot's cell, step): a configuration and its few moves are met by many
+    states (the robots' pending steps differ), so the successor's configuration is sorted
+    and looked up once per such triple, not once per transition. A direct table (16 bytes
+    per row and robot) while the rows are few; beyond, a hash index of the triples."""
+
+    DIRECT_ROWS = 1 << 20
+    """Rows the direct table may cover (80 MB with five robots); beyond: the hash index."""
 
     def __init__(self, table: FactsTable):
         self.table = table
+        self.succ = np.full((1024, table.n, 4), -1, dtype=np.int32)
+        self.neighbour = table.enc.neighbour
         self.index = KeyIndex(bits=12, capacity=1 << 12)
         self.rows = Growing(np.int64, 1 << 12)
         self.stride = table.n * table.enc.cells
@@ -738,6 +744,27 @@ class PairRows:
               robot: np.ndarray, old: np.ndarray, new: np.ndarray) -> np.ndarray:
         """The row of each transition's successor configuration (``src``: source states of
         the chunk; robot ``robot`` goes from code ``old`` to code ``new``)."""
+        if self.table.size > self.DIRECT_ROWS:
+            return self._hashed(rows, cells, rank, src, robot, old, new)
+        if len(self.succ) < self.table.size:
+            grown = np.full((max(self.table.size, 2 * len(self.succ)),) + self.succ.shape[1:],
+                            -1, dtype=np.int32)
+            grown[:len(self.succ)] = self.succ
+            self.succ = grown
+        out, miss, slot = kernels.successor_rows(rows, rank, src, robot, old, new,
+                                                 self.neighbour, self.succ)
+        if len(miss):
+            succ = cells[src[miss]].copy()
+            succ[np.arange(len(miss)), robot[miss]] = new[miss] // 5
+            srt, k = self.table.config_keys(succ)
+            got = self.table.rows(k, srt)
+            out[miss] = got
+            known = slot >= 0
+            self.succ.reshape(-1)[slot[known]] = got[known]
+        return out
+
+    def _hashed(self, rows: np.ndarray, cells: np.ndarray, rank: np.ndarray, src: np.ndarray,
+                robot: np.ndarray, old: np.ndarray, new: np.ndarray) -> np.ndarray:
         out = rows[src]
         moved, key = kernels.pair_keys(rows, rank, src, robot, old, new, self.stride,
                                        self.table.enc.cells)

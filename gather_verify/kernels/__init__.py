@@ -24,7 +24,7 @@ from typing import Any
 ENV = "GATHER_VERIFY_KERNELS"
 """Environment variable: ``0`` selects the numpy/Python reference path."""
 KERNELS = ("find_or_add", "place", "async_successors", "longest_path", "tarjan_csr",
-           "decode_chunk", "successor_keys", "pair_keys")
+           "decode_chunk", "successor_keys", "pair_keys", "successor_rows")
 """The compiled functions (in :mod:`gather_verify.kernels.compiled`, imported on first use)."""
 _forced: bool | None = None
 _available: bool | None = None
@@ -76,6 +76,7 @@ def warm() -> None:
         pair_keys,
         place,
         successor_keys,
+        successor_rows,
         tarjan_csr,
     )
 
@@ -95,6 +96,8 @@ def warm() -> None:
     powers = np.array([1, 45], dtype=np.uint64)
     succ, old = successor_keys(k, codes, src, robot, new, powers)
     pair_keys(ck, rank, src, robot, old, new, 18, 9)
+    successor_rows(ck, rank, src, robot, old, new, neighbour,
+                   np.full((1, 2, 4), -1, dtype=np.int32))
     off = np.array([0, 1, 1], dtype=np.int32)
     tgt = np.array([1], dtype=np.int32)
     longest_path(off, tgt, np.zeros(1, dtype=np.int8))

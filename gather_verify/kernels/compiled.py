@@ -382,3 +382,45 @@ def pair_keys(rows, rank, src, robot, old, new, stride, cells):  # pragma: no co
             keys[k] = np.uint64(rows[s] * stride + rank[s, robot[e]] * cells + c)
             k += 1
     return moved[:k], keys[:k]
+
+
+@njit(cache=True, nogil=True)
+def successor_rows(rows, rank, src, robot, old, new, neighbour, succ):  # pragma: no cover
+    """The configuration row each one-change transition reaches, from the table ``succ``
+    (``succ[row, j, k]``: the row reached when a robot on the ``j``-th sorted cell of ``row``
+    takes step ``k``; -1 unknown). Returns the rows (the source's own where no robot changes
+    cell), and for the transitions not settled: their positions and their ``succ`` slots
+    (flat index; -1 when the change is not one step)."""
+    m = len(src)
+    n = succ.shape[1]
+    out = np.empty(m, dtype=np.int64)
+    miss = np.empty(m, dtype=np.int64)
+    slot = np.empty(m, dtype=np.int64)
+    flat = succ.reshape(-1)
+    k_miss = 0
+    for e in range(m):
+        s = src[e]
+        r = rows[s]
+        oc = old[e] // 5
+        nc = new[e] // 5
+        if oc == nc:
+            out[e] = r
+            continue
+        j = rank[s, robot[e]]
+        k = -1
+        for d in range(4):
+            if neighbour[oc, d] == nc:
+                k = d
+                break
+        if k >= 0:
+            at = (r * n + j) * 4 + k
+            v = flat[at]
+            if v >= 0:
+                out[e] = v
+                continue
+            slot[k_miss] = at
+        else:
+            slot[k_miss] = -1
+        miss[k_miss] = e
+        k_miss += 1
+    return out, miss[:k_miss], slot[:k_miss]
