@@ -39,8 +39,8 @@ def step_towards(target: Node) -> Node:
     raise AssertionError("some step always gets closer")
 
 
-_STEPS_MEMO: dict[tuple[tuple[int, ...], tuple[Node, ...]], tuple[Node, ...]] = {}
-"""(frames, meeting nodes relative to a robot) -> its global steps (``GoToTarget.move_sets``)."""
+_MOVES_MEMO: dict[tuple[tuple[int, ...], frozenset[Node]], dict[Node, frozenset[Node]]] = {}
+"""(frames, meeting nodes) -> node -> its move set (``GoToTarget.move_sets``)."""
 
 
 def _steps(offsets: tuple[Node, ...], frames: tuple[int, ...]) -> tuple[Node, ...]:
@@ -87,25 +87,29 @@ class GoToTarget:
                   frames: Iterable[int]) -> dict[Node, frozenset[Node]] | None:
         """The union of :meth:`decide` over ``frames`` for every occupied node, at once (the
         optional hook of :func:`~gather_verify.algorithms.moves.move_sets`): a robot's
-        answer depends only on where the meeting nodes lie relative to it, so the steps are
-        computed once per such offset pattern and frame set. ``decide`` reads no
-        multiplicity: the same for every detection model. None (ask ``decide`` view by view)
-        for a subclass that answers otherwise (the broken variants)."""
+        answer depends only on where the meeting nodes lie relative to it (``decide`` reads
+        no other robot and no multiplicity: the same for every detection model), so the move
+        set of a node is computed once per frame set and meeting nodes. None (ask ``decide``
+        view by view) for a subclass that answers otherwise (the broken variants)."""
         if type(self).decide is not GoToTarget.decide:
             return None
-        meeting = sorted(configuration.meeting_nodes)
-        frames = tuple(frames)
+        frames = frames if isinstance(frames, tuple) else tuple(frames)
+        meeting = configuration.meeting_nodes
+        memo = _MOVES_MEMO.get((frames, meeting))
+        if memo is None:
+            if len(_MOVES_MEMO) >= 64:
+                _MOVES_MEMO.clear()
+            memo = _MOVES_MEMO[frames, meeting] = {}
         out = {}
         for v in configuration.counts:
-            x, y = v
-            offsets = (frames, tuple((mx - x, my - y) for mx, my in meeting))
-            steps = _STEPS_MEMO.get(offsets)
-            if steps is None:
-                steps = _steps(offsets[1], frames)
-                if len(_STEPS_MEMO) >= 1 << 16:
-                    _STEPS_MEMO.clear()
-                _STEPS_MEMO[offsets] = steps
-            out[v] = frozenset((x + dx, y + dy) for dx, dy in steps)
+            got = memo.get(v)
+            if got is None:
+                x, y = v
+                steps = _steps(tuple((mx - x, my - y) for mx, my in sorted(meeting)), frames)
+                if len(memo) >= 1 << 16:
+                    memo.clear()
+                got = memo[v] = frozenset((x + dx, y + dy) for dx, dy in steps)
+            out[v] = got
         return out
 
     def target(self, configuration: Configuration) -> Node | None:
