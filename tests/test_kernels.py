@@ -150,6 +150,12 @@ def test_longest_path_kernel_finds_cycles_and_bounds() -> None:
     assert kernels.longest_path(off, tgt, w).tolist() == [2, 1, 0]
     tgt[3] = 0  # 1 -> 0: a cycle
     assert kernels.longest_path(off, tgt, w)[0] == -1
+    # an edge to a smaller id without a cycle (the depth-first search, not the sweep):
+    # 0 -> 2 (1), 2 -> 1 (1), 1 -> 1 (a self-loop, no edge)
+    off = np.array([0, 1, 2, 3], dtype=np.int32)
+    tgt = np.array([2, 1, 1], dtype=np.int32)
+    w = np.array([1, 7, 1], dtype=np.int8)
+    assert kernels.longest_path(off, tgt, w).tolist() == [2, 0, 1]
 
 
 def test_switching_the_kernels_off_runs_the_reference(monkeypatch) -> None:

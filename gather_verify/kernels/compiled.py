@@ -157,8 +157,32 @@ def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
     iterative depth-first search from state 0 (every state is reachable from it), each edge
     read once: a finished successor's total is taken when its edge is read (or when it
     finishes, for the edge that led to it); -1 as the first value when a cycle exists.
-    ``best`` is int32: a move count."""
+    ``best`` is int32: a move count.
+
+    When every edge leads to a larger id (breadth-first ids often are a topological order:
+    every edge goes one level down), one sweep in decreasing id order, reading the edges in
+    place, gives the same totals with no search and no cycle."""
     n = len(offsets) - 1
+    forward = True
+    for v in range(n):
+        for j in range(offsets[v], offsets[v + 1]):
+            if targets[j] < v:
+                forward = False
+                break
+        if not forward:
+            break
+    if forward:
+        best = np.zeros(n, dtype=np.int32)
+        for v in range(n - 1, -1, -1):
+            run = 0
+            for j in range(offsets[v], offsets[v + 1]):
+                t = targets[j]
+                if t != v:
+                    val = weights[j] + best[t]
+                    if val > run:
+                        run = val
+            best[v] = run
+        return best
     best = np.full(n, -1, dtype=np.int32)  # -1: unvisited, -2: on the DFS stack
     stack = np.empty(64, dtype=np.int64)
     edge = np.empty(64, dtype=np.int64)
