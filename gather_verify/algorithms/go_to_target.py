@@ -39,6 +39,9 @@ def step_towards(target: Node) -> Node:
     raise AssertionError("some step always gets closer")
 
 
+_HOME = "gather_verify.algorithms.go_to_target"
+"""This module's name: a copy of it under another name (``tools/mutants.py`` edits the code
+of ``decide``) asks ``decide`` view by view."""
 _MOVES_MEMO: dict[tuple[tuple[int, ...], frozenset[Node]], dict[Node, frozenset[Node]]] = {}
 """(frames, meeting nodes) -> node -> its move set (``GoToTarget.move_sets``)."""
 
@@ -90,9 +93,10 @@ class GoToTarget:
         answer depends only on where the meeting nodes lie relative to it (``decide`` reads
         no other robot and no multiplicity: the same for every detection model), so the move
         set of a node is computed once per frame set and meeting nodes. None (ask ``decide``
-        view by view) for a subclass that answers otherwise (the broken variants)."""
-        if type(self).decide is not GoToTarget.decide:
-            return None
+        view by view) for a subclass that answers otherwise (the broken variants) and in a
+        copy of this module (the mutants)."""
+        if type(self).decide is not GoToTarget.decide or __name__ != _HOME:
+            return None  # a subclass, or a copy of this module with its code edited (mutants)
         frames = frames if isinstance(frames, tuple) else tuple(frames)
         meeting = configuration.meeting_nodes
         memo = _MOVES_MEMO.get((frames, meeting))
