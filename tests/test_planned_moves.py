@@ -79,3 +79,13 @@ def test_a_wrong_planned_move_set_is_caught():
         if _planned(algo, c, "local-weak", f[:1]) != _view_by_view(algo, c, "local-weak", f):
             differs += 1
     assert differs
+
+
+@given(nodes, nodes)
+def test_closer_steps_are_the_neighbours_nearer_the_target(v, target):
+    from gather_verify.algorithms.paper import closer_steps
+    from gather_verify.model import geometry
+
+    d = geometry.manhattan(v, target)
+    expected = {u for u in geometry.neighbours(v) if geometry.manhattan(u, target) < d} or {v}
+    assert closer_steps(v, target) == expected

@@ -101,3 +101,16 @@ def test_partitive_and_orbits():
     assert len(r90.orbit((0, 0))) == 4 and r90.is_partitive_on(square)
     assert not r90.is_partitive_on([(1, 1)])  # the centre is a node, fixed
     assert not Automorphism(geometry.IDENTITY, (0, 0)).is_partitive_on([(0, 0)])
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.lists(st.tuples(st.integers(-3, 3), st.integers(-3, 3)), min_size=1, max_size=6),
+       st.lists(st.tuples(st.integers(-3, 3), st.integers(-3, 3)), min_size=1, max_size=4,
+                unique=True))
+def test_configuration_automorphisms_filtered_from_aut_m_are_those_of_the_labels(robots, meeting):
+    """``Aut(C)`` is taken from ``Aut(M)``; it is exactly the automorphisms of the labels
+    (strong and weak), in the same order."""
+    c = Configuration(robots, meeting)  # multiplicities allowed
+    assert configuration_automorphisms(c) == automorphisms(c.labelled)
+    weak = {v: c.weak_label(v) for v in c.labelled}
+    assert configuration_automorphisms(c, weak=True) == automorphisms(weak)

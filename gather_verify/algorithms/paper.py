@@ -133,10 +133,15 @@ class Plan:
 
 def closer_steps(v: Node, target: Node) -> frozenset[Node]:
     """Neighbours of ``v`` on a shortest path to ``target`` (``{v}`` when there)."""
+    (x, y), (tx, ty) = v, target
     if v == target:
         return frozenset({v})
-    d = manhattan(v, target)
-    return frozenset(u for u in geometry.neighbours(v) if manhattan(u, target) < d)
+    out = []  # one step along each axis on which target differs
+    if tx != x:
+        out.append((x + (1 if tx > x else -1), y))
+    if ty != y:
+        out.append((x, y + (1 if ty > y else -1)))
+    return frozenset(out)
 
 
 def distance_function(symmetry: Automorphism, metric: str = "manhattan"):

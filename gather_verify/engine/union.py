@@ -54,6 +54,7 @@ import numpy as np
 
 from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for
+from gather_verify.engine import union_kernels
 from gather_verify.engine.explore import DEFAULT_MARGIN, Encoding, region_box
 from gather_verify.engine.fast_explore import (
     Canon,
@@ -328,8 +329,14 @@ def explore_union(
     transitions = np.full(len(seeds), -1, dtype=np.int64)
     wanted_seeds = np.ones(len(seeds), dtype=bool) if count_seeds is None else count_seeds
     wanted_seeds = wanted_seeds & ((reach[seed_ids] & CYCLE) == 0)
-    _count(seed_ids, np.flatnonzero(wanted_seeds), rounds, pred_off, pred_src,
-           events.array().astype(np.int64), S, counts, transitions)
+    which = np.flatnonzero(wanted_seeds)
+    if union_kernels.compiled() and len(which):
+        topo = np.concatenate(rounds[::-1]) if rounds else np.zeros(0, dtype=np.int64)
+        counts[which], transitions[which] = union_kernels.seed_counts(
+            topo, pred_off, pred_src, seed_ids[which], events.array())
+    else:
+        _count(seed_ids, which, rounds, pred_off, pred_src, events.array().astype(np.int64),
+               S, counts, transitions)
     return UnionGraph(seed_ids, S, reach, best, reach_box, counts, transitions,
                       time.perf_counter() - started, enc, index.keys[:S].copy(), flags.array(),
                       out_off, out_tgt)
@@ -398,15 +405,16 @@ def _count(seed_ids: np.ndarray, which: np.ndarray, rounds: list[np.ndarray],
             if len(idx):
                 has = np.diff(np.r_[starts, len(idx)]) > 0  # zero-length runs left out
                 mark[states[has]] |= np.bitwise_or.reduceat(mark[pred_src[idx]], starts[has])
-        c = np.zeros(64, dtype=np.int64)
-        t = np.zeros(64, dtype=np.int64)
-        for a in range(0, S, 1 << 16):
-            block = np.unpackbits(mark[a:a + (1 << 16)].view(np.uint8).reshape(-1, 8), axis=1,
-                                  bitorder="little")
-            c += block.sum(axis=0, dtype=np.int64)
-            t += events[a:a + (1 << 16)] @ block.astype(np.int64)
-        counts[group] = c[:len(group)]
-        transitions[group] = t[:len(group)]
+        c = np.zeros(64, dtype=np.float64)
+        t = np.zeros(64, dtype=np.float64)
+        weights = events.astype(np.float64)
+        for a in range(0, S, 1 << 14):
+            block = np.unpackbits(mark[a:a + (1 << 14)].view(np.uint8).reshape(-1, 8), axis=1,
+                                  bitorder="little").astype(np.float64)
+            c += block.sum(axis=0)  # sums of integers below 2**53: exact in float64 (BLAS)
+            t += weights[a:a + (1 << 14)] @ block
+        counts[group] = c[:len(group)].astype(np.int64)
+        transitions[group] = t[:len(group)].astype(np.int64)
 
 
 def margin_needed(c: Configuration, group: Sequence[Automorphism], box: np.ndarray) -> int | None:

@@ -6,7 +6,7 @@ the same result: the hash index of visited keys (``KeyIndex.find_or_add`` of
 successor keys, the keys of (configuration, move) pairs), the ASYNC scheduler's bulk step,
 the longest path over the kept graph (``move-bound``) and Tarjan's strongly connected
 components (``termination``). The numpy and Python code stays the tested reference: set
-``GATHER_VERIFY_KERNELS=0`` (or call :func:`use` with False) to run it instead; the tests
+``GATHER_VERIFY_KERNELS=numpy`` (or call :func:`use` with False) to run it instead; the tests
 compare the two paths field by field.
 
 The package imports nothing of the project (the engine, the graph properties and the ASYNC
@@ -22,7 +22,8 @@ import os
 from typing import Any
 
 ENV = "GATHER_VERIFY_KERNELS"
-"""Environment variable: ``0`` selects the numpy/Python reference path."""
+"""Environment variable: ``numpy`` (or ``0``) selects the numpy/Python reference path (the
+same switch as the union engine's, :mod:`gather_verify.engine.union_kernels`)."""
 KERNELS = ("find_or_add", "place", "async_successors", "longest_path", "tarjan_csr",
            "decode_chunk", "successor_keys", "pair_keys", "successor_rows")
 """The compiled functions (in :mod:`gather_verify.kernels.compiled`, imported on first use)."""
@@ -50,7 +51,7 @@ def enabled() -> bool:
         return False
     if _forced is not None:
         return _forced
-    return os.environ.get(ENV, "1") not in ("0", "false", "no", "off")
+    return os.environ.get(ENV, "numba") not in ("numpy", "0", "false", "no", "off")
 
 
 def __getattr__(name: str) -> Any:

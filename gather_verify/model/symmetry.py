@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from functools import lru_cache
 
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
@@ -195,20 +196,41 @@ def automorphisms(labelled: Labelled) -> list[Automorphism]:
     return out
 
 
+@lru_cache(maxsize=1 << 12)
+def _meeting_automorphisms(meeting_nodes: frozenset[Node]) -> tuple[Automorphism, ...]:
+    return tuple(automorphisms(dict.fromkeys(meeting_nodes, 1)))
+
+
 def meeting_automorphisms(configuration: Configuration) -> list[Automorphism]:
-    """``Aut(M)``: automorphisms of the meeting nodes alone (labels ``lambda``)."""
-    return automorphisms(dict.fromkeys(configuration.meeting_nodes, 1))
+    """``Aut(M)``: automorphisms of the meeting nodes alone (labels ``lambda``); remembered
+    per ``M``, which a search or a sweep class keeps fixed."""
+    return list(_meeting_automorphisms(configuration.meeting_nodes))
 
 
 def configuration_automorphisms(
     configuration: Configuration, *, weak: bool = False
 ) -> list[Automorphism]:
-    """``Aut(C, l)``; with ``weak=True`` multiplicities are not told apart (labels 3->2, 5->4)."""
-    if weak:
-        labelled = {v: configuration.weak_label(v) for v in configuration.labelled}
-    else:
+    """``Aut(C, l)``; with ``weak=True`` multiplicities are not told apart (labels 3->2, 5->4).
+
+    A label tells whether its node is a meeting node, so ``Aut(C) ⊆ Aut(M)``: the elements
+    of ``Aut(M)`` (same order) that map every robot's node onto a node with as many robots
+    (with ``weak``: onto a robot's node), which is :func:`automorphisms` of the labels."""
+    counts = configuration.counts
+    if not configuration.meeting_nodes:
         labelled = configuration.labelled
-    return automorphisms(labelled)
+        if weak:
+            labelled = {v: configuration.weak_label(v) for v in labelled}
+        return automorphisms(labelled)
+    out = []
+    for a in _meeting_automorphisms(configuration.meeting_nodes):
+        (ma, mb, mc, md), (tx, ty) = geometry.MATRICES[a.g], a.t
+        if weak:
+            if all((ma * x + mb * y + tx, mc * x + md * y + ty) in counts for x, y in counts):
+                out.append(a)
+        elif all(counts.get((ma * x + mb * y + tx, mc * x + md * y + ty)) == k
+                 for (x, y), k in counts.items()):
+            out.append(a)
+    return out
 
 
 def is_symmetric(labelled: Labelled) -> bool:

@@ -32,6 +32,7 @@ from gather_verify.engine.explore import (
 )
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.model import geometry
+from gather_verify.model.canonical import canonical_form
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import meeting_automorphisms
@@ -43,8 +44,8 @@ Row = dict[str, Any]
 def verify_class(settings: Any, members: Sequence[tuple[int, Configuration]],
                  verify_one: Callable[[Any, int, Configuration], Row],
                  configuration_key: Callable[[Configuration], str]) -> list[Row]:
-    """The rows of ``members`` (configurations sharing ``M`` up to translation), in index
-    order; ``verify_one`` checks one configuration on its own (the sweep's)."""
+    """The rows of ``members`` (configurations whose ``M`` have one shape, as
+    :func:`class_tasks` makes them), in index order; ``verify_one`` checks one configuration on its own (the sweep's)."""
     if not union.supports(settings.scheduler, settings.reduction, settings.frames):
         return [verify_one(settings, i, c) for i, c in members]
     decided = decide_class(settings, members, configuration_key)
@@ -54,9 +55,16 @@ def verify_class(settings: Any, members: Sequence[tuple[int, Configuration]],
 
 def class_tasks(todo: Sequence[tuple[int, Configuration]]
                 ) -> list[list[tuple[int, Configuration]]]:
-    """``todo`` as meeting-node classes, the largest first (ties: enumeration order)."""
-    classes = union.meeting_classes(todo)
-    return sorted(classes, key=lambda members: (-len(members), members[0][0]))
+    """``todo`` as tasks, the largest first (ties: enumeration order): one per shape of
+    ``M`` (up to the 8 isometries), its meeting-node classes (``M`` up to translation)
+    one after the other. The classes of one shape meet the images of one another's
+    configurations, so one worker that runs them in turn finds their facts in its memo
+    (:func:`gather_verify.engine.fast_explore.facts_memo`)."""
+    shapes: dict[object, list[tuple[int, Configuration]]] = {}
+    for members in union.meeting_classes(todo):
+        shape = canonical_form((), members[0][1].meeting_nodes).key
+        shapes.setdefault(shape, []).extend(members)
+    return sorted(shapes.values(), key=lambda members: (-len(members), members[0][0]))
 
 
 @dataclass
@@ -70,7 +78,8 @@ class ClassDecision:
 
 def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
                  configuration_key: Callable[[Configuration], str]) -> ClassDecision:
-    """The sweep rows of ``members`` (one meeting-node class) that the union graph settles
+    """The sweep rows of ``members`` (meeting-node classes: one union graph per ``M`` up to
+    translation and per ``n``) that the union graphs settle
     exactly as :func:`gather_verify.sweeps.sweep.verify_one` would (rows keyed by
     ``configuration_key``); the rest in ``fallback``."""
 
@@ -88,9 +97,9 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
             todo.append((index, c, cls, union.normalise(c, union.meeting_form(c)[1])))
     if not todo:
         return ClassDecision([], fallback)
-    by_n: dict[int, list[int]] = {}
-    for k, (_, c, _, _) in enumerate(todo):
-        by_n.setdefault(c.n, []).append(k)
+    by_n: dict[tuple[frozenset, int], list[int]] = {}  # one union per M (translated) and n
+    for k, (_, c, _, nc) in enumerate(todo):
+        by_n.setdefault((nc.meeting_nodes, c.n), []).append(k)
     rows: list[dict[str, Any]] = []
     union_states = 0
     graph_props = bool({"move-bound", "termination"} & set(wanted))

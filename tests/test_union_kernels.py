@@ -1,0 +1,82 @@
+"""The union engine's compiled kernel (engine/union_kernels.py) against the numpy
+reference: per-seed counts on random acyclic graphs, and whole sweep rows."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from gather_verify.engine import union, union_kernels
+from gather_verify.sweeps.census import enumerate_configurations
+from gather_verify.sweeps.mclass import class_tasks, decide_class
+from gather_verify.sweeps.sweep import SweepSettings, configuration_key
+
+pytestmark = pytest.mark.skipif(union_kernels.numba is None, reason="numba is not installed")
+
+
+def _peeled(S: int, edges: list[tuple[int, int]]):
+    """The CSR arrays and peeling rounds ``union._analyse`` gives for a DAG."""
+    src = np.array([a for a, _ in edges], dtype=np.int64)
+    tgt = np.array([b for _, b in edges], dtype=np.int64)
+    w = np.ones(len(edges), dtype=np.int64)
+    flags = np.zeros(S, dtype=np.uint8)
+    box = np.zeros((S, 4), dtype=np.int64)
+    _, _, _, rounds, pred_off, pred_src, _, _ = union._analyse(S, src, tgt, w, flags, box)
+    return rounds, pred_off, pred_src
+
+
+@st.composite
+def dags(draw):
+    S = draw(st.integers(1, 150))
+    pairs = draw(st.lists(st.tuples(st.integers(0, S - 1), st.integers(0, S - 1)), max_size=400))
+    edges = sorted({(a, b) for a, b in pairs if a < b})  # a < b: acyclic
+    seeds = draw(st.lists(st.integers(0, S - 1), min_size=1, max_size=140))
+    events = draw(st.lists(st.integers(0, 30), min_size=S, max_size=S))
+    return S, edges, np.array(seeds, dtype=np.int64), np.array(events, dtype=np.int64)
+
+
+@settings(max_examples=150, deadline=None)
+@given(dags())
+def test_seed_counts_equal_the_numpy_reference(dag):
+    S, edges, seeds, events = dag
+    rounds, pred_off, pred_src = _peeled(S, edges)
+    counts = np.full(len(seeds), -1, dtype=np.int64)
+    transitions = np.full(len(seeds), -1, dtype=np.int64)
+    union._count(seeds, np.arange(len(seeds)), rounds, pred_off, pred_src, events, S, counts,
+                 transitions)
+    topo = np.concatenate(rounds[::-1])
+    got = union_kernels.seed_counts(topo, pred_off, pred_src, seeds, events)
+    assert got[0].tolist() == counts.tolist()
+    assert got[1].tolist() == transitions.tolist()
+
+
+def test_a_wrong_count_is_caught():
+    """The comparison can fail: the kernel without the seeds' own states counts less."""
+    rounds, pred_off, pred_src = _peeled(3, [(0, 1), (1, 2)])
+    topo = np.concatenate(rounds[::-1])
+    counts, _ = union_kernels.seed_counts(topo, pred_off, pred_src, np.array([0]), np.ones(3))
+    assert counts.tolist() == [3]
+    assert union_kernels.seed_counts(topo[1:], pred_off, pred_src, np.array([0]),
+                                     np.ones(3))[0].tolist() != [3]
+
+
+@pytest.mark.parametrize("n,m", [(2, 2), (3, 2)])
+def test_sweep_rows_equal_under_both_paths(monkeypatch, n, m):
+    s = SweepSettings(robots=n, meeting=m, box=(3, 3), algorithm="paper", scheduler="async",
+                      max_memory_mb=8000)
+    items = list(enumerate(enumerate_configurations(n, m, 3, 3)))
+
+    def rows():
+        out = {}
+        for members in class_tasks(items):
+            for r in decide_class(s, members, configuration_key).rows:
+                out[r["index"]] = {k: v for k, v in r.items() if k != "seconds"}
+        return out
+
+    compiled = rows()
+    monkeypatch.setenv("GATHER_VERIFY_KERNELS", "numpy")
+    assert not union_kernels.compiled()
+    assert rows() == compiled
+    assert len(compiled) > 50
