@@ -14,14 +14,15 @@ process and is timed *whole* (interpreter start, imports, search), as SPIN's
 - ``full``: ``run_check`` with reductions off and every property (the graph kept for
   ``move-bound`` and ``termination``) on the same space as SPIN's safety search:
   states/s of the whole process beside SPIN's, and the peak resident memory grown
-  during the check per state (the baseline taken once the compiled kernels are
-  loaded, :func:`gather_verify.kernels.warm`);
+  during the check per state;
 - ``spin``: ``bench/spin/run_spin.py`` when ``spin`` and the script are there,
   else the stored result in ``bench/spin/results/`` (labelled ``stored``);
 - ``sweep`` (optional): configurations/s of the paper's algorithm, n=3, m=3,
   4 x 4, ASYNC, one worker, over the first ``sweep_limit`` configurations.
 
-Every row also gives the CPU seconds (user, system) of its whole process tree, which
+Memory per state is measured from a baseline taken once the compiled kernels are loaded
+(:func:`gather_verify.kernels.warm`: numba and the compiled code are a fixed cost, not a
+per-state one). Every row also gives the CPU seconds (user, system) of its whole process tree, which
 depend less on the machine's load than the wall-clock seconds. Timings depend on the
 machine's load: compare runs made back to back.
 """
@@ -47,11 +48,13 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float) -> dict[s
     """One measurement, inside the child process."""
     import resource
 
+    from gather_verify import kernels
     from gather_verify.engine.explore import Limits, rss_mb
     from gather_verify.engine.search import explore
     from gather_verify.model.configuration import Configuration
 
     c = Configuration([tuple(r) for r in robots], [tuple(m) for m in meeting], initial=True)
+    kernels.warm()  # a fixed cost (numba and the compiled code), not a per-state one
     before = rss_mb()
     if kind == "explore":
         e = explore(c, "go-to-target", "async", reduction=False, properties=[], graph=False,
@@ -63,10 +66,6 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float) -> dict[s
     from gather_verify.check import run_check
 
     if kind == "full":
-        from gather_verify import kernels
-
-        kernels.warm()
-        before = rss_mb()
         r = run_check(c, algorithm="go-to-target", scheduler="async", reduction=False,
                       max_states=30_000_000, max_seconds=max_seconds)
         peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
