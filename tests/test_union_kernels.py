@@ -46,7 +46,7 @@ def test_seed_counts_equal_the_numpy_reference(dag):
     transitions = np.full(len(seeds), -1, dtype=np.int64)
     union._count(seeds, np.arange(len(seeds)), rounds, pred_off, pred_src, events, S, counts,
                  transitions)
-    topo = np.concatenate(rounds[::-1])
+    topo = np.concatenate([r[::-1] for r in rounds[::-1]])
     got = union_kernels.seed_counts(topo, pred_off, pred_src, seeds, events)
     assert got[0].tolist() == counts.tolist()
     assert got[1].tolist() == transitions.tolist()
@@ -55,7 +55,7 @@ def test_seed_counts_equal_the_numpy_reference(dag):
 def test_a_wrong_count_is_caught():
     """The comparison can fail: the kernel without the seeds' own states counts less."""
     rounds, pred_off, pred_src = _peeled(3, [(0, 1), (1, 2)])
-    topo = np.concatenate(rounds[::-1])
+    topo = np.concatenate([r[::-1] for r in rounds[::-1]])
     counts, _ = union_kernels.seed_counts(topo, pred_off, pred_src, np.array([0]), np.ones(3))
     assert counts.tolist() == [3]
     assert union_kernels.seed_counts(topo[1:], pred_off, pred_src, np.array([0]),
@@ -80,3 +80,34 @@ def test_sweep_rows_equal_under_both_paths(monkeypatch, n, m):
     assert not union_kernels.compiled()
     assert rows() == compiled
     assert len(compiled) > 50
+
+
+@settings(max_examples=150, deadline=None)
+@given(dags(), st.lists(st.integers(0, 7), max_size=150), st.data())
+def test_peeling_equals_the_numpy_reference(monkeypatch_dag, flag_bits, data):
+    """Reachable flags, longest paths and boxes, with some states on cycles (a CYCLE flag)."""
+    S, edges, _, _ = monkeypatch_dag
+    flags = np.zeros(S, dtype=np.uint8)
+    for k, b in enumerate(flag_bits[:S]):
+        flags[k] = (1 << b) if b < 6 else 0
+    src = np.array([a for a, _ in edges], dtype=np.int64)
+    tgt = np.array([b for _, b in edges], dtype=np.int64)
+    w = np.array(data.draw(st.lists(st.integers(0, 4), min_size=len(edges), max_size=len(edges))),
+                 dtype=np.int64)
+    box = np.array(data.draw(st.lists(st.tuples(*[st.integers(-5, 5)] * 4), min_size=S,
+                                      max_size=S)), dtype=np.int64).reshape(S, 4)
+    import os
+    old = os.environ.get("GATHER_VERIFY_KERNELS")
+    try:
+        os.environ["GATHER_VERIFY_KERNELS"] = "numpy"
+        ref = union._analyse(S, src, tgt, w, flags, box)
+        os.environ["GATHER_VERIFY_KERNELS"] = "numba"
+        got = union._analyse(S, src, tgt, w, flags, box)
+    finally:
+        if old is None:
+            os.environ.pop("GATHER_VERIFY_KERNELS", None)
+        else:
+            os.environ["GATHER_VERIFY_KERNELS"] = old
+    for a, b in zip(ref[:3], got[:3], strict=True):
+        assert a.tolist() == b.tolist()
+    assert sorted(np.concatenate(ref[3]).tolist()) == sorted(np.concatenate(got[3]).tolist())

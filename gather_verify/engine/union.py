@@ -331,7 +331,7 @@ def explore_union(
     wanted_seeds = wanted_seeds & ((reach[seed_ids] & CYCLE) == 0)
     which = np.flatnonzero(wanted_seeds)
     if union_kernels.compiled() and len(which):
-        topo = np.concatenate(rounds[::-1]) if rounds else np.zeros(0, dtype=np.int64)
+        topo = np.concatenate([r[::-1] for r in rounds[::-1]]) if rounds else np.zeros(0, np.int64)
         counts[which], transitions[which] = union_kernels.seed_counts(
             topo, pred_off, pred_src, seed_ids[which], events.array())
     else:
@@ -346,7 +346,8 @@ def _analyse(S: int, src: np.ndarray, tgt: np.ndarray, w: np.ndarray, flags: np.
              own_box: np.ndarray) -> tuple[np.ndarray, ...]:
     """Peel sinks round by round (the states that reach no cycle, successors first) and,
     in that order, the reachable flags, longest paths and node boxes; the unpeeled states
-    get ``CYCLE`` in their reachable flags."""
+    get ``CYCLE`` in their reachable flags. Compiled (:func:`union_kernels.peel`), the
+    rounds are one: every state after its successors."""
     order = np.argsort(src, kind="stable")  # already sorted: cheap
     src, tgt, w = src[order], tgt[order], w[order]
     out_off = np.zeros(S + 1, dtype=np.int64)
@@ -359,6 +360,13 @@ def _analyse(S: int, src: np.ndarray, tgt: np.ndarray, w: np.ndarray, flags: np.
     reach = flags.astype(np.uint8).copy()
     best = np.zeros(S, dtype=np.int64)
     box = own_box.copy()
+    if union_kernels.compiled():
+        order = union_kernels.peel(out_off, tgt, w, pred_off, pred_src, outdeg.astype(np.int64),
+                                   reach, best, box)
+        peeled = np.zeros(S, dtype=bool)
+        peeled[order] = True
+        reach[~peeled] |= CYCLE
+        return reach, best, box, [order], pred_off, pred_src, out_off, tgt
     rounds: list[np.ndarray] = []
     frontier = np.flatnonzero(outdeg == 0)
     while len(frontier):

@@ -1,10 +1,14 @@
 """Compiled kernels of the union engine (numba), and the switch back to numpy.
 
-The union engine (:mod:`gather_verify.engine.union`) counts, for every seed of a
-meeting-node class, the states and events its own search would see: a set of
-seeds per state, 64 a word, pulled along the edges from the sources down. In
-numpy that is a pass over every state per 64 seeds, whatever their reach; a
-compiled loop visits each (state, seed) pair once, through the bits that are set.
+Two passes of the union engine (:mod:`gather_verify.engine.union`) over its graph:
+
+- the peeling of sinks (Kahn's algorithm on the reverse graph), which gives each
+  state that reaches no cycle its reachable flags, longest path and node box; numpy
+  does it round by round (a sort per round), the kernel state by state;
+- per seed, the states and events its own search would see: a set of seeds per
+  state, 64 a word, pulled along the edges from the sources down. In numpy that is
+  a pass over every state per 64 seeds, whatever their reach; the kernel visits
+  each (state, seed) pair once, through the bits that are set.
 
 ``GATHER_VERIFY_KERNELS=numpy`` (or numba missing) selects the numpy path,
 which stays the tested reference (``tests/test_union_kernels.py``).
@@ -62,6 +66,60 @@ def _seed_counts_py(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray
 
 _seed_counts = (numba.njit(cache=True, nogil=True)(_seed_counts_py) if numba is not None
                 else None)
+
+
+def _peel_py(out_off: np.ndarray, tgt: np.ndarray, w: np.ndarray, pred_off: np.ndarray,
+             pred_src: np.ndarray, outdeg: np.ndarray, reach: np.ndarray, best: np.ndarray,
+             box: np.ndarray, order: np.ndarray) -> int:
+    """Peel sinks (``outdeg`` 0) state by state, each after all its successors: its
+    ``reach`` (own flags or those of its successors), ``best`` (largest ``w`` + ``best``
+    over its edges) and ``box`` (grown by its successors'), in place; the peeled states go
+    to ``order`` (sinks first). Returns how many were peeled."""
+    n_states = len(out_off) - 1
+    count = 0
+    for s in range(n_states):
+        if outdeg[s] == 0:
+            order[count] = s
+            count += 1
+    head = 0
+    while head < count:
+        s = order[head]
+        head += 1
+        for e in range(out_off[s], out_off[s + 1]):
+            t = tgt[e]
+            reach[s] |= reach[t]
+            b = w[e] + best[t]
+            if b > best[s]:
+                best[s] = b
+            if box[t, 0] < box[s, 0]:
+                box[s, 0] = box[t, 0]
+            if box[t, 1] < box[s, 1]:
+                box[s, 1] = box[t, 1]
+            if box[t, 2] > box[s, 2]:
+                box[s, 2] = box[t, 2]
+            if box[t, 3] > box[s, 3]:
+                box[s, 3] = box[t, 3]
+        for e in range(pred_off[s], pred_off[s + 1]):
+            p = pred_src[e]
+            outdeg[p] -= 1
+            if outdeg[p] == 0:
+                order[count] = p
+                count += 1
+    return count
+
+
+_peel = numba.njit(cache=True, nogil=True)(_peel_py) if numba is not None else None
+
+
+def peel(out_off: np.ndarray, tgt: np.ndarray, w: np.ndarray, pred_off: np.ndarray,
+         pred_src: np.ndarray, outdeg: np.ndarray, reach: np.ndarray, best: np.ndarray,
+         box: np.ndarray) -> np.ndarray:
+    """The peeled states, sinks first (compiled; ``reach``, ``best``, ``box`` and
+    ``outdeg`` are updated in place, see :func:`_peel_py`)."""
+    order = np.empty(len(out_off) - 1, dtype=np.int64)
+    count = _peel(out_off, tgt.astype(np.int64), w.astype(np.int64), pred_off,
+                  pred_src.astype(np.int64), outdeg, reach, best, box, order)
+    return order[:count]
 
 
 def seed_counts(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray,

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import Literal
 
 from gather_verify.errors import InvalidInput
@@ -135,12 +135,15 @@ def all_scans(rect: Rect, value: Callable[[Node], int],
     marked = [(v, k) for v in support if (k := value(v))
               and x0 <= v[0] <= x1 and y0 <= v[1] <= y1]
     out = []
-    for corner in corners(rect):
-        h, v = _directions(rect, corner)
-        for fast, slow in ((h, v), (v, h)):
-            blank = Scan(corner, fast, slow, rect, ())
-            labels = tuple(sorted((blank.index(u), k) for u, k in marked))
-            out.append(Scan(corner, fast, slow, rect, labels))
+    sides = {0: x1 - x0 + 1, 1: y1 - y0 + 1}  # nodes along x, along y
+    for cx, cy in corners(rect):
+        h, v = _directions(rect, (cx, cy))
+        for (fx, fy), (sx, sy) in ((h, v), (v, h)):
+            line = sides[0] if fx else sides[1]  # the position of u is j * line + i (Scan.index)
+            labels = tuple(sorted((((x - cx) * sx + (y - cy) * sy) * line
+                                   + (x - cx) * fx + (y - cy) * fy, k)
+                                  for (x, y), k in marked))
+            out.append(Scan((cx, cy), (fx, fy), (sx, sy), rect, labels))
     return out
 
 
@@ -221,8 +224,15 @@ def alpha_rect(configuration: Configuration, region: AlphaRegion) -> Rect:
 
 def leading_scans(configuration: Configuration, region: AlphaRegion = "mer") -> list[Scan]:
     """The largest ``alpha`` string(s); their corners are the leading corners."""
-    rect = alpha_rect(configuration, region)
-    return largest(representations(rect, configuration.lam, configuration.meeting_nodes))
+    return list(_leading_scans(alpha_rect(configuration, region), configuration.meeting_nodes))
+
+
+@lru_cache(maxsize=1 << 14)
+def _leading_scans(rect: Rect, meeting_nodes: frozenset[Node]) -> tuple[Scan, ...]:
+    """``alpha`` reads only ``M`` over a rectangle: remembered per (rectangle, ``M``), which
+    stay the same while robots move inside the rectangle."""
+    return tuple(largest(representations(rect, lambda v: 1 if v in meeting_nodes else 0,
+                                         meeting_nodes)))
 
 
 def leading_corners(configuration: Configuration, region: AlphaRegion = "mer") -> list[Node]:
@@ -239,8 +249,12 @@ def ordering_O(configuration: Configuration, region: AlphaRegion = "mer") -> tup
 
     The paper's "highest order" is the *last* node of O (Figure "orderingalgo"(a)).
     """
-    scans = leading_scans(configuration, region)
-    orders = {meeting_order(s, configuration.meeting_nodes) for s in scans}
+    return _ordering_O(alpha_rect(configuration, region), configuration.meeting_nodes)
+
+
+@lru_cache(maxsize=1 << 14)
+def _ordering_O(rect: Rect, meeting_nodes: frozenset[Node]) -> tuple[Node, ...] | None:
+    orders = {meeting_order(s, meeting_nodes) for s in _leading_scans(rect, meeting_nodes)}
     return orders.pop() if len(orders) == 1 else None
 
 
