@@ -11,12 +11,20 @@ process and is timed *whole* (interpreter start, imports, search), as SPIN's
 - ``verdict``: ``run_check`` with reductions on and every property: the time to
   a verdict, compared with SPIN's whole run on the same instance (SPIN decides
   its safety model in that one run);
+- ``full``: ``run_check`` with reductions off and every property (the graph kept for
+  ``move-bound`` and ``termination``) on the same space as SPIN's safety search:
+  states/s of the whole process beside SPIN's, and the peak resident memory grown
+  during the check per state;
 - ``spin``: ``bench/spin/run_spin.py`` when ``spin`` and the script are there,
   else the stored result in ``bench/spin/results/`` (labelled ``stored``);
 - ``sweep`` (optional): configurations/s of the paper's algorithm, n=3, m=3,
   4 x 4, ASYNC, one worker, over the first ``sweep_limit`` configurations.
 
-Timings depend on the machine's load: compare runs made back to back.
+Memory per state is measured from a baseline taken once the compiled kernels are loaded
+(:func:`gather_verify.kernels.warm`: numba and the compiled code are a fixed cost, not a
+per-state one). Every row also gives the CPU seconds (user, system) of its whole process tree, which
+depend less on the machine's load than the wall-clock seconds. Timings depend on the
+machine's load: compare runs made back to back.
 """
 
 from __future__ import annotations
@@ -40,11 +48,13 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float) -> dict[s
     """One measurement, inside the child process."""
     import resource
 
+    from gather_verify import kernels
     from gather_verify.engine.explore import Limits, rss_mb
     from gather_verify.engine.search import explore
     from gather_verify.model.configuration import Configuration
 
     c = Configuration([tuple(r) for r in robots], [tuple(m) for m in meeting], initial=True)
+    kernels.warm()  # a fixed cost (numba and the compiled code), not a per-state one
     before = rss_mb()
     if kind == "explore":
         e = explore(c, "go-to-target", "async", reduction=False, properties=[], graph=False,
@@ -55,6 +65,15 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float) -> dict[s
                 "bytes_per_state": max(peak - before, 0.0) * 2**20 / e.states}
     from gather_verify.check import run_check
 
+    if kind == "full":
+        r = run_check(c, algorithm="go-to-target", scheduler="async", reduction=False,
+                      max_states=30_000_000, max_seconds=max_seconds)
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+        return {"verdict": r["verdict"], "states": r["states"], "transitions": r["transitions"],
+                "max_moves": r["max_moves"], "check_seconds": r["seconds"],
+                "properties": {k: v["holds"] for k, v in r["properties"].items()},
+                "kernels": kernels.enabled(),
+                "bytes_per_state": max(peak - before, 0.0) * 2**20 / r["states"]}
     r = run_check(c, algorithm="go-to-target", scheduler="async", reduction=True,
                   max_states=30_000_000, max_seconds=max_seconds)
     return {"verdict": r["verdict"], "states": r["states"], "transitions": r["transitions"],
@@ -63,13 +82,27 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float) -> dict[s
 
 def _run_child(kind: str, instance: tuple, max_seconds: float) -> dict[str, Any]:
     robots, meeting = instance
-    started = time.perf_counter()
+    started, cpu = time.perf_counter(), _children_cpu()
     out = subprocess.run(
         [sys.executable, "-m", "gather_verify.bench", kind, json.dumps([robots, meeting]),
          str(max_seconds)], capture_output=True, text=True, check=True)
     result = json.loads(out.stdout)
     result["seconds"] = time.perf_counter() - started
+    result["cpu_user_seconds"], result["cpu_system_seconds"] = _since(cpu)
     return result
+
+
+def _children_cpu() -> tuple[float, float]:
+    """CPU seconds (user, system) of every finished child process so far."""
+    import resource
+
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime, r.ru_stime
+
+
+def _since(before: tuple[float, float]) -> tuple[float, float]:
+    now = _children_cpu()
+    return round(now[0] - before[0], 2), round(now[1] - before[1], 2)
 
 
 def spin(instance: tuple, quick: bool, run: bool = True) -> dict[str, Any] | None:
@@ -77,12 +110,14 @@ def spin(instance: tuple, quick: bool, run: bool = True) -> dict[str, Any] | Non
     robots, meeting = instance
     script = SPIN_DIR / "run_spin.py"
     if run and shutil.which("spin") and shutil.which("gcc") and script.exists():
+        cpu = _children_cpu()
         out = subprocess.run(
             [sys.executable, str(script), "--robots", " ".join(f"{x},{y}" for x, y in robots),
              "--meeting", "{},{}".format(*meeting[0])], capture_output=True, text=True)
         if out.returncode == 0:
             result = json.loads(out.stdout)
             result["source"] = "measured"
+            result["cpu_user_seconds"], result["cpu_system_seconds"] = _since(cpu)
             return result
     stored = SPIN_DIR / "results" / ("quick.json" if quick else "issue8.json")
     if stored.exists():
@@ -113,19 +148,24 @@ def bench(quick: bool = False, max_seconds: float = 3600.0, run_spin: bool = Tru
     ours = _run_child("explore", instance, max_seconds)
     ours["states_per_second"] = ours["states"] / ours["seconds"]
     verdict = _run_child("verdict", instance, max_seconds)
+    full = _run_child("full", instance, max_seconds)
+    full["states_per_second"] = full["states"] / full["seconds"]
     theirs = spin(instance, quick, run_spin)
     out: dict[str, Any] = {
         "instance": {"name": "quick" if quick else "issue-8", "robots": instance[0],
                      "meeting": instance[1], "algorithm": "go-to-target", "scheduler": "async"},
-        "explore": ours, "verdict": verdict, "spin": None, "ratio_states_per_second": None,
-        "ratio_time_to_verdict": None, "sweep": None,
+        "explore": ours, "verdict": verdict, "full": full, "spin": None,
+        "ratio_states_per_second": None, "ratio_time_to_verdict": None,
+        "ratio_full_states_per_second": None, "sweep": None,
     }
     if theirs is not None:
         out["spin"] = {k: theirs.get(k) for k in (
             "source", "states", "edges", "seconds", "search_seconds", "states_per_second",
-            "bytes_per_state")}
+            "bytes_per_state", "cpu_user_seconds", "cpu_system_seconds")}
         out["ratio_states_per_second"] = ours["states_per_second"] / theirs["states_per_second"]
         out["ratio_time_to_verdict"] = theirs["seconds"] / verdict["seconds"]
+        out["ratio_full_states_per_second"] = (full["states_per_second"]
+                                               / theirs["states_per_second"])
     if sweep_limit:
         out["sweep"] = sweep_rate(sweep_limit)
     return out
@@ -157,6 +197,18 @@ def format_bench(r: dict[str, Any], write: Any = print) -> None:
         num(s and s["seconds"], ".2f"), num(r["ratio_time_to_verdict"], ".2f"))
     write(f"  verdict {v['verdict']}, {v['states']:,} states with reductions on, max moves "
           f"{v['max_moves']}; ratio = SPIN seconds / ours (goal >= 10)")
+    f = r["full"]
+    write("full verdict, reductions off, every property, beside SPIN's safety search:")
+    row("  states", num(f["states"]), num(s and s["states"]))
+    row("  seconds, whole process", num(f["seconds"], ".2f"), num(s and s["seconds"], ".2f"))
+    row("  CPU seconds, user", num(f["cpu_user_seconds"], ".2f"),
+        num(s and s.get("cpu_user_seconds"), ".2f"))
+    row("  states/s, whole process", num(f["states_per_second"]),
+        num(s and s["states_per_second"]), num(r["ratio_full_states_per_second"], ".2f"))
+    row("  bytes per state, graph kept", num(f["bytes_per_state"], ".1f"),
+        num(s and s["bytes_per_state"], ".1f"))
+    write(f"  verdict {f['verdict']}, max moves {f['max_moves']}, compiled kernels "
+          f"{'on' if f['kernels'] else 'off'}; ratio = our states/s / SPIN's (goal >= 1.5)")
     if not e["complete"]:
         write("  the reductions-off search hit --max-seconds: INCOMPLETE, rates are partial")
     if r["sweep"]:

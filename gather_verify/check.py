@@ -149,15 +149,20 @@ def run_check(
                       "use the impossibility checks (or --force)",
                       seconds=time.perf_counter() - started)
         return report
+    # the edges are kept only for a graph property or the caller's use of the graph
+    keep_graph = on_exploration is not None or any(
+        get_property(p).kind == "graph" for p in wanted)
     e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
-                frames=frames, reduction=reduction, properties=wanted, limits=lim, memo=memo)
+                frames=frames, reduction=reduction, properties=wanted, limits=lim, memo=memo,
+                graph=keep_graph)
     while fixed_margin is None and e.stopped == "region" and lim.margin < AUTO_MARGIN_MAX:
         left = max_seconds - (time.perf_counter() - started)
         if left <= 0:
             break
         lim = replace(lim, margin=min(2 * lim.margin, AUTO_MARGIN_MAX), max_seconds=left)
         e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
-                    frames=frames, reduction=reduction, properties=wanted, limits=lim, memo=memo)
+                    frames=frames, reduction=reduction, properties=wanted, limits=lim, memo=memo,
+                    graph=keep_graph)
     report["limits"]["margin"] = lim.margin
     if on_exploration is not None:
         on_exploration(e)
@@ -168,7 +173,8 @@ def run_check(
         trace = _safety_trace(e, v)
         if trace is None:  # target not equivariant: find the witness on the concrete graph
             plain = explore(configuration, algorithm, scheduler, engine=engine,
-                            detection=detection, frames=frames, reduction=False, properties=[name], limits=lim)
+                            detection=detection, frames=frames, reduction=False, properties=[name], limits=lim,
+                            graph=False)
             w = plain.violations.get(name)
             trace = _safety_trace(plain, w) if w is not None else None
             if trace is None:

@@ -17,6 +17,7 @@ from schedulers.base import Event, Frontier, MoveSets, State, Successors, config
 
 LOOK_ORDER = tuple(sorted(range(len(STEPS)), key=STEPS.__getitem__))
 """Step indices in the order :meth:`Async.successors` yields Looks (sorted destinations)."""
+_LOOK_ORDER = np.array(LOOK_ORDER, dtype=np.int64)
 _LOOK_STEP = np.array([k + 1 for k in LOOK_ORDER], dtype=np.int64)
 _EVENTS = np.array([sum(1 << 8 * slot for slot, k in enumerate(LOOK_ORDER) if m >> k & 1)
                     for m in range(32)] + [1], dtype="<u4")
@@ -50,6 +51,13 @@ class Async:
         if s * 4 * n > budget:  # at most four Looks (or one Move) per robot
             s = max(1, budget // (4 * n))
             codes, masks = codes[:s], masks[:s]
+        from gather_verify import kernels  # here: importing numba costs every command 0.25 s
+
+        if kernels.enabled():  # the same events, in compiled code
+            src, weight, robot, new = kernels.async_successors(
+                np.ascontiguousarray(codes, dtype=np.int64),
+                np.ascontiguousarray(masks, dtype=np.uint8), neighbour, _LOOK_ORDER)
+            return Successors(len(codes), src, weight, robot, new, None)
         idle = codes == codes // 5 * 5  # (floor division by a constant is the fast one)
         # per robot, its events in order as four bytes (the Looks in LOOK_ORDER, or its one
         # Move in the first), then the events of the chunk in order where a byte is set

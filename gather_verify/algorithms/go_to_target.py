@@ -13,6 +13,9 @@ is unique and stays otherwise, so it is defined everywhere.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
+from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import ORIGIN, STEPS, Node, manhattan
 from gather_verify.model.view import View
@@ -36,6 +39,35 @@ def step_towards(target: Node) -> Node:
     raise AssertionError("some step always gets closer")
 
 
+_HOME = "gather_verify.algorithms.go_to_target"
+"""This module's name: a copy of it under another name (``tools/mutants.py`` edits the code
+of ``decide``) asks ``decide`` view by view."""
+_MOVES_MEMO: dict[tuple[tuple[int, ...], frozenset[Node]], dict[Node, frozenset[Node]]] = {}
+"""(frames, meeting nodes) -> node -> its move set (``GoToTarget.move_sets``)."""
+
+
+def _steps(offsets: tuple[Node, ...], frames: tuple[int, ...]) -> tuple[Node, ...]:
+    """The global steps of a robot whose meeting nodes lie at ``offsets`` from it: per frame
+    ``g``, what :meth:`GoToTarget.decide` answers on the view (the offsets mapped by ``g``),
+    mapped back to global coordinates."""
+    steps = set()
+    for g in frames:
+        a, b, c, d = geometry.MATRICES[g]
+        seen = frozenset((a * x + b * y, c * x + d * y) for x, y in offsets)
+        answer = GoToTarget().decide(_Seen(seen))  # type: ignore[arg-type]
+        steps.add(geometry.apply(geometry.inverse(g), answer))
+    return tuple(sorted(steps))
+
+
+class _Seen:
+    """The part of a view ``decide`` reads: the meeting nodes in the robot's frame."""
+
+    __slots__ = ("meeting_nodes",)
+
+    def __init__(self, meeting_nodes: frozenset[Node]):
+        self.meeting_nodes = meeting_nodes
+
+
 class GoToTarget:
     """Every robot walks to the (unique nearest) meeting node along any shortest path."""
 
@@ -53,6 +85,36 @@ class GoToTarget:
         x, y = target
         return (1, 0) if x > 0 else (0, 1) if y > 0 else (-1, 0) if x < 0 else \
             (0, -1) if y < 0 else ORIGIN
+
+    def move_sets(self, configuration: Configuration, detection: str,
+                  frames: Iterable[int]) -> dict[Node, frozenset[Node]] | None:
+        """The union of :meth:`decide` over ``frames`` for every occupied node, at once (the
+        optional hook of :func:`~gather_verify.algorithms.moves.move_sets`): a robot's
+        answer depends only on where the meeting nodes lie relative to it (``decide`` reads
+        no other robot and no multiplicity: the same for every detection model), so the move
+        set of a node is computed once per frame set and meeting nodes. None (ask ``decide``
+        view by view) for a subclass that answers otherwise (the broken variants) and in a
+        copy of this module (the mutants)."""
+        if type(self).decide is not GoToTarget.decide or __name__ != _HOME:
+            return None  # a subclass, or a copy of this module with its code edited (mutants)
+        frames = frames if isinstance(frames, tuple) else tuple(frames)
+        meeting = configuration.meeting_nodes
+        memo = _MOVES_MEMO.get((frames, meeting))
+        if memo is None:
+            if len(_MOVES_MEMO) >= 64:
+                _MOVES_MEMO.clear()
+            memo = _MOVES_MEMO[frames, meeting] = {}
+        out = {}
+        for v in configuration.counts:
+            got = memo.get(v)
+            if got is None:
+                x, y = v
+                steps = _steps(tuple((mx - x, my - y) for mx, my in sorted(meeting)), frames)
+                if len(memo) >= 1 << 16:
+                    memo.clear()
+                got = memo[v] = frozenset((x + dx, y + dy) for dx, dy in steps)
+            out[v] = got
+        return out
 
     def target(self, configuration: Configuration) -> Node | None:
         if len(configuration.meeting_nodes) == 1:

@@ -21,6 +21,10 @@ from gather_verify.properties.facts import Facts, StateFacts
 from gather_verify.properties.registry import get_property, registered
 from schedulers import Event, State
 
+DENSE_VALUES = 256
+"""A transition property with at most this many distinct values keeps its verdicts of value
+pairs in a matrix (one lookup per transition); more values: a sorted set of pairs."""
+
 
 @dataclass
 class Violation:
@@ -125,6 +129,7 @@ class ColumnChecks:
         self.verdicts: dict[tuple[str, ...], np.ndarray] = {}  # [row * 2 + idle, j]: -1, 0, 1
         self.values: dict[str, tuple[np.ndarray, dict[Any, int], list[Any]]] = {}
         self.pairs: dict[str, dict[tuple[int, int], bool]] = {}
+        self.matrices: dict[str, np.ndarray] = {}  # per property: verdicts of value-id pairs
 
     def failures(self, props: list[Property], rows: np.ndarray, idle: np.ndarray,
                  gate: int = 0) -> np.ndarray:
@@ -143,10 +148,9 @@ class ColumnChecks:
             if table is not None:
                 grown[:len(table)] = table
             self.verdicts[names] = table = grown
-        got = table[key]
-        unknown = (got < 0).any(axis=1)
-        if unknown.any():
-            todo = np.unique(key[unknown])
+        got = np.take(table, key, axis=0)  # (much faster than table[key] on rows)
+        if len(got) and got.min() < 0:
+            todo = np.unique(key[(got < 0).any(axis=1)])
             lines = table[todo].tolist()
             spread: list[tuple[int, int, bool]] = []  # (key, j, verdict) for the other idle value
             done = dict(zip(todo.tolist(), lines, strict=True))
@@ -171,7 +175,7 @@ class ColumnChecks:
             if spread:
                 ks, js, oks = zip(*spread, strict=True)
                 table[list(ks), list(js)] = oks
-            got = table[key]
+            got = np.take(table, key, axis=0)
         return got == 0
 
     def first_failure(self, props: list[Property], failures: np.ndarray
@@ -214,7 +218,7 @@ class ColumnChecks:
             grown[:len(col)] = col
             col = grown
         self.values[prop.name] = (col, index, values)
-        got = col[rows]
+        got = np.take(col, rows)
         unknown = got < 0
         if unknown.any():
             for r in np.unique(rows[unknown]).tolist():
@@ -223,8 +227,28 @@ class ColumnChecks:
                     index[v] = len(values)
                     values.append(v)
                 col[r] = index[v]
-            got = col[rows]
+            got = np.take(col, rows)
         return got, values
+
+    def _dense_failures(self, p: Property, vb: np.ndarray, va: np.ndarray, values: list[Any],
+                        pairs: dict[tuple[int, int], bool]) -> np.ndarray:
+        """Where ``p.holds`` fails on the pairs of value ids ``(vb, va)``, through a matrix of
+        verdicts (-1: not evaluated yet) kept per property: each distinct pair once."""
+        matrix = self.matrices.get(p.name)
+        if matrix is None:
+            grown = np.full((DENSE_VALUES, DENSE_VALUES), -1, dtype=np.int8)
+            for (a, b), ok in pairs.items():
+                grown[a, b] = ok
+            self.matrices[p.name] = matrix = grown
+        at = vb.astype(np.int64) * DENSE_VALUES + va
+        got = np.take(matrix.reshape(-1), at)
+        if len(got) and got.min() < 0:
+            for k in np.unique(at[got < 0]).tolist():
+                a, b = divmod(k, DENSE_VALUES)
+                pairs[a, b] = ok = bool(p.holds(values[a], values[b]))  # type: ignore[misc]
+                matrix[a, b] = ok
+            got = np.take(matrix.reshape(-1), at)
+        return np.flatnonzero(got == 0)
 
     def transitions(self, first_id: int, src: np.ndarray, before: np.ndarray,
                     after: np.ndarray, step: Callable[[int], tuple[Event, State]]) -> None:
@@ -237,6 +261,13 @@ class ColumnChecks:
             vb, values = self.value_ids(p, before)
             va, values = self.value_ids(p, after)
             pairs = self.pairs.setdefault(p.name, {})
+            if len(values) <= DENSE_VALUES:  # few values: a verdict matrix, no sorting
+                hit = self._dense_failures(p, vb, va, values, pairs)
+                if len(hit):
+                    i = int(hit[0])
+                    self.checks._record(p, first_id + int(src[i]), values[int(vb[i])],
+                                        values[int(va[i])], step=step(i))
+                continue
             key = vb.astype(np.int64) << 32 | va
             bad = []
             for k in np.unique(key).tolist():

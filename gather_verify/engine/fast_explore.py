@@ -43,6 +43,7 @@ from typing import Any
 
 import numpy as np
 
+from gather_verify import kernels
 from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
 from gather_verify.engine.checks import Checks, ColumnChecks, symmetric
@@ -124,10 +125,12 @@ class KeyIndex:
     [3, 4]
     """
 
-    def __init__(self, bits: int = 16, capacity: int = 1 << 16):
+    def __init__(self, bits: int = 16, capacity: int = 1 << 16, compiled: bool | None = None):
         self.keys = np.empty(capacity, dtype=np.uint64)
         self.count = 0
         self.stale = False
+        # the compiled index (kernels.find_or_add) keeps no tags: the same ids, in the same order
+        self.compiled = kernels.enabled() if compiled is None else compiled
         self._alloc(bits)
 
     def _alloc(self, bits: int) -> None:
@@ -135,8 +138,9 @@ class KeyIndex:
         self.mask = (1 << bits) - 1
         self.shift = np.uint64(64 - bits)
         self.table = np.zeros(1 << bits, dtype=np.int32)  # id + 1; 0 is empty
-        self.tags = np.zeros(1 << bits, dtype=np.uint8)  # 0 is empty
-        self.groups = self.tags.view("<u8")  # the tags of slots 8g .. 8g + 7
+        if not self.compiled:
+            self.tags = np.zeros(1 << bits, dtype=np.uint8)  # 0 is empty
+            self.groups = self.tags.view("<u8")  # the tags of slots 8g .. 8g + 7
 
     def _hash(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Home slots (as ``int64``) and tags (``uint8``, never 0) of ``q``."""
@@ -150,6 +154,9 @@ class KeyIndex:
         """A fresh table of ``2**bits`` slots holding every stored key."""
         self._alloc(bits)
         self.stale = False
+        if self.compiled:
+            kernels.place(self.table, self.keys, 0, self.count, self.shift)
+            return
         for lo in range(0, self.count, 1 << 16):  # in slices: small temporaries
             hi = min(self.count, lo + (1 << 16))
             self._place(self.keys[lo:hi], lo)
@@ -202,6 +209,15 @@ class KeyIndex:
         index lists and arithmetic."""
         m = len(q)
         self._fit(self.count + m, 0.9)  # never full during the pass
+        if self.compiled:
+            ids = np.empty(m, dtype=np.int64)
+            first = np.empty(m, dtype=np.int64)
+            q = np.ascontiguousarray(q, dtype=np.uint64)
+            self.count, added = kernels.find_or_add(self.table, self.keys, self.count,
+                                                    self.shift, q, ids, first)
+            if self.count > LOAD * len(self.table):
+                self._fit(self.count, LOAD)
+            return ids, first[:added]
         table, tags, keys, mask = self.table, self.tags, self.keys, self.mask
         ids = np.empty(m, dtype=np.int64)
         rep = np.full(m, -1, dtype=np.int64)  # absent key: the position that claimed its slot
@@ -319,6 +335,11 @@ class Growing:
     def array(self) -> np.ndarray:
         return self.data[:self.size]
 
+    def widen(self, dtype: Any) -> None:
+        """Hold larger values from now on (the values so far kept)."""
+        if self.data.dtype != dtype:
+            self.data = self.data.astype(dtype)
+
 
 FactsMemo = dict
 """Facts of configurations up to translation and the frames, shared by the checks of a
@@ -345,6 +366,15 @@ BIT = {(0, 0): 16} | {step: 1 << k for k, step in enumerate(STEPS)}
 """The mask bit of each destination, relative to the robot."""
 
 
+def never_in_u(aut_m: Sequence[Automorphism], meeting: Iterable[Node]) -> bool:
+    """Whether no configuration over these meeting nodes is in U: U needs a symmetry of C
+    (an element of Aut(M)) whose axis or centre holds no meeting node
+    (:func:`~gather_verify.model.classes.in_U_of`), and here every element of Aut(M) but the
+    identity fixes a meeting node (its axis or centre holds one)."""
+    meeting = list(meeting)
+    return all(any(a.fixes(m) for m in meeting) for a in aut_m[1:])
+
+
 class FactsTable:
     """Per configuration (sorted robot cells, packed), the facts as small integers.
 
@@ -367,8 +397,11 @@ class FactsTable:
         self.detection, self.frames = detection, tuple(frames)
         self.meeting_form = canonical_form((), meeting, self.frames)
         self.aut_m = list(group)  # Aut(M), identity first
+        self.never_in_u = never_in_u(self.aut_m, meeting)
         assert not self.aut_m or self.aut_m[0].g == geometry.IDENTITY and self.aut_m[0].t == (0, 0)
         self.index = KeyIndex(bits=10, capacity=1024)  # configuration key -> row
+        self.nodes = [enc.node(c) for c in range(enc.cells)]  # the node of each cell
+        self.compiled = self.index.compiled  # the bulk paths of the compiled engine
         self.cells = np.zeros((1024, n), dtype=np.int32)
         self.masks = np.zeros((1024, n), dtype=np.uint8)
         self.flags = np.zeros((1024, 3), dtype=np.int8)  # undefined (1, 2: crash), stuck, gathered
@@ -403,8 +436,8 @@ class FactsTable:
         return srt, srt @ self.weights
 
     def configuration(self, row: int) -> Configuration:
-        node = self.enc.node
-        return Configuration.trusted(tuple(node(c) for c in self.cells[row].tolist()),
+        node = self.nodes
+        return Configuration.trusted(tuple([node[c] for c in self.cells[row].tolist()]),
                                      self.meeting)
 
     def rows(self, keys: np.ndarray, sorted_cells: np.ndarray) -> np.ndarray:
@@ -548,14 +581,36 @@ class FactsTable:
         raise AssertionError("the orbit crashes, so does every member")  # pragma: no cover
 
     def need_in_u(self, rows: np.ndarray) -> np.ndarray:
-        for r in np.unique(rows[self.in_u[rows] == -2]).tolist():
+        for r in np.unique(rows[self.in_u[rows] < 0]).tolist():
             self.in_u_of(r)
         return self.in_u[rows] == 1
+
+    def _settle_asymmetric(self) -> None:
+        """The first test of :meth:`in_u_of`, in bulk on every row not settled yet: rows
+        whose occupied nodes no element of Aut(M) but the identity maps onto themselves are
+        not in U (they get ``in_u`` 0); the others are left to :meth:`in_u_of`."""
+        rows = np.flatnonzero(self.in_u[:self.size] == -2)
+        cells = self.cells[rows].astype(np.int64)
+        x = self.enc.x0 + cells // self.enc.height
+        y = self.enc.y0 + cells % self.enc.height
+        some = np.zeros(len(rows), dtype=bool)
+        for a in self.aut_m[1:]:
+            m = geometry.MATRICES[a.g]
+            ax = m[0] * x + m[1] * y + a.t[0]
+            ay = m[2] * x + m[3] * y + a.t[1]
+            inside = ((ax[:, :, None] == x[:, None, :]) & (ay[:, :, None] == y[:, None, :]))
+            some |= inside.any(axis=2).all(axis=1)
+        self.in_u[rows] = np.where(some, -3, 0)  # -3: left to in_u_of's classification
 
     def in_u_of(self, row: int) -> bool:
         """Whether the configuration of ``row`` is in U (computed once)."""
         known = int(self.in_u[row])
-        if known != -2:
+        if known < 0 and self.never_in_u:
+            self.in_u[row] = known = 0
+        if known == -2 and self.compiled:
+            self._settle_asymmetric()
+            known = int(self.in_u[row])
+        if known >= 0:
             return known == 1
         # In U needs Aut(C) non-trivial, and Aut(C) is inside Aut(M): when no element of
         # Aut(M) but the identity maps the occupied nodes onto themselves, C is not in U.
@@ -599,14 +654,20 @@ class RowFacts:
     a state's facts (:class:`~gather_verify.properties.facts.StateFacts`), and ``read_idle``
     tells whether a predicate read it (if not, its answer holds for both values)."""
 
-    __slots__ = ("table", "row", "initial", "flags", "_idle", "read_idle")
+    __slots__ = ("table", "row", "initial", "_flags", "_idle", "read_idle")
 
     def __init__(self, table: FactsTable, row: int, initial: Configuration,
                  idle: bool | None = None, flags: Sequence[int] | None = None):
         self.table, self.row, self.initial = table, row, initial
-        self.flags = table.flags[row].tolist() if flags is None else flags
+        self._flags = flags  # read from the table on first use
         self._idle = idle
         self.read_idle = False
+
+    @property
+    def flags(self) -> Sequence[int]:
+        if self._flags is None:
+            self._flags = self.table.flags[self.row].tolist()
+        return self._flags
 
     @staticmethod
     def many(table: FactsTable, initial: Configuration, rows: np.ndarray,
@@ -665,6 +726,65 @@ class RowFacts:
     def target(self) -> Node | None:
         t = self.table.target_id_of(self.row)
         return None if t < 0 else self.table.target_nodes[t]
+
+
+class PairRows:
+    """The configuration row a one-robot change reaches, kept per (configuration row, sorted
+    position of the robot's cell, step): a configuration and its few moves are met by many
+    states (the robots' pending steps differ), so the successor's configuration is sorted
+    and looked up once per such triple, not once per transition. A direct table (16 bytes
+    per row and robot) while the rows are few; beyond, a hash index of the triples."""
+
+    DIRECT_ROWS = 1 << 20
+    """Rows the direct table may cover (80 MB with five robots); beyond: the hash index."""
+
+    def __init__(self, table: FactsTable):
+        self.table = table
+        self.succ = np.full((1024, table.n, 4), -1, dtype=np.int32)
+        self.neighbour = table.enc.neighbour
+        self.index = KeyIndex(bits=12, capacity=1 << 12)
+        self.rows = Growing(np.int64, 1 << 12)
+        self.stride = table.n * table.enc.cells
+
+    def after(self, rows: np.ndarray, cells: np.ndarray, rank: np.ndarray, src: np.ndarray,
+              robot: np.ndarray, old: np.ndarray, new: np.ndarray) -> np.ndarray:
+        """The row of each transition's successor configuration (``src``: source states of
+        the chunk; robot ``robot`` goes from code ``old`` to code ``new``)."""
+        if self.table.size > self.DIRECT_ROWS:
+            return self._hashed(rows, cells, rank, src, robot, old, new)
+        if len(self.succ) < self.table.size:
+            grown = np.full((max(self.table.size, 2 * len(self.succ)),) + self.succ.shape[1:],
+                            -1, dtype=np.int32)
+            grown[:len(self.succ)] = self.succ
+            self.succ = grown
+        out, miss, slot = kernels.successor_rows(rows, rank, src, robot, old, new,
+                                                 self.neighbour, self.succ)
+        if len(miss):
+            succ = cells[src[miss]].copy()
+            succ[np.arange(len(miss)), robot[miss]] = new[miss] // 5
+            srt, k = self.table.config_keys(succ)
+            got = self.table.rows(k, srt)
+            out[miss] = got
+            known = slot >= 0
+            self.succ.reshape(-1)[slot[known]] = got[known]
+        return out
+
+    def _hashed(self, rows: np.ndarray, cells: np.ndarray, rank: np.ndarray, src: np.ndarray,
+                robot: np.ndarray, old: np.ndarray, new: np.ndarray) -> np.ndarray:
+        out = rows[src]
+        moved, key = kernels.pair_keys(rows, rank, src, robot, old, new, self.stride,
+                                       self.table.enc.cells)
+        if not len(moved):
+            return out
+        ids, first = self.index.find_or_add(key)
+        if len(first):
+            f = moved[first]
+            succ = cells[src[f]].copy()
+            succ[np.arange(len(f)), robot[f]] = new[f] // 5
+            srt, k = self.table.config_keys(succ)
+            self.rows.extend(self.table.rows(k, srt))
+        out[moved] = self.rows.array()[ids]
+        return out
 
 
 def supports(initial: Configuration, scheduler: str, reduction: bool = True,
@@ -773,11 +893,16 @@ def explore_fast(
     index.find_or_add(np.array([start_key], dtype=np.uint64))
     parents = Growing(np.int32, reserve)
     parents.extend(np.array([-1], dtype=np.int32))
-    offsets = Growing(np.int64)
-    targets = Growing(np.int32)
-    weights = Growing(np.int8)
+    # the graph's columns reserved too (untouched pages cost nothing): no copy as they grow,
+    # so no transient second copy of the graph
+    edges = min(8 * reserve, 1 << 28) if graph else 1 << 16
+    offsets = Growing(np.int32, reserve if graph else 1 << 16)  # int64 past 2**31 edges (widen)
+    targets = Growing(np.int32, edges)
+    weights = Growing(np.int8, edges)
     transitions = changed_loops = 0
     stopped: str | None = None
+    compiled = kernels.enabled()
+    pair_rows = PairRows(table) if compiled else None
     peak = rss_mb()
     sid = 0
     chunk = CHUNK
@@ -791,11 +916,14 @@ def explore_fast(
             break
         hi = min(index.count, sid + chunk)
         K = index.keys[sid:hi].copy()
-        codes = _decode(K, base, n)
-        cells = codes // 5
-        srt, ck = table.config_keys(cells)
+        if compiled:
+            codes, cells, srt, ck, idle, rank = kernels.decode_chunk(K, base, n, table.weights)
+        else:
+            codes = _decode(K, base, n)
+            cells = codes // 5
+            srt, ck = table.config_keys(cells)
+            idle = np.all(codes % 5 == 0, axis=1)
         rows = table.rows(ck, srt)
-        idle = np.all(codes % 5 == 0, axis=1)
         # the last source state to expand: a halting property stops before the state it fails in
         limit_src = len(K)
         # the halting and the expansion properties, evaluated together on the whole chunk
@@ -806,8 +934,12 @@ def explore_fast(
         assert not table.flags[rows[:limit_src], 0].any(), \
             "a state without move sets needs a halting property"
         # robot i's move mask: the mask of its cell's position in the sorted row
-        rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
-        masks = table.masks[rows[:, None], rank]
+        if not compiled:
+            rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
+        if compiled:  # (one flat gather: much faster than the two-dimensional one)
+            masks = np.take(table.masks.reshape(-1), rows[:, None] * n + rank)
+        else:
+            masks = table.masks[rows[:, None], rank]
         bulk = sched.bulk_successors(enc.frontier(codes[:limit_src], masks[:limit_src]), EVENTS)
         if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
             hi = sid + bulk.states
@@ -834,7 +966,9 @@ def explore_fast(
         src, weight = src[:cut], weight[:cut]
         changes = cut if single else int(np.searchsorted(event, cut))
         robot, new = robot[:changes], new[:changes]
-        if single:
+        if single and compiled and not (group or anonymity):
+            succ, old = kernels.successor_keys(K, codes, src, robot, new, powers)
+        elif single:
             old = codes[src, robot]
         else:
             event = event[:changes]
@@ -844,6 +978,8 @@ def explore_fast(
             succ_codes = codes[src]
             succ_codes[np.arange(cut) if single else event, robot] = new
             succ = canon.keys(succ_codes)
+        elif compiled:
+            pass  # the keys came with the old codes
         else:
             delta = (new - old).astype(np.uint64) * powers[robot]
             succ = K[src] + delta  # wraps correctly for negative deltas
@@ -875,20 +1011,32 @@ def explore_fast(
         expanded = stop_src + (stop in ("region", "states"))
         columns.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
                        rows, idle)
-        if checks.open(checks.on_transition) and cut:
-            # the configuration each transition reaches, from the scheduler's changes
-            if succ_codes is None:  # one change per event, no reduction: event c is change c
-                succ_cells = cells[src].copy()
-                succ_cells[np.arange(cut), robot] = new // 5
-            else:
-                succ_cells = succ_codes // 5
-            s2, k2 = table.config_keys(succ_cells)
-            columns.transitions(sid, src, rows[src], table.rows(k2, s2),
+        open_transition = checks.open(checks.on_transition) and cut
+        open_discovery = checks.open(checks.on_discovery) and len(fresh_keys)
+        after = None
+        if single and pair_rows is not None and (open_transition or open_discovery):
+            # the configuration each transition reaches, once per (row, cell, destination)
+            after = pair_rows.after(rows, cells, rank, src, robot, old, new)
+        if open_transition:
+            if after is None:
+                # the configuration each transition reaches, from the scheduler's changes
+                if succ_codes is None:  # one change per event, no reduction: event c is change c
+                    succ_cells = cells[src].copy()
+                    succ_cells[np.arange(cut), robot] = new // 5
+                else:
+                    succ_cells = succ_codes // 5
+                s2, k2 = table.config_keys(succ_cells)
+                after = table.rows(k2, s2)
+            columns.transitions(sid, src, rows[src], after,
                                 partial(_step, enc, sched, facts, n, K, src, succ_codes))
-        if checks.open(checks.on_discovery) and len(fresh_keys):
+        if open_discovery:
             fresh = _decode(fresh_keys, base, n)
-            s3, k3 = table.config_keys(fresh // 5)
-            columns.states(known, table.rows(k3, s3), np.all(fresh % 5 == 0, axis=1),
+            if after is not None and single and pair_rows is not None:
+                fresh_rows = after[first[:len(fresh_keys)]]
+            else:
+                s3, k3 = table.config_keys(fresh // 5)
+                fresh_rows = table.rows(k3, s3)
+            columns.states(known, fresh_rows, np.all(fresh % 5 == 0, axis=1),
                            checks.on_discovery)
         if single:
             changed = new != old
@@ -899,6 +1047,8 @@ def explore_fast(
         if graph:
             counts = np.bincount(src, minlength=expanded)[:expanded]
             starts = targets.size + np.cumsum(counts) - counts
+            if targets.size + len(ids) > MAX_IDS:
+                offsets.widen(np.int64)
             offsets.extend(starts)
             targets.extend(ids.astype(np.int32))
             weights.extend(weight.astype(np.int8))

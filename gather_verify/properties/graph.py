@@ -65,6 +65,10 @@ def longest_path(e: Exploration) -> LongestPath:
     bulk engine a round at a time), then the best total per state in reverse order, keeping
     the first best successor in edge order (so every order gives the same path)."""
     if hasattr(e.targets, "array") and not e.changed_loops:
+        from gather_verify import kernels
+
+        if kernels.enabled() and _whole(e):
+            return _longest_path_compiled(e)
         return _longest_path_bulk(e)
     n = e.states
     succs: list[list[tuple[int, int]]] = [list(real_edges(e, s)) for s in range(n)]
@@ -169,6 +173,39 @@ def _longest_path_bulk(e: Exploration) -> LongestPath:
     return LongestPath(int(best[0]), path)
 
 
+def _whole(e: Exploration) -> bool:
+    """Whether every state of ``e`` was expanded (the CSR columns cover every id the edges
+    name: what the compiled kernels, which do not check bounds, need)."""
+    return len(e.offsets) == e.states + 1 and e.stopped is None
+
+
+def _longest_path_compiled(e: Exploration) -> LongestPath:
+    """:func:`_longest_path_bulk` by the compiled depth-first search over the int32 columns
+    (:func:`gather_verify.kernels.longest_path`): the same value, and the same path
+    (from each state, the first successor in edge order that attains its best total)."""
+    import numpy as np
+
+    from gather_verify import kernels
+
+    off = e.offsets.array[:e.states + 1]  # type: ignore[attr-defined]
+    tgt = e.targets.array  # type: ignore[attr-defined]
+    w = e.weights.array  # type: ignore[attr-defined]
+    best = kernels.longest_path(off, tgt, w)
+    if best[0] < 0:
+        return LongestPath(None, [])
+    path = [0]
+    while True:
+        s = path[-1]
+        lo, hi = int(off[s]), int(off[s + 1])
+        ts = tgt[lo:hi]
+        vals = w[lo:hi].astype(np.int64) + best[ts]
+        ok = np.flatnonzero((ts != s) & (vals == best[s]))
+        if not len(ok):  # no successor but itself: the path ends
+            break
+        path.append(int(ts[ok[0]]))
+    return LongestPath(int(best[0]), path)
+
+
 def has_cycle(e: Exploration) -> bool:
     """Whether the graph (unchanged self-loops aside) has a cycle."""
     return longest_path(e).max_moves is None
@@ -177,6 +214,15 @@ def has_cycle(e: Exploration) -> bool:
 def strongly_connected(e: Exploration) -> list[list[int]]:
     """Components with an edge between distinct states, each sorted, in the order Tarjan's
     algorithm finds them from state 0 (networkx on small graphs)."""
+    if hasattr(e.targets, "array") and not e.changed_loops:
+        from gather_verify import kernels
+
+        if kernels.enabled() and _whole(e):  # every self-loop is unchanged: none is an edge
+            import numpy as np
+
+            members, starts = kernels.tarjan_csr(e.offsets.array[:e.states + 1],  # type: ignore[attr-defined]
+                                                 e.targets.array, True)  # type: ignore[attr-defined]
+            return [np.sort(members[a:b]).tolist() for a, b in zip(starts[:-1], starts[1:], strict=True)]
     succs = [[t for t, _ in real_edges(e, s)] for s in range(e.states)]
     if e.states <= NX_MAX_STATES:
         import networkx as nx

@@ -1,0 +1,450 @@
+"""The numba-compiled kernels themselves (see :mod:`gather_verify.kernels`, which imports this
+module on first use, so that importing the project does not import numba).
+
+>>> import numpy as np
+>>> table, keys = np.zeros(16, dtype=np.int32), np.empty(8, dtype=np.uint64)
+>>> ids, first = np.empty(3, dtype=np.int64), np.empty(3, dtype=np.int64)
+>>> find_or_add(table, keys, 0, np.uint64(60), np.array([5, 2, 5], dtype=np.uint64), ids, first)
+(2, 2)
+>>> ids.tolist(), first[:2].tolist(), keys[:2].tolist()
+([0, 1, 0], [0, 1], [5, 2])
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
+
+_MUL = np.uint64(0x9E3779B97F4A7C15)
+_AHEAD = 32
+"""How many keys ahead :func:`find_or_add` requests the memory it will read."""
+
+
+@intrinsic
+def prefetch(typingctx, array, index):  # pragma: no cover - compiled
+    """Ask the processor to bring ``array[index]`` into the cache (a hint: no effect on the
+    result; ``index`` must be inside the array)."""
+    sig = types.void(array, index)
+
+    def codegen(context, builder, signature, args):
+        aryty = signature.args[0]
+        ary = context.make_array(aryty)(context, builder, args[0])
+        ptr = cgutils.get_item_pointer(context, builder, aryty, ary, [args[1]],
+                                       wraparound=False)
+        byte = ir.PointerType(ir.IntType(8))
+        i32 = ir.IntType(32)
+        fn = cgutils.get_or_insert_function(
+            builder.module, ir.FunctionType(ir.VoidType(), [byte, i32, i32, i32]),
+            "llvm.prefetch.p0i8")
+        # read, high temporal locality, data cache
+        builder.call(fn, [builder.bitcast(ptr, byte), ir.Constant(i32, 0), ir.Constant(i32, 3),
+                          ir.Constant(i32, 1)])
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+# -- the hash index ----------------------------------------------------------------------
+
+@njit(cache=True, nogil=True)
+def find_or_add(table, keys, count, shift, q, ids, first):  # pragma: no cover - compiled
+    """Ids of the keys ``q`` in a linear-probing table of ``id + 1`` (0: empty) over the key
+    column ``keys`` (ids ``0 .. count - 1``); absent keys get the next ids in order of first
+    occurrence (``first``: their positions in ``q``). Returns the new count and how many
+    were added. ``shift``: 64 - log2(len(table)); the table must have room for them all.
+
+    One key at a time, in order; the memory it will read is requested ahead (prefetch): the
+    table slot of the key ``_AHEAD`` places on, and the stored key that the slot of the key
+    half as far on names, so the processor's loads overlap."""
+    mask = len(table) - 1
+    m = len(q)
+    added = 0
+    half = _AHEAD // 2
+    for i in range(min(_AHEAD, m)):
+        prefetch(table, np.int64((q[i] * _MUL) >> shift))
+    for i in range(m):
+        if i + _AHEAD < m:
+            prefetch(table, np.int64((q[i + _AHEAD] * _MUL) >> shift))
+        if i + half < m:
+            ahead = table[np.int64((q[i + half] * _MUL) >> shift)]
+            if ahead > 0:
+                prefetch(keys, ahead - 1)
+        k = q[i]
+        s = np.int64((k * _MUL) >> shift)
+        while True:
+            t = table[s]
+            if t == 0:
+                table[s] = count + 1
+                keys[count] = k
+                ids[i] = count
+                first[added] = i
+                added += 1
+                count += 1
+                break
+            if keys[t - 1] == k:
+                ids[i] = t - 1
+                break
+            s = (s + 1) & mask
+    return count, added
+
+
+@njit(cache=True, nogil=True)
+def place(table, keys, lo, hi, shift):  # pragma: no cover - compiled
+    """Put the distinct keys ``keys[lo:hi]`` (absent from the table) in it, with their ids."""
+    mask = len(table) - 1
+    for i in range(lo, hi):
+        s = np.int64((keys[i] * _MUL) >> shift)
+        while table[s] != 0:
+            s = (s + 1) & mask
+        table[s] = i + 1
+
+
+# -- the ASYNC scheduler's bulk step -----------------------------------------------------
+
+@njit(cache=True, nogil=True)
+def async_successors(codes, masks, neighbour, look_order):  # pragma: no cover - compiled
+    """Every event of the states ``codes`` (robots ``cell * 5 + d``) in the order of
+    ``Async.successors``: per robot, its Looks (idle: one per step of its move mask, in
+    ``look_order``) or its Move (pending). Returns (source, weight, robot, new code; -1
+    when the Move leaves the region)."""
+    s_count, n = codes.shape
+    total = 0
+    for s in range(s_count):
+        for i in range(n):
+            c = codes[s, i]
+            if c % 5 == 0:
+                m = masks[s, i]
+                for k in range(4):
+                    total += (m >> k) & 1
+            else:
+                total += 1
+    src = np.empty(total, dtype=np.int64)
+    weight = np.zeros(total, dtype=np.int8)
+    robot = np.empty(total, dtype=np.int64)
+    new = np.empty(total, dtype=np.int64)
+    e = 0
+    for s in range(s_count):
+        for i in range(n):
+            c = codes[s, i]
+            if c % 5 == 0:
+                m = masks[s, i]
+                for j in range(4):
+                    k = look_order[j]
+                    if (m >> k) & 1:
+                        src[e] = s
+                        robot[e] = i
+                        new[e] = c + 1 + k
+                        e += 1
+            else:
+                cell = c // 5
+                dest = neighbour[cell, c - cell * 5 - 1]
+                src[e] = s
+                robot[e] = i
+                new[e] = dest * 5 if dest >= 0 else -1
+                weight[e] = 1
+                e += 1
+    return src, weight, robot, new
+
+
+# -- graph analyses over the kept CSR graph ----------------------------------------------
+
+@njit(cache=True, nogil=True)
+def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
+    """The best total weight from every state over the graph (self-loops left out), by an
+    iterative depth-first search from state 0 (every state is reachable from it), each edge
+    read once: a finished successor's total is taken when its edge is read (or when it
+    finishes, for the edge that led to it); -1 as the first value when a cycle exists.
+    ``best`` is int32: a move count.
+
+    When every edge leads to a larger id (breadth-first ids often are a topological order:
+    every edge goes one level down), one sweep in decreasing id order, reading the edges in
+    place, gives the same totals with no search and no cycle."""
+    n = len(offsets) - 1
+    forward = True
+    for v in range(n):
+        for j in range(offsets[v], offsets[v + 1]):
+            if targets[j] < v:
+                forward = False
+                break
+        if not forward:
+            break
+    if forward:
+        best = np.zeros(n, dtype=np.int32)
+        for v in range(n - 1, -1, -1):
+            run = 0
+            for j in range(offsets[v], offsets[v + 1]):
+                t = targets[j]
+                if t != v:
+                    val = weights[j] + best[t]
+                    if val > run:
+                        run = val
+            best[v] = run
+        return best
+    best = np.full(n, -1, dtype=np.int32)  # -1: unvisited, -2: on the DFS stack
+    stack = np.empty(64, dtype=np.int64)
+    edge = np.empty(64, dtype=np.int64)
+    top = np.empty(64, dtype=np.int64)  # the best total so far of the state at each depth
+    for root in range(n):
+        if best[root] != -1:
+            continue
+        depth = 0
+        stack[0] = root
+        edge[0] = offsets[root]
+        top[0] = 0
+        best[root] = -2
+        while depth >= 0:
+            v = stack[depth]
+            k = edge[depth]
+            end = offsets[v + 1]
+            run = top[depth]
+            pushed = False
+            while k < end:
+                t = targets[k]
+                k += 1
+                if t == v:
+                    continue
+                bt = best[t]
+                if bt == -2:
+                    out = np.full(1, -1, dtype=np.int32)
+                    return out
+                if bt == -1:
+                    edge[depth] = k
+                    top[depth] = run
+                    depth += 1
+                    if depth == len(stack):
+                        stack = np.concatenate((stack, np.empty(len(stack), dtype=np.int64)))
+                        edge = np.concatenate((edge, np.empty(len(edge), dtype=np.int64)))
+                        top = np.concatenate((top, np.empty(len(top), dtype=np.int64)))
+                    stack[depth] = t
+                    edge[depth] = offsets[t]
+                    top[depth] = 0
+                    best[t] = -2
+                    pushed = True
+                    break
+                val = weights[k - 1] + bt
+                if val > run:
+                    run = val
+            if pushed:
+                continue
+            best[v] = run
+            depth -= 1
+            if depth >= 0:  # the edge that led to v is the one before the parent's position
+                val = weights[edge[depth] - 1] + run
+                if val > top[depth]:
+                    top[depth] = val
+    return best
+
+
+@njit(cache=True, nogil=True)
+def tarjan_csr(offsets, targets, skip_loops):  # pragma: no cover - compiled
+    """Tarjan's strongly connected components over a CSR graph, iteratively, roots in id
+    order and edges in CSR order (the order of :func:`gather_verify.properties.graph.tarjan`).
+    Self-loops are left out when ``skip_loops``. Returns (members, starts): the components
+    with an edge between distinct states (or a self-loop kept), each unsorted, in the order
+    found; component c is ``members[starts[c]:starts[c + 1]]``."""
+    n = len(offsets) - 1
+    index = np.full(n, -1, dtype=np.int32)
+    low = np.zeros(n, dtype=np.int32)
+    on_stack = np.zeros(n, dtype=np.bool_)
+    stack = np.empty(n, dtype=np.int32)
+    sp = 0
+    work_v = np.empty(n, dtype=np.int32)
+    work_k = np.empty(n, dtype=np.int64)
+    members = np.empty(n, dtype=np.int32)
+    mcount = 0
+    starts = [0]
+    counter = 0
+    for root in range(n):
+        if index[root] >= 0:
+            continue
+        wp = 0
+        work_v[0] = root
+        work_k[0] = offsets[root]
+        index[root] = counter
+        low[root] = counter
+        counter += 1
+        stack[sp] = root
+        sp += 1
+        on_stack[root] = True
+        while wp >= 0:
+            v = work_v[wp]
+            k = work_k[wp]
+            end = offsets[v + 1]
+            recurse = False
+            while k < end:
+                w = targets[k]
+                k += 1
+                if skip_loops and w == v:
+                    continue
+                if index[w] < 0:
+                    work_k[wp] = k
+                    wp += 1
+                    work_v[wp] = w
+                    work_k[wp] = offsets[w]
+                    index[w] = counter
+                    low[w] = counter
+                    counter += 1
+                    stack[sp] = w
+                    sp += 1
+                    on_stack[w] = True
+                    recurse = True
+                    break
+                if on_stack[w] and index[w] < low[v]:
+                    low[v] = index[w]
+            if recurse:
+                continue
+            if low[v] == index[v]:
+                begin = mcount
+                while True:
+                    sp -= 1
+                    w = stack[sp]
+                    on_stack[w] = False
+                    members[mcount] = w
+                    mcount += 1
+                    if w == v:
+                        break
+                keep = mcount - begin > 1
+                if not keep and not skip_loops:
+                    for j in range(offsets[v], offsets[v + 1]):
+                        if targets[j] == v:
+                            keep = True
+                            break
+                if keep:
+                    starts.append(mcount)
+                else:
+                    mcount = begin
+            wp -= 1
+            if wp >= 0:
+                u = work_v[wp]
+                if low[v] < low[u]:
+                    low[u] = low[v]
+    out = np.empty(len(starts), dtype=np.int64)
+    for i in range(len(starts)):
+        out[i] = starts[i]
+    return members[:mcount].copy(), out
+
+
+# -- the bulk engine's per-chunk arithmetic ----------------------------------------------
+
+@njit(cache=True, nogil=True)
+def decode_chunk(keys, base, n, weights):  # pragma: no cover - compiled
+    """Per state key: its robot codes (digits in base ``base``), their cells, the cells
+    sorted, the packed configuration key (sorted cells by ``weights``), whether every robot
+    is idle, and each robot's position among the sorted cells (the first equal one)."""
+    s_count = len(keys)
+    codes = np.empty((s_count, n), dtype=np.int64)
+    cells = np.empty((s_count, n), dtype=np.int64)
+    srt = np.empty((s_count, n), dtype=np.int64)
+    ck = np.empty(s_count, dtype=np.int64)
+    idle = np.empty(s_count, dtype=np.bool_)
+    rank = np.empty((s_count, n), dtype=np.int64)
+    b = np.uint64(base)
+    for s in range(s_count):
+        rest = keys[s]
+        all_idle = True
+        for j in range(n):
+            quot = rest // b
+            c = np.int64(rest - quot * b)
+            rest = quot
+            codes[s, j] = c
+            cell = c // 5
+            cells[s, j] = cell
+            if c - cell * 5 != 0:
+                all_idle = False
+            # insertion into the sorted prefix
+            k = j
+            while k > 0 and srt[s, k - 1] > cell:
+                srt[s, k] = srt[s, k - 1]
+                k -= 1
+            srt[s, k] = cell
+        idle[s] = all_idle
+        key = 0
+        for j in range(n):
+            key += srt[s, j] * weights[j]
+        ck[s] = key
+        for i in range(n):
+            cell = cells[s, i]
+            for j in range(n):
+                if srt[s, j] == cell:
+                    rank[s, i] = j
+                    break
+    return codes, cells, srt, ck, idle, rank
+
+
+@njit(cache=True, nogil=True)
+def successor_keys(keys, codes, src, robot, new, powers):  # pragma: no cover - compiled
+    """One change per event, no reduction: each successor's key (its source's key with robot
+    ``robot`` recoded from its old code to ``new``), and the old codes."""
+    m = len(src)
+    succ = np.empty(m, dtype=np.uint64)
+    old = np.empty(m, dtype=np.int64)
+    for e in range(m):
+        s = src[e]
+        r = robot[e]
+        o = codes[s, r]
+        old[e] = o
+        succ[e] = keys[s] + np.uint64(new[e] - o) * powers[r]  # wraps for negative steps
+    return succ, old
+
+
+@njit(cache=True, nogil=True)
+def pair_keys(rows, rank, src, robot, old, new, stride, cells):  # pragma: no cover - compiled
+    """The transitions that move a robot to another cell, and for each the key of its
+    (configuration row, sorted position of the cell left, cell entered)."""
+    m = len(src)
+    moved = np.empty(m, dtype=np.int64)
+    keys = np.empty(m, dtype=np.uint64)
+    k = 0
+    for e in range(m):
+        c = new[e] // 5
+        if c != old[e] // 5:
+            s = src[e]
+            moved[k] = e
+            keys[k] = np.uint64(rows[s] * stride + rank[s, robot[e]] * cells + c)
+            k += 1
+    return moved[:k], keys[:k]
+
+
+@njit(cache=True, nogil=True)
+def successor_rows(rows, rank, src, robot, old, new, neighbour, succ):  # pragma: no cover
+    """The configuration row each one-change transition reaches, from the table ``succ``
+    (``succ[row, j, k]``: the row reached when a robot on the ``j``-th sorted cell of ``row``
+    takes step ``k``; -1 unknown). Returns the rows (the source's own where no robot changes
+    cell), and for the transitions not settled: their positions and their ``succ`` slots
+    (flat index; -1 when the change is not one step)."""
+    m = len(src)
+    n = succ.shape[1]
+    out = np.empty(m, dtype=np.int64)
+    miss = np.empty(m, dtype=np.int64)
+    slot = np.empty(m, dtype=np.int64)
+    flat = succ.reshape(-1)
+    k_miss = 0
+    for e in range(m):
+        s = src[e]
+        r = rows[s]
+        oc = old[e] // 5
+        nc = new[e] // 5
+        if oc == nc:
+            out[e] = r
+            continue
+        j = rank[s, robot[e]]
+        k = -1
+        for d in range(4):
+            if neighbour[oc, d] == nc:
+                k = d
+                break
+        if k >= 0:
+            at = (r * n + j) * 4 + k
+            v = flat[at]
+            if v >= 0:
+                out[e] = v
+                continue
+            slot[k_miss] = at
+        else:
+            slot[k_miss] = -1
+        miss[k_miss] = e
+        k_miss += 1
+    return out, miss[:k_miss], slot[:k_miss]

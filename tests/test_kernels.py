@@ -1,0 +1,202 @@
+"""The compiled kernels (``gather_verify.kernels``) against the numpy/Python reference
+path they replace, field by field: the explorations (keys, parents, graph, counts,
+violations) and the whole ``run_check`` reports (verdicts, per-property results, max moves,
+traces), on every scenario under ``scenarios/`` and on whole small boxes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gather_verify import kernels
+from gather_verify.check import run_check
+from gather_verify.engine.fast_explore import KeyIndex, explore_fast
+from gather_verify.model.configuration import Configuration
+from gather_verify.properties.graph import longest_path, strongly_connected
+from gather_verify.scenario import load_scenario
+from gather_verify.scenario_tests import run_expectation
+from gather_verify.sweeps.census import enumerate_configurations
+
+pytestmark = pytest.mark.skipif(not kernels.available(), reason="numba is not installed")
+
+ROOT = Path(__file__).resolve().parent.parent / "scenarios"
+FILES = sorted(ROOT.rglob("*.json"))
+VOLATILE = ("seconds", "peak_rss_mb")
+
+
+def both(run):
+    """``run()`` with the kernels on, then off (the reference path)."""
+    try:
+        kernels.use(True)
+        fast = run()
+        kernels.use(False)
+        ref = run()
+    finally:
+        kernels.use(None)
+    return fast, ref
+
+
+def same_report(a: dict, b: dict) -> None:
+    strip = {k: v for k, v in a.items() if k not in VOLATILE}
+    assert strip == {k: v for k, v in b.items() if k not in VOLATILE}
+
+
+def same_exploration(a, b) -> None:
+    assert (a.states, a.transitions, a.stopped, a.changed_loops) == \
+        (b.states, b.transitions, b.stopped, b.changed_loops)
+    for field in ("keys", "parents", "offsets", "targets", "weights"):
+        assert np.array_equal(getattr(a, field).array, getattr(b, field).array), field
+    assert a.violations == b.violations
+    assert a.vacuous == b.vacuous
+    if a.stopped is not None:  # the graph analyses run on complete searches only
+        return
+    la, lb = longest_path(a), longest_path(b)
+    assert (la.max_moves, la.path) == (lb.max_moves, lb.path)
+    if a.states <= 20_000:
+        assert strongly_connected(a) == strongly_connected(b)
+
+
+def _cases() -> list:
+    cases = []
+    for path in FILES:
+        scenario = load_scenario(path)
+        for i, expectation in enumerate(scenario.expectations):
+            marks = [pytest.mark.slow] if expectation.options.get("slow") else []
+            cases.append(pytest.param(path, i, marks=marks,
+                                      id=f"{path.relative_to(ROOT)}[{i}]"))
+    return cases
+
+
+@pytest.mark.parametrize(("path", "index"), _cases())
+def test_every_scenario_gives_the_same_report(path: Path, index: int) -> None:
+    scenario = load_scenario(path)
+    expectation = scenario.expectations[index]
+    fast, ref = both(lambda: run_expectation(scenario, expectation))
+    same_report(fast, ref)
+
+
+def _box(algorithm: str):
+    out = []
+    for n in (1, 2, 3):
+        for m in (1, 2):
+            out += [(algorithm, c) for c in enumerate_configurations(n, m, 3, 3)]
+    return out
+
+
+BOXES = [pytest.param(a, s, r, marks=[] if (a, s, r) == ("go-to-target", "async", False)
+                       else [pytest.mark.slow])
+         for a in ("go-to-target", "paper") for s in ("async", "ssync") for r in (True, False)]
+
+
+@pytest.mark.parametrize(("algorithm", "scheduler", "reduction"), BOXES)
+def test_whole_small_box_gives_the_same_reports(algorithm, scheduler, reduction) -> None:
+    """The 3 x 3 census, n <= 3, m <= 2: every configuration, every property."""
+    checked = 0
+    for _, c in _box(algorithm):
+        fast, ref = both(lambda c=c: run_check(c, algorithm=algorithm, scheduler=scheduler,
+                                               reduction=reduction, max_states=200_000,
+                                               max_seconds=600, force=True))
+        same_report(fast, ref)
+        checked += 1
+    assert checked > 100
+
+
+@pytest.mark.parametrize(("robots", "meeting", "algorithm"), [
+    ([(0, 0), (3, 1), (1, 4)], [(2, 2)], "go-to-target"),
+    ([(0, 0), (3, 1)], [(2, 2)], "broken-away"),
+    ([(0, 0), (0, 1), (3, 3)], [(1, 2), (2, 1)], "paper"),
+    ([(1, 2), (3, 2)], [(0, 0), (4, 0), (0, 3)], "broken-drift"),
+])
+@pytest.mark.parametrize("scheduler", ["async", "ssync", "fsync"])
+def test_explorations_are_the_same_field_by_field(robots, meeting, algorithm, scheduler) -> None:
+    c = Configuration(robots, meeting, initial=True)
+    for reduction in (False, True):
+        fast, ref = both(lambda r=reduction: explore_fast(c, algorithm, scheduler, reduction=r))
+        same_exploration(fast, ref)
+
+
+@pytest.mark.slow
+def test_the_issue_8_instance_is_the_same() -> None:
+    """4,939,200 states: the full verdict with reductions off, both paths."""
+    c = Configuration([(0, 0), (5, 1), (1, 5), (6, 6), (3, 0)], [(3, 3)], initial=True)
+    fast, ref = both(lambda: run_check(c, algorithm="go-to-target", scheduler="async",
+                                       reduction=False, max_states=30_000_000,
+                                       max_seconds=3600))
+    same_report(fast, ref)
+    assert fast["states"] == 4_939_200 and fast["max_moves"] == 23
+
+
+def test_the_compiled_index_numbers_keys_as_the_reference() -> None:
+    rng = np.random.default_rng(7)
+    a, b = KeyIndex(bits=4, compiled=True), KeyIndex(bits=4, compiled=False)
+    for _ in range(30):
+        q = rng.integers(0, 5000, size=int(rng.integers(0, 2000))).astype(np.uint64)
+        ia, fa = a.find_or_add(q)
+        ib, fb = b.find_or_add(q)
+        assert ia.tolist() == ib.tolist() and fa.tolist() == fb.tolist()
+        if rng.random() < 0.2:
+            a.truncate(a.count // 2)
+            b.truncate(b.count // 2)
+    assert a.count == b.count and a.keys[:a.count].tolist() == b.keys[:b.count].tolist()
+
+
+def test_longest_path_kernel_finds_cycles_and_bounds() -> None:
+    # 0 -> 1 -> 2, 0 -> 2 (weights 1, 1, 0): best from 0 is 2; a self-loop is no edge
+    off = np.array([0, 2, 4, 5], dtype=np.int32)
+    tgt = np.array([1, 2, 2, 1, 2], dtype=np.int32)
+    w = np.array([1, 0, 1, 0, 5], dtype=np.int8)
+    assert kernels.longest_path(off, tgt, w).tolist() == [2, 1, 0]
+    tgt[3] = 0  # 1 -> 0: a cycle
+    assert kernels.longest_path(off, tgt, w)[0] == -1
+    # an edge to a smaller id without a cycle (the depth-first search, not the sweep):
+    # 0 -> 2 (1), 2 -> 1 (1), 1 -> 1 (a self-loop, no edge)
+    off = np.array([0, 1, 2, 3], dtype=np.int32)
+    tgt = np.array([2, 1, 1], dtype=np.int32)
+    w = np.array([1, 7, 1], dtype=np.int8)
+    assert kernels.longest_path(off, tgt, w).tolist() == [2, 0, 1]
+
+
+def test_switching_the_kernels_off_runs_the_reference(monkeypatch) -> None:
+    monkeypatch.setenv(kernels.ENV, "numpy")
+    assert not kernels.enabled()
+    assert not KeyIndex().compiled
+    monkeypatch.setenv(kernels.ENV, "1")
+    assert kernels.enabled() and KeyIndex().compiled
+
+
+@pytest.mark.parametrize(("n", "m"), [(2, 1), (3, 1), (2, 3), (3, 3)])  # m = 2: a rotation swaps them
+def test_never_in_u_is_exact_on_a_whole_box(n, m) -> None:
+    """Where every symmetry of M fixes a meeting node, no configuration is in U (the shortcut
+    of FactsTable.in_u_of), with multiplicities too; and the shortcut does not claim more."""
+    from gather_verify.engine.fast_explore import never_in_u
+    from gather_verify.model.classes import classify_configuration
+    from gather_verify.model.symmetry import meeting_automorphisms
+
+    claimed = 0
+    for c in enumerate_configurations(n, m, 3, 3):
+        aut = meeting_automorphisms(c)
+        if never_in_u(aut, c.meeting_nodes):
+            claimed += 1
+            merged = Configuration((c.robots[0],) + c.robots[:-1], c.meeting_nodes)
+            assert not any(classify_configuration(x, aut_m_all=aut).in_U for x in (c, merged))
+    assert claimed
+    # where a symmetry of M fixes no meeting node, U is possible: no claim
+    c = Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)])
+    assert classify_configuration(c).in_U
+    assert not never_in_u(meeting_automorphisms(c), c.meeting_nodes)
+
+
+def test_the_hashed_successor_rows_give_the_same_exploration(monkeypatch) -> None:
+    """Past ``PairRows.DIRECT_ROWS`` rows the (row, cell, step) triples go through a hash
+    index: forced here from the first row."""
+    from gather_verify.engine.fast_explore import PairRows
+
+    monkeypatch.setattr(PairRows, "DIRECT_ROWS", 0)
+    c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
+    fast, ref = both(lambda: explore_fast(c, "go-to-target", "async", reduction=False))
+    same_exploration(fast, ref)
+    fast, ref = both(lambda: run_check(c, algorithm="paper", scheduler="async",
+                                       reduction=False, max_seconds=600))
+    same_report(fast, ref)
