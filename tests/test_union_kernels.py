@@ -3,28 +3,49 @@ reference: per-seed counts on random acyclic graphs, and whole sweep rows."""
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from gather_verify import kernels
 from gather_verify.engine import union, union_kernels
 from gather_verify.sweeps.census import enumerate_configurations
 from gather_verify.sweeps.mclass import class_tasks, decide_class
 from gather_verify.sweeps.sweep import SweepSettings, configuration_key
 
-pytestmark = pytest.mark.skipif(union_kernels.numba is None, reason="numba is not installed")
+pytestmark = pytest.mark.skipif(not kernels.available(), reason="numba is not installed")
+
+
+def _analyse(path: str, *args):
+    """``union._analyse`` on the ``numpy`` or ``numba`` path."""
+    old = os.environ.get("GATHER_VERIFY_KERNELS")
+    os.environ["GATHER_VERIFY_KERNELS"] = path
+    try:
+        return union._analyse(*args)
+    finally:
+        if old is None:
+            os.environ.pop("GATHER_VERIFY_KERNELS", None)
+        else:
+            os.environ["GATHER_VERIFY_KERNELS"] = old
 
 
 def _peeled(S: int, edges: list[tuple[int, int]]):
-    """The CSR arrays and peeling rounds ``union._analyse`` gives for a DAG."""
+    """The CSR arrays and the numpy path's peeling rounds (the reference) for a DAG."""
     src = np.array([a for a, _ in edges], dtype=np.int64)
     tgt = np.array([b for _, b in edges], dtype=np.int64)
     w = np.ones(len(edges), dtype=np.int64)
     flags = np.zeros(S, dtype=np.uint8)
     box = np.zeros((S, 4), dtype=np.int64)
-    _, _, _, rounds, pred_off, pred_src, _, _ = union._analyse(S, src, tgt, w, flags, box)
+    _, _, _, rounds, pred_off, pred_src, _, _ = _analyse("numpy", S, src, tgt, w, flags, box)
     return rounds, pred_off, pred_src
+
+
+def _topo(rounds):
+    """Every state after its predecessors (the kernel's order: the rounds reversed)."""
+    return np.concatenate([r[::-1] for r in rounds[::-1]]) if rounds else np.zeros(0, np.int64)
 
 
 @st.composite
@@ -46,7 +67,7 @@ def test_seed_counts_equal_the_numpy_reference(dag):
     transitions = np.full(len(seeds), -1, dtype=np.int64)
     union._count(seeds, np.arange(len(seeds)), rounds, pred_off, pred_src, events, S, counts,
                  transitions)
-    topo = np.concatenate([r[::-1] for r in rounds[::-1]])
+    topo = _topo(rounds)
     got = union_kernels.seed_counts(topo, pred_off, pred_src, seeds, events)
     assert got[0].tolist() == counts.tolist()
     assert got[1].tolist() == transitions.tolist()
@@ -55,7 +76,7 @@ def test_seed_counts_equal_the_numpy_reference(dag):
 def test_a_wrong_count_is_caught():
     """The comparison can fail: the kernel without the seeds' own states counts less."""
     rounds, pred_off, pred_src = _peeled(3, [(0, 1), (1, 2)])
-    topo = np.concatenate([r[::-1] for r in rounds[::-1]])
+    topo = _topo(rounds)
     counts, _ = union_kernels.seed_counts(topo, pred_off, pred_src, np.array([0]), np.ones(3))
     assert counts.tolist() == [3]
     assert union_kernels.seed_counts(topo[1:], pred_off, pred_src, np.array([0]),
@@ -96,18 +117,8 @@ def test_peeling_equals_the_numpy_reference(monkeypatch_dag, flag_bits, data):
                  dtype=np.int64)
     box = np.array(data.draw(st.lists(st.tuples(*[st.integers(-5, 5)] * 4), min_size=S,
                                       max_size=S)), dtype=np.int64).reshape(S, 4)
-    import os
-    old = os.environ.get("GATHER_VERIFY_KERNELS")
-    try:
-        os.environ["GATHER_VERIFY_KERNELS"] = "numpy"
-        ref = union._analyse(S, src, tgt, w, flags, box)
-        os.environ["GATHER_VERIFY_KERNELS"] = "numba"
-        got = union._analyse(S, src, tgt, w, flags, box)
-    finally:
-        if old is None:
-            os.environ.pop("GATHER_VERIFY_KERNELS", None)
-        else:
-            os.environ["GATHER_VERIFY_KERNELS"] = old
+    ref = _analyse("numpy", S, src, tgt, w, flags, box)
+    got = _analyse("numba", S, src, tgt, w, flags, box)
     for a, b in zip(ref[:3], got[:3], strict=True):
         assert a.tolist() == b.tolist()
-    assert sorted(np.concatenate(ref[3]).tolist()) == sorted(np.concatenate(got[3]).tolist())
+    assert sorted(_topo(ref[3]).tolist()) == sorted(_topo(got[3]).tolist())  # the peeled states

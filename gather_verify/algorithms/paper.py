@@ -108,6 +108,8 @@ READINGS: dict[str, tuple[str, ...]] = {
 """Every option of ``paper``: one ambiguous passage of the paper each, its values, the default
 (the most charitable reading) first. ``docs/interpretations.md`` names the passages."""
 
+_HOME = "gather_verify.algorithms.paper"
+"""This module's name (a copy under another name asks ``decide`` view by view)."""
 CACHE_SIZE = 1 << 17
 """Plans remembered per algorithm instance, one per canonical form of a snapshot."""
 
@@ -455,10 +457,12 @@ class PaperAlgorithm:
         robot on ``v`` in frame ``F`` answers ``first_step(F(A - v))`` for its allowed
         destinations ``A``, so its move set is the union of ``v + F^-1`` of those answers
         (what :func:`~gather_verify.algorithms.moves.move_set` collects from
-        :meth:`decide`). None under detection ``none``: the plan may read a multiplicity
-        that model hides, and only :meth:`decide` says so."""
-        if detection == "none":
-            return None
+        :meth:`decide`). None under detection ``none`` (the plan may read a multiplicity
+        that model hides, and only :meth:`decide` says so), for a subclass with its own
+        ``decide``, and in a copy of this module (``tools/mutants.py`` edits ``decide``):
+        there ``decide`` is asked view by view."""
+        if detection == "none" or __name__ != _HOME or type(self).decide is not PaperAlgorithm.decide:
+            return None  # also a subclass, or a copy of this module with its code edited (mutants)
         plan = self.plan(configuration)
         counts = configuration.counts
         out = {}

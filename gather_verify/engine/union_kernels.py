@@ -11,29 +11,39 @@ Two passes of the union engine (:mod:`gather_verify.engine.union`) over its grap
   each (state, seed) pair once, through the bits that are set.
 
 ``GATHER_VERIFY_KERNELS=numpy`` (or numba missing) selects the numpy path,
-which stays the tested reference (``tests/test_union_kernels.py``).
+which stays the tested reference (``tests/test_union_kernels.py``); the switch is
+the bulk engine's (:func:`gather_verify.kernels.enabled`), and numba is imported
+when a kernel first runs.
 """
 
 from __future__ import annotations
 
-import os
+from collections.abc import Callable
+from functools import cache
+from typing import Any
 
 import numpy as np
 
-try:
+from gather_verify import kernels
+
+
+def compiled() -> bool:
+    """Whether the compiled kernels run (numba installed, and not switched off)."""
+    return kernels.enabled()
+
+
+@cache
+def _jit(function: Callable[..., Any]) -> Callable[..., Any]:
+    """``function`` compiled on first use (and cached on disk by numba)."""
     import numba
-except ImportError:  # pragma: no cover - numba is a dependency; the numpy path remains
-    numba = None
+
+    return numba.njit(cache=True, nogil=True)(function)
+
 
 _MAGIC = 0x03F79D71B4CB0A89
 _DE_BRUIJN = np.zeros(64, dtype=np.int64)
 for _i in range(64):
     _DE_BRUIJN[((1 << _i) * _MAGIC % (1 << 64)) >> 58] = _i
-
-
-def compiled() -> bool:
-    """Whether the compiled kernels run (numba installed, and not switched off)."""
-    return numba is not None and os.environ.get("GATHER_VERIFY_KERNELS", "numba") != "numpy"
 
 
 def _seed_counts_py(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray,
@@ -64,8 +74,6 @@ def _seed_counts_py(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray
                 m ^= low
 
 
-_seed_counts = (numba.njit(cache=True, nogil=True)(_seed_counts_py) if numba is not None
-                else None)
 
 
 def _peel_py(out_off: np.ndarray, tgt: np.ndarray, w: np.ndarray, pred_off: np.ndarray,
@@ -108,7 +116,6 @@ def _peel_py(out_off: np.ndarray, tgt: np.ndarray, w: np.ndarray, pred_off: np.n
     return count
 
 
-_peel = numba.njit(cache=True, nogil=True)(_peel_py) if numba is not None else None
 
 
 def peel(out_off: np.ndarray, tgt: np.ndarray, w: np.ndarray, pred_off: np.ndarray,
@@ -117,7 +124,7 @@ def peel(out_off: np.ndarray, tgt: np.ndarray, w: np.ndarray, pred_off: np.ndarr
     """The peeled states, sinks first (compiled; ``reach``, ``best``, ``box`` and
     ``outdeg`` are updated in place, see :func:`_peel_py`)."""
     order = np.empty(len(out_off) - 1, dtype=np.int64)
-    count = _peel(out_off, tgt.astype(np.int64), w.astype(np.int64), pred_off,
+    count = _jit(_peel_py)(out_off, tgt.astype(np.int64), w.astype(np.int64), pred_off,
                   pred_src.astype(np.int64), outdeg, reach, best, box, order)
     return order[:count]
 
@@ -127,7 +134,7 @@ def seed_counts(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray,
     """Per seed: the states and events it reaches (compiled; see the module docstring)."""
     counts = np.zeros(len(seeds), dtype=np.int64)
     transitions = np.zeros(len(seeds), dtype=np.int64)
-    _seed_counts(topo.astype(np.int64), pred_off.astype(np.int64), pred_src.astype(np.int64),
+    _jit(_seed_counts_py)(topo.astype(np.int64), pred_off.astype(np.int64), pred_src.astype(np.int64),
                  seeds.astype(np.int64), events.astype(np.int64), _DE_BRUIJN, counts,
                  transitions)
     return counts, transitions
