@@ -344,14 +344,23 @@ class Growing:
 FactsMemo = dict
 """Facts of configurations up to translation and the frames, shared by the checks of a
 sweep (one per algorithm, detection and frames: :func:`facts_memo`)."""
-MEMO_SIZE = 1 << 18
-"""Configurations a memo holds before it starts over (a few hundred bytes each)."""
+MEMO_SIZE = 1 << 20
+"""Configurations a memo holds before it starts over (a few hundred bytes each). The runs of
+a sweep that walk away from ``M`` meet some 300,000 configurations each, mostly the same
+ones: a memo that holds them all serves the next such run of the class."""
 _MEMOS: dict[tuple[Algorithm, str, str], FactsMemo] = {}
+_TARGETS: dict[Algorithm, dict[tuple, Node | None]] = {}
 
 
 def facts_memo(algorithm: Algorithm, detection: str, frames: str) -> FactsMemo:
     """The memo this process shares among the checks of one algorithm object."""
     return _MEMOS.setdefault((algorithm, detection, frames), {})
+
+
+def target_memo(algorithm: Algorithm) -> dict[tuple, Node | None]:
+    """Targets of configurations (robots and meeting nodes as they are: no symmetry assumed
+    of ``target``), shared like :func:`facts_memo` by the checks of a sweep."""
+    return _TARGETS.setdefault(algorithm, {})
 
 
 def _step_perm(g: int) -> tuple[int, ...]:
@@ -634,10 +643,20 @@ class FactsTable:
         known = int(self.target[row])
         if known != -2:
             return known
-        try:
-            t = target_of(self.algorithm, self.configuration(row))
-        except (Unhandled, AlgorithmCrash):  # a crash stops the search at the orbit
-            t = None
+        c = self.configuration(row)
+        memo = None if self.memo is None else target_memo(self.algorithm)
+        key = (c.robots, self.meeting)
+        if memo is not None and key in memo:
+            t = memo[key]
+        else:
+            try:
+                t = target_of(self.algorithm, c)
+            except (Unhandled, AlgorithmCrash):  # a crash stops the search at the orbit
+                t = None
+            if memo is not None:
+                if len(memo) >= MEMO_SIZE:
+                    memo.clear()
+                memo[key] = t
         if t is None:
             self.target[row] = -1
         else:
