@@ -46,3 +46,29 @@ def test_invalid_input_is_a_value_error_for_old_callers() -> None:
         get_scheduler("nope")
     with pytest.raises(ValueError):
         get_scheduler("nope")
+
+
+def test_ctrl_c_wrapped_by_c_code_is_an_interrupt(monkeypatch, capsys):
+    """Ctrl-C while numba loads its kernels arrives as a SystemError caused by the
+    KeyboardInterrupt: exit 130 and one line, not 'a bug of gather-verify'."""
+    from gather_verify import cli
+
+    def interrupted_inside_c(args):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as error:
+            raise SystemError("<function _numba_unpickle> returned a result with an exception set") from error
+
+    monkeypatch.setattr(cli, "build_parser", lambda: _parser_running(interrupted_inside_c))
+    assert cli.main(["anything"]) == 130
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("interrupted")
+
+
+def _parser_running(run):
+    import argparse
+
+    p = argparse.ArgumentParser()
+    p.add_argument("x")
+    p.set_defaults(_run=run)
+    return p

@@ -74,11 +74,27 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted: nothing was written; run the same command again", file=sys.stderr)
         return EXIT_INTERRUPTED
-    except Exception:  # anything else is ours
+    except Exception as error:  # anything else is ours
+        if _interrupted(error):  # Ctrl-C inside C code (numba loading its kernels) comes wrapped
+            print("interrupted: nothing was written; run the same command again", file=sys.stderr)
+            return EXIT_INTERRUPTED
         traceback.print_exc(file=sys.stderr)
         print("internal error: this is a bug of gather-verify, not a mistake in your input; "
               "please report it with the command line and the traceback above", file=sys.stderr)
         return EXIT_BUG
+
+
+def _interrupted(error: BaseException) -> bool:
+    """Whether a KeyboardInterrupt caused ``error`` (a SystemError raised by C code that was
+    interrupted, for one)."""
+    seen: set[int] = set()
+    cause: BaseException | None = error
+    while cause is not None and id(cause) not in seen:
+        if isinstance(cause, KeyboardInterrupt):
+            return True
+        seen.add(id(cause))
+        cause = cause.__cause__ or cause.__context__
+    return False
 
 
 if __name__ == "__main__":
