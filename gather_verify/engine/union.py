@@ -52,6 +52,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gather_verify import kernels
 from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for
 from gather_verify.engine import union_kernels
@@ -330,7 +331,7 @@ def explore_union(
     wanted_seeds = np.ones(len(seeds), dtype=bool) if count_seeds is None else count_seeds
     wanted_seeds = wanted_seeds & ((reach[seed_ids] & CYCLE) == 0)
     which = np.flatnonzero(wanted_seeds)
-    if union_kernels.compiled() and len(which):
+    if kernels.enabled() and len(which):
         topo = np.concatenate([r[::-1] for r in rounds[::-1]]) if rounds else np.zeros(0, np.int64)
         counts[which], transitions[which] = union_kernels.seed_counts(
             topo, pred_off, pred_src, seed_ids[which], events.array())
@@ -360,7 +361,7 @@ def _analyse(S: int, src: np.ndarray, tgt: np.ndarray, w: np.ndarray, flags: np.
     reach = flags.astype(np.uint8).copy()
     best = np.zeros(S, dtype=np.int64)
     box = own_box.copy()
-    if union_kernels.compiled():
+    if kernels.enabled():
         order = union_kernels.peel(out_off, tgt, w, pred_off, pred_src, outdeg.astype(np.int64),
                                    reach, best, box)
         peeled = np.zeros(S, dtype=bool)

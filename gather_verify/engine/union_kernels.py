@@ -24,13 +24,6 @@ from typing import Any
 
 import numpy as np
 
-from gather_verify import kernels
-
-
-def compiled() -> bool:
-    """Whether the compiled kernels run (numba installed, and not switched off)."""
-    return kernels.enabled()
-
 
 @cache
 def _jit(function: Callable[..., Any]) -> Callable[..., Any]:

@@ -26,10 +26,12 @@ def task_seconds(rows: Iterable[dict[str, Any]]) -> list[float]:
     """The seconds of each task of a sweep's stored rows (one task per shape of ``M`` and
     per sweep), largest first."""
     tasks: dict[tuple[Any, Any], float] = {}
+    shapes: dict[tuple, Any] = {}  # a sweep's rows share few meeting-node sets
     for row in rows:
-        meeting = [tuple(m) for m in row["meeting_nodes"]]
-        shape = canonical_form((), meeting).key
-        key = (row.get("sweep"), shape)
+        meeting = tuple(tuple(m) for m in row["meeting_nodes"])
+        if meeting not in shapes:
+            shapes[meeting] = canonical_form((), meeting).key
+        key = (row.get("sweep"), shapes[meeting])
         tasks[key] = tasks.get(key, 0.0) + float(row.get("seconds") or 0.0)
     return sorted(tasks.values(), reverse=True)
 
