@@ -3,7 +3,7 @@ Aut(C) ⊆ Aut(M), kinds, axes and centres in doubled coordinates."""
 
 import itertools
 
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from gather_verify.model import geometry
@@ -107,6 +107,7 @@ def test_partitive_and_orbits():
 @given(st.lists(st.tuples(st.integers(-3, 3), st.integers(-3, 3)), min_size=1, max_size=6),
        st.lists(st.tuples(st.integers(-3, 3), st.integers(-3, 3)), min_size=1, max_size=4,
                 unique=True))
+@example(robots=[(0, 1)] * 3 + [(1, 0)] * 2, meeting=[(0, 0)])  # 3 robots and 2: both label 5
 def test_configuration_automorphisms_filtered_from_aut_m_are_those_of_the_labels(robots, meeting):
     """``Aut(C)`` is taken from ``Aut(M)``; it is exactly the automorphisms of the labels
     (strong and weak), in the same order."""

@@ -213,8 +213,9 @@ def configuration_automorphisms(
     """``Aut(C, l)``; with ``weak=True`` multiplicities are not told apart (labels 3->2, 5->4).
 
     A label tells whether its node is a meeting node, so ``Aut(C) ⊆ Aut(M)``: the elements
-    of ``Aut(M)`` (same order) that map every robot's node onto a node with as many robots
-    (with ``weak``: onto a robot's node), which is :func:`automorphisms` of the labels."""
+    of ``Aut(M)`` (same order) that map every robot's node onto a node whose label is the
+    same: one robot onto one robot, several onto several (the labels do not count them);
+    with ``weak``, onto a robot's node. That is :func:`automorphisms` of the labels."""
     counts = configuration.counts
     if not configuration.meeting_nodes:
         labelled = configuration.labelled
@@ -227,8 +228,8 @@ def configuration_automorphisms(
         if weak:
             if all((ma * x + mb * y + tx, mc * x + md * y + ty) in counts for x, y in counts):
                 out.append(a)
-        elif all(counts.get((ma * x + mb * y + tx, mc * x + md * y + ty)) == k
-                 for (x, y), k in counts.items()):
+        elif all(min(counts.get((ma * x + mb * y + tx, mc * x + md * y + ty), 0), 2) == min(k, 2)
+                 for (x, y), k in counts.items()):  # labels tell one robot from several, no more
             out.append(a)
     return out
 
