@@ -234,6 +234,11 @@ def test_sweep_json_and_traces_are_identical_across_workers_and_seeds(tmp_path: 
 # -- Ctrl-C: one line, what was kept, how to resume, exit 130 ------------------------------
 
 
+def default_ctrl_c() -> None:
+    """The child hears Ctrl-C even when the runner ignores it (ignored signals outlive exec)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def interrupt_when(proc: subprocess.Popen, ready, timeout: float = 120) -> None:
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline and proc.poll() is None and not ready():
@@ -248,7 +253,8 @@ def test_ctrl_c_during_check() -> None:
     argv = ["check", "--robots", "0,0 9,1 1,9 10,10 5,0", "--meeting", "5,5", "--algorithm",
             "go-to-target", "--no-reduction", "--max-memory-mb", "12000", "--json"]
     proc = subprocess.Popen([sys.executable, "-m", "gather_verify", *argv], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, start_new_session=True)
+                            stderr=subprocess.PIPE, start_new_session=True,
+                            preexec_fn=default_ctrl_c)
     started = time.monotonic()
     interrupt_when(proc, lambda: time.monotonic() - started > 2.5)
     out, err = proc.communicate(timeout=60)
@@ -275,7 +281,8 @@ def test_ctrl_c_during_sweep_keeps_results_and_resumes(tmp_path: Path) -> None:
             return 0
 
     proc = subprocess.Popen([sys.executable, "-m", "gather_verify", *argv], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, start_new_session=True)
+                            stderr=subprocess.PIPE, start_new_session=True,
+                            preexec_fn=default_ctrl_c)
     interrupt_when(proc, lambda: rows() >= 8)
     out, err = proc.communicate(timeout=60)
     text = err.decode()
