@@ -46,7 +46,7 @@ import numpy as np
 from gather_verify import kernels
 from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for, move_sets
-from gather_verify.engine.checks import Checks, ColumnChecks, symmetric
+from gather_verify.engine.checks import Checks, ColumnChecks, selected, symmetric
 from gather_verify.engine.encoding import (
     NO_LIMITS,
     Encoding,
@@ -400,7 +400,7 @@ class FactsTable:
 
     def __init__(self, enc: Encoding, n: int, algorithm: Algorithm, meeting: frozenset,
                  detection: str, frames: Sequence[int], group: Sequence[Any],
-                 memo: FactsMemo | None = None):
+                 memo: FactsMemo | None = None, targets: bool = False):
         self.enc, self.n, self.algorithm, self.meeting = enc, n, algorithm, meeting
         self.memo = memo
         self.detection, self.frames = detection, tuple(frames)
@@ -419,6 +419,8 @@ class FactsTable:
         self.size = 0
         self.target_nodes: list = []
         self.target_ids: dict = {}
+        # targets met by _facts, kept for target_id_of when targets will be asked for
+        self.computed_targets: dict | None = {} if targets else None
         self.weights = np.array([enc.cells ** j for j in range(n)], dtype=np.int64)
         # the orbit cache: images of region cells in the group-closed box
         group = sorted(a for a in group if a.g in self.frames)
@@ -517,12 +519,15 @@ class FactsTable:
         except AlgorithmCrash:
             undefined = 2
         if undefined != 2:
-            try:
-                target_of(self.algorithm, c)  # only whether it crashes: need_target gives values
+            try:  # whether it crashes; the value is kept for target_id_of (c's canonical form
+                # is already computed here, which is most of what a target costs)
+                t = target_of(self.algorithm, c)
             except Unhandled:
-                pass
+                t = None
             except AlgorithmCrash:
                 undefined = 2
+            if undefined != 2 and self.computed_targets is not None:
+                self.computed_targets[robots] = t
         if undefined:
             return [0] * len(robots), (undefined, 0, 0)
         masks = [sum(BIT[x - vx, y - vy] for x, y in ms[vx, vy]) for vx, vy in robots]
@@ -649,10 +654,13 @@ class FactsTable:
         if memo is not None and key in memo:
             t = memo[key]
         else:
-            try:
-                t = target_of(self.algorithm, c)
-            except (Unhandled, AlgorithmCrash):  # a crash stops the search at the orbit
-                t = None
+            if self.computed_targets is not None and c.robots in self.computed_targets:
+                t = self.computed_targets.pop(c.robots)
+            else:
+                try:
+                    t = target_of(self.algorithm, c)
+                except (Unhandled, AlgorithmCrash):  # a crash stops the search at the orbit
+                    t = None
             if memo is not None:
                 if len(memo) >= MEMO_SIZE:
                     memo.clear()
@@ -890,7 +898,8 @@ def explore_fast(
     facts = facts_cache(algo, initial, detection, frame_elements)
     table = FactsTable(enc, n, algo, initial.meeting_nodes, detection, frame_elements,
                        meeting_automorphisms(initial),
-                       facts_memo(algo, detection, frames) if memo else None)
+                       facts_memo(algo, detection, frames) if memo else None,
+                       targets=any(p.kind == "transition" for p in selected(properties)))
     canon = Canon(enc, n)
     base = enc.base
     powers = np.array([base ** j for j in range(n)], dtype=np.uint64)

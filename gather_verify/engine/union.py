@@ -254,7 +254,7 @@ def explore_union(
         return None
     wanted = set(properties)
     table = FactsTable(enc, n, algo, meeting, detection, frame_elements, group,
-                       facts_memo(algo, detection, frames))
+                       facts_memo(algo, detection, frames), targets="target-invariance" in wanted)
     equivariance = _Equivariance(table, algo, group)
     canon = Canon(enc, n)
     base = enc.base
