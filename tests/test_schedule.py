@@ -22,11 +22,12 @@ def test_makespan_bounds(seconds, workers):
 
 
 def test_tasks_are_shapes_of_m_per_sweep():
-    rows = [{"sweep": 1, "meeting_nodes": [[0, 0], [1, 0]], "seconds": 1.0},
-            {"sweep": 1, "meeting_nodes": [[5, 5], [5, 6]], "seconds": 2.0},  # same shape
-            {"sweep": 1, "meeting_nodes": [[0, 0], [2, 1]], "seconds": 4.0},
-            {"sweep": 2, "meeting_nodes": [[0, 0], [1, 0]], "seconds": 8.0}]
-    assert task_seconds(rows) == [8.0, 4.0, 3.0]
+    rows = [{"sweep": 1, "index": 0, "meeting_nodes": [[0, 0], [1, 0]], "seconds": 1.0},
+            {"sweep": 1, "index": 1, "meeting_nodes": [[5, 5], [5, 6]], "seconds": 2.0},  # same shape
+            {"sweep": 1, "index": 2, "meeting_nodes": [[0, 0], [2, 1]], "seconds": 4.0},
+            {"sweep": 2, "index": 0, "meeting_nodes": [[0, 0], [1, 0]], "seconds": 8.0}]
+    # handed out as a sweep does: the most configurations first, then sweep and index
+    assert task_seconds(rows) == [3.0, 4.0, 8.0]
     assert predict([8.0, 4.0, 3.0], [1, 2, 3]) == {1: 15.0, 2: 8.0, 3: 8.0}
 
 

@@ -1,8 +1,9 @@
 """How long a sweep takes on W workers, from the seconds its tasks took.
 
 A sweep's unit of work is a task (:func:`gather_verify.sweeps.mclass.class_tasks`:
-one shape of ``M``, its meeting-node classes in turn), handed out largest first
-to whichever worker is free: a process pool and a Dask cluster both do that. So
+one shape of ``M``, its meeting-node classes in turn), handed out the most
+configurations first to whichever worker is free: a process pool and a Dask
+cluster both do that. So
 from the stored seconds of each row, summed per task, the wall time on W workers
 is the makespan of that list schedule; no run on a cluster is needed to see
 where adding workers stops paying (the largest task, and the work each one
@@ -24,16 +25,22 @@ from gather_verify.model.canonical import canonical_form
 
 def task_seconds(rows: Iterable[dict[str, Any]]) -> list[float]:
     """The seconds of each task of a sweep's stored rows (one task per shape of ``M`` and
-    per sweep), largest first."""
-    tasks: dict[tuple[Any, Any], float] = {}
+    per sweep), in the order a sweep hands them out: the most configurations first (ties:
+    the sweep, then the first configuration's index), as :func:`gather_verify.sweeps.sweep`
+    sorts them. That order knows the size of a task, not its cost."""
+    tasks: dict[tuple[Any, Any], list[float]] = {}  # seconds, -members, first index
     shapes: dict[tuple, Any] = {}  # a sweep's rows share few meeting-node sets
     for row in rows:
         meeting = tuple(tuple(m) for m in row["meeting_nodes"])
         if meeting not in shapes:
             shapes[meeting] = canonical_form((), meeting).key
         key = (row.get("sweep"), shapes[meeting])
-        tasks[key] = tasks.get(key, 0.0) + float(row.get("seconds") or 0.0)
-    return sorted(tasks.values(), reverse=True)
+        task = tasks.setdefault(key, [0.0, 0, float("inf")])
+        task[0] += float(row.get("seconds") or 0.0)
+        task[1] -= 1
+        task[2] = min(task[2], row.get("index", 0))
+    order = sorted(tasks, key=lambda k: (tasks[k][1], k[0] or 0, tasks[k][2]))
+    return [tasks[k][0] for k in order]
 
 
 def makespan(seconds: Sequence[float], workers: int) -> float:
@@ -45,7 +52,7 @@ def makespan(seconds: Sequence[float], workers: int) -> float:
 
 
 def predict(seconds: Sequence[float], workers: Iterable[int]) -> dict[int, float]:
-    """The makespan for each number of workers (``seconds``: task costs, largest first)."""
+    """The makespan for each number of workers (``seconds``: task costs, in hand-out order)."""
     return {w: round(makespan(seconds, w), 3) for w in workers}
 
 

@@ -126,12 +126,12 @@ class Store:
             )
 
     def seconds(self) -> list[dict[str, Any]]:
-        """Every stored row's sweep, meeting nodes and seconds (no traces read)."""
+        """Every stored row's sweep, index, meeting nodes and seconds (no traces read)."""
         cursor = self.db.execute(
-            "SELECT r.sweep, r.meeting_nodes, t.seconds FROM results r JOIN timings t "
+            'SELECT r.sweep, r."index", r.meeting_nodes, t.seconds FROM results r JOIN timings t '
             "ON t.sweep = r.sweep AND t.key = r.key")
-        return [{"sweep": sweep, "meeting_nodes": json.loads(m), "seconds": sec}
-                for sweep, m, sec in cursor]
+        return [{"sweep": sweep, "index": index, "meeting_nodes": json.loads(m), "seconds": sec}
+                for sweep, index, m, sec in cursor]
 
     def forget(self, sweep: int) -> None:
         """Drop every stored row of a sweep (``sweep --fresh``)."""
