@@ -76,6 +76,25 @@ def test_pool_and_dask_give_identical_results(tmp_path: Path) -> None:
     assert len(pool) > 10
 
 
+def test_handed_off_checks_store_the_same_rows(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+                                               ) -> None:
+    """A class that hands its per-configuration checks to the other workers (here all of
+    them, at once) stores what one process stores, on a pool and on Dask."""
+    pytest.importorskip("dask.distributed")
+    from gather_verify.sweeps import sweep as sweep_module
+
+    batch = [SweepSettings(robots=n, meeting=2, box=(3, 3), algorithm="paper",
+                           scheduler="async") for n in (2, 3)]
+    run_sweep(batch, str(tmp_path / "one.sqlite"), workers=1, progress=False)
+    monkeypatch.setattr(sweep_module, "HAND_OFF_SECONDS", 0.0)
+    run_sweep(batch, str(tmp_path / "pool.sqlite"), workers=2, progress=False)
+    run_sweep(batch, str(tmp_path / "dask.sqlite"), workers=2, dask="local", progress=False)
+    one = results_table(tmp_path / "one.sqlite")
+    assert one == results_table(tmp_path / "pool.sqlite") == results_table(tmp_path / "dask.sqlite")
+    # NOT-APPLICABLE rows always go to the per-configuration check: so some were handed off
+    assert any(row[7] == "NOT-APPLICABLE" for row in one)
+
+
 def test_sigkill_then_resume_equals_clean_run(tmp_path: Path) -> None:
     """Kill a running sweep with SIGKILL once some rows are committed; the resumed
     store ends with exactly the rows of an uninterrupted run."""

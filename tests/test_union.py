@@ -38,8 +38,11 @@ def assert_rows_equal(n: int, m: int, box: tuple[int, int], algorithm: str,
         decided = decide_class(s, members, configuration_key)
         settled += len(decided.rows)
         fallback += len(decided.fallback)
-        rows = verify_class(s, members, verify_one, configuration_key)
-        assert [r["index"] for r in rows] == sorted(i for i, _ in members)
+        rows, rest = verify_class(s, members, verify_one, configuration_key)
+        assert [r["index"] for r in rows] == sorted(i for i, _ in members) and rest == []
+        # handed off at once: the union's rows here, every fallback left to other workers
+        kept, handed = verify_class(s, members, verify_one, configuration_key, hand_off=0.0)
+        assert handed == decided.fallback and len(kept) == len(decided.rows)
         seen.update((r["index"], r) for r in rows)
     assert sorted(seen) == [i for i, _ in items]
     for i, c in items:

@@ -55,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
         finally:
             store.close()
         curve = {"tasks": len(seconds), "seconds": round(sum(seconds), 3),
-                 "largest": round(seconds[0], 3) if seconds else 0.0,
+                 "largest": round(max(seconds), 3) if seconds else 0.0,
                  "wall": predict(seconds, workers)}
     if args.json:
         print_json({"sweeps": found if args.timings else without_timings(found),
@@ -75,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
     if curve is not None:
         from gather_verify.sweeps.schedule import format_prediction
 
-        print("== predicted wall time on N workers (tasks largest first, from stored seconds)")
+        print("== predicted wall time on N workers (tasks in hand-out order, from stored seconds)")
         format_prediction(seconds, curve["wall"])
     return 0
 

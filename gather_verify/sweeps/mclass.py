@@ -43,14 +43,26 @@ Row = dict[str, Any]
 
 def verify_class(settings: Any, members: Sequence[tuple[int, Configuration]],
                  verify_one: Callable[[Any, int, Configuration], Row],
-                 configuration_key: Callable[[Configuration], str]) -> list[Row]:
+                 configuration_key: Callable[[Configuration], str],
+                 hand_off: float | None = None,
+                 ) -> tuple[list[Row], list[tuple[int, Configuration]]]:
     """The rows of ``members`` (configurations whose ``M`` have one shape, as
-    :func:`class_tasks` makes them), in index order; ``verify_one`` checks one configuration on its own (the sweep's)."""
+    :func:`class_tasks` makes them), in index order; ``verify_one`` checks one configuration
+    on its own (the sweep's). With ``hand_off`` (seconds), the per-configuration checks left
+    once the task has run that long are not run here but returned, for other workers (a
+    few runs that walk away from ``M`` would otherwise make one class the whole sweep's
+    floor); without it the second list is empty."""
+    started = time.perf_counter()
     if not union.supports(settings.scheduler, settings.reduction, settings.frames):
-        return [verify_one(settings, i, c) for i, c in members]
-    decided = decide_class(settings, members, configuration_key)
-    rows = decided.rows + [verify_one(settings, i, c) for i, c in decided.fallback]
-    return sorted(rows, key=lambda r: r["index"])
+        decided = ClassDecision([], list(members))
+    else:
+        decided = decide_class(settings, members, configuration_key)
+    rows, rest = decided.rows, decided.fallback
+    done = 0
+    while done < len(rest) and (hand_off is None or time.perf_counter() - started < hand_off):
+        rows.append(verify_one(settings, *rest[done]))
+        done += 1
+    return sorted(rows, key=lambda r: r["index"]), rest[done:]
 
 
 def class_tasks(todo: Sequence[tuple[int, Configuration]]

@@ -60,7 +60,7 @@ def format_prediction(seconds: Sequence[float], curve: dict[int, float],
                       write: Any = print) -> None:
     """The curve as a table, with what bounds it."""
     total = sum(seconds)
-    write(f"{len(seconds)} tasks, {total:.1f} s of work in all, the largest {seconds[0]:.1f} s"
+    write(f"{len(seconds)} tasks, {total:.1f} s of work in all, the largest {max(seconds):.1f} s"
           if seconds else "no stored rows")
     write(f"{'workers':>8}{'wall s':>10}{'speed-up':>10}{'efficiency':>12}")
     for w, t in curve.items():

@@ -16,6 +16,7 @@ import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import asdict, dataclass, field, replace
+from functools import partial
 from typing import Any
 
 from gather_verify.errors import InvalidInput
@@ -196,6 +197,12 @@ def run_sweep(
 
 Task = tuple[int, SweepSettings, list[tuple[int, Configuration]]]
 """One unit of work: the sweep's id in the store, its settings, a chunk of configurations."""
+Done = tuple[int, list[dict[str, Any]], list[Task]]
+"""What a task gives back: the sweep's id, its rows, and the tasks it hands off."""
+
+HAND_OFF_SECONDS = 30.0
+"""With several workers, a meeting-node class that has run this long hands its remaining
+per-configuration checks to the other workers, one task each (``mclass.verify_class``)."""
 
 
 def _execute(
@@ -207,7 +214,7 @@ def _execute(
     """Every chunk of every sweep of the plan, as ``(sweep id, rows)`` when done. One pool
     (or cluster) runs them all, so its workers keep what they learnt (the algorithm's plans,
     the shared configuration facts) from one sweep to the next and none waits idle at the
-    end of each sweep."""
+    end of each sweep; the checks a long class hands off go out after the tasks before them."""
     local = dask is None and workers == 1
     tasks: list[Task] = []
     for settings, sweep, todo in plan:
@@ -223,23 +230,47 @@ def _execute(
             settings = replace(settings, max_memory_mb=memory_budget_mb(
                 1 if local else (workers or os.cpu_count() or 1)))
         tasks.extend((sweep, settings, chunk) for chunk in chunks)
+    run: Callable[..., Done] = _run_task
     if engine == "union":
         tasks.sort(key=lambda task: -len(task[2]))  # the largest classes of every sweep first
-        run = _run_class_task
-    else:
-        run = _run_task
+        run = _run_class_task if local else partial(_run_class_task, hand_off=HAND_OFF_SECONDS)
     if dask is not None:
         yield from _execute_dask(tasks, dask, workers, run)
-        return
-    workers = workers or os.cpu_count() or 1
-    if workers == 1 or len(tasks) <= 1:
+    elif local or not tasks:
         for task in tasks:
-            yield run(task)
-        return
-    import multiprocessing
+            sweep, rows, _ = run(task)  # nothing is handed off in this process
+            yield sweep, rows
+    else:
+        yield from _execute_pool(tasks, workers or os.cpu_count() or 1, run)
 
+
+def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
+                  ) -> Iterator[tuple[int, list[dict[str, Any]]]]:
+    """The tasks on a local process pool, in order, and the ones they hand off after them."""
+    import multiprocessing
+    import queue
+
+    done: queue.SimpleQueue = queue.SimpleQueue()
     with multiprocessing.get_context("fork").Pool(workers, initializer=_ignore_sigint) as pool:
-        yield from pool.imap_unordered(run, tasks)
+        def submit(fn: Callable[..., Done], task: Task) -> None:
+            pool.apply_async(fn, (task,), callback=done.put, error_callback=done.put)
+
+        for task in tasks:
+            submit(run, task)
+        waiting = len(tasks)
+        while waiting:
+            try:
+                got = done.get(timeout=1.0)  # (a timeout, so Ctrl-C is heard at once)
+            except queue.Empty:
+                continue
+            waiting -= 1
+            if isinstance(got, BaseException):
+                raise got
+            sweep, rows, more = got
+            for task in more:
+                submit(_run_task, task)
+            waiting += len(more)
+            yield sweep, rows
 
 
 def _ignore_sigint() -> None:
@@ -250,8 +281,7 @@ def _ignore_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None
-              ) -> tuple[int, list[dict[str, Any]]]:
+def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None) -> Done:
     """Worker entry point (picklable for process pools and Dask). ``sources``: the text of
     the algorithm files (:func:`gather_verify.algorithms.loading.ship`), for a worker that
     does not see them (a Dask cluster on other machines)."""
@@ -260,13 +290,14 @@ def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None
         from gather_verify.algorithms.loading import receive
 
         receive(sources)
-    return sweep, Store.encode(verify_chunk(settings, chunk))
+    return sweep, Store.encode(verify_chunk(settings, chunk)), []
 
 
-def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None
-                    ) -> tuple[int, list[dict[str, Any]]]:
+def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
+                    hand_off: float | None = None) -> Done:
     """Worker entry point of ``engine="union"``: the chunk is one meeting-node class
-    (``sources`` as for :func:`_run_task`)."""
+    (``sources`` as for :func:`_run_task`); the per-configuration checks left after
+    ``hand_off`` seconds come back as tasks of one configuration each."""
     from gather_verify.sweeps.mclass import verify_class
 
     sweep, settings, chunk = task
@@ -274,11 +305,12 @@ def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None
         from gather_verify.algorithms.loading import receive
 
         receive(sources)
-    return sweep, Store.encode(verify_class(settings, chunk, verify_one, configuration_key))
+    rows, rest = verify_class(settings, chunk, verify_one, configuration_key, hand_off)
+    return sweep, Store.encode(rows), [(sweep, settings, [item]) for item in rest]
 
 
 def _execute_dask(tasks: list[Task], address: str, workers: int | None,
-                  run: Callable[[Task], tuple[int, list[dict[str, Any]]]] = _run_task,
+                  run: Callable[..., Done] = _run_task,
                   ) -> Iterator[tuple[int, list[dict[str, Any]]]]:
     try:
         from dask.distributed import Client, LocalCluster, as_completed
@@ -295,9 +327,12 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None,
         from gather_verify.algorithms.loading import ship
 
         sources = ship({settings.algorithm for _, settings, _ in tasks}) or None
-        futures = client.map(run, tasks, sources=sources, pure=False)
-        for future in as_completed(futures):
-            yield future.result()
+        pending = as_completed(client.map(run, tasks, sources=sources, pure=False))
+        for future in pending:
+            sweep, rows, more = future.result()
+            for task in more:
+                pending.add(client.submit(_run_task, task, sources=sources, pure=False))
+            yield sweep, rows
     finally:
         client.close()
         if cluster is not None:
