@@ -3,11 +3,11 @@
 A sweep's unit of work is a task (:func:`gather_verify.sweeps.mclass.class_tasks`:
 one shape of ``M``, its meeting-node classes in turn), handed out the most
 configurations first to whichever worker is free: a process pool and a Dask
-cluster both do that. So
-from the stored seconds of each row, summed per task, the wall time on W workers
-is the makespan of that list schedule; no run on a cluster is needed to see
-where adding workers stops paying (the largest task, and the work each one
-costs beside the others). The seconds are those of the machine that ran the
+cluster both do that. So from the stored seconds of each row, summed per task,
+the wall time on W workers is the makespan of that list schedule; no run on a
+cluster is needed to see where adding workers stops paying (the largest task,
+and the work each one costs beside the others). A class that hands checks off
+(``sweeps.sweep.HAND_OFF_SECONDS``) counts as one task here: an upper bound. The seconds are those of the machine that ran the
 sweep, under its load.
 
 >>> predict([5.0, 3.0, 2.0, 2.0], [1, 2, 4])
