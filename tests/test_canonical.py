@@ -81,3 +81,22 @@ def test_canonical_form_is_the_least_normalised_image(c):
     form = canonical_form(c.occupied, c.meeting_nodes)
     assert form.key == best
     assert form.minimisers == tuple((g, t) for key, g, t in images if key == best)
+
+
+def test_a_process_keeps_the_memos_of_few_algorithms():
+    """A sweep under every reading runs many algorithms in one worker: the memos of the least
+    recently used are dropped, so they cannot fill the worker's memory limit."""
+    from gather_verify.algorithms import get_algorithm
+    from gather_verify.engine import fast_explore
+
+    algorithms = [get_algorithm(f"paper:finalize={v}") for v in ("closest", "target", "n1")]
+    first = fast_explore.facts_memo(algorithms[0], "local-weak", "all")
+    first["seen"] = True
+    for algorithm in algorithms[1:]:
+        fast_explore.facts_memo(algorithm, "local-weak", "all")
+        fast_explore.target_memo(algorithm)
+    assert len(fast_explore._MEMOS) <= fast_explore.MEMO_ALGORITHMS
+    assert len(fast_explore._TARGETS) <= fast_explore.MEMO_ALGORITHMS
+    assert fast_explore.facts_memo(algorithms[0], "local-weak", "all") == {}  # dropped
+    recent = fast_explore.facts_memo(algorithms[2], "local-weak", "all")
+    assert fast_explore.facts_memo(algorithms[2], "local-weak", "all") is recent  # kept

@@ -348,19 +348,35 @@ MEMO_SIZE = 1 << 20
 """Configurations a memo holds before it starts over (a few hundred bytes each). The runs of
 a sweep that walk away from ``M`` meet some 300,000 configurations each, mostly the same
 ones: a memo that holds them all serves the next such run of the class."""
+MEMO_ALGORITHMS = 2
+"""Algorithms whose memos a process keeps at once (the most recently used). A sweep under
+every reading runs 16 or 64 algorithms in one pool: memos for all of them would fill the
+worker's memory limit, and every check after that would stop INCOMPLETE (memory)."""
 _MEMOS: dict[tuple[Algorithm, str, str], FactsMemo] = {}
 _TARGETS: dict[Algorithm, dict[tuple, Node | None]] = {}
 
 
+def _recent(memos: dict, key: Any) -> dict:
+    """The memo of ``key`` in ``memos``, made the most recent; the oldest beyond
+    :data:`MEMO_ALGORITHMS` are dropped."""
+    memo = memos.pop(key, None)
+    if memo is None:
+        memo = {}
+        while len(memos) >= MEMO_ALGORITHMS:
+            del memos[next(iter(memos))]
+    memos[key] = memo
+    return memo
+
+
 def facts_memo(algorithm: Algorithm, detection: str, frames: str) -> FactsMemo:
     """The memo this process shares among the checks of one algorithm object."""
-    return _MEMOS.setdefault((algorithm, detection, frames), {})
+    return _recent(_MEMOS, (algorithm, detection, frames))
 
 
 def target_memo(algorithm: Algorithm) -> dict[tuple, Node | None]:
     """Targets of configurations (robots and meeting nodes as they are: no symmetry assumed
     of ``target``), shared like :func:`facts_memo` by the checks of a sweep."""
-    return _TARGETS.setdefault(algorithm, {})
+    return _recent(_TARGETS, algorithm)
 
 
 def _step_perm(g: int) -> tuple[int, ...]:
@@ -403,6 +419,7 @@ class FactsTable:
                  memo: FactsMemo | None = None, targets: bool = False):
         self.enc, self.n, self.algorithm, self.meeting = enc, n, algorithm, meeting
         self.memo = memo
+        self.target_memo = None if memo is None else target_memo(algorithm)
         self.detection, self.frames = detection, tuple(frames)
         self.meeting_form = canonical_form((), meeting, self.frames)
         self.aut_m = list(group)  # Aut(M), identity first
@@ -649,7 +666,7 @@ class FactsTable:
         if known != -2:
             return known
         c = self.configuration(row)
-        memo = None if self.memo is None else target_memo(self.algorithm)
+        memo = self.target_memo
         key = (c.robots, self.meeting)
         if memo is not None and key in memo:
             t = memo[key]
