@@ -318,8 +318,11 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None,
         raise InvalidInput("--dask needs the dask extra: pip install 'gather-verify[dask]'") from None
     cluster = None
     if address == "local":
+        import logging
+
         cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
-                               processes=True, dashboard_address=None)
+                               processes=True, dashboard_address=None,
+                               silence_logs=logging.ERROR)  # no nanny warnings at close
         client = Client(cluster)
     else:
         client = Client(address)
