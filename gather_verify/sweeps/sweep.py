@@ -10,6 +10,7 @@ the stored results are the same whichever ran them.
 
 from __future__ import annotations
 
+import itertools
 import json
 import os
 import sys
@@ -170,17 +171,18 @@ def run_sweep(
     store = Store(db_path)
     try:
         plan = []
+        census: dict[tuple, list[tuple[int, Configuration, str]]] = {}  # the readings share one
         for one in batch:
             sweep = store.sweep_id(one.key())
             if fresh:
                 store.forget(sweep)
             done = store.done_keys(sweep)
-            todo = []
-            for index, c in enumerate(enumerate_configurations(one.robots, one.meeting, *one.box)):
-                if limit is not None and index >= limit:
-                    break
-                if configuration_key(c) not in done and (where is None or where(one, c)):
-                    todo.append((index, c))
+            shape = (one.robots, one.meeting, one.box)
+            if shape not in census:
+                census[shape] = [(index, c, configuration_key(c)) for index, c in itertools.islice(
+                    enumerate(enumerate_configurations(one.robots, one.meeting, *one.box)), limit)]
+            todo = [(index, c) for index, c, key in census[shape]
+                    if key not in done and (where is None or where(one, c))]
             plan.append((one, sweep, todo))
         bar = Progress(sum(len(todo) for _, _, todo in plan), progress)
         try:
