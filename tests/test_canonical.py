@@ -100,3 +100,19 @@ def test_a_process_keeps_the_memos_of_few_algorithms():
     assert fast_explore.facts_memo(algorithms[0], "local-weak", "all") == {}  # dropped
     recent = fast_explore.facts_memo(algorithms[2], "local-weak", "all")
     assert fast_explore.facts_memo(algorithms[2], "local-weak", "all") is recent  # kept
+
+
+def test_a_process_keeps_few_algorithm_instances():
+    """The instances (and the plans they remember) of the least recently used algorithms
+    are dropped; the recent ones are shared."""
+    from gather_verify import algorithms
+
+    specs = [f"paper:finalize={v}" for v in ("closest", "target", "n1", "literal")] + [
+        "paper:outside=mer_f"]
+    first = algorithms.get_algorithm(specs[0])
+    assert algorithms.get_algorithm(specs[0]) is first
+    for spec in specs[1:]:
+        algorithms.get_algorithm(spec)
+    assert len(algorithms._INSTANCES) <= algorithms.INSTANCES_KEPT
+    assert algorithms.get_algorithm(specs[-1]) is algorithms.get_algorithm(specs[-1])
+    assert algorithms.get_algorithm(specs[0]) is not first  # dropped, made again

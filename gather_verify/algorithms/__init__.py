@@ -66,6 +66,10 @@ def parse_name(spec: str) -> tuple[str, dict[str, str]]:
 _INSTANCES: dict[tuple[str, object], Algorithm] = {}
 """One instance per name and factory in a process: algorithms are pure functions of the view,
 so every check of a sweep shares the caches an algorithm keeps (the paper's plans)."""
+INSTANCES_KEPT = 4
+"""Instances kept at once, the most recently used: a sweep under every reading runs 16 or 64
+algorithms in one worker, and the plans of all of them would fill its memory limit (every
+check after that would stop INCOMPLETE (memory))."""
 
 
 def get_algorithm(spec: str) -> Algorithm:
@@ -87,15 +91,17 @@ def get_algorithm(spec: str) -> Algorithm:
             known = sorted({*REGISTRY, *entry_point_names()})
             raise InvalidInput(f"unknown algorithm {name!r}: use one of {', '.join(known)}, "
                              "or FILE.py:NAME or package.module:NAME")
-    algorithm = _INSTANCES.get((spec, factory))
+    algorithm = _INSTANCES.pop((spec, factory), None)
     if algorithm is None:
+        while len(_INSTANCES) >= INSTANCES_KEPT:
+            del _INSTANCES[next(iter(_INSTANCES))]  # the least recently used
         algorithm = instantiate(factory, options, spec)
         if named and getattr(algorithm, "name", None) != spec:
             try:  # the spec, so a trace or a stored row names what loads it again
                 algorithm.name = spec
             except AttributeError:
                 raise InvalidInput(f"algorithm {spec!r}: cannot set its name attribute") from None
-        _INSTANCES[spec, factory] = algorithm
+    _INSTANCES[spec, factory] = algorithm
     return algorithm
 
 
