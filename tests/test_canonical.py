@@ -116,3 +116,15 @@ def test_a_process_keeps_few_algorithm_instances():
     assert len(algorithms._INSTANCES) <= algorithms.INSTANCES_KEPT
     assert algorithms.get_algorithm(specs[-1]) is algorithms.get_algorithm(specs[-1])
     assert algorithms.get_algorithm(specs[0]) is not first  # dropped, made again
+
+
+def test_memos_are_dropped_when_the_process_is_over_half_its_memory_limit():
+    """A check must not stop INCOMPLETE (memory) because of what earlier checks memoised."""
+    from gather_verify.algorithms import get_algorithm
+    from gather_verify.engine import fast_explore
+
+    fast_explore.facts_memo(get_algorithm("paper"), "local-weak", "all")["seen"] = True
+    fast_explore.make_room(1e9)  # far under the limit: kept
+    assert fast_explore._MEMOS
+    fast_explore.make_room(1.0)  # over half of 1 MB: dropped
+    assert not fast_explore._MEMOS and not fast_explore._TARGETS

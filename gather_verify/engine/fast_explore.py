@@ -35,6 +35,7 @@ make :func:`supports` say no and the caller uses the reference path.
 
 from __future__ import annotations
 
+import gc
 import time
 from collections.abc import Iterable, Iterator, Sequence
 from functools import partial
@@ -366,6 +367,16 @@ def _recent(memos: dict, key: Any) -> dict:
             del memos[next(iter(memos))]
     memos[key] = memo
     return memo
+
+
+def make_room(limit_mb: float) -> None:
+    """Drop every memo when this process holds more than half its memory limit: the memos
+    are a cache (a few hundred bytes to kilobytes per configuration), and a check must not
+    stop INCOMPLETE (memory) because of what earlier checks left in them."""
+    if (_MEMOS or _TARGETS) and rss_mb() > limit_mb / 2:
+        _MEMOS.clear()
+        _TARGETS.clear()
+        gc.collect()
 
 
 def facts_memo(algorithm: Algorithm, detection: str, frames: str) -> FactsMemo:
@@ -913,6 +924,8 @@ def explore_fast(
     enc = Encoding(region_box(initial, limits.margin, group), group, anonymity)
     n = initial.n
     facts = facts_cache(algo, initial, detection, frame_elements)
+    if memo:
+        make_room(limits.max_memory_mb)
     table = FactsTable(enc, n, algo, initial.meeting_nodes, detection, frame_elements,
                        meeting_automorphisms(initial),
                        facts_memo(algo, detection, frames) if memo else None,

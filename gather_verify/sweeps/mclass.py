@@ -30,6 +30,7 @@ from gather_verify.engine.explore import (
     rss_mb,
     symmetry_group,
 )
+from gather_verify.engine.fast_explore import make_room
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.model import geometry
 from gather_verify.model.canonical import canonical_form
@@ -121,6 +122,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
         group = meeting_automorphisms(normal[0])
         box = geometry.bounding_box([v for c in normal for b in [region_box(c, union.UNION_MARGIN, group)]
                                      for v in (b[:2], b[2:])])
+        make_room(memory)
         u = union.explore_union(meeting, [c.robots for c in normal], settings.algorithm,
                           settings.scheduler, detection=settings.detection,
                           frames=settings.frames, properties=wanted, box=box,
