@@ -430,7 +430,9 @@ class FactsTable:
                  memo: FactsMemo | None = None, targets: bool = False):
         self.enc, self.n, self.algorithm, self.meeting = enc, n, algorithm, meeting
         self.memo = memo
-        self.target_memo = None if memo is None else target_memo(algorithm)
+        # targets by configuration: the sweep's shared memo, else this search's own
+        self.targets: dict[tuple, Node | None] = {} if memo is None else target_memo(algorithm)
+        self.keep_targets = targets  # also those met while checking for crashes
         self.detection, self.frames = detection, tuple(frames)
         self.meeting_form = canonical_form((), meeting, self.frames)
         self.aut_m = list(group)  # Aut(M), identity first
@@ -447,8 +449,6 @@ class FactsTable:
         self.size = 0
         self.target_nodes: list = []
         self.target_ids: dict = {}
-        # targets met by _facts, kept for target_id_of when targets will be asked for
-        self.computed_targets: dict | None = {} if targets else None
         self.weights = np.array([enc.cells ** j for j in range(n)], dtype=np.int64)
         # the orbit cache: images of region cells in the group-closed box
         group = sorted(a for a in group if a.g in self.frames)
@@ -554,8 +554,8 @@ class FactsTable:
                 t = None
             except AlgorithmCrash:
                 undefined = 2
-            if undefined != 2 and self.computed_targets is not None:
-                self.computed_targets[robots] = t
+            if undefined != 2 and self.keep_targets:
+                self._remember_target((robots, self.meeting), t)
         if undefined:
             return [0] * len(robots), (undefined, 0, 0)
         masks = [sum(BIT[x - vx, y - vy] for x, y in ms[vx, vy]) for vx, vy in robots]
@@ -671,28 +671,26 @@ class FactsTable:
             self.target_id_of(r)
         return self.target[rows]
 
+    def _remember_target(self, key: tuple, t: Node | None) -> None:
+        if len(self.targets) >= MEMO_SIZE:
+            self.targets.clear()
+        self.targets[key] = t
+
     def target_id_of(self, row: int) -> int:
         """The id of the target of ``row`` in ``target_nodes`` (-1: none; computed once)."""
         known = int(self.target[row])
         if known != -2:
             return known
         c = self.configuration(row)
-        memo = self.target_memo
         key = (c.robots, self.meeting)
-        if memo is not None and key in memo:
-            t = memo[key]
+        if key in self.targets:
+            t = self.targets[key]
         else:
-            if self.computed_targets is not None and c.robots in self.computed_targets:
-                t = self.computed_targets.pop(c.robots)
-            else:
-                try:
-                    t = target_of(self.algorithm, c)
-                except (Unhandled, AlgorithmCrash):  # a crash stops the search at the orbit
-                    t = None
-            if memo is not None:
-                if len(memo) >= MEMO_SIZE:
-                    memo.clear()
-                memo[key] = t
+            try:
+                t = target_of(self.algorithm, c)
+            except (Unhandled, AlgorithmCrash):  # a crash stops the search at the orbit
+                t = None
+            self._remember_target(key, t)
         if t is None:
             self.target[row] = -1
         else:
