@@ -97,6 +97,26 @@ def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
     return None
 
 
+def _witnesses(e: Exploration, configuration: Configuration, algorithm: str | Algorithm,
+               scheduler: str, engine: str, detection: str, frames: str,
+               lim: Limits) -> dict[str, dict[str, Any]]:
+    """The trace of each violation ``e`` found, by property (a violation whose witness
+    does not concretise, a target that is not equivariant, is looked for again on the
+    concrete graph, and left out if that search does not meet it)."""
+    traces: dict[str, dict[str, Any]] = {}
+    for name, v in e.violations.items():
+        trace = _safety_trace(e, v)
+        if trace is None:  # target not equivariant: find the witness on the concrete graph
+            plain = explore(configuration, algorithm, scheduler, engine=engine,
+                            detection=detection, frames=frames, reduction=False,
+                            properties=[name], limits=lim, graph=False)
+            w = plain.violations.get(name)
+            trace = _safety_trace(plain, w) if w is not None else None
+        if trace is not None:
+            traces[name] = trace
+    return traces
+
+
 def run_check(
     configuration: Configuration,
     *,
@@ -112,15 +132,21 @@ def run_check(
     force: bool = False,
     engine: str = "auto",
     memo: bool = False,
+    keep_growing: bool = False,
     on_exploration: Callable[[Exploration], object] | None = None,
     **limits: Any,
 ) -> dict[str, Any]:
     """Check ``algorithm`` from ``configuration``; the report as a JSON-able dict.
 
     Extra ``limits``: ``max_memory_mb`` and ``margin``. Without a ``margin`` the
-    region grows by itself: a search stopped by the region is run again with the
-    margin doubled, up to ``AUTO_MARGIN_MAX`` (the same exact search on a larger
-    region, so the verdict stays honest; only the last run is reported).
+    region grows by itself: a search stopped by the region that has found no violation
+    is run again with the margin doubled, up to ``AUTO_MARGIN_MAX`` (the same exact
+    search on a larger region, so the verdict stays honest; only the last run is
+    reported). A search that has found one is the last, as SPIN and TLC stop at the
+    first error: the larger search would meet the same violations with the same traces
+    (a search stopped by the region is a prefix of the larger one's BFS), only later.
+    ``keep_growing`` grows it anyway, to look for violations of properties the smaller
+    region did not reach (the row then names the first in the verdict order).
     ``on_exploration`` receives that last search (``check --graph-out`` exports it)."""
     started = time.perf_counter()
     wanted = check_property_names(properties)
@@ -139,7 +165,7 @@ def run_check(
         "properties": {p: {"holds": None} for p in wanted},
         "limits": {"max_states": max_states, "max_seconds": max_seconds,
                    "max_memory_mb": lim.max_memory_mb, "margin": lim.margin,
-                   "margin_auto": fixed_margin is None},
+                   "margin_auto": fixed_margin is None, "keep_growing": keep_growing},
         "algorithm": algorithm if isinstance(algorithm, str) else algorithm.name,
         "scheduler": scheduler, "detection": detection, "frames": frames,
         "reduction": reduction,
@@ -152,36 +178,30 @@ def run_check(
     # the edges are kept only for a graph property or the caller's use of the graph
     keep_graph = on_exploration is not None or any(
         get_property(p).kind == "graph" for p in wanted)
-    e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
-                frames=frames, reduction=reduction, properties=wanted, limits=lim, memo=memo,
-                graph=keep_graph)
-    while fixed_margin is None and e.stopped == "region" and lim.margin < AUTO_MARGIN_MAX:
+
+    def search(lim: Limits) -> tuple[Exploration, dict[str, dict[str, Any]]]:
+        e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
+                    frames=frames, reduction=reduction, properties=wanted, limits=lim,
+                    memo=memo, graph=keep_graph)
+        return e, _witnesses(e, configuration, algorithm, scheduler, engine, detection,
+                             frames, lim)
+
+    e, traces = search(lim)
+    while (fixed_margin is None and e.stopped == "region" and lim.margin < AUTO_MARGIN_MAX
+           and (keep_growing or not traces)):
         left = max_seconds - (time.perf_counter() - started)
         if left <= 0:
             break
         lim = replace(lim, margin=min(2 * lim.margin, AUTO_MARGIN_MAX), max_seconds=left)
-        e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
-                    frames=frames, reduction=reduction, properties=wanted, limits=lim, memo=memo,
-                    graph=keep_graph)
+        e, traces = search(lim)
     report["limits"]["margin"] = lim.margin
     if on_exploration is not None:
         on_exploration(e)
     report.update(states=e.states, transitions=e.transitions, peak_rss_mb=round(e.peak_rss_mb, 1))
     results = report["properties"]
-    traces: dict[str, dict[str, Any] | None] = {}
-    for name, v in e.violations.items():
-        trace = _safety_trace(e, v)
-        if trace is None:  # target not equivariant: find the witness on the concrete graph
-            plain = explore(configuration, algorithm, scheduler, engine=engine,
-                            detection=detection, frames=frames, reduction=False, properties=[name], limits=lim,
-                            graph=False)
-            w = plain.violations.get(name)
-            trace = _safety_trace(plain, w) if w is not None else None
-            if trace is None:
-                continue
+    for name, trace in traces.items():
         # the trace's reason: it names the nodes of the concrete execution shown
         results[name] = {"holds": False, "reason": trace["reason"]}
-        traces[name] = trace
     halted = e.stopped is not None and e.stopped in e.violations  # a halting property
     stopped = None if halted else e.stopped
     complete = e.stopped is None

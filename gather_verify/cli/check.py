@@ -59,7 +59,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--margin", type=bounded_int(0, 1000), default=None,
                         help="region bound: the initial MER grown by this many nodes "
                              f"(default: {DEFAULT_MARGIN}, doubled up to {AUTO_MARGIN_MAX} "
-                             "while the region stops the search)")
+                             "while the region stops the search before any violation)")
+    parser.add_argument("--keep-growing", action="store_true",
+                        help="grow the region even after a violation is found, up to the "
+                             "margin whose search the region does not stop, to look for "
+                             "violations of other properties (slower: the verdict is the same)")
     parser.add_argument("--move-bound-c", type=bounded_float(0, 10**6), default=4.0)
     parser.add_argument("--force", action="store_true",
                         help="check even when the initial configuration is in U or UNCLASSIFIED")
@@ -110,6 +114,7 @@ def run(args: argparse.Namespace) -> int:
             frames=frames, properties=args.properties, reduction=not args.no_reduction,
             max_states=args.max_states, max_seconds=args.max_seconds,
             move_bound_c=args.move_bound_c, force=args.force, max_memory_mb=args.max_memory,
+            keep_growing=args.keep_growing,
             on_exploration=explored.append if args.graph_out else None,
             **({} if args.margin is None else {"margin": args.margin}))
     except KeyboardInterrupt:

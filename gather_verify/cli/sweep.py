@@ -58,6 +58,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "Same results")
     p.add_argument("--limit", type=bounded_int(1, 10**9), default=None,
                    help="only the first N configurations of the enumeration")
+    p.add_argument("--keep-growing", action="store_true",
+                   help="grow a configuration's region even after a violation is found "
+                        "(check --keep-growing; slower, the verdicts are the same)")
     p.add_argument("--junit", metavar="FILE", help="also write JUnit XML, one test case per configuration")
     p.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
                    help="sweep the paper's algorithm under every reading of its ambiguous "
@@ -112,6 +115,7 @@ def run(args: argparse.Namespace) -> int:
         properties=tuple(args.properties or ()), max_states=args.max_states_per_config,
         max_seconds=args.max_seconds_per_config, move_bound_c=args.move_bound_c,
         reduction=not args.no_reduction, max_memory_mb=args.max_memory_mb,
+        keep_growing=args.keep_growing,
     ) for n in args.robots for m in args.meeting]
     if args.readings:
         return _readings(args, settings)

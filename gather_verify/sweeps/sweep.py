@@ -44,6 +44,8 @@ class SweepSettings:
     max_seconds: float = 600.0
     move_bound_c: float = 4.0
     reduction: bool = True
+    keep_growing: bool = False
+    """Grow a configuration's region after a violation too (``run_check``)."""
     extra: dict[str, Any] = field(default_factory=dict)
     max_memory_mb: float | None = None
     """Resident memory limit of each worker process; None: this machine's memory shared
@@ -81,6 +83,7 @@ def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[st
         properties=settings.properties or None, reduction=settings.reduction,
         max_states=settings.max_states, max_seconds=settings.max_seconds,
         move_bound_c=settings.move_bound_c, max_memory_mb=settings.max_memory_mb,
+        keep_growing=settings.keep_growing,
         memo=True,  # the checks of a sweep meet the same configurations again and again
     )
     return {
