@@ -14,7 +14,11 @@ import pytest
 
 from gather_verify.check import AUTO_MARGIN_MAX, run_check
 from gather_verify.cli import main
+from gather_verify.engine import union
 from gather_verify.model.configuration import Configuration
+from gather_verify.sweeps.census import enumerate_configurations
+from gather_verify.sweeps.mclass import class_tasks, decide_class
+from gather_verify.sweeps.sweep import SweepSettings, configuration_key
 
 # broken-wander walks away: at margin 2 it already meets a configuration in U
 WANDER = Configuration([(0, 0), (0, 1)], [(1, 1), (1, 2)], initial=True)
@@ -77,3 +81,39 @@ def test_keep_growing_from_the_command_line(capsys: pytest.CaptureFixture[str]) 
     grown = json.loads(capsys.readouterr().out)
     assert (first["limits"]["margin"], first["property"]) == (2, "no-ungatherable")
     assert grown["limits"]["margin"] > 2 and grown["limits"]["keep_growing"]
+
+
+def test_the_union_hands_back_violations_past_the_first_margin(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """A seed whose own search needs a margin past 2 and reaches a violation: its margin-2
+    search is stopped by the region, and whether that prefix already meets the violation
+    (ending the search there) only its own search can say, so the union hands it back.
+    (None of the 3 x 3 and 4 x 4 boxes with n, m <= 3 has one; forced here.)"""
+    monkeypatch.setattr(union, "margin_needed", lambda c, group, box: 4)
+    items = list(enumerate(enumerate_configurations(2, 1, 3, 3)))
+
+    def decided(keep_growing: bool) -> tuple[set[int], set[int]]:
+        s = SweepSettings(robots=2, meeting=1, box=(3, 3), algorithm="broken-stay",
+                          scheduler="async", max_memory_mb=8000, keep_growing=keep_growing)
+        violated, handed = set(), set()
+        for members in class_tasks(items):
+            d = decide_class(s, members, configuration_key)
+            violated |= {r["index"] for r in d.rows if r["verdict"] == "VIOLATED"}
+            handed |= {i for i, _ in d.fallback}
+        return violated, handed
+
+    violated, _ = decided(keep_growing=True)
+    none, handed = decided(keep_growing=False)
+    assert violated and not none and violated <= handed
+
+
+def test_stores_keep_each_rule_apart() -> None:
+    """Rows of one rule are never found under the other; rows stored before the rule was a
+    setting (every region grown to the end) are found under ``keep_growing``."""
+    def key(**kw: object) -> dict:
+        return SweepSettings(robots=3, meeting=3, box=(4, 4), algorithm="paper",
+                             scheduler="async", **kw).key()
+
+    assert key(keep_growing=False) != key(keep_growing=True)
+    assert key(keep_growing=False)["keep_growing"] is False
+    assert "keep_growing" not in key(keep_growing=True)  # the settings such stores hold

@@ -146,6 +146,11 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
             D, n = c.D, c.n
             max_moves = int(u.best[s]) if graph_props else None
             failing = [p for p in props.ORDER if union.SAFETY_BITS.get(p, 0) & reach and p in wanted]
+            if failing and margin > union.MARGINS[0] and not settings.keep_growing:
+                # its own search at the first margin is stopped by the region: whether that
+                # BFS prefix meets a violation, and so ends the search there, is its to say
+                fallback.append((index, c))
+                continue
             bound = settings.move_bound_c * D * n
             if not failing and max_moves is not None and "move-bound" in wanted \
                     and max_moves > bound:

@@ -60,6 +60,8 @@ class SweepSettings:
         out["properties"] = list(self.properties)
         if self.max_memory_mb is None:
             del out["max_memory_mb"]
+        if self.keep_growing:  # the rule every store before the field was written with:
+            del out["keep_growing"]  # its rows stay found under --keep-growing
         from gather_verify.fingerprint import algorithm_fingerprint
 
         out["fingerprint"] = algorithm_fingerprint(self.algorithm)["digest"]  # never stale
