@@ -9,6 +9,7 @@ import sqlite3
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -59,6 +60,15 @@ def test_rerun_resumes_without_recomputing(tmp_path: Path) -> None:
     after = results_table(db)
     assert set(before) <= set(after)
     assert second["total"] > 5
+
+
+def test_results_without_traces_are_the_rows_less_their_traces(tmp_path: Path) -> None:
+    db = tmp_path / "s.sqlite"
+    run_sweep(replace(SMALL, algorithm="broken-stay"), str(db), workers=1, progress=False)
+    store = Store(str(db))
+    whole, light = store.results(1), store.results(1, traces=False)
+    assert any(r["trace"] for r in whole) and not any(r["trace"] for r in light)
+    assert [{**r, "trace": None} for r in whole] == light
 
 
 def test_pool_and_dask_give_identical_results(tmp_path: Path) -> None:

@@ -139,9 +139,10 @@ class Store:
             self.db.execute("DELETE FROM results WHERE sweep = ?", (sweep,))
             self.db.execute("DELETE FROM timings WHERE sweep = ?", (sweep,))
 
-    def results(self, sweep: int) -> list[dict[str, Any]]:
-        """All results of a sweep in enumeration order, with their timings."""
-        names = ",".join(f'r."{c}"' for c in COLUMNS)
+    def results(self, sweep: int, traces: bool = True) -> list[dict[str, Any]]:
+        """All results of a sweep in enumeration order, with their timings (``traces=False``:
+        each ``trace`` None, for totals that never read one: decoding them is most of the work)."""
+        names = ",".join(f'r."{c}"' if traces or c != "trace" else "NULL" for c in COLUMNS)
         cursor = self.db.execute(
             f"SELECT {names}, t.seconds FROM results r LEFT JOIN timings t "
             f"ON t.sweep = r.sweep AND t.key = r.key WHERE r.sweep = ? ORDER BY r.\"index\"",

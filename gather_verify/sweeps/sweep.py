@@ -196,7 +196,7 @@ def run_sweep(
                 bar.advance(len(rows))
         finally:
             bar.close()
-        rows = [row for _, sweep, _ in plan for row in store.results(sweep)]
+        rows = [row for _, sweep, _ in plan for row in store.results(sweep, traces=False)]
     finally:
         store.close()
     return summarise(rows, batch[0] if len(batch) == 1 else None)
