@@ -676,21 +676,28 @@ class FactsTable:
             self.targets.clear()
         self.targets[key] = t
 
+    def target_of(self, c: Configuration) -> Node | None:
+        """The algorithm's target in ``c`` (robots sorted; None: none, or no rule),
+        remembered; a crash is raised, and not remembered."""
+        key = (c.robots, self.meeting)
+        if key in self.targets:
+            return self.targets[key]
+        try:
+            t = target_of(self.algorithm, c)
+        except Unhandled:
+            t = None
+        self._remember_target(key, t)
+        return t
+
     def target_id_of(self, row: int) -> int:
         """The id of the target of ``row`` in ``target_nodes`` (-1: none; computed once)."""
         known = int(self.target[row])
         if known != -2:
             return known
-        c = self.configuration(row)
-        key = (c.robots, self.meeting)
-        if key in self.targets:
-            t = self.targets[key]
-        else:
-            try:
-                t = target_of(self.algorithm, c)
-            except (Unhandled, AlgorithmCrash):  # a crash stops the search at the orbit
-                t = None
-            self._remember_target(key, t)
+        try:
+            t = self.target_of(self.configuration(row))
+        except AlgorithmCrash:  # a crash stops the search at the orbit
+            t = None
         if t is None:
             self.target[row] = -1
         else:

@@ -53,7 +53,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gather_verify import kernels
-from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
+from gather_verify.algorithms import Algorithm, AlgorithmCrash, get_algorithm
 from gather_verify.algorithms.moves import frames_for
 from gather_verify.engine import union_kernels
 from gather_verify.engine.explore import DEFAULT_MARGIN, Encoding, region_box
@@ -191,15 +191,9 @@ class _Equivariance:
     (``target(a C) == a(target C)``); what lets one quotient graph decide target-invariance
     for every seed."""
 
-    def __init__(self, table: FactsTable, algorithm: Algorithm, group: Sequence[Automorphism]):
-        self.table, self.algorithm, self.group = table, algorithm, list(group)[1:]
+    def __init__(self, table: FactsTable, group: Sequence[Automorphism]):
+        self.table, self.group = table, list(group)[1:]
         self.known: dict[int, bool] = {}
-
-    def _target(self, c: Configuration) -> Node | None:
-        try:
-            return target_of(self.algorithm, c)
-        except Unhandled:
-            return None
 
     def broken(self, rows: np.ndarray) -> np.ndarray:
         if not self.group:
@@ -210,13 +204,13 @@ class _Equivariance:
             ok = self.known.get(r)
             if ok is None:
                 c = self.table.configuration(r)
-                try:
-                    t = self._target(c)
+                try:  # through the table's targets: the images are rows of the class too
+                    t = self.table.target_of(c)
                     ok = True
                     for a in self.group:
-                        image = Configuration.trusted(tuple(a(v) for v in c.robots),
+                        image = Configuration.trusted(tuple(sorted(a(v) for v in c.robots)),
                                                       c.meeting_nodes)
-                        if self._target(image) != (None if t is None else a(t)):
+                        if self.table.target_of(image) != (None if t is None else a(t)):
                             ok = False
                             break
                 except AlgorithmCrash:  # a crash is the per-configuration check's to report
@@ -255,7 +249,7 @@ def explore_union(
     wanted = set(properties)
     table = FactsTable(enc, n, algo, meeting, detection, frame_elements, group,
                        facts_memo(algo, detection, frames), targets="target-invariance" in wanted)
-    equivariance = _Equivariance(table, algo, group)
+    equivariance = _Equivariance(table, group)
     canon = Canon(enc, n)
     base = enc.base
     neighbour = _neighbours(enc)
