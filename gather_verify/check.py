@@ -356,6 +356,7 @@ def check(
     max_seconds: float = DEFAULT_MAX_SECONDS,
     move_bound_c: float = 4.0,
     force: bool = False,
+    keep_growing: bool = False,
     **limits: Any,
 ) -> CheckReport:
     """Check ``algorithm`` from a configuration (or ``robots`` and ``meeting``) against every
@@ -363,7 +364,8 @@ def check(
 
     ``algorithm`` is a spec (``"paper"``, ``"my_alg.py:MyAlgorithm"``,
     ``"package.module:NAME"``) or an object with ``name`` and ``decide(view)``. The limits
-    default to the command line's; ``max_memory_mb`` and ``margin`` may be given too."""
+    default to the command line's; ``max_memory_mb`` and ``margin`` may be given too, and
+    ``keep_growing`` (``check --keep-growing``: the region grows after a violation too)."""
     if configuration is None:
         if robots is None or meeting is None:
             raise InvalidInput("give a configuration, or both robots and meeting")
@@ -374,7 +376,8 @@ def check(
     report = run_check(configuration, algorithm=algorithm,  # type: ignore[arg-type]
                        scheduler=scheduler, detection=detection, frames=frames,
                        properties=properties, reduction=reduction, max_states=max_states,
-                       max_seconds=max_seconds, move_bound_c=move_bound_c, force=force, **limits)
+                       max_seconds=max_seconds, move_bound_c=move_bound_c, force=force,
+                       keep_growing=keep_growing, **limits)
     report["algorithm"] = name
     return CheckReport.from_json(report)
 
