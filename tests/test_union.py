@@ -9,10 +9,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from gather_verify.cli import main
 from gather_verify.engine import union
-from gather_verify.engine.explore import Limits
+from gather_verify.engine.explore import Limits, region_box
 from gather_verify.engine.fast_explore import explore_fast
 from gather_verify.engine.search import explore
 from gather_verify.model.configuration import Configuration
@@ -110,6 +112,24 @@ def test_the_margin_rule() -> None:
     assert union.margin_needed(c, group, np.array([-2, -2, 3, 3])) == 2
     assert union.margin_needed(c, group, np.array([-3, 0, 1, 1])) == 4
     assert union.margin_needed(c, group, np.array([-40, 0, 1, 1])) is None
+
+
+@settings(max_examples=200, deadline=None)
+@given(robots=st.lists(st.tuples(st.integers(0, 3), st.integers(0, 3)), min_size=1, max_size=4,
+                       unique=True),
+       meeting=st.lists(st.tuples(st.integers(0, 3), st.integers(0, 3)), min_size=1,
+                        max_size=4, unique=True),
+       box=st.lists(st.integers(-40, 40), min_size=4, max_size=4))
+def test_the_margin_rule_is_its_definition(robots: list, meeting: list, box: list) -> None:
+    """The least margin whose region (``region_box``, closed under Aut(M)) holds ``box``."""
+    c = Configuration(robots, meeting)
+    group = union.meeting_automorphisms(c)
+    x0, x1 = sorted(box[::2])
+    y0, y1 = sorted(box[1::2])
+    holds = [m for m in union.MARGINS if (lambda r: r[0] <= x0 and r[1] <= y0 and x1 <= r[2]
+                                           and y1 <= r[3])(region_box(c, m, group))]
+    expected = holds[0] if holds else None
+    assert union.margin_needed(c, group, np.array([x0, y0, x1, y1])) == expected
 
 
 def test_witness_paths_are_the_searchs_own() -> None:

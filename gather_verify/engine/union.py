@@ -421,10 +421,10 @@ def _count(seed_ids: np.ndarray, which: np.ndarray, rounds: list[np.ndarray],
 
 
 def margin_needed(c: Configuration, group: Sequence[Automorphism], box: np.ndarray) -> int | None:
-    """The margin ``run_check`` ends its search with: the least whose region holds ``box``."""
+    """The margin ``run_check`` ends its search with: the least whose region holds ``box``.
+    A region is the margin-0 region grown by the margin (an isometry maps a box grown by
+    ``k`` onto its image grown by ``k``), so one region box answers for every margin."""
     x0, y0, x1, y1 = box.tolist()
-    for margin in MARGINS:
-        a0, b0, a1, b1 = region_box(c, margin, group)
-        if a0 <= x0 and b0 <= y0 and x1 <= a1 and y1 <= b1:
-            return margin
-    return None
+    a0, b0, a1, b1 = region_box(c, 0, group)
+    need = max(a0 - x0, b0 - y0, x1 - a1, y1 - b1)
+    return next((margin for margin in MARGINS if margin >= need), None)
