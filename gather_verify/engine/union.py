@@ -29,8 +29,10 @@ The region rule (``check.run_check`` searches the MER grown by a margin of
 in the union of the configurations' regions with margin ``UNION_MARGIN``; a
 configuration's own search ends at the least margin of 2, 4, 8, 16, 32 whose
 region holds every node it reaches, and its counts, verdict and moves are
-those of that last search. A configuration is handed to the per-configuration
-check instead (:func:`gather_verify.sweeps.mclass.decide_class` returns it in ``fallback``) when that is
+those of that last search (a search that has met a violation is the last: one
+that needs a margin past 2 and reaches a violation goes back to its own check,
+which alone knows whether its margin-2 prefix meets it). A configuration is
+handed to the per-configuration check instead (:func:`gather_verify.sweeps.mclass.decide_class` returns it in ``fallback``) when that is
 not settled here exactly: a reachable state left the union's region or has
 no rule, a cycle is reachable, its space passes ``max_states``, the target is
 not equivariant on a reachable configuration, or move-bound is its first

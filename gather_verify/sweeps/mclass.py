@@ -148,7 +148,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
             failing = [p for p in props.ORDER if union.SAFETY_BITS.get(p, 0) & reach and p in wanted]
             if failing and margin > union.MARGINS[0] and not settings.keep_growing:
                 # its own search at the first margin is stopped by the region: whether that
-                # BFS prefix meets a violation, and so ends the search there, is its to say
+                # BFS prefix meets a violation, and so ends the search there, only it can say
                 fallback.append((index, c))
                 continue
             bound = settings.move_bound_c * D * n
