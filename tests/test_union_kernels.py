@@ -39,8 +39,9 @@ def _peeled(S: int, edges: list[tuple[int, int]]):
     w = np.ones(len(edges), dtype=np.int64)
     flags = np.zeros(S, dtype=np.uint8)
     box = np.zeros((S, 4), dtype=np.int64)
-    _, _, _, rounds, pred_off, pred_src, _, _ = _analyse("numpy", S, src, tgt, w, flags, box)
-    return rounds, pred_off, pred_src
+    _, _, _, rounds, pred_off, pred_src, out_off, out_tgt = _analyse("numpy", S, src, tgt, w,
+                                                                     flags, box)
+    return rounds, pred_off, pred_src, out_off, out_tgt
 
 
 def _topo(rounds):
@@ -62,24 +63,25 @@ def dags(draw):
 @given(dags())
 def test_seed_counts_equal_the_numpy_reference(dag):
     S, edges, seeds, events = dag
-    rounds, pred_off, pred_src = _peeled(S, edges)
+    rounds, pred_off, pred_src, out_off, out_tgt = _peeled(S, edges)
     counts = np.full(len(seeds), -1, dtype=np.int64)
     transitions = np.full(len(seeds), -1, dtype=np.int64)
     union._count(seeds, np.arange(len(seeds)), rounds, pred_off, pred_src, events, S, counts,
                  transitions)
     topo = _topo(rounds)
-    got = union_kernels.seed_counts(topo, pred_off, pred_src, seeds, events)
+    got = union_kernels.seed_counts(topo, pred_off, pred_src, out_off, out_tgt, seeds, events)
     assert got[0].tolist() == counts.tolist()
     assert got[1].tolist() == transitions.tolist()
 
 
 def test_a_wrong_count_is_caught():
     """The comparison can fail: the kernel without the seeds' own states counts less."""
-    rounds, pred_off, pred_src = _peeled(3, [(0, 1), (1, 2)])
+    rounds, pred_off, pred_src, out_off, out_tgt = _peeled(3, [(0, 1), (1, 2)])
     topo = _topo(rounds)
-    counts, _ = union_kernels.seed_counts(topo, pred_off, pred_src, np.array([0]), np.ones(3))
+    graph = (pred_off, pred_src, out_off, out_tgt)
+    counts, _ = union_kernels.seed_counts(topo, *graph, np.array([0]), np.ones(3))
     assert counts.tolist() == [3]
-    assert union_kernels.seed_counts(topo[1:], pred_off, pred_src, np.array([0]),
+    assert union_kernels.seed_counts(topo[1:], *graph, np.array([0]),
                                      np.ones(3))[0].tolist() != [3]
 
 

@@ -330,7 +330,7 @@ def explore_union(
     if kernels.enabled() and len(which):
         topo = np.concatenate([r[::-1] for r in rounds[::-1]]) if rounds else np.zeros(0, np.int64)
         counts[which], transitions[which] = union_kernels.seed_counts(
-            topo, pred_off, pred_src, seed_ids[which], events.array())
+            topo, pred_off, pred_src, out_off, out_tgt, seed_ids[which], events.array())
     else:
         _count(seed_ids, which, rounds, pred_off, pred_src, events.array().astype(np.int64),
                S, counts, transitions)

@@ -7,8 +7,9 @@ Two passes of the union engine (:mod:`gather_verify.engine.union`) over its grap
   does it round by round (a sort per round), the kernel state by state;
 - per seed, the states and events its own search would see: a set of seeds per
   state, 64 a word, pulled along the edges from the sources down. In numpy that is
-  a pass over every state per 64 seeds, whatever their reach; the kernel visits
-  each (state, seed) pair once, through the bits that are set.
+  a pass over every state per 64 seeds, whatever their reach; the kernel visits only
+  the states the 64 seeds reach, and each (state, seed) pair once, through the bits
+  that are set.
 
 ``GATHER_VERIFY_KERNELS=numpy`` (or numba missing) selects the numpy path,
 which stays the tested reference (``tests/test_union_kernels.py``); the switch is
@@ -40,20 +41,49 @@ for _i in range(64):
 
 
 def _seed_counts_py(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray,
-                    seeds: np.ndarray, events: np.ndarray, table: np.ndarray,
-                    counts: np.ndarray, transitions: np.ndarray) -> None:
+                    out_off: np.ndarray, out_tgt: np.ndarray, seeds: np.ndarray,
+                    events: np.ndarray, table: np.ndarray, counts: np.ndarray,
+                    transitions: np.ndarray) -> None:
     """States and events reachable from each of ``seeds``: ``topo`` lists every state
-    the seeds reach, each after its predecessors; results go to ``counts[j]`` and
-    ``transitions[j]`` for ``seeds[j]``."""
+    the seeds reach, each after its predecessors (a state not in it is never counted);
+    results go to ``counts[j]`` and ``transitions[j]`` for ``seeds[j]``. Per 64 seeds, only
+    the states they reach are visited: found forward along ``out_off``/``out_tgt``, then
+    pulled in ``topo`` order."""
     n_states = len(pred_off) - 1
     mark = np.zeros(n_states, dtype=np.uint64)
+    position = np.full(n_states, -1, dtype=np.int64)
+    for i in range(len(topo)):
+        position[topo[i]] = i
+    stamp = np.full(n_states, -1, dtype=np.int64)
+    stack = np.empty(n_states, dtype=np.int64)
+    reached = np.empty(n_states, dtype=np.int64)
     one, magic, shift = np.uint64(1), np.uint64(_MAGIC), np.uint64(58)
     for lo in range(0, len(seeds), 64):
-        mark[:] = 0
         hi = min(len(seeds), lo + 64)
+        top = 0
         for j in range(lo, hi):
-            mark[seeds[j]] |= one << np.uint64(j - lo)
-        for s in topo:
+            s = seeds[j]
+            mark[s] |= one << np.uint64(j - lo)
+            if stamp[s] != lo:
+                stamp[s] = lo
+                stack[top] = s
+                top += 1
+        found = 0
+        while top:
+            top -= 1
+            s = stack[top]
+            if position[s] >= 0:
+                reached[found] = position[s]
+                found += 1
+            for e in range(out_off[s], out_off[s + 1]):
+                t = out_tgt[e]
+                if stamp[t] != lo:
+                    stamp[t] = lo
+                    stack[top] = t
+                    top += 1
+        order = np.sort(reached[:found])
+        for i in range(found):
+            s = topo[order[i]]
             m = mark[s]
             for e in range(pred_off[s], pred_off[s + 1]):
                 m |= mark[pred_src[e]]
@@ -65,6 +95,10 @@ def _seed_counts_py(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray
                 counts[b] += 1
                 transitions[b] += w
                 m ^= low
+        for i in range(found):  # the marks of these seeds, cleared for the next 64
+            mark[topo[order[i]]] = 0
+        for j in range(lo, hi):
+            mark[seeds[j]] = 0
 
 
 
@@ -123,11 +157,13 @@ def peel(out_off: np.ndarray, tgt: np.ndarray, w: np.ndarray, pred_off: np.ndarr
 
 
 def seed_counts(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray,
-                seeds: np.ndarray, events: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                out_off: np.ndarray, out_tgt: np.ndarray, seeds: np.ndarray,
+                events: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Per seed: the states and events it reaches (compiled; see the module docstring)."""
     counts = np.zeros(len(seeds), dtype=np.int64)
     transitions = np.zeros(len(seeds), dtype=np.int64)
-    _jit(_seed_counts_py)(topo.astype(np.int64), pred_off.astype(np.int64), pred_src.astype(np.int64),
-                 seeds.astype(np.int64), events.astype(np.int64), _DE_BRUIJN, counts,
-                 transitions)
+    _jit(_seed_counts_py)(topo.astype(np.int64), pred_off.astype(np.int64),
+                          pred_src.astype(np.int64), out_off.astype(np.int64),
+                          out_tgt.astype(np.int64), seeds.astype(np.int64),
+                          events.astype(np.int64), _DE_BRUIJN, counts, transitions)
     return counts, transitions

@@ -114,6 +114,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     for k, (_, c, _, nc) in enumerate(todo):
         by_n.setdefault((nc.meeting_nodes, c.n), []).append(k)
     rows: list[dict[str, Any]] = []
+    trace_facts: dict[frozenset, Any] = {}  # the facts met by the traces, per M
     union_states = 0
     graph_props = bool({"move-bound", "termination"} & set(wanted))
     for ks in by_n.values():
@@ -159,7 +160,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
             t0 = time.perf_counter()
             trace = None
             if failing:
-                trace = witness_trace(u, j, c, failing[0], margin, settings)
+                trace = witness_trace(u, j, c, failing[0], margin, settings, trace_facts)
                 if trace is None:
                     fallback.append((index, c))
                     continue
@@ -194,15 +195,23 @@ _TRANSITION = object()  # marks a transition witness: the trace finds the edge i
 
 
 def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, prop: str, margin: int,
-                  settings: Any) -> dict[str, Any] | None:
+                  settings: Any, facts: dict[frozenset, Any] | None = None
+                  ) -> dict[str, Any] | None:
     """The trace ``run_check`` reports for the safety property ``prop`` from ``c`` (seed
     ``seed`` of ``u``): its first witness and BFS path found in the
     union graph, mapped back and concretised as the check does (:func:`check._safety_trace`,
-    on the keys of the check's own encoding, margin ``margin``)."""
+    on the keys of the check's own encoding, margin ``margin``). ``facts``: the facts
+    caches of the class's traces, by meeting-node set, filled here (a configuration's
+    facts do not depend on the initial configuration they carry, which only a property
+    of the user's could read, and those are never decided here)."""
     path = u.witness_path(seed, union.SAFETY_BITS[prop], fresh=prop == "no-ungatherable")
     if path is None:
         return None
     algo = get_algorithm(settings.algorithm)
+    facts = {} if facts is None else facts
+    if c.meeting_nodes not in facts:
+        facts[c.meeting_nodes] = facts_cache(algo, c, settings.detection,
+                                             frames_for(settings.frames))
     group = symmetry_group(c, settings.frames)
     enc = Encoding(region_box(c, margin, group), group, True)
     tx, ty = union.meeting_form(c)[1][1]  # normal = c + t
@@ -214,7 +223,6 @@ def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, prop: str, m
                                   for (x, y), p in state)))
     e = Exploration(c, algo, settings.scheduler, settings.detection, settings.frames, True, True,
                     enc, keys, [-1, *range(len(path) - 1)], [], [], [], 0, len(path), 0, None,
-                    {}, 0.0, 0.0, facts_cache(algo, c, settings.detection,
-                                              frames_for(settings.frames)), {})
+                    {}, 0.0, 0.0, facts[c.meeting_nodes], {})
     event = _TRANSITION if prop == "target-invariance" else None
     return _safety_trace(e, Violation(prop, len(path) - 1, "", event))  # type: ignore[arg-type]
