@@ -56,7 +56,7 @@ def _seed_counts_py(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray
         position[topo[i]] = i
     stamp = np.full(n_states, -1, dtype=np.int64)
     stack = np.empty(n_states, dtype=np.int64)
-    reached = np.empty(n_states, dtype=np.int64)
+    reached = np.empty(n_states, dtype=np.int64)  # positions in topo of the states reached
     one, magic, shift = np.uint64(1), np.uint64(_MAGIC), np.uint64(58)
     for lo in range(0, len(seeds), 64):
         hi = min(len(seeds), lo + 64)
