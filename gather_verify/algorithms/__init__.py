@@ -43,6 +43,7 @@ from gather_verify.algorithms.nearest_centre import NearestCentre
 from gather_verify.algorithms.paper import PaperAlgorithm
 from gather_verify.algorithms.random_equivariant import RandomEquivariant
 from gather_verify.errors import InvalidInput
+from gather_verify.recent import most_recent
 
 REGISTRY: dict[str, Callable[..., Algorithm]] = {
     "go-to-target": GoToTarget,
@@ -91,18 +92,17 @@ def get_algorithm(spec: str) -> Algorithm:
             known = sorted({*REGISTRY, *entry_point_names()})
             raise InvalidInput(f"unknown algorithm {name!r}: use one of {', '.join(known)}, "
                              "or FILE.py:NAME or package.module:NAME")
-    algorithm = _INSTANCES.pop((spec, factory), None)
-    if algorithm is None:
-        while len(_INSTANCES) >= INSTANCES_KEPT:
-            del _INSTANCES[next(iter(_INSTANCES))]  # the least recently used
+
+    def make() -> Algorithm:
         algorithm = instantiate(factory, options, spec)
         if named and getattr(algorithm, "name", None) != spec:
             try:  # the spec, so a trace or a stored row names what loads it again
                 algorithm.name = spec
             except AttributeError:
                 raise InvalidInput(f"algorithm {spec!r}: cannot set its name attribute") from None
-    _INSTANCES[spec, factory] = algorithm
-    return algorithm
+        return algorithm
+
+    return most_recent(_INSTANCES, (spec, factory), make, INSTANCES_KEPT)
 
 
 def _register_optional(name: str) -> None:

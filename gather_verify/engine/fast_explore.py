@@ -67,6 +67,7 @@ from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
 from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
 from gather_verify.model.view import check_detection
+from gather_verify.recent import most_recent
 from schedulers import State, get_scheduler, initial_state
 
 CHUNK = 1 << 14
@@ -357,18 +358,6 @@ _MEMOS: dict[tuple[Algorithm, str, str], FactsMemo] = {}
 _TARGETS: dict[Algorithm, dict[tuple, Node | None]] = {}
 
 
-def _recent(memos: dict, key: Any) -> dict:
-    """The memo of ``key`` in ``memos``, made the most recent; the oldest beyond
-    :data:`MEMO_ALGORITHMS` are dropped."""
-    memo = memos.pop(key, None)
-    if memo is None:
-        memo = {}
-        while len(memos) >= MEMO_ALGORITHMS:
-            del memos[next(iter(memos))]
-    memos[key] = memo
-    return memo
-
-
 def make_room(limit_mb: float) -> None:
     """Drop every memo when this process holds more than half its memory limit: the memos
     are a cache (a few hundred bytes to kilobytes per configuration), and a check must not
@@ -381,13 +370,13 @@ def make_room(limit_mb: float) -> None:
 
 def facts_memo(algorithm: Algorithm, detection: str, frames: str) -> FactsMemo:
     """The memo this process shares among the checks of one algorithm object."""
-    return _recent(_MEMOS, (algorithm, detection, frames))
+    return most_recent(_MEMOS, (algorithm, detection, frames), dict, MEMO_ALGORITHMS)
 
 
 def target_memo(algorithm: Algorithm) -> dict[tuple, Node | None]:
     """Targets of configurations (robots and meeting nodes as they are: no symmetry assumed
     of ``target``), shared like :func:`facts_memo` by the checks of a sweep."""
-    return _recent(_TARGETS, algorithm)
+    return most_recent(_TARGETS, algorithm, dict, MEMO_ALGORITHMS)
 
 
 def _step_perm(g: int) -> tuple[int, ...]:
