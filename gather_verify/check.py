@@ -179,21 +179,28 @@ def run_check(
     keep_graph = on_exploration is not None or any(
         get_property(p).kind == "graph" for p in wanted)
 
-    def search(lim: Limits) -> tuple[Exploration, dict[str, dict[str, Any]]]:
+    def search(lim: Limits) -> tuple[Exploration, dict[str, dict[str, Any]] | None]:
+        """The search in ``lim``'s region, and its traces (None: not needed yet, the region
+        grows whatever they are)."""
         e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
                     frames=frames, reduction=reduction, properties=wanted, limits=lim,
                     memo=memo, graph=keep_graph)
+        if keep_growing:
+            return e, None
         return e, _witnesses(e, configuration, algorithm, scheduler, engine, detection,
                              frames, lim)
 
     e, traces = search(lim)
     while (fixed_margin is None and e.stopped == "region" and lim.margin < AUTO_MARGIN_MAX
-           and (keep_growing or not traces)):
+           and not traces):
         left = max_seconds - (time.perf_counter() - started)
         if left <= 0:
             break
         lim = replace(lim, margin=min(2 * lim.margin, AUTO_MARGIN_MAX), max_seconds=left)
         e, traces = search(lim)
+    if traces is None:
+        traces = _witnesses(e, configuration, algorithm, scheduler, engine, detection, frames,
+                            lim)
     report["limits"]["margin"] = lim.margin
     if on_exploration is not None:
         on_exploration(e)
