@@ -195,8 +195,7 @@ _TRANSITION = object()  # marks a transition witness: the trace finds the edge i
 
 
 def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, prop: str, margin: int,
-                  settings: Any, facts: dict[frozenset, Any] | None = None
-                  ) -> dict[str, Any] | None:
+                  settings: Any, facts: dict[frozenset, Any]) -> dict[str, Any] | None:
     """The trace ``run_check`` reports for the safety property ``prop`` from ``c`` (seed
     ``seed`` of ``u``): its first witness and BFS path found in the
     union graph, mapped back and concretised as the check does (:func:`check._safety_trace`,
@@ -208,7 +207,6 @@ def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, prop: str, m
     if path is None:
         return None
     algo = get_algorithm(settings.algorithm)
-    facts = {} if facts is None else facts
     if c.meeting_nodes not in facts:
         facts[c.meeting_nodes] = facts_cache(algo, c, settings.detection,
                                              frames_for(settings.frames))
