@@ -16,7 +16,7 @@ import pytest
 
 from gather_verify.cli import main
 from gather_verify.sweeps.store import Store
-from gather_verify.sweeps.sweep import SweepSettings, run_sweep
+from gather_verify.sweeps.sweep import SweepSettings, run_sweep, summarise
 
 SMALL = SweepSettings(robots=2, meeting=2, box=(3, 3), algorithm="go-to-target", scheduler="async")
 
@@ -62,13 +62,19 @@ def test_rerun_resumes_without_recomputing(tmp_path: Path) -> None:
     assert second["total"] > 5
 
 
-def test_results_without_traces_are_the_rows_less_their_traces(tmp_path: Path) -> None:
+def test_the_summary_counted_in_the_store_is_the_summary_of_its_rows(tmp_path: Path) -> None:
+    """``run_sweep`` counts its summary in SQL (``Store.totals``, ``Store.slowest``): the same
+    dict as :func:`summarise` over the rows read back, down to the order of its keys (the
+    text tables print them in that order)."""
     db = tmp_path / "s.sqlite"
-    run_sweep(replace(SMALL, algorithm="broken-stay"), str(db), workers=1, progress=False)
+    batch = [replace(SMALL, algorithm="broken-stay"), SMALL,
+             SweepSettings(robots=3, meeting=2, box=(3, 3), algorithm="paper", scheduler="async")]
+    summary = run_sweep(batch, str(db), workers=1, progress=False)
     store = Store(str(db))
-    whole, light = store.results(1), store.results(1, traces=False)
-    assert any(r["trace"] for r in whole) and not any(r["trace"] for r in light)
-    assert [{**r, "trace": None} for r in whole] == light
+    rows = [r for i, _ in store.sweeps() for r in store.results(i)]
+    expected = summarise(rows)
+    assert summary["failing_properties"] and summary["max_ratio"]  # something to count
+    assert json.dumps(summary) == json.dumps(expected)
 
 
 def test_pool_and_dask_give_identical_results(tmp_path: Path) -> None:

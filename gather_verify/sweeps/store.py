@@ -133,16 +133,36 @@ class Store:
         return [{"sweep": sweep, "index": index, "meeting_nodes": json.loads(m), "seconds": sec}
                 for sweep, index, m, sec in cursor]
 
+    def totals(self, sweep: int) -> list[tuple[Any, ...]]:
+        """A sweep's rows counted for a summary, no row read: ``(class, verdict, property,
+        failing, count, largest ratio)`` per group of rows alike in these (and in having a
+        ratio), in order of each group's first row, so totals summed in this order meet
+        every class, verdict and property where the rows themselves would."""
+        cursor = self.db.execute(
+            "SELECT class, verdict, property, failing, COUNT(*), MAX(ratio) FROM results "
+            "WHERE sweep = ? GROUP BY class, verdict, property, failing, ratio IS NULL "
+            'ORDER BY MIN("index")', (sweep,))
+        return [(c, v, p, None if f is None else json.loads(f), k, r) for c, v, p, f, k, r in cursor]
+
+    def slowest(self, sweep: int, count: int) -> list[dict[str, Any]]:
+        """The ``count`` rows of a sweep that took longest (ties: enumeration order), with
+        their nodes, class and seconds."""
+        cursor = self.db.execute(
+            "SELECT r.robots, r.meeting_nodes, r.class, t.seconds FROM results r LEFT JOIN "
+            "timings t ON t.sweep = r.sweep AND t.key = r.key WHERE r.sweep = ? "
+            'ORDER BY COALESCE(t.seconds, 0) DESC, r."index" LIMIT ?', (sweep, count))
+        return [{"robots": json.loads(robots), "meeting_nodes": json.loads(m), "class": c,
+                 "seconds": sec} for robots, m, c, sec in cursor]
+
     def forget(self, sweep: int) -> None:
         """Drop every stored row of a sweep (``sweep --fresh``)."""
         with self.db:
             self.db.execute("DELETE FROM results WHERE sweep = ?", (sweep,))
             self.db.execute("DELETE FROM timings WHERE sweep = ?", (sweep,))
 
-    def results(self, sweep: int, traces: bool = True) -> list[dict[str, Any]]:
-        """All results of a sweep in enumeration order, with their timings (``traces=False``:
-        each ``trace`` None, for totals that never read one: decoding them is most of the work)."""
-        names = ",".join(f'r."{c}"' if traces or c != "trace" else "NULL" for c in COLUMNS)
+    def results(self, sweep: int) -> list[dict[str, Any]]:
+        """All results of a sweep in enumeration order, with their timings."""
+        names = ",".join(f'r."{c}"' for c in COLUMNS)
         cursor = self.db.execute(
             f"SELECT {names}, t.seconds FROM results r LEFT JOIN timings t "
             f"ON t.sweep = r.sweep AND t.key = r.key WHERE r.sweep = ? ORDER BY r.\"index\"",

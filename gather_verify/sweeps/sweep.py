@@ -15,7 +15,7 @@ import json
 import os
 import sys
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import asdict, dataclass, field, replace
 from functools import partial
 from typing import Any
@@ -196,10 +196,12 @@ def run_sweep(
                 bar.advance(len(rows))
         finally:
             bar.close()
-        rows = [row for _, sweep, _ in plan for row in store.results(sweep, traces=False)]
+        # counted in the store: reading back every row took seconds a whole box
+        groups = [group for _, sweep, _ in plan for group in store.totals(sweep)]
+        slowest = _slowest(row for _, sweep, _ in plan for row in store.slowest(sweep, SLOWEST))
     finally:
         store.close()
-    return summarise(rows, batch[0] if len(batch) == 1 else None)
+    return summarise_totals(groups, slowest, batch[0] if len(batch) == 1 else None)
 
 
 Task = tuple[int, SweepSettings, list[tuple[int, Configuration]]]
@@ -353,6 +355,23 @@ def summarise(rows: list[dict[str, Any]], settings: SweepSettings | None = None)
     """Totals per class and verdict, failing properties (``failing_properties``: the one each
     configuration names first; ``failing_every``: every one that fails), worst ratios,
     slowest configurations."""
+    groups = [(r["class"], r["verdict"], r.get("property"), r.get("failing"), 1, r.get("ratio"))
+              for r in rows]
+    return summarise_totals(groups, _slowest(rows), settings)
+
+
+SLOWEST = 5
+"""How many of the slowest configurations a summary names."""
+
+
+def _slowest(rows: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
+    return sorted(rows, key=lambda r: -(r.get("seconds") or 0.0))[:SLOWEST]
+
+
+def summarise_totals(groups: Iterable[tuple[Any, ...]], slowest: list[dict[str, Any]],
+                     settings: SweepSettings | None = None) -> dict[str, Any]:
+    """:func:`summarise` from rows counted in groups (``Store.totals``: ``(class, verdict,
+    property, failing, count, largest ratio)``, in order of first row) and the slowest rows."""
     from gather_verify.model.classes import CLASS_NAMES
 
     classes = dict.fromkeys(CLASS_NAMES, 0)
@@ -360,23 +379,23 @@ def summarise(rows: list[dict[str, Any]], settings: SweepSettings | None = None)
     failing: dict[str, dict[str, int]] = {}
     every: dict[str, dict[str, int]] = {}
     worst: dict[str, float] = {}
-    for row in rows:
-        name = row["class"]
-        classes[name] = classes.get(name, 0) + 1
+    total = 0
+    for name, verdict, prop, fails, count, ratio in groups:
+        total += count
+        classes[name] = classes.get(name, 0) + count
         by = verdicts.setdefault(name, {})
-        by[row["verdict"]] = by.get(row["verdict"], 0) + 1
-        if row["verdict"] == "VIOLATED" and row.get("property"):
+        by[verdict] = by.get(verdict, 0) + count
+        if verdict == "VIOLATED" and prop:
             f = failing.setdefault(name, {})
-            f[row["property"]] = f.get(row["property"], 0) + 1
+            f[prop] = f.get(prop, 0) + count
             e = every.setdefault(name, {})
-            for prop in row.get("failing") or [row["property"]]:
-                e[prop] = e.get(prop, 0) + 1
-        if row.get("ratio") is not None:
-            worst[name] = max(worst.get(name, 0.0), float(row["ratio"]))
-    slowest = sorted(rows, key=lambda r: -(r.get("seconds") or 0.0))[:5]
+            for one in fails or [prop]:
+                e[one] = e.get(one, 0) + count
+        if ratio is not None:
+            worst[name] = max(worst.get(name, 0.0), float(ratio))
     return {
         "settings": settings.key() if settings else None,
-        "total": len(rows),
+        "total": total,
         "classes": classes,
         "verdicts": verdicts,
         "failing_properties": failing,
