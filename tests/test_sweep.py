@@ -13,6 +13,8 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from gather_verify.cli import main
 from gather_verify.sweeps.store import Store
@@ -144,3 +146,15 @@ def test_sigkill_then_resume_equals_clean_run(tmp_path: Path) -> None:
     assert main(["sweep", *argv, "--db", str(clean)]) == code
     assert results_table(killed) == results_table(clean)
     assert len(results_table(clean)) > partial
+
+
+@given(st.lists(st.tuples(st.integers(-9, 9), st.integers(-9, 9)), min_size=1, max_size=5),
+       st.sets(st.tuples(st.integers(-9, 9), st.integers(-9, 9)), min_size=1, max_size=4))
+def test_configuration_keys_are_the_compact_json_stores_were_keyed_by(robots, meeting) -> None:
+    """Rows of every earlier store are found by this key: it must stay this JSON, byte for byte."""
+    from gather_verify.model.configuration import Configuration
+    from gather_verify.sweeps.sweep import configuration_key
+
+    c = Configuration(robots, meeting)
+    assert configuration_key(c) == json.dumps(
+        [sorted(map(list, c.robots)), sorted(map(list, c.meeting_nodes))], separators=(",", ":"))

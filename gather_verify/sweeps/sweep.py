@@ -11,7 +11,6 @@ the stored results are the same whichever ran them.
 from __future__ import annotations
 
 import itertools
-import json
 import os
 import sys
 import time
@@ -69,9 +68,15 @@ class SweepSettings:
 
 
 def configuration_key(c: Configuration) -> str:
-    """Stable text key of a (canonical) configuration."""
-    return json.dumps([sorted(map(list, c.robots)), sorted(map(list, c.meeting_nodes))],
-                      separators=(",", ":"))
+    """Stable text key of a (canonical) configuration: the compact JSON of its sorted robots
+    and meeting nodes, written out by hand (json.dumps took seconds over a whole box).
+
+    >>> configuration_key(Configuration([(1, 0), (-1, 2)], [(0, 0)]))
+    '[[[-1,2],[1,0]],[[0,0]]]'
+    """
+    robots = ",".join(f"[{x},{y}]" for x, y in sorted(c.robots))
+    meeting = ",".join(f"[{x},{y}]" for x, y in sorted(c.meeting_nodes))
+    return f"[[{robots}],[{meeting}]]"
 
 
 def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[str, Any]:
