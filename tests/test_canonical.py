@@ -128,3 +128,17 @@ def test_memos_are_dropped_when_the_process_is_over_half_its_memory_limit():
     assert fast_explore._MEMOS
     fast_explore.make_room(1.0)  # over half of 1 MB: dropped
     assert not fast_explore._MEMOS and not fast_explore._TARGETS
+
+
+@settings(max_examples=300, deadline=None)
+@given(configurations, isometries, st.booleans())
+def test_an_image_carries_the_canonical_form_it_would_find(c, iso, known):
+    """``transformed`` derives the image's form from a known one (``moved_form``): it must be
+    the form a search of the image finds, minimisers and their order included."""
+    g, t = iso
+    if known:
+        c.canonical_form  # noqa: B018
+    image = c.transformed(g, t)
+    assert ("canonical_form" in image.__dict__) == known
+    fresh = Configuration(image.robots, image.meeting_nodes)
+    assert image.canonical_form == fresh.canonical_form

@@ -71,6 +71,26 @@ def canonical_form(robots: Iterable[Node], meeting_nodes: Iterable[Node],
                           tuple(divmod(v, width) for v in best[1])), tuple(reach))
 
 
+def moved_form(form: CanonicalForm, h: int, s: Node) -> CanonicalForm:
+    """The canonical form (over all of D4) of the image of a snapshot under ``v -> h(v) + s``,
+    from the snapshot's own ``form``, with no search: the image has the same key, and
+    ``(g, t)`` reaches it from the snapshot exactly when ``(g h^-1, t - g h^-1 (s))`` reaches
+    it from the image.
+
+    >>> f = canonical_form([(0, 0), (2, 1)], [(1, 0)])
+    >>> moved_form(f, 1, (5, -3)) == canonical_form([(5, -3), (4, -1)], [(5, -2)])
+    True
+    """
+    back = geometry.inverse(h)
+    reach = []
+    for g, t in form.minimisers:
+        k = geometry.compose(g, back)
+        u = geometry.apply(k, s)
+        reach.append((k, (t[0] - u[0], t[1] - u[1])))
+    reach.sort()
+    return CanonicalForm(form.key, tuple(reach))
+
+
 def canonical(robots: Iterable[Node], meeting_nodes: Iterable[Node]) -> tuple[Key, int, Node]:
     """The canonical key with the first ``(g, t)`` (in D4's order) that maps the snapshot
     onto it."""

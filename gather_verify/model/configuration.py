@@ -20,7 +20,7 @@ from functools import cached_property
 
 from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
-from gather_verify.model.canonical import CanonicalForm, canonical_form
+from gather_verify.model.canonical import CanonicalForm, canonical_form, moved_form
 from gather_verify.model.geometry import Node
 
 EMPTY, MEETING, ROBOT_ON_MEETING, MULTI_ON_MEETING, ROBOT, MULTI = range(6)
@@ -193,12 +193,18 @@ class Configuration:
 
     # -- transformations ------------------------------------------------------
     def transformed(self, g: int, t: Node = (0, 0)) -> Configuration:
-        """Image under ``v -> g(v) + t``."""
-        f = geometry.apply
-        return Configuration.trusted(
-            tuple(sorted(geometry.add(f(g, r), t) for r in self.robots)),
-            frozenset(geometry.add(f(g, m), t) for m in self.meeting_nodes),
-        )
+        """Image under ``v -> g(v) + t``. If this configuration's canonical form is known,
+        the image's comes from it (:func:`~gather_verify.model.canonical.moved_form`), with
+        no search of its own."""
+        a, b, c, d = geometry.MATRICES[g]
+        tx, ty = t
+        image = Configuration.trusted(
+            tuple(sorted([(a * x + b * y + tx, c * x + d * y + ty) for x, y in self.robots])),
+            frozenset((a * x + b * y + tx, c * x + d * y + ty) for x, y in self.meeting_nodes))
+        form = self.__dict__.get("canonical_form")
+        if form is not None:
+            image.__dict__["canonical_form"] = moved_form(form, g, t)
+        return image
 
     def moved(self, moves: Iterable[tuple[Node, Node]]) -> Configuration:
         """The configuration after robots move ``source -> destination``."""
