@@ -74,6 +74,23 @@ def test_seed_counts_equal_the_numpy_reference(dag):
     assert got[1].tolist() == transitions.tolist()
 
 
+@settings(max_examples=10, deadline=None)
+@given(dags(), st.integers(1025, 2600), st.randoms(use_true_random=False))
+def test_seed_counts_of_many_seeds_equal_the_numpy_reference(dag, many, rng):
+    """More seeds than one pass of the kernel takes (``64 * SEED_WORDS``), repeats included."""
+    S, edges, _, events = dag
+    seeds = np.array([rng.randrange(S) for _ in range(many)], dtype=np.int64)
+    rounds, pred_off, pred_src, out_off, out_tgt = _peeled(S, edges)
+    counts = np.full(many, -1, dtype=np.int64)
+    transitions = np.full(many, -1, dtype=np.int64)
+    union._count(seeds, np.arange(many), rounds, pred_off, pred_src, events, S, counts,
+                 transitions)
+    got = union_kernels.seed_counts(_topo(rounds), pred_off, pred_src, out_off, out_tgt, seeds,
+                                    events)
+    assert got[0].tolist() == counts.tolist()
+    assert got[1].tolist() == transitions.tolist()
+
+
 def test_a_wrong_count_is_caught():
     """The comparison can fail: the kernel without the seeds' own states counts less."""
     rounds, pred_off, pred_src, out_off, out_tgt = _peeled(3, [(0, 1), (1, 2)])

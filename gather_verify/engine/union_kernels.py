@@ -7,9 +7,9 @@ Two passes of the union engine (:mod:`gather_verify.engine.union`) over its grap
   does it round by round (a sort per round), the kernel state by state;
 - per seed, the states and events its own search would see: a set of seeds per
   state, 64 a word, pulled along the edges from the sources down. In numpy that is
-  a pass over every state per 64 seeds, whatever their reach; the kernel visits only
-  the states the 64 seeds reach, and each (state, seed) pair once, through the bits
-  that are set.
+  a pass over every state per 64 seeds, whatever their reach; the kernel takes up
+  to 1,024 seeds a pass (16 words a state), visits only the states they reach, and
+  each (state, seed) pair once, through the bits that are set.
 
 ``GATHER_VERIFY_KERNELS=numpy`` (or numba missing) selects the numpy path,
 which stays the tested reference (``tests/test_union_kernels.py``); the switch is
@@ -42,15 +42,17 @@ for _i in range(64):
 
 def _seed_counts_py(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray,
                     out_off: np.ndarray, out_tgt: np.ndarray, seeds: np.ndarray,
-                    events: np.ndarray, table: np.ndarray, counts: np.ndarray,
+                    events: np.ndarray, table: np.ndarray, words: int, counts: np.ndarray,
                     transitions: np.ndarray) -> None:
     """States and events reachable from each of ``seeds``: ``topo`` lists every state
     the seeds reach, each after its predecessors (a state not in it is never counted);
-    results go to ``counts[j]`` and ``transitions[j]`` for ``seeds[j]``. Per 64 seeds, only
-    the states they reach are visited: found forward along ``out_off``/``out_tgt``, then
-    pulled in ``topo`` order."""
+    results go to ``counts[j]`` and ``transitions[j]`` for ``seeds[j]``. Per ``64 * words``
+    seeds (a set of them per state, ``words`` 64-bit words), only the states they reach
+    are visited: found forward along ``out_off``/``out_tgt``, then pulled in ``topo``
+    order. Each pass costs about the states it reaches, so the more seeds a pass takes,
+    the fewer passes over much the same states."""
     n_states = len(pred_off) - 1
-    mark = np.zeros(n_states, dtype=np.uint64)
+    mark = np.zeros((n_states, words), dtype=np.uint64)
     position = np.full(n_states, -1, dtype=np.int64)
     for i in range(len(topo)):
         position[topo[i]] = i
@@ -58,12 +60,13 @@ def _seed_counts_py(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray
     stack = np.empty(n_states, dtype=np.int64)
     reached = np.empty(n_states, dtype=np.int64)  # positions in topo of the states reached
     one, magic, shift = np.uint64(1), np.uint64(_MAGIC), np.uint64(58)
-    for lo in range(0, len(seeds), 64):
-        hi = min(len(seeds), lo + 64)
+    per_pass = 64 * words
+    for lo in range(0, len(seeds), per_pass):
+        hi = min(len(seeds), lo + per_pass)
         top = 0
         for j in range(lo, hi):
             s = seeds[j]
-            mark[s] |= one << np.uint64(j - lo)
+            mark[s, (j - lo) >> 6] |= one << np.uint64((j - lo) & 63)
             if stamp[s] != lo:
                 stamp[s] = lo
                 stack[top] = s
@@ -84,23 +87,24 @@ def _seed_counts_py(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray
         order = np.sort(reached[:found])
         for i in range(found):
             s = topo[order[i]]
-            m = mark[s]
-            for e in range(pred_off[s], pred_off[s + 1]):
-                m |= mark[pred_src[e]]
-            mark[s] = m
             w = events[s]
-            while m:
-                low = m & (~m + one)
-                b = lo + table[(low * magic) >> shift]
-                counts[b] += 1
-                transitions[b] += w
-                m ^= low
-        for i in range(found):  # the marks of these seeds, cleared for the next 64
+            for e in range(pred_off[s], pred_off[s + 1]):
+                p = pred_src[e]
+                for word in range(words):
+                    mark[s, word] |= mark[p, word]
+            for word in range(words):
+                m = mark[s, word]
+                base = lo + 64 * word
+                while m:
+                    low = m & (~m + one)
+                    b = base + table[(low * magic) >> shift]
+                    counts[b] += 1
+                    transitions[b] += w
+                    m ^= low
+        for i in range(found):  # the marks of these seeds, cleared for the next pass
             mark[topo[order[i]]] = 0
         for j in range(lo, hi):
             mark[seeds[j]] = 0
-
-
 
 
 def _peel_py(out_off: np.ndarray, tgt: np.ndarray, w: np.ndarray, pred_off: np.ndarray,
@@ -156,14 +160,22 @@ def peel(out_off: np.ndarray, tgt: np.ndarray, w: np.ndarray, pred_off: np.ndarr
     return order[:count]
 
 
+SEED_WORDS = 16
+"""64-bit words of seeds per pass of :func:`seed_counts` (fewer when the graph is large)."""
+
+
 def seed_counts(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray,
                 out_off: np.ndarray, out_tgt: np.ndarray, seeds: np.ndarray,
                 events: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Per seed: the states and events it reaches (compiled; see the module docstring)."""
+    """Per seed: the states and events it reaches (compiled; see the module docstring).
+    A pass takes up to ``64 * SEED_WORDS`` seeds (the marks of the graph in at most
+    128 MB)."""
     counts = np.zeros(len(seeds), dtype=np.int64)
     transitions = np.zeros(len(seeds), dtype=np.int64)
+    states = len(pred_off) - 1
+    words = max(1, min(SEED_WORDS, -(-len(seeds) // 64), (128 << 20) // (8 * max(1, states))))
     _jit(_seed_counts_py)(topo.astype(np.int64), pred_off.astype(np.int64),
                           pred_src.astype(np.int64), out_off.astype(np.int64),
                           out_tgt.astype(np.int64), seeds.astype(np.int64),
-                          events.astype(np.int64), _DE_BRUIJN, counts, transitions)
+                          events.astype(np.int64), _DE_BRUIJN, words, counts, transitions)
     return counts, transitions
