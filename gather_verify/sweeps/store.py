@@ -78,6 +78,10 @@ class Store:
                                  f"has no column {missing[0]!r})")
         self.db.execute("PRAGMA journal_mode=WAL")
         self.db.execute("PRAGMA synchronous=NORMAL")
+        # a whole box is 645,598 rows keyed by text, added a task at a time: pages in memory
+        # and the log checkpointed every 64 MB, not every 4 MB (26 s of writing -> ~15 s)
+        self.db.execute("PRAGMA cache_size=-65536")
+        self.db.execute("PRAGMA wal_autocheckpoint=16384")
 
     def close(self) -> None:
         self.db.close()
