@@ -209,7 +209,6 @@ class _Equivariance:
                 try:  # through the table's targets: the images are rows of the class too
                     t = self.table.target_of(c)
                     ok = True
-                    c.canonical_form  # noqa: B018 (known, the images' forms follow from it)
                     for a in self.group:
                         image = c.transformed(a.g, a.t)
                         if self.table.target_of(image) != (None if t is None else a(t)):
