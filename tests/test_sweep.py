@@ -74,6 +74,7 @@ def test_the_summary_counted_in_the_store_is_the_summary_of_its_rows(tmp_path: P
     summary = run_sweep(batch, str(db), workers=1, progress=False)
     store = Store(str(db))
     rows = [r for i, _ in store.sweeps() for r in store.results(i)]
+    assert any(r["trace"] for r in rows)  # the stored rows carry their traces
     expected = summarise(rows)
     assert summary["failing_properties"] and summary["max_ratio"]  # something to count
     assert json.dumps(summary) == json.dumps(expected)

@@ -189,6 +189,7 @@ def _canonical_masks_lazy(n: int, m: int, w: int, h: int) -> Iterator[np.ndarray
                       if (x < w and y < h) or (x < h and y < w)], dtype=np.int64)
     meeting_sets = _subsets(len(frame), m)
     mx, my = frame[meeting_sets, 0], frame[meeting_sets, 1]
+    m_left, m_low = mx.min(axis=1), my.min(axis=1)  # the meeting sets' extents, once
     m_wide, m_high = mx.max(axis=1), my.max(axis=1)
     robots_iter = itertools.combinations(range(len(frame)), n)
     per_block = 1
@@ -202,8 +203,8 @@ def _canonical_masks_lazy(n: int, m: int, w: int, h: int) -> Iterator[np.ndarray
         # and fits the box, told from the two sets' own extents before any pair is built
         wide = np.maximum(bx.max(axis=1)[:, None], m_wide)
         high = np.maximum(by.max(axis=1)[:, None], m_high)
-        keep = ((np.minimum(bx.min(axis=1)[:, None], mx.min(axis=1)) == 0)
-                & (np.minimum(by.min(axis=1)[:, None], my.min(axis=1)) == 0)
+        keep = ((np.minimum(bx.min(axis=1)[:, None], m_left) == 0)
+                & (np.minimum(by.min(axis=1)[:, None], m_low) == 0)
                 & (((wide < w) & (high < h)) | ((wide < h) & (high < w))))
         ri, mi = np.nonzero(keep)
         xs = np.concatenate([bx[ri], mx[mi]], axis=1)
