@@ -61,7 +61,7 @@ from gather_verify.engine.explore import (
     rss_mb,
 )
 from gather_verify.model import geometry
-from gather_verify.model.canonical import canonical_form
+from gather_verify.model.canonical import CanonicalForm, canonical_form, moved_form
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
@@ -457,16 +457,33 @@ class FactsTable:
         self.orbit: dict[int, int] = {}
         self.omasks = np.zeros((1024, n), dtype=np.uint8)
         self.oflags = np.zeros((1024, 3), dtype=np.int8)
+        # per orbit, the canonical form of its representative when one was computed (what
+        # the algorithm's own work left, or the memo's); per row, its orbit and the element
+        # of ``group`` that maps it onto the representative: a row's form then comes from
+        # the representative's with no search (canonical.moved_form), which is most of
+        # what its target costs
+        self.oforms: list[CanonicalForm | None] = []
+        self.row_orbit = np.zeros(1024, dtype=np.int64)
+        self.row_image = np.zeros(1024, dtype=np.int16)
 
     def config_keys(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Sorted cells per row and their packed key."""
         srt = np.sort(cells, axis=1)
         return srt, srt @ self.weights
 
-    def configuration(self, row: int) -> Configuration:
+    def configuration(self, row: int, form: bool = False) -> Configuration:
+        """The configuration of ``row``; with ``form``, carrying its canonical form when its
+        orbit's is known (moved from the representative's, no search)."""
         node = self.nodes
-        return Configuration.trusted(tuple([node[c] for c in self.cells[row].tolist()]),
-                                     self.meeting)
+        c = Configuration.trusted(tuple([node[c] for c in self.cells[row].tolist()]),
+                                  self.meeting)
+        known = self.oforms[self.row_orbit[row]] if form else None
+        if known is not None:  # the representative is a(C): C is a^-1 of it
+            a = self.group[self.row_image[row]]
+            h = geometry.inverse(a.g)
+            hx, hy = geometry.apply(h, a.t)
+            c.__dict__["canonical_form"] = moved_form(known, h, (-hx, -hy))
+        return c
 
     def rows(self, keys: np.ndarray, sorted_cells: np.ndarray) -> np.ndarray:
         """Row of every configuration key (computing the facts of new ones): rows are
@@ -484,6 +501,8 @@ class FactsTable:
             self.in_u = np.concatenate([self.in_u, np.full(len(self.in_u), -2, dtype=np.int8)])
             self.target = np.concatenate([self.target,
                                           np.full(len(self.target), -2, dtype=np.int32)])
+            self.row_orbit, self.row_image = (np.concatenate([a, np.zeros_like(a)])
+                                              for a in (self.row_orbit, self.row_image))
         rows = np.arange(self.size, self.size + m)
         self.size += m
         self.cells[rows] = cells
@@ -505,6 +524,8 @@ class FactsTable:
         rank = np.argmax(image[best, pick][:, :, None] == ocells[:, None, :], axis=2)
         self.masks[rows] = self.perm[best[:, None], self.omasks[orows[:, None], rank]]
         self.flags[rows] = self.oflags[orows]
+        self.row_orbit[rows] = orows
+        self.row_image[rows] = best
         return rows
 
     def _orbit_facts(self, key: int, cells: np.ndarray) -> int:
@@ -516,17 +537,20 @@ class FactsTable:
         x0, y0, h = self.box
         robots = tuple((x0 + c // h, y0 + c % h) for c in cells.tolist())
         if self.memo is None:
-            masks, flags = self._facts(robots)
+            masks, flags, form = self._facts(robots)
         else:
-            masks, flags = self._remembered_facts(robots)
+            masks, flags, form = self._remembered_facts(robots)
         self.omasks[r] = masks
         self.oflags[r] = flags
+        self.oforms.append(form)
         return r
 
-    def _facts(self, robots: tuple[Node, ...]) -> tuple[list[int], tuple[int, int, int]]:
+    def _facts(self, robots: tuple[Node, ...]
+               ) -> tuple[list[int], tuple[int, int, int], CanonicalForm | None]:
         """Move masks of ``robots`` (in order) and the flags (no move sets: 0, or 1 when the
         algorithm has no rule, 2 when it crashed in ``decide`` or ``target``; stuck; gathered),
-        as :func:`~gather_verify.properties.facts.configuration_facts` defines them."""
+        as :func:`~gather_verify.properties.facts.configuration_facts` defines them; and the
+        configuration's canonical form if the algorithm computed it (none is searched for)."""
         c = Configuration.trusted(robots, self.meeting)
         undefined = 0
         try:
@@ -545,14 +569,15 @@ class FactsTable:
                 undefined = 2
             if undefined != 2 and self.keep_targets:
                 self._remember_target((robots, self.meeting), t)
+        form = c.__dict__.get("canonical_form")
         if undefined:
-            return [0] * len(robots), (undefined, 0, 0)
+            return [0] * len(robots), (undefined, 0, 0), form
         masks = [sum(BIT[x - vx, y - vy] for x, y in ms[vx, vy]) for vx, vy in robots]
         return masks, (0, all(s == {v} for v, s in ms.items()),
-                       len(c.counts) == 1 and robots[0] in self.meeting)
+                       len(c.counts) == 1 and robots[0] in self.meeting), form
 
     def _remembered_facts(self, robots: tuple[Node, ...]
-                          ) -> tuple[list[int], tuple[int, int, int]]:
+                          ) -> tuple[list[int], tuple[int, int, int], CanonicalForm | None]:
         """:meth:`_facts` through the shared memo, keyed by a canonical form of the
         configuration over translations and the frames (multiplicities kept): ``M`` moved
         to its canonical place by one of the isometries that do so, the one that gives
@@ -560,27 +585,32 @@ class FactsTable:
         are found once). Exact for any algorithm: with ``g`` in the frame group, the views
         of ``g(C) + t`` are those of ``C`` in the frames composed with ``g``, which run over
         the same frames, so its move sets are the images of those of ``C`` (SEMANTICS.md
-        §3: the union over the frames); the flags are invariant."""
+        §3: the union over the frames); the flags are invariant. The canonical form is kept
+        as the placed configuration's, and moved back to each configuration that finds it."""
         best = None
         for g, (tx, ty) in self.meeting_form.minimisers:
             a, b, c, d = geometry.MATRICES[g]
             image = [(a * x + b * y + tx, c * x + d * y + ty) for x, y in robots]
             placed = sorted(image)
             if best is None or placed < best[0]:
-                best = (placed, g, image)
-        placed, g, image = best
+                best = (placed, g, (tx, ty), image)
+        placed, g, best_t, image = best
         key = (self.meeting_form.key, tuple(placed))
         known = self.memo.get(key)
+        tx, ty = best_t
         if known is None:
-            masks, flags = self._facts(robots)
+            masks, flags, form = self._facts(robots)
             forward = STEP_PERM[g]
             if len(self.memo) >= MEMO_SIZE:
                 self.memo.clear()
-            self.memo[key] = known = (dict(zip(image, (forward[m] for m in masks),
-                                               strict=True)), flags)
-            return masks, flags
-        back = STEP_PERM[geometry.inverse(g)]
-        return [back[known[0][w]] for w in image], known[1]
+            self.memo[key] = (dict(zip(image, (forward[m] for m in masks), strict=True)), flags,
+                              None if form is None else moved_form(form, g, best_t))
+            return masks, flags, form
+        h = geometry.inverse(g)
+        back = STEP_PERM[h]
+        hx, hy = geometry.apply(h, best_t)
+        form = None if known[2] is None else moved_form(known[2], h, (-hx, -hy))
+        return [back[known[0][w]] for w in image], known[1], form
 
     def reason(self, row: int) -> str | None:
         """Why the algorithm has no rule in this configuration (computed on it; None: it has
@@ -684,7 +714,7 @@ class FactsTable:
         if known != -2:
             return known
         try:
-            t = self.target_of(self.configuration(row))
+            t = self.target_of(self.configuration(row, form=True))
         except AlgorithmCrash:  # a crash stops the search at the orbit
             t = None
         if t is None:

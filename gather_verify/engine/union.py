@@ -205,7 +205,7 @@ class _Equivariance:
         for i, r in enumerate(unique.tolist()):
             ok = self.known.get(r)
             if ok is None:
-                c = self.table.configuration(r)
+                c = self.table.configuration(r, form=True)
                 try:  # through the table's targets: the images are rows of the class too
                     t = self.table.target_of(c)
                     ok = True
