@@ -698,7 +698,7 @@ class FactsTable:
     def target_of(self, c: Configuration) -> Node | None:
         """The algorithm's target in ``c`` (robots sorted; None: none, or no rule),
         remembered; a crash is raised, and not remembered."""
-        key = (c.robots, self.meeting)
+        key = (c.robots, c.meeting_nodes)
         if key in self.targets:
             return self.targets[key]
         try:

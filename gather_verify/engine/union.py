@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -58,8 +58,10 @@ from gather_verify import kernels
 from gather_verify.algorithms import Algorithm, AlgorithmCrash, get_algorithm
 from gather_verify.algorithms.moves import frames_for
 from gather_verify.engine import union_kernels
+from gather_verify.engine.encoding import STEP_INDEX
 from gather_verify.engine.explore import DEFAULT_MARGIN, Encoding, region_box
 from gather_verify.engine.fast_explore import (
+    STEP_PERM,
     Canon,
     FactsTable,
     Growing,
@@ -68,6 +70,7 @@ from gather_verify.engine.fast_explore import (
     facts_memo,
 )
 from gather_verify.model import geometry
+from gather_verify.model.canonical import canonical_form
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
 from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
@@ -99,6 +102,16 @@ def meeting_form(c: Configuration) -> tuple[tuple[Node, ...], tuple[int, Node]]:
     x0, y0, _, _ = geometry.bounding_box(c.meeting_nodes)
     return (tuple(sorted((x - x0, y - y0) for x, y in c.meeting_nodes)),
             (geometry.IDENTITY, (-x0, -y0)))
+
+
+def shape_isometry(c: Configuration) -> tuple[int, Node]:
+    """The isometry ``v -> g(v) + t`` (the first, in D4's order) that takes ``M`` onto the
+    canonical place of its shape: every configuration whose ``M`` has that shape (up to
+    the 8 isometries) is moved by its own onto one ``M0``, and all are seeds of one union.
+    Verdicts, counts, moves and margins are invariant under isometries (the frames are all
+    8); the BFS order is not, so a seed moved by a rotation or reflection has its witness
+    paths found along :meth:`UnionGraph.oriented`."""
+    return canonical_form((), c.meeting_nodes).minimisers[0]
 
 
 def normalise(c: Configuration, iso: tuple[int, Node]) -> Configuration:
@@ -135,16 +148,24 @@ class UnionGraph:
     flags: np.ndarray  # per state: its own flags
     offsets: np.ndarray  # successors of state s: targets[offsets[s]:offsets[s + 1]], in
     targets: np.ndarray  # the search's order (self-loops left out)
+    table: FactsTable  # the facts of the union's configurations
+    index: KeyIndex  # state key -> id
+    scheduler: str
+    orders: dict = field(default_factory=dict)  # linear part -> oriented (offsets, targets)
 
-    def witness_path(self, seed: int, bit: int, fresh: bool) -> list[int] | None:
+    def witness_path(self, seed: int, bit: int, fresh: bool,
+                     order: tuple[np.ndarray, np.ndarray] | None = None) -> list[int] | None:
         """The union ids from seed ``seed`` (an index of ``seeds``) to the first state with
         flag ``bit`` in its own search's BFS order (``fresh``: the seed itself excluded),
-        along BFS parents: the witness and the path that search reports."""
+        along BFS parents: the witness and the path that search reports. ``order``: the
+        successors as :meth:`oriented` gives them, for a seed moved here by a rotation or
+        reflection (default: the union's own order, that of a seed moved by a translation)."""
         start = int(self.seeds[seed])
         parent = {start: -1}
         found = start if not fresh and self.flags[start] & bit else -1
         queue, head = [start], 0
-        off, tgt, flags = self.offsets, self.targets, self.flags
+        off, tgt = order if order is not None else (self.offsets, self.targets)
+        flags = self.flags
         while found < 0 and head < len(queue):
             s = queue[head]
             head += 1
@@ -161,6 +182,19 @@ class UnionGraph:
         while parent[path[-1]] >= 0:
             path.append(parent[path[-1]])
         return path[::-1]
+
+    def oriented(self, h: tuple[int, Node]) -> tuple[np.ndarray, np.ndarray]:
+        """Every state's successors (union ids, self-loops and repeats kept) in the order
+        the own search of a configuration ``h(C)`` makes them, ``C`` a seed here (``h`` maps
+        ``M0`` onto its ``M``): each state moved by ``h``, its representative there (the
+        least key under that search's ``Aut(M)``), that representative's events in the
+        scheduler's order (its facts: this union's, their steps mapped by ``h``), and the
+        successors moved back. The order depends on ``h``'s linear part only (a translation
+        keeps the order of nodes); remembered per linear part."""
+        g = h[0]
+        if g not in self.orders:
+            self.orders[g] = _oriented(self, h)
+        return self.orders[g]
 
 
 def _neighbours(enc: Encoding) -> np.ndarray:
@@ -190,8 +224,8 @@ def _closed_boxes(box: np.ndarray, group: Sequence[Automorphism]) -> np.ndarray:
 
 class _Equivariance:
     """Per configuration row: whether the target commutes with ``Aut(M0)`` there
-    (``target(a C) == a(target C)``); what lets one quotient graph decide target-invariance
-    for every seed."""
+    (``target(a C) == a(target C)``), and with the isometries that take ``M0`` back to the
+    seeds' own ``M``; what lets one quotient graph decide target-invariance for every seed."""
 
     def __init__(self, table: FactsTable, group: Sequence[Automorphism]):
         self.table, self.group = table, list(group)[1:]
@@ -233,11 +267,14 @@ def explore_union(
     box: tuple[int, int, int, int],
     count_seeds: np.ndarray | None = None,
     max_states: int = UNION_MAX_STATES,
+    orientations: Sequence[Automorphism] = (),
 ) -> UnionGraph | None:
     """Explore the union of the states reachable from every seed (robots, all with
     ``meeting``) in ``box`` (closed under ``Aut(meeting)``), with both reductions; the
     graph facts above. ``count_seeds`` (a bool per seed, default all): the seeds whose
-    states and transitions are counted. None when the union passes ``max_states``."""
+    states and transitions are counted. ``orientations``: the maps from ``meeting`` back
+    to the seeds' own meeting nodes, for those moved here by a rotation or reflection (the
+    target must commute with them too). None when the union passes ``max_states``."""
     started = time.perf_counter()
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
     sched = get_scheduler(scheduler)
@@ -250,7 +287,7 @@ def explore_union(
     wanted = set(properties)
     table = FactsTable(enc, n, algo, meeting, detection, frame_elements, group,
                        facts_memo(algo, detection, frames), targets="target-invariance" in wanted)
-    equivariance = _Equivariance(table, group)
+    equivariance = _Equivariance(table, [*group, *orientations])
     canon = Canon(enc, n)
     base = enc.base
     neighbour = _neighbours(enc)
@@ -335,7 +372,61 @@ def explore_union(
                S, counts, transitions)
     return UnionGraph(seed_ids, S, reach, best, reach_box, counts, transitions,
                       time.perf_counter() - started, enc, index.keys[:S].copy(), flags.array(),
-                      out_off, out_tgt)
+                      out_off, out_tgt, table, index, scheduler)
+
+
+def _oriented(u: UnionGraph, h: tuple[int, Node]) -> tuple[np.ndarray, np.ndarray]:
+    """:meth:`UnionGraph.oriented`, computed."""
+    enc, table, n = u.encoding, u.table, u.table.n
+    g, (tx, ty) = h
+    ma, mb, mc, md = geometry.MATRICES[g]
+    # the box, its group and its encoding as the oriented search sees them
+    corners = [(enc.x0, enc.y0), (enc.x0 + enc.width - 1, enc.y0 + enc.height - 1)]
+    moved = [(ma * x + mb * y + tx, mc * x + md * y + ty) for x, y in corners]
+    box_h = geometry.bounding_box(moved)
+    meeting_h = frozenset((ma * x + mb * y + tx, mc * x + md * y + ty) for x, y in table.meeting)
+    group_h = meeting_automorphisms(Configuration.trusted((), meeting_h))
+    enc_h = Encoding(box_h, group_h, True)
+    # codes (cell * 5 + pending) mapped both ways
+    dirs = [0] + [STEP_INDEX[geometry.apply(g, step)] for step in STEPS]
+    forward = np.empty(enc.cells * 5, dtype=np.int64)
+    back = np.empty(enc_h.cells * 5, dtype=np.int64)
+    for cell in range(enc.cells):
+        x, y = enc.node(cell)
+        hcell = (ma * x + mb * y + tx - enc_h.x0) * enc_h.height + mc * x + md * y + ty - enc_h.y0
+        for d in range(5):
+            forward[cell * 5 + d] = hcell * 5 + dirs[d]
+            back[hcell * 5 + dirs[d]] = cell * 5 + d
+    perm = np.array(STEP_PERM[g], dtype=np.uint8)
+    canon, canon_h = Canon(enc, n), Canon(enc_h, n)
+    neighbour = _neighbours(enc_h)
+    sched = get_scheduler(u.scheduler)
+    counts = np.zeros(u.states, dtype=np.int64)
+    targets: list[np.ndarray] = []
+    for lo in range(0, u.states, 1 << 14):
+        hi = min(u.states, lo + (1 << 14))
+        rep_h = _decode(canon_h.keys(forward[_decode(u.keys[lo:hi], enc.base, n)]),
+                        enc_h.base, n)
+        cells = back[rep_h] // 5  # the representative, in the union's coordinates
+        srt, ck = table.config_keys(cells)
+        rows = table.rows(ck, srt)
+        ok = np.flatnonzero(table.flags[rows, 0] == 0)
+        rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
+        masks = perm[table.masks[rows[:, None], rank]]
+        got = sched.bulk_successors(Frontier(rep_h[ok], masks[ok], neighbour),
+                                    4 * n * len(ok) + 1)
+        src, robot, new = ok[got.source], got.robot, got.code
+        keep = new >= 0
+        src, robot, new = src[keep], robot[keep], new[keep]
+        succ = rep_h[src]
+        succ[np.arange(len(src)), robot] = new
+        ids, first = u.index.find_or_add(canon.keys(back[succ]))
+        assert not len(first), "a successor the union does not hold: a bug of gather-verify"
+        counts[lo:hi] = np.bincount(src, minlength=hi - lo)
+        targets.append(ids.astype(np.int64))
+    offsets = np.zeros(u.states + 1, dtype=np.int64)
+    np.cumsum(counts, out=offsets[1:])
+    return offsets, np.concatenate(targets) if targets else np.zeros(0, np.int64)
 
 
 def _analyse(S: int, src: np.ndarray, tgt: np.ndarray, w: np.ndarray, flags: np.ndarray,

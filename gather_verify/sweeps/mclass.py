@@ -36,7 +36,7 @@ from gather_verify.model import geometry
 from gather_verify.model.canonical import canonical_form
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
-from gather_verify.model.symmetry import meeting_automorphisms
+from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
 
 ENGINES = ("union", "per-config")
 Row = dict[str, Any]
@@ -101,17 +101,20 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
         return ClassDecision([], list(members))
     memory = memory_budget_mb() if settings.max_memory_mb is None else settings.max_memory_mb
     fallback: list[tuple[int, Configuration]] = []
-    todo: list[tuple[int, Configuration, Any, Configuration]] = []
+    todo: list[tuple[int, Configuration, Any, Configuration, Automorphism]] = []
     for index, c in members:
         cls = classify_configuration(c)
         if cls.in_U or cls.name == "UNCLASSIFIED":
             fallback.append((index, c))  # NOT-APPLICABLE: decided at once
         else:
-            todo.append((index, c, cls, union.normalise(c, union.meeting_form(c)[1])))
+            iso = union.shape_isometry(c)
+            g = geometry.inverse(iso[0])
+            back = Automorphism(g, geometry.sub((0, 0), geometry.apply(g, iso[1])))
+            todo.append((index, c, cls, union.normalise(c, iso), back))
     if not todo:
         return ClassDecision([], fallback)
-    by_n: dict[tuple[frozenset, int], list[int]] = {}  # one union per M (translated) and n
-    for k, (_, c, _, nc) in enumerate(todo):
+    by_n: dict[tuple[frozenset, int], list[int]] = {}  # one union per shape of M and n
+    for k, (_, c, _, nc, _) in enumerate(todo):
         by_n.setdefault((nc.meeting_nodes, c.n), []).append(k)
     rows: list[dict[str, Any]] = []
     trace_facts: dict[frozenset, Any] = {}  # the facts met by the traces, per M
@@ -123,11 +126,16 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
         group = meeting_automorphisms(normal[0])
         box = geometry.bounding_box([v for c in normal for b in [region_box(c, union.UNION_MARGIN, group)]
                                      for v in (b[:2], b[2:])])
+        turned = {}  # per linear part, a map from M0 back to a seed's M
+        for k in ks:
+            if todo[k][4].g != geometry.IDENTITY:
+                turned.setdefault(todo[k][4].g, todo[k][4])
         make_room(memory)
         u = union.explore_union(meeting, [c.robots for c in normal], settings.algorithm,
                           settings.scheduler, detection=settings.detection,
                           frames=settings.frames, properties=wanted, box=box,
-                          max_states=max(union.UNION_MAX_STATES, settings.max_states))
+                          max_states=max(union.UNION_MAX_STATES, settings.max_states),
+                          orientations=list(turned.values()))
         if u is None or rss_mb() > memory or u.seconds > settings.max_seconds:
             # too large, or past a limit the per-configuration searches might hit: they decide
             fallback.extend((todo[k][0], todo[k][1]) for k in ks)
@@ -135,7 +143,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
         union_states += u.states
         share = u.seconds / len(ks)
         for j, k in enumerate(ks):
-            index, c, cls, nc = todo[k]
+            index, c, cls, nc, back = todo[k]
             s = int(u.seeds[j])
             reach = int(u.reach[s])
             count = int(u.counts[j])
@@ -160,7 +168,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
             t0 = time.perf_counter()
             trace = None
             if failing:
-                trace = witness_trace(u, j, c, failing[0], margin, settings, trace_facts)
+                trace = witness_trace(u, j, c, back, failing[0], margin, settings, trace_facts)
                 if trace is None:
                     fallback.append((index, c))
                     continue
@@ -194,16 +202,20 @@ DECIDED = {"final", "no-ungatherable", "target-invariance", "move-bound", "termi
 _TRANSITION = object()  # marks a transition witness: the trace finds the edge itself
 
 
-def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, prop: str, margin: int,
-                  settings: Any, facts: dict[frozenset, Any]) -> dict[str, Any] | None:
+def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, back: Automorphism,
+                  prop: str, margin: int, settings: Any, facts: dict[frozenset, Any]
+                  ) -> dict[str, Any] | None:
     """The trace ``run_check`` reports for the safety property ``prop`` from ``c`` (seed
-    ``seed`` of ``u``): its first witness and BFS path found in the
+    ``seed`` of ``u``, ``back`` the map from the union's ``M0`` to ``c``'s ``M``): its
+    first witness and BFS path found in the
     union graph, mapped back and concretised as the check does (:func:`check._safety_trace`,
     on the keys of the check's own encoding, margin ``margin``). ``facts``: the facts
     caches of the class's traces, by meeting-node set, filled here (a configuration's
     facts do not depend on the initial configuration they carry, which only a property
     of the user's could read, and those are never decided here)."""
-    path = u.witness_path(seed, union.SAFETY_BITS[prop], fresh=prop == "no-ungatherable")
+    order = None if back.g == geometry.IDENTITY else u.oriented((back.g, back.t))
+    path = u.witness_path(seed, union.SAFETY_BITS[prop], fresh=prop == "no-ungatherable",
+                          order=order)
     if path is None:
         return None
     algo = get_algorithm(settings.algorithm)
@@ -212,13 +224,10 @@ def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, prop: str, m
                                              frames_for(settings.frames))
     group = symmetry_group(c, settings.frames)
     enc = Encoding(region_box(c, margin, group), group, True)
-    tx, ty = union.meeting_form(c)[1][1]  # normal = c + t
-    dx, dy = -tx, -ty
     keys = []
     for sid in path:
         state = u.encoding.decode(int(u.keys[sid]), c.n)
-        keys.append(enc.key(tuple(((x + dx, y + dy), None if p is None else (p[0] + dx, p[1] + dy))
-                                  for (x, y), p in state)))
+        keys.append(enc.key(tuple((back(v), None if p is None else back(p)) for v, p in state)))
     e = Exploration(c, algo, settings.scheduler, settings.detection, settings.frames, True, True,
                     enc, keys, [-1, *range(len(path) - 1)], [], [], [], 0, len(path), 0, None,
                     {}, 0.0, 0.0, facts[c.meeting_nodes], {})
