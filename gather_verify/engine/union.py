@@ -55,7 +55,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gather_verify import kernels
-from gather_verify.algorithms import Algorithm, AlgorithmCrash, get_algorithm
+from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
 from gather_verify.algorithms.moves import frames_for
 from gather_verify.engine import union_kernels
 from gather_verify.engine.encoding import STEP_INDEX
@@ -151,10 +151,11 @@ class UnionGraph:
     table: FactsTable  # the facts of the union's configurations
     index: KeyIndex  # state key -> id
     scheduler: str
-    orders: dict = field(default_factory=dict)  # linear part -> oriented (offsets, targets)
+    orders: dict = field(default_factory=dict)  # linear part -> its Oriented successors
+    _offsets: list[int] | None = None  # offsets as a list (read state by state)
 
     def witness_path(self, seed: int, bit: int, fresh: bool,
-                     order: tuple[np.ndarray, np.ndarray] | None = None) -> list[int] | None:
+                     order: Oriented | None = None) -> list[int] | None:
         """The union ids from seed ``seed`` (an index of ``seeds``) to the first state with
         flag ``bit`` in its own search's BFS order (``fresh``: the seed itself excluded),
         along BFS parents: the witness and the path that search reports. ``order``: the
@@ -164,12 +165,16 @@ class UnionGraph:
         parent = {start: -1}
         found = start if not fresh and self.flags[start] & bit else -1
         queue, head = [start], 0
-        off, tgt = order if order is not None else (self.offsets, self.targets)
-        flags = self.flags
+        if self._offsets is None:
+            self._offsets = self.offsets.tolist()
+        off, tgt, flags = self._offsets, self.targets, self.flags
         while found < 0 and head < len(queue):
             s = queue[head]
             head += 1
-            for t in tgt[off[s]:off[s + 1]].tolist():
+            # in the oriented order: computed for the states queued so far, in one batch
+            succ = (tgt[off[s]:off[s + 1]].tolist() if order is None
+                    else order.successors(s, queue, head - 1))
+            for t in succ:
                 if t not in parent:
                     parent[t] = s
                     if flags[t] & bit:
@@ -183,17 +188,14 @@ class UnionGraph:
             path.append(parent[path[-1]])
         return path[::-1]
 
-    def oriented(self, h: tuple[int, Node]) -> tuple[np.ndarray, np.ndarray]:
-        """Every state's successors (union ids, self-loops and repeats kept) in the order
-        the own search of a configuration ``h(C)`` makes them, ``C`` a seed here (``h`` maps
-        ``M0`` onto its ``M``): each state moved by ``h``, its representative there (the
-        least key under that search's ``Aut(M)``), that representative's events in the
-        scheduler's order (its facts: this union's, their steps mapped by ``h``), and the
-        successors moved back. The order depends on ``h``'s linear part only (a translation
+    def oriented(self, h: tuple[int, Node]) -> Oriented:
+        """The states' successors in the order of the own search of a configuration
+        ``h(C)``, ``C`` a seed here (``h`` maps ``M0`` onto its ``M``); see
+        :class:`Oriented`. The order depends on ``h``'s linear part only (a translation
         keeps the order of nodes); remembered per linear part."""
         g = h[0]
         if g not in self.orders:
-            self.orders[g] = _oriented(self, h)
+            self.orders[g] = Oriented(self, h)
         return self.orders[g]
 
 
@@ -227,12 +229,15 @@ class _Equivariance:
     (``target(a C) == a(target C)``), and with the isometries that take ``M0`` back to the
     seeds' own ``M``; what lets one quotient graph decide target-invariance for every seed."""
 
-    def __init__(self, table: FactsTable, group: Sequence[Automorphism]):
+    def __init__(self, table: FactsTable, group: Sequence[Automorphism],
+                 turns: Sequence[Automorphism]):
         self.table, self.group = table, list(group)[1:]
+        # the seeds' own M are not M0: their configurations are no rows, nor met again
+        self.turns = [(a, frozenset(map(a, table.meeting))) for a in turns]
         self.known: dict[int, bool] = {}
 
     def broken(self, rows: np.ndarray) -> np.ndarray:
-        if not self.group:
+        if not self.group and not self.turns:
             return np.zeros(len(rows), dtype=bool)
         unique, back = np.unique(rows, return_inverse=True)
         out = np.zeros(len(unique), dtype=bool)
@@ -248,11 +253,24 @@ class _Equivariance:
                         if self.table.target_of(image) != (None if t is None else a(t)):
                             ok = False
                             break
+                    for a, meeting in self.turns if ok else ():
+                        image = c.transformed(a.g, a.t, meeting)
+                        if _target(self.table.algorithm, image) != (None if t is None else a(t)):
+                            ok = False
+                            break
                 except AlgorithmCrash:  # a crash is the per-configuration check's to report
                     ok = False
                 self.known[r] = ok
             out[i] = not ok
         return out[back]
+
+
+def _target(algorithm: Algorithm, c: Configuration) -> Node | None:
+    """The algorithm's target in ``c`` (None: none, or no rule; a crash is raised)."""
+    try:
+        return target_of(algorithm, c)
+    except Unhandled:
+        return None
 
 
 def explore_union(
@@ -287,7 +305,7 @@ def explore_union(
     wanted = set(properties)
     table = FactsTable(enc, n, algo, meeting, detection, frame_elements, group,
                        facts_memo(algo, detection, frames), targets="target-invariance" in wanted)
-    equivariance = _Equivariance(table, [*group, *orientations])
+    equivariance = _Equivariance(table, group, orientations)
     canon = Canon(enc, n)
     base = enc.base
     neighbour = _neighbours(enc)
@@ -375,58 +393,83 @@ def explore_union(
                       out_off, out_tgt, table, index, scheduler)
 
 
-def _oriented(u: UnionGraph, h: tuple[int, Node]) -> tuple[np.ndarray, np.ndarray]:
-    """:meth:`UnionGraph.oriented`, computed."""
-    enc, table, n = u.encoding, u.table, u.table.n
-    g, (tx, ty) = h
-    ma, mb, mc, md = geometry.MATRICES[g]
-    # the box, its group and its encoding as the oriented search sees them
-    corners = [(enc.x0, enc.y0), (enc.x0 + enc.width - 1, enc.y0 + enc.height - 1)]
-    moved = [(ma * x + mb * y + tx, mc * x + md * y + ty) for x, y in corners]
-    box_h = geometry.bounding_box(moved)
-    meeting_h = frozenset((ma * x + mb * y + tx, mc * x + md * y + ty) for x, y in table.meeting)
-    group_h = meeting_automorphisms(Configuration.trusted((), meeting_h))
-    enc_h = Encoding(box_h, group_h, True)
-    # codes (cell * 5 + pending) mapped both ways
-    dirs = [0] + [STEP_INDEX[geometry.apply(g, step)] for step in STEPS]
-    forward = np.empty(enc.cells * 5, dtype=np.int64)
-    back = np.empty(enc_h.cells * 5, dtype=np.int64)
-    for cell in range(enc.cells):
-        x, y = enc.node(cell)
-        hcell = (ma * x + mb * y + tx - enc_h.x0) * enc_h.height + mc * x + md * y + ty - enc_h.y0
-        for d in range(5):
-            forward[cell * 5 + d] = hcell * 5 + dirs[d]
-            back[hcell * 5 + dirs[d]] = cell * 5 + d
-    perm = np.array(STEP_PERM[g], dtype=np.uint8)
-    canon, canon_h = Canon(enc, n), Canon(enc_h, n)
-    neighbour = _neighbours(enc_h)
-    sched = get_scheduler(u.scheduler)
-    counts = np.zeros(u.states, dtype=np.int64)
-    targets: list[np.ndarray] = []
-    for lo in range(0, u.states, 1 << 14):
-        hi = min(u.states, lo + (1 << 14))
-        rep_h = _decode(canon_h.keys(forward[_decode(u.keys[lo:hi], enc.base, n)]),
-                        enc_h.base, n)
+class Oriented:
+    """A union's states' successors (union ids, self-loops and repeats kept) in the order
+    the own search of a configuration ``h(C)`` makes them, ``C`` a seed of the union:
+    each state moved by ``h``, its representative there (the least key under that
+    search's ``Aut(M)``), that representative's events in the scheduler's order (its
+    facts: the union's, their steps mapped by ``h``), and the successors moved back.
+    Computed on demand, for a batch of states at a time (a BFS asks for the states it
+    has queued), and kept."""
+
+    def __init__(self, u: UnionGraph, h: tuple[int, Node]):
+        enc, table = u.encoding, u.table
+        self.u, self.n = u, table.n
+        g, (tx, ty) = h
+        ma, mb, mc, md = geometry.MATRICES[g]
+        # the box, its group and its encoding as the oriented search sees them
+        corners = [(enc.x0, enc.y0), (enc.x0 + enc.width - 1, enc.y0 + enc.height - 1)]
+        box_h = geometry.bounding_box([(ma * x + mb * y + tx, mc * x + md * y + ty)
+                                       for x, y in corners])
+        meeting_h = frozenset((ma * x + mb * y + tx, mc * x + md * y + ty)
+                              for x, y in table.meeting)
+        enc_h = Encoding(box_h, meeting_automorphisms(Configuration.trusted((), meeting_h)),
+                         True)
+        # codes (cell * 5 + pending step) mapped both ways
+        dirs = [0] + [STEP_INDEX[geometry.apply(g, step)] for step in STEPS]
+        self.forward = np.empty(enc.cells * 5, dtype=np.int64)
+        self.back = np.empty(enc_h.cells * 5, dtype=np.int64)
+        for cell in range(enc.cells):
+            x, y = enc.node(cell)
+            hcell = ((ma * x + mb * y + tx - enc_h.x0) * enc_h.height
+                     + mc * x + md * y + ty - enc_h.y0)
+            for d in range(5):
+                self.forward[cell * 5 + d] = hcell * 5 + dirs[d]
+                self.back[hcell * 5 + dirs[d]] = cell * 5 + d
+        self.perm = np.array(STEP_PERM[g], dtype=np.uint8)
+        self.enc_h = enc_h
+        self.canon, self.canon_h = Canon(enc, self.n), Canon(enc_h, self.n)
+        self.neighbour = _neighbours(enc_h)
+        self.sched = get_scheduler(u.scheduler)
+        self.known: dict[int, list[int]] = {}
+
+    def successors(self, s: int, queue: list[int], head: int) -> list[int]:
+        """State ``s``'s successors; if they are not computed yet, those of the queued
+        states from ``head`` on (``s`` among them) are computed with them."""
+        succ = self.known.get(s)
+        if succ is None:
+            known = self.known
+            self._compute(np.array(sorted({t for t in queue[head:] if t not in known}),
+                                   dtype=np.int64))
+            succ = known[s]
+        return succ
+
+    def _compute(self, states: np.ndarray) -> None:
+        u, table, n = self.u, self.u.table, self.n
+        back = self.back
+        rep_h = _decode(self.canon_h.keys(self.forward[_decode(u.keys[states], u.encoding.base,
+                                                                n)]), self.enc_h.base, n)
         cells = back[rep_h] // 5  # the representative, in the union's coordinates
         srt, ck = table.config_keys(cells)
         rows = table.rows(ck, srt)
         ok = np.flatnonzero(table.flags[rows, 0] == 0)
         rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
-        masks = perm[table.masks[rows[:, None], rank]]
-        got = sched.bulk_successors(Frontier(rep_h[ok], masks[ok], neighbour),
-                                    4 * n * len(ok) + 1)
+        masks = self.perm[table.masks[rows[:, None], rank]]
+        got = self.sched.bulk_successors(Frontier(rep_h[ok], masks[ok], self.neighbour),
+                                         4 * n * len(ok) + 1)
         src, robot, new = ok[got.source], got.robot, got.code
         keep = new >= 0
         src, robot, new = src[keep], robot[keep], new[keep]
         succ = rep_h[src]
         succ[np.arange(len(src)), robot] = new
-        ids, first = u.index.find_or_add(canon.keys(back[succ]))
+        ids, first = u.index.find_or_add(self.canon.keys(back[succ]))
         assert not len(first), "a successor the union does not hold: a bug of gather-verify"
-        counts[lo:hi] = np.bincount(src, minlength=hi - lo)
-        targets.append(ids.astype(np.int64))
-    offsets = np.zeros(u.states + 1, dtype=np.int64)
-    np.cumsum(counts, out=offsets[1:])
-    return offsets, np.concatenate(targets) if targets else np.zeros(0, np.int64)
+        ends = np.cumsum(np.bincount(src, minlength=len(states))).tolist()
+        ids_list = ids.tolist()
+        a = 0
+        for state, b in zip(states.tolist(), ends, strict=True):
+            self.known[state] = ids_list[a:b]
+            a = b
 
 
 def _analyse(S: int, src: np.ndarray, tgt: np.ndarray, w: np.ndarray, flags: np.ndarray,

@@ -192,15 +192,17 @@ class Configuration:
         return len(self.counts) < len(self.robots)
 
     # -- transformations ------------------------------------------------------
-    def transformed(self, g: int, t: Node = (0, 0)) -> Configuration:
-        """Image under ``v -> g(v) + t``. If this configuration's canonical form is known,
-        the image's comes from it (:func:`~gather_verify.model.canonical.moved_form`), with
-        no search of its own."""
+    def transformed(self, g: int, t: Node = (0, 0),
+                    meeting_nodes: frozenset[Node] | None = None) -> Configuration:
+        """Image under ``v -> g(v) + t`` (``meeting_nodes``: the image of ``M``, when the
+        caller has it). If this configuration's canonical form is known, the image's comes
+        from it (:func:`~gather_verify.model.canonical.moved_form`), with no search of its own."""
         a, b, c, d = geometry.MATRICES[g]
         tx, ty = t
         image = Configuration.trusted(
             tuple(sorted([(a * x + b * y + tx, c * x + d * y + ty) for x, y in self.robots])),
-            frozenset((a * x + b * y + tx, c * x + d * y + ty) for x, y in self.meeting_nodes))
+            frozenset((a * x + b * y + tx, c * x + d * y + ty) for x, y in self.meeting_nodes)
+            if meeting_nodes is None else meeting_nodes)
         form = self.__dict__.get("canonical_form")
         if form is not None:
             image.__dict__["canonical_form"] = moved_form(form, g, t)
