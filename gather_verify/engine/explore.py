@@ -68,11 +68,16 @@ __all__ = ["DEFAULT_MARGIN", "DEFAULT_MAX_MEMORY_MB", "DEFAULT_MAX_SECONDS", "DE
 :mod:`gather_verify.engine.encoding`; they are re-exported here for existing callers.)"""
 
 
+_STATM: list[int] = []  # this process's id and its open /proc/self/statm
+
+
 def rss_mb() -> float:
-    """Resident set size of this process now, in MiB (``/proc``, else the peak)."""
+    """Resident set size of this process now, in MiB (``/proc``, else the peak). The file
+    stays open (a search asks once per chunk); a forked child opens its own."""
     try:
-        with open("/proc/self/statm", encoding="ascii") as f:
-            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+        if not _STATM or _STATM[0] != os.getpid():
+            _STATM[:] = [os.getpid(), os.open("/proc/self/statm", os.O_RDONLY)]
+        return int(os.pread(_STATM[1], 64, 0).split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
     except (OSError, ValueError, IndexError):
         return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
