@@ -303,7 +303,7 @@ def test_the_resident_size_read_is_this_process_s_own_after_a_fork() -> None:
     from gather_verify.engine.explore import rss_mb
 
     before = rss_mb()
-    block = bytearray(96 << 20)
+    block = b"\x01" * (96 << 20)  # written: every page resident
     assert rss_mb() > before + 64
     read, write = os.pipe()
     pid = os.fork()
