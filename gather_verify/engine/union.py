@@ -1,4 +1,5 @@
-"""One state graph per meeting-node set: every initial configuration sharing M at once.
+"""One state graph per shape of meeting-node set: every initial configuration whose M
+has that shape at once.
 
 Issue 17. The configurations of a sweep that share their meeting nodes ``M``
 (up to an isometry) explore largely the same states: on the 4 x 4 box the
@@ -8,9 +9,13 @@ machinery: :class:`~gather_verify.engine.fast_explore.KeyIndex`,
 ``FactsTable``, ``Canon``, the scheduler's ``bulk_successors``) and decides
 every configuration's row from it:
 
-- each configuration is moved by an isometry so that its ``M`` is the class's
-  canonical ``M0`` (results are invariant under isometries: the frames are
-  all 8, SEMANTICS.md §3), and the search is seeded with all of them;
+- each configuration is moved by an isometry (:func:`shape_isometry`: a
+  rotation or reflection too, not only a translation) so that its ``M`` is its
+  shape's canonical ``M0`` (results are invariant under isometries: the frames
+  are all 8, SEMANTICS.md §3), and the search is seeded with all of them: one
+  graph for the up to 8 images of ``M`` and their translations, where there
+  was one per translation class (on the 4 x 4 box, the largest class's union
+  holds 522,534 states where its 8 unions held 2.83 million);
 - per state, the facts the per-configuration search checks: a deadlock
   (``final``), a configuration in U (``no-ungatherable``), an edge that changes
   the target (``target-invariance``), no rule (``defined``), a cycle (a changed
@@ -37,9 +42,14 @@ not settled here exactly: a reachable state left the union's region or has
 no rule, a cycle is reachable, its space passes ``max_states``, the target is
 not equivariant on a reachable configuration, or move-bound is its first
 failing property (its trace is the longest path of its own graph). A safety
-violation's trace is the per-configuration search's own, run only until its
-first witness (``explore_fast(until=...)``): the BFS ids up to it are those of
-the whole search, so the trace is identical.
+violation's trace is the per-configuration search's own: its first witness
+and BFS path, found by a BFS of the union from its seed, along the successors
+in the order its own search makes them. For a seed moved by a translation that
+is the union's own order (a translation keeps the order of nodes); for one
+moved by a rotation or reflection, :class:`Oriented` computes it (each state
+moved back, its representative there, that representative's events in the
+scheduler's order). The target must commute with those isometries on every
+reachable configuration, as with ``Aut(M0)``, or the seed falls back.
 
 Time and memory limits are not deterministic: a class whose union search takes
 longer than one configuration's time limit, or leaves the process over its memory
@@ -95,10 +105,7 @@ def supports(scheduler: str, reduction: bool, frames: str) -> bool:
 
 def meeting_form(c: Configuration) -> tuple[tuple[Node, ...], tuple[int, Node]]:
     """``M`` translated so that its MER starts at the origin, and that translation (as
-    ``(identity, t)``). Only translations: they keep the order of nodes, so the
-    representative of every orbit, and the order of every state's successors, are those
-    of each configuration's own search, and a BFS of the union from one seed is that
-    search (its first witnesses, its traces)."""
+    ``(identity, t)``): the key of a meeting-node class (``M`` up to translation)."""
     x0, y0, _, _ = geometry.bounding_box(c.meeting_nodes)
     return (tuple(sorted((x - x0, y - y0) for x, y in c.meeting_nodes)),
             (geometry.IDENTITY, (-x0, -y0)))

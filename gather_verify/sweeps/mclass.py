@@ -70,9 +70,7 @@ def class_tasks(todo: Sequence[tuple[int, Configuration]]
                 ) -> list[list[tuple[int, Configuration]]]:
     """``todo`` as tasks, the largest first (ties: enumeration order): one per shape of
     ``M`` (up to the 8 isometries), its meeting-node classes (``M`` up to translation)
-    one after the other. The classes of one shape meet the images of one another's
-    configurations, so one worker that runs them in turn finds their facts in its memo
-    (:func:`gather_verify.engine.fast_explore.facts_memo`)."""
+    one after the other; :func:`decide_class` explores one union for all of them."""
     shapes: dict[object, list[tuple[int, Configuration]]] = {}
     for members in union.meeting_classes(todo):
         shape = canonical_form((), members[0][1].meeting_nodes).key
@@ -91,8 +89,9 @@ class ClassDecision:
 
 def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
                  configuration_key: Callable[[Configuration], str]) -> ClassDecision:
-    """The sweep rows of ``members`` (meeting-node classes: one union graph per ``M`` up to
-    translation and per ``n``) that the union graphs settle
+    """The sweep rows of ``members`` (one shape of ``M``: one union graph per ``n``, every
+    configuration moved onto ``M0`` by :func:`~gather_verify.engine.union.shape_isometry`)
+    that the union graphs settle
     exactly as :func:`gather_verify.sweeps.sweep.verify_one` would (rows keyed by
     ``configuration_key``); the rest in ``fallback``."""
 
