@@ -463,8 +463,8 @@ class FactsTable:
         # the representative's with no search (canonical.moved_form), which is most of
         # what its target costs
         self.oforms: list[CanonicalForm | None] = []
-        self.row_orbit = np.zeros(1024, dtype=np.int64)
-        self.row_image = np.zeros(1024, dtype=np.int16)
+        self.row_orbit = np.zeros(1024, dtype=np.int32)
+        self.row_image = np.zeros(1024, dtype=np.int8)
 
     def config_keys(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Sorted cells per row and their packed key."""
