@@ -419,7 +419,8 @@ class FactsTable:
                  memo: FactsMemo | None = None, targets: bool = False):
         self.enc, self.n, self.algorithm, self.meeting = enc, n, algorithm, meeting
         self.memo = memo
-        # targets by configuration: the sweep's shared memo, else this search's own
+        # targets by configuration: the sweep's shared memo (one search keeps none: each row
+        # keeps its own in ``target``, and a dict entry per configuration cost 6 bytes a state)
         self.targets: dict[tuple, Node | None] = {} if memo is None else target_memo(algorithm)
         self.keep_targets = targets  # also those met while checking for crashes
         self.detection, self.frames = detection, tuple(frames)
@@ -691,6 +692,8 @@ class FactsTable:
         return self.target[rows]
 
     def _remember_target(self, key: tuple, t: Node | None) -> None:
+        if self.memo is None:  # one search: each row keeps its target in ``target``
+            return
         if len(self.targets) >= MEMO_SIZE:
             self.targets.clear()
         self.targets[key] = t
