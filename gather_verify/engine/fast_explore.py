@@ -480,10 +480,8 @@ class FactsTable:
                                   self.meeting)
         known = self.oforms[self.row_orbit[row]] if form else None
         if known is not None:  # the representative is a(C): C is a^-1 of it
-            a = self.group[self.row_image[row]]
-            h = geometry.inverse(a.g)
-            hx, hy = geometry.apply(h, a.t)
-            c.__dict__["canonical_form"] = moved_form(known, h, (-hx, -hy))
+            back = self.group[self.row_image[row]].inverse()
+            c.__dict__["canonical_form"] = moved_form(known, back.g, back.t)
         return c
 
     def rows(self, keys: np.ndarray, sorted_cells: np.ndarray) -> np.ndarray:
@@ -598,7 +596,6 @@ class FactsTable:
         placed, g, best_t, image = best
         key = (self.meeting_form.key, tuple(placed))
         known = self.memo.get(key)
-        tx, ty = best_t
         if known is None:
             masks, flags, form = self._facts(robots)
             forward = STEP_PERM[g]
@@ -607,11 +604,9 @@ class FactsTable:
             self.memo[key] = (dict(zip(image, (forward[m] for m in masks), strict=True)), flags,
                               None if form is None else moved_form(form, g, best_t))
             return masks, flags, form
-        h = geometry.inverse(g)
-        back = STEP_PERM[h]
-        hx, hy = geometry.apply(h, best_t)
-        form = None if known[2] is None else moved_form(known[2], h, (-hx, -hy))
-        return [back[known[0][w]] for w in image], known[1], form
+        back = Automorphism(g, best_t).inverse()
+        form = None if known[2] is None else moved_form(known[2], back.g, back.t)
+        return [STEP_PERM[back.g][known[0][w]] for w in image], known[1], form
 
     def reason(self, row: int) -> str | None:
         """Why the algorithm has no rule in this configuration (computed on it; None: it has
@@ -698,9 +693,10 @@ class FactsTable:
             self.targets.clear()
         self.targets[key] = t
 
-    def target_of(self, c: Configuration) -> Node | None:
+    def target_of(self, c: Configuration, remember: bool = True) -> Node | None:
         """The algorithm's target in ``c`` (robots sorted; None: none, or no rule),
-        remembered; a crash is raised, and not remembered."""
+        remembered unless ``remember`` is false (a configuration not met again); a crash is
+        raised, and not remembered."""
         key = (c.robots, c.meeting_nodes)
         if key in self.targets:
             return self.targets[key]
@@ -708,7 +704,8 @@ class FactsTable:
             t = target_of(self.algorithm, c)
         except Unhandled:
             t = None
-        self._remember_target(key, t)
+        if remember:
+            self._remember_target(key, t)
         return t
 
     def target_id_of(self, row: int) -> int:

@@ -65,7 +65,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gather_verify import kernels
-from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, get_algorithm, target_of
+from gather_verify.algorithms import Algorithm, AlgorithmCrash, get_algorithm
 from gather_verify.algorithms.moves import frames_for
 from gather_verify.engine import union_kernels
 from gather_verify.engine.encoding import STEP_INDEX
@@ -195,15 +195,14 @@ class UnionGraph:
             path.append(parent[path[-1]])
         return path[::-1]
 
-    def oriented(self, h: tuple[int, Node]) -> Oriented:
+    def oriented(self, h: Automorphism) -> Oriented:
         """The states' successors in the order of the own search of a configuration
         ``h(C)``, ``C`` a seed here (``h`` maps ``M0`` onto its ``M``); see
         :class:`Oriented`. The order depends on ``h``'s linear part only (a translation
         keeps the order of nodes); remembered per linear part."""
-        g = h[0]
-        if g not in self.orders:
-            self.orders[g] = Oriented(self, h)
-        return self.orders[g]
+        if h.g not in self.orders:
+            self.orders[h.g] = Oriented(self, h)
+        return self.orders[h.g]
 
 
 def _neighbours(enc: Encoding) -> np.ndarray:
@@ -262,7 +261,8 @@ class _Equivariance:
                             break
                     for a, meeting in self.turns if ok else ():
                         image = c.transformed(a.g, a.t, meeting)
-                        if _target(self.table.algorithm, image) != (None if t is None else a(t)):
+                        if (self.table.target_of(image, remember=False)
+                                != (None if t is None else a(t))):
                             ok = False
                             break
                 except AlgorithmCrash:  # a crash is the per-configuration check's to report
@@ -270,14 +270,6 @@ class _Equivariance:
                 self.known[r] = ok
             out[i] = not ok
         return out[back]
-
-
-def _target(algorithm: Algorithm, c: Configuration) -> Node | None:
-    """The algorithm's target in ``c`` (None: none, or no rule; a crash is raised)."""
-    try:
-        return target_of(algorithm, c)
-    except Unhandled:
-        return None
 
 
 def explore_union(
@@ -409,31 +401,25 @@ class Oriented:
     Computed on demand, for a batch of states at a time (a BFS asks for the states it
     has queued), and kept."""
 
-    def __init__(self, u: UnionGraph, h: tuple[int, Node]):
+    def __init__(self, u: UnionGraph, h: Automorphism):
         enc, table = u.encoding, u.table
         self.u, self.n = u, table.n
-        g, (tx, ty) = h
-        ma, mb, mc, md = geometry.MATRICES[g]
         # the box, its group and its encoding as the oriented search sees them
         corners = [(enc.x0, enc.y0), (enc.x0 + enc.width - 1, enc.y0 + enc.height - 1)]
-        box_h = geometry.bounding_box([(ma * x + mb * y + tx, mc * x + md * y + ty)
-                                       for x, y in corners])
-        meeting_h = frozenset((ma * x + mb * y + tx, mc * x + md * y + ty)
-                              for x, y in table.meeting)
-        enc_h = Encoding(box_h, meeting_automorphisms(Configuration.trusted((), meeting_h)),
-                         True)
+        meeting_h = frozenset(map(h, table.meeting))
+        enc_h = Encoding(geometry.bounding_box(list(map(h, corners))),
+                         meeting_automorphisms(Configuration.trusted((), meeting_h)), True)
         # codes (cell * 5 + pending step) mapped both ways
-        dirs = [0] + [STEP_INDEX[geometry.apply(g, step)] for step in STEPS]
+        dirs = [0] + [STEP_INDEX[geometry.apply(h.g, step)] for step in STEPS]
         self.forward = np.empty(enc.cells * 5, dtype=np.int64)
         self.back = np.empty(enc_h.cells * 5, dtype=np.int64)
         for cell in range(enc.cells):
-            x, y = enc.node(cell)
-            hcell = ((ma * x + mb * y + tx - enc_h.x0) * enc_h.height
-                     + mc * x + md * y + ty - enc_h.y0)
+            x, y = h(enc.node(cell))
+            hcell = (x - enc_h.x0) * enc_h.height + y - enc_h.y0
             for d in range(5):
                 self.forward[cell * 5 + d] = hcell * 5 + dirs[d]
                 self.back[hcell * 5 + dirs[d]] = cell * 5 + d
-        self.perm = np.array(STEP_PERM[g], dtype=np.uint8)
+        self.perm = np.array(STEP_PERM[h.g], dtype=np.uint8)
         self.enc_h = enc_h
         self.canon, self.canon_h = Canon(enc, self.n), Canon(enc_h, self.n)
         self.neighbour = _neighbours(enc_h)

@@ -37,6 +37,17 @@ class Automorphism:
     def __call__(self, v: Node) -> Node:
         return geometry.add(geometry.apply(self.g, v), self.t)
 
+    def inverse(self) -> Automorphism:
+        """``v -> g^-1(v - t)``, as ``g^-1(v) - g^-1(t)``.
+
+        >>> a = Automorphism(1, (3, -2))
+        >>> a.inverse()(a((5, 7)))
+        (5, 7)
+        """
+        h = geometry.inverse(self.g)
+        x, y = geometry.apply(h, self.t)
+        return Automorphism(h, (-x, -y))
+
     # -- kind -----------------------------------------------------------------
     @property
     def kind(self) -> str:

@@ -107,9 +107,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
             fallback.append((index, c))  # NOT-APPLICABLE: decided at once
         else:
             iso = union.shape_isometry(c)
-            g = geometry.inverse(iso[0])
-            back = Automorphism(g, geometry.sub((0, 0), geometry.apply(g, iso[1])))
-            todo.append((index, c, cls, union.normalise(c, iso), back))
+            todo.append((index, c, cls, union.normalise(c, iso), Automorphism(*iso).inverse()))
     if not todo:
         return ClassDecision([], fallback)
     by_n: dict[tuple[frozenset, int], list[int]] = {}  # one union per shape of M and n
@@ -212,7 +210,7 @@ def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, back: Automo
     caches of the class's traces, by meeting-node set, filled here (a configuration's
     facts do not depend on the initial configuration they carry, which only a property
     of the user's could read, and those are never decided here)."""
-    order = None if back.g == geometry.IDENTITY else u.oriented((back.g, back.t))
+    order = None if back.g == geometry.IDENTITY else u.oriented(back)
     path = u.witness_path(seed, union.SAFETY_BITS[prop], fresh=prop == "no-ungatherable",
                           order=order)
     if path is None:
