@@ -181,3 +181,31 @@ def test_union_sweep_resumes_a_prefix(tmp_path: Path, capsys: pytest.CaptureFixt
     main([*argv, "--db", str(tmp_path / "b.sqlite")])
     capsys.readouterr()
     assert _table(tmp_path / "a.sqlite") == _table(tmp_path / "b.sqlite")
+
+
+def test_a_user_target_read_from_absolute_coordinates_is_its_own_searchs(tmp_path: Path) -> None:
+    """A user's target need not commute with translations (it is global coordinates): the
+    union, which reads targets on translates, hands such an algorithm's classes to the
+    per-configuration checks, and every row stays theirs."""
+    from gather_verify.algorithms import get_algorithm
+    from gather_verify.sweeps.mclass import target_commutes_with_translations
+
+    path = tmp_path / "parity.py"
+    path.write_text(
+        "from gather_verify.algorithms.go_to_target import GoToTarget\n"
+        "class Parity(GoToTarget):\n"
+        "    name = 'parity'\n"
+        "    def target(self, configuration):\n"
+        "        ms = sorted(configuration.meeting_nodes)\n"
+        "        return ms[min(configuration.robots)[0] % 2 % len(ms)]\n")
+    spec = f"{path}:Parity"
+    assert not target_commutes_with_translations(get_algorithm(spec))
+    assert target_commutes_with_translations(get_algorithm("paper"))
+    s = SweepSettings(robots=2, meeting=2, box=(3, 3), algorithm=spec, scheduler="async",
+                      max_memory_mb=8000)
+    items = list(enumerate(enumerate_configurations(2, 2, 3, 3)))
+    for members in class_tasks(items):
+        decided = decide_class(s, members, configuration_key)
+        assert decided.rows == [] and decided.fallback == list(members)
+    counts = assert_rows_equal(2, 2, (3, 3), spec)
+    assert counts["settled"] == 0

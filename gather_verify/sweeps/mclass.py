@@ -98,6 +98,9 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     wanted = props.check_property_names(settings.properties or None)
     if set(wanted) - DECIDED:  # a property of the user's: only its own search knows it
         return ClassDecision([], list(members))
+    if "target-invariance" in wanted and not target_commutes_with_translations(
+            get_algorithm(settings.algorithm)):
+        return ClassDecision([], list(members))  # its target is for its own searches to read
     memory = memory_budget_mb() if settings.max_memory_mb is None else settings.max_memory_mb
     fallback: list[tuple[int, Configuration]] = []
     todo: list[tuple[int, Configuration, Any, Configuration, Automorphism]] = []
@@ -195,6 +198,15 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
 
 DECIDED = {"final", "no-ungatherable", "target-invariance", "move-bound", "termination"}
 """The properties the union graph decides (every other one falls back)."""
+
+
+def target_commutes_with_translations(algorithm: Any) -> bool:
+    """Whether the union may read ``algorithm``'s target on a translate of a configuration
+    (docs/interpretations.md, E8): no target, or a built-in one, each of which commutes with
+    translations (read off a canonical form, or a minimum over nodes ordered by their
+    coordinates). A target of the user's is global coordinates with no such promise."""
+    return (getattr(algorithm, "target", None) is None
+            or type(algorithm).__module__.startswith("gather_verify.algorithms."))
 
 _TRANSITION = object()  # marks a transition witness: the trace finds the edge itself
 
