@@ -287,3 +287,14 @@ def test_census_U_every_choice():
 @pytest.mark.slow
 def test_census_unclassified_meeting_theorem_1():
     print("\n" + census_U("random", steps=30, max_states=0, beyond_u=True))
+
+
+def test_beyond_u_is_deprecated_with_a_warning(capsys):
+    """``--beyond-u`` changes nothing since U follows §3.2: it says so rather than stay silent."""
+    from gather_verify.cli import main
+
+    scenario = "scenarios/impossibility/i42-edge-centre-180.json"
+    assert main(["impossibility", scenario, "--algorithms", "1", "--steps", "2"]) == \
+        main(["impossibility", scenario, "--algorithms", "1", "--steps", "2", "--beyond-u"])
+    err = capsys.readouterr().err
+    assert err.count("--beyond-u is deprecated") == 1

@@ -41,13 +41,8 @@ class _Parser(argparse.ArgumentParser):
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="gather-verify", description=__doc__.splitlines()[0], allow_abbrev=False)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
-    for name in COMMANDS:
-        try:
-            module = importlib.import_module(f"gather_verify.cli.{name}")
-        except ModuleNotFoundError as error:
-            if error.name == f"gather_verify.cli.{name}":
-                continue  # not built yet
-            raise
+    for name in COMMANDS:  # a missing command module is a broken install: fail loudly
+        module = importlib.import_module(f"gather_verify.cli.{name}")
         p = sub.add_parser(name, help=module.HELP, description=module.HELP, allow_abbrev=False)
         module.add_arguments(p)
         p.set_defaults(_run=module.run)

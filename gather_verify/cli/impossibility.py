@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 
 from gather_verify.cli.common import (
     EXIT_NOT_APPLICABLE,
@@ -44,9 +45,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--split-orbit", action="store_true",
                    help="deliberately break the adversary (one orbit chooses independently)")
     p.add_argument("--beyond-u", action="store_true",
-                   help="also play the adversary when any automorphism of C fixes no robot and "
-                        "no meeting node (Theorem 1's hypothesis; since U follows §3.2 this "
-                        "finds nothing outside U, kept for old scripts)")
+                   help="deprecated, no effect: U follows the end of §3.2, so no configuration "
+                        "outside U meets Theorem 1's hypothesis (a warning says so)")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
 
 
@@ -71,6 +71,9 @@ def algorithms_for(k: int, seed: int, paper: bool = True) -> tuple[list, str]:
 def run(args: argparse.Namespace) -> int:
     from gather_verify.impossibility import check_impossibility
 
+    if args.beyond_u:
+        print("warning: --beyond-u is deprecated and changes nothing (U follows §3.2, so no "
+              "configuration outside U meets Theorem 1's hypothesis); drop it", file=sys.stderr)
     configuration, scenario = load_configuration(args)
     from gather_verify.algorithms import get_algorithm
 
