@@ -241,7 +241,8 @@ def test_random_algorithm_is_stable():
 # -- the measurement (issue 6): every U configuration of the census ------------------------
 
 
-def census_U(explore: str, steps: int, max_states: int, beyond_u: bool = False) -> str:
+def census_U(explore: str, steps: int, max_states: int,
+             beyond_u: bool = False) -> tuple[dict, dict, str]:
     """Play the adversary on every U configuration of the census (n <= 4, m <= 4, 4 x 4 box)
     against K = 20 random algorithms and the paper's; a one-line summary. With
     ``beyond_u``: on every UNCLASSIFIED one that meets Theorem 1's hypothesis instead."""
@@ -270,23 +271,43 @@ def census_U(explore: str, steps: int, max_states: int, beyond_u: bool = False) 
                     stats["closed/repeated"] += run.repeated
                     stats["states"] += run.states
                     stats["paper unhandled"] += run.algorithm == "paper" and run.unhandled > 0
-    return (f"{explore}: {dict(classes)} configurations, {dict(stats)}, "
-            f"{time.perf_counter() - start:.0f} s")
+    return dict(classes), dict(stats), (f"{explore}: {dict(classes)} configurations, "
+                                        f"{dict(stats)}, {time.perf_counter() - start:.0f} s")
+
+
+U_CENSUS = {"I41": 252, "I42": 635}
+"""The I41 and I42 configurations of the census n <= 4, m <= 4 in a 4 x 4 box."""
+
+
+def _assert_every_U_configuration_held(classes: dict, stats: dict, expected: dict) -> None:
+    """Each configuration was played (and held: ``census_U`` asserts it per run) against the
+    paper's algorithm and 20 random ones."""
+    assert classes == expected
+    partitive = sum(v for k, v in classes.items() if k != "UNCLASSIFIED without")
+    assert stats["runs"] == 21 * partitive
 
 
 @pytest.mark.slow
 def test_census_U_random_adversary():
-    print("\n" + census_U("random", steps=30, max_states=0))
+    classes, stats, text = census_U("random", steps=30, max_states=0)
+    print("\n" + text)
+    _assert_every_U_configuration_held(classes, stats, U_CENSUS)
 
 
 @pytest.mark.slow
 def test_census_U_every_choice():
-    print("\n" + census_U("all", steps=3, max_states=60))
+    classes, stats, text = census_U("all", steps=3, max_states=60)
+    print("\n" + text)
+    _assert_every_U_configuration_held(classes, stats, U_CENSUS)
 
 
 @pytest.mark.slow
 def test_census_unclassified_meeting_theorem_1():
-    print("\n" + census_U("random", steps=30, max_states=0, beyond_u=True))
+    classes, stats, text = census_U("random", steps=30, max_states=0, beyond_u=True)
+    print("\n" + text)
+    # 371 UNCLASSIFIED configurations are in U (an empty axis), 1,326 are not (findings, F1)
+    _assert_every_U_configuration_held(classes, stats,
+                                       {"UNCLASSIFIED": 371, "UNCLASSIFIED without": 1326})
 
 
 def test_beyond_u_is_deprecated_with_a_warning(capsys):

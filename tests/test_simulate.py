@@ -118,10 +118,13 @@ def test_cli_bad_input_one_line_exit_2(args, word):
 def test_docs_example_runs():
     text = (ROOT / "docs" / "algorithms.md").read_text()
     (code,) = re.findall(r"```python\n(.*?)```", text, re.S)
+    namespace: dict = {}
     try:
-        exec(compile(code, "docs/algorithms.md", "exec"), {})
+        exec(compile(code, "docs/algorithms.md", "exec"), namespace)
     finally:
         REGISTRY.pop("nearest-mine", None)
+    run = namespace["run"]  # the example's own run: it gathers where the page says it does
+    assert (run.outcome, run.meeting_node, run.moves) == ("gathered", (2, 0), 6)
 
 
 @pytest.mark.parametrize("name, seed, outcome, message", [
