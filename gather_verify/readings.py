@@ -15,27 +15,34 @@ verdicts give its *robustness*:
   UNCLASSIFIED (no reading applies the algorithm).
 
 The covering set. ``M`` never changes during a run, and which options
-:func:`gather_verify.algorithms.paper.analyse` reads depends on ``M`` alone
+:func:`gather_verify.algorithms.paper.analyse` can read depends on ``M`` alone
 (:func:`relevant_options`): ``alpha`` only when ``M`` is asymmetric or has a single
 reflection with a meeting node on ``L`` (I11, I12: the orderings ``O`` and ``O'``);
 none when a meeting node is on the centre ``c`` (I13); otherwise every option but
 ``alpha``, and of those ``metric`` and ``unclassified`` only when ``M`` has a rotation
 (``metric`` changes the distance to ``c`` only: the distance to a line ``L`` is
 ``d(v, phi(v))``/2 in every metric, and ``unclassified`` is about a rotational ``M``).
-So the plans, hence the whole reachable graph and every verdict, are equal for two
-readings that differ only in options not read on that ``M``: one of them is run
-(the first listed value), the others are the same run. Options that are read are
-varied as a full product, because they interact: finding F9 disappears only
-under ``oscan=guard`` *and* ``finalize=target`` together. ``tests/test_readings.py``
-checks the covering claim on random snapshots.
+The readings of a configuration are the product of the values of the options its ``M``
+can read (the others at their first value: the same runs); options are varied as a
+product, never one at a time, because they interact: finding F9 disappears only under
+``oscan=guard`` *and* ``finalize=target`` together. Sweeps run that static set.
+
+``check --readings`` runs fewer (:func:`check_readings`, the dynamic covering): the
+plans read every option through a recording :class:`~gather_verify.algorithms.paper.Reading`,
+so after a run the instance knows every option its plans consulted; a reading that agrees
+with the run on those options computes the same plan on every snapshot the run planned,
+hence explores the same graph in the same order to the same verdict, and the run stands
+for it. The next run is the first reading not yet stood for. ``tests/test_readings.py``
+checks both claims on random snapshots, compares the dynamic covering with the full
+product, and fails when either claim is broken on purpose.
 
 >>> varied = parse_readings("all")
 >>> [len(v) for v in varied.values()]
-[2, 2, 2, 4, 2, 2]
+[2, 2, 2, 4, 2, 2, 2, 3, 2]
 >>> from gather_verify.model.configuration import Configuration
 >>> i22 = Configuration([(0, 0), (2, 3)], [(3, 0), (3, 1)])
->>> len(covering(varied, i22))  # metric, oscan, finalize, outside, unclassified
-64
+>>> len(covering(varied, i22))  # every option but alpha: 2*2*4*2*2 * 2*3*2
+768
 >>> [r.split(",")[0] for r in covering(varied, Configuration([(0, 0)], [(0, 0), (1, 0), (3, 1)]))]
 ['paper:alpha=mer', 'paper:alpha=mer_f']
 >>> robustness(["VIOLATED", "VERIFIED"]), robustness(["VIOLATED", "INCOMPLETE"])

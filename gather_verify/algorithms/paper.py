@@ -26,15 +26,18 @@ meeting node, and a robot is *outside* when ``dist > d1``):
    Algorithm 4; the paper's own argument that the guard's path meets no other
    meeting node needs it, and it survives every step of the guard along a
    shortest path; ``finalize=n1`` drops this last condition, reading the
-   pseudo-code's "if n1 = 2" literally): a robot not on a multiplicity and not on a
-   meeting node steps towards the other position; the others stay;
+   pseudo-code's "if n1 = 2" literally): the robots Algorithm 4 line 2 names step
+   towards the other position, the others stay (``survivor``, below);
 6. the snapshot is symmetric (``SymmetryBreaking()``, Algorithm 5): the robot
    on ``L`` (the axis of ``C``) with the maximum configuration view steps to
    any neighbour off ``L``, or the robot on ``c`` to any neighbour; no robot
-   there: ``Unhandled`` (the class is in U);
+   there: the snapshot is in U, ``Unhandled`` (``hidden=infer``: with two positions
+   the robot off a multiplicity is the guard, below);
 7. asymmetric, a *unique farthest* robot ``g`` that is outside: ``g`` is the
    guard. Not yet on a corner of MER: ``g`` steps towards its closest MER
-   corner, by steps that do not bring it nearer ``L ∪ {c}`` (placement);
+   corner, by steps that do not bring it nearer ``L ∪ {c}`` (placement; when
+   there is none, ``placement=reachable`` takes the closest corner it can approach
+   so, ``placement=closest`` has no rule);
    on a corner (guard placed): the target ``m`` is the meeting node closest
    to ``g``, ties by the first in ``O''`` (the lambda scan of MER from
    ``g``'s corner, its lines parallel to the key corner's string direction); the non-guard robots not on ``m``
@@ -67,7 +70,27 @@ I32 paragraph says) or ``unclassified=unhandled``; ``outside=distance``
 "there exists at least one robot position at a distance d2 > d1" says) or
 ``outside=mer_f`` (literally: strictly outside the rectangle MER_F; then
 Algorithm 2's "exactly one robot outside MER_F" may pick a robot that is not
-the farthest, and it steps away from ``L ∪ {c}`` until it is).
+the farthest, and it steps away from ``L ∪ {c}`` until it is);
+``placement=closest`` (default: Algorithm 2 line 5 "finally towards its closest
+corner", only that corner, by steps that keep the guard's distance from ``L ∪ {c}``, as
+Lemma 5 needs; no such step: no rule) or ``reachable`` (the closest of the MER corners
+it can approach so: the same steps wherever ``closest`` has one, and always a step);
+``survivor`` (Algorithm 4 line 2, "the robot that does not lie on a robot multiplicity
+node and on a meeting node"): ``neither`` (default: on neither a multiplicity nor a
+meeting node), ``not-both`` (not on a node that is both) or ``off-target`` (every robot
+not on the target moves, as the prose "the guard moves; the robots on m stay" says),
+each seen with the robot's own multiplicity bit only (``Plan.if_multiplicity``);
+``hidden=unhandled`` (default: a weak snapshot in U, e.g. after SymmetryBreaking steps
+onto an occupied node, has no rule) or ``infer`` (§4 after Algorithm 5: "the robot
+that is farthest from L ∪ {c} and does not lie on a multiplicity is selected as the
+guard"; the run started outside U and Lemma 7 says it never enters U, so the snapshot
+hides a multiplicity; with two positions a robot off a multiplicity knows the other
+holds it, is that guard and steps away from ``L ∪ {c}``; with more it cannot tell
+where the multiplicity is: no rule).
+
+Every ``Unhandled`` message starts with a short label of the rule that has no answer,
+up to the first colon (``I2 guard placement``, ``I41-looking snapshot``,
+``Finalization``, ...): failures are grouped by it.
 
 >>> from gather_verify.algorithms.moves import move_set
 >>> from gather_verify.model.configuration import Configuration
