@@ -15,27 +15,34 @@ verdicts give its *robustness*:
   UNCLASSIFIED (no reading applies the algorithm).
 
 The covering set. ``M`` never changes during a run, and which options
-:func:`gather_verify.algorithms.paper.analyse` reads depends on ``M`` alone
+:func:`gather_verify.algorithms.paper.analyse` can read depends on ``M`` alone
 (:func:`relevant_options`): ``alpha`` only when ``M`` is asymmetric or has a single
 reflection with a meeting node on ``L`` (I11, I12: the orderings ``O`` and ``O'``);
 none when a meeting node is on the centre ``c`` (I13); otherwise every option but
 ``alpha``, and of those ``metric`` and ``unclassified`` only when ``M`` has a rotation
 (``metric`` changes the distance to ``c`` only: the distance to a line ``L`` is
 ``d(v, phi(v))``/2 in every metric, and ``unclassified`` is about a rotational ``M``).
-So the plans, hence the whole reachable graph and every verdict, are equal for two
-readings that differ only in options not read on that ``M``: one of them is run
-(the first listed value), the others are the same run. Options that are read are
-varied as a full product, because they interact: finding F9 disappears only
-under ``oscan=guard`` *and* ``finalize=target`` together. ``tests/test_readings.py``
-checks the covering claim on random snapshots.
+The readings of a configuration are the product of the values of the options its ``M``
+can read (the others at their first value: the same runs); options are varied as a
+product, never one at a time, because they interact: finding F9 disappears only under
+``oscan=guard`` *and* ``finalize=target`` together. Sweeps run that static set.
+
+``check --readings`` runs fewer (:func:`check_readings`, the dynamic covering): the
+plans read every option through a recording :class:`~gather_verify.algorithms.paper.Reading`,
+so after a run the instance knows every option its plans consulted; a reading that agrees
+with the run on those options computes the same plan on every snapshot the run planned,
+hence explores the same graph in the same order to the same verdict, and the run stands
+for it. The next run is the first reading not yet stood for. ``tests/test_readings.py``
+checks both claims on random snapshots, compares the dynamic covering with the full
+product, and fails when either claim is broken on purpose.
 
 >>> varied = parse_readings("all")
 >>> [len(v) for v in varied.values()]
-[2, 2, 2, 4, 2, 2]
+[2, 2, 2, 4, 2, 2, 2, 3, 2]
 >>> from gather_verify.model.configuration import Configuration
 >>> i22 = Configuration([(0, 0), (2, 3)], [(3, 0), (3, 1)])
->>> len(covering(varied, i22))  # metric, oscan, finalize, outside, unclassified
-64
+>>> len(covering(varied, i22))  # every option but alpha: 2*2*4*2*2 * 2*3*2
+768
 >>> [r.split(",")[0] for r in covering(varied, Configuration([(0, 0)], [(0, 0), (1, 0), (3, 1)]))]
 ['paper:alpha=mer', 'paper:alpha=mer_f']
 >>> robustness(["VIOLATED", "VERIFIED"]), robustness(["VIOLATED", "INCOMPLETE"])
@@ -49,7 +56,7 @@ from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 from gather_verify.algorithms import parse_name
-from gather_verify.algorithms.paper import READINGS
+from gather_verify.algorithms.paper import READINGS, PaperAlgorithm
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import meeting_automorphisms
@@ -70,8 +77,9 @@ CLASS_M_TYPE = {"I11": "I1-ordered", "I12": "I1-ordered", "I13": "I13", "I21": "
 _READ: dict[str, tuple[str, ...]] = {
     "I1-ordered": ("alpha",),
     "I13": (),
-    "reflection": ("oscan", "finalize", "outside"),
-    "rotation": ("metric", "oscan", "finalize", "outside", "unclassified"),
+    "reflection": ("oscan", "finalize", "outside", "placement", "survivor", "hidden"),
+    "rotation": ("metric", "oscan", "finalize", "outside", "unclassified", "placement",
+                 "survivor", "hidden"),
 }
 
 
@@ -167,32 +175,69 @@ def robustness(verdicts: Iterable[str]) -> str:
     return "INCOMPLETE"
 
 
+def _values(spec: str) -> dict[str, str]:
+    """The option values of a reading's name (:func:`reading_name`)."""
+    return parse_name(spec)[1]
+
+
 def check_readings(configuration: Configuration, readings: str, *, algorithm: str = "paper",
-                   run: Callable[..., dict[str, Any]] | None = None, **check: Any
-                   ) -> dict[str, Any]:
+                   run: Callable[..., dict[str, Any]] | None = None, dynamic: bool = True,
+                   **check: Any) -> dict[str, Any]:
     """``run_check`` under every reading of the covering set; the first reading's report
-    (the base algorithm's when its values are listed) with ``readings``, ``robustness``
-    and ``readings_not_read`` (options the plans of this ``M`` never read) added."""
+    (the base algorithm's when its values are listed) with ``readings`` (one entry per
+    reading of the covering set, with the ``run`` that stands for it), ``runs``,
+    ``robustness`` and ``readings_not_read`` (options the plans of this ``M`` never read).
+
+    ``dynamic`` (the default): a run stands for every reading that agrees with it on the
+    options its plans consulted (:class:`~gather_verify.algorithms.paper.Reading`): those
+    readings compute the same plan on every snapshot the run planned, so they explore
+    the same graph, in the same order, and reach the same verdict. The next run is the
+    first reading no run stands for yet. ``dynamic=False`` runs every reading."""
     if run is None:
         from gather_verify.check import run_check as run
     varied = parse_readings(readings, algorithm)
     specs = covering(varied, configuration)
-    reports = [run(configuration, algorithm=spec, **check) for spec in specs]
-    report = dict(reports[0])
-    report["readings"] = [{"algorithm": spec, "verdict": r["verdict"], "property": r["property"]}
-                          for spec, r in zip(specs, reports, strict=True)]
-    report["robustness"] = robustness(r["verdict"] for r in reports)
+    pending = [_values(spec) for spec in specs]
+    stands: dict[str, tuple[str, dict[str, Any]]] = {}  # reading -> (run, its report)
+    runs: list[dict[str, Any]] = []
+    while pending:
+        values = pending[0]
+        spec = reading_name(values)
+        instance = PaperAlgorithm(**values)
+        instance.name = spec
+        report = run(configuration, algorithm=instance, **check)
+        consulted = sorted(instance.consulted) if dynamic else list(READINGS)
+        covered = [r for r in pending if all(r[o] == values[o] for o in consulted)]
+        pending = [r for r in pending if r not in covered]
+        runs.append({"algorithm": spec, "verdict": report["verdict"],
+                     "property": report["property"], "consulted": consulted,
+                     "readings": len(covered), "report": report})
+        for r in covered:
+            stands[reading_name(r)] = (spec, report)
+    out = dict(runs[0]["report"])
+    out["readings"] = [{"algorithm": spec, "verdict": stands[spec][1]["verdict"],
+                        "property": stands[spec][1]["property"], "run": stands[spec][0]}
+                       for spec in specs]
+    out["runs"] = [{k: v for k, v in r.items() if k != "report"} for r in runs]
+    out["robustness"] = robustness(r["verdict"] for r in runs)
     read = relevant_options(configuration)
-    report["readings_not_read"] = {o: list(varied[o]) for o in READINGS
-                                   if o not in read and len(varied[o]) > 1}
-    return report
+    out["readings_not_read"] = {o: list(varied[o]) for o in READINGS
+                                if o not in read and len(varied[o]) > 1}
+    return out
 
 
 def format_readings(report: dict[str, Any], write: Callable[[str], Any] = print) -> None:
-    """The per-reading lines and the robustness of a :func:`check_readings` report."""
-    write(f"readings ({len(report['readings'])} run):")
-    for r in report["readings"]:
+    """The runs, the readings each stands for, and the robustness of a
+    :func:`check_readings` report."""
+    runs = report["runs"]
+    write(f"readings ({len(runs)} run{'s' if len(runs) != 1 else ''} for "
+          f"{len(report['readings'])} reading{'s' if len(report['readings']) != 1 else ''}):")
+    for r in runs:
         write(f"  {r['verdict']:15} {r['property'] or '-':18} {r['algorithm']}")
+        if r["readings"] > 1:
+            read = ", ".join(r["consulted"]) or "none"
+            write(f"  {'':15} {'':18} stands for {r['readings']} readings (options read: "
+                  f"{read})")
     if report["readings_not_read"]:
         fixed = "; ".join(f"{o}={values[0]} stands for {'|'.join(values)}"
                           for o, values in report["readings_not_read"].items())

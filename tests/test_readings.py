@@ -3,6 +3,7 @@ covering set is sound, and robustness is never claimed on fewer readings than we
 
 from __future__ import annotations
 
+import itertools
 import json
 import random
 from pathlib import Path
@@ -10,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from gather_verify.algorithms.base import Unhandled
-from gather_verify.algorithms.paper import READINGS, analyse
+from gather_verify.algorithms.paper import DEFAULTS, READINGS, Reading, analyse
 from gather_verify.check import run_check
 from gather_verify.cli import main
 from gather_verify.model.configuration import Configuration
@@ -110,8 +111,7 @@ def test_bad_reading_values_are_refused():
 
 def _plan(c: Configuration, values: dict[str, str]) -> object:
     try:
-        return analyse(c, values["alpha"], values["unclassified"], values["outside"],
-                       values["finalize"], values["metric"], values["oscan"])
+        return analyse(c, values)
     except Unhandled as error:
         return f"Unhandled: {error}"
 
@@ -159,8 +159,8 @@ def test_the_covering_claim_would_catch_an_option_read_where_it_is_said_not_to_b
     """Broken on purpose: claim that rotational M do not read ``metric``."""
     from gather_verify import readings
 
-    monkeypatch.setitem(readings._READ, "rotation", ("oscan", "finalize", "outside",
-                                                     "unclassified"))
+    monkeypatch.setitem(readings._READ, "rotation", tuple(
+        o for o in readings._READ["rotation"] if o != "metric"))
     failures = _covering_failures([configuration(F11_ROTATION)])
     assert failures and {option for _, option, _ in failures} == {"metric"}
 
@@ -181,13 +181,14 @@ def test_check_readings_reports_every_reading_run():
     c = configuration(F11_ROTATION)
     report = check_readings(c, "all", algorithm="paper", scheduler="async", **LIMITS)
     specs = [r["algorithm"] for r in report["readings"]]
-    assert len(specs) == len(set(specs)) == 64 == len(covering(parse_readings("all"), c))
+    assert len(specs) == len(set(specs)) == 768 == len(covering(parse_readings("all"), c))
     assert specs[0] == reading_name({o: v[0] for o, v in READINGS.items()})
     assert report["algorithm"] == specs[0] and report["verdict"] == "VIOLATED"
     assert report["robustness"] == "READING-DEPENDENT"
     assert report["readings_not_read"] == {"alpha": ["mer", "mer_f"]}
+    assert sum(r["readings"] for r in report["runs"]) == 768 > len(report["runs"])
     removed = {r["algorithm"] for r in report["readings"] if r["verdict"] == "VERIFIED"}
-    assert removed and all("metric=euclid" in a for a in removed)
+    assert removed and all("metric=euclid" in a or "placement=reachable" in a for a in removed)
 
 
 def test_check_readings_incomplete_is_never_robust():
@@ -209,7 +210,7 @@ def test_check_cli_readings_json(capsys):
         ("metric=manhattan", "finalize=n1", "VIOLATED"),
         ("metric=euclid", "finalize=closest", "VERIFIED"),
         ("metric=euclid", "finalize=n1", "VIOLATED")]
-    assert set(out["readings"][0]) == {"algorithm", "verdict", "property"}
+    assert set(out["readings"][0]) == {"algorithm", "verdict", "property", "run"}
     assert main(["check", str(F11_ROTATION), "--readings", "metric=taxicab"]) == 2
     assert "metric" in capsys.readouterr().err
 
@@ -218,7 +219,7 @@ def test_check_cli_robust_verdicts(capsys):
     assert main(["check", "--robots", "0,0 3,1 1,4", "--meeting", "2,2", "--readings",
                  "all"]) == 0
     out = capsys.readouterr().out
-    assert "robustness: ROBUST-VERIFIED" in out and "readings (1 run)" in out
+    assert "robustness: ROBUST-VERIFIED" in out and "readings (1 run for 1 reading)" in out
 
 
 def test_robustness_table_counts_only_complete_coverings():
@@ -260,3 +261,209 @@ def test_sweep_readings_stores_every_reading(tmp_path, capsys):
     assert main(["sweep", "--robots", "2", "--meeting", "2", "--box", "3x2", "--readings", "all",
                  "--readings-types", "spiral", "--db", str(db)]) == 2
     assert "spiral" in capsys.readouterr().err
+
+
+# -- the audit's readings: placement, survivor, hidden ------------------------------------
+
+A4_WITNESS = ROOT / "scenarios/regressions/i21-defined-paper-async-57a8f95c.json"
+F4_N4 = (ROOT / "scenarios/regressions/i21-final-paper-async-83746d8b.json",
+         ROOT / "scenarios/regressions/i31-final-paper-async-7f66536a.json")
+F4_N3 = ROOT / "scenarios/algorithm/i22-make-multiplicity-onto-guard.json"
+F7_I31 = (ROOT / "scenarios/algorithm/i31-symmetry-breaking-onto-robot.json",
+          ROOT / "scenarios/regressions/i31-defined-paper-async-3b999754.json")
+F11_DIAGONAL = ROOT / "scenarios/algorithm/i21-diagonal-axis-guard-corner.json"
+
+
+def test_placement_reachable_removes_the_a4_witness():
+    """Algorithm 2 line 5: the closest corner has no step that keeps the guard's distance
+    from L; the closest corner it can approach so has one."""
+    c = configuration(A4_WITNESS)
+    assert verdict(c, "paper") == ("VIOLATED", "defined")
+    assert verdict(c, "paper:placement=reachable") == ("VERIFIED", None)
+    c = configuration(F11_DIAGONAL)
+    assert verdict(c, "paper") == ("VIOLATED", "defined")
+    assert verdict(c, "paper:placement=reachable") == ("VERIFIED", None)
+    assert verdict(c, "paper:placement=reachable,finalize=target") == ("VERIFIED", None)
+
+
+def test_placement_is_read_only_where_the_closest_corner_has_no_step():
+    """The two placements agree wherever A4 has a step: there the option is not read."""
+    guard_off_corner = Configuration([(0, 0), (-4, 2)], [(0, 2), (0, 3), (2, 0), (3, 0)])
+    reading = Reading(DEFAULTS)
+    plan = analyse(guard_off_corner, reading)
+    assert plan.phase == "I2 guard placement" and "placement" not in reading.consulted
+    assert analyse(guard_off_corner, placement="reachable") == plan
+
+
+def test_survivor_not_both_and_off_target_remove_the_n4_deadlocks():
+    for path in F4_N4:
+        c = configuration(path)
+        assert verdict(c, "paper") == ("VIOLATED", "final"), path.name
+        assert verdict(c, "paper:survivor=not-both") == ("VERIFIED", None), path.name
+        assert verdict(c, "paper:survivor=off-target") == ("VERIFIED", None), path.name
+
+
+def test_survivor_off_target_removes_f4_and_not_both_does_not():
+    c = configuration(F4_N3)
+    assert verdict(c, "paper") == ("VIOLATED", "final")
+    assert verdict(c, "paper:survivor=not-both") == ("VIOLATED", "final")
+    assert verdict(c, "paper:survivor=off-target") == ("VERIFIED", None)
+
+
+def test_survivor_rules_as_a_robot_sees_them():
+    """F4's snapshot: the guard's node (0,0) holds two robots (invisible to the others),
+    (0,1) one robot on the target. Each rule is a move per position and a move for the
+    robots that see their own node as a multiplicity."""
+    c = Configuration([(0, 0), (0, 1)], [(0, 1), (2, 1)])
+    neither = analyse(c)
+    assert neither.moves == {(0, 0): {(0, 1)}, (0, 1): {(0, 1)}}
+    assert neither.if_multiplicity == {(0, 0): {(0, 0)}}
+    not_both = analyse(c, survivor="not-both")
+    assert not_both.moves == {(0, 0): {(0, 1)}, (0, 1): {(0, 0)}}
+    assert not_both.if_multiplicity == {(0, 1): {(0, 1)}}
+    off_target = analyse(c, survivor="off-target")
+    assert off_target.moves == neither.moves and off_target.if_multiplicity == {}
+
+
+def test_survivor_not_both_breaks_a_two_robot_run_the_default_gathers():
+    """With one robot on each position, the robot on the target qualifies too: both walk."""
+    c = Configuration([(0, 0), (0, 1)], [(0, 1), (2, 1)], initial=True)
+    assert verdict(c, "paper") == ("VERIFIED", None)
+    assert verdict(c, "paper:survivor=not-both")[0] == "VIOLATED"
+
+
+def test_hidden_infer_removes_the_n3_f7_witnesses():
+    for path in F7_I31:
+        c = configuration(path)
+        for scheduler in ("fsync", "async"):
+            assert verdict(c, "paper", scheduler) == ("VIOLATED", "defined"), path.name
+            for finalize in ("closest", "target"):
+                assert verdict(c, f"paper:hidden=infer,finalize={finalize}", scheduler) == (
+                    "VERIFIED", None), (path.name, scheduler, finalize)
+
+
+def test_hidden_infer_acts_only_where_the_hidden_node_is_known():
+    """Two positions: the robot off a multiplicity is the guard and steps away from L; three
+    or more: it cannot tell which position holds the multiplicity, no rule."""
+    two = Configuration([(0, 1), (1, 0)], [(0, 1), (0, 2), (1, 0), (2, 0)])
+    with pytest.raises(Unhandled, match="^I41-looking snapshot: "):
+        analyse(two)
+    plan = analyse(two, hidden="infer")
+    assert plan.moves[(1, 0)] == {(2, 0), (1, -1)} and plan.if_multiplicity[(1, 0)] == {(1, 0)}
+    three = Configuration([(0, 1), (1, 0), (0, 3), (3, 0)], [(0, 1), (0, 2), (1, 0), (2, 0)])
+    with pytest.raises(Unhandled, match=r"^I41-looking snapshot \(hidden=infer\): "):
+        analyse(three, hidden="infer")
+
+
+def test_every_unhandled_of_paper_starts_with_its_own_rule_label():
+    """The text before the first colon names the rule (another tool groups failures by it):
+    one label per raise site."""
+    import ast
+    import inspect
+
+    from gather_verify.algorithms import paper
+
+    labels = []
+    for node in ast.walk(ast.parse(inspect.getsource(paper))):
+        if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "Unhandled":
+            first = node.args[0]
+            if not isinstance(first, ast.Constant | ast.JoinedStr):
+                continue  # a plan's Unhandled raised again
+            parts = first.values if isinstance(first, ast.JoinedStr) else [first]
+            text = "".join(p.value if isinstance(p, ast.Constant) else "{}" for p in parts)
+            label, colon, _ = text.partition(":")
+            assert colon and 0 < len(label) <= 60, text
+            labels.append(label)
+    assert len(labels) == len(set(labels)) >= 12, labels
+
+
+# -- the dynamic covering is sound ----------------------------------------------------------
+
+
+def _all_readings() -> list[dict[str, str]]:
+    return [dict(zip(READINGS, combo, strict=True))
+            for combo in itertools.product(*READINGS.values())]
+
+
+def _tracker_failures(snapshots: list[Configuration], seed: int = 3) -> list[tuple]:
+    """Snapshots where a reading that agrees with another on every option its plan consulted
+    gets a different plan (or Unhandled reason)."""
+    rng = random.Random(seed)
+    everything = _all_readings()
+    failures = []
+    for c in snapshots:
+        for values in rng.sample(everything, 4):
+            reading = Reading(values)
+            plan = _plan(c, reading)
+            same = [r for r in everything if all(r[o] == values[o] for o in reading.consulted)]
+            failures += [(c, values, r) for r in rng.sample(same, min(24, len(same)))
+                         if _plan(c, r) != plan]
+    return failures
+
+
+def _finalization_snapshots() -> list[Configuration]:
+    """Two positions, one on a meeting node (Algorithm 4), and the A4 and F7 snapshots."""
+    out = [c for c in enumerate_configurations(2, 2, 3, 3)
+           if sum(r in c.meeting_nodes for r in c.robots) == 1]
+    return out + [Configuration([(-3, 1), (0, 0)], [(0, 2), (0, 3), (2, 0), (3, 0)]),
+                  Configuration([(0, 1), (1, 0)], [(0, 1), (0, 2), (1, 0), (2, 0)])]
+
+
+def test_readings_equal_on_the_consulted_options_plan_alike():
+    """The claim behind the dynamic covering, on random snapshots of every M type and on
+    every Algorithm 4 snapshot of two robots in a 3 x 3 box."""
+    assert _tracker_failures(_snapshots() + _finalization_snapshots()) == []
+
+
+def test_the_tracker_check_would_catch_an_option_read_unrecorded(monkeypatch):
+    """Broken on purpose: ``survivor`` read without being recorded."""
+    def unrecorded(self, option):
+        if option != "survivor":
+            self.consulted.add(option)
+        return self.values[option]
+
+    monkeypatch.setattr(Reading, "__getitem__", unrecorded)
+    failures = _tracker_failures(_finalization_snapshots())
+    assert failures and all(a["survivor"] != b["survivor"] for _, a, b in failures)
+
+
+def _dynamic_against_product(path: Path, readings: str, scheduler: str) -> list[tuple]:
+    c = configuration(path)
+    kw = dict(algorithm="paper", scheduler=scheduler, **LIMITS)
+    dynamic = check_readings(c, readings, **kw)
+    full = check_readings(c, readings, dynamic=False, **kw)
+    assert len(full["runs"]) == len(full["readings"]) > len(dynamic["runs"])
+    return [(a["algorithm"], a["verdict"], b["verdict"])
+            for a, b in zip(dynamic["readings"], full["readings"], strict=True)
+            if (a["algorithm"], a["verdict"], a["property"]) !=
+            (b["algorithm"], b["verdict"], b["property"])]
+
+
+def test_dynamic_covering_gives_every_reading_the_verdict_of_its_own_run():
+    assert _dynamic_against_product(F11_DIAGONAL, "finalize,placement,survivor,hidden",
+                                    "async") == []
+    assert _dynamic_against_product(F7_I31[0], "finalize,outside,survivor,hidden",
+                                    "fsync") == []
+
+
+def test_dynamic_covering_check_would_catch_a_broken_tracker(monkeypatch):
+    """Broken on purpose: ``placement`` read without being recorded, so the run under
+    ``placement=closest`` claims the ``reachable`` readings too."""
+    def unrecorded(self, option):
+        if option != "placement":
+            self.consulted.add(option)
+        return self.values[option]
+
+    monkeypatch.setattr(Reading, "__getitem__", unrecorded)
+    wrong = _dynamic_against_product(F11_DIAGONAL, "placement,finalize=closest", "async")
+    assert wrong and all("placement=reachable" in a for a, _, _ in wrong)
+
+
+def test_check_cli_readings_all_on_the_a4_witness(capsys):
+    code = main(["check", str(A4_WITNESS), "--readings", "all", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 1 and out["robustness"] == "READING-DEPENDENT"
+    by = {r["algorithm"]: r["verdict"] for r in out["readings"]}
+    assert len(by) == 192 and len(out["runs"]) < 192
+    assert {v for a, v in by.items() if "placement=reachable" in a} == {"VERIFIED"}
+    assert {v for a, v in by.items() if "placement=closest" in a} == {"VIOLATED"}

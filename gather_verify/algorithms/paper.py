@@ -26,15 +26,18 @@ meeting node, and a robot is *outside* when ``dist > d1``):
    Algorithm 4; the paper's own argument that the guard's path meets no other
    meeting node needs it, and it survives every step of the guard along a
    shortest path; ``finalize=n1`` drops this last condition, reading the
-   pseudo-code's "if n1 = 2" literally): a robot not on a multiplicity and not on a
-   meeting node steps towards the other position; the others stay;
+   pseudo-code's "if n1 = 2" literally): the robots Algorithm 4 line 2 names step
+   towards the other position, the others stay (``survivor``, below);
 6. the snapshot is symmetric (``SymmetryBreaking()``, Algorithm 5): the robot
    on ``L`` (the axis of ``C``) with the maximum configuration view steps to
    any neighbour off ``L``, or the robot on ``c`` to any neighbour; no robot
-   there: ``Unhandled`` (the class is in U);
+   there: the snapshot is in U, ``Unhandled`` (``hidden=infer``: with two positions
+   the robot off a multiplicity is the guard, below);
 7. asymmetric, a *unique farthest* robot ``g`` that is outside: ``g`` is the
    guard. Not yet on a corner of MER: ``g`` steps towards its closest MER
-   corner, by steps that do not bring it nearer ``L ∪ {c}`` (placement);
+   corner, by steps that do not bring it nearer ``L ∪ {c}`` (placement; when
+   there is none, ``placement=reachable`` takes the closest corner it can approach
+   so, ``placement=closest`` has no rule);
    on a corner (guard placed): the target ``m`` is the meeting node closest
    to ``g``, ties by the first in ``O''`` (the lambda scan of MER from
    ``g``'s corner, its lines parallel to the key corner's string direction); the non-guard robots not on ``m``
@@ -67,7 +70,27 @@ I32 paragraph says) or ``unclassified=unhandled``; ``outside=distance``
 "there exists at least one robot position at a distance d2 > d1" says) or
 ``outside=mer_f`` (literally: strictly outside the rectangle MER_F; then
 Algorithm 2's "exactly one robot outside MER_F" may pick a robot that is not
-the farthest, and it steps away from ``L ∪ {c}`` until it is).
+the farthest, and it steps away from ``L ∪ {c}`` until it is);
+``placement=closest`` (default: Algorithm 2 line 5 "finally towards its closest
+corner", only that corner, by steps that keep the guard's distance from ``L ∪ {c}``, as
+Lemma 5 needs; no such step: no rule) or ``reachable`` (the closest of the MER corners
+it can approach so: the same steps wherever ``closest`` has one, and always a step);
+``survivor`` (Algorithm 4 line 2, "the robot that does not lie on a robot multiplicity
+node and on a meeting node"): ``neither`` (default: on neither a multiplicity nor a
+meeting node), ``not-both`` (not on a node that is both) or ``off-target`` (every robot
+not on the target moves, as the prose "the guard moves; the robots on m stay" says),
+each seen with the robot's own multiplicity bit only (``Plan.if_multiplicity``);
+``hidden=unhandled`` (default: a weak snapshot in U, e.g. after SymmetryBreaking steps
+onto an occupied node, has no rule) or ``infer`` (§4 after Algorithm 5: "the robot
+that is farthest from L ∪ {c} and does not lie on a multiplicity is selected as the
+guard"; the run started outside U and Lemma 7 says it never enters U, so the snapshot
+hides a multiplicity; with two positions a robot off a multiplicity knows the other
+holds it, is that guard and steps away from ``L ∪ {c}``; with more it cannot tell
+where the multiplicity is: no rule).
+
+Every ``Unhandled`` message starts with a short label of the rule that has no answer,
+up to the first colon (``I2 guard placement``, ``I41-looking snapshot``,
+``Finalization``, ...): failures are grouped by it.
 
 >>> from gather_verify.algorithms.moves import move_set
 >>> from gather_verify.model.configuration import Configuration
@@ -80,7 +103,7 @@ the farthest, and it steps away from ``L ∪ {c}`` until it is).
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -104,9 +127,15 @@ READINGS: dict[str, tuple[str, ...]] = {
     "finalize": ("closest", "target", "n1", "literal"),
     "outside": ("distance", "mer_f"),
     "unclassified": ("break", "unhandled"),
+    "placement": ("closest", "reachable"),
+    "survivor": ("neither", "not-both", "off-target"),
+    "hidden": ("unhandled", "infer"),
 }
 """Every option of ``paper``: one ambiguous passage of the paper each, its values, the default
-(the most charitable reading) first. ``docs/interpretations.md`` names the passages."""
+(the most charitable reading, or the reading before the switch existed) first.
+``docs/interpretations.md`` names the passages."""
+DEFAULTS: dict[str, str] = {option: values[0] for option, values in READINGS.items()}
+"""The default reading: every option at its first value."""
 
 _HOME = "gather_verify.algorithms.paper"
 """This module's name (a copy under another name asks ``decide`` view by view)."""
@@ -128,6 +157,34 @@ class Plan:
     moves: dict[Node, frozenset[Node]]
     if_multiplicity: dict[Node, frozenset[Node]] = field(default_factory=dict)
     guard: Node | None = None
+
+
+class Reading(Mapping[str, str]):
+    """One reading (a value per option of ``READINGS``) that records which options were read.
+
+    ``analyse`` reads every option through this mapping, and only where a rule needs it, so
+    ``consulted`` is every option a plan depended on: two readings equal on the options
+    consulted over all the plans of a run give the same plans, hence the same run
+    (:mod:`gather_verify.readings`, the dynamic covering).
+
+    >>> r = Reading({**DEFAULTS, "finalize": "n1"})
+    >>> r["finalize"], sorted(r.consulted)
+    ('n1', ['finalize'])
+    """
+
+    def __init__(self, values: Mapping[str, str], consulted: set[str] | None = None) -> None:
+        self.values = dict(values)
+        self.consulted: set[str] = set() if consulted is None else consulted
+
+    def __getitem__(self, option: str) -> str:
+        self.consulted.add(option)
+        return self.values[option]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.values)
+
+    def __len__(self) -> int:
+        return len(self.values)
 
 
 # -- small geometric helpers --------------------------------------------------------
@@ -181,18 +238,22 @@ def _everyone_to(c: Configuration, phase: str, target: Node) -> Plan:
 # -- the analysis of one snapshot (weak labels, one robot per occupied node) -------------
 
 
-def analyse(c: Configuration, alpha: strings.AlphaRegion = "mer",
-            unclassified: str = "break", outside: str = "distance",
-            finalize: str = "closest", metric: str = "manhattan", oscan: str = "key") -> Plan:
-    """The plan of ``Gathering()`` for snapshot ``c`` (robots on distinct nodes).
+def analyse(c: Configuration, reading: Mapping[str, str] | None = None, **options: str) -> Plan:
+    """The plan of ``Gathering()`` for snapshot ``c`` (robots on distinct nodes) under
+    ``reading`` (a :class:`Reading`, or option values; ``options`` override it, the
+    others are at their defaults).
 
     >>> c = strings.from_string("001001400004000000000000404000400401000000100", 5)
     >>> analyse(c).phase
     'I2 guard selection'
+    >>> analyse(c, finalize="n1").phase
+    'I2 guard selection'
     """
+    if not isinstance(reading, Reading) or options:
+        reading = Reading({**DEFAULTS, **(reading or {}), **options})
     aut_m = meeting_automorphisms(c)[1:]
     if not aut_m:
-        order = strings.ordering_O(c, alpha)
+        order = strings.ordering_O(c, reading["alpha"])  # type: ignore[arg-type]
         if order is None:
             raise Unhandled("I11: the leading corner is not unique, O is not defined")
         return _everyone_to(c, "I11", order[-1])
@@ -200,23 +261,23 @@ def analyse(c: Configuration, alpha: strings.AlphaRegion = "mer",
     symmetry = min(rotations, key=lambda a: a.order == 2) if rotations else aut_m[0]
     on_symmetry = sorted(m for m in c.meeting_nodes if symmetry.fixes(m))
     if not rotations and on_symmetry:
-        order = strings.ordering_O_prime(c, on_symmetry, alpha)
+        order = strings.ordering_O_prime(c, on_symmetry, reading["alpha"])  # type: ignore[arg-type]
         if order is None:
             raise Unhandled("I12: the leading corners order the meeting nodes on L differently")
         return _everyone_to(c, "I12", order[-1])
     if rotations and on_symmetry:
         return _everyone_to(c, "I13", on_symmetry[0])
-    return _gathering_asym(c, symmetry, unclassified, outside, finalize, metric, oscan)
+    return _gathering_asym(c, symmetry, reading)
 
 
-def _finalization(c: Configuration, finalize: str = "closest", oscan: str = "key"
-                  ) -> Plan | None:
+def _finalization(c: Configuration, o: Mapping[str, str]) -> Plan | None:
     """Algorithm 4 (``GuardMovement``): ``n1 = 2``, one position ``q`` a meeting node,
     and (``finalize=closest``) ``q`` a meeting node closest to the other position ``p``;
     ``finalize=target`` adds: when ``p`` stands on a corner of MER (a placed guard,
     where Algorithm 3 defines the target) and several meeting nodes are closest, ``q``
     is the first of them in ``O''`` (once the guard walks off its corner, ``O''`` is no
-    longer defined and the closest condition alone remains)."""
+    longer defined and the closest condition alone remains). Who moves is
+    :func:`_survivors`."""
     if len(c.occupied) != 2:
         return None
     on_meeting = [v for v in c.occupied if v in c.meeting_nodes]
@@ -225,59 +286,87 @@ def _finalization(c: Configuration, finalize: str = "closest", oscan: str = "key
     target = on_meeting[0]
     (other,) = c.occupied - {target}
     nearest = min(manhattan(other, m) for m in c.meeting_nodes)
+    finalize = o["finalize"]
     if finalize in ("closest", "target") and manhattan(other, target) > nearest:
         return None
     tied = sum(manhattan(other, m) == nearest for m in c.meeting_nodes) > 1
     if finalize == "target" and tied and other in strings.corners(c.mer()) and \
-            target_meeting_node(c, other, oscan) != target:  # p placed: O'' breaks the tie
+            target_meeting_node(c, other, o) != target:  # p placed: O'' breaks the tie
         return None
-    moves = {target: frozenset({target}), other: closer_steps(other, target)}
-    return Plan("I2 finalization", target, moves, {other: frozenset({other})}, guard=other)
+    moves, if_multiplicity = _survivors(c, target, o)
+    return Plan("I2 finalization", target, moves, if_multiplicity, guard=other)
 
 
-def _literal_finalization(c: Configuration) -> Plan:
-    """Algorithm 4 read literally (``finalize=literal``), whenever ``n1 = 2``: every robot
-    on neither a multiplicity nor a meeting node moves towards the other position."""
+def _survivors(c: Configuration, target: Node | None, o: Mapping[str, str]
+               ) -> tuple[dict[Node, frozenset[Node]], dict[Node, frozenset[Node]]]:
+    """Algorithm 4 lines 2-3 with ``n1 = 2``: "Let r be the robot that does not lie on a
+    robot multiplicity node and on a meeting node; r moves towards the other robot
+    position", as the robots on each position do it, seeing their own multiplicity bit,
+    the occupied nodes and the meeting nodes (``target``: the occupied meeting node when
+    exactly one position is one). ``survivor=neither``: r is on neither a multiplicity nor
+    a meeting node; ``not-both``: r is not on a node that is both; ``off-target``: every
+    robot not on the target moves (the prose: "the guard moves; the robots on m stay"),
+    and with no target (no position a meeting node) every robot moves.
+    ``if_multiplicity`` is what the robots that see their own node as a multiplicity do."""
     a, b = sorted(c.occupied)
-    movers = [v for v in (a, b) if v not in c.meeting_nodes]
-    if not movers:
-        raise Unhandled("Algorithm 4 (n1 = 2): both positions are meeting nodes, no robot "
-                        "qualifies as r")
-    on_meeting = [v for v in (a, b) if v in c.meeting_nodes]
     moves = _stay_all(c)
+    if_multiplicity: dict[Node, frozenset[Node]] = {}
+    survivor = o["survivor"]
+    if survivor == "off-target" and target is None and all(v in c.meeting_nodes for v in (a, b)):
+        raise Unhandled("Finalization (survivor=off-target): both positions are meeting nodes, "
+                        "no target tells which robots stay")
     for v, w in ((a, b), (b, a)):
-        if v in movers:
+        on_meeting = v in c.meeting_nodes
+        if survivor == "off-target":
+            moves[v] = frozenset({v}) if v == target else closer_steps(v, w)
+        elif survivor == "not-both" or not on_meeting:
             moves[v] = closer_steps(v, w)
-    return Plan("I2 finalization (literal)", on_meeting[0] if on_meeting else None, moves,
-                {v: frozenset({v}) for v in movers}, guard=movers[0] if len(movers) == 1 else None)
+            if survivor == "neither" or on_meeting:
+                if_multiplicity[v] = frozenset({v})
+    if survivor == "neither" and all(v in c.meeting_nodes for v in (a, b)):
+        raise Unhandled("Finalization: no survivor: both positions are meeting nodes, no robot "
+                        "qualifies as r (survivor=neither)")
+    return moves, if_multiplicity
 
 
-def _gathering_asym(c: Configuration, symmetry: Automorphism, unclassified: str,
-                    outside: str = "distance", finalize: str = "closest",
-                    metric: str = "manhattan", oscan: str = "key") -> Plan:
+def _literal_finalization(c: Configuration, o: Mapping[str, str]) -> Plan:
+    """Algorithm 4 read literally (``finalize=literal``), whenever ``n1 = 2``: the robots
+    :func:`_survivors` names move towards the other position."""
+    on_meeting = sorted(v for v in c.occupied if v in c.meeting_nodes)
+    target = on_meeting[0] if len(on_meeting) == 1 else None
+    moves, if_multiplicity = _survivors(c, target, o)
+    movers = sorted(v for v in c.occupied if moves[v] != {v})
+    return Plan("I2 finalization (literal)", target, moves, if_multiplicity,
+                guard=movers[0] if len(movers) == 1 else None)
+
+
+def _gathering_asym(c: Configuration, symmetry: Automorphism, o: Mapping[str, str]) -> Plan:
     if len(c.occupied) == 1 and c.robots[0] in c.meeting_nodes:
         return Plan("I2 gathered", c.robots[0], _stay_all(c))
-    final = _finalization(c, finalize, oscan) if finalize != "literal" else None
+    literal = o["finalize"] == "literal"
+    final = None if literal else _finalization(c, o)
     if final is not None:
         return final
+    # the distance to L is d(v, phi(v)) in every metric: metric is read for a rotation only
+    metric = o["metric"] if symmetry.kind == "rotation" else "manhattan"
+    dist = distance_function(symmetry, metric)
     aut_c = configuration_automorphisms(c)[1:]
     if aut_c:
-        return _symmetry_breaking(c, symmetry, aut_c, unclassified)
-    if finalize == "literal" and len(c.occupied) == 2:
-        return _literal_finalization(c)
-    dist = distance_function(symmetry, metric)
+        return _symmetry_breaking(c, symmetry, aut_c, dist, o)
+    if literal and len(c.occupied) == 2:
+        return _literal_finalization(c, o)
     d1 = max(dist(m) for m in c.meeting_nodes)
     far = max(dist(r) for r in c.occupied)
     farthest = sorted(r for r in c.occupied if dist(r) == far)
     x0, y0, x1, y1 = c.mer_f()
 
     def is_outside(v: Node) -> bool:
-        if outside == "distance":
+        if o["outside"] == "distance":
             return dist(v) > d1
         return not (x0 <= v[0] <= x1 and y0 <= v[1] <= y1)
 
     if len(farthest) == 1 and is_outside(farthest[0]):
-        return _guard_placed_or_placing(c, farthest[0], dist, oscan)
+        return _guard_placed_or_placing(c, farthest[0], dist, o)
     outs = [r for r in c.occupied if is_outside(r)]
     if outs:  # Algorithm 2, first branch: the farthest of the robots outside MER_F
         top = max(dist(r) for r in outs)
@@ -285,26 +374,47 @@ def _gathering_asym(c: Configuration, symmetry: Automorphism, unclassified: str,
     guard = farthest[0] if len(farthest) == 1 else strings.max_view(c, farthest, weak=True)
     if guard is None:
         raise Unhandled("I2 guard selection: the key corner is not unique")
-    away = frozenset(u for u in geometry.neighbours(guard) if dist(u) > dist(guard))
     moves = _stay_all(c)
-    moves[guard] = away
+    moves[guard] = _away(guard, dist)
     return Plan("I2 guard selection", None, moves, guard=guard)
 
 
-def _guard_placed_or_placing(c: Configuration, guard: Node, dist, oscan: str = "key") -> Plan:
+def _away(v: Node, dist) -> frozenset[Node]:
+    """Algorithm 2: the neighbours of ``v`` farther from ``L ∪ {c}``."""
+    return frozenset(u for u in geometry.neighbours(v) if dist(u) > dist(v))
+
+
+def _guard_placed_or_placing(c: Configuration, guard: Node, dist, o: Mapping[str, str]
+                             ) -> Plan:
+    """Algorithm 2 line 5 ("finally towards its closest corner") and Algorithm 3. The guard
+    approaches its closest MER corner by steps that do not bring it nearer ``L ∪ {c}`` (it
+    stays the unique farthest robot, Lemma 5). When no such step exists,
+    ``placement=reachable`` takes the closest of the corners it can approach so; the two
+    readings agree wherever the closest corner has such a step (``placement`` is read
+    only when it has none)."""
     corners = strings.corners(c.mer())
     moves = _stay_all(c)
     if guard not in corners:
+
+        def keeping(k: Node) -> frozenset[Node]:  # steps towards k that keep dist
+            return frozenset(u for u in closer_steps(guard, k) if dist(u) >= dist(guard))
+
         best = min(manhattan(guard, k) for k in corners)
-        closest = [k for k in corners if manhattan(guard, k) == best]
-        steps = frozenset(u for k in closest for u in closer_steps(guard, k)
-                          if dist(u) >= dist(guard))
+        steps = frozenset().union(*(keeping(k) for k in corners if manhattan(guard, k) == best))
+        if not steps and o["placement"] == "reachable":
+            reachable = [k for k in corners if keeping(k)]
+            if not reachable:
+                raise Unhandled("I2 guard placement (reachable): no MER corner can be "
+                                "approached without getting nearer L ∪ {c}")
+            best = min(manhattan(guard, k) for k in reachable)
+            steps = frozenset().union(*(keeping(k) for k in reachable
+                                        if manhattan(guard, k) == best))
         if not steps:
             raise Unhandled("I2 guard placement: the guard cannot approach its closest MER "
-                            "corner without getting nearer L ∪ {c}")
+                            "corner without getting nearer L ∪ {c} (placement=closest)")
         moves[guard] = steps
         return Plan("I2 guard placement", None, moves, guard=guard)
-    target = target_meeting_node(c, guard, oscan)
+    target = target_meeting_node(c, guard, o)
     others = [r for r in c.occupied if r != guard and r != target]
     if others:
         nearest = min(manhattan(r, target) for r in others)
@@ -314,12 +424,14 @@ def _guard_placed_or_placing(c: Configuration, guard: Node, dist, oscan: str = "
     return Plan("I2 make multiplicity", target, moves, guard=guard)
 
 
-def target_meeting_node(c: Configuration, guard: Node, oscan: str = "key") -> Node:
+def target_meeting_node(c: Configuration, guard: Node,
+                        reading: Mapping[str, str] | None = None) -> Node:
     """Algorithm 3: the meeting node closest to the placed guard, ties by ``O''``."""
     best = min(manhattan(guard, m) for m in c.meeting_nodes)
     closest = [m for m in c.meeting_nodes if manhattan(guard, m) == best]
     if len(closest) == 1:
         return closest[0]
+    oscan = DEFAULTS["oscan"] if reading is None else reading["oscan"]
     return min(closest, key=ordering_O_second(c, guard, oscan).index)
 
 
@@ -333,45 +445,75 @@ def ordering_O_second(c: Configuration, guard: Node, oscan: str = "key") -> tupl
                 if s.corner == guard]
         along_x = {s.fast[0] != 0 for s in mine}
         if len(along_x) != 1:
-            raise Unhandled("I2 make multiplicity: the guard's corner has two equal strings, "
-                            "its string direction (O'') is not defined")
+            raise Unhandled("I2 target O'' (oscan=guard): the guard's corner has two equal "
+                            "strings, its string direction is not defined")
     else:
         keys = strings.key_scans(c, weak=True)
         along_x = {s.fast[0] != 0 for s in keys}
         if len(along_x) != 1:
-            raise Unhandled("I2 make multiplicity: the key corners' string directions differ, "
-                            "O'' is not defined")
+            raise Unhandled("I2 target O'' (oscan=key): the key corners' string directions "
+                            "differ, O'' is not defined")
     horizontal = along_x.pop()
     (scan,) = [s for s in strings.all_scans(c.mer(), c.lam, c.meeting_nodes)
                if s.corner == guard and (s.fast[0] != 0) == horizontal]
     return strings.meeting_order(scan, c.meeting_nodes)
 
 
+def _hidden_multiplicity(c: Configuration, dist, o: Mapping[str, str], looks: str,
+                         why: str) -> Plan:
+    """A weak snapshot in U (``looks`` like I41 or I42; ``why`` no rule applies). By default
+    (``hidden=unhandled``) there is no rule. ``hidden=infer`` reads §4 after Algorithm 5
+    ("Suppose a robot multiplicity is created during the execution of SymmetryBreaking().
+    In that case, the robot that is farthest from L ∪ {c} and does not lie on a
+    multiplicity is selected as the guard ... such a robot position always exists"): the
+    run started outside U and never enters it (Lemma 7), so a robot seeing this snapshot
+    infers a hidden multiplicity. With two positions a robot that is not on a
+    multiplicity knows the other one holds it: it is the only robot off a multiplicity,
+    hence the guard, and steps away from ``L ∪ {c}`` (Algorithm 2); robots on the
+    multiplicity stay. With three or more positions a robot off a multiplicity cannot
+    tell which position holds it (its mirror image looks as it does), so still no rule."""
+    if o["hidden"] != "infer":
+        raise Unhandled(f"{looks} snapshot: {why} (hidden=unhandled)")
+    if len(c.occupied) != 2:
+        raise Unhandled(f"{looks} snapshot (hidden=infer): a multiplicity is hidden, but with "
+                        f"{len(c.occupied)} positions a robot off it cannot tell where")
+    moves = {v: _away(v, dist) for v in c.occupied}
+    return Plan(f"{looks} snapshot: hidden multiplicity, guard selection", None, moves,
+                {v: frozenset({v}) for v in c.occupied})
+
+
 def _symmetry_breaking(c: Configuration, symmetry: Automorphism,
-                       aut_c: list[Automorphism], unclassified: str) -> Plan:
+                       aut_c: list[Automorphism], dist, o: Mapping[str, str]) -> Plan:
     moves = _stay_all(c)
     rotation = next((a for a in aut_c if a.kind == "rotation"), None)
     if rotation is not None:
         centre = [r for r in c.occupied if rotation.fixes(r)]
         if not centre:
-            raise Unhandled("I42: C is rotationally symmetric with no robot or meeting node on c "
-                            "(ungatherable, Theorem 1)")
+            return _hidden_multiplicity(
+                c, dist, o, "I42-looking", "C is rotationally symmetric with no robot or "
+                "meeting node on c (ungatherable, Theorem 1)")
         moves[centre[0]] = frozenset(geometry.neighbours(centre[0]))
         return Plan("I3 symmetry breaking (c)", None, moves, guard=None)
     mirror = aut_c[0]
-    if symmetry.kind == "rotation" and unclassified != "break":
-        raise Unhandled("UNCLASSIFIED: M is rotational with no meeting node on c and C has a "
-                        "single reflection (option unclassified=unhandled)")
+    if symmetry.kind == "rotation" and o["unclassified"] != "break":
+        raise Unhandled("UNCLASSIFIED snapshot (unclassified=unhandled): M is rotational with "
+                        "no meeting node on c and C has a single reflection")
     on_axis = [r for r in c.occupied if mirror.fixes(r)]
     if not on_axis and symmetry.kind == "rotation":
-        raise Unhandled("UNCLASSIFIED: M is rotational with no meeting node on c and C has a "
-                        "single reflection whose axis holds no robot: the paper has no rule")
+        if any(mirror.fixes(m) for m in c.meeting_nodes):  # not in U: no inference
+            raise Unhandled("UNCLASSIFIED snapshot, no robot on the axis: M is rotational "
+                            "with no meeting node on c and C has a single reflection whose "
+                            "axis holds meeting nodes and no robot: the paper has no rule")
+        return _hidden_multiplicity(
+            c, dist, o, "UNCLASSIFIED-in-U", "M is rotational and C has a single reflection "
+            "whose axis holds no robot and no meeting node (in U, Theorem 1)")
     if not on_axis:
-        raise Unhandled("I41: C is symmetric about L with no robot or meeting node on L "
-                        "(ungatherable, Theorem 1)")
+        return _hidden_multiplicity(c, dist, o, "I41-looking", "C is symmetric about L with "
+                                    "no robot or meeting node on L (ungatherable, Theorem 1)")
     r = strings.max_view(c, on_axis, weak=True)
     if r is None:
-        raise Unhandled("I31: the key corners disagree on the robot of L with the maximum view")
+        raise Unhandled("I3 symmetry breaking (L): the key corners disagree on the robot of "
+                        "the axis with the maximum view")
     moves[r] = frozenset(u for u in geometry.neighbours(r) if not mirror.fixes(u))
     return Plan("I3 symmetry breaking (L)", None, moves)
 
@@ -387,7 +529,7 @@ def first_step(allowed: Iterable[Node]) -> Node:
             return step
     if allowed == {ORIGIN}:
         return ORIGIN
-    raise Unhandled(f"no move rule for destinations {sorted(allowed)}")  # pragma: no cover
+    raise Unhandled(f"Move rule: no step among destinations {sorted(allowed)}")  # pragma: no cover
 
 
 @lru_cache(maxsize=CACHE_SIZE)
@@ -411,24 +553,27 @@ class PaperAlgorithm:
 
     def __init__(self, alpha: str = "mer", unclassified: str = "break",
                  outside: str = "distance", finalize: str = "closest",
-                 metric: str = "manhattan", oscan: str = "key") -> None:
+                 metric: str = "manhattan", oscan: str = "key", placement: str = "closest",
+                 survivor: str = "neither", hidden: str = "unhandled") -> None:
         given = {"alpha": alpha, "metric": metric, "oscan": oscan, "finalize": finalize,
-                 "outside": outside, "unclassified": unclassified}
+                 "outside": outside, "unclassified": unclassified, "placement": placement,
+                 "survivor": survivor, "hidden": hidden}
         for option, value in given.items():
             if value not in READINGS[option]:
                 raise InvalidInput(f"bad option {option}={value!r}: use "
                                  f"{' or '.join(READINGS[option])}")
-        self.alpha, self.unclassified, self.outside = alpha, unclassified, outside
-        self.finalize, self.metric, self.oscan = finalize, metric, oscan
+        self.reading = {option: given[option] for option in READINGS}
+        self.consulted: set[str] = set()
+        """Every option read by a plan this instance computed (a plan comes from the cache
+        only if this instance computed it): the dynamic covering of the readings."""
         self.name = "paper"
         self._plan = lru_cache(maxsize=CACHE_SIZE)(self._plan_uncached)
 
     def _plan_uncached(self, key: Key) -> Plan | Unhandled:
         robots, meeting = key
         try:
-            return analyse(Configuration.trusted(robots, frozenset(meeting)), self.alpha,
-                           self.unclassified, self.outside, self.finalize,  # type: ignore[arg-type]
-                           self.metric, self.oscan)
+            return analyse(Configuration.trusted(robots, frozenset(meeting)),
+                           Reading(self.reading, self.consulted))
         except Unhandled as error:
             return error
 
