@@ -43,8 +43,9 @@ from gather_verify.errors import InvalidInput
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
+from gather_verify.properties.drift import find_drift
 from gather_verify.properties.facts import StateFacts
-from gather_verify.properties.graph import GraphFacts, longest_path
+from gather_verify.properties.graph import GraphFacts, Walk, longest_path, most_moves
 from gather_verify.properties.registry import check_property_names, get_property, registered
 from gather_verify.trace import build_trace
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine
@@ -60,8 +61,9 @@ AUTO_MARGIN_MAX = 32
 
 
 def _trace(e: Exploration, prop: str, reason: str, ids: Sequence[int],
-           cycle: Sequence[int] | None = None, **detail: Any) -> dict[str, Any]:
-    steps = e.concretise(ids)
+           cycle: Sequence[int] | None = None, weights: Sequence[int] | None = None,
+           **detail: Any) -> dict[str, Any]:
+    steps = e.concretise(ids, weights=weights)
     cycle_start = None
     if cycle is not None:
         cycle_start = len(steps)
@@ -95,6 +97,44 @@ def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
                 v.property, prop.message_for(before, after), None,
                 **prop.detail_for(before, after))
     return None
+
+
+def _walk(e: Exploration, bound: float) -> Walk | None:
+    """:func:`most_moves` of ``e``, computed once per exploration."""
+    cached = getattr(e, "_most_moves", None)
+    if cached is None or cached[0] != bound:
+        cached = (bound, most_moves(e, bound))
+        e._most_moves = cached  # type: ignore[attr-defined]
+    return cached[1]
+
+
+def _over_bound(e: Exploration, c: float, D: int, n: int) -> dict[str, Any] | None:
+    """The trace of an execution whose total moves exceed ``c * D * n`` in ``e``'s stored
+    graph, finished or not (fewest events first, :func:`most_moves`), or None."""
+    bound = c * D * n
+    walk = _walk(e, bound)
+    if walk is None or walk.moves <= bound:
+        return None
+    events = len(walk.path) - 1
+    reason = (f"an execution makes {walk.moves} moves > {c:g}*D*n = {bound:g} in {events} "
+              "events")
+    return _trace(e, "move-bound", reason, walk.path, weights=walk.weights,
+                  moves=walk.moves, c=c, D=D, n=n)
+
+
+def _drift(e: Exploration, bound: float) -> dict[str, Any] | None:
+    """The drift pattern (:mod:`gather_verify.properties.drift`) along the walk with the
+    most moves of ``e``'s stored graph (the one that exceeds the bound, if any), or None."""
+    walk = _walk(e, bound)
+    if walk is None:
+        return None
+    steps = e.concretise(walk.path, weights=walk.weights)
+    states = [e.initial_state, *(state for _, state in steps)]
+
+    def move_sets(robots: tuple[Node, ...]) -> Any:
+        return e.facts(robots).move_sets or {}
+
+    return find_drift(states, [event for event, _ in steps], move_sets)
 
 
 def _witnesses(e: Exploration, configuration: Configuration, algorithm: str | Algorithm,
@@ -187,8 +227,17 @@ def run_check(
                     memo=memo, graph=keep_graph)
         if keep_growing:
             return e, None
-        return e, _witnesses(e, configuration, algorithm, scheduler, engine, detection,
-                             frames, lim)
+        return e, _unfinished(e, _witnesses(e, configuration, algorithm, scheduler, engine,
+                                            detection, frames, lim))
+
+    def _unfinished(e: Exploration, traces: dict[str, dict[str, Any]]) -> dict[str, dict[str, Any]]:
+        """``traces``, with a move-bound trace on an unfinished search whose stored graph
+        already has an execution over the bound (a finite prefix: no need to finish)."""
+        if e.stopped is not None and "move-bound" in wanted and keep_graph:
+            over = _over_bound(e, move_bound_c, D, n)
+            if over is not None:
+                traces["move-bound"] = over
+        return traces
 
     e, traces = search(lim)
     while (fixed_margin is None and e.stopped == "region" and lim.margin < AUTO_MARGIN_MAX
@@ -199,8 +248,8 @@ def run_check(
         lim = replace(lim, margin=min(2 * lim.margin, AUTO_MARGIN_MAX), max_seconds=left)
         e, traces = search(lim)
     if traces is None:
-        traces = _witnesses(e, configuration, algorithm, scheduler, engine, detection, frames,
-                            lim)
+        traces = _unfinished(e, _witnesses(e, configuration, algorithm, scheduler, engine,
+                                           detection, frames, lim))
     report["limits"]["margin"] = lim.margin
     if on_exploration is not None:
         on_exploration(e)
@@ -244,6 +293,20 @@ def run_check(
                 if w is not None:
                     traces[prop.name] = _trace(w.exploration, prop.name, w.reason, w.path,
                                                w.cycle, **w.detail)
+    if ("move-bound" in wanted and keep_graph and complete and "move-bound" not in traces
+            and results["move-bound"].get("holds") is None):
+        # the graph is finished but its cycles could not be lifted: a finite execution over
+        # the bound is found on the reduced graph all the same
+        over = _over_bound(e, move_bound_c, D, n)
+        if over is not None:
+            traces["move-bound"] = over
+    if "move-bound" in traces and "bound" not in results["move-bound"]:
+        results["move-bound"] = {"holds": False, "max_moves": None,
+                                 "bound": move_bound_c * D * n,
+                                 "reason": traces["move-bound"]["reason"]}
+    drift = _drift(e, move_bound_c * D * n) if e.stopped == "region" and keep_graph else None
+    if drift is not None:
+        report["drift"] = drift
     for name, v in e.violations.items():  # always checked, so never requested: add them
         if get_property(name).pseudo:
             results.setdefault(name, {"holds": False, "reason": v.reason})
@@ -255,7 +318,7 @@ def run_check(
         report["trace"] = traces[failing[0]]
         report["reason"] = results[failing[0]]["reason"]
     elif verdict == INCOMPLETE:
-        report["reason"] = stopped
+        report["reason"] = "drift" if drift is not None and stopped == "region" else stopped
     report["seconds"] = time.perf_counter() - started
     return report
 
