@@ -123,18 +123,32 @@ def _over_bound(e: Exploration, c: float, D: int, n: int) -> dict[str, Any] | No
 
 
 def _drift(e: Exploration, bound: float) -> dict[str, Any] | None:
-    """The drift pattern (:mod:`gather_verify.properties.drift`) along the walk with the
-    most moves of ``e``'s stored graph (the one that exceeds the bound, if any), or None."""
-    walk = _walk(e, bound)
-    if walk is None:
-        return None
-    steps = e.concretise(walk.path, weights=walk.weights)
-    states = [e.initial_state, *(state for _, state in steps)]
+    """The drift pattern (:mod:`gather_verify.properties.drift`) along the run that left the
+    region (the BFS path to the last state expanded), else along the walk with the most
+    moves of ``e``'s stored graph; None when neither shows one."""
 
     def move_sets(robots: tuple[Node, ...]) -> Any:
         return e.facts(robots).move_sets or {}
 
-    return find_drift(states, [event for event, _ in steps], move_sets)
+    walk = _walk(e, bound)
+    runs = [(e.path_to(max(len(e.offsets) - 2, 0)), None)]
+    if walk is not None:
+        runs.append((walk.path, walk.weights))
+    for ids, weights in runs:
+        steps = e.concretise(ids, weights=weights)
+        states = [e.initial_state, *(state for _, state in steps)]
+        found = find_drift(states, [event for event, _ in steps], move_sets)
+        if found is not None:
+            return found
+    return None
+
+
+def drift_line(drift: dict[str, Any]) -> str:
+    """The drift evidence in one line of text, saying what it is not."""
+    v = tuple(drift["vector"])
+    return (f"drift: from step {drift['start']} the run repeats every {drift['period']} events "
+            f"with robots moved by {v} ({drift['periods_checked']} periods seen); a pattern, "
+            "not a proof: the meeting nodes stay, so the configuration never repeats")
 
 
 def _witnesses(e: Exploration, configuration: Configuration, algorithm: str | Algorithm,
@@ -187,7 +201,14 @@ def run_check(
     (a search stopped by the region is a prefix of the larger one's BFS), only later.
     ``keep_growing`` grows it anyway, to look for violations of properties the smaller
     region did not reach (the row then names the first in the verdict order).
-    ``on_exploration`` receives that last search (``check --graph-out`` exports it)."""
+    ``on_exploration`` receives that last search (``check --graph-out`` exports it).
+
+    On that last search, finished or not, ``move-bound`` fails as soon as its stored graph
+    holds an execution with more than ``c * D * n`` moves (the one with the fewest events,
+    :func:`~gather_verify.properties.graph.most_moves`); it holds only on a finished graph.
+    A search stopped by the region also looks for a drift along the run that left it
+    (:mod:`gather_verify.properties.drift`): evidence under ``drift``, and the reason
+    ``drift`` when nothing fails, never a proof."""
     started = time.perf_counter()
     wanted = check_property_names(properties)
     fixed_margin = limits.pop("margin", None)
@@ -227,12 +248,13 @@ def run_check(
                     memo=memo, graph=keep_graph)
         if keep_growing:
             return e, None
-        return e, _unfinished(e, _witnesses(e, configuration, algorithm, scheduler, engine,
-                                            detection, frames, lim))
+        return e, _witnesses(e, configuration, algorithm, scheduler, engine, detection,
+                             frames, lim)
 
     def _unfinished(e: Exploration, traces: dict[str, dict[str, Any]]) -> dict[str, dict[str, Any]]:
         """``traces``, with a move-bound trace on an unfinished search whose stored graph
-        already has an execution over the bound (a finite prefix: no need to finish)."""
+        already has an execution over the bound (a finite prefix: no need to finish). Only
+        on the last search: the region grows as before (a finished graph decides more)."""
         if e.stopped is not None and "move-bound" in wanted and keep_graph:
             over = _over_bound(e, move_bound_c, D, n)
             if over is not None:
@@ -248,8 +270,9 @@ def run_check(
         lim = replace(lim, margin=min(2 * lim.margin, AUTO_MARGIN_MAX), max_seconds=left)
         e, traces = search(lim)
     if traces is None:
-        traces = _unfinished(e, _witnesses(e, configuration, algorithm, scheduler, engine,
-                                           detection, frames, lim))
+        traces = _witnesses(e, configuration, algorithm, scheduler, engine, detection, frames,
+                            lim)
+    traces = _unfinished(e, traces)
     report["limits"]["margin"] = lim.margin
     if on_exploration is not None:
         on_exploration(e)
@@ -300,7 +323,7 @@ def run_check(
         over = _over_bound(e, move_bound_c, D, n)
         if over is not None:
             traces["move-bound"] = over
-    if "move-bound" in traces and "bound" not in results["move-bound"]:
+    if "moves" in traces.get("move-bound", {}).get("detail", {}):  # an execution over the bound
         results["move-bound"] = {"holds": False, "max_moves": None,
                                  "bound": move_bound_c * D * n,
                                  "reason": traces["move-bound"]["reason"]}
@@ -316,6 +339,8 @@ def run_check(
     if failing:
         report["property"] = failing[0]
         report["trace"] = traces[failing[0]]
+        if drift is not None:
+            report["trace"]["detail"]["drift"] = drift
         report["reason"] = results[failing[0]]["reason"]
     elif verdict == INCOMPLETE:
         report["reason"] = "drift" if drift is not None and stopped == "region" else stopped
@@ -374,6 +399,7 @@ class CheckReport:
     limits: dict[str, Any]
     seconds: float
     peak_rss_mb: float | None = None
+    drift: dict[str, Any] | None = None  # the drift pattern of a run that left the region
 
     @property
     def failing(self) -> list[str]:
@@ -395,6 +421,8 @@ class CheckReport:
         }
         if self.peak_rss_mb is not None:
             out["peak_rss_mb"] = self.peak_rss_mb
+        if self.drift is not None:
+            out["drift"] = self.drift
         return out
 
     @classmethod
@@ -408,7 +436,8 @@ class CheckReport:
             properties={k: PropertyResult.from_json(v) for k, v in data["properties"].items()},
             algorithm=data["algorithm"], scheduler=data["scheduler"],
             detection=data["detection"], frames=data["frames"], reduction=data["reduction"],
-            limits=data["limits"], seconds=data["seconds"], peak_rss_mb=data.get("peak_rss_mb"))
+            limits=data["limits"], seconds=data["seconds"], peak_rss_mb=data.get("peak_rss_mb"),
+            drift=data.get("drift"))
 
 
 def check(
