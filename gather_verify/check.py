@@ -28,7 +28,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from gather_verify.algorithms.base import Algorithm
+from gather_verify.algorithms.base import Algorithm, phase_of
 from gather_verify.engine.checks import Violation
 from gather_verify.engine.explore import (
     DEFAULT_MARGIN,
@@ -47,7 +47,7 @@ from gather_verify.properties.drift import find_drift
 from gather_verify.properties.facts import StateFacts
 from gather_verify.properties.graph import GraphFacts, Walk, longest_path, most_moves
 from gather_verify.properties.registry import check_property_names, get_property, registered
-from gather_verify.trace import build_trace
+from gather_verify.trace import build_trace, steps_of
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine
 
 
@@ -143,6 +143,70 @@ def _drift(e: Exploration, bound: float) -> dict[str, Any] | None:
     return None
 
 
+def _label(text: str) -> str:
+    """A message's stable label: its text before the first colon."""
+    return text.split(":", 1)[0].strip()
+
+
+def cause_of(e: Exploration, trace: dict[str, Any]) -> str:
+    """The rule a violation's run failed in, as a short string (docs/traces.md):
+
+    - ``defined``: the Unhandled message's label, with the phase of the snapshot behind the
+      last move (``"I41 after I3 symmetry breaking (L)"``);
+    - ``crash``: the exception's type;
+    - ``final``: the phase of the plan at the deadlock;
+    - ``target-invariance``: the phase at the transition (``"A -> B"`` when it changes);
+    - ``termination`` and a move bound with a cycle: the sorted phases on the cycle;
+    - ``no-ungatherable`` and a move bound without one: the phase of the snapshot behind
+      the last move.
+
+    Without phases (an algorithm with no ``phase``) it is the property, or for ``defined``
+    and ``crash`` the label alone."""
+    prop = trace["property"]
+    trace_steps = steps_of(trace)
+    states = [e.initial_state, *(state for _, state in trace_steps)]
+    events = [event for event, _ in trace_steps]
+    meeting = e.initial.meeting_nodes
+
+    def phase(k: int) -> str | None:
+        robots = tuple(sorted(v for v, _ in states[k]))
+        return phase_of(e.algorithm, Configuration.trusted(robots, meeting))
+
+    def behind_last_move() -> str | None:
+        """The phase of the snapshot that decided the last move (its Look under ASYNC)."""
+        for k in range(len(events) - 1, -1, -1):
+            ev = events[k]
+            if ev.kind == "round" and ev.distance:
+                return phase(k)
+            if ev.kind == "move":
+                robot = ev.robots[0]
+                look = next((j for j in range(k - 1, -1, -1) if events[j].kind == "look"
+                             and robot in events[j].robots), None)
+                return None if look is None else phase(look)
+        return None
+
+    if prop == "crash":
+        return _label(str(trace["detail"].get("exception", "crash")))
+    if prop == "defined":
+        label = _label(trace["reason"].split("no rule here:", 1)[-1])
+        where = behind_last_move()
+        return label if where is None else f"{label} after {where}"
+    cs = trace.get("cycle_start")
+    if prop in ("termination", "move-bound") and cs is not None:
+        phases = sorted({p for k in range(cs, len(states)) if (p := phase(k)) is not None})
+        return ", ".join(phases) or prop
+    if prop == "final":
+        return phase(len(states) - 1) or prop
+    if prop == "target-invariance" and len(states) > 1:
+        before, after = phase(len(states) - 2), phase(len(states) - 1)
+        if before is None and after is None:
+            return prop
+        return str(before) if before == after else f"{before} -> {after}"
+    if prop in ("no-ungatherable", "move-bound"):
+        return behind_last_move() or prop
+    return prop
+
+
 def drift_line(drift: dict[str, Any]) -> str:
     """The drift evidence in one line of text, saying what it is not."""
     v = tuple(drift["vector"])
@@ -223,6 +287,7 @@ def run_check(
         "class": cls.name, "verdict": None, "property": None, "reason": None, "states": 0,
         "transitions": 0, "max_moves": None, "max_moves_infinite": False, "D": D, "n": n,
         "ratio": None, "bound": move_bound_c * D * n, "seconds": 0.0, "trace": None,
+        "cause": None,
         "properties": {p: {"holds": None} for p in wanted},
         "limits": {"max_states": max_states, "max_seconds": max_seconds,
                    "max_memory_mb": lim.max_memory_mb, "margin": lim.margin,
@@ -333,6 +398,9 @@ def run_check(
     for name, v in e.violations.items():  # always checked, so never requested: add them
         if get_property(name).pseudo:
             results.setdefault(name, {"holds": False, "reason": v.reason})
+    for name, trace in traces.items():
+        trace["cause"] = cause_of(e, trace)
+        results[name]["cause"] = trace["cause"]
     failing = [p.name for p in registered() if p.name in traces]
     verdict = combine(failing, stopped)
     report["verdict"] = verdict
@@ -342,6 +410,7 @@ def run_check(
         if drift is not None:
             report["trace"]["detail"]["drift"] = drift
         report["reason"] = results[failing[0]]["reason"]
+        report["cause"] = report["trace"]["cause"]
     elif verdict == INCOMPLETE:
         report["reason"] = "drift" if drift is not None and stopped == "region" else stopped
     report["seconds"] = time.perf_counter() - started
@@ -400,6 +469,7 @@ class CheckReport:
     seconds: float
     peak_rss_mb: float | None = None
     drift: dict[str, Any] | None = None  # the drift pattern of a run that left the region
+    cause: str | None = None  # the rule the first failing property's run failed in
 
     @property
     def failing(self) -> list[str]:
@@ -413,7 +483,7 @@ class CheckReport:
             "reason": self.reason, "states": self.states, "transitions": self.transitions,
             "max_moves": self.max_moves, "max_moves_infinite": self.max_moves_infinite,
             "D": self.D, "n": self.n, "ratio": self.ratio, "bound": self.bound,
-            "seconds": self.seconds, "trace": self.trace,
+            "seconds": self.seconds, "trace": self.trace, "cause": self.cause,
             "properties": {name: r.to_json() for name, r in self.properties.items()},
             "limits": dict(self.limits), "algorithm": self.algorithm,
             "scheduler": self.scheduler, "detection": self.detection, "frames": self.frames,
@@ -437,7 +507,7 @@ class CheckReport:
             algorithm=data["algorithm"], scheduler=data["scheduler"],
             detection=data["detection"], frames=data["frames"], reduction=data["reduction"],
             limits=data["limits"], seconds=data["seconds"], peak_rss_mb=data.get("peak_rss_mb"),
-            drift=data.get("drift"))
+            drift=data.get("drift"), cause=data.get("cause"))
 
 
 def check(

@@ -136,3 +136,23 @@ def test_no_drift_on_a_run_that_gathers() -> None:
     steps = e.concretise(walk.path, weights=walk.weights)
     states = [e.initial_state, *(s for _, s in steps)]
     assert find_drift(states, [ev for ev, _ in steps], lambda r: e.facts(r).move_sets) is None
+
+
+@pytest.mark.parametrize("algorithm,prop,cause", [
+    ("broken-undefined", "defined", "one step from the target"),
+    ("broken-crash", "crash", "ZeroDivisionError"),
+    ("broken-stay", "final", "final"),  # go-to-target names no phase: the property
+])
+def test_every_violation_names_its_cause(algorithm: str, prop: str, cause: str) -> None:
+    r = run_check(Configuration([(0, 0), (3, 1)], [(2, 2)], initial=True), algorithm=algorithm,
+                  scheduler="async", max_states=10**5, max_seconds=60)
+    assert r["property"] == prop
+    assert r["cause"] == r["trace"]["cause"] == r["properties"][prop]["cause"] == cause
+
+
+def test_the_paper_names_its_phase_in_the_cause() -> None:
+    r = run_check(Configuration([(0, 0), (0, 1), (3, 3)], [(1, 2), (2, 1)], initial=True),
+                  algorithm="paper", scheduler="fsync", max_states=10**5, max_seconds=60)
+    assert r["property"] == "target-invariance" and r["cause"] == "I2 make multiplicity"
+    assert r["properties"]["termination"]["cause"] == "I2 make multiplicity"  # its cycle's phases
+    assert replay(r["trace"]).confirmed  # a cause in the trace is no obstacle to replay

@@ -154,6 +154,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"{report['verdict']}  class {report['class']}  {algorithm} / {scheduler}")
         if report["property"]:
             print(f"property {report['property']}: {report['reason']}")
+            print(f"cause: {report['cause']}")
         elif report["reason"]:
             print(f"reason: {report['reason']}")
         if report.get("drift"):
