@@ -47,8 +47,9 @@ from gather_verify.properties.drift import find_drift
 from gather_verify.properties.facts import StateFacts
 from gather_verify.properties.graph import GraphFacts, Walk, longest_path, most_moves
 from gather_verify.properties.registry import check_property_names, get_property, registered
-from gather_verify.trace import build_trace, steps_of
+from gather_verify.trace import build_trace, initial_of, steps_of
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine
+from schedulers import initial_state
 
 
 def _memory_limit(value: float | None) -> float:
@@ -148,7 +149,7 @@ def _label(text: str) -> str:
     return text.split(":", 1)[0].strip()
 
 
-def cause_of(e: Exploration, trace: dict[str, Any]) -> str:
+def cause_of(algorithm: object, trace: dict[str, Any]) -> str:
     """The rule a violation's run failed in, as a short string (docs/traces.md):
 
     - ``defined``: the Unhandled message's label, with the phase of the snapshot behind the
@@ -164,13 +165,14 @@ def cause_of(e: Exploration, trace: dict[str, Any]) -> str:
     and ``crash`` the label alone."""
     prop = trace["property"]
     trace_steps = steps_of(trace)
-    states = [e.initial_state, *(state for _, state in trace_steps)]
+    initial = initial_of(trace)
+    states = [initial_state(initial.robots), *(state for _, state in trace_steps)]
     events = [event for event, _ in trace_steps]
-    meeting = e.initial.meeting_nodes
+    meeting = initial.meeting_nodes
 
     def phase(k: int) -> str | None:
         robots = tuple(sorted(v for v, _ in states[k]))
-        return phase_of(e.algorithm, Configuration.trusted(robots, meeting))
+        return phase_of(algorithm, Configuration.trusted(robots, meeting))
 
     def behind_last_move() -> str | None:
         """The phase of the snapshot that decided the last move (its Look under ASYNC)."""
@@ -399,7 +401,7 @@ def run_check(
         if get_property(name).pseudo:
             results.setdefault(name, {"holds": False, "reason": v.reason})
     for name, trace in traces.items():
-        trace["cause"] = cause_of(e, trace)
+        trace["cause"] = cause_of(e.algorithm, trace)
         results[name]["cause"] = trace["cause"]
     failing = [p.name for p in registered() if p.name in traces]
     verdict = combine(failing, stopped)

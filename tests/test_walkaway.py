@@ -156,3 +156,49 @@ def test_the_paper_names_its_phase_in_the_cause() -> None:
     assert r["property"] == "target-invariance" and r["cause"] == "I2 make multiplicity"
     assert r["properties"]["termination"]["cause"] == "I2 make multiplicity"  # its cycle's phases
     assert replay(r["trace"]).confirmed  # a cause in the trace is no obstacle to replay
+
+
+def test_an_old_database_gains_the_cause_column_and_its_rows_say_unknown(tmp_path: Path) -> None:
+    import sqlite3
+
+    from gather_verify.sweeps.store import CAUSE_UNKNOWN, Store
+    from gather_verify.sweeps.sweep import format_summary, summarise_totals
+
+    path = tmp_path / "old.sqlite"
+    db = sqlite3.connect(path)
+    db.executescript("""
+        CREATE TABLE sweeps (id INTEGER PRIMARY KEY, settings TEXT NOT NULL UNIQUE);
+        CREATE TABLE results (sweep INTEGER NOT NULL, key TEXT NOT NULL, "index" INTEGER NOT NULL,
+            robots TEXT, meeting_nodes TEXT, class TEXT, verdict TEXT, property TEXT, reason TEXT,
+            states INTEGER, transitions INTEGER, max_moves INTEGER, D INTEGER, n INTEGER,
+            ratio REAL, trace TEXT, failing TEXT, PRIMARY KEY (sweep, key));
+        CREATE TABLE timings (sweep INTEGER NOT NULL, key TEXT NOT NULL, seconds REAL,
+            PRIMARY KEY (sweep, key));
+        INSERT INTO sweeps VALUES (1, '{}');
+        INSERT INTO results (sweep, key, "index", class, verdict, property, failing)
+            VALUES (1, 'k', 0, 'I22', 'VIOLATED', 'defined', '["defined"]');
+    """)
+    db.commit()
+    db.close()
+    store = Store(path)
+    store.add(1, [{"key": "k2", "index": 1, "class": "I22", "verdict": "VIOLATED",
+                   "property": "defined", "failing": ["defined"], "cause": "I2 guard placement"}])
+    summary = summarise_totals(store.totals(1), [])
+    assert summary["causes"] == {"defined": {CAUSE_UNKNOWN: 1, "I2 guard placement": 1}}
+    lines: list[str] = []
+    format_summary(summary, lines.append)
+    assert any(line.startswith("  defined x 2: ") and CAUSE_UNKNOWN in line for line in lines)
+
+
+def test_sweep_rows_keep_their_cause(tmp_path: Path, capsys) -> None:
+    db = tmp_path / "x.sqlite"
+    code = main(["sweep", "--robots", "2", "--meeting", "1", "--box", "3x3", "--algorithm",
+                 "broken-undefined", "--scheduler", "fsync", "--db", str(db)])
+    out = capsys.readouterr().out
+    assert code in (0, 1) and "defined x" in out and "one step from the target" in out
+    from gather_verify.sweeps.store import Store
+
+    store = Store(db)
+    ((sweep, _),) = store.sweeps()
+    rows = [r for r in store.results(sweep) if r["verdict"] == "VIOLATED"]
+    assert rows and all(r["cause"] == r["trace"]["cause"] for r in rows)
