@@ -202,3 +202,12 @@ def test_sweep_rows_keep_their_cause(tmp_path: Path, capsys) -> None:
     ((sweep, _),) = store.sweeps()
     rows = [r for r in store.results(sweep) if r["verdict"] == "VIOLATED"]
     assert rows and all(r["cause"] == r["trace"]["cause"] for r in rows)
+
+
+def test_drift_handles_two_robots_on_one_node_one_pending() -> None:
+    a = (((0, 0), None), ((0, 0), (1, 0)), ((5, 5), None))
+    states = [tuple(((x + k, y), p if p is None else (p[0] + k, p[1])) if (x, y) != (5, 5)
+                    else ((x, y), p) for (x, y), p in a) for k in range(4)]
+    got = find_drift(states, [type("E", (), {"robots": (0, 1, 2)})()] * 3,
+                     lambda robots: {v: frozenset([v]) for v in robots})
+    assert got == {"vector": [1, 0], "period": 1, "periods_checked": 3, "start": 0}

@@ -37,17 +37,24 @@ pattern is reported when it repeats at least this often."""
 Robot = tuple[Node, Node | None]
 
 
+def _order(robot: Robot) -> tuple[Node, bool, Node]:
+    """A sort key for robots (two on one node may differ in having a pending move)."""
+    node, pending = robot
+    return node, pending is not None, pending or node
+
+
 def _moved(robots: Sequence[Robot], v: Node) -> list[Robot]:
     """``robots`` (node and pending move) moved by ``v``, sorted."""
     dx, dy = v
-    return sorted(((x + dx, y + dy), None if p is None else (p[0] + dx, p[1] + dy))
-                  for (x, y), p in robots)
+    return sorted((((x + dx, y + dy), None if p is None else (p[0] + dx, p[1] + dy))
+                   for (x, y), p in robots), key=_order)
 
 
 def _difference(a: Sequence[Robot], b: Sequence[Robot]) -> tuple[list[Robot], list[Robot]]:
     """The robots of ``a`` not in ``b`` and those of ``b`` not in ``a`` (multisets, sorted)."""
     left, right = Counter(a), Counter(b)
-    return sorted((left - right).elements()), sorted((right - left).elements())
+    return (sorted((left - right).elements(), key=_order),
+            sorted((right - left).elements(), key=_order))
 
 
 def _shift(a: Sequence[Robot], b: Sequence[Robot]) -> Node | None:
