@@ -28,7 +28,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from gather_verify.algorithms.base import Algorithm
+from gather_verify.algorithms.base import Algorithm, phase_of
 from gather_verify.engine.checks import Violation
 from gather_verify.engine.explore import (
     DEFAULT_MARGIN,
@@ -43,11 +43,13 @@ from gather_verify.errors import InvalidInput
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
+from gather_verify.properties.drift import find_drift
 from gather_verify.properties.facts import StateFacts
-from gather_verify.properties.graph import GraphFacts, longest_path
+from gather_verify.properties.graph import GraphFacts, Walk, longest_path, most_moves
 from gather_verify.properties.registry import check_property_names, get_property, registered
-from gather_verify.trace import build_trace
+from gather_verify.trace import build_trace, initial_of, steps_of
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine
+from schedulers import initial_state
 
 
 def _memory_limit(value: float | None) -> float:
@@ -60,8 +62,9 @@ AUTO_MARGIN_MAX = 32
 
 
 def _trace(e: Exploration, prop: str, reason: str, ids: Sequence[int],
-           cycle: Sequence[int] | None = None, **detail: Any) -> dict[str, Any]:
-    steps = e.concretise(ids)
+           cycle: Sequence[int] | None = None, weights: Sequence[int] | None = None,
+           **detail: Any) -> dict[str, Any]:
+    steps = e.concretise(ids, weights=weights)
     cycle_start = None
     if cycle is not None:
         cycle_start = len(steps)
@@ -95,6 +98,123 @@ def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
                 v.property, prop.message_for(before, after), None,
                 **prop.detail_for(before, after))
     return None
+
+
+def _walk(e: Exploration, bound: float) -> Walk | None:
+    """:func:`most_moves` of ``e``, computed once per exploration."""
+    cached = getattr(e, "_most_moves", None)
+    if cached is None or cached[0] != bound:
+        cached = (bound, most_moves(e, bound))
+        e._most_moves = cached  # type: ignore[attr-defined]
+    return cached[1]
+
+
+def _over_bound(e: Exploration, c: float, D: int, n: int) -> dict[str, Any] | None:
+    """The trace of an execution whose total moves exceed ``c * D * n`` in ``e``'s stored
+    graph, finished or not (fewest events first, :func:`most_moves`), or None."""
+    bound = c * D * n
+    walk = _walk(e, bound)
+    if walk is None or walk.moves <= bound:
+        return None
+    events = len(walk.path) - 1
+    reason = (f"an execution makes {walk.moves} moves > {c:g}*D*n = {bound:g} in {events} "
+              "events")
+    return _trace(e, "move-bound", reason, walk.path, weights=walk.weights,
+                  moves=walk.moves, c=c, D=D, n=n)
+
+
+def _drift(e: Exploration, bound: float) -> dict[str, Any] | None:
+    """The drift pattern (:mod:`gather_verify.properties.drift`) along the run that left the
+    region (the BFS path to the last state expanded), else along the walk with the most
+    moves of ``e``'s stored graph; None when neither shows one."""
+
+    def move_sets(robots: tuple[Node, ...]) -> Any:
+        return e.facts(robots).move_sets or {}
+
+    walk = _walk(e, bound)
+    runs = [(e.path_to(max(len(e.offsets) - 2, 0)), None)]
+    if walk is not None:
+        runs.append((walk.path, walk.weights))
+    for ids, weights in runs:
+        steps = e.concretise(ids, weights=weights)
+        states = [e.initial_state, *(state for _, state in steps)]
+        found = find_drift(states, [event for event, _ in steps], move_sets)
+        if found is not None:
+            return found
+    return None
+
+
+def _label(text: str) -> str:
+    """A message's stable label: its text before the first colon."""
+    return text.split(":", 1)[0].strip()
+
+
+def cause_of(algorithm: object, trace: dict[str, Any]) -> str:
+    """The rule a violation's run failed in, as a short string (docs/traces.md):
+
+    - ``defined``: the Unhandled message's label, with the phase of the snapshot behind the
+      last move (``"I41 after I3 symmetry breaking (L)"``);
+    - ``crash``: the exception's type;
+    - ``final``: the phase of the plan at the deadlock;
+    - ``target-invariance``: the phase at the transition (``"A -> B"`` when it changes);
+    - ``termination`` and a move bound with a cycle: the sorted phases on the cycle;
+    - ``no-ungatherable`` and a move bound without one: the phase of the snapshot behind
+      the last move.
+
+    Without phases (an algorithm with no ``phase``) it is the property, or for ``defined``
+    and ``crash`` the label alone."""
+    prop = trace["property"]
+    trace_steps = steps_of(trace)
+    initial = initial_of(trace)
+    states = [initial_state(initial.robots), *(state for _, state in trace_steps)]
+    events = [event for event, _ in trace_steps]
+    meeting = initial.meeting_nodes
+
+    def phase(k: int) -> str | None:
+        robots = tuple(sorted(v for v, _ in states[k]))
+        return phase_of(algorithm, Configuration.trusted(robots, meeting))
+
+    def behind_last_move() -> str | None:
+        """The phase of the snapshot that decided the last move (its Look under ASYNC)."""
+        for k in range(len(events) - 1, -1, -1):
+            ev = events[k]
+            if ev.kind == "round" and ev.distance:
+                return phase(k)
+            if ev.kind == "move":
+                robot = ev.robots[0]
+                look = next((j for j in range(k - 1, -1, -1) if events[j].kind == "look"
+                             and robot in events[j].robots), None)
+                return None if look is None else phase(look)
+        return None
+
+    if prop == "crash":
+        return _label(str(trace["detail"].get("exception", "crash")))
+    if prop == "defined":
+        label = _label(trace["reason"].split("no rule here:", 1)[-1])
+        where = behind_last_move()
+        return label if where is None else f"{label} after {where}"
+    cs = trace.get("cycle_start")
+    if prop in ("termination", "move-bound") and cs is not None:
+        phases = sorted({p for k in range(cs, len(states)) if (p := phase(k)) is not None})
+        return ", ".join(phases) or prop
+    if prop == "final":
+        return phase(len(states) - 1) or prop
+    if prop == "target-invariance" and len(states) > 1:
+        before, after = phase(len(states) - 2), phase(len(states) - 1)
+        if before is None and after is None:
+            return prop
+        return str(before) if before == after else f"{before} -> {after}"
+    if prop in ("no-ungatherable", "move-bound"):
+        return behind_last_move() or prop
+    return prop
+
+
+def drift_line(drift: dict[str, Any]) -> str:
+    """The drift evidence in one line of text, saying what it is not."""
+    v = tuple(drift["vector"])
+    return (f"drift: from step {drift['start']} the run repeats every {drift['period']} events "
+            f"with robots moved by {v} ({drift['periods_checked']} periods seen); a pattern, "
+            "not a proof: the meeting nodes stay, so the configuration never repeats")
 
 
 def _witnesses(e: Exploration, configuration: Configuration, algorithm: str | Algorithm,
@@ -147,7 +267,14 @@ def run_check(
     (a search stopped by the region is a prefix of the larger one's BFS), only later.
     ``keep_growing`` grows it anyway, to look for violations of properties the smaller
     region did not reach (the row then names the first in the verdict order).
-    ``on_exploration`` receives that last search (``check --graph-out`` exports it)."""
+    ``on_exploration`` receives that last search (``check --graph-out`` exports it).
+
+    On that last search, finished or not, ``move-bound`` fails as soon as its stored graph
+    holds an execution with more than ``c * D * n`` moves (the one with the fewest events,
+    :func:`~gather_verify.properties.graph.most_moves`); it holds only on a finished graph.
+    A search stopped by the region also looks for a drift along the run that left it
+    (:mod:`gather_verify.properties.drift`): evidence under ``drift``, and the reason
+    ``drift`` when nothing fails, never a proof."""
     started = time.perf_counter()
     wanted = check_property_names(properties)
     fixed_margin = limits.pop("margin", None)
@@ -162,6 +289,7 @@ def run_check(
         "class": cls.name, "verdict": None, "property": None, "reason": None, "states": 0,
         "transitions": 0, "max_moves": None, "max_moves_infinite": False, "D": D, "n": n,
         "ratio": None, "bound": move_bound_c * D * n, "seconds": 0.0, "trace": None,
+        "cause": None,
         "properties": {p: {"holds": None} for p in wanted},
         "limits": {"max_states": max_states, "max_seconds": max_seconds,
                    "max_memory_mb": lim.max_memory_mb, "margin": lim.margin,
@@ -190,6 +318,16 @@ def run_check(
         return e, _witnesses(e, configuration, algorithm, scheduler, engine, detection,
                              frames, lim)
 
+    def _unfinished(e: Exploration, traces: dict[str, dict[str, Any]]) -> dict[str, dict[str, Any]]:
+        """``traces``, with a move-bound trace on an unfinished search whose stored graph
+        already has an execution over the bound (a finite prefix: no need to finish). Only
+        on the last search: the region grows as before (a finished graph decides more)."""
+        if e.stopped is not None and "move-bound" in wanted and keep_graph:
+            over = _over_bound(e, move_bound_c, D, n)
+            if over is not None:
+                traces["move-bound"] = over
+        return traces
+
     e, traces = search(lim)
     while (fixed_margin is None and e.stopped == "region" and lim.margin < AUTO_MARGIN_MAX
            and not traces):
@@ -201,6 +339,7 @@ def run_check(
     if traces is None:
         traces = _witnesses(e, configuration, algorithm, scheduler, engine, detection, frames,
                             lim)
+    traces = _unfinished(e, traces)
     report["limits"]["margin"] = lim.margin
     if on_exploration is not None:
         on_exploration(e)
@@ -244,18 +383,38 @@ def run_check(
                 if w is not None:
                     traces[prop.name] = _trace(w.exploration, prop.name, w.reason, w.path,
                                                w.cycle, **w.detail)
+    if ("move-bound" in wanted and keep_graph and complete and "move-bound" not in traces
+            and results["move-bound"].get("holds") is None):
+        # the graph is finished but its cycles could not be lifted: a finite execution over
+        # the bound is found on the reduced graph all the same
+        over = _over_bound(e, move_bound_c, D, n)
+        if over is not None:
+            traces["move-bound"] = over
+    if "moves" in traces.get("move-bound", {}).get("detail", {}):  # an execution over the bound
+        results["move-bound"] = {"holds": False, "max_moves": None,
+                                 "bound": move_bound_c * D * n,
+                                 "reason": traces["move-bound"]["reason"]}
+    drift = _drift(e, move_bound_c * D * n) if e.stopped == "region" and keep_graph else None
+    if drift is not None:
+        report["drift"] = drift
     for name, v in e.violations.items():  # always checked, so never requested: add them
         if get_property(name).pseudo:
             results.setdefault(name, {"holds": False, "reason": v.reason})
+    for name, trace in traces.items():
+        trace["cause"] = cause_of(e.algorithm, trace)
+        results[name]["cause"] = trace["cause"]
     failing = [p.name for p in registered() if p.name in traces]
     verdict = combine(failing, stopped)
     report["verdict"] = verdict
     if failing:
         report["property"] = failing[0]
         report["trace"] = traces[failing[0]]
+        if drift is not None:
+            report["trace"]["detail"]["drift"] = drift
         report["reason"] = results[failing[0]]["reason"]
+        report["cause"] = report["trace"]["cause"]
     elif verdict == INCOMPLETE:
-        report["reason"] = stopped
+        report["reason"] = "drift" if drift is not None and stopped == "region" else stopped
     report["seconds"] = time.perf_counter() - started
     return report
 
@@ -311,6 +470,8 @@ class CheckReport:
     limits: dict[str, Any]
     seconds: float
     peak_rss_mb: float | None = None
+    drift: dict[str, Any] | None = None  # the drift pattern of a run that left the region
+    cause: str | None = None  # the rule the first failing property's run failed in
 
     @property
     def failing(self) -> list[str]:
@@ -324,7 +485,7 @@ class CheckReport:
             "reason": self.reason, "states": self.states, "transitions": self.transitions,
             "max_moves": self.max_moves, "max_moves_infinite": self.max_moves_infinite,
             "D": self.D, "n": self.n, "ratio": self.ratio, "bound": self.bound,
-            "seconds": self.seconds, "trace": self.trace,
+            "seconds": self.seconds, "trace": self.trace, "cause": self.cause,
             "properties": {name: r.to_json() for name, r in self.properties.items()},
             "limits": dict(self.limits), "algorithm": self.algorithm,
             "scheduler": self.scheduler, "detection": self.detection, "frames": self.frames,
@@ -332,6 +493,8 @@ class CheckReport:
         }
         if self.peak_rss_mb is not None:
             out["peak_rss_mb"] = self.peak_rss_mb
+        if self.drift is not None:
+            out["drift"] = self.drift
         return out
 
     @classmethod
@@ -345,7 +508,8 @@ class CheckReport:
             properties={k: PropertyResult.from_json(v) for k, v in data["properties"].items()},
             algorithm=data["algorithm"], scheduler=data["scheduler"],
             detection=data["detection"], frames=data["frames"], reduction=data["reduction"],
-            limits=data["limits"], seconds=data["seconds"], peak_rss_mb=data.get("peak_rss_mb"))
+            limits=data["limits"], seconds=data["seconds"], peak_rss_mb=data.get("peak_rss_mb"),
+            drift=data.get("drift"), cause=data.get("cause"))
 
 
 def check(

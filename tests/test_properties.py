@@ -346,7 +346,8 @@ def test_a_halting_pseudo_property_stops_both_engines_at_the_same_state():
         assert r["properties"] == {"final": {"holds": None,
                                              "reason": "search stopped (test-arrived)"},
                                    "test-arrived": {"holds": False,
-                                                    "reason": "a robot reached a meeting node"}}
+                                                    "reason": "a robot reached a meeting node",
+                                                    "cause": "test-arrived"}}
         assert replay(r["trace"]).confirmed
         with pytest.raises(ValueError, match="unknown property 'test-arrived'"):
             check_property_names(["test-arrived"])  # always on, never requested

@@ -5,7 +5,9 @@ function ``decide(view) -> Node`` answering, in the robot's own frame, the
 origin (stay) or one of its four neighbours. Robots are oblivious: the view is
 all an algorithm may use. Optionally ``target(configuration)`` names, in
 global coordinates, the target meeting node the algorithm heads for; the
-explorer then checks that it never changes (target invariance).
+explorer then checks that it never changes (target invariance). Optionally
+``phase(configuration) -> str | None`` names the rule (phase) the algorithm
+applies there; a violation's ``cause`` quotes it.
 
 >>> from gather_verify.algorithms import get_algorithm
 >>> algorithm = get_algorithm("go-to-target")
@@ -101,3 +103,21 @@ def target_of(algorithm: object, configuration: Configuration) -> Node | None:
         raise
     except Exception as error:
         raise AlgorithmCrash(getattr(algorithm, "name", "?"), "target", error) from None
+
+
+def phase_of(algorithm: object, configuration: Configuration) -> str | None:
+    """The algorithm's phase for ``configuration`` if it names one (None when it has no
+    ``phase``, no rule there, or its ``phase`` fails: a cause is a label, never a crash).
+
+    >>> from gather_verify.algorithms import get_algorithm
+    >>> phase_of(get_algorithm("go-to-target"), None) is None
+    True
+    """
+    phase = getattr(algorithm, "phase", None)
+    if phase is None:
+        return None
+    try:
+        got = phase(configuration)
+    except Exception:  # noqa: BLE001 - the cause is optional; the search reports crashes
+        return None
+    return got if isinstance(got, str) else None

@@ -631,6 +631,12 @@ class PaperAlgorithm:
             allowed = plan.if_multiplicity[me]
         return _answer(allowed, me, g)
 
+    def phase(self, configuration: Configuration) -> str | None:
+        """The phase of the plan for ``configuration`` (None where there is no rule)."""
+        key, _ = configuration.canonical_form
+        plan = self._plan(key)
+        return None if isinstance(plan, Unhandled) else plan.phase
+
     def target(self, configuration: Configuration) -> Node | None:
         """The target meeting node (global coordinates) where the phase defines one."""
         key, reach = configuration.canonical_form

@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from gather_verify.check import AUTO_MARGIN_MAX
+from gather_verify.check import AUTO_MARGIN_MAX, drift_line
 from gather_verify.cli.common import (
     EXIT_INTERRUPTED,
     EXIT_OK,
@@ -154,8 +154,11 @@ def run(args: argparse.Namespace) -> int:
         print(f"{report['verdict']}  class {report['class']}  {algorithm} / {scheduler}")
         if report["property"]:
             print(f"property {report['property']}: {report['reason']}")
+            print(f"cause: {report['cause']}")
         elif report["reason"]:
             print(f"reason: {report['reason']}")
+        if report.get("drift"):
+            print(drift_line(report["drift"]))
         print(f"states {report['states']}  transitions {report['transitions']}  max_moves {moves}"
               f"  D {report['D']}  n {report['n']}  ratio {ratio}  {report['seconds']:.2f}s")
         for name, result in report["properties"].items():

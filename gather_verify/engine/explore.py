@@ -135,14 +135,18 @@ class Exploration:
             path.append(self.parents[path[-1]])
         return path[::-1]
 
-    def concretise(self, ids: Sequence[int], start: State | None = None) -> list[tuple[Event, State]]:
-        """Concrete events and states following a path of stored ids (``ids[0]`` is the start)."""
+    def concretise(self, ids: Sequence[int], start: State | None = None,
+                   weights: Sequence[int] | None = None) -> list[tuple[Event, State]]:
+        """Concrete events and states following a path of stored ids (``ids[0]`` is the start);
+        with ``weights``, each event also makes that many moves (two events of a reduced
+        graph may reach one class with different moves)."""
         state = self.initial_state if start is None else start
         steps = []
-        for nxt in ids[1:]:
+        for k, nxt in enumerate(ids[1:]):
             want = self.keys[nxt]
             for event, succ in self.concrete_successors(state):
-                if self.encoding.key(succ) == want:
+                if self.encoding.key(succ) == want and (
+                        weights is None or event.distance == weights[k]):
                     steps.append((event, succ))
                     state = succ
                     break

@@ -144,6 +144,10 @@ def _confirm_move_bound(prop: Property, run: Run) -> tuple[bool, str]:
     c, D, n = detail.get("c"), detail.get("D"), detail.get("n")
     if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in (c, D, n)):
         raise InvalidInput("bad trace: a move-bound trace needs numbers c, D and n in 'detail'")
+    first = run.state_facts(0).configuration  # D and n from the trace's own start
+    if (D, n) != (first.D, first.n):
+        raise InvalidInput(f"bad trace: its detail says D = {D}, n = {n}; its initial "
+                           f"configuration has D = {first.D}, n = {first.n}")
     total = sum(ev.distance for ev, _ in steps)
     return total > c * D * n, f"{total} moves vs bound {c}*{D}*{n} = {c * D * n:g}"
 

@@ -395,3 +395,81 @@ class GraphFacts:
     D: int
     n: int
     c: float
+
+
+WALK_MAX_EDGES = 5_000_000
+"""Past this many stored transitions, :func:`most_moves` is not tried (it is a Python loop;
+the move bound then stays undecided on an unfinished search)."""
+
+
+@dataclass
+class Walk:
+    """An execution prefix in the stored graph: ``path`` (ids from the initial state), the
+    ``weights`` (moves) of the edges it takes, and its total ``moves``."""
+
+    path: list[int]
+    weights: list[int]
+    moves: int
+
+
+def most_moves(e: Exploration, bound: float) -> Walk | None:
+    """The walk (from the initial state, over the stored edges, states may repeat) with the
+    fewest events among those whose total moves exceed ``bound``; when none does, the one
+    with the most moves, fewest events among those (None: no stored edge, or too many).
+
+    It works on an unfinished graph too: every stored edge is a transition the scheduler
+    offers, so the walk is a real execution prefix, whatever the search did not reach.
+    A breadth-first search by events over (state, moves) that keeps, per state, an entry
+    only when it has strictly more moves than every entry of that state in an earlier or
+    the same layer: an entry with fewer moves and no fewer events cannot lead to a shorter
+    excess. Each state is kept at most ``bound + 1`` times, so the search ends. Ties go to
+    the lowest state id, then the first edge in edge order (so the walk is deterministic).
+
+    >>> from gather_verify.engine.search import explore
+    >>> from gather_verify.model.configuration import Configuration
+    >>> e = explore(Configuration([(0, 0), (3, 1)], [(2, 2)], initial=True), "go-to-target", "async")
+    >>> w = most_moves(e, 4)
+    >>> w.moves, len(w.path) - 1
+    (5, 10)
+    """
+    if e.transitions > WALK_MAX_EDGES:
+        return None
+    expanded = len(e.offsets) - 1
+    best = [-1] * e.states  # the most moves of an entry of this state kept so far
+    best[0] = 0
+    state, moves, parent, weight = [0], [0], [-1], [0]
+    top = 0  # the entry with the most moves (the earliest on ties)
+    layer = [0]
+    while layer:
+        here: dict[int, int] = {}  # state -> its entry in the next layer
+        for k in layer:
+            s, m = state[k], moves[k]
+            if s >= expanded:
+                continue
+            for t, w in real_edges(e, s):
+                mt = m + w
+                if mt <= best[t]:
+                    continue
+                j = here.get(t)
+                if j is None:
+                    here[t] = len(state)
+                    state.append(t), moves.append(mt), parent.append(k), weight.append(w)
+                elif mt > moves[j]:
+                    moves[j], parent[j], weight[j] = mt, k, w
+        layer = sorted(here.values(), key=lambda j: state[j])
+        for j in layer:
+            best[state[j]] = moves[j]
+        if layer:
+            j = max(layer, key=lambda j: (moves[j], -state[j]))
+            if moves[j] > moves[top]:
+                top = j
+            if moves[top] > bound:
+                break
+    if top == 0:
+        return None
+    path, weights, k = [], [], top
+    while k >= 0:
+        path.append(state[k])
+        weights.append(weight[k])
+        k = parent[k]
+    return Walk(path[::-1], weights[::-1][1:], moves[top])

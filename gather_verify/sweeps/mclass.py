@@ -19,7 +19,7 @@ from typing import Any
 from gather_verify import properties as props
 from gather_verify.algorithms import get_algorithm
 from gather_verify.algorithms.moves import frames_for
-from gather_verify.check import _safety_trace
+from gather_verify.check import _safety_trace, cause_of
 from gather_verify.engine import union
 from gather_verify.engine.explore import (
     Encoding,
@@ -172,6 +172,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
                 if trace is None:
                     fallback.append((index, c))
                     continue
+                trace["cause"] = cause_of(get_algorithm(settings.algorithm), trace)
             rows.append({
                 "key": configuration_key(c),
                 "index": index,
@@ -192,6 +193,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
                 # every failing property, as the check lists them (acyclic: termination holds)
                 "failing": failing + (["move-bound"] if max_moves is not None
                                       and "move-bound" in wanted and max_moves > bound else []),
+                "cause": None if trace is None else trace["cause"],
             })
     return ClassDecision(rows, fallback, union_states)
 

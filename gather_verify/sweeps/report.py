@@ -166,6 +166,7 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
               "named per configuration: the first that fails in the order "
               f"{', '.join(ORDER)}.</p>",
               "<table class='verdicts'>" + head + "".join(body) + "</table>"]
+    parts += _causes_table(rows)
     # the smallest counterexample of each (class, property), as a thumbnail opening its viewer
     figures = []
     for c in classes:
@@ -358,3 +359,29 @@ def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -
     fig.savefig(out, dpi=100)
     plt.close(fig)
     return [t.get_text() for t in legend.get_texts()]
+
+
+def _causes_table(rows: list[dict[str, Any]]) -> list[str]:
+    """The VIOLATED rows counted by failing property × cause (the rule the run failed in);
+    a row stored before causes counts as
+    :data:`~gather_verify.sweeps.store.CAUSE_UNKNOWN`, never as some cause."""
+    from gather_verify.properties import ORDER
+    from gather_verify.sweeps.store import CAUSE_UNKNOWN
+
+    counts: dict[str, dict[str, int]] = {}
+    for r in rows:
+        if r["verdict"] == "VIOLATED" and r.get("property"):
+            by = counts.setdefault(r["property"], {})
+            why = r.get("cause") or CAUSE_UNKNOWN
+            by[why] = by.get(why, 0) + 1
+    if not counts:
+        return []
+    order = [p for p in ORDER if p in counts] + sorted(set(counts) - set(ORDER))
+    body = "".join(
+        f"<tr><th>{_esc(p)} × {sum(counts[p].values())}</th><td>"
+        + ", ".join(f"{_esc(why)} {k}" for why, k in sorted(counts[p].items(),
+                                                            key=lambda kv: (-kv[1], kv[0])))
+        + "</td></tr>" for p in order)
+    return ["<h3>Violations by cause: failing property × the rule its run failed in</h3>",
+            "<table class='causes'>" + body + "</table>"]
+

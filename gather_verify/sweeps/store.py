@@ -28,11 +28,16 @@ from gather_verify.errors import InvalidInput
 
 COLUMNS = (
     "key", "index", "robots", "meeting_nodes", "class", "verdict", "property", "reason",
-    "states", "transitions", "max_moves", "D", "n", "ratio", "trace", "failing",
+    "states", "transitions", "max_moves", "D", "n", "ratio", "trace", "failing", "cause",
 )
 JSON_COLUMNS = ("robots", "meeting_nodes", "trace", "failing")
-"""``failing``: every property that fails (``property`` names the first); added to older
-databases when they are opened."""
+"""``failing``: every property that fails (``property`` names the first); ``cause``: the rule
+the first one's run failed in (``check``'s ``cause``). Both are added to older databases when
+they are opened; a row stored before causes has none (NULL), which a summary counts as
+:data:`CAUSE_UNKNOWN`, never as some cause."""
+CAUSE_UNKNOWN = "cause unknown (stored before causes)"
+ADDED = ("failing", "cause")
+"""The columns added since the first schema, in order (older databases get them on opening)."""
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS sweeps (
     id INTEGER PRIMARY KEY,
@@ -44,7 +49,7 @@ CREATE TABLE IF NOT EXISTS results (
     "index" INTEGER NOT NULL,
     robots TEXT, meeting_nodes TEXT, class TEXT, verdict TEXT, property TEXT, reason TEXT,
     states INTEGER, transitions INTEGER, max_moves INTEGER, D INTEGER, n INTEGER, ratio REAL,
-    trace TEXT, failing TEXT,
+    trace TEXT, failing TEXT, cause TEXT,
     PRIMARY KEY (sweep, key)
 );
 CREATE TABLE IF NOT EXISTS timings (
@@ -67,10 +72,11 @@ class Store:
         for table, wanted in (("sweeps", ("id", "settings")), ("results", ("sweep", *COLUMNS)),
                               ("timings", ("sweep", "key", "seconds"))):
             have = {row[1] for row in self.db.execute(f"PRAGMA table_info({table})")}
-            if table == "results" and have and "failing" not in have:
-                with self.db:
-                    self.db.execute("ALTER TABLE results ADD COLUMN failing TEXT")
-                have.add("failing")
+            for column in ADDED if table == "results" and have else ():
+                if column not in have:
+                    with self.db:
+                        self.db.execute(f"ALTER TABLE results ADD COLUMN {column} TEXT")
+                    have.add(column)
             missing = [c for c in wanted if c not in have]
             if missing:
                 self.db.close()
@@ -139,14 +145,15 @@ class Store:
 
     def totals(self, sweep: int) -> list[tuple[Any, ...]]:
         """A sweep's rows counted for a summary, no row read: ``(class, verdict, property,
-        failing, count, largest ratio)`` per group of rows alike in these (and in having a
-        ratio), in order of each group's first row, so totals summed in this order meet
-        every class, verdict and property where the rows themselves would."""
+        failing, count, largest ratio, cause)`` per group of rows alike in these (and in
+        having a ratio), in order of each group's first row, so totals summed in this order
+        meet every class, verdict and property where the rows themselves would."""
         cursor = self.db.execute(
-            "SELECT class, verdict, property, failing, COUNT(*), MAX(ratio) FROM results "
-            "WHERE sweep = ? GROUP BY class, verdict, property, failing, ratio IS NULL "
+            "SELECT class, verdict, property, failing, COUNT(*), MAX(ratio), cause FROM results "
+            "WHERE sweep = ? GROUP BY class, verdict, property, failing, cause, ratio IS NULL "
             'ORDER BY MIN("index")', (sweep,))
-        return [(c, v, p, None if f is None else json.loads(f), k, r) for c, v, p, f, k, r in cursor]
+        return [(c, v, p, None if f is None else json.loads(f), k, r, why)
+                for c, v, p, f, k, r, why in cursor]
 
     def slowest(self, sweep: int, count: int) -> list[dict[str, Any]]:
         """The ``count`` rows of a sweep that took longest (ties: enumeration order), with

@@ -110,6 +110,7 @@ def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[st
         "ratio": report.get("ratio"),
         "trace": report.get("trace"),
         "failing": [p for p, r in report["properties"].items() if r.get("holds") is False],
+        "cause": report.get("cause"),
         "seconds": time.perf_counter() - started,
     }
 
@@ -360,8 +361,8 @@ def summarise(rows: list[dict[str, Any]], settings: SweepSettings | None = None)
     """Totals per class and verdict, failing properties (``failing_properties``: the one each
     configuration names first; ``failing_every``: every one that fails), worst ratios,
     slowest configurations."""
-    groups = [(r["class"], r["verdict"], r.get("property"), r.get("failing"), 1, r.get("ratio"))
-              for r in rows]
+    groups = [(r["class"], r["verdict"], r.get("property"), r.get("failing"), 1, r.get("ratio"),
+               r.get("cause")) for r in rows]
     return summarise_totals(groups, _slowest(rows), settings)
 
 
@@ -376,8 +377,12 @@ def _slowest(rows: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
 def summarise_totals(groups: Iterable[tuple[Any, ...]], slowest: list[dict[str, Any]],
                      settings: SweepSettings | None = None) -> dict[str, Any]:
     """:func:`summarise` from rows counted in groups (``Store.totals``: ``(class, verdict,
-    property, failing, count, largest ratio)``, in order of first row) and the slowest rows."""
+    property, failing, count, largest ratio, cause)``, in order of first row) and the slowest
+    rows. ``causes``: per failing property (the one each configuration names first), its
+    count per cause; a row with none (stored before causes) counts under
+    :data:`~gather_verify.sweeps.store.CAUSE_UNKNOWN`."""
     from gather_verify.model.classes import CLASS_NAMES
+    from gather_verify.sweeps.store import CAUSE_UNKNOWN
 
     classes = dict.fromkeys(CLASS_NAMES, 0)
     verdicts: dict[str, dict[str, int]] = {}
@@ -385,7 +390,8 @@ def summarise_totals(groups: Iterable[tuple[Any, ...]], slowest: list[dict[str, 
     every: dict[str, dict[str, int]] = {}
     worst: dict[str, float] = {}
     total = 0
-    for name, verdict, prop, fails, count, ratio in groups:
+    causes: dict[str, dict[str, int]] = {}
+    for name, verdict, prop, fails, count, ratio, *cause in groups:
         total += count
         classes[name] = classes.get(name, 0) + count
         by = verdicts.setdefault(name, {})
@@ -393,6 +399,9 @@ def summarise_totals(groups: Iterable[tuple[Any, ...]], slowest: list[dict[str, 
         if verdict == "VIOLATED" and prop:
             f = failing.setdefault(name, {})
             f[prop] = f.get(prop, 0) + count
+            why = (cause[0] if cause else None) or CAUSE_UNKNOWN
+            by_cause = causes.setdefault(prop, {})
+            by_cause[why] = by_cause.get(why, 0) + count
             e = every.setdefault(name, {})
             for one in fails or [prop]:
                 e[one] = e.get(one, 0) + count
@@ -405,6 +414,8 @@ def summarise_totals(groups: Iterable[tuple[Any, ...]], slowest: list[dict[str, 
         "verdicts": verdicts,
         "failing_properties": failing,
         "failing_every": every,
+        "causes": {p: dict(sorted(c.items(), key=lambda kv: (-kv[1], kv[0])))
+                   for p, c in sorted(causes.items())},
         "max_ratio": worst,
         "slowest": [{"robots": r["robots"], "meeting_nodes": r["meeting_nodes"],
                      "class": r["class"], "seconds": round(r.get("seconds") or 0.0, 3)}
@@ -436,6 +447,12 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
         write("every failing property (a configuration counts once for each):")
         for name, props in summary["failing_every"].items():
             write(f"  {name}: " + ", ".join(f"{p} x{k}" for p, k in sorted(props.items())))
+    if summary.get("causes"):
+        write("")
+        write("failing properties by cause (the first failing property of each configuration):")
+        for prop, by in summary["causes"].items():
+            write(f"  {prop} x {sum(by.values())}: "
+                  + ", ".join(f"{why} {k}" for why, k in by.items()))
     if summary["slowest"]:
         write("")
         write("slowest configurations:")
