@@ -248,24 +248,120 @@ def format_readings(report: dict[str, Any], write: Callable[[str], Any] = print)
 # -- sweeps -------------------------------------------------------------------------
 
 
-def sweep_plan(varied: dict[str, tuple[str, ...]]) -> list[tuple[str, tuple[str, ...]]]:
-    """Every reading to sweep with the ``M`` types it must run on (the covering set of each
-    type), the base reading first."""
-    kinds: dict[str, list[str]] = {}
-    for kind in M_TYPES:
-        for spec in covering_for(varied, kind):
-            kinds.setdefault(spec, []).append(kind)
-    return [(spec, tuple(k)) for spec, k in kinds.items()]
+def single_switches(report: dict[str, Any]) -> dict[str, list[str]]:
+    """The readings of a :func:`check_readings` report that differ from the base (its first
+    reading) in exactly one option and reach the other verdict: ``removed_by`` (VERIFIED
+    where the base is VIOLATED) or ``broken_by`` (VIOLATED where the base is VERIFIED),
+    each as ``option=value``; ``combinations``: true when the configuration is
+    READING-DEPENDENT and no single switch changes the base's verdict."""
+    readings = [(_values(r["algorithm"]), r["verdict"]) for r in report["readings"]]
+    (base, verdict), rest = readings[0], readings[1:]
+    goal = {"VIOLATED": "VERIFIED", "VERIFIED": "VIOLATED"}.get(verdict)
+    switches = []
+    for values, other in rest:
+        changed = [o for o in READINGS if values[o] != base[o]]
+        if len(changed) == 1 and other == goal:
+            switches.append(f"{changed[0]}={values[changed[0]]}")
+    key = "removed_by" if verdict == "VIOLATED" else "broken_by"
+    return {key: switches,
+            "combinations": [] if switches or report["robustness"] != "READING-DEPENDENT"
+            else ["only combinations"]}
+
+
+def verify_readings_one(settings: Any, index: int, c: Configuration) -> dict[str, Any]:
+    """One row of a readings sweep: the configuration under every reading of its covering
+    set (:func:`check_readings`, the dynamic covering), with the sweep's own check settings.
+    ``verdict`` holds the robustness, ``property`` and ``cause`` the base reading's, and
+    ``trace`` the evidence: every run with the options it read and the readings it stands
+    for, and the single switches that change the base's verdict."""
+    import time
+
+    from gather_verify.sweeps.sweep import configuration_key
+
+    started = time.perf_counter()
+    report = check_readings(
+        c, settings.extra["spec"], algorithm=settings.algorithm, scheduler=settings.scheduler,
+        detection=settings.detection, frames=settings.frames,
+        properties=settings.properties or None, reduction=settings.reduction,
+        max_states=settings.max_states, max_seconds=settings.max_seconds,
+        move_bound_c=settings.move_bound_c, max_memory_mb=settings.max_memory_mb,
+        keep_growing=settings.keep_growing)  # memo off: every run plans its own snapshots
+    switches = single_switches(report)
+    failing = sorted({r["property"] for r in report["runs"] if r["verdict"] == "VIOLATED"})
+    return {
+        "key": configuration_key(c), "index": index,
+        "robots": [list(r) for r in c.robots],
+        "meeting_nodes": sorted(list(m) for m in c.meeting_nodes),
+        "class": report["class"], "verdict": report["robustness"],
+        "property": report.get("property"), "cause": report.get("cause"),
+        "reason": f"{len(report['runs'])} runs for {len(report['readings'])} readings",
+        "trace": {"runs": report["runs"], **switches}, "failing": failing,
+        "seconds": time.perf_counter() - started,
+    }
 
 
 def robustness_table(groups: Sequence[tuple[dict[str, Any], list[dict[str, Any]]]]
                      ) -> dict[str, dict[str, int]]:
-    """Class x robustness over the stored sweeps of one readings group (one sweep per
-    reading and n, m): a configuration counts once, by the verdicts of every reading its
-    ``M`` type needs; ``DEFAULT-ONLY`` when only the base reading ran on it (a sweep
-    with ``--readings-on violated`` skips the configurations it verifies), ``PARTIAL``
-    when an interrupted sweep left some reading out (``READING-DEPENDENT`` as soon as the
-    readings run hold a VIOLATED and a VERIFIED one: more readings cannot undo that)."""
+    """Class x robustness over the stored sweeps of one readings group: the base reading's
+    ordinary sweep (``covering`` absent) and the robustness rows of
+    :func:`verify_readings_one` (``covering: dynamic``). A configuration counts once: by its
+    robustness row; ``NOT-APPLICABLE`` where the base says so; ``DEFAULT-ONLY`` where only
+    the base ran (``--readings-on violated`` examines only what the base violates);
+    ``PARTIAL`` where an interrupted sweep has not examined it yet. A sweep stored with
+    one stored sweep per reading (``covering`` absent on every sweep of the group) is
+    counted the old way: by the verdicts of every reading its ``M`` type needs."""
+    if not any(s["extra"].get("covering") == "dynamic" for s, _ in groups):
+        return _static_table(groups)
+    base: dict[str, dict[str, Any]] = {}
+    robust: dict[str, dict[str, Any]] = {}
+    on = "all"
+    for settings, rows in groups:
+        target = robust if settings["extra"].get("covering") == "dynamic" else base
+        on = settings["extra"].get("on", on)
+        for row in rows:
+            target[row["key"]] = row
+    table: dict[str, dict[str, int]] = {}
+    for key, row in base.items():
+        if key in robust:
+            label = robust[key]["verdict"]
+        elif row["verdict"] == "NOT-APPLICABLE":
+            label = "NOT-APPLICABLE"
+        elif on == "violated" and row["verdict"] != "VIOLATED":
+            label = "DEFAULT-ONLY"
+        else:
+            label = "PARTIAL"
+        by = table.setdefault(row["class"], {})
+        by[label] = by.get(label, 0) + 1
+    return table
+
+
+def switch_table(groups: Sequence[tuple[dict[str, Any], list[dict[str, Any]]]]
+                 ) -> dict[str, dict[str, dict[str, int]]]:
+    """Per class, over the READING-DEPENDENT rows of a dynamic readings group: how many
+    configurations each single switch ``removes`` (violated by the base) or ``breaks``
+    (verified by the base), and how many need two switches or more (``only combinations``).
+    A configuration counts under every switch that changes its verdict."""
+    out: dict[str, dict[str, dict[str, int]]] = {}
+    for settings, rows in groups:
+        if settings["extra"].get("covering") != "dynamic":
+            continue
+        for row in rows:
+            evidence = row.get("trace") or {}
+            if row["verdict"] != "READING-DEPENDENT":
+                continue
+            kind = "removed by" if "removed_by" in evidence else "broken by"
+            for switch in evidence.get("removed_by", evidence.get("broken_by", [])) + \
+                    evidence.get("combinations", []):
+                by = out.setdefault(row["class"], {}).setdefault(kind, {})
+                by[switch] = by.get(switch, 0) + 1
+    return {name: {kind: dict(sorted(by.items(), key=lambda kv: (-kv[1], kv[0])))
+                   for kind, by in sorted(kinds.items(), reverse=True)}
+            for name, kinds in out.items()}
+
+
+def _static_table(groups: Sequence[tuple[dict[str, Any], list[dict[str, Any]]]]
+                  ) -> dict[str, dict[str, int]]:
+    """:func:`robustness_table` of a group stored one sweep per reading."""
     needed: dict[str, set[str]] = {}  # M type -> readings it needs
     by_key: dict[str, dict[str, Any]] = {}
     for settings, rows in groups:
@@ -289,9 +385,10 @@ def robustness_table(groups: Sequence[tuple[dict[str, Any], list[dict[str, Any]]
     return table
 
 
-def format_robustness(table: dict[str, dict[str, int]], write: Callable[[str], Any] = print
-                      ) -> None:
-    """The class x robustness table as text."""
+def format_robustness(table: dict[str, dict[str, int]], write: Callable[[str], Any] = print,
+                      switches: dict[str, dict[str, dict[str, int]]] | None = None) -> None:
+    """The class x robustness table as text, then the single switches of the
+    READING-DEPENDENT configurations (:func:`switch_table`) when given."""
     from gather_verify.model.classes import CLASS_NAMES
 
     columns = [c for c in (*ROBUSTNESS, "DEFAULT-ONLY", "PARTIAL")
@@ -304,16 +401,28 @@ def format_robustness(table: dict[str, dict[str, int]], write: Callable[[str], A
         if by:
             write(f"{name:<13}{sum(by.values()):>7}" + "".join(f"{by.get(c, 0):>19}"
                                                              for c in columns))
+    if "DEFAULT-ONLY" in columns:
+        write("DEFAULT-ONLY: not violated by the base reading, the other readings not run "
+              "(--readings-on violated)")
+    if switches:
+        write("")
+        write("READING-DEPENDENT: the single switches (one option off the base) that change "
+              "the base's verdict; a configuration counts under each:")
+        for name in CLASS_NAMES:
+            for kind, by in switches.get(name, {}).items():
+                write(f"  {name} {kind}: " + ", ".join(f"{s} {k}" for s, k in by.items()))
 
 
 def readings_sweep(settings: Sequence[Any], readings: str, db_path: str, *, on: str = "all",
-                   types: Sequence[str] = M_TYPES, **run: Any) -> dict[str, dict[str, int]]:
-    """Sweep every reading of the covering set (:func:`sweep_plan`) into ``db_path``, one
-    stored sweep per reading and ``settings`` (their ``extra`` names the readings group
-    and the ``M`` types the reading runs on); ``on="violated"`` runs the readings other
-    than the base only on the configurations the base reading violates; ``types`` keeps
-    only the configurations whose ``M`` is of those types (:data:`M_TYPES`). Returns
-    the class x robustness table (:func:`robustness_table`)."""
+                   types: Sequence[str] = M_TYPES, **run: Any
+                   ) -> tuple[dict[str, dict[str, int]], dict[str, dict[str, dict[str, int]]]]:
+    """Sweep the base reading into ``db_path`` (an ordinary sweep), then every
+    configuration it needs to examine under every reading of its covering set
+    (:func:`verify_readings_one`, one stored robustness sweep per ``settings``): every
+    configuration, or with ``on="violated"`` those the base reading violates; ``types``
+    keeps only the configurations whose ``M`` is of those types (:data:`M_TYPES`). Both
+    stored sweeps name the readings group in their ``extra``. Returns the class x
+    robustness table and the switch table (:func:`robustness_table`, :func:`switch_table`)."""
     from dataclasses import replace
 
     from gather_verify.sweeps.store import Store
@@ -322,7 +431,7 @@ def readings_sweep(settings: Sequence[Any], readings: str, db_path: str, *, on: 
     if on not in ("all", "violated"):
         raise InvalidInput(f"--readings-on {on!r}: use all or violated")
     algorithm = settings[0].algorithm
-    varied = parse_readings(readings, algorithm)
+    parse_readings(readings, algorithm)  # bad options are reported before any work
     bad = [t for t in types if t not in M_TYPES]
     if bad or not types:
         raise InvalidInput(f"--readings-types: unknown M type {bad[0] if bad else ''!r}: use "
@@ -330,37 +439,31 @@ def readings_sweep(settings: Sequence[Any], readings: str, db_path: str, *, on: 
     only = sorted(set(types))
     group = f"{algorithm}|{readings}|on={on}" + ("" if len(only) == len(M_TYPES) else
                                                  f"|types={','.join(only)}")
-    plan = [(spec, tuple(k for k in kinds if k in only)) for spec, kinds in sweep_plan(varied)]
-    plan = [(spec, kinds) for spec, kinds in plan if kinds]
-
-    def of(spec: str, kinds: tuple[str, ...]) -> list[Any]:
-        return [replace(s, algorithm=spec, extra={**s.extra, "readings": group,
-                                                  "types": list(kinds)}) for s in settings]
-
-    (base, base_kinds), rest = plan[0], plan[1:]
-    run_sweep(of(base, base_kinds), db_path, where=lambda one, c: m_type(c) in only, **run)
-    violated: set[str] | None = None
-    if on == "violated":
-        store = Store(db_path)
-        try:
-            violated = {r["key"] for s in of(base, base_kinds)
-                        for r in store.results(store.sweep_id(s.key()))
-                        if r["verdict"] == "VIOLATED"}
-        finally:
-            store.close()
+    extra = {"readings": group, "types": only, "on": on}
+    base = [replace(s, extra={**s.extra, **extra}) for s in settings]
+    run_sweep(base, db_path, where=lambda one, c: m_type(c) in only, **run)
+    store = Store(db_path)
+    try:
+        verdicts = {r["key"]: r["verdict"] for s in base
+                    for r in store.results(store.sweep_id(s.key()))}
+    finally:
+        store.close()
 
     def where(one: Any, c: Configuration) -> bool:
-        return m_type(c) in one.extra["types"] and (
-            violated is None or configuration_key(c) in violated)
+        verdict = verdicts.get(configuration_key(c))
+        return verdict is not None and verdict != "NOT-APPLICABLE" and (
+            on == "all" or verdict == "VIOLATED")
 
-    if rest:
-        run_sweep([s for spec, kinds in rest for s in of(spec, kinds)], db_path, where=where,
-                  **run)
-    return stored_robustness(db_path)[group]
+    examine = [replace(s, extra={**s.extra, "covering": "dynamic", "spec": readings})
+               for s in base]
+    run_sweep(examine, db_path, where=where, verify=verify_readings_one, **run)
+    tables = stored_robustness(db_path)[group]
+    return tables["table"], tables["switches"]
 
 
-def stored_robustness(db_path: str) -> dict[str, dict[str, dict[str, int]]]:
-    """The class x robustness table of every readings group stored in ``db_path``."""
+def stored_robustness(db_path: str) -> dict[str, dict[str, Any]]:
+    """Per readings group stored in ``db_path``: its class x robustness ``table`` and its
+    ``switches`` (:func:`robustness_table`, :func:`switch_table`)."""
     from gather_verify.sweeps.store import Store
 
     store = Store(db_path)
@@ -372,4 +475,5 @@ def stored_robustness(db_path: str) -> dict[str, dict[str, dict[str, int]]]:
                 groups.setdefault(group, []).append((settings, store.results(i)))
     finally:
         store.close()
-    return {group: robustness_table(sweeps) for group, sweeps in groups.items()}
+    return {group: {"table": robustness_table(sweeps), "switches": switch_table(sweeps)}
+            for group, sweeps in groups.items()}

@@ -467,3 +467,38 @@ def test_check_cli_readings_all_on_the_a4_witness(capsys):
     assert len(by) == 192 and len(out["runs"]) < 192
     assert {v for a, v in by.items() if "placement=reachable" in a} == {"VERIFIED"}
     assert {v for a, v in by.items() if "placement=closest" in a} == {"VIOLATED"}
+
+
+def test_a_readings_sweep_examines_every_configuration_by_the_dynamic_covering(tmp_path, capsys):
+    """``sweep --readings all``: every configuration the base reading applies to gets a
+    robustness row, and each equals the robustness of the full product of its readings
+    (``check_readings(..., dynamic=False)``), on a sample; the switches are counted."""
+    from gather_verify.sweeps.store import Store
+
+    db = tmp_path / "r.sqlite"
+    argv = ["sweep", "--robots", "2", "--meeting", "2", "--box", "3x2", "--readings", "all",
+            "--db", str(db), "--workers", "1", "--json"]
+    assert main(argv) == 1
+    out = json.loads(capsys.readouterr().out)
+    assert out["robustness"]["I22"]["READING-DEPENDENT"] > 0
+    assert "survivor=not-both" in out["switches"]["I22"]["broken by"]
+    store = Store(str(db))
+    try:
+        sweeps = store.sweeps()
+        base = [r for i, s in sweeps if "covering" not in s["extra"] for r in store.results(i)]
+        robust = [r for i, s in sweeps if s["extra"].get("covering") == "dynamic"
+                  for r in store.results(i)]
+    finally:
+        store.close()
+    applicable = [r for r in base if r["verdict"] != "NOT-APPLICABLE"]
+    assert {r["key"] for r in robust} == {r["key"] for r in applicable}  # not the base alone
+    sample = [r for r in robust if r["verdict"] == "READING-DEPENDENT"][:1] + \
+        [r for r in robust if r["verdict"] == "ROBUST-VIOLATED"][:1]
+    assert len(sample) == 2
+    for row in sample:
+        c = Configuration([tuple(v) for v in row["robots"]],
+                          [tuple(v) for v in row["meeting_nodes"]], initial=True)
+        full = check_readings(c, "all", dynamic=False, scheduler="async", memo=False)
+        assert row["verdict"] == full["robustness"], row["key"]
+    assert main(argv) == 1  # resumed: nothing to compute, the same tables
+    assert json.loads(capsys.readouterr().out) == out

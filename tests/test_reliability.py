@@ -297,21 +297,30 @@ def test_ctrl_c_during_sweep_keeps_results_and_resumes(tmp_path: Path) -> None:
     assert json.loads(resumed.stdout)["total"] > kept
 
 
+_RSS_AFTER_FORK = """
+import os
+from gather_verify.engine.explore import rss_mb
+
+before = rss_mb()
+block = b"\\x01" * (96 << 20)  # written: every page resident
+assert rss_mb() > before + 64, (before, rss_mb())
+read, write = os.pipe()
+pid = os.fork()
+if pid == 0:  # the child frees the block: its size drops, the parent's does not
+    del block
+    os.write(write, str(rss_mb()).encode())
+    os._exit(0)
+os.waitpid(pid, 0)
+child = float(os.read(read, 64))
+assert child < rss_mb() - 64, (child, rss_mb())
+"""
+
+
 def test_the_resident_size_read_is_this_process_s_own_after_a_fork() -> None:
     """The memory limits read ``/proc/self/statm`` through a file kept open: it must follow
-    an allocation, and a forked worker must read its own size, not its parent's."""
-    from gather_verify.engine.explore import rss_mb
-
-    before = rss_mb()
-    block = b"\x01" * (96 << 20)  # written: every page resident
-    assert rss_mb() > before + 64
-    read, write = os.pipe()
-    pid = os.fork()
-    if pid == 0:  # the child frees the block: its size drops, the parent's does not
-        del block
-        os.write(write, str(rss_mb()).encode())
-        os._exit(0)
-    os.waitpid(pid, 0)
-    child = float(os.read(read, 64))
-    assert child < rss_mb() - 64
-    del block
+    an allocation, and a forked worker must read its own size, not its parent's. Run in a
+    fresh interpreter: inside the test session other tests' memory is freed concurrently
+    (the garbage collector, the allocator giving pages back), which moved the reading."""
+    done = subprocess.run([sys.executable, "-c", _RSS_AFTER_FORK], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr

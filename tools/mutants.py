@@ -164,7 +164,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "mutant-paper-guard-selection-inward", _P,
         "the robot chosen in guard selection steps towards L ∪ {c} instead of away from it",
-        (("if dist(u) > dist(guard))", "if dist(u) < dist(guard))"),),
+        (("if dist(u) > dist(v))", "if dist(u) < dist(v))"),),
         ("defined", "final")),
     Mutant(
         "mutant-paper-guard-tie-fixed-compass", _P,
@@ -177,8 +177,8 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "mutant-paper-placement-towards-axis", _P,
         "guard placement may take steps that bring the guard nearer L ∪ {c}",
-        (("                          if dist(u) >= dist(guard))",
-          "                          if dist(u) >= dist(guard) - 2)"),),
+        (("closer_steps(guard, k) if dist(u) >= dist(guard))",
+          "closer_steps(guard, k) if dist(u) >= dist(guard) - 2)"),),
         ("termination",)),
     Mutant(
         "mutant-paper-non-guards-before-placement", _P,
@@ -231,8 +231,8 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant(
         "mutant-paper-finalize-both-move", _P,
         "in Finalization the robots on the meeting node also walk towards the guard",
-        (("    moves = {target: frozenset({target}), other: closer_steps(other, target)}",
-          "    moves = {target: closer_steps(target, other), other: closer_steps(other, target)}"),),
+        (("        elif survivor == \"not-both\" or not on_meeting:",
+          "        elif True:"),),
         ("final",)),
     Mutant(
         "mutant-paper-reads-hidden-multiplicity", _P,

@@ -68,9 +68,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"== sweep {i + 1}: {summary['settings']}")
         format_summary(summary)
         print()
-    for group, table in robust.items():
+    for group, tables in robust.items():
         print(f"== readings {group}: class x robustness")
-        format_robustness(table)
+        format_robustness(tables["table"], switches=tables["switches"])
         print()
     if curve is not None:
         from gather_verify.sweeps.schedule import format_prediction

@@ -156,17 +156,17 @@ def _readings(args: argparse.Namespace, settings: list) -> int:
 
         types = M_TYPES if args.readings_types is None else [
             t.strip() for t in args.readings_types.split(",")]
-        table = readings_sweep(settings, args.readings, args.db, on=args.readings_on, types=types,
-                               workers=args.workers, dask=args.dask, progress=not args.json,
-                               limit=args.limit)
+        table, switches = readings_sweep(settings, args.readings, args.db, on=args.readings_on,
+                                         types=types, workers=args.workers, dask=args.dask,
+                                         progress=not args.json, limit=args.limit)
     except KeyboardInterrupt:
         print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
               "run the same command again to resume", file=sys.stderr)
         return EXIT_INTERRUPTED
     if args.json:
-        print_json({"robustness": table})
+        print_json({"robustness": table, "switches": switches})
     else:
-        format_robustness(table)
+        format_robustness(table, switches=switches)
         print(f"\nresults: {os.path.abspath(args.db)}")
     seen = {label for by in table.values() for label in by}
     if seen & {"ROBUST-VIOLATED", "READING-DEPENDENT"}:

@@ -115,9 +115,15 @@ def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[st
     }
 
 
-def verify_chunk(settings: SweepSettings, chunk: Sequence[tuple[int, Configuration]]) -> list[dict[str, Any]]:
+Verify = Callable[[SweepSettings, int, Configuration], dict[str, Any]]
+"""What decides one configuration into one row: :func:`verify_one`, or another row maker of
+the same shape (the readings' robustness, :func:`gather_verify.readings.verify_readings_one`)."""
+
+
+def verify_chunk(settings: SweepSettings, chunk: Sequence[tuple[int, Configuration]],
+                 verify: Verify = verify_one) -> list[dict[str, Any]]:
     """Verify a chunk of configurations, in order."""
-    return [verify_one(settings, i, c) for i, c in chunk]
+    return [verify(settings, i, c) for i, c in chunk]
 
 
 def _chunks(items: list[tuple[int, Configuration]], size: int) -> Iterator[list[tuple[int, Configuration]]]:
@@ -161,6 +167,7 @@ def run_sweep(
     where: Callable[[SweepSettings, Configuration], bool] | None = None,
     fresh: bool = False,
     engine: str = "union",
+    verify: Verify | None = None,
 ) -> dict[str, Any]:
     """Run (or resume) one sweep, or several (e.g. every n and m up to a bound) into
     one store; return the summary over all of them (see :func:`summarise`). Rows are
@@ -171,11 +178,14 @@ def run_sweep(
 
     ``engine="union"`` decides a meeting-node class at a time from one state graph
     (:mod:`gather_verify.sweeps.mclass`), ``"per-config"`` checks each configuration on
-    its own; the rows are the same (timings aside)."""
+    its own; the rows are the same (timings aside). ``verify`` replaces :func:`verify_one`
+    as the maker of each row (per configuration: the union engine does not apply)."""
     from gather_verify.sweeps.mclass import ENGINES
 
     if engine not in ENGINES:
         raise InvalidInput(f"unknown sweep engine {engine!r}: use one of {', '.join(ENGINES)}")
+    if verify is not None:
+        engine = "per-config"
     from gather_verify.sweeps.census import enumerate_configurations
 
     batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
@@ -197,7 +207,7 @@ def run_sweep(
             plan.append((one, sweep, todo))
         bar = Progress(sum(len(todo) for _, _, todo in plan), progress)
         try:
-            for sweep, rows in _execute(plan, workers, dask, engine):
+            for sweep, rows in _execute(plan, workers, dask, engine, verify):
                 store.add(sweep, rows)
                 bar.advance(len(rows))
         finally:
@@ -225,6 +235,7 @@ def _execute(
     workers: int | None,
     dask: str | None,
     engine: str = "per-config",
+    verify: Verify | None = None,
 ) -> Iterator[tuple[int, list[dict[str, Any]]]]:
     """Every chunk of every sweep of the plan, as ``(sweep id, rows)`` when done. One pool
     (or cluster) runs them all, so its workers keep what they learnt (the algorithm's plans,
@@ -245,7 +256,7 @@ def _execute(
             settings = replace(settings, max_memory_mb=memory_budget_mb(
                 1 if local else (workers or os.cpu_count() or 1)))
         tasks.extend((sweep, settings, chunk) for chunk in chunks)
-    run: Callable[..., Done] = _run_task
+    run: Callable[..., Done] = _run_task if verify is None else partial(_run_task, verify=verify)
     if engine == "union":
         tasks.sort(key=lambda task: -len(task[2]))  # the largest classes of every sweep first
         run = _run_class_task if local else partial(_run_class_task, hand_off=HAND_OFF_SECONDS)
@@ -296,16 +307,17 @@ def _ignore_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None) -> Done:
+def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
+              verify: Verify = verify_one) -> Done:
     """Worker entry point (picklable for process pools and Dask). ``sources``: the text of
     the algorithm files (:func:`gather_verify.algorithms.loading.ship`), for a worker that
-    does not see them (a Dask cluster on other machines)."""
+    does not see them (a Dask cluster on other machines); ``verify``: the row maker."""
     sweep, settings, chunk = task
     if sources:
         from gather_verify.algorithms.loading import receive
 
         receive(sources)
-    return sweep, Store.encode(verify_chunk(settings, chunk)), []
+    return sweep, Store.encode(verify_chunk(settings, chunk, verify)), []
 
 
 def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
