@@ -1,15 +1,21 @@
 """Fingerprints: what produced a stored result, so a result is never taken for another's.
 
 A sweep's rows are keyed by its settings (box, counts, scheduler, detection,
-frames, properties, limits: the semantics) and by the fingerprint of its
-algorithm: a digest of the algorithm's source, its spec with the options, and
-gather-verify's version. The source is the file of the algorithm's module and
-of every local module it imports, transitively: for a file of your own, the
-``.py`` files of its folder it imports; for a module of a package, the modules
-of that package it imports; for the built-in algorithms, the modules of
-gather-verify the algorithm's module imports. An edit to any of them changes
-the fingerprint, so a sweep after an edit recomputes instead of printing the
-old table.
+frames, properties, limits: the semantics) and by a fingerprint of the code that
+produced them: the algorithm's source, its spec with the options, the source of
+every property file it checks, the files named with ``--fingerprint-extra``, and
+gather-verify's own source (every ``.py`` file of the installed package and of
+``schedulers``, and the viewer). The algorithm's source is the file of its module
+and of every local module it imports, transitively, through packages'
+``__init__`` files and relative imports: for a file of your own, the ``.py``
+files of its folder it imports; for a module of a package, the modules of that
+package it imports. An edit to any of them changes the fingerprint, so a sweep
+after an edit recomputes instead of printing the old table.
+
+Never covered: data the algorithm reads at run time or at import (a JSON of
+parameters, a module loaded by ``importlib`` from a computed name), unless named
+with ``--fingerprint-extra``; installed third-party packages (their version is
+not recorded); the Python interpreter.
 
 >>> fp = algorithm_fingerprint("go-to-target")
 >>> len(fp["digest"]), "gather_verify/algorithms/go_to_target.py" in fp["files"]
@@ -20,8 +26,8 @@ old table.
 from __future__ import annotations
 
 import hashlib
-import os
 import sys
+from collections.abc import Iterable
 from functools import lru_cache
 from importlib import metadata
 from pathlib import Path
@@ -62,20 +68,77 @@ def _modules_of(spec: str) -> list[Any]:
     return [m for m in dict.fromkeys(modules) if m is not None and getattr(m, "__file__", None)]
 
 
-def algorithm_fingerprint(spec: str) -> dict[str, Any]:
-    """``digest`` (16 hex digits) of the algorithm's source, spec and gather-verify's version,
-    with the ``files`` it read (relative to their root where possible) and the ``version``."""
+_PACKAGE = Path(__file__).resolve().parent.parent
+"""The folder holding ``gather_verify`` and ``schedulers``."""
+
+
+@lru_cache(maxsize=1)
+def own_digest() -> str:
+    """A digest of gather-verify's own source, read once per process: every ``.py`` file of
+    ``gather_verify`` and ``schedulers`` and the viewer page (an edit in a source checkout
+    is another verifier, whose results are not this one's)."""
+    h = hashlib.sha256()
+    for top in ("gather_verify", "schedulers"):
+        for path in sorted((_PACKAGE / top).rglob("*")):
+            if path.suffix in (".py", ".html") and "__pycache__" not in path.parts:
+                h.update(f"{path.relative_to(_PACKAGE).as_posix()}\0".encode())
+                h.update(path.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def _named(files: Iterable[Path], home: Path) -> list[tuple[str, Path]]:
+    """Each file with the name it is hashed under: relative to gather-verify's folder, else to
+    ``home`` (the user's folder, so a copy of it, or the folder moved, keeps the digest)."""
+    out = []
+    for path in sorted(files):
+        for root in (_PACKAGE, home):
+            if path.is_relative_to(root):
+                out.append((path.relative_to(root).as_posix(), path))
+                break
+        else:
+            out.append((path.as_posix(), path))
+    return out
+
+
+def source_fingerprint(module_file: str | Path, module_name: str | None = None) -> dict[str, Any]:
+    """``digest`` and ``files`` of a module's file and the local modules it imports."""
     from gather_verify.algorithms.loading import local_sources
 
-    files: set[Path] = set()
-    for module in _modules_of(spec):
-        files |= set(local_sources(module.__file__, module.__name__))
-    package = Path(__file__).resolve().parent.parent
+    files = local_sources(module_file, module_name)
     h = hashlib.sha256()
     names = []
-    for path in sorted(files):
-        shown = path.relative_to(package) if path.is_relative_to(package) else path
-        names.append(str(shown).replace(os.sep, "/"))
-        h.update(f"{names[-1]}\0{file_digest(path)}\0".encode())
-    h.update(f"{spec}\0{version()}".encode())
-    return {"digest": h.hexdigest()[:16], "files": sorted(names), "version": version()}
+    for name, path in _named(files, Path(module_file).resolve().parent):
+        names.append(name)
+        h.update(f"{name}\0{file_digest(path)}\0".encode())
+    return {"digest": h.hexdigest()[:16], "files": names}
+
+
+def algorithm_fingerprint(spec: str) -> dict[str, Any]:
+    """``digest`` (16 hex digits) of the algorithm's source, spec, gather-verify's version and
+    its own source (:func:`own_digest`), with the ``files`` it read (relative to their root
+    where possible) and the ``version``."""
+    h = hashlib.sha256()
+    names: list[str] = []
+    for module in _modules_of(spec):
+        part = source_fingerprint(module.__file__, module.__name__)
+        names += part["files"]
+        h.update(f"{part['digest']}\0".encode())
+    h.update(f"{spec}\0{version()}\0{own_digest()}".encode())
+    return {"digest": h.hexdigest()[:16], "files": sorted(set(names)), "version": version()}
+
+
+def files_fingerprint(paths: Iterable[str]) -> str:
+    """A digest of the named files' contents, in the order given (``--fingerprint-extra``).
+    InvalidInput when one cannot be read."""
+    from gather_verify.errors import InvalidInput
+
+    h = hashlib.sha256()
+    for text in paths:
+        path = Path(text).expanduser()
+        try:
+            digest = file_digest(path.resolve())
+        except OSError as error:
+            raise InvalidInput(f"--fingerprint-extra {text}: cannot read it "
+                               f"({error.strerror or error})") from None
+        h.update(f"{path.name}\0{digest}\0".encode())
+    return h.hexdigest()[:16]

@@ -99,9 +99,9 @@ def target_of(algorithm: object, configuration: Configuration) -> Node | None:
         return None
     try:
         return target(configuration)
-    except Unhandled:
+    except (Unhandled, KeyboardInterrupt):
         raise
-    except Exception as error:
+    except BaseException as error:  # SystemExit too: user code never ends the verifier
         raise AlgorithmCrash(getattr(algorithm, "name", "?"), "target", error) from None
 
 

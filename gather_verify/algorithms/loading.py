@@ -31,6 +31,8 @@ import importlib.util
 import os
 import sys
 import sysconfig
+from collections.abc import Iterator
+from contextlib import contextmanager
 from importlib import metadata
 from pathlib import Path
 from types import ModuleType
@@ -107,8 +109,10 @@ def relative_spec(spec: str, folder: str | Path) -> str:
     return rel.replace(os.sep, "/") + spec[at + 3:]
 
 
-def _imports(path: Path) -> set[tuple[str, ...]]:
-    """Dotted names a module imports, as tuples (``from a import b``: both ``a`` and ``a.b``)."""
+def _imports(path: Path, package: tuple[str, ...] = ()) -> set[tuple[str, ...]]:
+    """Dotted names a module imports, as tuples (``from a import b``: both ``a`` and ``a.b``);
+    a relative import (``from .impl import f``, ``from . import impl``) is resolved against
+    ``package``, the dotted package the module lies in (relative to the search root)."""
     try:
         tree = ast.parse(path.read_bytes(), filename=str(path))
     except (OSError, SyntaxError, ValueError):
@@ -117,9 +121,18 @@ def _imports(path: Path) -> set[tuple[str, ...]]:
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             out |= {tuple(alias.name.split(".")) for alias in node.names}
-        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            base = tuple(node.module.split("."))
-            out.add(base)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                up = len(package) - (node.level - 1)
+                if up < 0:
+                    continue
+                base = package[:up] + (tuple(node.module.split(".")) if node.module else ())
+            elif node.module:
+                base = tuple(node.module.split("."))
+            else:
+                continue
+            if base:
+                out.add(base)
             out |= {(*base, alias.name) for alias in node.names}
     return out
 
@@ -134,8 +147,8 @@ def _module_file(root: Path, parts: tuple[str, ...]) -> Path | None:
 
 
 def local_sources(module_file: str | Path, module_name: str | None = None) -> list[Path]:
-    """The module's file and every local module it imports, transitively (sorted; a
-    package's ``__init__`` counts, but what it imports is not followed).
+    """The module's file and every local module it imports, transitively (sorted), through
+    a package's ``__init__`` and relative imports too.
 
     Local: under the module's folder for a file loaded by path or a top-level module
     (unless that folder is the standard library or site-packages: then the file alone);
@@ -151,13 +164,14 @@ def local_sources(module_file: str | Path, module_name: str | None = None) -> li
             return [first]
     seen, todo = {first}, [first]
     while todo:
-        for dotted in _imports(todo.pop()):
+        here = todo.pop()
+        package = here.parent.relative_to(root).parts if here.is_relative_to(root) else ()
+        for dotted in _imports(here, package):
             found = _module_file(root, dotted)
             found = found and found.resolve()
             if found is not None and found.is_relative_to(scope) and found not in seen:
                 seen.add(found)
-                if found.name != "__init__.py":  # a package's hub of re-exports: not followed
-                    todo.append(found)
+                todo.append(found)
     return sorted(seen)
 
 
@@ -182,7 +196,7 @@ def load_file(path: str) -> ModuleType:
     """The module of a ``.py`` file, executed again when it or a local module it imports
     changed (those are imported afresh too). Its folder goes on ``sys.path`` (as for a
     script), so it imports its neighbours."""
-    if not os.path.isfile(path) and path in _RECEIVED:  # a worker that was sent the files
+    if path in _RECEIVED:  # the snapshot taken at the start (:func:`snapshot`), never the disk
         path = _RECEIVED[path][1]
     if not os.path.isfile(path):
         raise InvalidInput(f"algorithm file {path}: no such file")
@@ -211,7 +225,10 @@ def load_file(path: str) -> ModuleType:
     sys.modules[name] = module  # classes defined there pickle by this name
     try:
         loader_spec.loader.exec_module(module)
-    except Exception as error:
+    except KeyboardInterrupt:
+        del sys.modules[name]
+        raise
+    except BaseException as error:  # SystemExit, GeneratorExit ... at import: bad input too
         del sys.modules[name]
         raise InvalidInput(f"algorithm file {path}: importing it failed: "
                          f"{type(error).__name__}: {error}") from None
@@ -220,8 +237,9 @@ def load_file(path: str) -> ModuleType:
 
 
 _RECEIVED: dict[str, tuple[str, str]] = {}
-"""Algorithm files this process does not see, by their path on the machine that sent them:
-the path of a copy of the files it received."""
+"""Algorithm files loaded from a snapshot, by their original path (on the machine that took
+it): the digest of the snapshot and the path of its copy. :func:`load_file` loads the copy,
+whatever the original file holds now."""
 
 
 def ship(specs: set[str]) -> dict[str, dict[str, str]]:
@@ -233,20 +251,22 @@ def ship(specs: set[str]) -> dict[str, dict[str, str]]:
         if external is None:
             continue
         path = external[0]
-        folder = Path(path).resolve().parent
+        source = _RECEIVED[path][1] if path in _RECEIVED else path  # a snapshot: its copy
+        folder = Path(source).resolve().parent
         out[path] = {str(f.relative_to(folder)): f.read_text(encoding="utf-8")
-                     for f in local_sources(path) if f.is_relative_to(folder)}
+                     for f in local_sources(source) if f.is_relative_to(folder)}
     return out
 
 
 def receive(sources: dict[str, dict[str, str]]) -> None:
-    """Make shipped algorithm files loadable here under their original paths (a private
-    folder holds the copies; a file this process sees itself is used as it is)."""
+    """Load shipped algorithm files under their original paths from now on: a private folder
+    holds the copies, and :func:`load_file` runs them even where the original file exists
+    (a sweep's workers run the snapshot its parent took, never a later edit)."""
     import tempfile
 
     for path, files in sources.items():
         digest = hashlib.sha256(repr(sorted(files.items())).encode()).hexdigest()
-        if os.path.isfile(path) or _RECEIVED.get(path, ("",))[0] == digest:
+        if _RECEIVED.get(path, ("",))[0] == digest:
             continue
         folder = Path(tempfile.mkdtemp(prefix="gather-verify-received-"))
         for name, text in files.items():
@@ -255,11 +275,30 @@ def receive(sources: dict[str, dict[str, str]]) -> None:
         _RECEIVED[path] = (digest, str(folder / Path(path).name))
 
 
+@contextmanager
+def snapshot(specs: set[str]) -> Iterator[dict[str, dict[str, str]]]:
+    """The text of the algorithm files of ``specs``, read once (:func:`ship`), and loaded from
+    that copy in this process (and the workers it forks) until the block ends: what a sweep
+    fingerprints is what its workers run, even if a file is edited meanwhile. Yields the
+    snapshot, for workers on other machines (:func:`receive`)."""
+    sources = ship(specs)
+    before = dict(_RECEIVED)
+    receive(sources)
+    try:
+        yield sources
+    finally:
+        _RECEIVED.clear()
+        _RECEIVED.update(before)
+
+
 def load_module(name: str) -> ModuleType:
     try:
         return importlib.import_module(name)
-    except ImportError as error:
-        raise InvalidInput(f"algorithm module {name!r}: cannot import it ({error})") from None
+    except KeyboardInterrupt:
+        raise
+    except BaseException as error:  # not only ImportError: whatever its import raises
+        raise InvalidInput(f"algorithm module {name!r}: cannot import it "
+                           f"({type(error).__name__}: {error})") from None
 
 
 def entry_point_factory(name: str) -> Any | None:
@@ -268,7 +307,9 @@ def entry_point_factory(name: str) -> Any | None:
         if point.name == name:
             try:
                 return point.load()
-            except Exception as error:
+            except KeyboardInterrupt:
+                raise
+            except BaseException as error:
                 raise InvalidInput(f"algorithm {name!r} (entry point {point.value}): "
                                  f"loading it failed: {type(error).__name__}: {error}") from None
     return None
@@ -289,6 +330,11 @@ def instantiate(target: Any, options: dict[str, str], spec: str) -> Any:
             algorithm = target(**options)
         except TypeError as error:
             raise InvalidInput(f"bad options for algorithm {spec!r}: {error}") from None
+        except KeyboardInterrupt:
+            raise
+        except BaseException as error:  # the user's constructor rejected its options
+            raise InvalidInput(f"algorithm {spec!r}: constructing it failed: "
+                               f"{type(error).__name__}: {error}") from None
     else:
         raise InvalidInput(f"algorithm {spec!r}: not a class, a factory or an object with decide")
     if not callable(getattr(algorithm, "decide", None)):

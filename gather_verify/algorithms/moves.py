@@ -66,9 +66,9 @@ def move_set(
         except MultiplicityHidden as error:  # a rule its robots cannot apply: no rule at all
             raise HiddenRead(f"algorithm {algorithm.name!r} reads multiplicity its robots cannot "
                             f"see: {error}") from None
-        except Unhandled:
+        except (Unhandled, KeyboardInterrupt):  # no rule; a real Ctrl-C stays an interrupt
             raise
-        except Exception as error:  # a bug in the algorithm: the crash property fails
+        except BaseException as error:  # a bug in the algorithm (SystemExit too): a crash
             raise AlgorithmCrash(algorithm.name, "decide", error, node, seen) from None
         try:
             dx, dy = MAPPED_BACK[g][answer]  # the answer, mapped back to global coordinates
@@ -99,9 +99,9 @@ def move_sets(
     if planned is not None:  # the algorithm computes the union over the frames itself
         try:
             out = planned(configuration, detection, frames)
-        except Unhandled:
+        except (Unhandled, KeyboardInterrupt):
             raise
-        except Exception as error:
+        except BaseException as error:  # SystemExit too: user code never ends the verifier
             raise AlgorithmCrash(algorithm.name, "move_sets", error) from None
         if out is not None:
             return out

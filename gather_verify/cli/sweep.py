@@ -42,6 +42,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="drop the stored rows of these settings and compute every one again "
                         "(rows of an edited algorithm are never reused anyway: they are keyed "
                         "by its source's fingerprint)")
+    p.add_argument("--fingerprint-extra", nargs="+", metavar="FILE", default=[],
+                   help="files the algorithm reads (parameters, data): their contents join the "
+                        "fingerprint, so an edit computes again")
     p.add_argument("--workers", type=bounded_int(1, 512), default=None,
                    help="local processes (default: the number of cores)")
     p.add_argument("--dask", metavar="local|ADDRESS", default=None,
@@ -116,7 +119,10 @@ def run(args: argparse.Namespace) -> int:
         max_seconds=args.max_seconds_per_config, move_bound_c=args.move_bound_c,
         reduction=not args.no_reduction, max_memory_mb=args.max_memory_mb,
         keep_growing=args.keep_growing,
+        fingerprint_extra=tuple(os.path.abspath(f) for f in args.fingerprint_extra),
     ) for n in args.robots for m in args.meeting]
+    if args.fingerprint_extra:
+        settings[0].fingerprint()  # an unreadable file fails before any work
     if args.readings:
         return _readings(args, settings)
     try:
@@ -137,8 +143,9 @@ def run(args: argparse.Namespace) -> int:
         format_summary(summary)
         print(f"\nresults: {os.path.abspath(args.db)}")
         if summary["settings"]:
-            print(f"algorithm fingerprint: {summary['settings']['fingerprint']} (its source, "
-                  "options and gather-verify's version: an edit computes again)")
+            print(f"fingerprint: {summary['settings']['fingerprint']} (the algorithm's source "
+                  "and options, property files, --fingerprint-extra files, gather-verify's own "
+                  "source: an edit of any computes again)")
     verdicts = {v for by in summary["verdicts"].values() for v in by}
     if "VIOLATED" in verdicts:
         return 1

@@ -62,6 +62,9 @@ class Store:
     """A results database at ``path`` (``:memory:`` for tests)."""
 
     def __init__(self, path: str | Path):
+        if not str(path).strip():  # SQLite would open a temporary database: every row lost
+            raise InvalidInput("results database: the path is empty (give a file, e.g. "
+                               "--db out/results.sqlite)")
         if str(path) != ":memory:":
             Path(path).parent.mkdir(parents=True, exist_ok=True)
         try:

@@ -49,6 +49,9 @@ class SweepSettings:
     max_memory_mb: float | None = None
     """Resident memory limit of each worker process; None: this machine's memory shared
     by the workers (:func:`gather_verify.engine.resources.memory_budget_mb`)."""
+    fingerprint_extra: tuple[str, ...] = ()
+    """Further files the results depend on (data the algorithm reads): their contents are
+    part of the fingerprint (``--fingerprint-extra``)."""
 
     def key(self) -> dict[str, Any]:
         """The identity of the sweep in the store (timing limits excluded only if
@@ -61,10 +64,30 @@ class SweepSettings:
             del out["max_memory_mb"]
         if self.keep_growing:  # the rule every store before the field was written with:
             del out["keep_growing"]  # its rows stay found under --keep-growing
-        from gather_verify.fingerprint import algorithm_fingerprint
-
-        out["fingerprint"] = algorithm_fingerprint(self.algorithm)["digest"]  # never stale
+        out["fingerprint"] = self.fingerprint()  # never stale
+        del out["fingerprint_extra"]
         return out
+
+    def fingerprint(self) -> str:
+        """The digest of the code and data behind the rows (:mod:`gather_verify.fingerprint`):
+        the algorithm's, every property file's, the ``fingerprint_extra`` files' and
+        gather-verify's own source."""
+        import hashlib
+
+        from gather_verify.algorithms.loading import is_path_spec
+        from gather_verify.fingerprint import (
+            algorithm_fingerprint,
+            files_fingerprint,
+            source_fingerprint,
+        )
+
+        parts = [algorithm_fingerprint(self.algorithm)["digest"]]
+        parts += [source_fingerprint(p.rpartition(":")[0])["digest"]
+                  for p in self.properties if is_path_spec(p)]
+        if not parts[1:] and not self.fingerprint_extra:
+            return parts[0]  # the algorithm's alone, as every store before property digests
+        parts.append(files_fingerprint(self.fingerprint_extra))
+        return hashlib.sha256("\0".join(parts).encode()).hexdigest()[:16]
 
 
 def configuration_key(c: Configuration) -> str:
@@ -186,9 +209,22 @@ def run_sweep(
         raise InvalidInput(f"unknown sweep engine {engine!r}: use one of {', '.join(ENGINES)}")
     if verify is not None:
         engine = "per-config"
-    from gather_verify.sweeps.census import enumerate_configurations
 
     batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
+    from gather_verify.algorithms.loading import snapshot
+
+    with snapshot({one.algorithm for one in batch}):  # fingerprinted and run: the same text
+        return _run_sweep(batch, db_path, workers, dask, progress, limit, where, fresh, engine,
+                          verify)
+
+
+def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, dask: str | None,
+               progress: bool, limit: int | None,
+               where: Callable[[SweepSettings, Configuration], bool] | None, fresh: bool,
+               engine: str, verify: Verify | None) -> dict[str, Any]:
+    """:func:`run_sweep` once the algorithm files are snapshotted."""
+    from gather_verify.sweeps.census import enumerate_configurations
+
     store = Store(db_path)
     try:
         plan = []
