@@ -277,6 +277,11 @@ def run_check(
     ``drift`` when nothing fails, never a proof."""
     started = time.perf_counter()
     wanted = check_property_names(properties)
+    if frames != "all" and "no-ungatherable" in wanted:  # U is Theorem 1's, for disoriented
+        if properties:  # robots: a common compass or chirality may gather there
+            raise InvalidInput(f"no-ungatherable does not apply under --frames {frames}: U "
+                               "(Theorem 1) is for robots with no common orientation")
+        wanted.remove("no-ungatherable")
     fixed_margin = limits.pop("margin", None)
     lim = Limits(max_states=max_states, max_seconds=max_seconds,
                  max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),
@@ -298,7 +303,9 @@ def run_check(
         "scheduler": scheduler, "detection": detection, "frames": frames,
         "reduction": reduction,
     }
-    if (cls.in_U or cls.name == "UNCLASSIFIED") and not force:
+    if (cls.in_U or cls.name == "UNCLASSIFIED") and frames == "all" and not force:
+        # the paper's U and partition are about disoriented robots (all 8 frames): with a
+        # common compass or chirality such a configuration is checked like any other
         report.update(verdict=NOT_APPLICABLE, reason=f"initial configuration is {cls.name}: "
                       "use the impossibility checks (or --force)",
                       seconds=time.perf_counter() - started)

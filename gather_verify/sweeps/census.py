@@ -172,7 +172,8 @@ def _decode(mask: int, side: int) -> tuple[Node, ...]:
     return tuple(sorted(divmod(top - bit, side) for bit in range(top + 1) if mask >> bit & 1))
 
 
-def _canonical_masks_lazy(n: int, m: int, w: int, h: int) -> Iterator[np.ndarray]:
+def _canonical_masks_lazy(n: int, m: int, w: int, h: int,
+                          group: tuple[int, ...] = geometry.ALL) -> Iterator[np.ndarray]:
     """The rows of :func:`_canonical_masks`, in the same order, a block at a time.
 
     Every class has its canonical image among the placements of the ``side x side``
@@ -182,8 +183,14 @@ def _canonical_masks_lazy(n: int, m: int, w: int, h: int) -> Iterator[np.ndarray
     come in increasing canonical key; keeping the placements that are their own
     canonical image and fit the box gives every class once, in order, without
     looking past the last one asked for. Blocks start small and double, so the
-    first configurations cost next to nothing (``sweep --limit``)."""
+    first configurations cost next to nothing (``sweep --limit``).
+
+    ``group``: the linear parts the classes are taken up to (with every translation): the
+    frame group of the robots (SEMANTICS.md §3), all of D4 by default. Under a common
+    compass a rotated copy is another problem, so the classes are translation classes,
+    and a shape fits the box only as placed."""
     side = max(w, h)
+    transposes = any(geometry.MATRICES[g][1] != 0 for g in group)
     # the nodes of the box and of its transpose, sorted by (x, y)
     frame = np.array([(x, y) for x in range(side) for y in range(side)
                       if (x < w and y < h) or (x < h and y < w)], dtype=np.int64)
@@ -203,9 +210,11 @@ def _canonical_masks_lazy(n: int, m: int, w: int, h: int) -> Iterator[np.ndarray
         # and fits the box, told from the two sets' own extents before any pair is built
         wide = np.maximum(bx.max(axis=1)[:, None], m_wide)
         high = np.maximum(by.max(axis=1)[:, None], m_high)
+        fits = (wide < w) & (high < h)
+        if transposes:  # some element turns a W x H shape into an H x W one
+            fits |= (wide < h) & (high < w)
         keep = ((np.minimum(bx.min(axis=1)[:, None], m_left) == 0)
-                & (np.minimum(by.min(axis=1)[:, None], m_low) == 0)
-                & (((wide < w) & (high < h)) | ((wide < h) & (high < w))))
+                & (np.minimum(by.min(axis=1)[:, None], m_low) == 0) & fits)
         ri, mi = np.nonzero(keep)
         xs = np.concatenate([bx[ri], mx[mi]], axis=1)
         ys = np.concatenate([by[ri], my[mi]], axis=1)
@@ -214,7 +223,7 @@ def _canonical_masks_lazy(n: int, m: int, w: int, h: int) -> Iterator[np.ndarray
         axes = {(1, 0): xs, (-1, 0): wide - xs, (0, 1): ys, (0, -1): high - ys}
         own_r, own_m = _masks(xs[:, :n], ys[:, :n], side), _masks(xs[:, n:], ys[:, n:], side)
         alive = np.arange(len(xs))  # the rows no image has beaten yet
-        for g in geometry.ALL:
+        for g in group:
             if g == geometry.IDENTITY:
                 continue
             a, b, c, d = geometry.MATRICES[g]
@@ -226,13 +235,25 @@ def _canonical_masks_lazy(n: int, m: int, w: int, h: int) -> Iterator[np.ndarray
             yield np.stack([own_r[alive], own_m[alive]], axis=1)
 
 
-def enumerate_configurations(n: int, m: int, w: int, h: int) -> Iterator[Configuration]:
+def enumerate_configurations(n: int, m: int, w: int, h: int,
+                             frames: str = "all") -> Iterator[Configuration]:
     """Canonical representatives of every configuration with ``n`` robots on
     distinct nodes and ``m`` meeting nodes that fits a ``w x h`` box, sorted by
-    canonical key (deterministic). Lazy: taking the first ``k`` costs about ``k``."""
+    canonical key (deterministic), one per class of translation and the frame group
+    ``frames`` (``all``: D4; ``chirality``: the rotations; ``compass``: translations
+    only): a sweep never identifies two configurations its robots can tell apart. Lazy:
+    taking the first ``k`` costs about ``k``.
+
+    >>> [sum(1 for _ in enumerate_configurations(2, 1, 2, 2, f)) for f in ("all", "chirality", "compass")]
+    [4, 5, 20]
+    """
+    from gather_verify.model.view import FRAME_SETS
+
     n, m, w, h = validate_census_arguments(n, m, w, h)
+    if frames not in FRAME_SETS:
+        raise InvalidInput(f"unknown frames {frames!r}: use one of {', '.join(FRAME_SETS)}")
     side = max(w, h)
-    for block in _canonical_masks_lazy(n, m, w, h):
+    for block in _canonical_masks_lazy(n, m, w, h, FRAME_SETS[frames]):
         for robot_mask, meeting_mask in block.tolist():
             yield Configuration.trusted(_decode(robot_mask, side),
                                         frozenset(_decode(meeting_mask, side)))

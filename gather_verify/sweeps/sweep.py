@@ -234,10 +234,11 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
             if fresh:
                 store.forget(sweep)
             done = store.done_keys(sweep)
-            shape = (one.robots, one.meeting, one.box)
-            if shape not in census:
+            shape = (one.robots, one.meeting, one.box, one.frames)
+            if shape not in census:  # classes up to the robots' frame group, never more
                 census[shape] = [(index, c, configuration_key(c)) for index, c in itertools.islice(
-                    enumerate(enumerate_configurations(one.robots, one.meeting, *one.box)), limit)]
+                    enumerate(enumerate_configurations(one.robots, one.meeting, *one.box,
+                                                       one.frames)), limit)]
             todo = [(index, c) for index, c, key in census[shape]
                     if key not in done and (where is None or where(one, c))]
             plan.append((one, sweep, todo))

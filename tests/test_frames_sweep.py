@@ -1,0 +1,119 @@
+"""Every symmetry a sweep uses is one the robots' frames allow: under a common compass or
+chirality a rotated or reflected copy is another problem, and a sweep's verdict of a class
+must hold for every member of it (SEMANTICS.md §3)."""
+
+from __future__ import annotations
+
+import itertools
+import textwrap
+
+import pytest
+
+from gather_verify.check import run_check
+from gather_verify.model import geometry
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.view import FRAME_SETS
+from gather_verify.sweeps.census import enumerate_configurations
+from gather_verify.sweeps.store import Store
+from gather_verify.sweeps.sweep import SweepSettings, configuration_key, run_sweep
+
+EAST_ONLY = textwrap.dedent("""\
+    class EastOnly:
+        '''Walks to the meeting node east first, and never west: correct in some
+        orientations only (with a compass, a rotated copy is another problem).'''
+
+        name = "east-only"
+
+        def decide(self, view):
+            (x, y) = min(view.meeting_nodes)
+            if x > 0:
+                return (1, 0)
+            if x == 0 and y:
+                return (0, 1 if y > 0 else -1)
+            return (0, 0)
+    """)
+
+
+def members(n: int, m: int, w: int, h: int) -> list[Configuration]:
+    """Every configuration of the box, one per translation class (brute force)."""
+    nodes = [(x, y) for x in range(w) for y in range(h)]
+    seen, out = set(), []
+    for robots in itertools.combinations(nodes, n):
+        for meeting in itertools.combinations(nodes, m):
+            x0 = min(v[0] for v in robots + meeting)
+            y0 = min(v[1] for v in robots + meeting)
+            c = Configuration([(x - x0, y - y0) for x, y in robots],
+                              [(x - x0, y - y0) for x, y in meeting], initial=True)
+            if configuration_key(c) not in seen:
+                seen.add(configuration_key(c))
+                out.append(c)
+    return out
+
+
+def images(c: Configuration, frames: str) -> set[str]:
+    """The keys of ``c``'s images under the frame group, moved to the origin."""
+    out = set()
+    for g in FRAME_SETS[frames]:
+        robots = [geometry.apply(g, v) for v in c.robots]
+        meeting = [geometry.apply(g, v) for v in c.meeting_nodes]
+        x0 = min(v[0] for v in robots + meeting)
+        y0 = min(v[1] for v in robots + meeting)
+        out.add(configuration_key(Configuration([(x - x0, y - y0) for x, y in robots],
+                                                [(x - x0, y - y0) for x, y in meeting])))
+    return out
+
+
+@pytest.mark.parametrize("frames", ["all", "chirality", "compass"])
+def test_the_census_counts_classes_up_to_the_frame_group_only(frames):
+    """Against brute force: the classes of the box's configurations under the frame group
+    (a shape that fits the box only when turned is another problem under a compass)."""
+    for n, m, w, h in ((2, 1, 3, 2), (2, 2, 2, 3), (3, 1, 3, 3)):
+        classes = {frozenset(images(c, frames)) for c in members(n, m, w, h)}
+        assert sum(1 for _ in enumerate_configurations(n, m, w, h, frames)) == len(classes), \
+            (n, m, w, h)
+
+
+@pytest.mark.parametrize("frames", ["all", "chirality", "compass"])
+@pytest.mark.parametrize("algorithm", ["go-to-target", "east-only"])
+def test_a_sweep_s_verdict_holds_for_every_member_of_each_class(tmp_path, frames, algorithm):
+    """The rows of a sweep against the checks of every configuration of the box, each
+    mapped to its row through the frame group; an orientation-dependent algorithm under a
+    compass is the case that tells."""
+    if algorithm == "east-only":
+        (tmp_path / "east.py").write_text(EAST_ONLY)
+        algorithm = f"{tmp_path / 'east.py'}:EastOnly"
+    settings = SweepSettings(robots=2, meeting=1, box=(3, 2), algorithm=algorithm,
+                             scheduler="async", frames=frames, max_seconds=60.0)
+    db = str(tmp_path / "s.sqlite")
+    run_sweep(settings, db, workers=1, progress=False)
+    store = Store(db)
+    try:
+        rows = {r["key"]: r for r in store.results(store.sweep_id(settings.key()))}
+    finally:
+        store.close()
+    checked = 0
+    for c in members(2, 1, 3, 2):
+        (key,) = images(c, frames) & rows.keys()
+        got = run_check(c, algorithm=algorithm, scheduler="async", frames=frames,
+                        max_seconds=60.0)
+        assert (got["verdict"], got["property"]) == (rows[key]["verdict"],
+                                                     rows[key]["property"]), (c, frames)
+        checked += 1
+    assert checked == len(members(2, 1, 3, 2))
+
+
+def test_under_a_compass_the_paper_s_U_is_checked_not_skipped():
+    """An I42 configuration (in U for disoriented robots) is NOT-APPLICABLE under all 8
+    frames, and checked like any other under a compass; ``no-ungatherable`` does not apply
+    there (one line, exit 2 when asked for)."""
+    from gather_verify.errors import InvalidInput
+
+    i42 = Configuration([(0, 0), (2, 1)], [(0, 1), (2, 0)], initial=True)
+    assert run_check(i42, algorithm="go-to-target", scheduler="async")["verdict"] == \
+        "NOT-APPLICABLE"
+    compass = run_check(i42, algorithm="go-to-target", scheduler="async", frames="compass")
+    assert compass["verdict"] in ("VERIFIED", "VIOLATED")
+    assert "no-ungatherable" not in compass["properties"]
+    with pytest.raises(InvalidInput, match="does not apply under --frames compass"):
+        run_check(i42, algorithm="go-to-target", scheduler="async", frames="compass",
+                  properties=["no-ungatherable"])
