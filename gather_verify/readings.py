@@ -25,9 +25,10 @@ none when a meeting node is on the centre ``c`` (I13); otherwise every option bu
 The readings of a configuration are the product of the values of the options its ``M``
 can read (the others at their first value: the same runs); options are varied as a
 product, never one at a time, because they interact: finding F9 disappears only under
-``oscan=guard`` *and* ``finalize=target`` together. Sweeps run that static set.
+``oscan=guard`` *and* ``finalize=target`` together.
 
-``check --readings`` runs fewer (:func:`check_readings`, the dynamic covering): the
+``check --readings`` and ``sweep --readings`` run fewer (:func:`check_readings`, the
+dynamic covering; a sweep runs it per configuration, :func:`verify_readings_one`): the
 plans read every option through a recording :class:`~gather_verify.algorithms.paper.Reading`,
 so after a run the instance knows every option its plans consulted; a reading that agrees
 with the run on those options computes the same plan on every snapshot the run planned,
