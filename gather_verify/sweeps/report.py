@@ -54,6 +54,14 @@ def _esc(value: Any) -> str:
     return html.escape(str(value), quote=True)
 
 
+def _number(value: Any) -> str:
+    """A ratio as ``1.25``; anything a database holds that is no number, escaped as text."""
+    try:
+        return f"{float(value):.2f}"
+    except (TypeError, ValueError):
+        return _esc(value)
+
+
 def _nodes(nodes: Any) -> str:
     return " ".join(f"{x},{y}" for x, y in nodes)
 
@@ -159,7 +167,7 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
             tds.append(f"<td class='{kind}'><a href='#{anchor}'>{len(found)}</a></td>")
             lists.append(_filtered_list(anchor, c, verdict, prop, found, common))
         body.append(f"<tr><th>{_esc(c)}</th><td>{total}</td>" + "".join(tds)
-                    + f"<td>{max(ratios):.2f}</td></tr>" if ratios else
+                    + f"<td>{_number(max(ratios))}</td></tr>" if ratios else
                     f"<tr><th>{_esc(c)}</th><td>{total}</td>" + "".join(tds) + "<td>–</td></tr>")
     parts += ["<h3>Verdicts: class × verdict × failing property</h3>",
               "<p class='note'>Each count opens the list of its configurations. One property is "
@@ -213,10 +221,11 @@ def _filtered_list(anchor: str, c: str, verdict: str, prop: str, found: list[dic
                    f"\"{_nodes(r['meeting_nodes'])}\" --algorithm {common.get('algorithm')} "
                    f"--scheduler {common.get('scheduler')}"
                    + (" --html trace.html" if verdict == "VIOLATED" else ""))
-        ratio = "" if r.get("ratio") is None else f"{r['ratio']:.2f}"
-        items.append(f"<tr><td>{r['robots_n']}</td><td>{r['meeting_m']}</td>"
+        ratio = "" if r.get("ratio") is None else _number(r["ratio"])
+        items.append(f"<tr><td>{_esc(r['robots_n'])}</td><td>{_esc(r['meeting_m'])}</td>"
                      f"<td>{_esc(_nodes(r['robots']))}</td><td>{_esc(_nodes(r['meeting_nodes']))}</td>"
-                     f"<td>{'' if r.get('max_moves') is None else r['max_moves']}</td><td>{ratio}</td>"
+                     f"<td>{'' if r.get('max_moves') is None else _esc(r['max_moves'])}</td>"
+                     f"<td>{ratio}</td>"
                      f"<td class='reason'>{_esc(r.get('reason') or '')}</td>"
                      f"<td><code>{_esc(command)}</code></td></tr>")
     what = f"{verdict}" + (f", {prop} fails" if prop else "")
