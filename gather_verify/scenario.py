@@ -203,18 +203,17 @@ def load_scenario(path: str | Path) -> Scenario:
         raise ScenarioError(f"{where}: invalid JSON: nested too deeply") from None
     except ValueError as error:  # duplicate keys; integers of thousands of digits
         raise ScenarioError(f"{where}: invalid JSON: {str(error).split(';')[0]}") from None
-    return _files_relative_to(parse_scenario(data, where), Path(path).resolve().parent)
+    return _files_relative_to(parse_scenario(data, where), Path(path).resolve().parent, where)
 
 
-def _files_relative_to(scenario: Scenario, folder: Path) -> Scenario:
-    """The scenario with algorithm files (``PATH.py:NAME``) taken relative to ``folder``."""
+def _files_relative_to(scenario: Scenario, folder: Path, where: str) -> Scenario:
+    """The scenario with algorithm files (``PATH.py:NAME``) taken relative to ``folder``,
+    under the trust model of :func:`~gather_verify.algorithms.loading.confined_spec`."""
     from dataclasses import replace
 
-    from gather_verify.algorithms.loading import absolute_spec, is_path_spec
+    from gather_verify.algorithms.loading import confined_spec
 
-    if not is_path_spec(scenario.algorithm) and not any(
-            is_path_spec(e.algorithm) for e in scenario.expectations):
-        return scenario
-    return replace(scenario, algorithm=absolute_spec(scenario.algorithm, folder),
-                   expectations=tuple(replace(e, algorithm=absolute_spec(e.algorithm, folder))
+    return replace(scenario, algorithm=confined_spec(scenario.algorithm, folder, where),
+                   expectations=tuple(replace(e, algorithm=confined_spec(e.algorithm, folder,
+                                                                         where))
                                       for e in scenario.expectations))

@@ -105,10 +105,10 @@ def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
         data = data["trace"]  # a scenario file that stores its counterexample
     if not isinstance(source, dict) and isinstance(data, dict) \
             and isinstance(data.get("algorithm"), str):  # a file path is relative to the file
-        from gather_verify.algorithms.loading import absolute_spec
+        from gather_verify.algorithms.loading import confined_spec
 
-        data = {**data, "algorithm": absolute_spec(data["algorithm"],
-                                                   Path(source).resolve().parent)}
+        data = {**data, "algorithm": confined_spec(data["algorithm"],
+                                                   Path(source).resolve().parent, str(source))}
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         _fail(f"not a {FORMAT} object")
     if data.get("version") != VERSION:

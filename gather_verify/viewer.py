@@ -66,10 +66,16 @@ def event_text(event: dict[str, Any]) -> str:
     return f"{event['kind']}({robots}): " + (moves or "all stay")
 
 
-def _load_algorithm(name: str) -> Any:
+def _load_algorithm(name: str, load_code: bool = True) -> Any:
+    """The algorithm named by a trace, for its phases and move sets; None when it cannot be
+    had, or (``load_code`` false: a trace read from a results database) when it is not a
+    registered name: a database never makes the viewer run a file it names."""
     from gather_verify.algorithms import get_algorithm
+    from gather_verify.algorithms.loading import split_external
     from gather_verify.errors import InvalidInput
 
+    if not load_code and split_external(name) is not None:
+        return None
     try:
         return get_algorithm(name)
     except InvalidInput:
@@ -138,7 +144,7 @@ def _decision(states: list, robot: int, look: int, now: int) -> dict[str, Any]:
             "stale": _positions(seen) != _positions(now_state), "moved_since": moved}
 
 
-def annotate(trace: dict[str, Any]) -> dict[str, Any]:
+def annotate(trace: dict[str, Any], load_code: bool = True) -> dict[str, Any]:
     """The data the viewer embeds: the trace, and per state its class, target, phase, guard and
     move sets; per event its text and, for an ASYNC Move, the Look it executes (its snapshot,
     stale or not; for an event in the cycle of a livelock also the Look it executes when the
@@ -146,7 +152,7 @@ def annotate(trace: dict[str, Any]) -> dict[str, Any]:
     trace = load_trace(trace)
     states = _states(trace)
     steps = trace["steps"]
-    algorithm = _load_algorithm(trace["algorithm"])
+    algorithm = _load_algorithm(trace["algorithm"], load_code)
     with_moves = len(states) <= MAX_ANNOTATED_STATES
     cache: dict[tuple, dict[str, Any]] = {}
     infos = []
@@ -199,9 +205,10 @@ def _template() -> str:
     return resources.files("gather_verify").joinpath("viewer.html").read_text(encoding="utf-8")
 
 
-def viewer_html(trace: dict[str, Any], title: str | None = None) -> str:
-    """The viewer page for ``trace`` (a complete HTML document, nothing external)."""
-    data = annotate(trace)
+def viewer_html(trace: dict[str, Any], title: str | None = None, load_code: bool = True) -> str:
+    """The viewer page for ``trace`` (a complete HTML document, nothing external);
+    ``load_code``: see :func:`annotate`."""
+    data = annotate(trace, load_code)
     text = json.dumps(data, separators=(",", ":"), sort_keys=True)
     # "<" only occurs inside JSON strings; as \u003c it cannot end the <script> element
     text = text.replace("<", "\\u003c")
@@ -210,8 +217,9 @@ def viewer_html(trace: dict[str, Any], title: str | None = None) -> str:
             .replace("<!--TITLE-->", html.escape(name)))
 
 
-def write_viewer(trace: dict[str, Any], path: str, title: str | None = None) -> None:
+def write_viewer(trace: dict[str, Any], path: str, title: str | None = None,
+                 load_code: bool = True) -> None:
     """Write the viewer page for ``trace`` to ``path``."""
     from pathlib import Path
 
-    Path(path).write_text(viewer_html(trace, title), encoding="utf-8")
+    Path(path).write_text(viewer_html(trace, title, load_code), encoding="utf-8")

@@ -97,7 +97,9 @@ def test_entry_point_group(tmp_path: Path, monkeypatch) -> None:
         get_algorithm("nope-nope")
 
 
-def test_scenario_paths_are_relative_to_the_file(tmp_path: Path) -> None:
+def test_scenario_paths_are_relative_to_the_file(tmp_path: Path, monkeypatch) -> None:
+    """Relative to the file's folder; outside that folder, allowed from the project folder
+    it lies in (the working directory), refused elsewhere (tests/test_trust_model.py)."""
     write_algorithm(tmp_path / "algs", "plug_helper_d")
     (tmp_path / "sc").mkdir()
     path = tmp_path / "sc" / "a.json"
@@ -105,6 +107,9 @@ def test_scenario_paths_are_relative_to_the_file(tmp_path: Path) -> None:
                                 "algorithm": "../algs/home_alg.py:Home:lazy=1",
                                 "expect": {"verdicts": [{"verdict": "VIOLATED",
                                                          "property": "final"}]}}))
+    with pytest.raises(gv.InvalidInput, match="own folder or the working directory"):
+        gv.load_scenario(path)
+    monkeypatch.chdir(tmp_path)
     s = gv.load_scenario(path)
     assert s.algorithm == s.expectations[0].algorithm == \
         f"{tmp_path}/algs/home_alg.py:Home:lazy=1"

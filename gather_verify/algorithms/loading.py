@@ -99,6 +99,43 @@ def absolute_spec(spec: str, base: str | Path | None = None) -> str:
     return full + spec[at + 3:]
 
 
+ALLOW_CODE_ENV = "GATHER_VERIFY_ALLOW_CODE"
+"""Set to 1 to let a scenario, trace or database file name code outside its own folder."""
+
+
+def confined_spec(spec: str, folder: str | Path, where: str) -> str:
+    """The trust model for code named *inside* a file (a scenario, a trace): ``spec``
+    taken relative to ``folder``, the file's own folder, and allowed only when it lies in
+    that folder's tree or in the working directory's (the project you run the command
+    from, where ``report --regressions`` files name the algorithm they came from), or is
+    a registered name or an installed entry point. A file path elsewhere, or a module
+    path (``package.module:NAME`` could name any installed callable), is refused with one
+    line unless ``GATHER_VERIFY_ALLOW_CODE=1``: opening a file someone sent you never runs
+    code from elsewhere on your machine.
+
+    >>> confined_spec("alg.py:A", "/data/x", "s.json")
+    '/data/x/alg.py:A'
+    >>> confined_spec("/elsewhere/alg.py:A", "/data/x", "s.json")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    gather_verify.errors.InvalidInput: s.json names code outside its folder ...
+    """
+    if os.environ.get(ALLOW_CODE_ENV) == "1":
+        return absolute_spec(spec, folder)
+    if is_path_spec(spec):
+        full = absolute_spec(spec, folder)
+        path = Path(full[:full.find(".py:") + 3]).resolve()
+        if path.is_relative_to(Path(folder).resolve()) or path.is_relative_to(Path.cwd()):
+            return full
+        what = f"code outside its folder and the working directory ({path})"
+    elif split_external(spec) is not None:
+        what = f"a module to import ({spec.partition(':')[0]})"
+    else:
+        return spec
+    raise InvalidInput(f"{where} names {what}: code named in a file runs only from that "
+                       f"file's own folder or the working directory; move it there, or set "
+                       f"{ALLOW_CODE_ENV}=1 if you trust the file")
+
+
 def relative_spec(spec: str, folder: str | Path) -> str:
     """``spec`` with its file path relative to ``folder`` (what a scenario file written there
     stores, so the folder and the algorithm can move together)."""

@@ -187,7 +187,7 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
             folder.mkdir(parents=True, exist_ok=True)
             write_viewer(r["trace"], str(folder / name),
                          title=f"{c}: {p} fails ({common.get('algorithm')} / "
-                               f"{common.get('scheduler')})")
+                               f"{common.get('scheduler')})", load_code=False)
             steps = len(r["trace"]["steps"])
             figures.append(
                 f"<figure><a href='{_esc(folder.name)}/{name}' title='open the viewer'>"
