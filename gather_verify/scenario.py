@@ -213,7 +213,10 @@ def _files_relative_to(scenario: Scenario, folder: Path, where: str) -> Scenario
 
     from gather_verify.algorithms.loading import confined_spec
 
+    trace = scenario.trace
+    if isinstance(trace, dict) and isinstance(trace.get("algorithm"), str):  # its replay too
+        trace = {**trace, "algorithm": confined_spec(trace["algorithm"], folder, where)}
     return replace(scenario, algorithm=confined_spec(scenario.algorithm, folder, where),
                    expectations=tuple(replace(e, algorithm=confined_spec(e.algorithm, folder,
                                                                          where))
-                                      for e in scenario.expectations))
+                                      for e in scenario.expectations), trace=trace)

@@ -117,13 +117,20 @@ def test_a_new_user_outside_the_repository(tmp_path: Path) -> None:
 
     # the regression files of that sweep replay, and check says they match
     done = gv(home, "report", "--db", "fresh.sqlite", "--regressions", "out/regressions")
-    files = sorted((home / "out" / "regressions").glob("*.json"))
+    files = sorted((home / "out" / "regressions").glob("*.scenario.json"))
     assert files, done.stderr
     written = json.loads(files[0].read_text())
     assert written["algorithm"] == "../../homeward.py:Homeward"
     assert f"gather-verify replay out/regressions/{files[0].name}" in written["description"]
     assert gv(home, "replay", str(files[0].relative_to(home)), "--quiet").returncode == 1
     assert gv(home, "check", str(files[0].relative_to(home))).returncode == 0
+    # ... and run as tests from the project folder, by gather-verify and by pytest
+    done = gv(home, "test", "out/regressions")
+    assert done.returncode == 0, done.stdout + done.stderr
+    done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+                           "out/regressions"], cwd=home, capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 0 and f"{3 * len(files)} passed" in done.stdout, done.stdout  # class, verdict, replay
     # ... and after the fix, the trace no longer reproduces: exit 5
     (home / "homeward_steps.py").write_text(HELPER)
     done = gv(home, "replay", str(files[0].relative_to(home)), "--quiet")

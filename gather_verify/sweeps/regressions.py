@@ -68,7 +68,8 @@ def scenario_for(settings: dict[str, Any], row: dict[str, Any],
         "name": name,
         "description": (f"Counterexample found by a sweep ({found_by}): {row['class']}, "
                         f"{row['property']} fails - {row['reason']}. "
-                        f"Replay: gather-verify replay {Path(folder).as_posix()}/{name}.json"),
+                        f"Replay: gather-verify replay {Path(folder).as_posix()}/{name}"
+                        f"{SUFFIX}"),
         "robots": row["robots"],
         "meeting_nodes": row["meeting_nodes"],
         "algorithm": here,
@@ -82,6 +83,10 @@ def scenario_for(settings: dict[str, Any], row: dict[str, Any],
     }
 
 
+SUFFIX = ".scenario.json"
+"""What a regression file is called: the pytest plugin collects ``*.scenario.json``."""
+
+
 def write_regressions(db_path: str, folder: str | Path) -> list[Path]:
     """Write one scenario per counterexample kind into ``folder``; the paths written.
 
@@ -91,7 +96,7 @@ def write_regressions(db_path: str, folder: str | Path) -> list[Path]:
     written = []
     for settings, row in distinct_counterexamples(db_path):
         scenario = scenario_for(settings, row, folder)
-        path = out / f"{scenario['name']}.json"
+        path = out / f"{scenario['name']}{SUFFIX}"
         if not path.exists():
             path.write_text(json.dumps(scenario, indent=1, sort_keys=False) + "\n", encoding="utf-8")
             written.append(path)
