@@ -169,18 +169,21 @@ def _saved(trace: dict[str, Any]) -> str:
 
 def _run_replay(case: Case) -> Outcome:
     from gather_verify.render import render_trace
-    from gather_verify.replay import replay
+    from gather_verify.replay import NoLongerReproduces, replay
 
     trace = case.scenario.trace
     assert trace is not None
+    why = "the stored trace no longer reproduces"
     try:
         outcome = replay(trace)
         ok, message = outcome.confirmed, outcome.message
-    except ValueError as error:  # NoLongerReproduces, or a trace that does not match
+    except NoLongerReproduces as error:  # the algorithm changed since the trace was written
         ok, message = False, str(error)
+    except ValueError as error:  # its algorithm cannot be loaded, or the trace is malformed
+        ok, message, why = False, str(error), "the stored trace cannot be replayed"
     if ok:
         return Outcome(case.name, True)
-    return Outcome(case.name, False, f"{case.name}: the stored trace no longer reproduces: "
+    return Outcome(case.name, False, f"{case.name}: {why}: "
                    f"{message}\n{render_trace(trace)}\n"
                    f"replay: gather-verify replay {shlex.quote(case.scenario.path)}",
                    trace.get("property"), trace)

@@ -49,8 +49,10 @@ def run(args: argparse.Namespace) -> int:
     trace = load_trace(args.trace)
     try:
         result = replay(trace)
+        kind = "its steps replay, but the property no longer fails at the end"
     except NoLongerReproduces as error:
         result = Replayed(False, str(error), len(trace["steps"]))
+        kind = "the algorithm no longer takes one of its steps"
     if args.svg:
         Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
     if args.html:
@@ -59,10 +61,11 @@ def run(args: argparse.Namespace) -> int:
         write_viewer(trace, args.html)
     if args.json:
         print_json({"confirmed": result.confirmed, "message": result.message,
-                    "steps": result.steps, "property": trace["property"]})
+                    "steps": result.steps, "property": trace["property"],
+                    **({} if result.confirmed else {"why": kind})})
     else:
         if not args.quiet:
             print(render_trace(trace))
-        word = "CONFIRMED" if result.confirmed else "NO LONGER REPRODUCES"
+        word = "CONFIRMED" if result.confirmed else f"NO LONGER REPRODUCES ({kind})"
         print(f"{word}: {trace['property']} ({result.steps} steps) - {result.message}")
     return EXIT_VIOLATED if result.confirmed else EXIT_NO_LONGER_REPRODUCES
