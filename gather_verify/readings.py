@@ -467,7 +467,7 @@ def stored_robustness(db_path: str) -> dict[str, dict[str, Any]]:
     ``switches`` (:func:`robustness_table`, :func:`switch_table`)."""
     from gather_verify.sweeps.store import Store
 
-    store = Store(db_path)
+    store = Store(db_path, read_only=True)
     try:
         groups: dict[str, list[tuple[dict[str, Any], list[dict[str, Any]]]]] = {}
         for i, settings in store.sweeps():

@@ -189,12 +189,12 @@ def load_scenario(path: str | Path) -> Scenario:
     or any invalid field.
     """
     where = str(path)
+    from gather_verify.errors import read_input
+
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ScenarioError(f"{where}: no such file") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise ScenarioError(f"{where}: cannot read: {error.__class__.__name__}") from None
+        text = read_input(path, "scenario")
+    except InvalidInput as error:
+        raise ScenarioError(str(error)) from None
     try:
         data = json.loads(text, object_pairs_hook=_no_duplicate_keys)
     except json.JSONDecodeError as error:
@@ -216,6 +216,13 @@ def _files_relative_to(scenario: Scenario, folder: Path, where: str) -> Scenario
     trace = scenario.trace
     if isinstance(trace, dict) and isinstance(trace.get("algorithm"), str):  # its replay too
         trace = {**trace, "algorithm": confined_spec(trace["algorithm"], folder, where)}
+    if trace is not None:  # a stored trace is whole, for check and test alike
+        from gather_verify.trace import load_trace
+
+        try:
+            load_trace(trace)
+        except InvalidInput as error:
+            raise ScenarioError(f"{where}: its trace: {error}") from None
     return replace(scenario, algorithm=confined_spec(scenario.algorithm, folder, where),
                    expectations=tuple(replace(e, algorithm=confined_spec(e.algorithm, folder,
                                                                          where))

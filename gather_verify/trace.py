@@ -20,7 +20,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from gather_verify.errors import InvalidInput
+from gather_verify.errors import InvalidInput, read_input
 from gather_verify.model.configuration import Configuration, _as_node
 from gather_verify.model.geometry import Node
 from schedulers import SCHEDULERS, Event, State
@@ -96,7 +96,7 @@ def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
         data = source
     else:
         try:
-            data = json.loads(Path(source).read_text(encoding="utf-8"))
+            data = json.loads(read_input(source, "trace"))
         except json.JSONDecodeError as error:
             raise InvalidInput(f"bad trace {source}: not JSON ({error.msg} at line {error.lineno})") from None
         except RecursionError:
@@ -119,6 +119,12 @@ def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
     for key in ("algorithm", "scheduler", "detection", "frames", "property"):
         if not isinstance(data[key], str):
             _fail(f"{key!r} must be a string, not {type(data[key]).__name__}")
+    from gather_verify.model.view import DETECTION_MODELS, FRAME_SETS
+
+    if data["detection"] not in DETECTION_MODELS:
+        _fail(f"unknown detection {data['detection']!r}: one of {', '.join(DETECTION_MODELS)}")
+    if data["frames"] not in FRAME_SETS:
+        _fail(f"unknown frames {data['frames']!r}: one of {', '.join(FRAME_SETS)}")
     if not isinstance(data.get("detail", {}), dict):
         _fail("'detail' must be an object")
     init = data["initial"]

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import sqlite3
 import sys
 import traceback
 from collections.abc import Sequence
@@ -63,15 +64,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as error:  # unreadable input or unwritable output file
         print(f"error: {error}", file=sys.stderr)
         return EXIT_USAGE
+    except sqlite3.DatabaseError as error:  # read-only, damaged, or a full disk
+        print(f"error: the results database failed: {error} (every row stored before is "
+              "kept, and the same command resumes once the database is writable and whole)",
+              file=sys.stderr)
+        return EXIT_USAGE
     except AlgorithmCrash as crash:  # outside a search (simulate, impossibility ...)
         print("crash: " + "\n  at ".join([str(crash), *crash.frames]), file=sys.stderr)
         return EXIT_VIOLATED
     except KeyboardInterrupt:
-        print("interrupted: nothing was written; run the same command again", file=sys.stderr)
+        print("interrupted; run the same command again (a sweep keeps every row it stored and "
+              "resumes)", file=sys.stderr)
         return EXIT_INTERRUPTED
     except Exception as error:  # anything else is ours
         if _interrupted(error):  # Ctrl-C inside C code (numba loading its kernels) comes wrapped
-            print("interrupted: nothing was written; run the same command again", file=sys.stderr)
+            print("interrupted; run the same command again (a sweep keeps every row it stored and "
+              "resumes)", file=sys.stderr)
             return EXIT_INTERRUPTED
         traceback.print_exc(file=sys.stderr)
         print("internal error: this is a bug of gather-verify, not a mistake in your input; "

@@ -15,6 +15,7 @@ from gather_verify.cli.common import (
     EXIT_OK,
     EXIT_VIOLATED,
     VERDICT_EXIT,
+    UsageError,
     add_configuration_arguments,
     bounded_float,
     bounded_int,
@@ -97,6 +98,8 @@ def run(args: argparse.Namespace) -> int:
                      graph_out=args.graph_out)
     if args.graph_out:
         graph_format(args.graph_out)  # refuse an unknown suffix before the search
+    if args.algorithm is not None and not args.algorithm.strip():
+        raise UsageError("--algorithm is empty: name an algorithm (e.g. paper, or FILE.py:NAME)")
     algorithm = args.algorithm or (scenario.algorithm if scenario else "paper")
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
     detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")

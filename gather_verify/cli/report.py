@@ -44,12 +44,12 @@ def run(args: argparse.Namespace) -> int:
 
     robust = stored_robustness(args.db)  # sweeps run with --readings: class x robustness
     curve = None
-    if args.workers_curve:
+    if args.workers_curve is not None:  # an empty list is refused, not ignored
         from gather_verify.sweeps.schedule import predict, task_seconds
         from gather_verify.sweeps.store import Store
 
         workers = parse_workers(args.workers_curve)
-        store = Store(args.db)
+        store = Store(args.db, read_only=True)
         try:
             seconds = task_seconds(store.seconds())
         finally:

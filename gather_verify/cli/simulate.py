@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 
 from gather_verify.cli.common import (
+    UsageError,
     add_configuration_arguments,
     bounded_int,
     load_configuration,
@@ -36,6 +37,8 @@ def run(args: argparse.Namespace) -> int:
     from schedulers.base import configuration_of
 
     configuration, scenario = load_configuration(args)
+    if args.algorithm is not None and not args.algorithm.strip():
+        raise UsageError("--algorithm is empty: name an algorithm (e.g. paper, or FILE.py:NAME)")
     name = args.algorithm or (scenario.algorithm if scenario else "paper")
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
     detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")

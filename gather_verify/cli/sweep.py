@@ -99,6 +99,9 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.sweeps.census import validate_census_arguments
     from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
 
+    if args.readings_types is not None and not args.readings:
+        raise InvalidInput("--readings-types needs --readings (it picks which configurations the "
+                           "readings run on)")
     args.algorithm = absolute_spec(args.algorithm)  # the workers load the same file
     get_algorithm(args.algorithm)  # unknown names fail before any work
     writable_outputs(junit=args.junit)

@@ -16,6 +16,7 @@ matrices ``(a, b, c, d)`` acting as ``(x, y) -> (a x + b y, c x + d y)``.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable
 
 from gather_verify.errors import InvalidInput
@@ -115,14 +116,16 @@ def parse_node(text: str) -> Node:
     >>> parse_node("3,-1")
     (3, -1)
     """
-    parts = text.split(",")
+    parts = [p.strip() for p in text.split(",")]
     if len(parts) != 2:
         raise InvalidInput(f"bad point {text!r}: expected 'x,y' with two integers")
-    try:
-        x, y = (int(p.strip(), 10) for p in parts)
-    except ValueError:
-        raise InvalidInput(f"bad point {text!r}: coordinates must be integers") from None
-    return (x, y)
+    if not all(_INTEGER.fullmatch(p) for p in parts):  # int() also takes 1_0 and other digits
+        raise InvalidInput(f"bad point {text!r}: coordinates must be integers written with "
+                           "the digits 0-9 and an optional minus")
+    return (int(parts[0], 10), int(parts[1], 10))
+
+
+_INTEGER = re.compile(r"-?[0-9]+", re.ASCII)
 
 
 def parse_nodes(text: str) -> list[Node]:

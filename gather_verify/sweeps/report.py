@@ -14,9 +14,7 @@ from gather_verify.sweeps.sweep import summarise
 
 def load_sweeps(db_path: str) -> list[tuple[dict[str, Any], list[dict[str, Any]]]]:
     """Every sweep in a results database with its rows."""
-    if not Path(db_path).is_file():
-        raise InvalidInput(f"{db_path}: no such results database")
-    store = Store(db_path)
+    store = Store(db_path, read_only=True)
     try:
         return [(settings, store.results(i)) for i, settings in store.sweeps()]
     finally:

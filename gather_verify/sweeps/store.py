@@ -59,32 +59,52 @@ CREATE TABLE IF NOT EXISTS timings (
 
 
 class Store:
-    """A results database at ``path`` (``:memory:`` for tests)."""
+    """A results database at ``path`` (``:memory:`` for tests). ``read_only``: a reader
+    (``report``) never writes: the file must exist and be a results database, and is
+    opened read-only (an older one's missing columns are read as NULL)."""
 
-    def __init__(self, path: str | Path):
+    def __init__(self, path: str | Path, read_only: bool = False):
         if not str(path).strip():  # SQLite would open a temporary database: every row lost
             raise InvalidInput("results database: the path is empty (give a file, e.g. "
                                "--db out/results.sqlite)")
-        if str(path) != ":memory:":
-            Path(path).parent.mkdir(parents=True, exist_ok=True)
+        if read_only and not Path(path).is_file():
+            raise InvalidInput(f"{path}: no such results database")
+        if str(path) != ":memory:" and not read_only:
+            folder = Path(path).resolve().parent
+            if not folder.is_dir() and not folder.is_relative_to(Path.cwd()):
+                raise InvalidInput(f"results database {path}: its folder does not exist (a "
+                                   "sweep creates missing folders under the working directory "
+                                   "only)")
+            folder.mkdir(parents=True, exist_ok=True)
         try:
-            self.db = sqlite3.connect(str(path), timeout=60)
-            self.db.executescript(_SCHEMA)
+            if read_only:
+                self.db = sqlite3.connect(f"{Path(path).resolve().as_uri()}?mode=ro", uri=True,
+                                          timeout=60)
+                self.db.execute("SELECT count(*) FROM sqlite_master").fetchone()
+            else:
+                self.db = sqlite3.connect(str(path), timeout=60)
+                self.db.executescript(_SCHEMA)
         except sqlite3.DatabaseError as error:
             raise InvalidInput(f"{path}: not a gather-verify results database ({error})") from None
         for table, wanted in (("sweeps", ("id", "settings")), ("results", ("sweep", *COLUMNS)),
                               ("timings", ("sweep", "key", "seconds"))):
             have = {row[1] for row in self.db.execute(f"PRAGMA table_info({table})")}
-            for column in ADDED if table == "results" and have else ():
-                if column not in have:
-                    with self.db:
-                        self.db.execute(f"ALTER TABLE results ADD COLUMN {column} TEXT")
-                    have.add(column)
+            absent = [c for c in ADDED if table == "results" and have and c not in have]
+            if absent and read_only:  # read as NULL through a view, the file untouched
+                nulls = ", ".join(f"NULL AS {c}" for c in absent)
+                self.db.execute(f"CREATE TEMP VIEW results AS SELECT *, {nulls} FROM main.results")
+                have.update(absent)
+            for column in absent if not read_only else ():
+                with self.db:
+                    self.db.execute(f"ALTER TABLE results ADD COLUMN {column} TEXT")
+                have.add(column)
             missing = [c for c in wanted if c not in have]
             if missing:
                 self.db.close()
                 raise InvalidInput(f"{path}: not a gather-verify results database (table {table} "
                                  f"has no column {missing[0]!r})")
+        if read_only:
+            return
         self.db.execute("PRAGMA journal_mode=WAL")
         self.db.execute("PRAGMA synchronous=NORMAL")
         # a whole box is 645,598 rows keyed by text, added a task at a time: pages in memory

@@ -389,7 +389,12 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None,
                                silence_logs=logging.ERROR)  # no nanny warnings at close
         client = Client(cluster)
     else:
-        client = Client(address)
+        try:
+            client = Client(address, timeout=30)
+        except (OSError, ValueError, TypeError) as error:  # a bad or unreachable address
+            raise InvalidInput(f"--dask {address}: cannot reach a Dask scheduler there "
+                               f"({type(error).__name__}: {error}); give 'local' or "
+                               "tcp://HOST:PORT") from None
     try:
         from gather_verify.algorithms.loading import ship
 
