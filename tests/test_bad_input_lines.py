@@ -92,3 +92,32 @@ def test_a_read_only_database_or_a_full_disk_is_one_line(tmp_path, monkeypatch, 
     code = main([*SWEEP, "--db", str(tmp_path / "r.sqlite")])
     err = capsys.readouterr().err
     assert code == 2 and message in err and "kept" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_lost_worker_is_noticed_not_awaited_for_ever(tmp_path):
+    """A pool worker killed (as the out-of-memory killer would) ends the sweep with one line
+    and exit 2 within seconds; the rows stored before are kept."""
+    import os
+    import signal
+    import time
+
+    (tmp_path / "slow.py").write_text(
+        "import time\n\nclass Slow:\n    name = 'slow'\n\n    def decide(self, view):\n"
+        "        time.sleep(0.05)\n        return (0, 0)\n")
+    proc = subprocess.Popen([sys.executable, "-m", "gather_verify", "sweep", "--robots", "2-3",
+                             "--meeting", "1", "--box", "3x3", "--algorithm", "slow.py:Slow",
+                             "--workers", "2", "--engine", "per-config", "--db", "r.sqlite"],
+                            cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    deadline = time.monotonic() + 60
+    children: list[int] = []
+    while not children and time.monotonic() < deadline:
+        time.sleep(0.5)
+        children = [int(p) for p in Path(f"/proc/{proc.pid}/task/{proc.pid}/children")
+                    .read_text().split()] if Path(f"/proc/{proc.pid}").exists() else []
+    assert children, "no worker started"
+    for child in children:  # the workers (and any helper process the pool started)
+        os.kill(child, signal.SIGKILL)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 2 and "worker process was lost" in err, err
+    assert "Traceback" not in err

@@ -321,10 +321,19 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
         for task in tasks:
             submit(run, task)
         waiting = len(tasks)
+        workers_seen = {p.pid for p in pool._pool}  # noqa: SLF001 - to notice a lost one
         while waiting:
             try:
                 got = done.get(timeout=1.0)  # (a timeout, so Ctrl-C is heard at once)
             except queue.Empty:
+                # a worker lives as long as the pool: one that is gone was killed, and the
+                # task it held will never report; say so instead of waiting for ever
+                alive = {p.pid for p in pool._pool if p.exitcode is None}  # noqa: SLF001
+                if workers_seen - alive:
+                    raise InvalidInput(
+                        "a worker process was lost (killed, perhaps by the system for lack "
+                        "of memory); every finished row is kept: run the same command again "
+                        "to resume, perhaps with fewer --workers or a lower --max-memory-mb")
                 continue
             waiting -= 1
             if isinstance(got, BaseException):
