@@ -333,7 +333,7 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
                     raise InvalidInput(
                         "a worker process was lost (killed, perhaps by the system for lack "
                         "of memory); every finished row is kept: run the same command again "
-                        "to resume, perhaps with fewer --workers or a lower --max-memory-mb")
+                        "to resume, perhaps with fewer --workers or a lower --max-memory-mb") from None
                 continue
             waiting -= 1
             if isinstance(got, BaseException):
