@@ -6,13 +6,14 @@ VERIFIED, 1 VIOLATED, 2 bad input or usage (:class:`~gather_verify.errors.Invali
 or an unreadable/unwritable file: one line on stderr, never a traceback), 3 INCOMPLETE,
 4 NOT-APPLICABLE, 5 a replayed trace no longer reproduces, 70 a bug of gather-verify (any other exception: it says so and prints
 the traceback), 130 interrupted by Ctrl-C (one line on stderr says what was kept and how
-to resume). See docs/reliability.md.
+to resume), 141 the output pipe was closed (``| head``). See docs/reliability.md.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sqlite3
 import sys
 import traceback
@@ -28,6 +29,8 @@ from gather_verify.cli.common import (
 )
 from gather_verify.errors import InvalidInput
 
+EXIT_BROKEN_PIPE = 141
+"""The output pipe was closed by its reader (128 + SIGPIPE, as shells report it)."""
 COMMANDS = ("classify", "census", "simulate", "check", "replay", "sweep", "report",
             "impossibility", "bench", "test")
 
@@ -61,6 +64,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except InvalidInput as error:  # the user's mistake: the message names the bad value
         print(f"error: {error}", file=sys.stderr)
         return EXIT_USAGE
+    except BrokenPipeError:  # the reader went away (| head): stop quietly, as cat does
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_BROKEN_PIPE
     except OSError as error:  # unreadable input or unwritable output file
         print(f"error: {error}", file=sys.stderr)
         return EXIT_USAGE

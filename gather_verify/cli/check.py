@@ -153,7 +153,8 @@ def run(args: argparse.Namespace) -> int:
         print_json(report if args.timings else without_timings(report))
     else:
         ratio = "-" if report["ratio"] is None else f"{report['ratio']:.3f}"
-        moves = "infinite" if report["max_moves_infinite"] else report["max_moves"]
+        moves = ("infinite" if report["max_moves_infinite"] else
+                 "-" if report["max_moves"] is None else report["max_moves"])  # never 'None'
         print(f"{report['verdict']}  class {report['class']}  {algorithm} / {scheduler}")
         if report["property"]:
             print(f"property {report['property']}: {report['reason']}")

@@ -42,6 +42,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="drop the stored rows of these settings and compute every one again "
                         "(rows of an edited algorithm are never reused anyway: they are keyed "
                         "by its source's fingerprint)")
+    p.add_argument("--force", action="store_true",
+                   help="check the configurations in U or UNCLASSIFIED too (skipped as "
+                        "NOT-APPLICABLE otherwise), for an algorithm that handles them")
     p.add_argument("--fingerprint-extra", nargs="+", metavar="FILE", default=[],
                    help="files the algorithm reads (parameters, data): their contents join the "
                         "fingerprint, so an edit computes again")
@@ -123,6 +126,7 @@ def run(args: argparse.Namespace) -> int:
         reduction=not args.no_reduction, max_memory_mb=args.max_memory_mb,
         keep_growing=args.keep_growing,
         fingerprint_extra=tuple(os.path.abspath(f) for f in args.fingerprint_extra),
+        force=args.force,
     ) for n in args.robots for m in args.meeting]
     if args.fingerprint_extra:
         settings[0].fingerprint()  # an unreadable file fails before any work

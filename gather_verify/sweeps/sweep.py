@@ -49,6 +49,9 @@ class SweepSettings:
     max_memory_mb: float | None = None
     """Resident memory limit of each worker process; None: this machine's memory shared
     by the workers (:func:`gather_verify.engine.resources.memory_budget_mb`)."""
+    force: bool = False
+    """Check the configurations in U or UNCLASSIFIED too (``check --force``): for an
+    algorithm that handles what the paper's partition misses."""
     fingerprint_extra: tuple[str, ...] = ()
     """Further files the results depend on (data the algorithm reads): their contents are
     part of the fingerprint (``--fingerprint-extra``)."""
@@ -66,6 +69,8 @@ class SweepSettings:
             del out["keep_growing"]  # its rows stay found under --keep-growing
         out["fingerprint"] = self.fingerprint()  # never stale
         del out["fingerprint_extra"]
+        if not self.force:  # the rule every store before the field was written with
+            del out["force"]
         return out
 
     def fingerprint(self) -> str:
@@ -113,7 +118,7 @@ def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[st
         properties=settings.properties or None, reduction=settings.reduction,
         max_states=settings.max_states, max_seconds=settings.max_seconds,
         move_bound_c=settings.move_bound_c, max_memory_mb=settings.max_memory_mb,
-        keep_growing=settings.keep_growing,
+        keep_growing=settings.keep_growing, force=settings.force,
         memo=True,  # the checks of a sweep meet the same configurations again and again
     )
     return {
