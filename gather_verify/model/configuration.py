@@ -140,6 +140,9 @@ class Configuration:
         return canonical_form(self.occupied, self.meeting_nodes)
 
     def multiplicity(self, v: Node) -> int:
+        """How many robots are on ``v``: an **int** (0 on an empty node). The robot's own
+        :meth:`View.multiplicity <gather_verify.model.view.View.multiplicity>` is a bool:
+        whether its detection model shows several robots there."""
         return self.counts.get(v, 0)
 
     # -- labels ---------------------------------------------------------------

@@ -120,7 +120,11 @@ class View:
                                      "not how many robots are on it")
 
     def multiplicity(self, v: Node = ORIGIN) -> bool:
-        """Whether node ``v`` (default: the robot's own) holds several robots."""
+        """Whether node ``v`` (default: the robot's own) holds several robots: a **bool**,
+        the weak detection models' answer (``view.multiplicity() > 1`` is always False;
+        the number of robots is :meth:`count`, under the strong models only). Unlike
+        :meth:`Configuration.multiplicity <gather_verify.model.configuration.Configuration.multiplicity>`,
+        which counts (the verifier's global view, not the robot's)."""
         self._visible(v, strong=False)
         return self._counts.get(v, 0) > 1
 
