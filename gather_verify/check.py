@@ -277,11 +277,25 @@ def run_check(
     ``drift`` when nothing fails, never a proof."""
     started = time.perf_counter()
     wanted = check_property_names(properties)
+    not_applicable: dict[str, str] = {}
+    if "target-invariance" in wanted:  # an algorithm with no target has nothing to keep
+        from gather_verify.algorithms import get_algorithm
+
+        algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
+        if getattr(algo, "target", None) is None:
+            why = (f"the algorithm {algo.name!r} exposes no target(): there is no target "
+                   "meeting node to keep")
+            if properties:
+                raise InvalidInput(f"target-invariance does not apply: {why}")
+            wanted.remove("target-invariance")
+            not_applicable["target-invariance"] = why
     if frames != "all" and "no-ungatherable" in wanted:  # U is Theorem 1's, for disoriented
         if properties:  # robots: a common compass or chirality may gather there
             raise InvalidInput(f"no-ungatherable does not apply under --frames {frames}: U "
                                "(Theorem 1) is for robots with no common orientation")
         wanted.remove("no-ungatherable")
+        not_applicable["no-ungatherable"] = (f"U (Theorem 1) is for robots with no common "
+                                             f"orientation, not --frames {frames}")
     fixed_margin = limits.pop("margin", None)
     lim = Limits(max_states=max_states, max_seconds=max_seconds,
                  max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),
@@ -302,6 +316,7 @@ def run_check(
         "algorithm": algorithm if isinstance(algorithm, str) else algorithm.name,
         "scheduler": scheduler, "detection": detection, "frames": frames,
         "reduction": reduction,
+        **({"not_applicable": not_applicable} if not_applicable else {}),
     }
     if (cls.in_U or cls.name == "UNCLASSIFIED") and frames == "all" and not force:
         # the paper's U and partition are about disoriented robots (all 8 frames): with a

@@ -121,3 +121,17 @@ def test_a_lost_worker_is_noticed_not_awaited_for_ever(tmp_path):
     out, err = proc.communicate(timeout=60)
     assert proc.returncode == 2 and "worker process was lost" in err, err
     assert "Traceback" not in err
+
+
+def test_a_property_that_cannot_apply_says_so_instead_of_passing(tmp_path):
+    """``target-invariance`` of an algorithm with no ``target()``: listed as not applicable
+    (never 'holds'), and one line, exit 2, when asked for by name."""
+    from gather_verify.check import run_check
+    from gather_verify.model.configuration import Configuration
+
+    c = Configuration([(0, 0), (2, 1)], [(1, 1)], initial=True)
+    report = run_check(c, algorithm="random", scheduler="async")
+    assert "target-invariance" not in report["properties"]
+    assert "no target()" in report["not_applicable"]["target-invariance"]
+    one_line(cli("check", "--robots", "0,0 2,1", "--meeting", "1,1", "--algorithm", "random",
+                 "--property", "target-invariance", cwd=tmp_path), "does not apply")

@@ -88,5 +88,5 @@ def test_missing_file_and_bad_encoding(tmp_path):
         load_scenario(tmp_path / "nope.json")
     path = tmp_path / "bin.json"
     path.write_bytes(b"\xff\xfe\x00")
-    with pytest.raises(ScenarioError, match="cannot read"):
+    with pytest.raises(ScenarioError, match="not UTF-8"):
         load_scenario(path)

@@ -168,6 +168,8 @@ def run(args: argparse.Namespace) -> int:
         for name, result in report["properties"].items():
             holds = {True: "holds", False: "FAILS", None: "unknown"}[result["holds"]]
             print(f"  {name:18} {holds}  {result.get('reason', '')}".rstrip())
+        for name, why in report.get("not_applicable", {}).items():
+            print(f"  {name:18} not applicable: {why}")
         if trace is not None:
             print(render_trace(trace))
         if expected is not None:
