@@ -77,6 +77,8 @@ def test_the_summary_counted_in_the_store_is_the_summary_of_its_rows(tmp_path: P
     assert any(r["trace"] for r in rows)  # the stored rows carry their traces
     expected = summarise(rows)
     assert summary["failing_properties"] and summary["max_ratio"]  # something to count
+    computed = summary.pop("computed")  # how many this run computed: not in the rows
+    assert computed == len(rows)
     assert json.dumps(summary) == json.dumps(expected)
 
 

@@ -20,8 +20,9 @@ EXIT_BUG = 70
 """An unexpected exception: a bug of gather-verify (``EX_SOFTWARE`` of ``sysexits.h``)."""
 EXIT_INTERRUPTED = 130
 """Ctrl-C (SIGINT): 128 + 2, as shells report it; one line on stderr says what was kept."""
-TIMING_KEYS = ("seconds", "peak_rss_mb")
-"""Report fields that vary from run to run; ``--json`` leaves them out unless ``--timings``."""
+TIMING_KEYS = ("seconds", "peak_rss_mb", "computed")
+"""Report fields that vary from run to run (``computed``: how many rows a sweep computed
+rather than found stored); ``--json`` leaves them out unless ``--timings``."""
 VERDICT_EXIT = {"VERIFIED": EXIT_OK, "VIOLATED": EXIT_VIOLATED, "INCOMPLETE": EXIT_INCOMPLETE,
                 "NOT-APPLICABLE": EXIT_NOT_APPLICABLE}
 

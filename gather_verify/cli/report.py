@@ -65,7 +65,9 @@ def run(args: argparse.Namespace) -> int:
     for i, summary in enumerate(found):
         if (summary["settings"].get("extra") or {}).get("readings"):
             continue  # one of the readings below
-        print(f"== sweep {i + 1}: {summary['settings']}")
+        settings = summary["settings"] or {}
+        print(f"== sweep {i + 1}: " + ", ".join(f"{k}={v}" for k, v in settings.items()
+                                                if k != "extra" or v))
         format_summary(summary)
         print()
     for group, tables in robust.items():

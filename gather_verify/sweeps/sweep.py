@@ -259,7 +259,9 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
         slowest = _slowest(row for _, sweep, _ in plan for row in store.slowest(sweep, SLOWEST))
     finally:
         store.close()
-    return summarise_totals(groups, slowest, batch[0] if len(batch) == 1 else None)
+    summary = summarise_totals(groups, slowest, batch[0] if len(batch) == 1 else None)
+    summary["computed"] = sum(len(todo) for _, _, todo in plan)  # the rest was stored before
+    return summary
 
 
 Task = tuple[int, SweepSettings, list[tuple[int, Configuration]]]
@@ -495,7 +497,9 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
     """The report as text tables."""
     from gather_verify.scenario import VERDICTS
 
-    write(f"{summary['total']} configurations")
+    computed = summary.get("computed")
+    write(f"{summary['total']} configurations" + ("" if computed is None else
+          f" ({computed} computed now, {summary['total'] - computed} reused from the database)"))
     header = f"{'class':<13}{'count':>7}" + "".join(f"{v:>16}" for v in VERDICTS) + f"{'max ratio':>11}"
     write(header)
     write("-" * len(header))
@@ -506,9 +510,12 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
         ratio = summary["max_ratio"].get(name)
         write(f"{name:<13}{count:>7}" + "".join(f"{by.get(v, 0):>16}" for v in VERDICTS)
               + (f"{ratio:>11.2f}" if ratio is not None else f"{'-':>11}"))
+    write("max ratio: the largest total moves / (D·n) of the class; NOT-APPLICABLE: in U or "
+          "UNCLASSIFIED, where the impossibility checks apply (--force checks them)")
     if summary["failing_properties"]:
         write("")
-        write("failing properties:")
+        write("failing properties (the first of each configuration, whose trace is stored; "
+              "check it with --property P for another's):")
         for name, props in summary["failing_properties"].items():
             write(f"  {name}: " + ", ".join(f"{p} x{k}" for p, k in sorted(props.items())))
     if summary.get("failing_every", summary["failing_properties"]) != summary["failing_properties"]:
