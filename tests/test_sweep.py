@@ -161,3 +161,18 @@ def test_configuration_keys_are_the_compact_json_stores_were_keyed_by(robots, me
     c = Configuration(robots, meeting)
     assert configuration_key(c) == json.dumps(
         [sorted(map(list, c.robots)), sorted(map(list, c.meeting_nodes))], separators=(",", ":"))
+
+
+def test_the_kernels_are_warmed_before_any_row_is_timed(tmp_path: Path, monkeypatch) -> None:
+    """A sweep compiles (or loads) the bulk engine's kernels before its first row, once per
+    scheduler, so no configuration is charged the compile time; a resumed sweep with
+    nothing left to compute does not."""
+    from gather_verify.sweeps import sweep as module
+
+    calls: list[set[str]] = []
+    monkeypatch.setattr(module, "warm_kernels", lambda schedulers: calls.append(set(schedulers)))
+    db = str(tmp_path / "w.sqlite")
+    run_sweep(SMALL, db, workers=1, progress=False)
+    assert calls == [{SMALL.scheduler}]
+    run_sweep(SMALL, db, workers=1, progress=False)
+    assert calls == [{SMALL.scheduler}]

@@ -269,6 +269,19 @@ Task = tuple[int, SweepSettings, list[tuple[int, Configuration]]]
 Done = tuple[int, list[dict[str, Any]], list[Task]]
 """What a task gives back: the sweep's id, its rows, and the tasks it hands off."""
 
+def warm_kernels(schedulers: Iterable[str]) -> None:
+    """Compile (or load from numba's cache) the bulk engine's kernels before any row is
+    timed, with a tiny check per scheduler: the first configuration of a sweep is then not
+    charged the compile time."""
+    from gather_verify.check import run_check
+
+    tiny = Configuration([(0, 0), (2, 1)], [(1, 1)], initial=True)
+    for scheduler in sorted(schedulers):
+        for reduction in (True, False):
+            run_check(tiny, algorithm="go-to-target", scheduler=scheduler, reduction=reduction,
+                      max_seconds=60.0)
+
+
 HAND_OFF_SECONDS = 30.0
 """With several workers, a meeting-node class that has run this long hands its remaining
 per-configuration checks to the other workers, one task each (``mclass.verify_class``)."""
@@ -286,6 +299,8 @@ def _execute(
     the shared configuration facts) from one sweep to the next and none waits idle at the
     end of each sweep; the checks a long class hands off go out after the tasks before them."""
     local = dask is None and workers == 1
+    if any(todo for _, _, todo in plan):  # forked workers inherit the compiled kernels
+        warm_kernels({settings.scheduler for settings, _, _ in plan})
     tasks: list[Task] = []
     for settings, sweep, todo in plan:
         if engine == "union":  # a task is a meeting-node class, the largest first
