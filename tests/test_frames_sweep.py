@@ -7,6 +7,7 @@ from __future__ import annotations
 import itertools
 import os
 import textwrap
+from pathlib import Path
 
 import pytest
 
@@ -36,6 +37,9 @@ EAST_ONLY = textwrap.dedent("""\
 MIN_SUM = os.path.join(os.path.dirname(__file__), "fixtures", "min_sum_compass.py") + \
     ":MinSumCompass"
 """A user's algorithm for a common compass whose answer depends on the orientation."""
+COUNTERCLOCKWISE = MIN_SUM.replace("min_sum_compass.py:MinSumCompass",
+                                   "counterclockwise.py:Counterclockwise")
+"""A user's algorithm for a common chirality whose answer depends on the handedness."""
 
 
 def members(n: int, m: int, w: int, h: int) -> list[Configuration]:
@@ -122,7 +126,7 @@ def test_a_sweep_s_verdict_holds_for_every_member_of_each_class(tmp_path, frames
         (tmp_path / "east.py").write_text(EAST_ONLY)
         algorithm = f"{tmp_path / 'east.py'}:EastOnly"
     elif algorithm == "min-sum":  # a copy outside the project: its rows are found by key
-        (tmp_path / "min_sum.py").write_text(open(MIN_SUM.rpartition(":")[0]).read())
+        (tmp_path / "min_sum.py").write_text(Path(MIN_SUM.rpartition(":")[0]).read_text())
         algorithm = f"{tmp_path / 'min_sum.py'}:MinSumCompass"
     settings = SweepSettings(robots=n, meeting=m, box=box, algorithm=algorithm,
                              scheduler="async", frames=frames, max_seconds=60.0)
@@ -159,3 +163,49 @@ def test_under_a_compass_the_paper_s_U_is_checked_not_skipped():
     with pytest.raises(InvalidInput, match="does not apply under --frames compass"):
         run_check(i42, algorithm="go-to-target", scheduler="async", frames="compass",
                   properties=["no-ungatherable"])
+
+
+MIRRORED = [  # M with reflections: under chirality the mirror image of a run is no run
+    Configuration([(0, 0), (0, 1), (0, 2)], [(1, 0), (1, 1)], initial=True),
+    Configuration([(0, 0), (0, 1), (1, 2)], [(2, 0), (2, 1)], initial=True),
+]
+
+
+def test_the_symmetries_a_search_merges_by_are_in_the_frame_group():
+    """``symmetry_group``: every element of ``Aut(M)`` under all 8 frames, its rotations
+    under chirality, nothing but the identity under a compass."""
+    from gather_verify.engine.encoding import symmetry_group
+    from gather_verify.model.symmetry import meeting_automorphisms
+
+    square = Configuration([(0, 0)], [(0, 0), (1, 0), (0, 1), (1, 1)], initial=True)
+    assert len(symmetry_group(square, "all")) == len(meeting_automorphisms(square)) == 8
+    assert sorted(a.g for a in symmetry_group(square, "chirality")) == \
+        sorted(geometry.ROTATIONS)
+    assert [a.g for a in symmetry_group(square, "compass")] == [geometry.IDENTITY]
+    for c in MIRRORED:
+        assert len(meeting_automorphisms(c)) == 4
+        assert {a.g for a in symmetry_group(c, "chirality")} == {geometry.IDENTITY,
+                                                                 geometry.ROTATIONS[2]}
+
+
+@pytest.mark.parametrize("frames", ["chirality", "compass"])
+def test_a_search_merges_states_only_by_the_symmetries_of_M_its_frames_allow(frames):
+    """The Aut(M) reduction inside one search: with chirality a reflection of ``M`` is no
+    symmetry of the problem, with a compass nor is a rotation; every verdict with the
+    reduction equals the verdict without it, for algorithms that read the orientation
+    (merging a state with its mirror image under chirality breaks the search on
+    ``MIRRORED``)."""
+    from gather_verify.model.symmetry import meeting_automorphisms
+
+    small = [c for n, m, box in ((2, 2, (3, 2)), (3, 2, (2, 2)), (2, 3, (3, 2)))
+             for c in members(n, m, *box) if len(meeting_automorphisms(c)) > 1]
+    compared = 0
+    for c in MIRRORED + small:
+        for algorithm in (MIN_SUM, COUNTERCLOCKWISE):
+            got = [run_check(c, algorithm=algorithm, scheduler="async", frames=frames,
+                             reduction=reduction, max_seconds=60.0)
+                   for reduction in (True, False)]
+            (on, off) = [(r["verdict"], r["property"], r["max_moves"]) for r in got]
+            assert on == off, (c, frames, algorithm)
+            compared += 1
+    assert compared > 50
