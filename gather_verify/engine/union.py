@@ -9,13 +9,16 @@ machinery: :class:`~gather_verify.engine.fast_explore.KeyIndex`,
 ``FactsTable``, ``Canon``, the scheduler's ``bulk_successors``) and decides
 every configuration's row from it:
 
-- each configuration is moved by an isometry (:func:`shape_isometry`: a
-  rotation or reflection too, not only a translation) so that its ``M`` is its
-  shape's canonical ``M0`` (results are invariant under isometries: the frames
-  are all 8, SEMANTICS.md §3), and the search is seeded with all of them: one
-  graph for the up to 8 images of ``M`` and their translations, where there
-  was one per translation class (on the 4 x 4 box, the largest class's union
-  holds 522,534 states where its 8 unions held 2.83 million);
+- each configuration is moved by an isometry of the robots' frame group
+  (:func:`shape_isometry`: with all 8 frames a rotation or reflection too, with
+  chirality a rotation, with a compass a translation only) so that its ``M``
+  is its shape's canonical ``M0`` (results are invariant under those
+  isometries and no others, SEMANTICS.md §3), and the search is seeded with all
+  of them: one graph for the up to 8 images of ``M`` and their translations,
+  where there was one per translation class (on the 4 x 4 box, the largest
+  class's union holds 522,534 states where its 8 unions held 2.83 million);
+  states are merged by the elements of ``Aut(M0)`` the frames allow, as in one
+  search (:func:`~gather_verify.engine.encoding.symmetry_group`);
 - per state, the facts the per-configuration search checks: a deadlock
   (``final``), a configuration in U (``no-ungatherable``), an edge that changes
   the target (``target-invariance``), no rule (``defined``), a cycle (a changed
