@@ -209,3 +209,15 @@ def test_a_search_merges_states_only_by_the_symmetries_of_M_its_frames_allow(fra
             assert on == off, (c, frames, algorithm)
             compared += 1
     assert compared > 50
+
+
+def test_theorem_1_needs_disorientation_a_compass_gathers_an_I42_configuration():
+    """The I42 configuration of the test above is gathered by robots with a common compass
+    (the min-sum fixture): Theorem 1's impossibility is for disoriented robots, which is
+    why the verifier checks U there instead of answering NOT-APPLICABLE."""
+    i42 = Configuration([(0, 0), (2, 1)], [(0, 1), (2, 0)], initial=True)
+    got = run_check(i42, algorithm=MIN_SUM, scheduler="async", frames="compass",
+                    max_seconds=60.0)
+    assert (got["class"], got["verdict"]) == ("I42", "VERIFIED")
+    assert run_check(i42, algorithm=MIN_SUM, scheduler="async",
+                     max_seconds=60.0)["verdict"] == "NOT-APPLICABLE"

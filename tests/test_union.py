@@ -18,6 +18,7 @@ from gather_verify.engine.explore import Limits, region_box
 from gather_verify.engine.fast_explore import explore_fast
 from gather_verify.engine.search import explore
 from gather_verify.model.configuration import Configuration
+from gather_verify.model.symmetry import meeting_automorphisms
 from gather_verify.sweeps.census import enumerate_configurations
 from gather_verify.sweeps.mclass import class_tasks, decide_class, verify_class
 from gather_verify.sweeps.sweep import SweepSettings, configuration_key, verify_one
@@ -130,7 +131,7 @@ def test_the_union_holds_each_seeds_space() -> None:
 
 def test_the_margin_rule() -> None:
     c = Configuration([(0, 0), (1, 0)], [(1, 1)])
-    group = [a for a in union.meeting_automorphisms(c)]
+    group = meeting_automorphisms(c)
     assert union.margin_needed(c, group, np.array([-2, -2, 3, 3])) == 2
     assert union.margin_needed(c, group, np.array([-3, 0, 1, 1])) == 4
     assert union.margin_needed(c, group, np.array([-40, 0, 1, 1])) is None
@@ -145,7 +146,7 @@ def test_the_margin_rule() -> None:
 def test_the_margin_rule_is_its_definition(robots: list, meeting: list, box: list) -> None:
     """The least margin whose region (``region_box``, closed under Aut(M)) holds ``box``."""
     c = Configuration(robots, meeting)
-    group = union.meeting_automorphisms(c)
+    group = meeting_automorphisms(c)
     x0, x1 = sorted(box[::2])
     y0, y1 = sorted(box[1::2])
     holds = [m for m in union.MARGINS if (lambda r: r[0] <= x0 and r[1] <= y0 and x1 <= r[2]
