@@ -18,6 +18,7 @@ from gather_verify.engine.explore import Limits, region_box
 from gather_verify.engine.fast_explore import explore_fast
 from gather_verify.engine.search import explore
 from gather_verify.model.configuration import Configuration
+from gather_verify.model.symmetry import meeting_automorphisms
 from gather_verify.sweeps.census import enumerate_configurations
 from gather_verify.sweeps.mclass import class_tasks, decide_class, verify_class
 from gather_verify.sweeps.sweep import SweepSettings, configuration_key, verify_one
@@ -28,15 +29,15 @@ def _without_seconds(row: dict) -> dict:
 
 
 def assert_rows_equal(n: int, m: int, box: tuple[int, int], algorithm: str,
-                      properties: tuple[str, ...] = ()) -> dict[str, int]:
+                      properties: tuple[str, ...] = (), frames: str = "all") -> dict[str, int]:
     """Every configuration of the box: the class rows equal the per-configuration rows.
     Returns how many were settled by the union graph and how many fell back."""
     s = SweepSettings(robots=n, meeting=m, box=box, algorithm=algorithm, scheduler="async",
-                      properties=properties, max_memory_mb=8000)
-    items = list(enumerate(enumerate_configurations(n, m, *box)))
+                      properties=properties, max_memory_mb=8000, frames=frames)
+    items = list(enumerate(enumerate_configurations(n, m, *box, frames)))
     seen: dict[int, dict] = {}
     settled = fallback = 0
-    for members in class_tasks(items):
+    for members in class_tasks(items, frames):
         decided = decide_class(s, members, configuration_key)
         settled += len(decided.rows)
         fallback += len(decided.fallback)
@@ -67,6 +68,28 @@ def test_union_rows_equal_per_config_rows_3x3(n: int, m: int, algorithm: str) ->
 ] + [(3, 4, "paper"), (3, 2, "paper:alpha=mer_f"), (2, 1, "go-to-target")])
 def test_union_rows_equal_per_config_rows_every_small_box(n: int, m: int, algorithm: str) -> None:
     assert_rows_equal(n, m, (3, 3) if (n, m) != (2, 1) else (4, 4), algorithm)
+
+
+FIXTURES = Path(__file__).parent / "fixtures"
+
+
+@pytest.mark.parametrize("frames", ["chirality", "compass"])
+@pytest.mark.parametrize("n,m,box,algorithm", [
+    (2, 2, (3, 3), "paper"), (3, 1, (3, 3), "go-to-target"), (2, 2, (3, 3), "go-to-target"),
+    (2, 2, (3, 3), "min_sum_compass.py:MinSumCompass"),
+    (3, 2, (3, 2), "min_sum_compass.py:MinSumCompass"),
+    (2, 2, (3, 3), "counterclockwise.py:Counterclockwise"),
+    (3, 2, (3, 2), "counterclockwise.py:Counterclockwise"),
+])
+def test_union_rows_equal_per_config_rows_under_a_compass_or_chirality(
+        n: int, m: int, box: tuple[int, int], algorithm: str, frames: str) -> None:
+    """With fewer frames the union moves a configuration onto its shape's ``M0`` and merges
+    states only by the frame group (translations; rotations): rows, traces and counts equal
+    each configuration's own check, for algorithms that read the compass or the chirality."""
+    if algorithm.endswith("Compass") or algorithm.endswith("Counterclockwise"):
+        algorithm = str(FIXTURES / algorithm)
+    counts = assert_rows_equal(n, m, box, algorithm, frames=frames)
+    assert counts["settled"] > 0
 
 
 @pytest.mark.parametrize("algorithm", ["broken-stay", "broken-drift", "broken-wander",
@@ -108,7 +131,7 @@ def test_the_union_holds_each_seeds_space() -> None:
 
 def test_the_margin_rule() -> None:
     c = Configuration([(0, 0), (1, 0)], [(1, 1)])
-    group = [a for a in union.meeting_automorphisms(c)]
+    group = meeting_automorphisms(c)
     assert union.margin_needed(c, group, np.array([-2, -2, 3, 3])) == 2
     assert union.margin_needed(c, group, np.array([-3, 0, 1, 1])) == 4
     assert union.margin_needed(c, group, np.array([-40, 0, 1, 1])) is None
@@ -123,7 +146,7 @@ def test_the_margin_rule() -> None:
 def test_the_margin_rule_is_its_definition(robots: list, meeting: list, box: list) -> None:
     """The least margin whose region (``region_box``, closed under Aut(M)) holds ``box``."""
     c = Configuration(robots, meeting)
-    group = union.meeting_automorphisms(c)
+    group = meeting_automorphisms(c)
     x0, x1 = sorted(box[::2])
     y0, y1 = sorted(box[1::2])
     holds = [m for m in union.MARGINS if (lambda r: r[0] <= x0 and r[1] <= y0 and x1 <= r[2]

@@ -9,13 +9,16 @@ machinery: :class:`~gather_verify.engine.fast_explore.KeyIndex`,
 ``FactsTable``, ``Canon``, the scheduler's ``bulk_successors``) and decides
 every configuration's row from it:
 
-- each configuration is moved by an isometry (:func:`shape_isometry`: a
-  rotation or reflection too, not only a translation) so that its ``M`` is its
-  shape's canonical ``M0`` (results are invariant under isometries: the frames
-  are all 8, SEMANTICS.md §3), and the search is seeded with all of them: one
-  graph for the up to 8 images of ``M`` and their translations, where there
-  was one per translation class (on the 4 x 4 box, the largest class's union
-  holds 522,534 states where its 8 unions held 2.83 million);
+- each configuration is moved by an isometry of the robots' frame group
+  (:func:`shape_isometry`: with all 8 frames a rotation or reflection too, with
+  chirality a rotation, with a compass a translation only) so that its ``M``
+  is its shape's canonical ``M0`` (results are invariant under those
+  isometries and no others, SEMANTICS.md §3), and the search is seeded with all
+  of them: one graph for the up to 8 images of ``M`` and their translations,
+  where there was one per translation class (on the 4 x 4 box, the largest
+  class's union holds 522,534 states where its 8 unions held 2.83 million);
+  states are merged by the elements of ``Aut(M0)`` the frames allow, as in one
+  search (:func:`~gather_verify.engine.encoding.symmetry_group`);
 - per state, the facts the per-configuration search checks: a deadlock
   (``final``), a configuration in U (``no-ungatherable``), an edge that changes
   the target (``target-invariance``), no rule (``defined``), a cycle (a changed
@@ -69,7 +72,7 @@ from gather_verify.algorithms import Algorithm, AlgorithmCrash, get_algorithm
 from gather_verify.algorithms.moves import frames_for
 from gather_verify.engine import union_kernels
 from gather_verify.engine.encoding import STEP_INDEX
-from gather_verify.engine.explore import DEFAULT_MARGIN, Encoding, region_box
+from gather_verify.engine.explore import DEFAULT_MARGIN, Encoding, region_box, symmetry_group
 from gather_verify.engine.fast_explore import (
     STEP_PERM,
     Canon,
@@ -83,7 +86,7 @@ from gather_verify.model import geometry
 from gather_verify.model.canonical import canonical_form
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
-from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
+from gather_verify.model.symmetry import Automorphism
 from schedulers import Frontier, get_scheduler, initial_state
 
 UNION_MARGIN = 2
@@ -99,8 +102,9 @@ SAFETY_BITS = {"final": FINAL, "no-ungatherable": UNGATHERABLE, "target-invarian
 
 
 def supports(scheduler: str, reduction: bool, frames: str) -> bool:
-    """Whether a sweep with these settings can be decided a meeting-node class at a time."""
-    return scheduler == "async" and reduction and frames == "all"
+    """Whether a sweep with these settings can be decided a meeting-node class at a time
+    (any frames: the isometries used are the frame group's, :func:`shape_isometry`)."""
+    return scheduler == "async" and reduction
 
 
 def meeting_form(c: Configuration) -> tuple[tuple[Node, ...], tuple[int, Node]]:
@@ -111,14 +115,22 @@ def meeting_form(c: Configuration) -> tuple[tuple[Node, ...], tuple[int, Node]]:
             (geometry.IDENTITY, (-x0, -y0)))
 
 
-def shape_isometry(c: Configuration) -> tuple[int, Node]:
+def shape_isometry(c: Configuration, frames: str = "all") -> tuple[int, Node]:
     """The isometry ``v -> g(v) + t`` (the first, in D4's order) that takes ``M`` onto the
-    canonical place of its shape: every configuration whose ``M`` has that shape (up to
-    the 8 isometries) is moved by its own onto one ``M0``, and all are seeds of one union.
-    Verdicts, counts, moves and margins are invariant under isometries (the frames are all
-    8); the BFS order is not, so a seed moved by a rotation or reflection has its witness
+    canonical place of its shape, ``g`` in the robots' frame group: every configuration
+    whose ``M`` has that shape (up to translations and that group) is moved by its own onto
+    one ``M0``, and all are seeds of one union. Verdicts, counts, moves and margins are
+    invariant under such isometries (the views of ``g(C) + t`` are those of ``C`` in the
+    frames composed with ``g``, which run over the same frames), not under the others: a
+    rotated copy is another problem for robots with a compass (SEMANTICS.md §3). The BFS
+    order is not invariant, so a seed moved by a rotation or reflection has its witness
     paths found along :meth:`UnionGraph.oriented`."""
-    return canonical_form((), c.meeting_nodes).minimisers[0]
+    return canonical_form((), c.meeting_nodes, frames_for(frames)).minimisers[0]
+
+
+def shape_key(c: Configuration, frames: str = "all") -> tuple:
+    """The key of ``M``'s shape up to translations and the frame group (one union each)."""
+    return canonical_form((), c.meeting_nodes, frames_for(frames)).key
 
 
 def normalise(c: Configuration, iso: tuple[int, Node]) -> Configuration:
@@ -158,6 +170,7 @@ class UnionGraph:
     table: FactsTable  # the facts of the union's configurations
     index: KeyIndex  # state key -> id
     scheduler: str
+    frames: str = "all"
     orders: dict = field(default_factory=dict)  # linear part -> its Oriented successors
     _offsets: list[int] | None = None  # offsets as a list (read state by state)
 
@@ -297,7 +310,7 @@ def explore_union(
     sched = get_scheduler(scheduler)
     frame_elements = frames_for(frames)
     n = len(seeds[0])
-    group = meeting_automorphisms(Configuration.trusted(seeds[0], meeting))
+    group = symmetry_group(Configuration.trusted(seeds[0], meeting), frames)
     enc = Encoding(box, group, True)
     if enc.base ** n >= 2**63:
         return None
@@ -389,7 +402,7 @@ def explore_union(
                S, counts, transitions)
     return UnionGraph(seed_ids, S, reach, best, reach_box, counts, transitions,
                       time.perf_counter() - started, enc, index.keys[:S].copy(), flags.array(),
-                      out_off, out_tgt, table, index, scheduler)
+                      out_off, out_tgt, table, index, scheduler, frames)
 
 
 class Oriented:
@@ -408,7 +421,7 @@ class Oriented:
         corners = [(enc.x0, enc.y0), (enc.x0 + enc.width - 1, enc.y0 + enc.height - 1)]
         meeting_h = frozenset(map(h, table.meeting))
         enc_h = Encoding(geometry.bounding_box(list(map(h, corners))),
-                         meeting_automorphisms(Configuration.trusted((), meeting_h)), True)
+                         symmetry_group(Configuration.trusted((), meeting_h), u.frames), True)
         # codes (cell * 5 + pending step) mapped both ways
         dirs = [0] + [STEP_INDEX[geometry.apply(h.g, step)] for step in STEPS]
         self.forward = np.empty(enc.cells * 5, dtype=np.int64)

@@ -33,10 +33,9 @@ from gather_verify.engine.explore import (
 from gather_verify.engine.fast_explore import make_room
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.model import geometry
-from gather_verify.model.canonical import canonical_form
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
-from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
+from gather_verify.model.symmetry import Automorphism
 
 ENGINES = ("union", "per-config")
 Row = dict[str, Any]
@@ -66,14 +65,15 @@ def verify_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     return sorted(rows, key=lambda r: r["index"]), rest[done:]
 
 
-def class_tasks(todo: Sequence[tuple[int, Configuration]]
+def class_tasks(todo: Sequence[tuple[int, Configuration]], frames: str = "all"
                 ) -> list[list[tuple[int, Configuration]]]:
     """``todo`` as tasks, the largest first (ties: enumeration order): one per shape of
-    ``M`` (up to the 8 isometries), its meeting-node classes (``M`` up to translation)
-    one after the other; :func:`decide_class` explores one union for all of them."""
+    ``M`` (up to translations and the robots' frame group), its meeting-node classes (``M``
+    up to translation) one after the other; :func:`decide_class` explores one union for all
+    of them."""
     shapes: dict[object, list[tuple[int, Configuration]]] = {}
     for members in union.meeting_classes(todo):
-        shape = canonical_form((), members[0][1].meeting_nodes).key
+        shape = union.shape_key(members[0][1], frames)
         shapes.setdefault(shape, []).extend(members)
     return sorted(shapes.values(), key=lambda members: (-len(members), members[0][0]))
 
@@ -96,6 +96,8 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     ``configuration_key``); the rest in ``fallback``."""
 
     wanted = props.check_property_names(settings.properties or None)
+    if settings.frames != "all" and "no-ungatherable" in wanted:
+        wanted.remove("no-ungatherable")  # U is Theorem 1's: as run_check, not applicable
     if set(wanted) - DECIDED:  # a property of the user's: only its own search knows it
         return ClassDecision([], list(members))
     if "target-invariance" in wanted and not target_commutes_with_translations(
@@ -106,10 +108,10 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     todo: list[tuple[int, Configuration, Any, Configuration, Automorphism]] = []
     for index, c in members:
         cls = classify_configuration(c)
-        if cls.in_U or cls.name == "UNCLASSIFIED":
-            fallback.append((index, c))  # NOT-APPLICABLE: decided at once
+        if (cls.in_U or cls.name == "UNCLASSIFIED") and settings.frames == "all":
+            fallback.append((index, c))  # NOT-APPLICABLE (or --force): decided on its own
         else:
-            iso = union.shape_isometry(c)
+            iso = union.shape_isometry(c, settings.frames)
             todo.append((index, c, cls, union.normalise(c, iso), Automorphism(*iso).inverse()))
     if not todo:
         return ClassDecision([], fallback)
@@ -123,7 +125,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     for ks in by_n.values():
         normal = [todo[k][3] for k in ks]
         meeting = normal[0].meeting_nodes
-        group = meeting_automorphisms(normal[0])
+        group = symmetry_group(normal[0], settings.frames)  # what the frames allow
         box = geometry.bounding_box([v for c in normal for b in [region_box(c, union.UNION_MARGIN, group)]
                                      for v in (b[:2], b[2:])])
         turned = {}  # per linear part, a map from M0 back to a seed's M

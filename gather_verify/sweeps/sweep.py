@@ -306,7 +306,7 @@ def _execute(
         if engine == "union":  # a task is a meeting-node class, the largest first
             from gather_verify.sweeps.mclass import class_tasks
 
-            chunks = class_tasks(todo)
+            chunks = class_tasks(todo, settings.frames)
         else:
             chunks = list(_chunks(todo, CHUNK))
         if settings.max_memory_mb is None:  # the machine's memory, shared by the workers
