@@ -18,7 +18,7 @@ with ``--fingerprint-extra``; installed third-party packages (their version is
 not recorded); the Python interpreter.
 
 >>> fp = algorithm_fingerprint("go-to-target")
->>> len(fp["digest"]), "gather_verify/algorithms/go_to_target.py" in fp["files"]
+>>> len(fp["digest"]), "go_to_target.py" in fp["files"]
 (16, True)
 >>> algorithm_fingerprint("go-to-target:x=1")  # the options are part of it  # doctest: +SKIP
 """
@@ -87,11 +87,12 @@ def own_digest() -> str:
 
 
 def _named(files: Iterable[Path], home: Path) -> list[tuple[str, Path]]:
-    """Each file with the name it is hashed under: relative to gather-verify's folder, else to
-    ``home`` (the user's folder, so a copy of it, or the folder moved, keeps the digest)."""
+    """Each file with the name it is hashed under: relative to ``home`` (the module's own
+    folder, so a sweep's snapshot of it, or the folder moved, keeps the digest), else to
+    gather-verify's folder."""
     out = []
     for path in sorted(files):
-        for root in (_PACKAGE, home):
+        for root in (home, _PACKAGE):
             if path.is_relative_to(root):
                 out.append((path.relative_to(root).as_posix(), path))
                 break
@@ -117,14 +118,18 @@ def algorithm_fingerprint(spec: str) -> dict[str, Any]:
     """``digest`` (16 hex digits) of the algorithm's source, spec, gather-verify's version and
     its own source (:func:`own_digest`), with the ``files`` it read (relative to their root
     where possible) and the ``version``."""
-    h = hashlib.sha256()
-    names: list[str] = []
+    from gather_verify.algorithms.loading import local_sources
+
+    named: dict[str, str] = {}  # name -> digest: the same file reached twice counts once
     for module in _modules_of(spec):
-        part = source_fingerprint(module.__file__, module.__name__)
-        names += part["files"]
-        h.update(f"{part['digest']}\0".encode())
+        home = Path(module.__file__).resolve().parent
+        for name, path in _named(local_sources(module.__file__, module.__name__), home):
+            named[name] = file_digest(path)
+    h = hashlib.sha256()
+    for name, digest in sorted(named.items()):
+        h.update(f"{name}\0{digest}\0".encode())
     h.update(f"{spec}\0{version()}\0{own_digest()}".encode())
-    return {"digest": h.hexdigest()[:16], "files": sorted(set(names)), "version": version()}
+    return {"digest": h.hexdigest()[:16], "files": sorted(named), "version": version()}
 
 
 def files_fingerprint(paths: Iterable[str]) -> str:

@@ -155,3 +155,17 @@ def test_failures_of_user_code_at_import_and_construction_are_one_line(tmp_path)
                    cwd=tmp_path)
         assert done.returncode == 2, (spec, done.stderr)
         assert len(done.stderr.strip().splitlines()) == 1 and "Traceback" not in done.stderr
+
+
+def test_the_fingerprint_is_the_same_inside_a_sweep_s_snapshot_and_outside(tmp_path):
+    """A file inside the project tree (here, the tests' fixture) gets one digest whether it
+    is read from disk or from a sweep's snapshot, so settings found outside a run name the
+    run's rows."""
+    from gather_verify.algorithms.loading import snapshot
+    from gather_verify.fingerprint import algorithm_fingerprint
+
+    spec = f"{Path(__file__).resolve().parent / 'fixtures' / 'min_sum_compass.py'}:MinSumCompass"
+    outside = algorithm_fingerprint(spec)["digest"]
+    with snapshot({spec}):
+        inside = algorithm_fingerprint(spec)["digest"]
+    assert inside == outside == algorithm_fingerprint(spec)["digest"]
