@@ -1,0 +1,216 @@
+"""The world part: a finite graph the robots live on, as the engines see it.
+
+SEMANTICS.md §9. A world is a finite, connected, undirected graph. The engines
+know a node only by its *index* (``0 .. size-1``); the world says how a node is
+written (:meth:`World.label`, :meth:`World.parse_node`), who its neighbours are
+(:attr:`World.adjacency`), what its automorphisms are, and in which *frames* a
+robot may be handed its view. A new world is a subclass in one module and one
+line in :data:`gather_verify.worlds.WORLDS`; the engines, the tasks and the
+schedulers never ask which world they run.
+
+>>> from gather_verify.worlds import get_world
+>>> ring = get_world("ring:5")
+>>> ring.size, ring.adjacency[0], ring.distance(0, 3)
+(5, (1, 4), 2)
+>>> len(ring.automorphisms)
+10
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Hashable, Iterable, Sequence
+from functools import cached_property
+from typing import TYPE_CHECKING
+
+import networkx as nx
+
+from gather_verify.errors import InvalidInput
+
+if TYPE_CHECKING:
+    from gather_verify.worlds.view import FrameMap
+
+Label = Hashable
+"""A node as the world writes it and as a view presents it (an int on a ring, ``(x, y)`` on
+grids and tori, the file's id on ``graph:FILE``)."""
+Frame = dict[int, Label]
+"""One presentation of a robot's view: node index -> the label the robot reads."""
+
+FRAME_SETS = ("all", "chirality", "compass")
+MAX_AUTOMORPHISMS = 100_000
+"""Aut(G) is enumerated; a graph with more automorphisms is refused (one line) rather than
+enumerated for minutes (a complete graph on 9 nodes has 362,880)."""
+
+
+class World:
+    """A finite connected graph with node indices ``0 .. size-1``.
+
+    Subclasses set :attr:`name` and :attr:`kind`, build :attr:`labels` and
+    :attr:`adjacency`, and define :meth:`frame_labels`; everything else follows.
+    """
+
+    name: str
+    kind: str
+    labels: tuple[Label, ...]
+    adjacency: tuple[tuple[int, ...], ...]
+
+    def __init__(self, name: str, labels: Sequence[Label], edges: Iterable[tuple[int, int]]):
+        self.name = name
+        self.labels = tuple(labels)
+        self.index = {label: i for i, label in enumerate(self.labels)}
+        around: list[set[int]] = [set() for _ in self.labels]
+        for a, b in edges:
+            if a != b:
+                around[a].add(b)
+                around[b].add(a)
+        self.adjacency = tuple(tuple(sorted(s)) for s in around)
+        if self.size and len(self._bfs(0)) != self.size:
+            raise InvalidInput(f"world {name}: the graph is not connected")
+
+    # -- the graph ---------------------------------------------------------------------
+    @property
+    def size(self) -> int:
+        return len(self.labels)
+
+    @cached_property
+    def degree(self) -> int:
+        """The largest degree (the bulk engine's neighbour table is this wide)."""
+        return max((len(a) for a in self.adjacency), default=0)
+
+    def _bfs(self, source: int, limit: int | None = None) -> dict[int, int]:
+        """Graph distance from ``source`` to every node within ``limit`` hops."""
+        seen = {source: 0}
+        queue = deque([source])
+        while queue:
+            u = queue.popleft()
+            if limit is not None and seen[u] == limit:
+                continue
+            for w in self.adjacency[u]:
+                if w not in seen:
+                    seen[w] = seen[u] + 1
+                    queue.append(w)
+        return seen
+
+    @cached_property
+    def _distances(self) -> tuple[dict[int, int], ...]:
+        return tuple(self._bfs(v) for v in range(self.size))
+
+    def distance(self, u: int, v: int) -> int:
+        """Graph distance between two node indices."""
+        return self._distances[u][v]
+
+    def ball(self, v: int, radius: int | None) -> tuple[int, ...]:
+        """The nodes within ``radius`` hops of ``v`` (all of them for ``None``), sorted."""
+        if radius is None:
+            return tuple(range(self.size))
+        return tuple(sorted(self._bfs(v, radius)))
+
+    @cached_property
+    def graph(self) -> nx.Graph:
+        """The world as a networkx graph on node indices (for layouts and isomorphisms)."""
+        g = nx.Graph()
+        g.add_nodes_from(range(self.size))
+        g.add_edges_from((a, b) for a, nbrs in enumerate(self.adjacency) for b in nbrs if a < b)
+        return g
+
+    @cached_property
+    def automorphisms(self) -> tuple[tuple[int, ...], ...]:
+        """Aut(G) as permutations of node indices (``p[v]`` is the image of ``v``), the
+        identity first. Subclasses with a known group list it; the default enumerates it."""
+        return enumerate_automorphisms(self.graph, self.name)
+
+    # -- how nodes are written ---------------------------------------------------------
+    def label(self, v: int) -> Label:
+        return self.labels[v]
+
+    def format_node(self, v: int) -> str:
+        """A node as the command line and the traces write it."""
+        label = self.labels[v]
+        if isinstance(label, tuple):
+            return ",".join(map(str, label))
+        return str(label)
+
+    def parse_label(self, text: str) -> Label:
+        """One node's text as a label (subclasses: ints, pairs)."""
+        return text
+
+    def parse_node(self, text: str) -> int:
+        try:
+            label = self.parse_label(text.strip())
+        except ValueError:
+            label = None
+        if label is None or label not in self.index:
+            raise InvalidInput(f"{text.strip()!r} is not a node of {self.name}"
+                               f" (nodes are written like {self.format_node(0)!r})")
+        return self.index[label]
+
+    def parse_nodes(self, text: str) -> list[int]:
+        """Whitespace-separated nodes, as ``--robots`` and ``--meeting`` give them."""
+        return [self.parse_node(part) for part in text.split()]
+
+    def node_from_json(self, value: object) -> int:
+        """A node as a scenario or trace file stores it (its label, lists for pairs)."""
+        label = tuple(value) if isinstance(value, list) else value
+        if label not in self.index:
+            raise InvalidInput(f"{value!r} is not a node of {self.name}")
+        return self.index[label]
+
+    def node_to_json(self, v: int) -> object:
+        label = self.labels[v]
+        return list(label) if isinstance(label, tuple) else label
+
+    # -- frames ------------------------------------------------------------------------
+    def frame_labels(self, v: int, ball: tuple[int, ...], frames: str) -> list[Frame]:
+        """The presentations of the view of a robot on ``v`` that shows ``ball``: per frame,
+        ``ball``'s nodes -> labels (§9), restricted by the frame set (§3)."""
+        raise NotImplementedError
+
+    def frames(self, v: int, visibility: int | None, frames: str) -> list[FrameMap]:
+        """The frames of the view from ``v`` (cached: they depend on nothing else)."""
+        from gather_verify.worlds.view import FrameMap
+
+        key = (v, visibility, frames)
+        got = self._frames.get(key)
+        if got is None:
+            if frames not in FRAME_SETS:
+                raise InvalidInput(f"unknown frames {frames!r}: use one of "
+                                   f"{', '.join(FRAME_SETS)}")
+            got = [FrameMap(self, labels)
+                   for labels in self.frame_labels(v, self.ball(v, visibility), frames)]
+            self._frames[key] = got
+        return got
+
+    @cached_property
+    def _frames(self) -> dict[tuple[int, int | None, str], list[FrameMap]]:
+        return {}
+
+    # -- drawing -----------------------------------------------------------------------
+    def layout(self) -> dict[int, tuple[float, float]]:
+        """Where to draw each node (unit-ish coordinates, y up); stable across runs."""
+        pos = nx.spring_layout(self.graph, seed=1)
+        return {v: (float(x), float(y)) for v, (x, y) in pos.items()}
+
+    def __repr__(self) -> str:
+        return f"<world {self.name}>"
+
+
+def enumerate_automorphisms(graph: nx.Graph, name: str,
+                            fixed: int | None = None) -> tuple[tuple[int, ...], ...]:
+    """The automorphisms of ``graph`` (nodes ``0 .. k-1`` or any ints), as permutations over
+    ``sorted(graph)`` positions' node ids, the identity first; with ``fixed``, only those
+    that fix that node. Refused past :data:`MAX_AUTOMORPHISMS`."""
+    from networkx.algorithms.isomorphism import GraphMatcher
+
+    g = graph.copy()
+    nx.set_node_attributes(g, {v: v == fixed for v in g}, "centre")
+    matcher = GraphMatcher(g, g, node_match=lambda a, b: a["centre"] == b["centre"])
+    nodes = sorted(g)
+    out = []
+    for mapping in matcher.isomorphisms_iter():
+        out.append(tuple(mapping[v] for v in nodes))
+        if len(out) > MAX_AUTOMORPHISMS:
+            raise InvalidInput(f"world {name} has more than {MAX_AUTOMORPHISMS:,} automorphisms:"
+                               " too many frames to try one by one")
+    identity = tuple(nodes)
+    out.sort(key=lambda p: p != identity)
+    return tuple(out)

@@ -1,0 +1,95 @@
+"""``graph:FILE``: any finite connected undirected graph networkx reads (SEMANTICS.md §9).
+
+GraphML (``.graphml``), GML (``.gml``), an adjacency list (``.adjlist``) or an edge
+list (anything else: one ``u v`` pair per line). Nodes are written with the file's
+ids. The graph is anonymous to the robots: a frame is the file's labelling moved by
+an automorphism of G (of the visible ball fixing the robot's node under
+``visibility=φ``), so an algorithm gains nothing from the ids. Aut(G) is computed
+once per file content with networkx's isomorphism matcher.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from functools import cache
+from pathlib import Path
+
+import networkx as nx
+
+from gather_verify.errors import InvalidInput, read_input
+from gather_verify.worlds.base import Frame, Label, World, enumerate_automorphisms
+
+READERS = {".graphml": nx.parse_graphml, ".gml": nx.parse_gml}
+
+
+def _parse(text: str, suffix: str) -> nx.Graph:
+    if suffix in READERS:
+        return READERS[suffix](text)
+    lines = text.splitlines()
+    if suffix == ".adjlist":
+        return nx.parse_adjlist(lines)
+    return nx.parse_edgelist(lines, data=False)
+
+
+class FileGraph(World):
+    kind = "graph"
+
+    def __init__(self, path: str):
+        text = read_input(path, "graph file")
+        try:
+            g = _parse(text, Path(path).suffix.lower())
+        except Exception as error:  # networkx raises many kinds on a malformed file
+            raise InvalidInput(f"graph file {path}: not a readable graph "
+                               f"({type(error).__name__}: {error})") from None
+        if g.is_directed():
+            g = g.to_undirected()
+        if g.number_of_nodes() < 2:
+            raise InvalidInput(f"graph file {path}: fewer than 2 nodes")
+        names = sorted(map(str, g.nodes), key=_natural)
+        index = {name: i for i, name in enumerate(names)}
+        edges = [(index[str(a)], index[str(b)]) for a, b in g.edges]
+        self.digest = hashlib.sha256(text.encode()).hexdigest()[:16]
+        super().__init__(f"graph:{path}", names, edges)
+
+    @classmethod
+    def from_spec(cls, arg: str) -> FileGraph:
+        return cls(arg)
+
+    def parse_label(self, text: str) -> Label:
+        return text
+
+    def node_from_json(self, value: object) -> int:
+        return super().node_from_json(str(value))
+
+    @property
+    def automorphisms(self) -> tuple[tuple[int, ...], ...]:
+        return _automorphisms(self.digest, self.adjacency, self.name)
+
+    def frame_labels(self, v: int, ball: tuple[int, ...], frames: str) -> list[Frame]:
+        if frames == "chirality":
+            raise InvalidInput(f"{self.name} has no orientation: --frames chirality needs a "
+                               "ring, a grid or a torus (use all or compass)")
+        if frames == "compass":
+            return [{u: self.labels[u] for u in ball}]
+        if len(ball) == self.size:
+            # the file's labels moved by every automorphism (the robot's own node is
+            # marked by the view, so each of them is a presentation it could be given)
+            return [{u: self.labels[p[u]] for u in ball} for p in self.automorphisms]
+        sub = self.graph.subgraph(ball)
+        local = enumerate_automorphisms(sub, self.name, fixed=v)
+        order = sorted(ball)
+        return [{u: self.labels[p[i]] for i, u in enumerate(order)} for p in local]
+
+
+@cache
+def _automorphisms(digest: str, adjacency: tuple[tuple[int, ...], ...],
+                   name: str) -> tuple[tuple[int, ...], ...]:
+    g = nx.Graph()
+    g.add_nodes_from(range(len(adjacency)))
+    g.add_edges_from((a, b) for a, nbrs in enumerate(adjacency) for b in nbrs)
+    return enumerate_automorphisms(g, name)
+
+
+def _natural(name: str) -> tuple[int, int | str]:
+    """Numeric ids in numeric order, then the rest."""
+    return (0, int(name)) if name.lstrip("-").isdigit() else (1, name)

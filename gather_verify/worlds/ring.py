@@ -1,0 +1,64 @@
+"""``ring:N``: the cycle of N nodes, written ``0 .. N-1`` (SEMANTICS.md §9).
+
+A robot sees the ring from its own node, which it reads as 0, in one of the two
+directions: its frames label node ``u`` as ``(u - v) mod N`` or ``(v - u) mod N``.
+A common compass or chirality keeps the first direction only.
+
+>>> ring = Ring(9)
+>>> [f.labels[2] for f in ring.frames(0, None, "all")]
+[2, 7]
+>>> len(ring.automorphisms)
+18
+"""
+
+from __future__ import annotations
+
+from gather_verify.errors import InvalidInput
+from gather_verify.worlds.base import Frame, Label, World
+
+
+class Ring(World):
+    kind = "ring"
+
+    def __init__(self, n: int):
+        if n < 3:
+            raise InvalidInput(f"ring:{n}: a ring has at least 3 nodes")
+        self.n = n
+        super().__init__(f"ring:{n}", range(n), ((v, (v + 1) % n) for v in range(n)))
+
+    @classmethod
+    def from_spec(cls, arg: str) -> Ring:
+        return cls(parse_size(arg, "ring:N"))
+
+    def parse_label(self, text: str) -> Label:
+        return int(text, 10)
+
+    def node_from_json(self, value: object) -> int:
+        return super().node_from_json(value if isinstance(value, int) else -1)
+
+    @property
+    def automorphisms(self) -> tuple[tuple[int, ...], ...]:  # the dihedral group, 2N
+        n = self.n
+        return tuple(tuple((s * v + r) % n for v in range(n)) for s in (1, -1) for r in range(n))
+
+    def frame_labels(self, v: int, ball: tuple[int, ...], frames: str) -> list[Frame]:
+        directions = (1, -1) if frames == "all" else (1,)
+        return [{u: (s * (u - v)) % self.n for u in ball} for s in directions]
+
+    def layout(self) -> dict[int, tuple[float, float]]:
+        """A circle, node 0 at the top, clockwise."""
+        import math
+
+        return {v: (math.sin(2 * math.pi * v / self.n), math.cos(2 * math.pi * v / self.n))
+                for v in range(self.n)}
+
+
+def parse_size(arg: str, form: str, low: int = 1, high: int = 10_000) -> int:
+    """A positive size from a world's spec (``9`` of ``ring:9``), or one line naming it."""
+    try:
+        value = int(arg, 10)
+    except ValueError:
+        raise InvalidInput(f"world size {arg!r} is not an integer (write {form})") from None
+    if not low <= value <= high:
+        raise InvalidInput(f"world size {value} is out of range [{low}, {high}] ({form})")
+    return value

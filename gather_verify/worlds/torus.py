@@ -1,0 +1,38 @@
+"""``torus:WxH``: the W × H grid with wrap-around, W, H ≥ 3, nodes written ``x,y``
+(SEMANTICS.md §9).
+
+A robot's frame is D4 around its own node, as on the grids; a node is presented at
+its shortest offset (``-W//2 .. (W-1)//2`` across, likewise up). Aut(G) is the
+translations with the rectangle's symmetries.
+
+>>> t = Torus(3, 4)
+>>> t.size, t.degree, len(t.automorphisms)
+(12, 4, 48)
+"""
+
+from __future__ import annotations
+
+from gather_verify.worlds.base import World
+from gather_verify.worlds.grid import GridFamily, parse_box
+
+
+class Torus(GridFamily):
+    kind = "torus"
+
+    def __init__(self, width: int, height: int):
+        self.width, self.height = width, height
+        labels = [(x, y) for y in range(height) for x in range(width)]
+        edges = [(y * width + x, y * width + (x + 1) % width) for y in range(height)
+                 for x in range(width)]
+        edges += [(y * width + x, ((y + 1) % height) * width + x) for y in range(height)
+                  for x in range(width)]
+        World.__init__(self, f"torus:{width}x{height}", labels, edges)
+
+    @classmethod
+    def from_spec(cls, arg: str) -> Torus:
+        return cls(*parse_box(arg, "torus:WxH (W, H >= 3)", 3))
+
+    def offset(self, u: int, v: int) -> tuple[int, int]:
+        (ux, uy), (vx, vy) = self.labels[u], self.labels[v]
+        w, h = self.width, self.height
+        return (ux - vx + w // 2) % w - w // 2, (uy - vy + h // 2) % h - h // 2

@@ -1,0 +1,121 @@
+"""What a robot sees on a world, in one frame, and the move sets that follow (§3, §9).
+
+A :class:`WorldView` holds the visible part of the world (``graph``, labelled in
+the frame), the robot's own node (``me``), the robots and the meeting nodes on it,
+and exactly the multiplicity its detection model allows; asking for more raises
+:class:`~gather_verify.model.view.MultiplicityHidden`. An algorithm answers
+``view.me`` (stay) or a neighbour of it in ``view.graph``. The move set of a robot
+is the union over its frames of that answer, mapped back (§3).
+
+>>> from gather_verify.worlds import get_world
+>>> ring = get_world("ring:9")
+>>> v = WorldView(ring, {0: 1, 3: 1, 5: 1}, frozenset({7}), 3, ring.frames(3, None, "all")[1],
+...               "local-weak")
+>>> v.me, sorted(v.robots), sorted(v.meeting_nodes), v.neighbours()
+(0, [0, 3, 7], [5], (1, 8))
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from functools import cached_property
+
+import networkx as nx
+
+from gather_verify.model.view import MultiplicityHidden
+from gather_verify.worlds.base import Frame, Label, World
+
+
+class WorldView:
+    """A robot's snapshot of a world in one frame (read-only)."""
+
+    __slots__ = ("world", "detection", "_counts", "_meeting", "_node", "_frame", "_map")
+
+    def __init__(self, world: World, counts: Mapping[int, int], meeting: frozenset[int],
+                 node: int, frame: Frame, detection: str):
+        self.world, self.detection = world, detection
+        self._counts, self._meeting, self._node = counts, meeting, node
+        self._frame = frame.labels
+        self._map = frame
+
+    @property
+    def me(self) -> Label:
+        """The robot's own node, in its frame."""
+        return self._frame[self._node]
+
+    @property
+    def graph(self) -> nx.Graph:
+        """The visible part of the world, nodes labelled in the robot's frame (frozen)."""
+        return self._map.graph
+
+    def neighbours(self, node: Label | None = None) -> tuple[Label, ...]:
+        """The neighbours of ``node`` (default: the robot's own) in the visible graph,
+        sorted."""
+        return tuple(sorted(self.graph[self.me if node is None else node]))
+
+    def distance(self, a: Label, b: Label) -> int:
+        """Hops between two visible nodes inside the visible graph."""
+        return self._map.distances[a][b]
+
+    @property
+    def robots(self) -> frozenset[Label]:
+        """The visible occupied nodes, in the frame."""
+        return frozenset(self._frame[u] for u in self._counts if u in self._frame)
+
+    @property
+    def meeting_nodes(self) -> frozenset[Label]:
+        """The visible meeting nodes, in the frame."""
+        return frozenset(self._frame[u] for u in self._meeting if u in self._frame)
+
+    def _visible(self, node: Label, strong: bool) -> int:
+        d = self.detection
+        if d == "none":
+            raise MultiplicityHidden("detection 'none' shows no multiplicity at all")
+        if d.startswith("local") and node != self.me:
+            raise MultiplicityHidden(
+                f"{d} detection shows multiplicity only on the robot's own node, not at {node}")
+        if strong and d.endswith("weak"):
+            raise MultiplicityHidden(f"{d} detection tells whether a node is a multiplicity, "
+                                     "not how many robots are on it")
+        back = self._map.inverse
+        if node not in back:
+            raise MultiplicityHidden(f"{node} is not in the view")
+        return self._counts.get(back[node], 0)
+
+    def multiplicity(self, node: Label | None = None) -> bool:
+        """Whether ``node`` (default: the robot's own) holds several robots (a bool)."""
+        return self._visible(self.me if node is None else node, strong=False) > 1
+
+    def count(self, node: Label | None = None) -> int:
+        """How many robots are on ``node`` (strong detection only)."""
+        return self._visible(self.me if node is None else node, strong=True)
+
+    def __repr__(self) -> str:
+        return (f"WorldView(me={self.me!r}, robots={sorted(self.robots, key=repr)}, "
+                f"meeting_nodes={sorted(self.meeting_nodes, key=repr)})")
+
+
+class FrameMap:
+    """One frame of the view from one node: ``labels`` (node index -> label in the frame)
+    and what follows from it, computed once (a world caches its frames)."""
+
+    __slots__ = ("labels", "world", "__dict__")
+
+    def __init__(self, world: World, labels: Frame):
+        self.world, self.labels = world, labels
+
+    @cached_property
+    def inverse(self) -> dict[Label, int]:
+        return {label: u for u, label in self.labels.items()}
+
+    @cached_property
+    def graph(self) -> nx.Graph:
+        g = nx.Graph()
+        g.add_nodes_from(self.labels.values())
+        g.add_edges_from((self.labels[u], self.labels[w]) for u in self.labels
+                         for w in self.world.adjacency[u] if w in self.labels)
+        return nx.freeze(g)
+
+    @cached_property
+    def distances(self) -> dict[Label, dict[Label, int]]:
+        return dict(nx.all_pairs_shortest_path_length(self.graph))
