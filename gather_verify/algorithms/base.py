@@ -70,25 +70,35 @@ class AlgorithmCrash(Exception):
     def __init__(self, algorithm: str, call: str, error: BaseException,
                  node: Node | None = None, view: View | None = None):
         self.algorithm, self.call, self.node = algorithm, call, node
-        self.frame = None if view is None else view._frame
+        frame = getattr(view, "_frame", None)
+        self.frame = frame if isinstance(frame, int) else None
         self.view = None if view is None else {
-            "robots": sorted(map(list, view.robots)),
-            "meeting_nodes": sorted(map(list, view.meeting_nodes))}
+            "robots": [_plain(v) for v in sorted(view.robots)],
+            "meeting_nodes": [_plain(v) for v in sorted(view.meeting_nodes)]}
         self.exception = f"{type(error).__name__}: {error}"
         frames = traceback.extract_tb(error.__traceback__)
         own = [f for f in frames if not f.filename.startswith(_PACKAGE + os.sep)]
         mine = [f for f in own if not f.filename.startswith(_LIBRARY)]
         self.frames = [f"{f.filename}:{f.lineno} in {f.name}: {(f.line or '').strip()}"
                        for f in (mine or own or frames[-3:])]
-        where = "" if node is None else f" for the robot at {tuple(node)}"
+        where = "" if node is None else f" for the robot at {_shown(node)}"
         self.reason = f"the algorithm crashed in {call}{where}: {self.exception}"
         super().__init__(f"algorithm {algorithm!r} crashed in {call}{where}: {self.exception}")
 
     def detail(self) -> dict[str, object]:
         """What a ``crash`` trace records under ``detail`` (JSON)."""
-        return {"call": self.call, "robot_node": None if self.node is None else list(self.node),
+        return {"call": self.call, "robot_node": None if self.node is None else _plain(self.node),
                 "frame": self.frame, "view": self.view, "exception": self.exception,
                 "traceback": self.frames}
+
+
+def _plain(node: object) -> object:
+    """A node as JSON holds it: a pair as a list, a ring's int or a graph's id as it is."""
+    return list(node) if isinstance(node, tuple) else node
+
+
+def _shown(node: object) -> str:
+    return str(tuple(node)) if isinstance(node, tuple | list) else repr(node)
 
 
 def target_of(algorithm: object, configuration: Configuration) -> Node | None:

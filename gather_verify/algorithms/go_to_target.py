@@ -68,12 +68,31 @@ class _Seen:
         self.meeting_nodes = meeting_nodes
 
 
+def _on_graph(view):  # noqa: ANN001, ANN202 - a WorldView (any world but Z²)
+    """``decide`` on a world's graph: towards the unique nearest visible meeting node, by the
+    first neighbour (in the frame's order) strictly closer to it in hops; else stay."""
+    me, meeting = view.me, view.meeting_nodes
+    if not meeting:
+        return me
+    best = min(view.distance(me, m) for m in meeting)
+    closest = [m for m in meeting if view.distance(me, m) == best]
+    if len(closest) != 1 or best == 0:
+        return me
+    (target,) = closest
+    for nb in view.neighbours():
+        if view.distance(nb, target) < best:
+            return nb
+    return me
+
+
 class GoToTarget:
     """Every robot walks to the (unique nearest) meeting node along any shortest path."""
 
     name = "go-to-target"
 
     def decide(self, view: View) -> Node:
+        if type(view) is not View and hasattr(view, "graph"):
+            return _on_graph(view)
         meeting = view.meeting_nodes
         if len(meeting) == 1:
             (target,) = meeting

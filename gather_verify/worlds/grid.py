@@ -76,7 +76,7 @@ class FiniteGrid(GridFamily):
 
     @property
     def automorphisms(self) -> tuple[tuple[int, ...], ...]:
-        w, h = self.width, self.height
+        w = self.width
         out = []
         for g in geometry.ALL:
             a, b, c, d = geometry.MATRICES[g]

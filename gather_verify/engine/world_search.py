@@ -1,0 +1,196 @@
+"""The reference search on a finite world: every reachable state, its edges, and the facts
+the tasks read (SEMANTICS.md §4, §9, §11).
+
+A state is, per robot, its node and its pending destination (node indices of the
+world), and, when the task explores, the set of nodes visited so far (bookkeeping the
+robots never see). The search is breadth-first, so the parent of a state is on a
+shortest path to it. It runs any world and any scheduler: it knows the world only
+through the move sets and the automorphisms it is handed.
+
+Reductions, when asked for and sound (§4): anonymity (the state is the multiset of
+robots) and Aut(G) restricted to the automorphisms that fix the meeting nodes. A
+liveness part needs robot identities (§5, §11), so a task with one is searched
+unreduced; the report says so.
+
+>>> from gather_verify.algorithms import get_algorithm
+>>> from gather_verify.worlds import get_world
+>>> from gather_verify.worlds.moves import WorldMoves
+>>> ring = get_world("ring:9")
+>>> moves = WorldMoves(ring, get_algorithm("go-to-target"), frozenset({7}))
+>>> s = search(ring, (0, 3, 5), moves, "async")
+>>> s.states, s.transitions, s.stopped
+(225, 560, None)
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
+from gather_verify.engine.encoding import NO_LIMITS, Limits
+from gather_verify.engine.explore import rss_mb
+from schedulers import Event, get_scheduler
+
+WorldState = tuple[tuple[tuple[int, int | None], ...], int]
+"""``(robots, visited)``: per robot (node, pending or None); the visited nodes as a bit set
+(0 when the task does not explore)."""
+Moves = Callable[[tuple[int, ...]], dict[int, frozenset[int]]]
+
+
+@dataclass
+class Halt:
+    """A state the search could not expand: the algorithm crashed or has no rule there."""
+
+    property: str  # crash | defined
+    state: int
+    reason: str
+    detail: dict[str, object] = field(default_factory=dict)
+
+
+@dataclass
+class WorldSearch:
+    """What :func:`search` found: the states (ids in BFS order), their edges, and per state
+    the facts the tasks read."""
+
+    keys: list[WorldState]
+    parents: list[int]
+    edges: list[list[tuple[int, int, Event]]]  # per expanded state: (target, robots mask, event)
+    final: list[bool]  # no pending move and every move set is {stay}
+    stay: list[int]  # per state: mask of idle robots whose move set holds staying
+    states: int
+    transitions: int
+    stopped: str | None  # None: the whole space; else the limit or "crash"/"defined"
+    halt: Halt | None
+    reduced: bool
+    seconds: float
+    canonical: Callable[[WorldState], WorldState]
+
+    @property
+    def complete(self) -> bool:
+        return self.stopped is None
+
+    def path_to(self, sid: int) -> list[int]:
+        path = [sid]
+        while self.parents[path[-1]] >= 0:
+            path.append(self.parents[path[-1]])
+        return path[::-1]
+
+
+def canonicaliser(automorphisms: Sequence[Sequence[int]], meeting: frozenset[int],
+                  anonymity: bool, visits: bool) -> Callable[[WorldState], WorldState]:
+    """The key of a state under the reductions: its least image under the automorphisms
+    that fix the meeting nodes, robots sorted when anonymous."""
+    group = [p for p in automorphisms if frozenset(p[m] for m in meeting) == meeting]
+    if len(group) <= 1 and not anonymity:
+        return lambda state: state
+
+    def image(p: Sequence[int], state: WorldState) -> WorldState:
+        robots, visited = state
+        moved = tuple((p[v], None if d is None else p[d]) for v, d in robots)
+        if anonymity:
+            moved = tuple(sorted(moved, key=_order))
+        if visits:
+            visited = sum(1 << p[v] for v in range(len(p)) if visited >> v & 1)
+        return moved, visited
+
+    if len(group) <= 1:
+        return lambda state: (tuple(sorted(state[0], key=_order)), state[1])
+    return lambda state: min((image(p, state) for p in group), key=_state_order)
+
+
+def _order(robot: tuple[int, int | None]) -> tuple[int, int]:
+    return robot[0], -1 if robot[1] is None else robot[1]
+
+
+def _state_order(state: WorldState) -> tuple[object, ...]:
+    return tuple(_order(r) for r in state[0]), state[1]
+
+
+def search(world: object, robots: Sequence[int], moves: Moves, scheduler: str, *,
+           visits: bool = False, anonymity: bool = False, automorphisms: bool = False,
+           meeting: frozenset[int] = frozenset(), limits: Limits = NO_LIMITS) -> WorldSearch:
+    """Breadth-first search of every state reachable from ``robots`` (all idle).
+
+    ``moves`` gives the move sets (:class:`~gather_verify.worlds.moves.WorldMoves`); a
+    crash or a missing rule stops the search at that state (``halt``); a limit stops it
+    with ``stopped`` naming the limit.
+    """
+    started = time.perf_counter()
+    sched = get_scheduler(scheduler)
+    group = getattr(world, "automorphisms", ()) if automorphisms else ()
+    canon = canonicaliser(group, meeting, anonymity, visits)
+    start_robots = tuple((v, None) for v in robots)
+    start: WorldState = (start_robots, _visit_bits(robots) if visits else 0)
+    first = canon(start)
+    keys, reps = [first], [start]
+    index = {first: 0}
+    parents = [-1]
+    edges: list[list[tuple[int, int, Event]]] = []
+    final: list[bool] = []
+    stay: list[int] = []
+    transitions = 0
+    stopped: str | None = None
+    halt = None
+    sid = 0
+    while sid < len(keys):
+        if sid & 63 == 0 and time.perf_counter() - started > limits.max_seconds:
+            stopped = "time"
+            break
+        if sid & 4095 == 0 and rss_mb() > limits.max_memory_mb:
+            stopped = "memory"
+            break
+        state, visited = reps[sid]
+        try:
+            ms = moves(tuple(sorted(v for v, _ in state)))
+        except AlgorithmCrash as error:
+            halt = Halt("crash", sid, error.reason, error.detail())
+        except Unhandled as error:
+            halt = Halt("defined", sid, f"the algorithm has no rule here: {error}")
+        if halt is not None:
+            stopped = halt.property
+            break
+        final.append(all(p is None and ms[v] == {v} for v, p in state))
+        stay.append(sum(1 << i for i, (v, p) in enumerate(state) if p is None and v in ms[v]))
+        out: list[tuple[int, int, Event]] = []
+        for event, succ in sched.successors(state, lambda _robots: ms):  # noqa: B023
+            if succ == state:  # a round in which every activated robot stays changes nothing
+                continue
+            transitions += 1
+            seen = visited
+            if visits:
+                seen |= _visit_bits(v for v, _ in succ)
+            nxt: WorldState = (succ, seen)
+            key = canon(nxt)
+            did = index.get(key)
+            if did is None:
+                did = len(keys)
+                index[key] = did
+                keys.append(key)
+                reps.append(nxt)
+                parents.append(sid)
+            out.append((did, _mask(event.robots), event))
+        edges.append(out)
+        sid += 1
+        if len(keys) > limits.max_states:
+            stopped = "states"
+            break
+    return WorldSearch(keys=reps, parents=parents, edges=edges, final=final, stay=stay,
+                       states=len(keys), transitions=transitions, stopped=stopped, halt=halt,
+                       reduced=anonymity or len(group) > 1,
+                       seconds=time.perf_counter() - started, canonical=canon)
+
+
+def _visit_bits(nodes: object) -> int:
+    bits = 0
+    for v in nodes:  # type: ignore[attr-defined]
+        bits |= 1 << v
+    return bits
+
+
+def _mask(robots: Sequence[int]) -> int:
+    bits = 0
+    for i in robots:
+        bits |= 1 << i
+    return bits

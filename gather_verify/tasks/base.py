@@ -1,0 +1,152 @@
+"""What a task is, and the fairness test its liveness parts share (SEMANTICS.md §5, §11).
+
+A task is a set of properties checked on the reachable space of a finite world
+(:mod:`gather_verify.engine.world_search`). A safety part may be decided on a
+partial search (a violation found is a violation); a liveness part needs the
+whole space, unreduced (robot identities decide fairness).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+
+from gather_verify.engine.world_search import WorldSearch
+
+
+@dataclass
+class Finding:
+    """A violated part: the state it fails in (or the end of the prefix to a cycle), why,
+    and for a liveness part the cycle (state ids, first = last) the run can stay on."""
+
+    property: str
+    state: int
+    reason: str
+    cycle: list[int] | None = None
+    edge: tuple[int, int] | None = None  # a transition part: (source id, index in its edges)
+    detail: dict[str, object] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Context:
+    """What a task knows of the instance besides the search."""
+
+    n: int
+    size: int
+    meeting: frozenset[int]
+    scheduler: str
+    names: tuple[str, ...]  # each node as the world writes it
+
+
+class Task:
+    """A registered task: its parts, which are liveness, and whether it needs the visited
+    nodes in the state. ``check`` returns, per part, its first finding or None (holds)."""
+
+    name: str
+    summary: str
+    parts: tuple[str, ...]
+    liveness: tuple[str, ...] = ()
+    visits: bool = False
+    needs_meeting: bool = False
+
+    def check(self, s: WorldSearch, ctx: Context) -> dict[str, Finding | None]:
+        raise NotImplementedError
+
+
+def components(s: WorldSearch, inside: Callable[[int], bool] | None = None) -> Iterator[list[int]]:
+    """The strongly connected components of the expanded states (those ``inside`` only),
+    iteratively (Tarjan), each as a list of ids."""
+    total = len(s.edges)
+    ok = (lambda _v: True) if inside is None else inside
+    index = [-1] * total
+    low = [0] * total
+    on_stack = [False] * total
+    stack: list[int] = []
+    counter = 0
+    for root in range(total):
+        if index[root] >= 0 or not ok(root):
+            continue
+        work = [(root, 0)]
+        index[root] = low[root] = counter
+        counter += 1
+        stack.append(root)
+        on_stack[root] = True
+        while work:
+            v, i = work[-1]
+            edges = s.edges[v]
+            if i < len(edges):
+                work[-1] = (v, i + 1)
+                w = edges[i][0]
+                if w >= total or not ok(w):
+                    continue
+                if index[w] < 0:
+                    index[w] = low[w] = counter
+                    counter += 1
+                    stack.append(w)
+                    on_stack[w] = True
+                    work.append((w, 0))
+                elif on_stack[w]:
+                    low[v] = min(low[v], index[w])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[v])
+            if low[v] == index[v]:
+                comp = []
+                while True:
+                    w = stack.pop()
+                    on_stack[w] = False
+                    comp.append(w)
+                    if w == v:
+                        break
+                yield comp
+
+
+def fair(s: WorldSearch, comp: list[int], n: int) -> bool:
+    """§5: a fair run can stay in ``comp`` forever exactly when every robot has an event on
+    an edge inside it, or is idle in a state of it where its move set holds staying."""
+    members = set(comp)
+    covered = 0
+    for v in comp:
+        covered |= s.stay[v]
+        for w, robots, _ in s.edges[v]:
+            if w in members:
+                covered |= robots
+    return covered == (1 << n) - 1
+
+
+def cycle_in(s: WorldSearch, comp: list[int]) -> list[int]:
+    """A cycle inside ``comp`` from its state nearest the start (first = last), or that
+    state alone when the run stays on it by null activations."""
+    members = set(comp)
+    start = min(comp)
+    parent = {start: -1}
+    queue = [start]
+    for v in queue:
+        for w, _, _ in s.edges[v]:
+            if w == start:
+                path = [v]
+                while parent[path[-1]] >= 0:
+                    path.append(parent[path[-1]])
+                return path[::-1] + [start]
+            if w in members and w not in parent:
+                parent[w] = v
+                queue.append(w)
+    return [start]
+
+
+def livelock(s: WorldSearch, ctx: Context, name: str, what: str,
+             inside: Callable[[int], bool] | None = None,
+             single_states: bool = False) -> Finding | None:
+    """The first fair component (with an edge between distinct states, or any state when
+    ``single_states``), as a finding whose cycle a trace can show."""
+    found = None
+    for comp in components(s, inside):
+        if len(comp) == 1 and not single_states:
+            continue
+        if fair(s, comp, ctx.n) and (found is None or min(comp) < min(found)):
+            found = comp
+    if found is None:
+        return None
+    cycle = cycle_in(s, found)
+    return Finding(name, cycle[0], what, cycle=cycle)

@@ -1,0 +1,234 @@
+"""Verify an algorithm on a finite world against a task: the search, the verdict, the trace
+(SEMANTICS.md §9, §11).
+
+The world, the algorithm, the scheduler and the task are resolved once, here, and
+handed to the search as objects. The verdict follows §5: VIOLATED with the first
+failing part and its trace; VERIFIED only when the whole space was searched and
+every part holds; INCOMPLETE when a limit stopped the search first (a safety part
+found failing on the way is still VIOLATED: its trace is real).
+
+>>> r = run_world_check("ring:9", "0 3 5", "7", "go-to-target", "async", reduction=False)
+>>> r["verdict"], r["states"], r["transitions"], r["task"]
+('VERIFIED', 225, 560, 'gathering-on-meeting-nodes')
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+from gather_verify.algorithms import Algorithm, get_algorithm
+from gather_verify.engine.encoding import (
+    DEFAULT_MAX_MEMORY_MB,
+    DEFAULT_MAX_SECONDS,
+    DEFAULT_MAX_STATES,
+    Limits,
+)
+from gather_verify.engine.world_search import WorldSearch, search
+from gather_verify.errors import InvalidInput
+from gather_verify.tasks import Context, Finding, Task, get_task
+from gather_verify.worlds import get_world
+from gather_verify.worlds.base import World
+from gather_verify.worlds.moves import WorldMoves
+from schedulers import get_scheduler
+
+PSEUDO = ("crash", "defined")
+"""Checked on every task: the algorithm must answer a move in every view it meets."""
+PAPER_ONLY = ("target-invariance", "no-ungatherable", "move-bound")
+"""The paper's own properties: they need Z² with meeting nodes (its classes, U, D)."""
+
+
+def default_task(meeting: list[int]) -> str:
+    """``gathering-on-meeting-nodes`` when meeting nodes are given, else ``gathering``."""
+    return "gathering-on-meeting-nodes" if meeting else "gathering"
+
+
+def run_world_check(world: str | World, robots: str | list[int], meeting: str | list[int],
+                    algorithm: str | Algorithm, scheduler: str, *, task: str | None = None,
+                    properties: list[str] | None = None, detection: str = "local-weak",
+                    frames: str = "all", visibility: int | None = None,
+                    reduction: bool = True, max_states: int = DEFAULT_MAX_STATES,
+                    max_seconds: float = DEFAULT_MAX_SECONDS,
+                    max_memory_mb: float = DEFAULT_MAX_MEMORY_MB) -> dict[str, Any]:
+    """Check ``algorithm`` from one initial configuration of ``world``; a JSON-ready report
+    (``verdict``, ``property``, ``reason``, ``states``, ``transitions``, per-part results and
+    the counterexample ``trace``)."""
+    started = time.perf_counter()
+    w = get_world(world) if isinstance(world, str) else world
+    r = w.parse_nodes(robots) if isinstance(robots, str) else list(robots)
+    m = w.parse_nodes(meeting) if isinstance(meeting, str) else list(meeting)
+    if not r:
+        raise InvalidInput("no robots: give at least one robot node")
+    if visibility is not None and visibility < 0:
+        raise InvalidInput(f"visibility {visibility} is negative: give a number of hops >= 0")
+    algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
+    get_scheduler(scheduler)
+    t = get_task(task or default_task(m))
+    parts = _parts(t, properties, w)
+    if t.needs_meeting and not m:
+        raise InvalidInput(f"task {t.name} needs meeting nodes: give --meeting")
+    if t.visits and w.size > 62:
+        raise InvalidInput(f"task {t.name} tracks visited nodes in the state: {w.name} has "
+                           f"{w.size} nodes, at most 62 are supported")
+    liveness = any(p in t.liveness for p in parts)
+    reduce = reduction and not liveness
+    moves = WorldMoves(w, algo, frozenset(m), detection, frames, visibility)
+    limits = Limits(max_states=max_states, max_seconds=max_seconds, max_memory_mb=max_memory_mb)
+    s = search(w, tuple(r), moves, scheduler, visits=t.visits, anonymity=reduce,
+               automorphisms=reduce, meeting=frozenset(m), limits=limits)
+    ctx = Context(len(r), w.size, frozenset(m), scheduler,
+                  tuple(w.format_node(v) for v in range(w.size)))
+    results: dict[str, dict[str, Any]] = {}
+    first: Finding | None = None
+    if s.halt is not None:
+        first = Finding(s.halt.property, s.halt.state, s.halt.reason, detail=s.halt.detail)
+        results[s.halt.property] = {"holds": False, "reason": s.halt.reason}
+    found = t.check(s, ctx) if s.halt is None else {}
+    for name in parts:
+        got = found.get(name)
+        if got is not None:
+            results[name] = {"holds": False, "reason": got.reason}
+            first = first or got
+        elif s.complete:
+            results[name] = {"holds": True}
+        else:
+            why = (f"the search stopped ({s.stopped}) before the whole space was seen"
+                   if s.halt is None else f"the search stopped at a {s.halt.property} violation")
+            results[name] = {"holds": None, "reason": why}
+    for name in PSEUDO:
+        results.setdefault(name, {"holds": True} if s.complete else
+                           {"holds": None, "reason": "the search did not finish"})
+    if first is not None:
+        verdict = "VIOLATED"
+    elif s.complete:
+        verdict = "VERIFIED"
+    else:
+        verdict = "INCOMPLETE"
+    return {
+        "verdict": verdict,
+        "world": w.name,
+        "task": t.name,
+        "algorithm": algo.name,
+        "scheduler": scheduler,
+        "detection": detection,
+        "frames": frames,
+        "visibility": visibility,
+        "robots": [w.node_to_json(v) for v in r],
+        "meeting_nodes": [w.node_to_json(v) for v in m],
+        "property": None if first is None else first.property,
+        "reason": (first.reason if first is not None else
+                   None if s.complete else f"the search stopped: {s.stopped} limit"),
+        "stopped": s.stopped,
+        "states": s.states,
+        "transitions": s.transitions,
+        "reductions": ("anonymity, Aut(G) fixing the meeting nodes" if s.reduced else
+                       "off: liveness needs robot identities" if reduction and liveness else
+                       "off"),
+        "properties": results,
+        "trace": None if first is None else trace_of(w, s, first, r, m, algo.name, scheduler,
+                                                     t.name, detection, frames, visibility),
+        "seconds": time.perf_counter() - started,
+    }
+
+
+def _parts(task: Task, properties: list[str] | None, world: World) -> list[str]:
+    """The task's parts to check: all of them, or those named (one line for any other)."""
+    if not properties:
+        return list(task.parts)
+    out = []
+    for name in properties:
+        if name in PAPER_ONLY:
+            raise InvalidInput(f"property {name} is the paper's own (Z² with meeting nodes): "
+                               f"{world.name} cannot support it")
+        if name in PSEUDO:
+            continue
+        if name not in task.parts:
+            raise InvalidInput(f"task {task.name} has no property {name!r}: use "
+                               f"{', '.join(task.parts)}")
+        out.append(name)
+    return out
+
+
+def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
+             meeting: list[int], algorithm: str, scheduler: str, task: str, detection: str,
+             frames: str, visibility: int | None) -> dict[str, Any]:
+    """The counterexample as JSON: the shortest path to the failing state (then, for a
+    liveness part, the cycle the run can stay on), every state in the world's node names."""
+    ids = s.path_to(finding.state)
+    cycle_start = None
+    if finding.cycle is not None and len(finding.cycle) > 1:
+        cycle_start = len(ids) - 1
+        ids = ids + finding.cycle[1:]
+    steps = [_step(world, None, s.keys[ids[0]])]
+    for a, b in zip(ids, ids[1:], strict=False):
+        event = _event_between(s, a, b)
+        steps.append(_step(world, event, s.keys[b]))
+    if finding.edge is not None:  # a transition part: the failing round itself
+        src, k = finding.edge
+        _, _, event = s.edges[src][k]
+        target = s.edges[src][k][0]
+        steps.append(_step(world, event, s.keys[target]))
+    return {
+        "world": world.name, "task": task, "algorithm": algorithm, "scheduler": scheduler,
+        "detection": detection, "frames": frames, "visibility": visibility,
+        "property": finding.property, "reason": finding.reason,
+        "detail": {k: (world.node_to_json(v) if k == "node" else v)
+                   for k, v in finding.detail.items()},
+        "robots": [world.node_to_json(v) for v in robots],
+        "meeting_nodes": [world.node_to_json(v) for v in meeting],
+        "steps": steps, "cycle_start": cycle_start,
+    }
+
+
+def _event_between(s: WorldSearch, a: int, b: int) -> Any:
+    """The event from state ``a`` to ``b`` (both as stored: along BFS parents and inside an
+    unreduced cycle, each stored state is the concrete successor of the one before)."""
+    for target, _, event in s.edges[a]:
+        if target == b and _apply(s.keys[a], event) == s.keys[b][0]:
+            return event
+    raise AssertionError(f"no edge from state {a} to {b}")  # pragma: no cover
+
+
+def _apply(state: Any, event: Any) -> tuple[tuple[int, int | None], ...]:
+    robots = list(state[0])
+    for i, src, dst in event.moves:
+        if event.kind == "look":
+            robots[i] = (src, dst)
+        else:
+            robots[i] = (dst, None)
+    return tuple(robots)
+
+
+def _step(world: World, event: Any, state: Any) -> dict[str, Any]:
+    name = world.node_to_json
+    out: dict[str, Any] = {
+        "event": None if event is None else {
+            "kind": event.kind, "robots": list(event.robots),
+            "moves": [[i, name(a), name(b)] for i, a, b in event.moves]},
+        "robots": [[name(v), None if p is None else name(p)] for v, p in state[0]],
+    }
+    if state[1]:
+        out["visited"] = [name(v) for v in range(world.size) if state[1] >> v & 1]
+    return out
+
+
+def render_world_trace(trace: dict[str, Any]) -> str:
+    """The trace as text, one line per step (``*`` marks where the cycle starts)."""
+    lines = [f"{trace['property']}: {trace['reason']}"]
+    for k, step in enumerate(trace["steps"]):
+        robots = "  ".join(f"r{i}@{_txt(v)}" + ("" if p is None else f"->{_txt(p)}")
+                           for i, (v, p) in enumerate(step["robots"]))
+        event = step["event"]
+        what = "start" if event is None else event["kind"] + " " + (
+            ", ".join(f"r{i} {_txt(a)}->{_txt(b)}" for i, a, b in event["moves"]) or
+            "r" + ",r".join(map(str, event["robots"])))
+        mark = "*" if trace.get("cycle_start") == k else " "
+        lines.append(f"{mark}{k:3d}  {what:28}  {robots}")
+    if trace.get("cycle_start") is not None:
+        lines.append(f"  (from * the run can repeat the cycle forever: steps "
+                     f"{trace['cycle_start']}..{len(trace['steps']) - 1})")
+    return "\n".join(lines)
+
+
+def _txt(node: Any) -> str:
+    return ",".join(map(str, node)) if isinstance(node, list) else str(node)
