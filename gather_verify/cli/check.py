@@ -40,6 +40,14 @@ HELP = ("verify an algorithm from one initial configuration against every advers
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_configuration_arguments(parser)
+    parser.add_argument("--world", help="the graph the robots live on: grid (Z², the paper's, "
+                        "default), grid:WxH, ring:N, torus:WxH or graph:FILE (docs/worlds.md)")
+    parser.add_argument("--task", help="on a finite world: gathering, "
+                        "gathering-on-meeting-nodes (default with meeting nodes), "
+                        "exclusive-perpetual-exploration or exploration-with-stop")
+    parser.add_argument("--visibility", type=bounded_int(-10**6, 10**6), default=None,
+                        metavar="HOPS", help="on a finite world: robots see only the nodes "
+                        "within this many hops (default: the whole world)")
     parser.add_argument("--algorithm", help="a name, FILE.py:NAME or package.module:NAME "
                         "(default: the scenario's, else paper)")
     parser.add_argument("--scheduler", choices=tuple(SCHEDULERS))
@@ -92,7 +100,13 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.check import run_check
     from gather_verify.engine.export import graph_format, write_graph
     from gather_verify.render import render_trace, trace_svg
+    from gather_verify.worlds import is_plane
 
+    if not is_plane(args.world):
+        return run_world(args)
+    if args.task not in (None, "gathering-on-meeting-nodes") or args.visibility is not None:
+        raise UsageError("--task and --visibility need a finite world (--world ring:N, "
+                         "grid:WxH, torus:WxH or graph:FILE); on Z² the task is the paper's")
     configuration, scenario = load_configuration(args)
     writable_outputs(trace_out=args.trace_out, svg=args.svg, html=args.html, junit=args.junit,
                      graph_out=args.graph_out)
@@ -183,6 +197,57 @@ def run(args: argparse.Namespace) -> int:
         return ROBUSTNESS_EXIT[report["robustness"]]
     if expected is not None:  # a scenario test: matched is success, whatever the verdict
         return EXIT_OK if expected["matched"] else EXIT_VIOLATED
+    return VERDICT_EXIT[report["verdict"]]
+
+
+PLANE_ONLY = ("readings", "margin", "keep_growing", "force", "graph_out", "svg", "html", "junit")
+"""Options of the paper's world (Z²) that a finite world does not take."""
+
+
+def run_world(args: argparse.Namespace) -> int:
+    """``check --world W``: the finite-world search (:mod:`gather_verify.world_check`)."""
+    from gather_verify.world_check import render_world_trace, run_world_check
+
+    if args.scenario:
+        raise UsageError("a scenario file describes the paper's world: on a finite world give "
+                         "--robots and --meeting")
+    for option in PLANE_ONLY:
+        if getattr(args, option):
+            raise UsageError(f"--{option.replace('_', '-')} is an option of the paper's world "
+                             f"(Z²), not of {args.world}")
+    if args.robots is None:
+        raise UsageError("give --robots (and --meeting for meeting nodes)")
+    writable_outputs(trace_out=args.trace_out)
+    try:
+        report = run_world_check(
+            args.world, args.robots, args.meeting or "", args.algorithm or "go-to-target",
+            args.scheduler or "async", task=args.task, properties=args.properties,
+            detection=args.multiplicity or "local-weak", frames=args.frames or "all",
+            visibility=args.visibility, reduction=not args.no_reduction,
+            max_states=args.max_states, max_seconds=args.max_seconds,
+            **({} if args.max_memory is None else {"max_memory_mb": args.max_memory}))
+    except KeyboardInterrupt:
+        print("interrupted: check keeps no partial results (nothing was written)",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED
+    trace = report["trace"]
+    if trace is not None and args.trace_out:
+        Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
+    if args.json:
+        print_json(report if args.timings else without_timings(report))
+        return VERDICT_EXIT[report["verdict"]]
+    print(f"{report['verdict']}  {report['world']}  task {report['task']}  "
+          f"{report['algorithm']} / {report['scheduler']}")
+    if report["reason"]:
+        print(f"{'property ' + report['property'] if report['property'] else 'reason'}: "
+              f"{report['reason']}")
+    print(f"states {report['states']}  transitions {report['transitions']}  "
+          f"reductions {report['reductions']}  {report['seconds']:.2f}s")
+    for name, result in report["properties"].items():
+        holds = {True: "holds", False: "FAILS", None: "unknown"}[result["holds"]]
+        print(f"  {name:24} {holds}  {result.get('reason', '')}".rstrip())
+    if trace is not None:
+        print(render_world_trace(trace))
     return VERDICT_EXIT[report["verdict"]]
 
 
