@@ -42,6 +42,8 @@ from gather_verify.algorithms.loading import (
 from gather_verify.algorithms.nearest_centre import NearestCentre
 from gather_verify.algorithms.paper import PaperAlgorithm
 from gather_verify.algorithms.random_equivariant import RandomEquivariant
+from gather_verify.algorithms.ring_exploration import RingExplore
+from gather_verify.algorithms.ring_gathering import RingGather
 from gather_verify.errors import InvalidInput
 from gather_verify.recent import most_recent
 
@@ -50,6 +52,8 @@ REGISTRY: dict[str, Callable[..., Algorithm]] = {
     "nearest-centre": NearestCentre,
     "paper": PaperAlgorithm,
     "random": RandomEquivariant,
+    "ring-explore": RingExplore,
+    "ring-gather": RingGather,
 }
 
 

@@ -11,8 +11,12 @@ all find them. All assume one meeting node unless said otherwise.
 
 from __future__ import annotations
 
+from typing import Any
+
 from gather_verify.algorithms.base import Unhandled
 from gather_verify.algorithms.go_to_target import GoToTarget, nearest, step_towards
+from gather_verify.algorithms.ring_exploration import RingExplore
+from gather_verify.algorithms.ring_gathering import RingGather, towards
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import ORIGIN, Node, manhattan
 from gather_verify.model.view import View
@@ -120,6 +124,27 @@ class CrashTarget(GoToTarget):
         return super().target(configuration)
 
 
+class RingGatherBoth(RingGather):
+    """``ring-gather`` whose closest pair both step towards each other: at an odd gap they
+    cross over and on (under FSYNC they swap for ever: termination fails)."""
+
+    name = "broken-ring-gather"
+
+    def pair_move(self, view: Any, a: Any, b: Any, behind_a: int, behind_b: int) -> Any:
+        if view.me in (a, b):
+            return towards(view, b if view.me == a else a)
+        return view.me
+
+
+class RingExploreBlind(RingExplore):
+    """``ring-explore`` that steps forward even onto a robot (exclusivity fails)."""
+
+    name = "broken-ring-explore"
+
+    def decide(self, view: Any) -> Any:
+        return self.forward(view)
+
+
 BROKEN = {cls.name: cls for cls in (Away, Stay, Drift, Wander, Undefined, Crash, BadAnswer,
-                                    CrashTarget)}
+                                    CrashTarget, RingGatherBoth, RingExploreBlind)}
 
