@@ -75,7 +75,8 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
     moves = WorldMoves(w, algo, frozenset(m), detection, frames, visibility)
     limits = Limits(max_states=max_states, max_seconds=max_seconds, max_memory_mb=max_memory_mb)
     s = search(w, tuple(r), moves, scheduler, visits=t.visits, anonymity=reduce,
-               automorphisms=reduce, meeting=frozenset(m), limits=limits)
+               symmetries=w.symmetries(frames) if reduce else (), meeting=frozenset(m),
+               limits=limits)
     ctx = Context(len(r), w.size, frozenset(m), scheduler,
                   tuple(w.format_node(v) for v in range(w.size)))
     results: dict[str, dict[str, Any]] = {}
@@ -121,7 +122,7 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
         "stopped": s.stopped,
         "states": s.states,
         "transitions": s.transitions,
-        "reductions": ("anonymity, Aut(G) fixing the meeting nodes" if s.reduced else
+        "reductions": ("anonymity, the symmetries fixing the meeting nodes" if s.reduced else
                        "off: liveness needs robot identities" if reduction and liveness else
                        "off"),
         "properties": results,

@@ -145,25 +145,37 @@ def test_petersen_graph_file_has_120_automorphisms(tmp_path) -> None:  # noqa: A
     assert len(get_world(f"graph:{path}").automorphisms) == 120
 
 
+def test_symmetries_follow_the_frames() -> None:
+    """Only automorphisms that move the robots' frames along are symmetries of the problem."""
+    torus = get_world("torus:4x4")
+    assert len(torus.symmetries("all")) == 128 < len(torus.automorphisms) == 384
+    assert len(torus.symmetries("chirality")) == 64 and len(torus.symmetries("compass")) == 16
+    ring = get_world("ring:7")
+    assert [len(ring.symmetries(f)) for f in ("all", "chirality", "compass")] == [14, 7, 7]
+    grid = get_world("grid:3x3")
+    assert [len(grid.symmetries(f)) for f in ("all", "chirality", "compass")] == [8, 4, 1]
+
+
 @settings(max_examples=40, deadline=None)
-@given(world_name=st.sampled_from(["ring:6", "ring:7", "grid:3x3", "torus:3x3"]),
+@given(world_name=st.sampled_from(["ring:6", "ring:7", "grid:3x3", "torus:3x3", "torus:4x4"]),
        seed=st.integers(0, 10**6), scheduler=st.sampled_from(["fsync", "ssync", "async"]),
+       frames=st.sampled_from(["all", "chirality", "compass"]),
        task=st.sampled_from(["gathering-on-meeting-nodes", "exploration-with-stop",
                              "exclusive-perpetual-exploration"]))
-def test_results_do_not_change_under_automorphisms(world_name: str, seed: int, scheduler: str,
-                                                   task: str) -> None:
+def test_results_do_not_change_under_the_symmetries(world_name: str, seed: int, scheduler: str,
+                                                    frames: str, task: str) -> None:
     import random
 
     rnd = random.Random(seed)
     w = get_world(world_name)
     robots = rnd.sample(range(w.size), 2)
     meeting = [rnd.randrange(w.size)]
-    p = rnd.choice(w.automorphisms)
+    p = rnd.choice(w.symmetries(frames))
     algorithm = rnd.choice(["go-to-target", "ring-explore"]) if w.kind == "ring" else \
         "go-to-target"
-    base = run_world_check(w, robots, meeting, algorithm, scheduler, task=task)
+    base = run_world_check(w, robots, meeting, algorithm, scheduler, task=task, frames=frames)
     moved = run_world_check(w, [p[v] for v in robots], [p[v] for v in meeting], algorithm,
-                            scheduler, task=task)
+                            scheduler, task=task, frames=frames)
     for key in ("verdict", "property", "states", "transitions"):
         assert base[key] == moved[key], key
 
@@ -334,3 +346,20 @@ def test_bad_graph_files_are_one_line_exit_2(tmp_path) -> None:  # noqa: ANN001
         nx.write_edgelist(nx.complete_graph(4), path, data=False)
         run_world_check(f"graph:{path}", "0 1", "", "go-to-target", "async",
                         task="gathering", frames="chirality")
+
+
+@pytest.mark.parametrize("frames", ["all", "chirality", "compass"])
+def test_reductions_keep_the_verdicts_of_a_direction_reading_algorithm(frames: str) -> None:
+    """ring-explore reads its direction: merging mirror images would be unsound under a
+    common chirality; the symmetries of the frames never merge them."""
+    w = get_world("ring:7")
+    for robots in itertools.combinations(range(w.size), 3):
+        for scheduler in ("ssync", "async"):
+            full = run_world_check(w, list(robots), [], "broken-ring-explore", scheduler,
+                                   task="exclusive-perpetual-exploration", frames=frames,
+                                   properties=["exclusivity"], reduction=False)
+            reduced = run_world_check(w, list(robots), [], "broken-ring-explore", scheduler,
+                                      task="exclusive-perpetual-exploration", frames=frames,
+                                      properties=["exclusivity"])
+            assert reduced["verdict"] == full["verdict"]
+            assert reduced["reductions"] != "off" and reduced["states"] <= full["states"]

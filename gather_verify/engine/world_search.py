@@ -8,7 +8,8 @@ shortest path to it. It runs any world and any scheduler: it knows the world onl
 through the move sets and the automorphisms it is handed.
 
 Reductions, when asked for and sound (§4): anonymity (the state is the multiset of
-robots) and Aut(G) restricted to the automorphisms that fix the meeting nodes. A
+robots) and the world's symmetries under the robots' frames that fix the meeting
+nodes (:meth:`~gather_verify.worlds.base.World.symmetries`). A
 liveness part needs robot identities (§5, §11), so a task with one is searched
 unreduced; the report says so.
 
@@ -109,18 +110,21 @@ def _state_order(state: WorldState) -> tuple[object, ...]:
 
 
 def search(world: object, robots: Sequence[int], moves: Moves, scheduler: str, *,
-           visits: bool = False, anonymity: bool = False, automorphisms: bool = False,
+           visits: bool = False, anonymity: bool = False,
+           symmetries: Sequence[Sequence[int]] = (),
            meeting: frozenset[int] = frozenset(), limits: Limits = NO_LIMITS) -> WorldSearch:
     """Breadth-first search of every state reachable from ``robots`` (all idle).
 
-    ``moves`` gives the move sets (:class:`~gather_verify.worlds.moves.WorldMoves`); a
+    ``symmetries``: the automorphisms that commute with the robots' frames
+    (:meth:`~gather_verify.worlds.base.World.symmetries`), to merge states by (those that
+    fix the meeting nodes). ``moves`` gives the move sets
+    (:class:`~gather_verify.worlds.moves.WorldMoves`); a
     crash or a missing rule stops the search at that state (``halt``); a limit stops it
     with ``stopped`` naming the limit.
     """
     started = time.perf_counter()
     sched = get_scheduler(scheduler)
-    group = getattr(world, "automorphisms", ()) if automorphisms else ()
-    canon = canonicaliser(group, meeting, anonymity, visits)
+    canon = canonicaliser(symmetries, meeting, anonymity, visits)
     start_robots = tuple((v, None) for v in robots)
     start: WorldState = (start_robots, _visit_bits(robots) if visits else 0)
     first = canon(start)
@@ -178,7 +182,7 @@ def search(world: object, robots: Sequence[int], moves: Moves, scheduler: str, *
             break
     return WorldSearch(keys=reps, parents=parents, edges=edges, final=final, stay=stay,
                        states=len(keys), transitions=transitions, stopped=stopped, halt=halt,
-                       reduced=anonymity or len(group) > 1,
+                       reduced=anonymity or len(symmetries) > 1,
                        seconds=time.perf_counter() - started, canonical=canon)
 
 

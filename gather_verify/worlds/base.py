@@ -119,6 +119,15 @@ class World:
         identity first. Subclasses with a known group list it; the default enumerates it."""
         return enumerate_automorphisms(self.graph, self.name)
 
+    def symmetries(self, frames: str) -> tuple[tuple[int, ...], ...]:
+        """The automorphisms that commute with the frame set: those under which the robots'
+        decisions move with the configuration, so a search or a census may merge what they
+        relate (§4 reductions, §9 sweeps). By default all of Aut(G) for ``all`` frames (each
+        frame is the labelling moved by an automorphism) and the identity for ``compass``."""
+        if frames == "all":
+            return self.automorphisms
+        return (tuple(range(self.size)),)
+
     # -- how nodes are written ---------------------------------------------------------
     def label(self, v: int) -> Label:
         return self.labels[v]

@@ -65,6 +65,12 @@ class FileGraph(World):
     def automorphisms(self) -> tuple[tuple[int, ...], ...]:
         return _automorphisms(self.digest, self.adjacency, self.name)
 
+    def symmetries(self, frames: str) -> tuple[tuple[int, ...], ...]:
+        if frames == "chirality":
+            raise InvalidInput(f"{self.name} has no orientation: --frames chirality needs a "
+                               "ring, a grid or a torus (use all or compass)")
+        return super().symmetries(frames)
+
     def frame_labels(self, v: int, ball: tuple[int, ...], frames: str) -> list[Frame]:
         if frames == "chirality":
             raise InvalidInput(f"{self.name} has no orientation: --frames chirality needs a "

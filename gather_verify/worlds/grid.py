@@ -44,6 +44,18 @@ class GridFamily(World):
         (ux, uy), (vx, vy) = self.labels[u], self.labels[v]
         return ux - vx, uy - vy
 
+    def symmetries(self, frames: str) -> tuple[tuple[int, ...], ...]:
+        """The automorphisms made of a translation and an element of D4 the frame set holds
+        (on the 4 × 4 torus, the 4-cube, Aut(G) has more: they do not move the robots'
+        coordinate frames along, so they are no symmetry of the problem)."""
+        out = [p for g in D4_FRAMES[frames] for p in self.placements(g)]
+        out.sort(key=lambda p: p != tuple(range(self.size)))
+        return tuple(dict.fromkeys(out))
+
+    def placements(self, g: int) -> list[tuple[int, ...]]:
+        """The automorphisms whose linear part is D4 element ``g`` (node -> image)."""
+        raise NotImplementedError
+
     def frame_labels(self, v: int, ball: tuple[int, ...], frames: str) -> list[Frame]:
         out = []
         for g in D4_FRAMES[frames]:
@@ -76,14 +88,13 @@ class FiniteGrid(GridFamily):
 
     @property
     def automorphisms(self) -> tuple[tuple[int, ...], ...]:
-        w = self.width
-        out = []
-        for g in geometry.ALL:
-            a, b, c, d = geometry.MATRICES[g]
-            image = [(a * x + b * y, c * x + d * y) for x, y in self.labels]
-            xs, ys = [p[0] for p in image], [p[1] for p in image]
-            if max(xs) - min(xs) + 1 != w:  # a quarter turn of a W != H rectangle
-                continue
-            mx, my = min(xs), min(ys)
-            out.append(tuple(self.index[(x - mx, y - my)] for x, y in image))
-        return tuple(out)
+        return self.symmetries("all")
+
+    def placements(self, g: int) -> list[tuple[int, ...]]:
+        a, b, c, d = geometry.MATRICES[g]
+        image = [(a * x + b * y, c * x + d * y) for x, y in self.labels]
+        xs, ys = [p[0] for p in image], [p[1] for p in image]
+        if max(xs) - min(xs) + 1 != self.width:  # a quarter turn of a W != H rectangle
+            return []
+        mx, my = min(xs), min(ys)
+        return [tuple(self.index[(x - mx, y - my)] for x, y in image)]

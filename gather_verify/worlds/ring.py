@@ -41,6 +41,11 @@ class Ring(World):
         n = self.n
         return tuple(tuple((s * v + r) % n for v in range(n)) for s in (1, -1) for r in range(n))
 
+    def symmetries(self, frames: str) -> tuple[tuple[int, ...], ...]:
+        """Rotations keep a robot's direction: every frame set allows them; reflections only
+        when robots have no common direction."""
+        return self.automorphisms if frames == "all" else self.automorphisms[:self.n]
+
     def frame_labels(self, v: int, ball: tuple[int, ...], frames: str) -> list[Frame]:
         directions = (1, -1) if frames == "all" else (1,)
         return [{u: (s * (u - v)) % self.n for u in ball} for s in directions]

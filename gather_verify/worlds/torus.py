@@ -32,6 +32,16 @@ class Torus(GridFamily):
     def from_spec(cls, arg: str) -> Torus:
         return cls(*parse_box(arg, "torus:WxH (W, H >= 3)", 3))
 
+    def placements(self, g: int) -> list[tuple[int, ...]]:
+        from gather_verify.model import geometry
+
+        a, b, c, d = geometry.MATRICES[g]
+        w, h = self.width, self.height
+        if w != h and b != 0:  # a quarter turn of a W != H torus
+            return []
+        return [tuple(self.index[((a * x + b * y + tx) % w, (c * x + d * y + ty) % h)]
+                      for x, y in self.labels) for tx in range(w) for ty in range(h)]
+
     def offset(self, u: int, v: int) -> tuple[int, int]:
         (ux, uy), (vx, vy) = self.labels[u], self.labels[v]
         w, h = self.width, self.height
