@@ -27,7 +27,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="robots n, or a range A-B (every n from A to B)")
     p.add_argument("--meeting", type=count_range, required=True,
                    help="meeting nodes m, or a range A-B")
-    p.add_argument("--box", type=parse_box, required=True, help="box of nodes, WxH")
+    p.add_argument("--box", type=parse_box, default=None,
+                   help="box of nodes, WxH (the paper's world; a finite world needs none)")
+    p.add_argument("--world", default="grid",
+                   help="grid (Z², the paper's, default), or a finite world: grid:WxH, ring:N, "
+                        "a range of rings ring:A-B, torus:WxH, graph:FILE (docs/worlds.md)")
+    p.add_argument("--task", default=None,
+                   help="on a finite world: gathering, gathering-on-meeting-nodes (default "
+                        "with meeting nodes), exclusive-perpetual-exploration, "
+                        "exploration-with-stop")
+    p.add_argument("--visibility", type=bounded_int(0, 10**6), default=None, metavar="HOPS",
+                   help="on a finite world: robots see only the nodes within this many hops")
     p.add_argument("--algorithm", default="paper",
                    help="a name, FILE.py:NAME or package.module:NAME (docs/algorithms.md)")
     p.add_argument("--scheduler", choices=tuple(SCHEDULERS), default="async")
@@ -84,9 +94,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def count_range(text: str) -> range:
-    """argparse type: ``N`` or ``A-B`` with 1 <= A <= B <= 16."""
+    """argparse type: ``N`` or ``A-B`` with 0 <= A <= B <= 16 (robots: at least 1)."""
     low, sep, high = text.partition("-")
-    parse = bounded_int(1, 16)
+    parse = bounded_int(0, 16)
     first = parse(low)
     last = parse(high) if sep else first
     if last < first:
@@ -102,6 +112,17 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.sweeps.census import validate_census_arguments
     from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
 
+    from gather_verify.worlds import is_plane
+
+    if not is_plane(args.world):
+        return _worlds(args)
+    if args.box is None:
+        raise InvalidInput("--box is required in the paper's world (or give a finite --world)")
+    if args.task is not None or args.visibility is not None:
+        raise InvalidInput("--task and --visibility need a finite world (--world ring:N, "
+                           "grid:WxH, torus:WxH or graph:FILE)")
+    if 0 in args.robots:
+        raise InvalidInput("--robots: at least one robot")
     if args.readings_types is not None and not args.readings:
         raise InvalidInput("--readings-types needs --readings (it picks which configurations the "
                            "readings run on)")
@@ -153,6 +174,62 @@ def run(args: argparse.Namespace) -> int:
             print(f"fingerprint: {summary['settings']['fingerprint']} (the algorithm's source "
                   "and options, property files, --fingerprint-extra files, gather-verify's own "
                   "source: an edit of any computes again)")
+    verdicts = {v for by in summary["verdicts"].values() for v in by}
+    if "VIOLATED" in verdicts:
+        return 1
+    return 3 if "INCOMPLETE" in verdicts else 0
+
+
+def _worlds(args: argparse.Namespace) -> int:
+    """``sweep --world W``: every class of initial configurations of a finite world (or of
+    each ring of a range), one search each, into the same store."""
+    from gather_verify.algorithms import get_algorithm
+    from gather_verify.algorithms.loading import absolute_spec
+    from gather_verify.model.view import check_detection
+    from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
+    from gather_verify.tasks import get_task
+    from gather_verify.worlds import get_world, world_specs
+
+    for option in ("box", "readings", "readings_types", "junit", "force", "keep_growing"):
+        if getattr(args, option):
+            raise InvalidInput(f"--{option.replace('_', '-')} is an option of the paper's world "
+                               f"(Z²), not of {args.world}")
+    if 0 in args.robots:
+        raise InvalidInput("--robots: at least one robot")
+    args.algorithm = absolute_spec(args.algorithm if args.algorithm != "paper" else
+                                   "go-to-target")
+    get_algorithm(args.algorithm)
+    check_detection(args.multiplicity)
+    specs = world_specs(args.world)
+    if args.world.startswith("graph:"):  # the workers read the same file, wherever they run
+        specs = ["graph:" + os.path.abspath(args.world.partition(":")[2])]
+    worlds = [get_world(spec) for spec in specs]  # a bad world fails before any work
+    for w in worlds:
+        w.symmetries(args.frames)
+    if args.task is not None:
+        get_task(args.task)
+    settings = [SweepSettings(
+        robots=n, meeting=m, box=(0, 0), algorithm=args.algorithm, scheduler=args.scheduler,
+        detection=args.multiplicity, frames=args.frames,
+        properties=tuple(args.properties or ()), max_states=args.max_states_per_config,
+        max_seconds=args.max_seconds_per_config, reduction=not args.no_reduction,
+        max_memory_mb=args.max_memory_mb,
+        fingerprint_extra=tuple(os.path.abspath(f) for f in args.fingerprint_extra),
+        world=w.name, task=args.task or ("gathering-on-meeting-nodes" if m else "gathering"),
+        visibility=args.visibility,
+    ) for w in worlds for n in args.robots for m in args.meeting]
+    try:
+        summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
+                            progress=not args.json, limit=args.limit, fresh=args.fresh)
+    except KeyboardInterrupt:
+        print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
+              "run the same command again to resume", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    if args.json:
+        print_json(summary if args.timings else without_timings(summary))
+    else:
+        format_summary(summary)
+        print(f"\nresults: {os.path.abspath(args.db)}")
     verdicts = {v for by in summary["verdicts"].values() for v in by}
     if "VIOLATED" in verdicts:
         return 1

@@ -55,6 +55,11 @@ class SweepSettings:
     fingerprint_extra: tuple[str, ...] = ()
     """Further files the results depend on (data the algorithm reads): their contents are
     part of the fingerprint (``--fingerprint-extra``)."""
+    world: str = "grid"
+    """The world (``grid``: Z² and its box; else a finite world, whose nodes replace the
+    box). A finite world's sweep also names its ``task`` and the robots' ``visibility``."""
+    task: str | None = None
+    visibility: int | None = None
 
     def key(self) -> dict[str, Any]:
         """The identity of the sweep in the store (timing limits excluded only if
@@ -69,6 +74,11 @@ class SweepSettings:
             del out["keep_growing"]  # its rows stay found under --keep-growing
         out["fingerprint"] = self.fingerprint()  # never stale
         del out["fingerprint_extra"]
+        if self.world == "grid":  # the paper's world: keys as every store before worlds
+            for name in ("world", "task", "visibility"):
+                del out[name]
+        else:
+            del out["box"], out["move_bound_c"], out["keep_growing"]
         if not self.force:  # the rule every store before the field was written with
             del out["force"]
         return out
@@ -87,6 +97,8 @@ class SweepSettings:
         )
 
         parts = [algorithm_fingerprint(self.algorithm)["digest"]]
+        if self.world.startswith("graph:"):  # the graph file is an input like the algorithm
+            parts.append(files_fingerprint((self.world.partition(":")[2],)))
         parts += [source_fingerprint(p.rpartition(":")[0])["digest"]
                   for p in self.properties if is_path_spec(p)]
         if not parts[1:] and not self.fingerprint_extra:
@@ -212,10 +224,13 @@ def run_sweep(
 
     if engine not in ENGINES:
         raise InvalidInput(f"unknown sweep engine {engine!r}: use one of {', '.join(ENGINES)}")
+    batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
+    if any(one.world != "grid" for one in batch):
+        from gather_verify.sweeps.world_census import verify_world_one
+
+        verify = verify or verify_world_one  # a finite world: one search per configuration
     if verify is not None:
         engine = "per-config"
-
-    batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
     from gather_verify.algorithms.loading import snapshot
 
     with snapshot({one.algorithm for one in batch}):  # fingerprinted and run: the same text
@@ -228,8 +243,6 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
                where: Callable[[SweepSettings, Configuration], bool] | None, fresh: bool,
                engine: str, verify: Verify | None) -> dict[str, Any]:
     """:func:`run_sweep` once the algorithm files are snapshotted."""
-    from gather_verify.sweeps.census import enumerate_configurations
-
     store = Store(db_path)
     try:
         plan = []
@@ -239,11 +252,10 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
             if fresh:
                 store.forget(sweep)
             done = store.done_keys(sweep)
-            shape = (one.robots, one.meeting, one.box, one.frames)
+            shape = (one.world, one.robots, one.meeting, one.box, one.frames)
             if shape not in census:  # classes up to the robots' frame group, never more
-                census[shape] = [(index, c, configuration_key(c)) for index, c in itertools.islice(
-                    enumerate(enumerate_configurations(one.robots, one.meeting, *one.box,
-                                                       one.frames)), limit)]
+                census[shape] = [(index, c, key) for index, (c, key) in itertools.islice(
+                    enumerate(_census(one)), limit)]
             todo = [(index, c) for index, c, key in census[shape]
                     if key not in done and (where is None or where(one, c))]
             plan.append((one, sweep, todo))
@@ -262,6 +274,23 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
     summary = summarise_totals(groups, slowest, batch[0] if len(batch) == 1 else None)
     summary["computed"] = sum(len(todo) for _, _, todo in plan)  # the rest was stored before
     return summary
+
+
+def _census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
+    """The sweep's configurations in enumeration order, each with its stored key."""
+    if settings.world == "grid":
+        from gather_verify.sweeps.census import enumerate_configurations
+
+        for c in enumerate_configurations(settings.robots, settings.meeting, *settings.box,
+                                          settings.frames):
+            yield c, configuration_key(c)
+        return
+    from gather_verify.sweeps.world_census import world_configurations, world_key
+    from gather_verify.worlds import get_world
+
+    world = get_world(settings.world)
+    for c in world_configurations(world, settings.robots, settings.meeting, settings.frames):
+        yield c, world_key(world, c)
 
 
 Task = tuple[int, SweepSettings, list[tuple[int, Configuration]]]
@@ -515,7 +544,10 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
     computed = summary.get("computed")
     write(f"{summary['total']} configurations" + ("" if computed is None else
           f" ({computed} computed now, {summary['total'] - computed} reused from the database)"))
-    header = f"{'class':<13}{'count':>7}" + "".join(f"{v:>16}" for v in VERDICTS) + f"{'max ratio':>11}"
+    from gather_verify.model.classes import CLASS_NAMES
+
+    worlds = any(k and name not in CLASS_NAMES for name, k in summary["classes"].items())
+    header = f"{'world' if worlds else 'class':<13}{'count':>7}" + "".join(f"{v:>16}" for v in VERDICTS) + f"{'max ratio':>11}"
     write(header)
     write("-" * len(header))
     for name, count in summary["classes"].items():
@@ -525,8 +557,9 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
         ratio = summary["max_ratio"].get(name)
         write(f"{name:<13}{count:>7}" + "".join(f"{by.get(v, 0):>16}" for v in VERDICTS)
               + (f"{ratio:>11.2f}" if ratio is not None else f"{'-':>11}"))
-    write("max ratio: the largest total moves / (D·n) of the class; NOT-APPLICABLE: in U or "
-          "UNCLASSIFIED, where the impossibility checks apply (--force checks them)")
+    if not worlds:
+        write("max ratio: the largest total moves / (D·n) of the class; NOT-APPLICABLE: in U "
+              "or UNCLASSIFIED, where the impossibility checks apply (--force checks them)")
     if summary["failing_properties"]:
         write("")
         write("failing properties (the first of each configuration, whose trace is stored; "
