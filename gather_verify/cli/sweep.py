@@ -111,7 +111,6 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.model.view import check_detection
     from gather_verify.sweeps.census import validate_census_arguments
     from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
-
     from gather_verify.worlds import is_plane
 
     if not is_plane(args.world):
