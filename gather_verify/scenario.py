@@ -37,6 +37,9 @@ TOP_LEVEL = {
     "expect": dict,
     "trace": dict,
     "source": str,
+    "world": str,
+    "task": str,
+    "visibility": int,
 }
 
 
@@ -65,7 +68,8 @@ class Scenario:
     """A parsed scenario file."""
 
     name: str
-    configuration: Configuration
+    configuration: Configuration | None
+    """The initial configuration on Z² (None on a finite world: see ``nodes``)."""
     description: str = ""
     algorithm: str = "paper"
     scheduler: str = "async"
@@ -76,6 +80,12 @@ class Scenario:
     trace: dict[str, Any] | None = None
     path: str = ""
     raw: dict[str, Any] = field(default_factory=dict, repr=False)
+    world: str = "grid"
+    """``grid`` (Z², the paper's) or a finite world (docs/worlds.md)."""
+    nodes: tuple[tuple[int, ...], tuple[int, ...]] = ((), ())
+    """On a finite world: the robots' and the meeting nodes' indices."""
+    task: str | None = None
+    visibility: int | None = None
 
 
 def _type_name(t: type) -> str:
@@ -96,8 +106,20 @@ def parse_scenario(data: object, where: str) -> Scenario:
     for key in ("robots", "meeting_nodes"):
         if key not in data:
             raise ScenarioError(f"{where}: missing field {key!r}")
+    world = data.get("world", "grid").strip()
+    nodes: tuple[tuple[int, ...], tuple[int, ...]] = ((), ())
+    configuration = None
     try:
-        configuration = Configuration(data["robots"], data["meeting_nodes"], initial=True)
+        if world == "grid":
+            for key in ("task", "visibility"):
+                if key in data:
+                    raise ScenarioError(f"{where}: {key!r} needs a finite 'world' (ring:N, "
+                                        "grid:WxH, torus:WxH, graph:FILE)")
+            configuration = Configuration(data["robots"], data["meeting_nodes"], initial=True)
+        else:
+            nodes = _world_nodes(data, where)
+    except ScenarioError:
+        raise
     except ValueError as error:
         raise ScenarioError(f"{where}: {error}") from None
     scheduler = data.get("scheduler", "async")
@@ -117,7 +139,32 @@ def parse_scenario(data: object, where: str) -> Scenario:
         trace=data.get("trace"),
         path=where,
         raw=data,
+        world=world,
+        nodes=nodes,
+        task=data.get("task"),
+        visibility=data.get("visibility"),
     )
+
+
+def _world_nodes(data: dict[str, Any], where: str) -> tuple[tuple[int, ...], tuple[int, ...]]:
+    """A finite world's robots and meeting nodes as node indices (robots on distinct nodes)."""
+    from gather_verify.tasks import get_task
+    from gather_verify.worlds import get_world
+
+    spec = data["world"]
+    if spec.startswith("graph:") and not Path(spec[6:]).is_absolute():  # beside the scenario
+        spec = "graph:" + str(Path(where).resolve().parent / spec[6:])
+    world = get_world(spec)
+    robots = tuple(world.node_from_json(v) for v in data["robots"])
+    meeting = tuple(world.node_from_json(v) for v in data["meeting_nodes"])
+    if len(set(robots)) < len(robots):
+        raise ScenarioError(f"{where}: two robots on one node: robots of an initial "
+                            "configuration stand on distinct nodes")
+    if "task" in data:
+        get_task(data["task"])
+    if "expect" in data and "class" in data["expect"]:
+        raise ScenarioError(f"{where}: 'expect.class' is a class of the paper's world (Z²)")
+    return robots, meeting
 
 
 def _parse_expect(

@@ -50,6 +50,8 @@ def run_expectation(scenario: Scenario, expectation: Expectation) -> dict[str, A
     options = {k: v for k, v in expectation.options.items() if k in CHECK_OPTIONS}
     options.setdefault("multiplicity", scenario.multiplicity)
     options.setdefault("frames", scenario.frames)
+    if scenario.world != "grid":
+        return _run_world_expectation(scenario, expectation, options)
     return run_check(
         scenario.configuration,
         algorithm=expectation.algorithm,
@@ -62,6 +64,29 @@ def run_expectation(scenario: Scenario, expectation: Expectation) -> dict[str, A
         max_seconds=options.pop("max_seconds", 600.0),
         **options,
     )
+
+
+def _run_world_expectation(scenario: Scenario, expectation: Expectation,
+                           options: dict[str, Any]) -> dict[str, Any]:
+    """:func:`run_expectation` on a finite world (:func:`~gather_verify.world_check.run_world_check`)."""
+    from gather_verify.world_check import run_world_check
+
+    paper = set(options) & {"move_bound_c", "force"}
+    if paper:
+        raise InvalidInput(f"{scenario.path}: options {sorted(paper)} are the paper's world's")
+    robots, meeting = scenario.nodes
+    world = scenario.raw["world"]
+    if world.startswith("graph:"):
+        from pathlib import Path
+
+        world = "graph:" + str(Path(scenario.path).resolve().parent / world[6:])
+    return run_world_check(
+        world, list(robots), list(meeting), expectation.algorithm, expectation.scheduler,
+        task=scenario.task, properties=options.pop("properties", None),
+        detection=options.pop("multiplicity"), frames=options.pop("frames"),
+        visibility=scenario.visibility, reduction=options.pop("reduction", True),
+        max_states=options.pop("max_states", 2_000_000),
+        max_seconds=options.pop("max_seconds", 600.0))
 
 
 def expectation_mismatch(expectation: Expectation, report: dict[str, Any]) -> str | None:
@@ -145,6 +170,8 @@ def _run_verdict(case: Case) -> Outcome:
     if why is None:
         return Outcome(case.name, True)
     trace = report.get("trace")
+    if trace and "world" in trace:
+        from gather_verify.world_check import render_world_trace as render_trace
     lines = [f"{case.name}: {why}",
              f"property: {report.get('property') or expectation.property or '-'}",
              render_trace(trace) if trace else "(no trace)",

@@ -104,6 +104,12 @@ def run(args: argparse.Namespace) -> int:
 
     if not is_plane(args.world):
         return run_world(args)
+    if args.scenario:
+        from gather_verify.scenario import load_scenario
+
+        scenario = load_scenario(args.scenario)
+        if scenario.world != "grid":
+            return run_world(args, scenario)
     if args.task not in (None, "gathering-on-meeting-nodes") or args.visibility is not None:
         raise UsageError("--task and --visibility need a finite world (--world ring:N, "
                          "grid:WxH, torus:WxH or graph:FILE); on Z² the task is the paper's")
@@ -204,50 +210,68 @@ PLANE_ONLY = ("readings", "margin", "keep_growing", "force", "graph_out", "svg",
 """Options of the paper's world (Z²) that a finite world does not take."""
 
 
-def run_world(args: argparse.Namespace) -> int:
-    """``check --world W``: the finite-world search (:mod:`gather_verify.world_check`)."""
+def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int:
+    """``check --world W`` (or a scenario file with a ``world``): the finite-world search
+    (:mod:`gather_verify.world_check`)."""
     from gather_verify.world_check import render_world_trace, run_world_check
+    from gather_verify.worlds import is_plane
 
-    if args.scenario:
-        raise UsageError("a scenario file describes the paper's world: on a finite world give "
-                         "--robots and --meeting")
+    world = args.world if not is_plane(args.world) else scenario.raw["world"]  # type: ignore[union-attr]
     for option in PLANE_ONLY:
         if getattr(args, option):
             raise UsageError(f"--{option.replace('_', '-')} is an option of the paper's world "
-                             f"(Z²), not of {args.world}")
-    if args.robots is None:
+                             f"(Z²), not of {world}")
+    if args.robots is None and scenario is None:
         raise UsageError("give --robots (and --meeting for meeting nodes)")
+    if scenario is not None and world.startswith("graph:"):  # a file beside the scenario
+        world = "graph:" + str(Path(args.scenario).resolve().parent / world[6:])
+    robots = args.robots if args.robots is not None else list(scenario.nodes[0])  # type: ignore[union-attr]
+    meeting = args.meeting if args.meeting is not None else (
+        list(scenario.nodes[1]) if scenario else "")
+    algorithm = args.algorithm or (scenario.algorithm if scenario else "go-to-target")
+    scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
     writable_outputs(trace_out=args.trace_out)
     try:
         report = run_world_check(
-            args.world, args.robots, args.meeting or "", args.algorithm or "go-to-target",
-            args.scheduler or "async", task=args.task, properties=args.properties,
-            detection=args.multiplicity or "local-weak", frames=args.frames or "all",
-            visibility=args.visibility, reduction=not args.no_reduction,
+            world, robots, meeting, algorithm, scheduler,
+            task=args.task or (scenario.task if scenario else None), properties=args.properties,
+            detection=args.multiplicity or (scenario.multiplicity if scenario else "local-weak"),
+            frames=args.frames or (scenario.frames if scenario else "all"),
+            visibility=args.visibility if args.visibility is not None else (
+                scenario.visibility if scenario else None),
+            reduction=not args.no_reduction,
             max_states=args.max_states, max_seconds=args.max_seconds,
             **({} if args.max_memory is None else {"max_memory_mb": args.max_memory}))
     except KeyboardInterrupt:
         print("interrupted: check keeps no partial results (nothing was written)",
               file=sys.stderr)
         return EXIT_INTERRUPTED
+    expected = _expectation(scenario, algorithm, scheduler, report)
+    if expected is not None:
+        report["expectation"] = expected
     trace = report["trace"]
     if trace is not None and args.trace_out:
         Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
     if args.json:
         print_json(report if args.timings else without_timings(report))
-        return VERDICT_EXIT[report["verdict"]]
-    print(f"{report['verdict']}  {report['world']}  task {report['task']}  "
-          f"{report['algorithm']} / {report['scheduler']}")
-    if report["reason"]:
-        print(f"{'property ' + report['property'] if report['property'] else 'reason'}: "
-              f"{report['reason']}")
-    print(f"states {report['states']}  transitions {report['transitions']}  "
-          f"reductions {report['reductions']}  {report['seconds']:.2f}s")
-    for name, result in report["properties"].items():
-        holds = {True: "holds", False: "FAILS", None: "unknown"}[result["holds"]]
-        print(f"  {name:24} {holds}  {result.get('reason', '')}".rstrip())
-    if trace is not None:
-        print(render_world_trace(trace))
+    else:
+        print(f"{report['verdict']}  {report['world']}  task {report['task']}  "
+              f"{report['algorithm']} / {report['scheduler']}")
+        if report["reason"]:
+            print(f"{'property ' + report['property'] if report['property'] else 'reason'}: "
+                  f"{report['reason']}")
+        print(f"states {report['states']}  transitions {report['transitions']}  "
+              f"reductions {report['reductions']}  {report['seconds']:.2f}s")
+        for name, result in report["properties"].items():
+            holds = {True: "holds", False: "FAILS", None: "unknown"}[result["holds"]]
+            print(f"  {name:24} {holds}  {result.get('reason', '')}".rstrip())
+        if trace is not None:
+            print(render_world_trace(trace))
+        if expected is not None:
+            print(f"expectation of {args.scenario}: "
+                  + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
+    if expected is not None:
+        return EXIT_OK if expected["matched"] else EXIT_VIOLATED
     return VERDICT_EXIT[report["verdict"]]
 
 
@@ -261,7 +285,7 @@ def _expectation(scenario: Scenario | None, algorithm: str, scheduler: str,
     if not expectation:
         return None
     why = expectation_mismatch(expectation, report)
-    if why is None and scenario.expected_class not in (None, report["class"]):
+    if why is None and scenario.expected_class not in (None, report.get("class")):
         why = f"expected class {scenario.expected_class}, got {report['class']}"
     return {"matched": why is None, "mismatch": why, "verdict": expectation.verdict,
             "property": expectation.property}

@@ -57,6 +57,9 @@ def load_configuration(args: argparse.Namespace) -> tuple[Configuration, Scenari
     """The initial configuration named on the command line (file, or points, or both:
     points override the file's)."""
     scenario = load_scenario(args.scenario) if args.scenario else None
+    if scenario is not None and scenario.world != "grid":
+        raise UsageError(f"{args.scenario} is a scenario of the finite world {scenario.world}: "
+                         "use gather-verify check or test on it")
     if scenario is None and (args.robots is None or args.meeting is None):
         raise UsageError("give a SCENARIO file, or both --robots and --meeting")
     robots = parse_nodes(args.robots) if args.robots is not None else list(
