@@ -29,7 +29,7 @@ from gather_verify.errors import InvalidInput
 from gather_verify.tasks import Context, Finding, Task, get_task
 from gather_verify.worlds import get_world
 from gather_verify.worlds.base import World
-from gather_verify.worlds.moves import WorldMoves
+from gather_verify.worlds.moves import WorldMoves, parse_lights
 from schedulers import get_scheduler
 
 PSEUDO = ("crash", "defined")
@@ -47,6 +47,7 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
                     algorithm: str | Algorithm, scheduler: str, *, task: str | None = None,
                     properties: list[str] | None = None, detection: str = "local-weak",
                     frames: str = "all", visibility: int | None = None,
+                    lights: str | None = None, colours: list[int] | None = None,
                     reduction: bool = True, max_states: int = DEFAULT_MAX_STATES,
                     max_seconds: float = DEFAULT_MAX_SECONDS,
                     max_memory_mb: float = DEFAULT_MAX_MEMORY_MB) -> dict[str, Any]:
@@ -62,7 +63,13 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
     if visibility is not None and visibility < 0:
         raise InvalidInput(f"visibility {visibility} is negative: give a number of hops >= 0")
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
-    get_scheduler(scheduler)
+    stateful = getattr(get_scheduler(scheduler), "stateful", False)
+    light = parse_lights(lights)
+    if colours is not None and (len(colours) != len(r) or any(
+            isinstance(c, bool) or not isinstance(c, int) or not 0 <= c < light.colours
+            for c in colours)):
+        raise InvalidInput(f"initial colours {colours}: one per robot, each in "
+                           f"0..{light.colours - 1}")
     t = get_task(task or default_task(m))
     parts = _parts(t, properties, w)
     if t.needs_meeting and not m:
@@ -71,12 +78,12 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
         raise InvalidInput(f"task {t.name} tracks visited nodes in the state: {w.name} has "
                            f"{w.size} nodes, at most 62 are supported")
     liveness = any(p in t.liveness for p in parts)
-    reduce = reduction and not liveness
-    moves = WorldMoves(w, algo, frozenset(m), detection, frames, visibility)
+    reduce = reduction and not liveness and not stateful
+    moves = WorldMoves(w, algo, frozenset(m), detection, frames, visibility, light)
     limits = Limits(max_states=max_states, max_seconds=max_seconds, max_memory_mb=max_memory_mb)
-    s = search(w, tuple(r), moves, scheduler, visits=t.visits, anonymity=reduce,
-               symmetries=w.symmetries(frames) if reduce else (), meeting=frozenset(m),
-               limits=limits)
+    s = search(w, tuple(r), moves.actions, scheduler, colours=colours, visits=t.visits,
+               anonymity=reduce, symmetries=w.symmetries(frames) if reduce else (),
+               meeting=frozenset(m), limits=limits)
     ctx = Context(len(r), w.size, frozenset(m), scheduler,
                   tuple(w.format_node(v) for v in range(w.size)))
     results: dict[str, dict[str, Any]] = {}
@@ -122,12 +129,15 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
         "stopped": s.stopped,
         "states": s.states,
         "transitions": s.transitions,
+        "lights": str(light),
         "reductions": ("anonymity, the symmetries fixing the meeting nodes" if s.reduced else
                        "off: liveness needs robot identities" if reduction and liveness else
-                       "off"),
+                       "off: the scheduler keeps robot identities" if reduction and stateful
+                       else "off"),
         "properties": results,
         "trace": None if first is None else trace_of(w, s, first, r, m, algo.name, scheduler,
-                                                     t.name, detection, frames, visibility),
+                                                     t.name, detection, frames, visibility,
+                                                     str(light)),
         "seconds": time.perf_counter() - started,
     }
 
@@ -152,7 +162,7 @@ def _parts(task: Task, properties: list[str] | None, world: World) -> list[str]:
 
 def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
              meeting: list[int], algorithm: str, scheduler: str, task: str, detection: str,
-             frames: str, visibility: int | None) -> dict[str, Any]:
+             frames: str, visibility: int | None, lights: str = "1") -> dict[str, Any]:
     """The counterexample as JSON: the shortest path to the failing state (then, for a
     liveness part, the cycle the run can stay on), every state in the world's node names."""
     ids = s.path_to(finding.state)
@@ -171,7 +181,7 @@ def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
         steps.append(_step(world, event, s.keys[target]))
     return {
         "world": world.name, "task": task, "algorithm": algorithm, "scheduler": scheduler,
-        "detection": detection, "frames": frames, "visibility": visibility,
+        "detection": detection, "frames": frames, "visibility": visibility, "lights": lights,
         "property": finding.property, "reason": finding.reason,
         "detail": {k: (world.node_to_json(v) if k == "node" else v)
                    for k, v in finding.detail.items()},
@@ -190,13 +200,15 @@ def _event_between(s: WorldSearch, a: int, b: int) -> Any:
     raise AssertionError(f"no edge from state {a} to {b}")  # pragma: no cover
 
 
-def _apply(state: Any, event: Any) -> tuple[tuple[int, int | None], ...]:
+def _apply(state: Any, event: Any) -> tuple[tuple[int, int | None, int], ...]:
     robots = list(state[0])
+    for i, _, new in event.lights:
+        robots[i] = (robots[i][0], robots[i][1], new)
     for i, src, dst in event.moves:
         if event.kind == "look":
-            robots[i] = (src, dst)
+            robots[i] = (src, dst, robots[i][2])
         else:
-            robots[i] = (dst, None)
+            robots[i] = (dst, None, robots[i][2])
     return tuple(robots)
 
 
@@ -205,9 +217,12 @@ def _step(world: World, event: Any, state: Any) -> dict[str, Any]:
     out: dict[str, Any] = {
         "event": None if event is None else {
             "kind": event.kind, "robots": list(event.robots),
-            "moves": [[i, name(a), name(b)] for i, a, b in event.moves]},
-        "robots": [[name(v), None if p is None else name(p)] for v, p in state[0]],
+            "moves": [[i, name(a), name(b)] for i, a, b in event.moves],
+            **({"lights": [list(x) for x in event.lights]} if event.lights else {})},
+        "robots": [[name(v), None if p is None else name(p)] for v, p, _ in state[0]],
     }
+    if any(c for _, _, c in state[0]) or (event is not None and event.lights):
+        out["colours"] = [c for _, _, c in state[0]]
     if state[1]:
         out["visited"] = [name(v) for v in range(world.size) if state[1] >> v & 1]
     return out
@@ -217,12 +232,18 @@ def render_world_trace(trace: dict[str, Any]) -> str:
     """The trace as text, one line per step (``*`` marks where the cycle starts)."""
     lines = [f"{trace['property']}: {trace['reason']}"]
     for k, step in enumerate(trace["steps"]):
+        colours = step.get("colours")
         robots = "  ".join(f"r{i}@{_txt(v)}" + ("" if p is None else f"->{_txt(p)}")
+                           + ("" if colours is None else f"[{colours[i]}]")
                            for i, (v, p) in enumerate(step["robots"]))
         event = step["event"]
-        what = "start" if event is None else event["kind"] + " " + (
-            ", ".join(f"r{i} {_txt(a)}->{_txt(b)}" for i, a, b in event["moves"]) or
-            "r" + ",r".join(map(str, event["robots"])))
+        if event is None:
+            what = "start"
+        else:
+            changes = [f"r{i} {_txt(a)}->{_txt(b)}" for i, a, b in event["moves"]]
+            changes += [f"r{i} light {a}->{b}" for i, a, b in event.get("lights", [])]
+            what = event["kind"] + " " + (", ".join(changes) or
+                                          "r" + ",r".join(map(str, event["robots"])))
         mark = "*" if trace.get("cycle_start") == k else " "
         lines.append(f"{mark}{k:3d}  {what:28}  {robots}")
     if trace.get("cycle_start") is not None:

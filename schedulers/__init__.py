@@ -30,20 +30,36 @@ from schedulers.base import (
     configuration_of,
     initial_state,
 )
+from schedulers.centralized import Centralized
 from schedulers.fsync import FSync
+from schedulers.round_robin import RoundRobin
 from schedulers.ssync import SSync
 
-SCHEDULERS: dict[str, type[Scheduler]] = {"fsync": FSync, "ssync": SSync, "async": Async}
+SCHEDULERS: dict[str, type[Scheduler]] = {"fsync": FSync, "ssync": SSync, "async": Async,
+                                          "centralized": Centralized,
+                                          "round-robin": RoundRobin}  # type: ignore[dict-item]
 """Every scheduler by name, in the order the CLI and the scenario loader list them: a new
 scheduler is one module implementing :class:`Scheduler` and one line here."""
 
 
+def plane_schedulers() -> tuple[str, ...]:
+    """The schedulers the Z² engines run: those that keep no state of their own."""
+    return tuple(name for name, cls in SCHEDULERS.items() if not getattr(cls, "stateful", False))
+
+
 def get_scheduler(name: str) -> Scheduler:
-    """The scheduler called ``name`` (a key of :data:`SCHEDULERS`)."""
-    if name not in SCHEDULERS:
+    """The scheduler called ``name`` (a key of :data:`SCHEDULERS`), with its options:
+    ``round-robin:order=2 0 1``."""
+    base, _, rest = name.partition(":")
+    if base not in SCHEDULERS:
         raise InvalidInput(f"unknown scheduler {name!r}: use one of {', '.join(SCHEDULERS)}")
-    return SCHEDULERS[name]()
+    if not rest:
+        return SCHEDULERS[base]()
+    key, eq, value = rest.partition("=")
+    if base != "round-robin" or key.strip() != "order" or not eq:
+        raise InvalidInput(f"scheduler {name!r}: only round-robin takes an option, order=...")
+    return SCHEDULERS[base](value)  # type: ignore[call-arg]
 
 
-__all__ = ["Async", "Event", "FSync", "Frontier", "MoveSets", "SCHEDULERS", "SSync", "Scheduler",
+__all__ = ["plane_schedulers", "Async", "Event", "FSync", "Frontier", "MoveSets", "SCHEDULERS", "SSync", "Scheduler",
            "State", "Successors", "configuration_of", "get_scheduler", "initial_state"]

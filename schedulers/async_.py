@@ -13,7 +13,16 @@ from collections.abc import Iterator
 import numpy as np
 
 from gather_verify.model.geometry import STEPS
-from schedulers.base import Event, Frontier, MoveSets, State, Successors, configuration_of
+from schedulers.base import (
+    Actions,
+    Event,
+    Frontier,
+    LRobot,
+    MoveSets,
+    State,
+    Successors,
+    configuration_of,
+)
 
 LOOK_ORDER = tuple(sorted(range(len(STEPS)), key=STEPS.__getitem__))
 """Step indices in the order :meth:`Async.successors` yields Looks (sorted destinations)."""
@@ -41,6 +50,24 @@ class Async:
             else:
                 yield (Event("move", (i,), ((i, node, pending),)),
                        state[:i] + ((pending, None),) + state[i + 1:])
+
+    def luminous(self, robots: tuple[LRobot, ...], extra: object,
+                 actions: Actions) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
+        """A Look sets the pending destination and the new colour at once (§10: others see
+        the colour before the robot moves); a Look that stays and keeps its colour is no
+        event, one that changes only the colour is."""
+        for i, (node, pending, colour) in enumerate(robots):
+            if pending is None:
+                for d, c in sorted(actions(i), key=repr):
+                    if d == node and c == colour:
+                        continue
+                    lights = ((i, colour, c),) if c != colour else ()
+                    moves = ((i, node, d),) if d != node else ()
+                    succ = robots[:i] + ((node, None if d == node else d, c),) + robots[i + 1:]
+                    yield Event("look", (i,), moves, lights), succ, extra
+            else:
+                yield (Event("move", (i,), ((i, node, pending),)),
+                       robots[:i] + ((pending, None, colour),) + robots[i + 1:], extra)
 
     def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
         """:meth:`successors` for many states at once, in the same order: one change per

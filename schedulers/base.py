@@ -10,7 +10,7 @@ states over as a :class:`Frontier`; the scheduler answers with
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import NamedTuple, Protocol
 
@@ -40,6 +40,8 @@ class Event:
     kind: str
     robots: tuple[int, ...]
     moves: tuple[tuple[int, Node, Node], ...]
+    lights: tuple[tuple[int, int, int], ...] = ()
+    """``(robot, old colour, new colour)`` for every robot whose light changed (§10)."""
 
     @property
     def distance(self) -> int:
@@ -49,8 +51,11 @@ class Event:
         return sum(1 for _, a, b in self.moves if a != b)
 
     def to_json(self) -> dict[str, object]:
-        return {"kind": self.kind, "robots": list(self.robots),
-                "moves": [[i, list(a), list(b)] for i, a, b in self.moves]}
+        out: dict[str, object] = {"kind": self.kind, "robots": list(self.robots),
+                                  "moves": [[i, list(a), list(b)] for i, a, b in self.moves]}
+        if self.lights:
+            out["lights"] = [list(change) for change in self.lights]
+        return out
 
 
 class Frontier(NamedTuple):
@@ -106,6 +111,38 @@ class Scheduler(Protocol):
         ``budget`` events (at least one state when there is one; all of them is fine when
         they fit): the same events, in the same order."""
         ...
+
+    def luminous(self, robots: tuple[LRobot, ...], extra: object, actions: Actions
+                 ) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
+        """Every event on a finite world's state (robots with their lights, and the
+        scheduler's own ``extra``, None for the stateless ones), with the successor. An
+        event that changes nothing is not yielded (it is no transition, §9-10)."""
+        ...
+
+
+LRobot = tuple[object, object | None, int]
+"""A robot on a finite world (§9-10): its node, its pending destination (None when idle) and
+its light's colour (0 without lights)."""
+Action = tuple[object, int]
+"""What a robot may do when activated: go to (or stay on) a node, and set its colour."""
+Actions = Callable[[int], frozenset[Action]]
+"""Robot index -> its actions in the current configuration (the union over its frames)."""
+
+
+def round_event(active: Sequence[int], robots: tuple[LRobot, ...],
+                choice: Sequence[Action]) -> tuple[Event, tuple[LRobot, ...]]:
+    """The atomic Look-Compute-Move of the ``active`` robots, each doing its ``choice``:
+    they move and set their colours at once (FSYNC, SSYNC, centralized, round-robin)."""
+    new = list(robots)
+    moves, lights = [], []
+    for i, (d, c) in zip(active, choice, strict=True):
+        v, _, old = robots[i]
+        new[i] = (d, None, c)
+        if d != v:
+            moves.append((i, v, d))
+        if c != old:
+            lights.append((i, old, c))
+    return Event("round", tuple(active), tuple(moves), tuple(lights)), tuple(new)
 
 
 def initial_state(robots: Iterable[Node]) -> State:

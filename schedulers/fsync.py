@@ -9,13 +9,16 @@ from itertools import product
 import numpy as np
 
 from schedulers.base import (
+    Actions,
     Event,
+    LRobot,
     Frontier,
     MoveSets,
     State,
     Successors,
     bulk_rounds,
     configuration_of,
+    round_event,
     subsets_matrix,
 )
 
@@ -38,3 +41,11 @@ class FSync:
 
     def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
         return bulk_rounds(frontier, budget, _everyone(frontier.codes.shape[1]))
+
+    def luminous(self, robots: tuple[LRobot, ...], extra: object,
+                 actions: Actions) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
+        everyone = tuple(range(len(robots)))
+        for choice in product(*(sorted(actions(i), key=repr) for i in everyone)):
+            event, succ = round_event(everyone, robots, choice)
+            if succ != robots:
+                yield event, succ, extra

@@ -10,13 +10,16 @@ from itertools import combinations, product
 import numpy as np
 
 from schedulers.base import (
+    Actions,
     Event,
+    LRobot,
     Frontier,
     MoveSets,
     State,
     Successors,
     bulk_rounds,
     configuration_of,
+    round_event,
     subsets_matrix,
 )
 
@@ -50,3 +53,11 @@ class SSync:
 
     def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
         return bulk_rounds(frontier, budget, _subsets(frontier.codes.shape[1]))
+
+    def luminous(self, robots: tuple[LRobot, ...], extra: object,
+                 actions: Actions) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
+        for active in _active_sets(len(robots)):
+            for choice in product(*(sorted(actions(i), key=repr) for i in active)):
+                event, succ = round_event(active, robots, choice)
+                if succ != robots:
+                    yield event, succ, extra

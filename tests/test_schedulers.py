@@ -24,7 +24,7 @@ class Centralized:
     """A new scheduler, written as a user would: one robot per round (the centralized
     adversary), so SSYNC restricted to the activated sets of size one."""
 
-    name = "centralized"
+    name = "one-at-a-time"
     kinds = ("round",)
 
     def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
@@ -53,7 +53,7 @@ class Skipping(Centralized):
 @pytest.fixture
 def registered(monkeypatch):
     """Register the two schedulers for one test: the one registry line."""
-    monkeypatch.setitem(SCHEDULERS, "centralized", Centralized)
+    monkeypatch.setitem(SCHEDULERS, "one-at-a-time", Centralized)
     monkeypatch.setitem(SCHEDULERS, "skipping", Skipping)
 
 
@@ -66,13 +66,13 @@ def test_every_registered_scheduler_has_the_protocol():
 
 
 def test_unknown_scheduler():
-    with pytest.raises(ValueError, match="unknown scheduler 'lockstep': use one of fsync, ssync, async"):
+    with pytest.raises(ValueError, match="unknown scheduler 'lockstep': use one of fsync, ssync, async, centralized, round-robin"):
         get_scheduler("lockstep")
 
 
 def test_new_scheduler_runs_on_both_engines(registered):
-    ref = explore_reference(YARD, "go-to-target", "centralized", reduction=False)
-    fast = explore_fast(YARD, "go-to-target", "centralized", reduction=False)
+    ref = explore_reference(YARD, "go-to-target", "one-at-a-time", reduction=False)
+    fast = explore_fast(YARD, "go-to-target", "one-at-a-time", reduction=False)
     assert (fast.states, fast.transitions) == (ref.states, ref.transitions)
     assert list(fast.keys) == list(ref.keys) and list(fast.targets) == list(ref.targets)
     # go-to-target: any SSYNC round is a sequence of single moves, hence the same 216 states
@@ -87,18 +87,18 @@ def test_broken_bulk_face_is_caught(registered):
 
 def test_new_scheduler_in_cli_and_scenarios(registered, capsys):
     code = main(["check", "--robots", "0,0 3,1 1,4", "--meeting", "2,2", "--algorithm",
-                 "go-to-target", "--scheduler", "centralized", "--no-reduction", "--json"])
+                 "go-to-target", "--scheduler", "one-at-a-time", "--no-reduction", "--json"])
     out = json.loads(capsys.readouterr().out)
-    assert code == 0 and out["verdict"] == "VERIFIED" and out["scheduler"] == "centralized"
+    assert code == 0 and out["verdict"] == "VERIFIED" and out["scheduler"] == "one-at-a-time"
     s = parse_scenario({"robots": [[0, 0]], "meeting_nodes": [[1, 1]],
-                        "scheduler": "centralized"}, "inline")
-    assert s.scheduler == "centralized"
+                        "scheduler": "one-at-a-time"}, "inline")
+    assert s.scheduler == "one-at-a-time"
 
 
 def test_scenario_loader_reads_the_registry():
-    with pytest.raises(ScenarioError, match="use one of fsync, ssync, async"):
+    with pytest.raises(ScenarioError, match="use one of fsync, ssync, async, centralized, round-robin"):
         parse_scenario({"robots": [[0, 0]], "meeting_nodes": [[1, 1]],
-                        "scheduler": "centralized"}, "inline")
+                        "scheduler": "one-at-a-time"}, "inline")
 
 
 def test_budget_takes_leading_states():

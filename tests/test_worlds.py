@@ -100,7 +100,7 @@ def test_search_agrees_with_a_naive_bfs(world_name: str, scheduler: str) -> None
     w = get_world(world_name)
     robots, meeting = (0, w.size // 2, w.size - 1), 1
     moves = WorldMoves(w, get_algorithm("go-to-target"), frozenset({meeting}))
-    got = search(w, robots, moves, scheduler)
+    got = search(w, robots, moves.actions, scheduler)
     assert (got.states, got.transitions) == naive_counts(world_name, robots, meeting, scheduler)
 
 
@@ -114,7 +114,7 @@ def test_graph_file_world_agrees_with_a_naive_bfs(tmp_path) -> None:  # noqa: AN
     robots, meeting = (0, 4), 2
     for scheduler in ("fsync", "ssync", "async"):
         moves = WorldMoves(w, get_algorithm("go-to-target"), frozenset({meeting}))
-        got = search(w, robots, moves, scheduler)
+        got = search(w, robots, moves.actions, scheduler)
         naive = naive_counts(name, robots, meeting, scheduler)
         # frames are the automorphisms of G: the union over them may hold fewer of the
         # closer neighbours than "any", never one the referee does not allow

@@ -29,6 +29,7 @@ from gather_verify.algorithms.base import (
     Unhandled,
     target_of,
 )
+from gather_verify.algorithms.bounce import Bounce
 from gather_verify.algorithms.go_to_target import GoToTarget
 from gather_verify.algorithms.loading import (
     absolute_spec,
@@ -48,6 +49,7 @@ from gather_verify.errors import InvalidInput
 from gather_verify.recent import most_recent
 
 REGISTRY: dict[str, Callable[..., Algorithm]] = {
+    "bounce": Bounce,
     "go-to-target": GoToTarget,
     "nearest-centre": NearestCentre,
     "paper": PaperAlgorithm,

@@ -18,7 +18,7 @@ unreduced; the report says so.
 >>> from gather_verify.worlds.moves import WorldMoves
 >>> ring = get_world("ring:9")
 >>> moves = WorldMoves(ring, get_algorithm("go-to-target"), frozenset({7}))
->>> s = search(ring, (0, 3, 5), moves, "async")
+>>> s = search(ring, (0, 3, 5), moves.actions, "async")
 >>> s.states, s.transitions, s.stopped
 (225, 560, None)
 """
@@ -34,10 +34,12 @@ from gather_verify.engine.encoding import NO_LIMITS, Limits
 from gather_verify.engine.explore import rss_mb
 from schedulers import Event, get_scheduler
 
-WorldState = tuple[tuple[tuple[int, int | None], ...], int]
-"""``(robots, visited)``: per robot (node, pending or None); the visited nodes as a bit set
-(0 when the task does not explore)."""
-Moves = Callable[[tuple[int, ...]], dict[int, frozenset[int]]]
+WorldState = tuple[tuple[tuple[int, int | None, int], ...], int, object]
+"""``(robots, visited, extra)``: per robot (node, pending or None, colour); the visited nodes
+as a bit set (0 when the task does not explore); the scheduler's own state (None but for a
+scheduler that keeps one, such as round-robin's order and turn)."""
+Actions = Callable[[tuple[tuple[int, int | None, int], ...]], list[frozenset[tuple[int, int]]]]
+"""The robots of a state -> per robot, its actions ``(destination, colour)``."""
 
 
 @dataclass
@@ -88,49 +90,55 @@ def canonicaliser(automorphisms: Sequence[Sequence[int]], meeting: frozenset[int
         return lambda state: state
 
     def image(p: Sequence[int], state: WorldState) -> WorldState:
-        robots, visited = state
-        moved = tuple((p[v], None if d is None else p[d]) for v, d in robots)
+        robots, visited, extra = state
+        moved = tuple((p[v], None if d is None else p[d], c) for v, d, c in robots)
         if anonymity:
             moved = tuple(sorted(moved, key=_order))
         if visits:
             visited = sum(1 << p[v] for v in range(len(p)) if visited >> v & 1)
-        return moved, visited
+        return moved, visited, extra
 
     if len(group) <= 1:
-        return lambda state: (tuple(sorted(state[0], key=_order)), state[1])
+        return lambda state: (tuple(sorted(state[0], key=_order)), state[1], state[2])
     return lambda state: min((image(p, state) for p in group), key=_state_order)
 
 
-def _order(robot: tuple[int, int | None]) -> tuple[int, int]:
-    return robot[0], -1 if robot[1] is None else robot[1]
+def _order(robot: tuple[int, int | None, int]) -> tuple[int, int, int]:
+    return robot[0], -1 if robot[1] is None else robot[1], robot[2]
 
 
 def _state_order(state: WorldState) -> tuple[object, ...]:
     return tuple(_order(r) for r in state[0]), state[1]
 
 
-def search(world: object, robots: Sequence[int], moves: Moves, scheduler: str, *,
-           visits: bool = False, anonymity: bool = False,
-           symmetries: Sequence[Sequence[int]] = (),
+def search(world: object, robots: Sequence[int], actions: Actions, scheduler: str, *,
+           colours: Sequence[int] | None = None, visits: bool = False,
+           anonymity: bool = False, symmetries: Sequence[Sequence[int]] = (),
            meeting: frozenset[int] = frozenset(), limits: Limits = NO_LIMITS) -> WorldSearch:
-    """Breadth-first search of every state reachable from ``robots`` (all idle).
+    """Breadth-first search of every state reachable from ``robots`` (all idle, with the
+    initial ``colours``, default 0), from each start the scheduler has (one, or one per
+    round-robin order).
 
+    ``actions`` gives each robot's actions (:class:`~gather_verify.worlds.moves.WorldMoves`);
     ``symmetries``: the automorphisms that commute with the robots' frames
     (:meth:`~gather_verify.worlds.base.World.symmetries`), to merge states by (those that
-    fix the meeting nodes). ``moves`` gives the move sets
-    (:class:`~gather_verify.worlds.moves.WorldMoves`); a
-    crash or a missing rule stops the search at that state (``halt``); a limit stops it
-    with ``stopped`` naming the limit.
+    fix the meeting nodes). A crash or a missing rule stops the search at that state
+    (``halt``); a limit stops it with ``stopped`` naming the limit.
     """
     started = time.perf_counter()
     sched = get_scheduler(scheduler)
     canon = canonicaliser(symmetries, meeting, anonymity, visits)
-    start_robots = tuple((v, None) for v in robots)
-    start: WorldState = (start_robots, _visit_bits(robots) if visits else 0)
-    first = canon(start)
-    keys, reps = [first], [start]
-    index = {first: 0}
-    parents = [-1]
+    lights = tuple(colours) if colours is not None else (0,) * len(robots)
+    start_robots = tuple((v, None, c) for v, c in zip(robots, lights, strict=True))
+    seen0 = _visit_bits(robots) if visits else 0
+    starts = getattr(sched, "starts", lambda _n: [None])(len(robots))
+    reps: list[WorldState] = []
+    index: dict[WorldState, int] = {}
+    for extra in starts:
+        rep = (start_robots, seen0, extra)
+        if index.setdefault(canon(rep), len(reps)) == len(reps):
+            reps.append(rep)
+    parents = [-1] * len(reps)
     edges: list[list[tuple[int, int, Event]]] = []
     final: list[bool] = []
     stay: list[int] = []
@@ -138,16 +146,16 @@ def search(world: object, robots: Sequence[int], moves: Moves, scheduler: str, *
     stopped: str | None = None
     halt = None
     sid = 0
-    while sid < len(keys):
+    while sid < len(reps):
         if sid & 63 == 0 and time.perf_counter() - started > limits.max_seconds:
             stopped = "time"
             break
         if sid & 4095 == 0 and rss_mb() > limits.max_memory_mb:
             stopped = "memory"
             break
-        state, visited = reps[sid]
+        state, visited, extra = reps[sid]
         try:
-            ms = moves(tuple(sorted(v for v, _ in state)))
+            options = actions(state)
         except AlgorithmCrash as error:
             halt = Halt("crash", sid, error.reason, error.detail())
         except Unhandled as error:
@@ -155,33 +163,32 @@ def search(world: object, robots: Sequence[int], moves: Moves, scheduler: str, *
         if halt is not None:
             stopped = halt.property
             break
-        final.append(all(p is None and ms[v] == {v} for v, p in state))
-        stay.append(sum(1 << i for i, (v, p) in enumerate(state) if p is None and v in ms[v]))
+        final.append(all(p is None and options[i] == {(v, c)}
+                         for i, (v, p, c) in enumerate(state)))
+        stay.append(sum(1 << i for i, (v, p, c) in enumerate(state)
+                        if p is None and (v, c) in options[i]))
         out: list[tuple[int, int, Event]] = []
-        for event, succ in sched.successors(state, lambda _robots: ms):  # noqa: B023
-            if succ == state:  # a round in which every activated robot stays changes nothing
-                continue
+        for event, succ, after in sched.luminous(state, extra, options.__getitem__):
             transitions += 1
             seen = visited
             if visits:
-                seen |= _visit_bits(v for v, _ in succ)
-            nxt: WorldState = (succ, seen)
+                seen |= _visit_bits(v for v, _, _ in succ)
+            nxt: WorldState = (succ, seen, after)
             key = canon(nxt)
             did = index.get(key)
             if did is None:
-                did = len(keys)
+                did = len(reps)
                 index[key] = did
-                keys.append(key)
                 reps.append(nxt)
                 parents.append(sid)
             out.append((did, _mask(event.robots), event))
         edges.append(out)
         sid += 1
-        if len(keys) > limits.max_states:
+        if len(reps) > limits.max_states:
             stopped = "states"
             break
     return WorldSearch(keys=reps, parents=parents, edges=edges, final=final, stay=stay,
-                       states=len(keys), transitions=transitions, stopped=stopped, halt=halt,
+                       states=len(reps), transitions=transitions, stopped=stopped, halt=halt,
                        reduced=anonymity or len(symmetries) > 1,
                        seconds=time.perf_counter() - started, canonical=canon)
 

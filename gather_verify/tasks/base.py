@@ -139,10 +139,14 @@ def livelock(s: WorldSearch, ctx: Context, name: str, what: str,
              inside: Callable[[int], bool] | None = None,
              single_states: bool = False) -> Finding | None:
     """The first fair component (with an edge between distinct states, or any state when
-    ``single_states``), as a finding whose cycle a trace can show."""
+    ``single_states``), as a finding whose cycle a trace can show. Without ``inside`` (the
+    termination test) a component that holds a final state does not count: a run in it has
+    reached a final state (a round-robin turn going round gathered robots, say)."""
     found = None
     for comp in components(s, inside):
         if len(comp) == 1 and not single_states:
+            continue
+        if inside is None and any(s.final[v] for v in comp):
             continue
         if fair(s, comp, ctx.n) and (found is None or min(comp) < min(found)):
             found = comp

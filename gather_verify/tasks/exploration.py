@@ -27,7 +27,7 @@ class ExclusivePerpetualExploration(Task):
 
 def _exclusivity(s: WorldSearch) -> Finding | None:
     for sid in range(len(s.keys)):
-        nodes = [v for v, _ in s.keys[sid][0]]
+        nodes = [v for v, *_ in s.keys[sid][0]]
         if len(set(nodes)) < len(nodes):
             return Finding("exclusivity", sid, "two robots on one node")
         if sid >= len(s.edges):
@@ -46,7 +46,7 @@ def _perpetual(s: WorldSearch, ctx: Context) -> Finding | None:
     for v in range(ctx.size):
         found = livelock(s, ctx, "perpetual-exploration",
                          f"a fair execution stops visiting node {ctx.names[v]}",
-                         inside=lambda sid, v=v: all(u != v for u, _ in s.keys[sid][0]),
+                         inside=lambda sid, v=v: all(u != v for u, *_ in s.keys[sid][0]),
                          single_states=True)
         if found is not None:
             found.detail["node"] = v

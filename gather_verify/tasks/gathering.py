@@ -25,7 +25,7 @@ class Gathering(Task):
         for sid, is_final in enumerate(s.final):
             if not is_final:
                 continue
-            nodes = {v for v, _ in s.keys[sid][0]}
+            nodes = {v for v, *_ in s.keys[sid][0]}
             if len(nodes) > 1:
                 out[safety] = Finding(safety, sid, f"deadlock: no robot can move, robots on "
                                       f"{len(nodes)} nodes")

@@ -1,11 +1,15 @@
 """Move sets on a finite world: the union over a robot's frames of its algorithm's answer
-(SEMANTICS.md §3, §9).
+(SEMANTICS.md §3, §9), with the robot's light (§10).
+
+An answer is a node of the view (keep the colour) or, for a luminous algorithm, a pair
+``(node, colour)``. A robot's *actions* are the pairs ``(destination, colour)`` in
+global node indices.
 
 >>> from gather_verify.algorithms import get_algorithm
 >>> from gather_verify.worlds import get_world
 >>> moves = WorldMoves(get_world("ring:9"), get_algorithm("go-to-target"), frozenset({7}))
->>> {v: sorted(s) for v, s in moves((0, 3, 5)).items()}
-{0: [8], 3: [4], 5: [6]}
+>>> [sorted(a) for a in moves.actions(((0, None, 0), (3, None, 0), (5, None, 0)))]
+[[(8, 0)], [(4, 0)], [(6, 0)]]
 """
 
 from __future__ import annotations
@@ -14,61 +18,106 @@ from collections import Counter
 
 from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, AlgorithmError, Unhandled
 from gather_verify.algorithms.moves import HiddenRead
+from gather_verify.errors import InvalidInput
 from gather_verify.model.view import MultiplicityHidden, check_detection
 from gather_verify.worlds.base import World
-from gather_verify.worlds.view import WorldView
+from gather_verify.worlds.view import Lights, LightHidden, WorldView
 
 MEMO_SIZE = 1 << 18
-"""Configurations whose move sets a search keeps (then the memo starts over)."""
+"""Configurations whose actions a search keeps (then the memo starts over)."""
+LightedRobots = tuple[tuple[int, int | None, int], ...]
 
 
 class WorldMoves:
-    """``robots (sorted node indices) -> {occupied node: its move set}`` for one algorithm
-    on one world, memoised per configuration (decisions depend on nothing else)."""
+    """Per configuration (nodes and colours), each robot's actions, memoised (decisions
+    depend on nothing else)."""
 
     def __init__(self, world: World, algorithm: Algorithm, meeting: frozenset[int],
                  detection: str = "local-weak", frames: str = "all",
-                 visibility: int | None = None):
+                 visibility: int | None = None, lights: Lights | None = None):
         check_detection(detection)
         self.world, self.algorithm, self.meeting = world, algorithm, meeting
         self.detection, self.frames, self.visibility = detection, frames, visibility
-        self._memo: dict[tuple[int, ...], dict[int, frozenset[int]]] = {}
+        self.lights = lights or Lights(1)
+        self._memo: dict[tuple[tuple[int, int], ...], dict[tuple[int, int],
+                                                            frozenset[tuple[int, int]]]] = {}
         world.frames(0, visibility, frames)  # bad frames (chirality on a graph) fail here
 
-    def __call__(self, robots: tuple[int, ...]) -> dict[int, frozenset[int]]:
-        got = self._memo.get(robots)
-        if got is None:
-            counts = Counter(robots)
-            got = {v: self.move_set(counts, v) for v in counts}
+    def actions(self, robots: LightedRobots) -> list[frozenset[tuple[int, int]]]:
+        """Each robot's actions ``(destination, colour)`` in the configuration of ``robots``
+        (a robot with a pending move is listed too: its view is that of the snapshot)."""
+        seen = tuple(sorted((v, c) for v, _, c in robots))
+        table = self._memo.get(seen)
+        if table is None:
+            counts = Counter(v for v, _ in seen)
+            colours: dict[int, Counter[int]] = {}
+            for v, c in seen:
+                colours.setdefault(v, Counter())[c] += 1
+            table = {(v, c): self.action_set(counts, colours, v, c) for v, c in set(seen)}
             if len(self._memo) >= MEMO_SIZE:
                 self._memo.clear()
-            self._memo[robots] = got
-        return got
+            self._memo[seen] = table
+        return [table[v, c] for v, _, c in robots]
 
-    def move_set(self, counts: Counter[int], node: int) -> frozenset[int]:
-        """The nodes the robots on ``node`` may go to (``node`` itself: stay)."""
+    def action_set(self, counts: Counter[int], colours: dict[int, Counter[int]], node: int,
+                   colour: int) -> frozenset[tuple[int, int]]:
+        """What the robots on ``node`` with light ``colour`` may do."""
         algorithm, out = self.algorithm, set()
         for frame in self.world.frames(node, self.visibility, self.frames):
-            view = WorldView(self.world, counts, self.meeting, node, frame, self.detection)
+            view = WorldView(self.world, counts, self.meeting, node, frame, self.detection,
+                             self.lights, colours, colour)
             try:
                 answer = algorithm.decide(view)  # type: ignore[arg-type]
-            except MultiplicityHidden as error:
-                raise HiddenRead(f"algorithm {algorithm.name!r} reads multiplicity its robots "
-                                 f"cannot see: {error}") from None
+            except (MultiplicityHidden, LightHidden) as error:
+                raise HiddenRead(f"algorithm {algorithm.name!r} reads what its robots cannot "
+                                 f"see: {error}") from None
             except (Unhandled, KeyboardInterrupt):
                 raise
             except BaseException as error:  # SystemExit too: user code never ends the verifier
                 raise AlgorithmCrash(algorithm.name, "decide", error,
                                      self.world.label(node), view) from None
-            back = frame.inverse.get(answer) if _hashable(answer) else None
-            if back is None or (back != node and back not in self.world.adjacency[node]):
-                error = AlgorithmError(
-                    f"algorithm {algorithm.name!r} answered {answer!r}: a move must be view.me "
-                    f"({view.me!r}) or one of its neighbours {list(view.neighbours())}")
-                raise AlgorithmCrash(algorithm.name, "decide", error,
-                                     self.world.label(node), view) from None
-            out.add(back)
+            out.add(self._action(answer, frame, node, colour, view))
         return frozenset(out)
+
+    def _action(self, answer: object, frame: object, node: int, colour: int,
+                view: WorldView) -> tuple[int, int]:
+        """An answer as ``(destination index, colour)``, or a crash naming what is wrong."""
+        target, new = answer, colour
+        back = frame.inverse.get(answer) if _hashable(answer) else None  # type: ignore[attr-defined]
+        if back is None and isinstance(answer, tuple) and len(answer) == 2:
+            target, new = answer
+            back = frame.inverse.get(target) if _hashable(target) else None  # type: ignore[attr-defined]
+        problem = None
+        if back is None or (back != node and back not in self.world.adjacency[node]):
+            problem = (f"answered {answer!r}: a move must be view.me ({view.me!r}) or one of "
+                       f"its neighbours {list(view.neighbours())}, or such a node with a "
+                       "colour, (node, colour)")
+        elif isinstance(new, bool) or not isinstance(new, int) or \
+                not 0 <= new < self.lights.colours:
+            problem = (f"answered colour {new!r}: the lights have colours 0.."
+                       f"{self.lights.colours - 1}")
+        if problem is not None:
+            raise AlgorithmCrash(self.algorithm.name, "decide",
+                                 AlgorithmError(f"algorithm {self.algorithm.name!r} {problem}"),
+                                 self.world.label(node), view) from None
+        return back, new  # type: ignore[return-value]
+
+
+def parse_lights(text: str | None) -> Lights:
+    """``--lights K`` or ``K:external`` / ``K:internal`` (K >= 1 colours)."""
+    if text is None:
+        return Lights(1)
+    count, _, variant = text.partition(":")
+    try:
+        k = int(count, 10)
+    except ValueError:
+        raise InvalidInput(f"--lights {text!r}: write K, K:external or K:internal") from None
+    if not 1 <= k <= 64:
+        raise InvalidInput(f"--lights {k}: the number of colours must be in [1, 64]")
+    variant = variant or "full"
+    if variant not in ("full", "external", "internal"):
+        raise InvalidInput(f"--lights {text!r}: the variant is external or internal")
+    return Lights(k, variant)
 
 
 def _hashable(value: object) -> bool:

@@ -17,7 +17,9 @@ is the union over its frames of that answer, mapped back (§3).
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Mapping
+from dataclasses import dataclass
 from functools import cached_property
 
 import networkx as nx
@@ -26,17 +28,69 @@ from gather_verify.model.view import MultiplicityHidden
 from gather_verify.worlds.base import Frame, Label, World
 
 
+@dataclass(frozen=True)
+class Lights:
+    """The robots' lights (§10): ``colours`` K, and who sees a robot's colour: everyone
+    (``full``), the others only (``external``), the robot only (``internal``). K = 1 is an
+    oblivious robot."""
+
+    colours: int
+    variant: str = "full"
+
+    def __str__(self) -> str:
+        return f"{self.colours}" + ("" if self.variant == "full" else f":{self.variant}")
+
+
+class LightHidden(LookupError):
+    """The algorithm asked for a colour its lights variant hides."""
+
+
 class WorldView:
     """A robot's snapshot of a world in one frame (read-only)."""
 
-    __slots__ = ("world", "detection", "_counts", "_meeting", "_node", "_frame", "_map")
+    __slots__ = ("world", "detection", "_counts", "_meeting", "_node", "_frame", "_map",
+                 "_lights", "_colours", "_mine")
 
     def __init__(self, world: World, counts: Mapping[int, int], meeting: frozenset[int],
-                 node: int, frame: Frame, detection: str):
+                 node: int, frame: FrameMap, detection: str, lights: Lights | None = None,
+                 colours: Mapping[int, Counter[int]] | None = None, mine: int = 0):
         self.world, self.detection = world, detection
         self._counts, self._meeting, self._node = counts, meeting, node
         self._frame = frame.labels
         self._map = frame
+        self._lights = lights or Lights(1)
+        self._colours = colours or {}
+        self._mine = mine
+
+    @property
+    def light(self) -> int:
+        """The robot's own colour (hidden under external lights)."""
+        if self._lights.variant == "external":
+            raise LightHidden("external lights: a robot does not see its own colour")
+        return self._mine
+
+    def _colours_on(self, node: Label) -> Counter[int]:
+        if self._lights.variant == "internal":
+            raise LightHidden("internal lights: a robot sees no other robot's colour")
+        back = self._map.inverse.get(node)
+        if back is None:
+            raise LightHidden(f"{node} is not in the view")
+        seen = Counter(self._colours.get(back, ()))
+        if back == self._node and self._lights.variant == "external":
+            seen[self._mine] -= 1  # its own light is the one it cannot see
+        return +seen
+
+    def colours(self, node: Label | None = None) -> frozenset[int]:
+        """The colours of the lights on ``node`` (default: the robot's own node; under
+        external lights its own light is not among them), as a set (how many of each:
+        :meth:`colour_counts`, under strong detection)."""
+        return frozenset(self._colours_on(self.me if node is None else node))
+
+    def colour_counts(self, node: Label | None = None) -> dict[int, int]:
+        """How many lights of each colour are on ``node`` (strong detection only)."""
+        node = self.me if node is None else node
+        self._visible(node, strong=True)
+        return dict(self._colours_on(node))
 
     @property
     def me(self) -> Label:
