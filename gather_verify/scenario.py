@@ -40,6 +40,8 @@ TOP_LEVEL = {
     "world": str,
     "task": str,
     "visibility": int,
+    "lights": str,
+    "colours": list,
 }
 
 
@@ -86,6 +88,10 @@ class Scenario:
     """On a finite world: the robots' and the meeting nodes' indices."""
     task: str | None = None
     visibility: int | None = None
+    lights: str | None = None
+    """``K`` or ``K:external`` / ``K:internal`` (finite worlds)."""
+    colours: list[int] | None = None
+    """Each robot's initial colour (default 0)."""
 
 
 def _type_name(t: type) -> str:
@@ -111,7 +117,7 @@ def parse_scenario(data: object, where: str) -> Scenario:
     configuration = None
     try:
         if world == "grid":
-            for key in ("task", "visibility"):
+            for key in ("task", "visibility", "lights", "colours"):
                 if key in data:
                     raise ScenarioError(f"{where}: {key!r} needs a finite 'world' (ring:N, "
                                         "grid:WxH, torus:WxH, graph:FILE)")
@@ -143,6 +149,8 @@ def parse_scenario(data: object, where: str) -> Scenario:
         nodes=nodes,
         task=data.get("task"),
         visibility=data.get("visibility"),
+        lights=data.get("lights"),
+        colours=data.get("colours"),
     )
 
 
@@ -162,6 +170,13 @@ def _world_nodes(data: dict[str, Any], where: str) -> tuple[tuple[int, ...], tup
                             "configuration stand on distinct nodes")
     if "task" in data:
         get_task(data["task"])
+    from gather_verify.worlds.moves import parse_lights
+
+    k = parse_lights(data.get("lights")).colours
+    colours = data.get("colours")
+    if colours is not None and (len(colours) != len(robots) or any(
+            isinstance(c, bool) or not isinstance(c, int) or not 0 <= c < k for c in colours)):
+        raise ScenarioError(f"{where}: 'colours' must give each robot a colour in 0..{k - 1}")
     if "expect" in data and "class" in data["expect"]:
         raise ScenarioError(f"{where}: 'expect.class' is a class of the paper's world (Z²)")
     return robots, meeting

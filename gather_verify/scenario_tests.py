@@ -84,7 +84,8 @@ def _run_world_expectation(scenario: Scenario, expectation: Expectation,
         world, list(robots), list(meeting), expectation.algorithm, expectation.scheduler,
         task=scenario.task, properties=options.pop("properties", None),
         detection=options.pop("multiplicity"), frames=options.pop("frames"),
-        visibility=scenario.visibility, reduction=options.pop("reduction", True),
+        visibility=scenario.visibility, lights=scenario.lights, colours=scenario.colours,
+        reduction=options.pop("reduction", True),
         max_states=options.pop("max_states", 2_000_000),
         max_seconds=options.pop("max_seconds", 600.0))
 

@@ -11,8 +11,8 @@ import numpy as np
 from schedulers.base import (
     Actions,
     Event,
-    LRobot,
     Frontier,
+    LRobot,
     MoveSets,
     State,
     Successors,

@@ -31,6 +31,7 @@ from gather_verify.algorithms.base import (
 )
 from gather_verify.algorithms.bounce import Bounce
 from gather_verify.algorithms.go_to_target import GoToTarget
+from gather_verify.algorithms.inchworm import RingInchworm
 from gather_verify.algorithms.loading import (
     absolute_spec,
     entry_point_factory,
@@ -54,6 +55,7 @@ REGISTRY: dict[str, Callable[..., Algorithm]] = {
     "nearest-centre": NearestCentre,
     "paper": PaperAlgorithm,
     "random": RandomEquivariant,
+    "ring-inchworm": RingInchworm,
     "ring-explore": RingExplore,
     "ring-gather": RingGather,
 }

@@ -15,8 +15,10 @@ from typing import Any
 
 from gather_verify.algorithms.base import Unhandled
 from gather_verify.algorithms.go_to_target import GoToTarget, nearest, step_towards
+from gather_verify.algorithms.inchworm import RingInchworm, other, towards
 from gather_verify.algorithms.ring_exploration import RingExplore
-from gather_verify.algorithms.ring_gathering import RingGather, towards
+from gather_verify.algorithms.ring_gathering import RingGather
+from gather_verify.algorithms.ring_gathering import towards as towards_on_ring
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import ORIGIN, Node, manhattan
 from gather_verify.model.view import View
@@ -132,7 +134,7 @@ class RingGatherBoth(RingGather):
 
     def pair_move(self, view: Any, a: Any, b: Any, behind_a: int, behind_b: int) -> Any:
         if view.me in (a, b):
-            return towards(view, b if view.me == a else a)
+            return towards_on_ring(view, b if view.me == a else a)
         return view.me
 
 
@@ -145,6 +147,20 @@ class RingExploreBlind(RingExplore):
         return self.forward(view)
 
 
+class InchwormEager(RingInchworm):
+    """``ring-inchworm`` whose tail steps after the head even when they are side by side:
+    onto the head's node (exclusivity fails)."""
+
+    name = "broken-ring-inchworm"
+
+    def decide(self, view: Any) -> Any:
+        mate = other(view)
+        if mate is not None and view.light == 0:
+            return towards(view, mate)
+        return super().decide(view)
+
+
 BROKEN = {cls.name: cls for cls in (Away, Stay, Drift, Wander, Undefined, Crash, BadAnswer,
-                                    CrashTarget, RingGatherBoth, RingExploreBlind)}
+                                    CrashTarget, RingGatherBoth, RingExploreBlind,
+                                    InchwormEager)}
 

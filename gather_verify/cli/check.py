@@ -45,12 +45,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--task", help="on a finite world: gathering, "
                         "gathering-on-meeting-nodes (default with meeting nodes), "
                         "exclusive-perpetual-exploration or exploration-with-stop")
+    parser.add_argument("--lights", default=None, metavar="K[:external|internal]",
+                        help="on a finite world: luminous robots with K colours (docs/worlds.md)")
+    parser.add_argument("--colours", default=None, metavar="C ...",
+                        help="on a finite world with lights: each robot's initial colour "
+                             "(default 0)")
     parser.add_argument("--visibility", type=bounded_int(-10**6, 10**6), default=None,
                         metavar="HOPS", help="on a finite world: robots see only the nodes "
                         "within this many hops (default: the whole world)")
     parser.add_argument("--algorithm", help="a name, FILE.py:NAME or package.module:NAME "
                         "(default: the scenario's, else paper)")
-    parser.add_argument("--scheduler", choices=tuple(SCHEDULERS))
+    parser.add_argument("--scheduler", metavar="NAME",
+                        help=f"the adversary: {', '.join(SCHEDULERS)} (round-robin:order=2 0 1 "
+                             "fixes its order; default: the scenario's, else async)")
     parser.add_argument("--multiplicity", help="multiplicity detection model (default local-weak)")
     parser.add_argument("--frames", choices=("all", "compass", "chirality"))
     parser.add_argument("--property", action="append", dest="properties", metavar="P",
@@ -110,9 +117,11 @@ def run(args: argparse.Namespace) -> int:
         scenario = load_scenario(args.scenario)
         if scenario.world != "grid":
             return run_world(args, scenario)
-    if args.task not in (None, "gathering-on-meeting-nodes") or args.visibility is not None:
-        raise UsageError("--task and --visibility need a finite world (--world ring:N, "
-                         "grid:WxH, torus:WxH or graph:FILE); on Z² the task is the paper's")
+    if args.task not in (None, "gathering-on-meeting-nodes") or args.visibility is not None \
+            or args.lights is not None or args.colours is not None:
+        raise UsageError("--task, --visibility, --lights and --colours need a finite world "
+                         "(--world ring:N, grid:WxH, torus:WxH or graph:FILE); on Z² the task "
+                         "is the paper's")
     configuration, scenario = load_configuration(args)
     writable_outputs(trace_out=args.trace_out, svg=args.svg, html=args.html, junit=args.junit,
                      graph_out=args.graph_out)
@@ -206,6 +215,13 @@ def run(args: argparse.Namespace) -> int:
     return VERDICT_EXIT[report["verdict"]]
 
 
+def _colours(text: str) -> list[int]:
+    try:
+        return [int(part, 10) for part in text.split()]
+    except ValueError:
+        raise UsageError(f"--colours {text!r}: write one integer colour per robot") from None
+
+
 PLANE_ONLY = ("readings", "margin", "keep_growing", "force", "graph_out", "svg", "html", "junit")
 """Options of the paper's world (Z²) that a finite world does not take."""
 
@@ -239,6 +255,9 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
             frames=args.frames or (scenario.frames if scenario else "all"),
             visibility=args.visibility if args.visibility is not None else (
                 scenario.visibility if scenario else None),
+            lights=args.lights or (scenario.lights if scenario else None),
+            colours=_colours(args.colours) if args.colours is not None else (
+                scenario.colours if scenario else None),
             reduction=not args.no_reduction,
             max_states=args.max_states, max_seconds=args.max_seconds,
             **({} if args.max_memory is None else {"max_memory_mb": args.max_memory}))

@@ -38,9 +38,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "exploration-with-stop")
     p.add_argument("--visibility", type=bounded_int(0, 10**6), default=None, metavar="HOPS",
                    help="on a finite world: robots see only the nodes within this many hops")
+    p.add_argument("--lights", default=None, metavar="K[:external|internal]",
+                   help="on a finite world: luminous robots with K colours, all starting at 0")
+    p.add_argument("--initial-colours", choices=("all",), default=None,
+                   help="with --lights: every initial colouring of the robots, not only all 0")
     p.add_argument("--algorithm", default="paper",
                    help="a name, FILE.py:NAME or package.module:NAME (docs/algorithms.md)")
-    p.add_argument("--scheduler", choices=tuple(SCHEDULERS), default="async")
+    p.add_argument("--scheduler", default="async", metavar="NAME",
+                   help=f"the adversary: {', '.join(SCHEDULERS)} (default async)")
     p.add_argument("--multiplicity", default="local-weak", help="detection model")
     p.add_argument("--frames", default="all", choices=("all", "chirality", "compass"))
     p.add_argument("--property", action="append", dest="properties", metavar="P",
@@ -112,13 +117,15 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.sweeps.census import validate_census_arguments
     from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
     from gather_verify.worlds import is_plane
+    from schedulers import get_scheduler
 
+    get_scheduler(args.scheduler)  # an unknown name fails before any work
     if not is_plane(args.world):
         return _worlds(args)
     if args.box is None:
         raise InvalidInput("--box is required in the paper's world (or give a finite --world)")
-    if args.task is not None or args.visibility is not None:
-        raise InvalidInput("--task and --visibility need a finite world (--world ring:N, "
+    if args.task is not None or args.visibility is not None or args.lights is not None:
+        raise InvalidInput("--task, --visibility and --lights need a finite world (--world ring:N, "
                            "grid:WxH, torus:WxH or graph:FILE)")
     if 0 in args.robots:
         raise InvalidInput("--robots: at least one robot")
@@ -207,6 +214,12 @@ def _worlds(args: argparse.Namespace) -> int:
         w.symmetries(args.frames)
     if args.task is not None:
         get_task(args.task)
+    if args.lights is not None:
+        from gather_verify.worlds.moves import parse_lights
+
+        parse_lights(args.lights)
+    elif args.initial_colours is not None:
+        raise InvalidInput("--initial-colours needs --lights K")
     settings = [SweepSettings(
         robots=n, meeting=m, box=(0, 0), algorithm=args.algorithm, scheduler=args.scheduler,
         detection=args.multiplicity, frames=args.frames,
@@ -215,7 +228,7 @@ def _worlds(args: argparse.Namespace) -> int:
         max_memory_mb=args.max_memory_mb,
         fingerprint_extra=tuple(os.path.abspath(f) for f in args.fingerprint_extra),
         world=w.name, task=args.task or ("gathering-on-meeting-nodes" if m else "gathering"),
-        visibility=args.visibility,
+        visibility=args.visibility, lights=args.lights, initial_colours=args.initial_colours,
     ) for w in worlds for n in args.robots for m in args.meeting]
     try:
         summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,

@@ -60,6 +60,9 @@ class SweepSettings:
     box). A finite world's sweep also names its ``task`` and the robots' ``visibility``."""
     task: str | None = None
     visibility: int | None = None
+    lights: str | None = None
+    initial_colours: str | None = None
+    """``all``: every initial colouring of the robots (with lights), else all at 0."""
 
     def key(self) -> dict[str, Any]:
         """The identity of the sweep in the store (timing limits excluded only if
@@ -75,10 +78,14 @@ class SweepSettings:
         out["fingerprint"] = self.fingerprint()  # never stale
         del out["fingerprint_extra"]
         if self.world == "grid":  # the paper's world: keys as every store before worlds
-            for name in ("world", "task", "visibility"):
+            for name in ("world", "task", "visibility", "lights", "initial_colours"):
                 del out[name]
         else:
             del out["box"], out["move_bound_c"], out["keep_growing"]
+            if self.lights is None:
+                del out["lights"]
+            if self.initial_colours is None:
+                del out["initial_colours"]
         if not self.force:  # the rule every store before the field was written with
             del out["force"]
         return out
@@ -287,9 +294,11 @@ def _census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
         return
     from gather_verify.sweeps.world_census import world_configurations, world_key
     from gather_verify.worlds import get_world
+    from gather_verify.worlds.moves import parse_lights
 
     world = get_world(settings.world)
-    for c in world_configurations(world, settings.robots, settings.meeting, settings.frames):
+    k = parse_lights(settings.lights).colours if settings.initial_colours == "all" else 1
+    for c in world_configurations(world, settings.robots, settings.meeting, settings.frames, k):
         yield c, world_key(world, c)
 
 
@@ -329,7 +338,8 @@ def _execute(
     end of each sweep; the checks a long class hands off go out after the tasks before them."""
     local = dask is None and workers == 1
     if any(todo for _, _, todo in plan):  # forked workers inherit the compiled kernels
-        warm_kernels({settings.scheduler for settings, _, _ in plan})
+        warm_kernels({settings.scheduler for settings, _, _ in plan
+                      if settings.world == "grid"})  # finite worlds: no compiled kernels
     tasks: list[Task] = []
     for settings, sweep, todo in plan:
         if engine == "union":  # a task is a meeting-node class, the largest first

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterator
-from itertools import combinations
+from itertools import combinations, product
 from typing import Any, NamedTuple
 
 from gather_verify.worlds import get_world
@@ -24,26 +24,32 @@ from gather_verify.worlds.base import World
 
 
 class WorldConfiguration(NamedTuple):
-    """An initial configuration of a finite world: node indices, sorted."""
+    """An initial configuration of a finite world: node indices, sorted, and the robots'
+    initial colours in the same order (all 0 without lights)."""
 
     world: str
     robots: tuple[int, ...]
     meeting: tuple[int, ...]
+    colours: tuple[int, ...] = ()
 
 
-def world_configurations(world: World, k: int, m: int, frames: str
+def world_configurations(world: World, k: int, m: int, frames: str, colours: int = 1
                          ) -> Iterator[WorldConfiguration]:
-    """Every class of initial configurations of ``k`` robots and ``m`` meeting nodes, its
-    least member, in lexicographic order."""
+    """Every class of initial configurations of ``k`` robots and ``m`` meeting nodes (and,
+    with ``colours`` K > 1, every initial colouring of the robots), its least member, in
+    lexicographic order."""
     if k > world.size:
         return
     group = world.symmetries(frames)
     for robots in combinations(range(world.size), k):
         for meeting in combinations(range(world.size), m):
-            least = min((tuple(sorted(p[v] for v in robots)), tuple(sorted(p[v] for v in meeting)))
-                        for p in group)
-            if least == (robots, meeting):
-                yield WorldConfiguration(world.name, robots, meeting)
+            for lit in product(range(colours), repeat=k):
+                me = (tuple(zip(robots, lit, strict=True)), meeting)
+                least = min((tuple(sorted((p[v], c) for v, c in me[0])),
+                             tuple(sorted(p[v] for v in meeting))) for p in group)
+                if least == me:
+                    yield WorldConfiguration(world.name, robots, meeting,
+                                             lit if colours > 1 else ())
 
 
 def world_key(world: World, c: WorldConfiguration) -> str:
@@ -51,7 +57,8 @@ def world_key(world: World, c: WorldConfiguration) -> str:
     them."""
     robots = " ".join(world.format_node(v) for v in c.robots)
     meeting = " ".join(world.format_node(v) for v in c.meeting)
-    return f"{world.name}|{robots}|{meeting}"
+    lit = "|" + " ".join(map(str, c.colours)) if c.colours else ""
+    return f"{world.name}|{robots}|{meeting}{lit}"
 
 
 def verify_world_one(settings: Any, index: int, c: WorldConfiguration) -> dict[str, Any]:
@@ -65,13 +72,15 @@ def verify_world_one(settings: Any, index: int, c: WorldConfiguration) -> dict[s
         world, list(c.robots), list(c.meeting), settings.algorithm, settings.scheduler,
         task=settings.task, properties=list(settings.properties) or None,
         detection=settings.detection, frames=settings.frames, visibility=settings.visibility,
+        lights=settings.lights, colours=list(c.colours) if c.colours else None,
         reduction=settings.reduction, max_states=settings.max_states,
         max_seconds=settings.max_seconds,
         **({} if settings.max_memory_mb is None else {"max_memory_mb": settings.max_memory_mb}))
     return {
         "key": world_key(world, c),
         "index": index,
-        "robots": report["robots"],
+        "robots": report["robots"] if not c.colours else [
+            [v, colour] for v, colour in zip(report["robots"], c.colours, strict=True)],
         "meeting_nodes": report["meeting_nodes"],
         "class": world.name,
         "verdict": report["verdict"],

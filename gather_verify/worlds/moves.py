@@ -21,7 +21,7 @@ from gather_verify.algorithms.moves import HiddenRead
 from gather_verify.errors import InvalidInput
 from gather_verify.model.view import MultiplicityHidden, check_detection
 from gather_verify.worlds.base import World
-from gather_verify.worlds.view import Lights, LightHidden, WorldView
+from gather_verify.worlds.view import LightHidden, Lights, WorldView
 
 MEMO_SIZE = 1 << 18
 """Configurations whose actions a search keeps (then the memo starts over)."""
