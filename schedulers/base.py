@@ -89,7 +89,7 @@ class Successors(NamedTuple):
 
     states: int
     source: np.ndarray  # (E,) int64
-    weight: np.ndarray  # (E,) int8
+    weight: np.ndarray  # (E,) int8 (int16 past 127 robots)
     robot: np.ndarray  # (C,) int64
     code: np.ndarray  # (C,) int64
     event: np.ndarray | None  # (C,) int64, or None: C == E and event[c] == c
@@ -215,7 +215,8 @@ def bulk_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Success
         moved[:, i] = moves[at]
     flat = np.flatnonzero(moved.reshape(-1))
     event, robot = np.divmod(flat, n)
-    return Successors(s, group // k, moved.sum(axis=1, dtype=np.int8), robot,
+    return Successors(s, group // k, moved.sum(axis=1, dtype=np.int8 if n <= 127 else np.int16),
+                      robot,
                       new.reshape(-1)[flat], event)
 
 

@@ -68,6 +68,10 @@ def region_box(initial: Configuration, margin: int,
     return geometry.bounding_box(images)
 
 
+LIST_TABLE_CODES = 1 << 20
+"""Up to this many codes a symmetry table is a Python list; beyond, a numpy array."""
+
+
 class Encoding:
     """Robots and states as integers over a box of the grid.
 
@@ -101,12 +105,23 @@ class Encoding:
         v = self.node(cell)
         return v, (None if d == 0 else geometry.add(v, STEPS[d - 1]))
 
-    def _table(self, a: Automorphism) -> list[int]:
-        out = []
-        for code in range(self.base):
-            v, p = self.robot(code)
-            out.append(self.code(a(v), None if p is None else a(p)))
-        return out
+    def _table(self, a: Automorphism) -> list[int] | np.ndarray:
+        """Every code's image under ``a`` (computed with numpy: a wide region has millions of
+        codes). A list, which the reference engine indexes fastest, up to
+        :data:`LIST_TABLE_CODES` codes; an array beyond, to bound the memory."""
+        code = np.arange(self.base, dtype=np.int64)
+        cell, d = np.divmod(code, 5)
+        x, y = self.x0 + cell // self.height, self.y0 + cell % self.height
+        ma, mb, mc, md = geometry.MATRICES[a.g]
+        nx_, ny_ = ma * x + mb * y + a.t[0], mc * x + md * y + a.t[1]
+        steps = np.array([(0, 0), *STEPS], dtype=np.int64)  # row d: the pending step
+        sx, sy = steps[d, 0], steps[d, 1]
+        turned = (ma * sx + mb * sy) * 3 + (mc * sx + md * sy)  # the image step, as one int
+        direction = np.zeros(9 * 2, dtype=np.int64)  # image step -> its d (0: none)
+        for k, (tx, ty) in enumerate(STEPS):
+            direction[tx * 3 + ty] = k + 1
+        out = ((nx_ - self.x0) * self.height + (ny_ - self.y0)) * 5 + direction[turned]
+        return out.tolist() if self.base <= LIST_TABLE_CODES else out
 
     def pack(self, codes: Iterable[int]) -> int:
         key, scale = 0, 1
@@ -122,7 +137,8 @@ class Encoding:
             codes.sort()
         best = self.pack(codes)
         for table in self.tables:
-            image = [table[c] for c in codes]
+            image = [table[c] for c in codes] if isinstance(table, list) else \
+                table[codes].tolist()
             if self.anonymity:
                 image.sort()
             best = min(best, self.pack(image))

@@ -159,6 +159,12 @@ class Exploration:
         return initial_state(self.initial.robots)
 
 
+def weight_code(n: int) -> str:
+    """The array type of a transition's weight (edges traversed, at most ``n``): a byte up to
+    127 robots, two bytes beyond."""
+    return "b" if n <= 127 else "h"
+
+
 def facts_cache(algorithm: Algorithm, initial: Configuration, detection: str,
                 frames: Sequence[int]) -> Callable[[tuple[Node, ...]], ConfigurationFacts]:
     """A memoised ``robots -> ConfigurationFacts`` (decisions depend on the configuration only)."""
@@ -219,7 +225,8 @@ def explore_reference(
     start = initial_state(initial.robots)
     keys = [enc.key(start)]
     visited = {keys[0]: 0}
-    parents, offsets, targets, weights = array("q", [-1]), array("q"), array("l"), array("b")
+    parents, offsets, targets = array("q", [-1]), array("q"), array("l")
+    weights = array(weight_code(initial.n))
     checks.state(0, StateFacts(facts(initial.robots), True), checks.on_discovery)
     transitions = changed_loops = 0
     stopped: str | None = None
@@ -227,15 +234,14 @@ def explore_reference(
     n = initial.n
     sid = 0
     while sid < len(keys):
-        if sid & 1023 == 0:
-            if time.perf_counter() - started > limits.max_seconds:
-                stopped = "time"
+        if time.perf_counter() - started > limits.max_seconds:  # every state: a state of
+            stopped = "time"  # many robots costs far more than the clock read
+            break
+        if sid & 4095 == 0:
+            peak = max(peak, rss_mb())
+            if peak > limits.max_memory_mb:
+                stopped = "memory"
                 break
-            if sid & 4095 == 0:
-                peak = max(peak, rss_mb())
-                if peak > limits.max_memory_mb:
-                    stopped = "memory"
-                    break
         state = enc.decode(keys[sid], n)
         robots = configuration_of(state)
         here = facts(robots)
@@ -247,8 +253,14 @@ def explore_reference(
         assert here.move_sets is not None, "a state without move sets needs a halting property"
         checks.state(sid, seen, checks.on_expansion)
         offsets.append(len(targets))
-        for event, succ in sched.successors(state, ms):
+        for k, (event, succ) in enumerate(sched.successors(state, ms), 1):
             transitions += 1
+            if k & 1023 == 0 and (len(keys) > limits.max_states or
+                                  time.perf_counter() - started > limits.max_seconds):
+                # one state's events can be many (FSYNC: a product over the robots): the
+                # limits are read every 1,024 of them (a usual state has far fewer)
+                stopped = "states" if len(keys) > limits.max_states else "time"
+                break
             if not all(enc.inside(v) for v, _ in succ):
                 stopped = "region"
                 break

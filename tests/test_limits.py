@@ -1,0 +1,122 @@
+"""Limits bound every step: a state with very many events, many robots, a slow ``decide``,
+a wide region. The clock is faked where time matters, so no assertion depends on the
+machine's speed; subprocess timeouts only guard against a hang."""
+
+from __future__ import annotations
+
+import json
+import random
+import subprocess
+import sys
+
+import pytest
+
+from gather_verify.engine import explore as reference_module
+from gather_verify.engine import fast_explore as bulk_module
+from gather_verify.engine.encoding import Encoding, Limits
+from gather_verify.model import geometry
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.symmetry import Automorphism
+
+CLI = [sys.executable, "-m", "gather_verify"]
+
+
+def check(*args: str) -> tuple[int, dict]:
+    run = subprocess.run([*CLI, "check", *args, "--json"], capture_output=True, text=True,
+                         timeout=300)
+    assert "Traceback" not in run.stderr, run.stderr
+    return run.returncode, json.loads(run.stdout)
+
+
+def test_128_robots_or_more_are_searched() -> None:
+    """A round of 130 robots moves up to 130 of them: its weight fits no signed byte."""
+    robots = " ".join(f"{i},0" for i in range(130))
+    code, report = check("--robots", robots, "--meeting", "200,0", "--algorithm",
+                         "go-to-target", "--scheduler", "fsync", "--max-states", "5")
+    assert code == 3 and report["verdict"] == "INCOMPLETE" and report["reason"] == "states"
+
+
+@pytest.mark.parametrize("scheduler", ["fsync", "ssync"])
+def test_a_state_with_exponentially_many_events_stops_at_the_states_limit(scheduler: str) -> None:
+    """16 robots with two closer steps each: 2^16 events in one FSYNC round (the reference
+    engine runs it: so many robots' states fit no 63-bit key of the bulk engine)."""
+    robots = " ".join(f"{i},{17 - i}" for i in range(1, 17))
+    code, report = check("--robots", robots, "--meeting", "0,0", "--algorithm",
+                         "go-to-target", "--scheduler", scheduler, "--max-states", "10")
+    assert code == 3 and report["reason"] == "states"
+    assert report["states"] <= 10 + 1024 + 16  # the grain: 1,024 events of one state
+
+
+class FakeClock:
+    """``time`` for one engine module: ``perf_counter`` moves only when told to."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def perf_counter(self) -> float:
+        return self.now
+
+
+def test_the_reference_engine_reads_the_clock_at_every_state(monkeypatch) -> None:  # noqa: ANN001
+    clock = FakeClock()
+    monkeypatch.setattr(reference_module, "time", clock)
+
+    from gather_verify.algorithms.go_to_target import GoToTarget
+
+    class Tick(GoToTarget):
+        name = "tick"
+
+        def decide(self, view):  # noqa: ANN001, ANN201
+            clock.now += 0.01  # as if many robots made every state costly
+            return super().decide(view)
+
+        def move_sets(self, *args):  # noqa: ANN002, ANN201
+            return None  # ask decide view by view
+
+    c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
+    e = reference_module.explore_reference(c, Tick(), "async", limits=Limits(max_seconds=1.0))
+    assert e.stopped == "time" and e.states < 2184
+    assert clock.now < 1.0 + 0.5  # one state's worth past the limit, not 1,024 states'
+
+
+def test_a_slow_decide_stops_within_one_configuration_of_the_time_limit(monkeypatch) -> None:  # noqa: ANN001
+    clock = FakeClock()
+    monkeypatch.setattr(bulk_module, "time", clock)
+    from gather_verify.algorithms.go_to_target import GoToTarget
+
+    class Slow(GoToTarget):
+        name = "slow"
+
+        def decide(self, view):  # noqa: ANN001, ANN201
+            clock.now += 0.05
+            return super().decide(view)
+
+        def move_sets(self, *args):  # noqa: ANN002, ANN201
+            return None  # ask decide view by view
+
+    c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
+    e = bulk_module.explore_fast(c, Slow(), "async", limits=Limits(max_seconds=3.0))
+    assert e.stopped == "time"
+    assert clock.now <= 3.0 + 3 * 8 * 0.05 + 0.05  # at most one more configuration's views
+
+
+def test_a_wide_region_ends_with_its_limit() -> None:
+    code, report = check("--robots", "0,0 500,0", "--meeting", "250,0", "--algorithm",
+                         "go-to-target", "--max-seconds", "2")
+    assert code == 3 and report["reason"] == "time"
+
+
+def test_symmetry_tables_built_in_bulk_equal_the_definition() -> None:
+    rnd = random.Random(5)
+    for _ in range(20):
+        x0, y0 = rnd.randint(-5, 5), rnd.randint(-5, 5)
+        box = (x0, y0, x0 + rnd.randint(0, 6), y0 + rnd.randint(0, 6))
+        enc = Encoding(box)
+        for g in geometry.ALL:
+            a = Automorphism(g, (rnd.randint(-3, 3), rnd.randint(-3, 3)))
+            table = enc._table(a)
+            for code in range(enc.base):
+                v, p = enc.robot(code)
+                w = a(v)
+                if enc.inside(w):
+                    assert table[code] == enc.code(w, None if p is None else a(p))
