@@ -253,6 +253,7 @@ def run_check(
     engine: str = "auto",
     memo: bool = False,
     keep_growing: bool = False,
+    keep_going: bool = True,
     on_exploration: Callable[[Exploration], object] | None = None,
     **limits: Any,
 ) -> dict[str, Any]:
@@ -267,6 +268,9 @@ def run_check(
     (a search stopped by the region is a prefix of the larger one's BFS), only later.
     ``keep_growing`` grows it anyway, to look for violations of properties the smaller
     region did not reach (the row then names the first in the verdict order).
+    ``keep_going=False`` stops the search once every requested property (``properties``
+    named, none needing the whole graph) has its counterexample, as SPIN stops at its first
+    error; the report then says the others were not looked for.
     ``on_exploration`` receives that last search (``check --graph-out`` exports it).
 
     On that last search, finished or not, ``move-bound`` fails as soon as its stored graph
@@ -334,7 +338,7 @@ def run_check(
         grows whatever they are)."""
         e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
                     frames=frames, reduction=reduction, properties=wanted, limits=lim,
-                    memo=memo, graph=keep_graph)
+                    memo=memo, graph=keep_graph, settle=not keep_going)
         if keep_growing:
             return e, None
         return e, _witnesses(e, configuration, algorithm, scheduler, engine, detection,
@@ -371,13 +375,14 @@ def run_check(
         # the trace's reason: it names the nodes of the concrete execution shown
         results[name] = {"holds": False, "reason": trace["reason"]}
     halted = e.stopped is not None and e.stopped in e.violations  # a halting property
-    stopped = None if halted else e.stopped
+    stopped = None if halted or e.stopped == "settled" else e.stopped
     complete = e.stopped is None
     chosen = [p for p in registered() if p.name in wanted]
     for prop in chosen:
         if prop.kind != "graph" and prop.name not in traces:
             results[prop.name] = {"holds": True} if complete else {
-                "holds": None, "reason": f"search stopped ({e.stopped})"}
+                "holds": None, "reason": SETTLED if e.stopped == "settled" else
+                f"search stopped ({e.stopped})"}
             if complete and prop.name in e.vacuous:
                 results[prop.name] = {"holds": True, "reason": e.vacuous[prop.name]}
     on_graph = [p for p in chosen if p.kind == "graph"]
@@ -439,6 +444,10 @@ def run_check(
         report["reason"] = "drift" if drift is not None and stopped == "region" else stopped
     report["seconds"] = time.perf_counter() - started
     return report
+
+
+SETTLED = ("not looked for: the search stopped once every requested property had its "
+           "counterexample (--keep-going looks on)")
 
 
 # -- the Python API (docs/api.md): defaults, and a typed report ----------------------------

@@ -120,3 +120,21 @@ def test_symmetry_tables_built_in_bulk_equal_the_definition() -> None:
                 w = a(v)
                 if enc.inside(w):
                     assert table[code] == enc.code(w, None if p is None else a(p))
+
+
+def test_a_check_stops_once_every_requested_property_is_settled() -> None:
+    """--property P: the search stops at P's first counterexample (the shortest trace, the
+    same verdict); --keep-going searches the whole space, and the report never says that a
+    property it stopped looking for holds."""
+    from gather_verify.check import SETTLED, run_check
+
+    c = Configuration([(0, 0), (4, 0), (0, 4), (4, 4)], [(2, 2), (0, 1)], initial=True)
+    kw = {"algorithm": "go-to-target", "scheduler": "async", "properties": ["no-ungatherable"],
+          "force": True}
+    early = run_check(c, keep_going=False, **kw)
+    whole = run_check(c, keep_going=True, **kw)
+    assert early["verdict"] == whole["verdict"] == "VIOLATED"
+    assert early["trace"]["steps"] == whole["trace"]["steps"]
+    assert early["states"] < whole["states"]
+    assert all(r["holds"] is not True for r in early["properties"].values())
+    assert SETTLED.startswith("not looked for")

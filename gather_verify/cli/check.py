@@ -80,6 +80,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="grow the region even after a violation is found, up to the "
                              "margin whose search the region does not stop, to look for "
                              "violations of other properties (slower: the verdict is the same)")
+    parser.add_argument("--keep-going", action="store_true",
+                        help="with --property: search on after every requested property has "
+                             "its counterexample (by default the search stops there, as SPIN "
+                             "stops at its first error)")
     parser.add_argument("--move-bound-c", type=bounded_float(0, 10**6), default=4.0)
     parser.add_argument("--force", action="store_true",
                         help="check even when the initial configuration is in U or UNCLASSIFIED")
@@ -146,7 +150,7 @@ def run(args: argparse.Namespace) -> int:
             frames=frames, properties=args.properties, reduction=not args.no_reduction,
             max_states=args.max_states, max_seconds=args.max_seconds,
             move_bound_c=args.move_bound_c, force=args.force, max_memory_mb=args.max_memory,
-            keep_growing=args.keep_growing,
+            keep_growing=args.keep_growing, keep_going=args.keep_going,
             on_exploration=explored.append if args.graph_out else None,
             **({} if args.margin is None else {"margin": args.margin}))
     except KeyboardInterrupt:

@@ -61,7 +61,8 @@ class Checks:
     (then it is not checked and :attr:`vacuous` says why)."""
 
     def __init__(self, names: Iterable[str] | None, initial: StateFacts):
-        props = [p for p in selected(names) if p.kind != "graph"]
+        every = selected(names)
+        props = [p for p in every if p.kind != "graph"]
         self.vacuous: dict[str, str] = {}
         for p in props:
             why = p.vacuous(initial) if p.vacuous is not None else None
@@ -75,6 +76,16 @@ class Checks:
                              if p.kind == "state" and not p.halts and p.when == "discovery"]
         self.on_transition = [p for p in active if p.kind == "transition"]
         self.violations: dict[str, Violation] = {}
+        requested = [p for p in every if not p.pseudo]
+        self._settles = None if names is None or any(p.kind == "graph" for p in requested) \
+            else [p.name for p in requested if p.name not in self.vacuous]
+        """The requested properties whose counterexamples settle the search (None: a graph
+        property is requested, which needs the whole space)."""
+
+    def settled(self) -> bool:
+        """Whether every requested property has its counterexample: the search may stop
+        there (the shortest witnesses are kept), as SPIN stops at its first error."""
+        return bool(self._settles) and all(name in self.violations for name in self._settles)
 
     def _record(self, prop: Property, sid: int, *args: Any,
                 step: tuple[Event, State] | None = None) -> None:

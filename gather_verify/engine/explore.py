@@ -68,6 +68,13 @@ __all__ = ["DEFAULT_MARGIN", "DEFAULT_MAX_MEMORY_MB", "DEFAULT_MAX_SECONDS", "DE
 :mod:`gather_verify.engine.encoding`; they are re-exported here for existing callers.)"""
 
 
+class _Progress:
+    """What a long search has done so far, for a progress line (read by another thread)."""
+
+    states = 0
+
+
+PROGRESS = _Progress()
 _STATM: list[int] = []  # this process's id and its open /proc/self/statm
 
 
@@ -196,8 +203,12 @@ def explore_reference(
     symmetry: bool | None = None,
     properties: Iterable[str] | None = None,
     limits: Limits = NO_LIMITS,
+    settle: bool = False,
 ) -> Exploration:
     """Breadth-first search of every state reachable from ``initial`` (reference path).
+
+    ``settle``: stop (``stopped == "settled"``) once every requested property has a
+    counterexample (``properties`` named, none of them a graph property).
 
     The state and transition properties named in ``properties`` (default: every registered
     one; the pseudo-properties ``crash`` and ``defined`` always) are checked on the way and their
@@ -285,6 +296,10 @@ def explore_reference(
         if stopped:
             break
         sid += 1
+        if settle and checks.settled():
+            stopped = "settled"
+            break
+        PROGRESS.states = len(keys)
         if len(keys) > limits.max_states:
             stopped = "states"
             break

@@ -56,6 +56,7 @@ from gather_verify.engine.encoding import (
     symmetry_group,
 )
 from gather_verify.engine.explore import (
+    PROGRESS,
     Exploration,
     facts_cache,
     rss_mb,
@@ -937,8 +938,12 @@ def explore_fast(
     limits: Limits = NO_LIMITS,
     graph: bool = True,
     memo: bool = False,
+    settle: bool = False,
 ) -> Exploration:
     """Breadth-first search in bulk; same result as the reference explorer.
+
+    ``settle``: stop after the chunk in which every requested property got its
+    counterexample (as :func:`~gather_verify.engine.explore.explore_reference`).
 
     ``graph=False`` keeps no edges (the result's ``offsets``, ``targets`` and
     ``weights`` are empty): enough for the safety properties and the state count.
@@ -1154,6 +1159,10 @@ def explore_fast(
                 stopped = stop
                 break
             sid = hi
+            PROGRESS.states = index.count
+            if settle and checks.settled():
+                stopped = "settled"
+                break
     except OutOfTime:  # a chunk's new configurations took the time left
         stopped = "time"
     if graph:
