@@ -159,3 +159,21 @@ def test_the_first_configurations_need_no_whole_census():
     first = list(itertools.islice(gen, 5))
     assert [canonical_key(c) for c in first] == sorted(canonical_key(c) for c in first)
     assert gen.gi_frame is not None  # suspended, not exhausted
+
+
+def test_census_counts_classes_up_to_the_frames_as_sweeps_do() -> None:
+    """``census --frames`` counts what a sweep under those frames checks, one per class."""
+    import json
+    import subprocess
+    import sys
+
+    from gather_verify.sweeps.census import enumerate_configurations
+
+    totals = {}
+    for frames in ("all", "chirality", "compass"):
+        run = subprocess.run([sys.executable, "-m", "gather_verify", "census", "--robots", "3",
+                              "--meeting", "2", "--box", "3x3", "--frames", frames, "--json"],
+                             capture_output=True, text=True, timeout=120)
+        totals[frames] = json.loads(run.stdout)["total"]
+        assert totals[frames] == sum(1 for _ in enumerate_configurations(3, 2, 3, 3, frames))
+    assert totals["all"] < totals["chirality"] < totals["compass"]

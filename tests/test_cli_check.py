@@ -66,3 +66,16 @@ def test_check_junit_one_case_per_verdict(tmp_path, capsys):
     assert "VIOLATED: final" in suite.find("testcase/failure").get("message")
     suite = ET.parse(good).getroot()
     assert suite.get("failures") == "0" and suite.find("testcase/failure") is None
+
+
+def test_outputs_of_a_check_without_a_trace_say_they_were_not_written(tmp_path) -> None:  # noqa: ANN001
+    import subprocess
+    import sys
+
+    html, svg = tmp_path / "v.html", tmp_path / "s.svg"
+    run = subprocess.run([sys.executable, "-m", "gather_verify", "check", "--robots",
+                          "0,0 3,1 1,4", "--meeting", "2,2", "--algorithm", "go-to-target",
+                          "--html", str(html), "--svg", str(svg)],
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0 and not html.exists() and not svg.exists()
+    assert "no counterexample trace" in run.stderr and str(html) in run.stderr

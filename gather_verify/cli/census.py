@@ -19,6 +19,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="number of meeting nodes m")
     p.add_argument("--box", type=parse_box, required=True, metavar="WxH",
                    help=f"box of nodes, e.g. 4x4 (sides 1..{MAX_SIDE})")
+    p.add_argument("--frames", choices=("all", "chirality", "compass"), default="all",
+                   help="count up to the isometries the robots' frames allow, as sweep does "
+                        "(all: D4; chirality: rotations; compass: translations only)")
     p.add_argument("--examples", type=bounded_int(0, 1000), default=0, metavar="K",
                    help="also print the first K representatives of each class")
     p.add_argument("--json", action="store_true",
@@ -27,7 +30,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     w, h = args.box
-    result = census(args.robots, args.meeting, w, h, keep=args.examples > 0)
+    result = census(args.robots, args.meeting, w, h, keep=args.examples > 0, frames=args.frames)
     if args.json:
         out = result.to_json()
         if args.examples:
@@ -36,7 +39,8 @@ def run(args: argparse.Namespace) -> int:
         print_json(out)
         return 0
     print(f"census: n={args.robots} robots, m={args.meeting} meeting nodes, {w}x{h} box of nodes, "
-          "up to translation and D4")
+          "up to translation and " + {"all": "D4", "chirality": "the rotations",
+                                      "compass": "nothing else"}[args.frames])
     print(f"{'class':<13} {'count':>10} {'share':>8}")
     for name in CLASS_NAMES:
         count = result.counts[name]

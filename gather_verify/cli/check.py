@@ -176,6 +176,10 @@ def run(args: argparse.Namespace) -> int:
         from gather_verify.viewer import write_viewer
 
         write_viewer(trace, args.html)
+    unwritten = [f for f in (args.trace_out, args.svg, args.html) if f and trace is None]
+    if unwritten:
+        print(f"note: {report['verdict']} has no counterexample trace: "
+              f"{', '.join(unwritten)} not written", file=sys.stderr)
     if args.junit:
         from gather_verify.junit import write_junit
 

@@ -280,8 +280,10 @@ class Census:
                 "robots": self.n, "meeting_nodes": self.m, "box": list(self.box)}
 
 
-def census(n: int, m: int, w: int, h: int, *, keep: bool = True) -> Census:
-    """Classify one representative per class of the ``w x h`` box and count per class.
+def census(n: int, m: int, w: int, h: int, *, keep: bool = True,
+           frames: str = "all") -> Census:
+    """Classify one representative per class of the ``w x h`` box and count per class
+    (classes up to translation and the isometries of ``frames``, as a sweep counts them).
 
     ``keep=False`` drops the representatives (only the counts are kept).
     """
@@ -290,7 +292,7 @@ def census(n: int, m: int, w: int, h: int, *, keep: bool = True) -> Census:
     reps: list[Configuration] = []
     names: list[str] = []
     aut_m_cache: dict[frozenset[Node], list[Automorphism]] = {}
-    for c in enumerate_configurations(n, m, w, h):
+    for c in enumerate_configurations(n, m, w, h, frames):
         aut_m = aut_m_cache.get(c.meeting_nodes)
         if aut_m is None:
             aut_m = aut_m_cache[c.meeting_nodes] = meeting_automorphisms(c)
