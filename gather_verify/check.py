@@ -282,10 +282,13 @@ def run_check(
     started = time.perf_counter()
     wanted = check_property_names(properties)
     not_applicable: dict[str, str] = {}
-    if "target-invariance" in wanted:  # an algorithm with no target has nothing to keep
-        from gather_verify.algorithms import get_algorithm
+    from gather_verify.algorithms import get_algorithm
 
-        algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
+    algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
+    if not getattr(algo, "plane", True):
+        raise InvalidInput(f"algorithm {algo.name!r} is written for finite worlds: give "
+                           "--world ring:N (docs/worlds.md)")
+    if "target-invariance" in wanted:  # an algorithm with no target has nothing to keep
         if getattr(algo, "target", None) is None:
             why = (f"the algorithm {algo.name!r} exposes no target(): there is no target "
                    "meeting node to keep")

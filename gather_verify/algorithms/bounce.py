@@ -18,6 +18,7 @@ from typing import Any
 
 class Bounce:
     name = "bounce"
+    plane = False  # it reads a finite world's view (view.me, view.neighbours())
 
     def decide(self, view: Any) -> Any:
         if view.light == 0:

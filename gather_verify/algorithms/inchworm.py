@@ -32,6 +32,7 @@ def towards(view: Any, node: Any) -> Any:
 
 class RingInchworm:
     name = "ring-inchworm"
+    plane = False  # it reads a finite world's view (view.me, view.neighbours())
 
     def decide(self, view: Any) -> Any:
         mate = other(view)

@@ -16,6 +16,7 @@ from typing import Any
 
 class RingExplore:
     name = "ring-explore"
+    plane = False  # it reads a finite world's view (view.me, view.neighbours())
 
     def forward(self, view: Any) -> Any:
         """The neighbour the robot calls forward: node 1 of its ring frame."""

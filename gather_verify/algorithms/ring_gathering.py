@@ -53,6 +53,7 @@ def towards(view: Any, target: Any) -> Any:
 
 class RingGather:
     name = "ring-gather"
+    plane = False  # it reads a finite world's view (view.me, view.neighbours())
 
     def decide(self, view: Any) -> Any:
         towers = [v for v in view.robots if view.multiplicity(v)]
