@@ -288,14 +288,14 @@ def run_check(
     if not getattr(algo, "plane", True):
         raise InvalidInput(f"algorithm {algo.name!r} is written for finite worlds: give "
                            "--world ring:N (docs/worlds.md)")
-    if "target-invariance" in wanted:  # an algorithm with no target has nothing to keep
-        if getattr(algo, "target", None) is None:
-            why = (f"the algorithm {algo.name!r} exposes no target(): there is no target "
-                   "meeting node to keep")
-            if properties:
-                raise InvalidInput(f"target-invariance does not apply: {why}")
-            wanted.remove("target-invariance")
-            not_applicable["target-invariance"] = why
+    # an algorithm with no target has nothing to keep
+    if "target-invariance" in wanted and getattr(algo, "target", None) is None:
+        why = (f"the algorithm {algo.name!r} exposes no target(): there is no target "
+               "meeting node to keep")
+        if properties:
+            raise InvalidInput(f"target-invariance does not apply: {why}")
+        wanted.remove("target-invariance")
+        not_applicable["target-invariance"] = why
     if frames != "all" and "no-ungatherable" in wanted:  # U is Theorem 1's, for disoriented
         if properties:  # robots: a common compass or chirality may gather there
             raise InvalidInput(f"no-ungatherable does not apply under --frames {frames}: U "
