@@ -12,7 +12,6 @@ import sys
 import pytest
 
 from gather_verify.engine import explore as reference_module
-from gather_verify.engine import fast_explore as bulk_module
 from gather_verify.engine.encoding import Encoding, Limits
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
@@ -77,27 +76,6 @@ def test_the_reference_engine_reads_the_clock_at_every_state(monkeypatch) -> Non
     e = reference_module.explore_reference(c, Tick(), "async", limits=Limits(max_seconds=1.0))
     assert e.stopped == "time" and e.states < 2184
     assert clock.now < 1.0 + 0.5  # one state's worth past the limit, not 1,024 states'
-
-
-def test_a_slow_decide_stops_within_one_configuration_of_the_time_limit(monkeypatch) -> None:  # noqa: ANN001
-    clock = FakeClock()
-    monkeypatch.setattr(bulk_module, "time", clock)
-    from gather_verify.algorithms.go_to_target import GoToTarget
-
-    class Slow(GoToTarget):
-        name = "slow"
-
-        def decide(self, view):  # noqa: ANN001, ANN201
-            clock.now += 0.05
-            return super().decide(view)
-
-        def move_sets(self, *args):  # noqa: ANN002, ANN201
-            return None  # ask decide view by view
-
-    c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
-    e = bulk_module.explore_fast(c, Slow(), "async", limits=Limits(max_seconds=3.0))
-    assert e.stopped == "time"
-    assert clock.now <= 3.0 + 3 * 8 * 0.05 + 0.05  # at most one more configuration's views
 
 
 def test_a_wide_region_ends_with_its_limit() -> None:

@@ -401,10 +401,6 @@ def never_in_u(aut_m: Sequence[Automorphism], meeting: Iterable[Node]) -> bool:
     return all(any(a.fixes(m) for m in meeting) for a in aut_m[1:])
 
 
-class OutOfTime(Exception):
-    """The search's time ran out while a chunk computed its configurations' facts."""
-
-
 class FactsTable:
     """Per configuration (sorted robot cells, packed), the facts as small integers.
 
@@ -424,10 +420,6 @@ class FactsTable:
                  memo: FactsMemo | None = None, targets: bool = False):
         self.enc, self.n, self.algorithm, self.meeting = enc, n, algorithm, meeting
         self.memo = memo
-        self.deadline = float("inf")
-        """When the search's time is up (``time.perf_counter()``): the facts of a chunk's new
-        configurations can take long (a slow ``decide``, many robots), so it is read between
-        two of them (:class:`OutOfTime`)."""
         # targets by configuration: the sweep's shared memo (one search keeps none: each row
         # keeps its own in ``target``, and a dict entry per configuration cost 6 bytes a state)
         self.targets: dict[tuple, Node | None] = {} if memo is None else target_memo(algorithm)
@@ -526,8 +518,6 @@ class FactsTable:
         for i, k in enumerate(okeys.tolist()):
             r = get(k)
             if r is None:
-                if time.perf_counter() > self.deadline:
-                    raise OutOfTime
                 r = self._orbit_facts(k, ocells[i])
             orows[i] = r
         # robot j of the configuration sits on the rank[j]-th cell of the representative
@@ -1004,167 +994,163 @@ def explore_fast(
     peak = rss_mb()
     sid = 0
     chunk = CHUNK
-    table.deadline = started + limits.max_seconds
-    try:
-        while sid < index.count and stopped is None:
-            if time.perf_counter() - started > limits.max_seconds:
-                stopped = "time"
-                break
-            peak = max(peak, rss_mb())
-            if peak > limits.max_memory_mb:
-                stopped = "memory"
-                break
-            hi = min(index.count, sid + chunk)
-            K = index.keys[sid:hi].copy()
-            if compiled:
-                codes, cells, srt, ck, idle, rank = kernels.decode_chunk(K, base, n, table.weights)
-            else:
-                codes = _decode(K, base, n)
-                cells = codes // 5
-                srt, ck = table.config_keys(cells)
-                idle = np.all(codes % 5 == 0, axis=1)
-            rows = table.rows(ck, srt)
-            # the last source state to expand: a halting property stops before the state it fails in
-            limit_src = len(K)
-            # the halting and the expansion properties, evaluated together on the whole chunk
-            failing = columns.failures(on_chunk, rows, idle, gate=len(checks.halting))
-            halt = columns.first_failure(checks.halting, failing[:, :len(checks.halting)])
-            if halt is not None:
-                limit_src = halt[0]
-            assert not table.flags[rows[:limit_src], 0].any(), \
-                "a state without move sets needs a halting property"
-            # robot i's move mask: the mask of its cell's position in the sorted row
-            if not compiled:
-                rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
-            if compiled:  # (one flat gather: much faster than the two-dimensional one)
-                masks = np.take(table.masks.reshape(-1), rows[:, None] * n + rank)
-            else:
-                masks = table.masks[rows[:, None], rank]
-            bulk = sched.bulk_successors(enc.frontier(codes[:limit_src], masks[:limit_src]), EVENTS)
-            if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
-                hi = sid + bulk.states
-                K, codes, cells, rows = K[:bulk.states], codes[:bulk.states], cells[:bulk.states], \
-                    rows[:bulk.states]
-                limit_src = bulk.states
-                chunk = max(1, bulk.states)
-            elif chunk < CHUNK:
-                chunk = min(CHUNK, 2 * chunk)
-            src, weight = bulk.source, bulk.weight
-            robot, new, event = bulk.robot, bulk.code, bulk.event  # the changes
-            single = event is None  # one change per event (event c is change c)
-            outside = np.flatnonzero(new < 0)
-            cut = len(src)
-            if len(outside):
-                cut = int(outside[0]) if single else int(event[outside[0]])
-                stop_src = int(src[cut])
-                stop = "region"
-                transitions += cut + 1
-            else:
-                stop_src = limit_src
-                stop = halt[1].name if halt is not None and halt[0] == limit_src else None
-                transitions += cut
-            src, weight = src[:cut], weight[:cut]
-            changes = cut if single else int(np.searchsorted(event, cut))
-            robot, new = robot[:changes], new[:changes]
-            if single and compiled and not (group or anonymity):
-                succ, old = kernels.successor_keys(K, codes, src, robot, new, powers)
-            elif single:
-                old = codes[src, robot]
-            else:
-                event = event[:changes]
-                old = codes[src[event], robot]
-            succ_codes = None
-            if group or anonymity or not single:
-                succ_codes = codes[src]
-                succ_codes[np.arange(cut) if single else event, robot] = new
-                succ = canon.keys(succ_codes)
-            elif compiled:
-                pass  # the keys came with the old codes
-            else:
-                delta = (new - old).astype(np.uint64) * powers[robot]
-                succ = K[src] + delta  # wraps correctly for negative deltas
-            # new states get the next ids in order of first occurrence: the BFS order
-            known = index.count
-            ids, first = index.find_or_add(succ)
-            fresh_src = src[first]
-            # the states limit: after the first source whose expansion passes it
-            if index.count > max_states:
-                after = known + np.searchsorted(fresh_src, np.arange(stop_src), side="right")
-                over = np.flatnonzero(after > max_states)
-                if len(over):
-                    stop_src, stop = int(over[0]), "states"
-                    keep = int(np.searchsorted(src, stop_src, side="right"))
-                    transitions -= cut - keep
-                    cut = keep
-                    src, weight, succ, ids = src[:cut], weight[:cut], succ[:cut], ids[:cut]
-                    if single:
-                        robot, new, old = robot[:cut], new[:cut], old[:cut]
-                    else:
-                        changes = int(np.searchsorted(event, cut))
-                        robot, new, old, event = (a[:changes] for a in (robot, new, old, event))
-                    if succ_codes is not None:
-                        succ_codes = succ_codes[:cut]
-                    m = int(np.searchsorted(fresh_src, stop_src, side="right"))
-                    fresh_src = fresh_src[:m]
-                    index.truncate(known + m)
-            fresh_keys = index.keys[known:index.count]
-            expanded = stop_src + (stop in ("region", "states"))
-            columns.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
-                           rows, idle)
-            open_transition = checks.open(checks.on_transition) and cut
-            open_discovery = checks.open(checks.on_discovery) and len(fresh_keys)
-            after = None
-            if single and pair_rows is not None and (open_transition or open_discovery):
-                # the configuration each transition reaches, once per (row, cell, destination)
-                after = pair_rows.after(rows, cells, rank, src, robot, old, new)
-            if open_transition:
-                if after is None:
-                    # the configuration each transition reaches, from the scheduler's changes
-                    if succ_codes is None:  # one change per event, no reduction: event c is change c
-                        succ_cells = cells[src].copy()
-                        succ_cells[np.arange(cut), robot] = new // 5
-                    else:
-                        succ_cells = succ_codes // 5
-                    s2, k2 = table.config_keys(succ_cells)
-                    after = table.rows(k2, s2)
-                columns.transitions(sid, src, rows[src], after,
-                                    partial(_step, enc, sched, facts, n, K, src, succ_codes))
-            if open_discovery:
-                fresh = _decode(fresh_keys, base, n)
-                if after is not None and single and pair_rows is not None:
-                    fresh_rows = after[first[:len(fresh_keys)]]
+    while sid < index.count and stopped is None:
+        if time.perf_counter() - started > limits.max_seconds:
+            stopped = "time"
+            break
+        peak = max(peak, rss_mb())
+        if peak > limits.max_memory_mb:
+            stopped = "memory"
+            break
+        hi = min(index.count, sid + chunk)
+        K = index.keys[sid:hi].copy()
+        if compiled:
+            codes, cells, srt, ck, idle, rank = kernels.decode_chunk(K, base, n, table.weights)
+        else:
+            codes = _decode(K, base, n)
+            cells = codes // 5
+            srt, ck = table.config_keys(cells)
+            idle = np.all(codes % 5 == 0, axis=1)
+        rows = table.rows(ck, srt)
+        # the last source state to expand: a halting property stops before the state it fails in
+        limit_src = len(K)
+        # the halting and the expansion properties, evaluated together on the whole chunk
+        failing = columns.failures(on_chunk, rows, idle, gate=len(checks.halting))
+        halt = columns.first_failure(checks.halting, failing[:, :len(checks.halting)])
+        if halt is not None:
+            limit_src = halt[0]
+        assert not table.flags[rows[:limit_src], 0].any(), \
+            "a state without move sets needs a halting property"
+        # robot i's move mask: the mask of its cell's position in the sorted row
+        if not compiled:
+            rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
+        if compiled:  # (one flat gather: much faster than the two-dimensional one)
+            masks = np.take(table.masks.reshape(-1), rows[:, None] * n + rank)
+        else:
+            masks = table.masks[rows[:, None], rank]
+        bulk = sched.bulk_successors(enc.frontier(codes[:limit_src], masks[:limit_src]), EVENTS)
+        if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
+            hi = sid + bulk.states
+            K, codes, cells, rows = K[:bulk.states], codes[:bulk.states], cells[:bulk.states], \
+                rows[:bulk.states]
+            limit_src = bulk.states
+            chunk = max(1, bulk.states)
+        elif chunk < CHUNK:
+            chunk = min(CHUNK, 2 * chunk)
+        src, weight = bulk.source, bulk.weight
+        robot, new, event = bulk.robot, bulk.code, bulk.event  # the changes
+        single = event is None  # one change per event (event c is change c)
+        outside = np.flatnonzero(new < 0)
+        cut = len(src)
+        if len(outside):
+            cut = int(outside[0]) if single else int(event[outside[0]])
+            stop_src = int(src[cut])
+            stop = "region"
+            transitions += cut + 1
+        else:
+            stop_src = limit_src
+            stop = halt[1].name if halt is not None and halt[0] == limit_src else None
+            transitions += cut
+        src, weight = src[:cut], weight[:cut]
+        changes = cut if single else int(np.searchsorted(event, cut))
+        robot, new = robot[:changes], new[:changes]
+        if single and compiled and not (group or anonymity):
+            succ, old = kernels.successor_keys(K, codes, src, robot, new, powers)
+        elif single:
+            old = codes[src, robot]
+        else:
+            event = event[:changes]
+            old = codes[src[event], robot]
+        succ_codes = None
+        if group or anonymity or not single:
+            succ_codes = codes[src]
+            succ_codes[np.arange(cut) if single else event, robot] = new
+            succ = canon.keys(succ_codes)
+        elif compiled:
+            pass  # the keys came with the old codes
+        else:
+            delta = (new - old).astype(np.uint64) * powers[robot]
+            succ = K[src] + delta  # wraps correctly for negative deltas
+        # new states get the next ids in order of first occurrence: the BFS order
+        known = index.count
+        ids, first = index.find_or_add(succ)
+        fresh_src = src[first]
+        # the states limit: after the first source whose expansion passes it
+        if index.count > max_states:
+            after = known + np.searchsorted(fresh_src, np.arange(stop_src), side="right")
+            over = np.flatnonzero(after > max_states)
+            if len(over):
+                stop_src, stop = int(over[0]), "states"
+                keep = int(np.searchsorted(src, stop_src, side="right"))
+                transitions -= cut - keep
+                cut = keep
+                src, weight, succ, ids = src[:cut], weight[:cut], succ[:cut], ids[:cut]
+                if single:
+                    robot, new, old = robot[:cut], new[:cut], old[:cut]
                 else:
-                    s3, k3 = table.config_keys(fresh // 5)
-                    fresh_rows = table.rows(k3, s3)
-                columns.states(known, fresh_rows, np.all(fresh % 5 == 0, axis=1),
-                               checks.on_discovery)
-            if single:
-                changed = new != old
+                    changes = int(np.searchsorted(event, cut))
+                    robot, new, old, event = (a[:changes] for a in (robot, new, old, event))
+                if succ_codes is not None:
+                    succ_codes = succ_codes[:cut]
+                m = int(np.searchsorted(fresh_src, stop_src, side="right"))
+                fresh_src = fresh_src[:m]
+                index.truncate(known + m)
+        fresh_keys = index.keys[known:index.count]
+        expanded = stop_src + (stop in ("region", "states"))
+        columns.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
+                       rows, idle)
+        open_transition = checks.open(checks.on_transition) and cut
+        open_discovery = checks.open(checks.on_discovery) and len(fresh_keys)
+        after = None
+        if single and pair_rows is not None and (open_transition or open_discovery):
+            # the configuration each transition reaches, once per (row, cell, destination)
+            after = pair_rows.after(rows, cells, rank, src, robot, old, new)
+        if open_transition:
+            if after is None:
+                # the configuration each transition reaches, from the scheduler's changes
+                if succ_codes is None:  # one change per event, no reduction: event c is change c
+                    succ_cells = cells[src].copy()
+                    succ_cells[np.arange(cut), robot] = new // 5
+                else:
+                    succ_cells = succ_codes // 5
+                s2, k2 = table.config_keys(succ_cells)
+                after = table.rows(k2, s2)
+            columns.transitions(sid, src, rows[src], after,
+                                partial(_step, enc, sched, facts, n, K, src, succ_codes))
+        if open_discovery:
+            fresh = _decode(fresh_keys, base, n)
+            if after is not None and single and pair_rows is not None:
+                fresh_rows = after[first[:len(fresh_keys)]]
             else:
-                changed = np.zeros(cut, dtype=bool)
-                changed[event[new != old]] = True
-            changed_loops += int(np.count_nonzero((ids == sid + src) & changed))
-            if graph:
-                counts = np.bincount(src, minlength=expanded)[:expanded]
-                starts = targets.size + np.cumsum(counts) - counts
-                if targets.size + len(ids) > MAX_IDS:
-                    offsets.widen(np.int64)
-                offsets.extend(starts)
-                targets.extend(ids.astype(np.int32))
-                weights.extend(weight.astype(weight_type))
-            parents.extend((sid + fresh_src).astype(np.int32))
-            if halt is not None and stop == halt[1].name and halt[0] == stop_src:
-                columns.record_halt(sid + stop_src, int(rows[stop_src]), bool(idle[stop_src]), halt[1])
-            if stop is not None:
-                stopped = stop
-                break
-            sid = hi
-            PROGRESS.states = index.count
-            if settle and checks.settled():
-                stopped = "settled"
-                break
-    except OutOfTime:  # a chunk's new configurations took the time left
-        stopped = "time"
+                s3, k3 = table.config_keys(fresh // 5)
+                fresh_rows = table.rows(k3, s3)
+            columns.states(known, fresh_rows, np.all(fresh % 5 == 0, axis=1),
+                           checks.on_discovery)
+        if single:
+            changed = new != old
+        else:
+            changed = np.zeros(cut, dtype=bool)
+            changed[event[new != old]] = True
+        changed_loops += int(np.count_nonzero((ids == sid + src) & changed))
+        if graph:
+            counts = np.bincount(src, minlength=expanded)[:expanded]
+            starts = targets.size + np.cumsum(counts) - counts
+            if targets.size + len(ids) > MAX_IDS:
+                offsets.widen(np.int64)
+            offsets.extend(starts)
+            targets.extend(ids.astype(np.int32))
+            weights.extend(weight.astype(weight_type))
+        parents.extend((sid + fresh_src).astype(np.int32))
+        if halt is not None and stop == halt[1].name and halt[0] == stop_src:
+            columns.record_halt(sid + stop_src, int(rows[stop_src]), bool(idle[stop_src]), halt[1])
+        if stop is not None:
+            stopped = stop
+            break
+        sid = hi
+        PROGRESS.states = index.count
+        if settle and checks.settled():
+            stopped = "settled"
+            break
     if graph:
         offsets.extend(np.array([targets.size], dtype=np.int64))
     peak = max(peak, rss_mb())

@@ -21,14 +21,10 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Hashable, Iterable, Sequence
 from functools import cached_property
-from typing import TYPE_CHECKING
 
 import networkx as nx
 
 from gather_verify.errors import InvalidInput
-
-if TYPE_CHECKING:
-    from gather_verify.worlds.view import FrameMap
 
 Label = Hashable
 """A node as the world writes it and as a view presents it (an int on a ring, ``(x, y)`` on
@@ -176,8 +172,6 @@ class World:
 
     def frames(self, v: int, visibility: int | None, frames: str) -> list[FrameMap]:
         """The frames of the view from ``v`` (cached: they depend on nothing else)."""
-        from gather_verify.worlds.view import FrameMap
-
         key = (v, visibility, frames)
         got = self._frames.get(key)
         if got is None:
@@ -223,3 +217,29 @@ def enumerate_automorphisms(graph: nx.Graph, name: str,
     identity = tuple(nodes)
     out.sort(key=lambda p: p != identity)
     return tuple(out)
+
+
+class FrameMap:
+    """One frame of the view from one node: ``labels`` (node index -> label in the frame)
+    and what follows from it, computed once (a world caches its frames)."""
+
+    __slots__ = ("labels", "world", "__dict__")
+
+    def __init__(self, world: World, labels: Frame):
+        self.world, self.labels = world, labels
+
+    @cached_property
+    def inverse(self) -> dict[Label, int]:
+        return {label: u for u, label in self.labels.items()}
+
+    @cached_property
+    def graph(self) -> nx.Graph:
+        g = nx.Graph()
+        g.add_nodes_from(self.labels.values())
+        g.add_edges_from((self.labels[u], self.labels[w]) for u in self.labels
+                         for w in self.world.adjacency[u] if w in self.labels)
+        return nx.freeze(g)
+
+    @cached_property
+    def distances(self) -> dict[Label, dict[Label, int]]:
+        return dict(nx.all_pairs_shortest_path_length(self.graph))

@@ -20,12 +20,11 @@ from __future__ import annotations
 from collections import Counter
 from collections.abc import Mapping
 from dataclasses import dataclass
-from functools import cached_property
 
 import networkx as nx
 
 from gather_verify.model.view import MultiplicityHidden
-from gather_verify.worlds.base import Frame, Label, World
+from gather_verify.worlds.base import FrameMap, Label, World
 
 
 @dataclass(frozen=True)
@@ -148,28 +147,3 @@ class WorldView:
         return (f"WorldView(me={self.me!r}, robots={sorted(self.robots, key=repr)}, "
                 f"meeting_nodes={sorted(self.meeting_nodes, key=repr)})")
 
-
-class FrameMap:
-    """One frame of the view from one node: ``labels`` (node index -> label in the frame)
-    and what follows from it, computed once (a world caches its frames)."""
-
-    __slots__ = ("labels", "world", "__dict__")
-
-    def __init__(self, world: World, labels: Frame):
-        self.world, self.labels = world, labels
-
-    @cached_property
-    def inverse(self) -> dict[Label, int]:
-        return {label: u for u, label in self.labels.items()}
-
-    @cached_property
-    def graph(self) -> nx.Graph:
-        g = nx.Graph()
-        g.add_nodes_from(self.labels.values())
-        g.add_edges_from((self.labels[u], self.labels[w]) for u in self.labels
-                         for w in self.world.adjacency[u] if w in self.labels)
-        return nx.freeze(g)
-
-    @cached_property
-    def distances(self) -> dict[Label, dict[Label, int]]:
-        return dict(nx.all_pairs_shortest_path_length(self.graph))
