@@ -130,7 +130,7 @@ def test_a_property_that_cannot_apply_says_so_instead_of_passing(tmp_path):
     from gather_verify.model.configuration import Configuration
 
     c = Configuration([(0, 0), (2, 1)], [(1, 1)], initial=True)
-    report = run_check(c, algorithm="random", scheduler="async")
+    report = run_check(c, algorithm="random", scheduler="async", margin=2)
     assert "target-invariance" not in report["properties"]
     assert "no target()" in report["not_applicable"]["target-invariance"]
     one_line(cli("check", "--robots", "0,0 2,1", "--meeting", "1,1", "--algorithm", "random",
