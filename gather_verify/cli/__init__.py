@@ -32,7 +32,7 @@ from gather_verify.errors import InvalidInput
 EXIT_BROKEN_PIPE = 141
 """The output pipe was closed by its reader (128 + SIGPIPE, as shells report it)."""
 COMMANDS = ("classify", "census", "simulate", "check", "replay", "sweep", "report",
-            "impossibility", "bench", "test")
+            "impossibility", "bench", "test", "synthesize")
 
 
 class _Parser(argparse.ArgumentParser):

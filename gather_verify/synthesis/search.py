@@ -1,0 +1,315 @@
+"""The search for an algorithm: counterexample-guided, with a SAT solver proposing tables
+(SEMANTICS.md §12).
+
+An algorithm is a table: one option per view (:mod:`gather_verify.synthesis.views`). A
+Boolean variable says "view k takes option o"; exactly one holds per view. The loop:
+
+1. the solver proposes a table (views not met yet take their first option);
+2. the ordinary search (:func:`~gather_verify.engine.world_search.search`, every
+   reduction off) explores every execution of that table from each initial configuration,
+   and the task (:mod:`gather_verify.tasks`) checks them, liveness included;
+3. all pass: the table is the witness (``exists``). A part fails: its counterexample is
+   replayed (:func:`~gather_verify.synthesis.certificate.replay`) into the literals it
+   relies on, and the clause "not all of these" is added. Every table with those literals
+   has that execution, so no algorithm that works is ever excluded;
+4. no table is left (the solver says unsatisfiable): ``none``, and the clauses become the
+   certificate's decision tree.
+
+A limit (time, candidates, states of one exploration) stops the loop with ``unknown``,
+naming it; a truncated search never answers ``none``.
+
+The solver is CaDiCaL through python-sat (``pip install 'gather-verify[synth]'``): an
+incremental CDCL solver, so the clauses it learns survive from one candidate to the next.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from gather_verify.engine.encoding import Limits
+from gather_verify.engine.world_search import WorldSearch, search
+from gather_verify.errors import InvalidInput
+from gather_verify.synthesis.certificate import (
+    LIVENESS,
+    SAFETY_FINAL,
+    TreeTooLarge,
+    build_tree,
+    event_to_json,
+    replay,
+    tree_size,
+)
+from gather_verify.synthesis.views import Instance, Views
+from gather_verify.tasks import Context, Finding
+from gather_verify.tasks.base import components
+
+DEFAULT_MAX_SECONDS = 600.0
+DEFAULT_MAX_CANDIDATES = 1_000_000
+DEFAULT_MAX_STATES = 2_000_000
+DEFAULT_MAX_TREE = 2_000_000
+
+
+@dataclass
+class Result:
+    """The answer (exists, none, unknown) and what backs it."""
+
+    answer: str
+    views: int
+    candidates: int
+    seconds: float
+    limit: str | None = None
+    table: dict[int, int] = field(default_factory=dict)
+    counterexamples: list[dict[str, Any]] = field(default_factory=list)
+    literals: list[dict[int, int]] = field(default_factory=list)
+    tree: Any = None
+    states: int = 0
+    """States explored, over every candidate."""
+
+
+def solver_class() -> Callable[..., Any]:
+    try:
+        from pysat.solvers import Solver
+    except ImportError:
+        raise InvalidInput("synthesize needs python-sat: pip install 'gather-verify[synth]'"
+                           ) from None
+    return Solver
+
+
+def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
+               max_candidates: int = DEFAULT_MAX_CANDIDATES,
+               max_states: int = DEFAULT_MAX_STATES, max_tree: int = DEFAULT_MAX_TREE,
+               views: Views | None = None) -> Result:
+    """Search for a table that solves ``inst`` from every initial configuration."""
+    started = time.perf_counter()
+    views = views or Views(inst)
+    solver = solver_class()(name="cadical153")
+    base: list[int] = []  # per view: its first variable - 1
+    total = [0]
+
+    def register(k: int) -> None:
+        while len(base) <= k:
+            j = len(base)
+            count = len(views.options[j])
+            base.append(total[0])
+            total[0] += count
+            xs = [base[j] + o + 1 for o in range(count)]
+            solver.add_clause(xs)
+            for a in range(count):
+                for b in range(a + 1, count):
+                    solver.add_clause([-xs[a], -xs[b]])
+
+    order = list(range(len(inst.configurations)))
+    cexs: list[dict[str, Any]] = []
+    clauses: list[dict[int, int]] = []
+    candidates = 0
+    explored = 0
+
+    def result(answer: str, limit: str | None = None, **more: Any) -> Result:
+        solver.delete()
+        return Result(answer, len(views.texts), candidates, time.perf_counter() - started,
+                      limit, counterexamples=cexs, literals=clauses, states=explored, **more)
+
+    while True:
+        if time.perf_counter() - started > max_seconds:
+            return result("unknown", "max-seconds")
+        if candidates >= max_candidates:
+            return result("unknown", "max-candidates")
+        register(len(views.texts) - 1)
+        if not solver.solve():
+            try:
+                tree = build_tree(clauses, [len(o) for o in views.options], max_tree)
+            except TreeTooLarge:
+                return result("unknown", "max-tree (the certificate outgrew it)")
+            return result("none", tree=tree)
+        model = solver.get_model() or []
+        choice: dict[int, int] = {}
+        for k, first in enumerate(base):
+            for o in range(len(views.options[k])):
+                if model[first + o] > 0:
+                    choice[k] = o
+        candidates += 1
+        failed = None
+        reached: set[int] = set()
+        for idx in order:
+            left = max_seconds - (time.perf_counter() - started)
+            s, findings = explore(inst, views, choice, idx, reached,
+                                  Limits(max_states=max_states, max_seconds=max(left, 0.001)))
+            explored += s.states
+            if s.stopped is not None:
+                limit = {"time": "max-seconds", "states": "max-states",
+                         "memory": "memory"}.get(s.stopped, s.stopped)
+                return result("unknown", limit)
+            finding = next((findings[p] for p in inst.task.parts if findings.get(p)), None)
+            if finding is not None:
+                failed = (idx, s, finding)
+                break
+        if failed is None:
+            return result("exists", table={k: choice.get(k, 0) for k in sorted(reached)})
+        idx, s, finding = failed
+        order.remove(idx)
+        order.insert(0, idx)
+        cex = counterexample(inst, views, choice, idx, s, finding)
+        lits = replay(views, cex).literals  # the clause is what the replay shows, nothing more
+        register(len(views.texts) - 1)
+        if not all(choice.get(k, 0) == o for k, o in lits.items()):  # pragma: no cover
+            raise AssertionError("a counterexample that the candidate does not have")
+        cexs.append(cex)
+        clauses.append(lits)
+        solver.add_clause([-(base[k] + o + 1) for k, o in sorted(lits.items())])
+
+
+def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
+            reached: set[int], limits: Limits) -> tuple[WorldSearch, dict[str, Finding | None]]:
+    """Every execution of the table ``choice`` from configuration ``idx`` (unreduced), and
+    the task's findings there."""
+    robots, colours = inst.configurations[idx]
+
+    def actions(state: tuple[tuple[int, int | None, int], ...]) -> list[frozenset]:
+        out = []
+        for k, acts in views.robots(state):
+            reached.add(k)
+            out.append(acts[choice.get(k, 0)])
+        return out
+
+    s = search(inst.world, robots, actions, inst.scheduler, colours=colours,
+               visits=inst.task.visits, limits=limits)
+    if s.halt is not None:  # pragma: no cover - a table answers every view
+        raise AssertionError(f"a table halted the search: {s.halt.reason}")
+    if not s.complete:
+        return s, {}
+    w = inst.world
+    ctx = Context(len(robots), w.size, inst.meeting, inst.scheduler,
+                  tuple(w.format_node(v) for v in range(w.size)))
+    return s, inst.task.check(s, ctx)
+
+
+# -- from a finding to a counterexample ----------------------------------------------------
+
+def counterexample(inst: Instance, views: Views, choice: dict[int, int], idx: int,
+                   s: WorldSearch, f: Finding) -> dict[str, Any]:
+    """The finding as a counterexample: the path's events, and for a liveness part a cycle
+    through the failing component that every robot acts on or may stay in (so it is fair in
+    every table that has its literals)."""
+    w = inst.world
+    out: dict[str, Any] = {"configuration": idx, "property": f.property}
+    if f.property in LIVENESS:
+        inside = None
+        if f.property == "perpetual-exploration":
+            node = f.detail["node"]
+            out["node"] = w.node_to_json(node)  # type: ignore[arg-type]
+            inside = (lambda sid: all(u != node for u, *_ in s.keys[sid][0]))  # noqa: E731
+        comp = next(c for c in components(s, inside) if f.state in c)
+        walk, stays, busy = fair_cycle(inst, views, choice, s, comp, f.state)
+        path = s.path_to(f.state)
+        out["loop"] = len(path) - 1
+        ids = path + walk[1:]
+        out["stays"] = [[out["loop"] + j, i] for j, i in stays]
+        if busy:
+            out["busy"] = [[out["loop"] + j, i, w.node_to_json(d), c] for j, i, d, c in busy]
+    else:
+        ids = s.path_to(f.state)
+        out["final"] = f.property in SAFETY_FINAL
+    events = [_event(s, a, b) for a, b in zip(ids, ids[1:], strict=False)]
+    if f.edge is not None:
+        src, k = f.edge
+        events.append(s.edges[src][k][2])
+    start = s.keys[ids[0]][2]
+    out["start"] = None if start is None else [list(start[0]), start[1]]
+    out["events"] = [event_to_json(w, e) for e in events]
+    return out
+
+
+def _event(s: WorldSearch, a: int, b: int) -> Any:
+    for target, _, event in s.edges[a]:
+        if target == b:
+            return event
+    raise AssertionError(f"no edge {a} -> {b}")  # pragma: no cover
+
+
+def fair_cycle(inst: Instance, views: Views, choice: dict[int, int], s: WorldSearch,
+               comp: list[int], entry: int
+               ) -> tuple[list[int], list[tuple[int, int]], list[tuple[int, int, int, int]]]:
+    """A closed walk from ``entry`` inside ``comp`` (state ids, first = last) on which every
+    robot acts or is idle where it may stay; the stays used, as (position on the walk,
+    robot); for round-robin, a robot with a move in each state where the walk only stays
+    (that state is not final)."""
+    members = set(comp)
+    n = len(s.keys[entry][0])
+    walk = [entry]
+    stays: list[tuple[int, int]] = []
+    covered = 0
+    full = (1 << n) - 1
+
+    def take_stays() -> None:
+        nonlocal covered
+        here = walk[-1]
+        for i in range(n):
+            if not covered >> i & 1 and s.stay[here] >> i & 1:
+                stays.append((len(walk) - 1, i))
+                covered |= 1 << i
+
+    def path(src: int, goal: Callable[[int, int, int], bool]) -> list[tuple[int, int]] | None:
+        """Shortest (target, robots) steps inside comp from src to an edge that ``goal``
+        accepts (goal(source, target, robots)); the last step is that edge."""
+        parent: dict[int, tuple[int, int, int] | None] = {src: None}
+        queue = [src]
+        for v in queue:
+            for t, robots, _ in s.edges[v]:
+                if t not in members:
+                    continue
+                if goal(v, t, robots):
+                    steps = [(t, robots)]
+                    x = v
+                    while parent[x] is not None:
+                        p, r, _ = parent[x]  # type: ignore[misc]
+                        steps.append((x, r))
+                        x = p
+                    return steps[::-1]
+                if t not in parent:
+                    parent[t] = (v, robots, 0)
+                    queue.append(t)
+        return None
+
+    take_stays()
+    needs_edge = inst.task.name != "exclusive-perpetual-exploration" or len(comp) > 1
+    while covered != full or (needs_edge and len(walk) == 1):
+        steps = path(walk[-1], lambda _v, t, r, c=covered: (r | s.stay[t]) & ~c != 0
+                     or c == full)
+        if steps is None:  # pragma: no cover - the component is fair
+            raise AssertionError("no fair cycle in a fair component")
+        for t, robots in steps:
+            walk.append(t)
+            covered |= robots
+            take_stays()
+    if walk[-1] != entry:
+        back = path(walk[-1], lambda _v, t, _r: t == entry)
+        if back is None:  # pragma: no cover - a component is strongly connected
+            raise AssertionError("a component that does not lead back")
+        for t, _robots in back:
+            walk.append(t)
+    busy: list[tuple[int, int, int, int]] = []
+    if getattr(_scheduler(inst), "stateful", False):
+        for j, sid in enumerate(walk[:-1]):
+            robots = s.keys[sid][0]
+            for i, (k, acts) in enumerate(views.robots(robots)):
+                v, p, c = robots[i]
+                other = [a for a in sorted(acts[choice.get(k, 0)]) if a != (v, c)]
+                if p is None and other:
+                    busy.append((j, i, other[0][0], other[0][1]))
+                    break
+    return walk, stays, busy
+
+
+def _scheduler(inst: Instance) -> Any:
+    from schedulers import get_scheduler
+
+    return get_scheduler(inst.scheduler)
+
+
+def certificate_stats(result: Result) -> dict[str, Any]:
+    inner, leaves = tree_size(result.tree)
+    return {"views": result.views, "candidates": result.candidates,
+            "counterexamples": len(result.counterexamples), "tree_nodes": inner,
+            "tree_leaves": leaves}
