@@ -30,20 +30,22 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from gather_verify.engine.encoding import Limits
-from gather_verify.engine.world_search import WorldSearch, search
+from gather_verify.engine.world_search import Halt, WorldSearch, search
 from gather_verify.errors import InvalidInput
 from gather_verify.synthesis.certificate import (
     LIVENESS,
     SAFETY_FINAL,
     TreeTooLarge,
+    _apply,
     build_tree,
+    event_from_json,
     event_to_json,
     replay,
     tree_size,
 )
 from gather_verify.synthesis.views import Instance, Views
 from gather_verify.tasks import Context, Finding
-from gather_verify.tasks.base import components
+from gather_verify.tasks.base import components, livelock
 
 DEFAULT_MAX_SECONDS = 600.0
 DEFAULT_MAX_CANDIDATES = 1_000_000
@@ -173,16 +175,71 @@ def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
             out.append(acts[choice.get(k, 0)])
         return out
 
-    s = search(inst.world, robots, actions, inst.scheduler, colours=colours,
-               visits=inst.task.visits, limits=limits)
+    w = inst.world
+    ctx = Context(len(robots), w.size, inst.meeting, inst.scheduler,
+                  tuple(w.format_node(v) for v in range(w.size)))
+    if inst.task.visits:
+        # termination first, on the states without the visited nodes: a fair cycle there
+        # repeats into one of the full states (the visited set only grows), and back
+        s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits)
+        if not s.complete:
+            return s, {}
+        found = livelock(s, ctx, "termination", "livelock: a fair execution never reaches a "
+                         "final state")
+        if found is not None:
+            return s, {"termination": found}
+    s = search(w, robots, actions, inst.scheduler, colours=colours,
+               visits=inst.task.visits, limits=limits, watch=watcher(inst))
+    if s.stopped == "watch":
+        h = s.halt
+        edge = h.detail.get("edge")  # type: ignore[union-attr]
+        finding = Finding(h.property, h.state, h.reason,  # type: ignore[union-attr]
+                          edge=None if edge is None else (h.state, edge))  # type: ignore[union-attr,arg-type]
+        s.stopped, s.halt = None, None  # a violation, not a limit
+        return s, {finding.property: finding}
     if s.halt is not None:  # pragma: no cover - a table answers every view
         raise AssertionError(f"a table halted the search: {s.halt.reason}")
     if not s.complete:
         return s, {}
-    w = inst.world
-    ctx = Context(len(robots), w.size, inst.meeting, inst.scheduler,
-                  tuple(w.format_node(v) for v in range(w.size)))
+    if inst.task.visits:  # termination held above; the watch saw every final state
+        return s, {}
     return s, inst.task.check(s, ctx)
+
+
+def watcher(inst: Instance) -> Callable[..., Halt | None]:
+    """The task's safety parts, tested on each state as the search expands it, so a
+    candidate that fails one is refuted without searching on (the same tests as
+    :mod:`gather_verify.tasks`; the liveness parts wait for the whole space)."""
+    name = inst.task.name
+    meeting = inst.meeting
+    everything = (1 << inst.world.size) - 1
+
+    def watch(sid: int, key: Any, final: bool, out: list[Any]) -> Halt | None:
+        robots = key[0]
+        nodes = [v for v, _, _ in robots]
+        if name == "exclusive-perpetual-exploration":
+            if len(set(nodes)) < len(nodes):
+                return Halt("exclusivity", sid, "two robots on one node")
+            for k, (_, _, event) in enumerate(out):
+                if event.kind == "round":
+                    crossing = {(a, b) for _, a, b in event.moves}
+                    if any((b, a) in crossing for a, b in crossing):
+                        return Halt("exclusivity", sid, "two robots cross one edge",
+                                    {"edge": k})
+            return None
+        if not final:
+            return None
+        if name == "exploration-with-stop":
+            if key[1] != everything:
+                return Halt("explored-when-final", sid, "stopped before every node was seen")
+            return None
+        if len(set(nodes)) > 1:
+            return Halt(inst.task.parts[0], sid, "deadlock")
+        if name == "gathering-on-meeting-nodes" and nodes[0] not in meeting:
+            return Halt("final", sid, "gathered off the meeting nodes")
+        return None
+
+    return watch
 
 
 # -- from a finding to a counterexample ----------------------------------------------------
@@ -218,7 +275,43 @@ def counterexample(inst: Instance, views: Views, choice: dict[int, int], idx: in
     start = s.keys[ids[0]][2]
     out["start"] = None if start is None else [list(start[0]), start[1]]
     out["events"] = [event_to_json(w, e) for e in events]
+    if inst.task.visits and f.property in LIVENESS:
+        unroll(inst, out)
     return out
+
+
+def unroll(inst: Instance, cex: dict[str, Any]) -> None:
+    """A cycle found without the visited nodes, repeated until the visited set comes back
+    to itself (it only grows, so within as many rounds as there are nodes): the stays and
+    busy robots move to the last round."""
+    w = inst.world
+    robots0, colours0 = inst.configurations[cex["configuration"]]
+    state = tuple((v, None, c) for v, c in zip(robots0, colours0, strict=True))
+    visited = [_bits(robots0)]
+    events = [event_from_json(w, e) for e in cex["events"]]
+    for e in events:
+        state = _apply(state, e)
+        visited.append(visited[-1] | _bits(v for v, _, _ in state))
+    loop = cex["loop"]
+    cycle = cex["events"][loop:]
+    while cycle and visited[-1] != visited[loop]:
+        shift = len(cex["events"]) - loop
+        for raw in cycle:
+            state = _apply(state, event_from_json(w, raw))
+            visited.append(visited[-1] | _bits(v for v, _, _ in state))
+        cex["events"] = cex["events"] + cycle
+        cex["stays"] = [[j + shift, i] for j, i in cex["stays"]]
+        if "busy" in cex:
+            cex["busy"] = [[j + shift, *rest] for j, *rest in cex["busy"]]
+        loop += shift
+    cex["loop"] = loop
+
+
+def _bits(nodes: Any) -> int:
+    bits = 0
+    for v in nodes:
+        bits |= 1 << v
+    return bits
 
 
 def _event(s: WorldSearch, a: int, b: int) -> Any:
