@@ -57,6 +57,8 @@ EXISTS = [
     ("ring:5", "2", "async", "exclusive-perpetual-exploration", ["--frames", "chirality"]),
     ("grid:2x2", "2", "ssync", "gathering-on-meeting-nodes",
      ["--meeting", "0,0", "--multiplicity", "none"]),
+    ("ring:5", "3", "fsync", "exploration-with-stop", ["--multiplicity", "global-weak"]),
+    ("ring:4", "2", "round-robin", "gathering", ["--multiplicity", "global-weak"]),
 ]
 
 
@@ -135,6 +137,7 @@ NONE = [
     ("ring:6", "2", "async", "exclusive-perpetual-exploration", []),
     ("ring:4", "2", "fsync", "exclusive-perpetual-exploration", ["--lights", "2",
                                                                   "--visibility", "1"]),
+    ("ring:6", "2", "async", "exploration-with-stop", ["--multiplicity", "global-weak"]),
 ]
 
 
