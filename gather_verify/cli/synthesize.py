@@ -51,6 +51,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    metavar="HOPS", help="robots see only the nodes within this many hops")
     p.add_argument("--lights", default=None, metavar="K[:internal]",
                    help="luminous robots with K colours, all starting at 0")
+    p.add_argument("--colours", default=None, metavar="C ...",
+                   help="with lights and one configuration: each robot's initial colour "
+                        "(default 0)")
     p.add_argument("--witness", default="synthesized.py", metavar="FILE.py",
                    help="where exists writes the algorithm (default synthesized.py)")
     p.add_argument("--certificate", default="synthesized.cert.json", metavar="FILE",
@@ -84,7 +87,8 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--witness {args.witness}: the algorithm file must end in .py")
     writable_outputs(witness=args.witness, certificate=args.certificate)
     inst = make_instance(args.world, args.robots, args.meeting, args.scheduler, args.task,
-                         args.multiplicity, args.frames, args.visibility, args.lights)
+                         args.multiplicity, args.frames, args.visibility, args.lights,
+                         args.colours)
     views = Views(inst)
     started = time.perf_counter()
     try:

@@ -373,7 +373,7 @@ def verify_certificate(path: str) -> dict[str, Any]:
         inst = make_instance(raw["world"], raw["robots"],
                              " ".join(str(_text(v)) for v in raw["meeting_nodes"]),
                              raw["scheduler"], raw["task"], raw["detection"], raw["frames"],
-                             raw["visibility"], raw["lights"])
+                             raw["visibility"], raw["lights"], raw.get("colours"))
         cexs = doc["counterexamples"]
         tree = doc["tree"]
         listed = [v["key"] for v in doc["views"]]

@@ -70,6 +70,8 @@ class Instance:
             "scheduler": self.scheduler, "task": self.task.name,
             "meeting_nodes": [w.node_to_json(v) for v in sorted(self.meeting)],
             "robots": self.robots_text,
+            "colours": " ".join(str(c) for c in self.configurations[0][1])
+            if not self.robots_text.isdigit() else None,
             "configurations": [{"robots": [w.node_to_json(v) for v in r], "colours": list(c)}
                                for r, c in self.configurations],
             **({"graph_sha256": w.digest} if isinstance(w, FileGraph) else {}),
@@ -78,7 +80,8 @@ class Instance:
 
 def make_instance(world: str, robots: str, meeting: str, scheduler: str, task: str | None,
                   detection: str = "local-weak", frames: str = "all",
-                  visibility: int | None = None, lights: str | None = None) -> Instance:
+                  visibility: int | None = None, lights: str | None = None,
+                  colours: str | None = None) -> Instance:
     """The instance from command-line text; one line (:class:`InvalidInput`) for anything
     the synthesis cannot take."""
     if is_plane(world):
@@ -110,12 +113,25 @@ def make_instance(world: str, robots: str, meeting: str, scheduler: str, task: s
         k = int(text)
         if not 1 <= k <= w.size:
             raise InvalidInput(f"--robots {k}: between 1 and {w.size} robots on {w.name}")
+        if colours is not None and colours.strip():
+            raise InvalidInput("--colours goes with one configuration (--robots \"0 1\"), not "
+                               "a count")
         configurations = tuple((r, (0,) * k) for r in classes(w, k, frozenset(m), frames))
     else:
         r = tuple(w.parse_nodes(text))
         if len(set(r)) != len(r):
             raise InvalidInput("--robots: an initial configuration has robots on distinct nodes")
-        configurations = ((r, (0,) * len(r)),)
+        lit = (0,) * len(r)
+        if colours is not None and colours.strip():
+            try:
+                lit = tuple(int(c, 10) for c in colours.split())
+            except ValueError:
+                raise InvalidInput(f"--colours {colours!r}: one integer colour per robot"
+                                   ) from None
+            if len(lit) != len(r) or not all(0 <= c < light.colours for c in lit):
+                raise InvalidInput(f"--colours {colours!r}: one colour per robot, each in "
+                                   f"0..{light.colours - 1}")
+        configurations = ((r, lit),)
     if getattr(sched, "stateful", False) and len(configurations[0][0]) > 6:
         raise InvalidInput("round-robin starts from every order of the robots: at most 6")
     return Instance(w, world, detection, frames, visibility, light, scheduler, t, frozenset(m),
