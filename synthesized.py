@@ -7,10 +7,10 @@ A lookup table from views up to isomorphism to answers: 3 views. Load it with
 initial configurations; any other view has no rule (the checker's ``defined``).
 """
 
-from gather_verify.algorithms.base import Unhandled
-
 # -- how a view is keyed (a copy of gather_verify/synthesis/viewkey.py) --------------------
 import json
+
+from gather_verify.algorithms.base import Unhandled
 
 DETECTIONS = ("none", "local-weak", "local-strong", "global-weak", "global-strong")
 
