@@ -146,7 +146,7 @@ def test_none_certificate_passes_verify(tmp_path: Path, world: str, robots: str,
                                         scheduler: str, task: str, more: list[str]) -> None:
     cert = tmp_path / "c.json"
     run = cli("--world", world, "--robots", robots, "--scheduler", scheduler, "--task", task,
-              *more, "--certificate", str(cert), "--json")
+              *more, "--certificate", str(cert), "--witness", str(tmp_path / "w.py"), "--json")
     assert run.returncode == 1, run.stderr
     report = json.loads(run.stdout)
     assert report["answer"] == "none" and report["certificate"] == str(cert)
