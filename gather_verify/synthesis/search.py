@@ -178,18 +178,29 @@ def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
     w = inst.world
     ctx = Context(len(robots), w.size, inst.meeting, inst.scheduler,
                   tuple(w.format_node(v) for v in range(w.size)))
+    stateful = getattr(_scheduler(inst), "stateful", False)
     if inst.task.visits:
-        # termination first, on the states without the visited nodes: a fair cycle there
-        # repeats into one of the full states (the visited set only grows), and back
-        s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits)
-        if not s.complete:
-            return s, {}
-        found = livelock(s, ctx, "termination", "livelock: a fair execution never reaches a "
-                         "final state")
-        if found is not None:
-            return s, {"termination": found}
-    s = search(w, robots, actions, inst.scheduler, colours=colours,
-               visits=inst.task.visits, limits=limits, watch=watcher(inst))
+        # the safety part first, on the reduced states (sound for safety, §4: a BFS parent's
+        # stored state is the concrete predecessor, so the path is a concrete run), stopping
+        # at the first final state that has not seen every node
+        s = search(w, robots, actions, inst.scheduler, colours=colours, visits=True,
+                   limits=limits, watch=watcher(inst), anonymity=not stateful,
+                   symmetries=() if stateful else w.symmetries(inst.frames),
+                   meeting=inst.meeting)
+        if s.stopped != "watch":
+            if not s.complete:
+                return s, {}
+            # termination on the states without the visited nodes, unreduced: a fair cycle
+            # there repeats into one of the full states (the visited set only grows)
+            s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits)
+            if not s.complete:
+                return s, {}
+            found = livelock(s, ctx, "termination", "livelock: a fair execution never "
+                             "reaches a final state")
+            return s, ({} if found is None else {"termination": found})
+    else:
+        s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits,
+                   watch=watcher(inst))
     if s.stopped == "watch":
         h = s.halt
         edge = h.detail.get("edge")  # type: ignore[union-attr]
@@ -200,8 +211,6 @@ def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
     if s.halt is not None:  # pragma: no cover - a table answers every view
         raise AssertionError(f"a table halted the search: {s.halt.reason}")
     if not s.complete:
-        return s, {}
-    if inst.task.visits:  # termination held above; the watch saw every final state
         return s, {}
     return s, inst.task.check(s, ctx)
 
