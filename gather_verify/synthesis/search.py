@@ -45,7 +45,7 @@ from gather_verify.synthesis.certificate import (
 )
 from gather_verify.synthesis.views import Instance, Views
 from gather_verify.tasks import Context, Finding
-from gather_verify.tasks.base import components, livelock
+from gather_verify.tasks.base import components, fair
 
 DEFAULT_MAX_SECONDS = 600.0
 DEFAULT_MAX_CANDIDATES = 1_000_000
@@ -143,29 +143,34 @@ def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
                 limit = {"time": "max-seconds", "states": "max-states",
                          "memory": "memory"}.get(s.stopped, s.stopped)
                 return result("unknown", limit)
-            finding = next((findings[p] for p in inst.task.parts if findings.get(p)), None)
-            if finding is not None:
-                failed = (idx, s, finding)
+            if findings:
+                failed = (idx, s, findings)
                 break
         if failed is None:
             return result("exists", table={k: choice.get(k, 0) for k in sorted(reached)})
-        idx, s, finding = failed
+        idx, s, findings = failed
         order.remove(idx)
         order.insert(0, idx)
-        cex = counterexample(inst, views, choice, idx, s, finding)
-        lits = replay(views, cex).literals  # the clause is what the replay shows, nothing more
-        register(len(views.texts) - 1)
-        if not all(choice.get(k, 0) == o for k, o in lits.items()):  # pragma: no cover
-            raise AssertionError("a counterexample that the candidate does not have")
-        cexs.append(cex)
-        clauses.append(lits)
-        solver.add_clause([-(base[k] + o + 1) for k, o in sorted(lits.items())])
+        known = {frozenset(c.items()) for c in clauses[-len(findings) * 4:]}
+        for finding in findings:
+            cex = counterexample(inst, views, choice, idx, s, finding)
+            lits = replay(views, cex).literals  # the clause is what the replay shows
+            register(len(views.texts) - 1)
+            if not all(choice.get(k, 0) == o for k, o in lits.items()):  # pragma: no cover
+                raise AssertionError("a counterexample that the candidate does not have")
+            if frozenset(lits.items()) in known:
+                continue
+            known.add(frozenset(lits.items()))
+            cexs.append(cex)
+            clauses.append(lits)
+            solver.add_clause([-(base[k] + o + 1) for k, o in sorted(lits.items())])
 
 
 def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
-            reached: set[int], limits: Limits) -> tuple[WorldSearch, dict[str, Finding | None]]:
-    """Every execution of the table ``choice`` from configuration ``idx`` (unreduced), and
-    the task's findings there."""
+            reached: set[int], limits: Limits) -> tuple[WorldSearch, list[Finding]]:
+    """Every execution of the table ``choice`` from configuration ``idx``, and the task's
+    violations there: a few of its safety parts (the search stops soon after the first),
+    else its first liveness failure (on the whole space, unreduced); none when it holds."""
     robots, colours = inst.configurations[idx]
 
     def actions(state: tuple[tuple[int, int | None, int], ...]) -> list[frozenset]:
@@ -183,47 +188,113 @@ def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
         # the safety part first, on the reduced states (sound for safety, §4: a BFS parent's
         # stored state is the concrete predecessor, so the path is a concrete run), stopping
         # at the first final state that has not seen every node
+        if TERMINATION_FIRST:
+            s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits)
+            if not s.complete:
+                return s, []
+            loops = livelocks(s, ctx, "termination")
+            if loops:
+                return s, loops
+        found: list[Halt] = []
         s = search(w, robots, actions, inst.scheduler, colours=colours, visits=True,
-                   limits=limits, watch=watcher(inst), anonymity=not stateful,
+                   limits=limits, watch=watcher(inst, found), anonymity=not stateful,
                    symmetries=() if stateful else w.symmetries(inst.frames),
                    meeting=inst.meeting)
-        if s.stopped != "watch":
-            if not s.complete:
-                return s, {}
+        if not found:
+            if not s.complete or TERMINATION_FIRST:
+                return s, []
             # termination on the states without the visited nodes, unreduced: a fair cycle
             # there repeats into one of the full states (the visited set only grows)
             s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits)
             if not s.complete:
-                return s, {}
-            found = livelock(s, ctx, "termination", "livelock: a fair execution never "
-                             "reaches a final state")
-            return s, ({} if found is None else {"termination": found})
+                return s, []
+            return s, livelocks(s, ctx, "termination")
     else:
+        found = []
         s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits,
-                   watch=watcher(inst))
-    if s.stopped == "watch":
-        h = s.halt
-        edge = h.detail.get("edge")  # type: ignore[union-attr]
-        finding = Finding(h.property, h.state, h.reason,  # type: ignore[union-attr]
-                          edge=None if edge is None else (h.state, edge))  # type: ignore[union-attr,arg-type]
-        s.stopped, s.halt = None, None  # a violation, not a limit
-        return s, {finding.property: finding}
+                   watch=watcher(inst, found))
+    if found:
+        if s.stopped == "watch":
+            s.stopped, s.halt = None, None  # violations, not a limit
+        return s, [Finding(h.property, h.state, h.reason,
+                           edge=None if h.detail.get("edge") is None else
+                           (h.state, h.detail["edge"]))  # type: ignore[arg-type]
+                   for h in found]
     if s.halt is not None:  # pragma: no cover - a table answers every view
         raise AssertionError(f"a table halted the search: {s.halt.reason}")
     if not s.complete:
-        return s, {}
-    return s, inst.task.check(s, ctx)
+        return s, []
+    if "termination" in inst.task.parts:
+        return s, livelocks(s, ctx, "termination")
+    out: list[Finding] = []
+    for v in range(w.size):  # perpetual exploration: per node, as the task checks it
+        out += livelocks(s, ctx, "perpetual-exploration", v)
+        if len(out) >= LIVENESS_FINDINGS:
+            break
+    return s, out[:LIVENESS_FINDINGS]
 
 
-def watcher(inst: Instance) -> Callable[..., Halt | None]:
-    """The task's safety parts, tested on each state as the search expands it, so a
-    candidate that fails one is refuted without searching on (the same tests as
-    :mod:`gather_verify.tasks`; the liveness parts wait for the whole space)."""
+def livelocks(s: WorldSearch, ctx: Context, prop: str, node: int | None = None
+              ) -> list[Finding]:
+    """Up to :data:`SAFETY_FINDINGS` fair components (§5's test, as
+    :func:`~gather_verify.tasks.base.livelock` runs it): for ``termination``, those with
+    an edge between distinct states and no final state; for ``perpetual-exploration``,
+    those inside the states where ``node`` is empty (one state is enough)."""
+    out = []
+    if node is None:
+        inside = None
+    else:
+        def inside(sid: int) -> bool:
+            return all(u != node for u, *_ in s.keys[sid][0])
+    for comp in components(s, inside):
+        if node is None and (len(comp) == 1 or any(s.final[v] for v in comp)):
+            continue
+        if fair(s, comp, ctx.n):
+            f = Finding(prop, min(comp), "a fair execution never ends" if node is None else
+                        f"a fair execution stops visiting node {ctx.names[node]}")
+            if node is not None:
+                f.detail["node"] = node
+            out.append(f)
+            if len(out) >= LIVENESS_FINDINGS:
+                break
+    return out
+
+
+TERMINATION_FIRST = True
+"""Terminating exploration: decide termination (on the states without the visited set)
+before the safety part (measured: fewer candidates, as counterexamples of termination name
+the views of the moves that matter)."""
+SAFETY_FINDINGS = 8
+"""Safety violations collected from one exploration (one clause each)."""
+LIVENESS_FINDINGS = 1
+"""Fair components taken from one exploration (measured: more of them, each with its long
+path and cycle, sends the solver astray more often than it helps)."""
+
+
+def watcher(inst: Instance, found: list[Halt]) -> Callable[..., Halt | None]:
+    """The task's safety parts, tested on each state as the search expands it (the same
+    tests as :mod:`gather_verify.tasks`; the liveness parts wait for the whole space). Each
+    violation goes to ``found``; the search stops at the eighth, or once it has expanded
+    twice as many states as it had at the first."""
+    first = [0]
+
+    def watch(sid: int, key: Any, final: bool, out: list[Any]) -> Halt | None:
+        got = test(sid, key, final, out)
+        if got is not None:
+            if not found:
+                first[0] = sid
+            found.append(got)
+            if len(found) >= SAFETY_FINDINGS:
+                return got
+        if found and sid > 2 * first[0] + 100:
+            return found[-1]
+        return None
+
     name = inst.task.name
     meeting = inst.meeting
     everything = (1 << inst.world.size) - 1
 
-    def watch(sid: int, key: Any, final: bool, out: list[Any]) -> Halt | None:
+    def test(sid: int, key: Any, final: bool, out: list[Any]) -> Halt | None:
         robots = key[0]
         nodes = [v for v, _, _ in robots]
         if name == "exclusive-perpetual-exploration":
