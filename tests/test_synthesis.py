@@ -307,3 +307,21 @@ def test_grid_keys_are_invariant_under_the_grid_symmetries() -> None:
         keys = sorted(views.texts[views.occurrence(seen, v, 0)[0]] for v in moved)
         seen0 = tuple(sorted((v, 0) for v in robots))
         assert keys == sorted(views.texts[views.occurrence(seen0, v, 0)[0]] for v in robots)
+
+
+# -- a witness the checker rejects is our bug, said so -------------------------------------
+
+def test_a_witness_the_checker_rejects_is_reported_as_our_bug(tmp_path: Path, monkeypatch
+                                                             ) -> None:
+    from gather_verify.synthesis import witness
+
+    def rejected(spec, inst, max_seconds):  # noqa: ANN001, ANN202
+        return [{"verdict": "VIOLATED", "robots": [0, 2], "property": "termination",
+                 "reason": "planted", "states": 1}]
+
+    monkeypatch.setattr(witness, "check_witness", rejected)
+    run = cli("--world", "ring:6", "--robots", "0 2", "--scheduler", "fsync", "--task",
+              "gathering", "--multiplicity", "global-weak", "--witness",
+              str(tmp_path / "w.py"))
+    assert run.returncode == 70
+    assert "bug of gather-verify's synthesis" in one_line(run)
