@@ -325,3 +325,32 @@ def test_a_witness_the_checker_rejects_is_reported_as_our_bug(tmp_path: Path, mo
               str(tmp_path / "w.py"))
     assert run.returncode == 70
     assert "bug of gather-verify's synthesis" in one_line(run)
+
+
+# -- minimum resources, stored and resumed ----------------------------------------------------
+
+def test_minimum_prints_the_least_count_stores_it_and_resumes(tmp_path: Path) -> None:
+    from gather_verify.sweeps.store import Store
+
+    db = tmp_path / "min.sqlite"
+    args = ["--minimum", "--world", "ring:4-5", "--robots", "1-3", "--scheduler",
+            "fsync,ssync", "--task", "exclusive-perpetual-exploration", "--db", str(db),
+            "--json"]
+    first = cli(*args)
+    assert first.returncode == 0, first.stderr
+    got = json.loads(first.stdout)
+    least = {(r["world"], r["scheduler"]): r["least"] for r in got["minimum"]}
+    assert least == {("ring:4", "fsync"): ">3", ("ring:4", "ssync"): ">3",
+                     ("ring:5", "fsync"): "3", ("ring:5", "ssync"): ">3"}
+    for row in got["rows"]:  # every answer has its file, and a none re-checks
+        if row["answer"] == "none":
+            assert verify_certificate(row["files"]["certificate"])["holds"]
+        else:
+            assert row["answer"] == "exists" and Path(row["files"]["witness"].rsplit(":", 1)[0]
+                                                      ).is_file()
+    store = Store(db)
+    stored = sum(len(store.results(i)) for i, _ in store.sweeps())
+    store.close()
+    assert stored == len(got["rows"]) == 3 + 3 + 3 + 3
+    again = cli(*args)  # resumed: the same answers, from the store
+    assert again.returncode == 0 and json.loads(again.stdout) == got

@@ -26,6 +26,7 @@ from gather_verify.cli.common import (
     print_json,
     writable_outputs,
 )
+from gather_verify.errors import InvalidInput
 from schedulers import SCHEDULERS
 
 HELP = ("does any algorithm solve the task on a finite world? exists (with an algorithm file, "
@@ -67,6 +68,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="states of one exploration of one candidate")
     p.add_argument("--max-tree", type=bounded_int(1, 10**9), default=2_000_000,
                    help="nodes of the certificate's decision tree")
+    p.add_argument("--minimum", action="store_true",
+                   help="the least number of robots with an algorithm: --robots A-B (counts), "
+                        "--world a size or a range of rings (ring:4-8), --scheduler a comma "
+                        "list; one row per answer in the results store (--db), resumed")
+    p.add_argument("--db", default="gather-verify-results.sqlite",
+                   help="with --minimum: the results database (as sweep's)")
+    p.add_argument("--out", default=None, metavar="DIR",
+                   help="with --minimum: where the witnesses and certificates go (default: "
+                        "a folder synthesis/ beside the database)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--timings", action="store_true",
                    help="with --json, also print the seconds (left out by default so the "
@@ -80,6 +90,8 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("give --world (a finite world), or --verify CERT")
     if args.robots is None:
         raise UsageError("give --robots: nodes (\"0 2\") or a count (2)")
+    if args.minimum:
+        return _minimum(args)
     from gather_verify.synthesis.search import certificate_stats, synthesize
     from gather_verify.synthesis.views import Views, make_instance
 
@@ -199,3 +211,131 @@ def _verify(args: argparse.Namespace) -> int:
               f"{got['views']} views, {got['leaves']} leaves; no search)  "
               f"{got['seconds']:.2f}s")
     return EXIT_OK
+
+
+def _counts(text: str) -> range:
+    low, dash, high = text.strip().partition("-")
+    try:
+        a = int(low, 10)
+        b = int(high, 10) if dash else a
+    except ValueError:
+        raise UsageError(f"--robots {text!r}: with --minimum, a count or a range A-B") from None
+    if not 1 <= a <= b <= 16:
+        raise UsageError(f"--robots {text!r}: counts from 1 to 16, A <= B")
+    return range(a, b + 1)
+
+
+def _minimum(args: argparse.Namespace) -> int:
+    """``--minimum``: per world and scheduler, synthesize for k = A, A+1, ... robots (every
+    initial configuration of k) up to the first ``exists``; each answer is a row of the
+    results store keyed by the settings and gather-verify's own fingerprint, so a rerun
+    resumes and an edited verifier computes again."""
+    from pathlib import Path
+
+    from gather_verify.fingerprint import own_digest
+    from gather_verify.sweeps.store import Store
+    from gather_verify.synthesis.certificate import write_certificate
+    from gather_verify.synthesis.search import certificate_stats, synthesize
+    from gather_verify.synthesis.views import Views, make_instance
+    from gather_verify.synthesis.witness import check_witness, write_witness
+    from gather_verify.worlds import world_specs
+    from schedulers import get_scheduler
+
+    counts = _counts(args.robots)
+    worlds = world_specs(args.world)
+    schedulers = [x.strip() for x in args.scheduler.split(",") if x.strip()]
+    for name in schedulers:
+        get_scheduler(name)
+    for world in worlds:  # bad input fails before any work
+        make_instance(world, str(min(counts[0], 3)), args.meeting, schedulers[0], args.task,
+                      args.multiplicity, args.frames, args.visibility, args.lights)
+    out = Path(args.out) if args.out else Path(args.db).resolve().parent / "synthesis"
+    out.mkdir(parents=True, exist_ok=True)
+    store = Store(args.db)
+    table: dict[tuple[str, str], str] = {}
+    rows_out = []
+    unknown = False
+    try:
+        for world in worlds:
+            for sched in schedulers:
+                settings = {
+                    "command": "synthesize --minimum", "world": world, "scheduler": sched,
+                    "task": args.task, "detection": args.multiplicity, "frames": args.frames,
+                    "visibility": args.visibility, "lights": args.lights,
+                    "meeting": args.meeting, "max_seconds": args.max_seconds,
+                    "max_candidates": args.max_candidates, "max_states": args.max_states,
+                    "gather_verify": own_digest(),
+                }
+                sweep = store.sweep_id(settings)
+                stored = {r["key"]: r for r in store.results(sweep)}
+                cell, below = None, []
+                for k in counts:
+                    key = f"k={k}"
+                    row = stored.get(key)
+                    if row is None:
+                        try:
+                            inst = make_instance(world, str(k), args.meeting, sched, args.task,
+                                                 args.multiplicity, args.frames,
+                                                 args.visibility, args.lights)
+                        except InvalidInput:  # more robots than nodes
+                            break
+                        views = Views(inst)
+                        started = time.perf_counter()
+                        res = synthesize(inst, max_seconds=args.max_seconds,
+                                         max_candidates=args.max_candidates,
+                                         max_states=args.max_states, max_tree=args.max_tree,
+                                         views=views)
+                        stem = out / f"{world.replace(':', '-').replace('/', '_')}-{sched}-k{k}"
+                        files: dict[str, str] = {}
+                        if res.answer == "exists":
+                            spec = write_witness(f"{stem}.py", inst, views, res.table)
+                            verdicts = {r["verdict"] for r in
+                                        check_witness(spec, inst, args.max_seconds)}
+                            if verdicts != {"VERIFIED"}:
+                                print(f"internal error: the checker says {sorted(verdicts)} of "
+                                      f"the witness {spec}: this is a bug of gather-verify's "
+                                      "synthesis, please report it", file=sys.stderr)
+                                return EXIT_BUG
+                            files["witness"] = spec
+                        elif res.answer == "none":
+                            write_certificate(f"{stem}.cert.json", inst, views,
+                                              res.counterexamples, res.literals, res.tree,
+                                              certificate_stats(res))
+                            files["certificate"] = f"{stem}.cert.json"
+                        row = {"key": key, "index": k, "class": inst.world.name,
+                               "verdict": res.answer, "reason": res.limit, "n": k,
+                               "states": res.states, "transitions": res.candidates,
+                               "trace": files, "seconds": time.perf_counter() - started}
+                        store.add(sweep, [dict(row)])  # (the store encodes its copy)
+                    rows_out.append({"world": world, "scheduler": sched, "robots": k,
+                                     "answer": row["verdict"], "limit": row["reason"],
+                                     "files": row["trace"]})
+                    if row["verdict"] == "exists":
+                        cell = f"{k}" + ("?" if below else "")
+                        break
+                    if row["verdict"] == "unknown":
+                        below.append(k)
+                if cell is None:
+                    cell = f">{counts[-1]}" + ("?" if below else "")
+                unknown = unknown or bool(below)
+                table[world, sched] = cell
+    except KeyboardInterrupt:
+        print("interrupted; run the same command again (every answer stored is kept, and it "
+              "resumes)", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    finally:
+        store.close()
+    if args.json:
+        print_json({"minimum": [{"world": w, "scheduler": sc, "least": table[w, sc]}
+                                for w in worlds for sc in schedulers], "rows": rows_out})
+    else:
+        print(f"least robots with an algorithm  task {args.task or 'default'}  detection "
+              f"{args.multiplicity}  frames {args.frames}"
+              + ("" if args.visibility is None else f"  visibility {args.visibility}")
+              + ("" if args.lights is None else f"  lights {args.lights}")
+              + f"  (robots {counts[0]}-{counts[-1]}; ?: some count below is unknown)")
+        width = max(len(w) for w in worlds)
+        print(" " * width + "  " + "  ".join(f"{sc:>11}" for sc in schedulers))
+        for w in worlds:
+            print(f"{w:<{width}}  " + "  ".join(f"{table[w, sc]:>11}" for sc in schedulers))
+    return EXIT_INCOMPLETE if unknown else EXIT_OK
