@@ -5,9 +5,10 @@ An algorithm is a table: one option per view (:mod:`gather_verify.synthesis.view
 Boolean variable says "view k takes option o"; exactly one holds per view. The loop:
 
 1. the solver proposes a table (views not met yet take their first option);
-2. the ordinary search (:func:`~gather_verify.engine.world_search.search`, every
-   reduction off) explores every execution of that table from each initial configuration,
-   and the task (:mod:`gather_verify.tasks`) checks them, liveness included;
+2. the ordinary search (:func:`~gather_verify.engine.world_search.search`) explores every
+   execution of that table from each initial configuration and the task's tests judge them:
+   the safety parts as states are expanded (the search stops soon after the first
+   violation), the liveness parts on the whole space with every reduction off (§5, §11);
 3. all pass: the table is the witness (``exists``). A part fails: its counterexample is
    replayed (:func:`~gather_verify.synthesis.certificate.replay`) into the literals it
    relies on, and the clause "not all of these" is added. Every table with those literals
@@ -236,7 +237,7 @@ def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
 
 def livelocks(s: WorldSearch, ctx: Context, prop: str, node: int | None = None
               ) -> list[Finding]:
-    """Up to :data:`SAFETY_FINDINGS` fair components (§5's test, as
+    """Up to :data:`LIVENESS_FINDINGS` fair components (§5's test, as
     :func:`~gather_verify.tasks.base.livelock` runs it): for ``termination``, those with
     an edge between distinct states and no final state; for ``perpetual-exploration``,
     those inside the states where ``node`` is empty (one state is enough)."""
