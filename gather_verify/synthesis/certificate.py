@@ -64,7 +64,7 @@ def event_from_json(world: Any, raw: Any) -> Event:
         raise CertificateError(f"a malformed event {raw!r}: {error}") from None
 
 
-def _apply(robots: tuple[tuple[int, int | None, int], ...], event: Event
+def apply_event(robots: tuple[tuple[int, int | None, int], ...], event: Event
            ) -> tuple[tuple[int, int | None, int], ...]:
     out = list(robots)
     for i, _, new in event.lights:
@@ -77,7 +77,7 @@ def _apply(robots: tuple[tuple[int, int | None, int], ...], event: Event
 def _action(robots: tuple[tuple[int, int | None, int], ...], event: Event, i: int
             ) -> tuple[int, int]:
     """What robot ``i`` chose in ``event`` (it acted in it): its destination and colour."""
-    after = _apply(robots, event)[i]
+    after = apply_event(robots, event)[i]
     if event.kind == "look":
         return (after[1] if after[1] is not None else after[0]), after[2]
     return after[0], after[2]
@@ -133,7 +133,7 @@ def replay(views: Views, cex: dict[str, Any]) -> Replayed:
         if event.kind in ("round", "look"):
             for i in event.robots:
                 need(states[-1], i, _action(rs, event, i), f"step {step}")
-        nxt = _apply(rs, event)
+        nxt = apply_event(rs, event)
         seen = states[-1][1]
         if visits:
             seen |= _bits(v for v, _, _ in nxt)

@@ -37,7 +37,7 @@ from gather_verify.synthesis.certificate import (
     LIVENESS,
     SAFETY_FINAL,
     TreeTooLarge,
-    _apply,
+    apply_event,
     build_tree,
     event_from_json,
     event_to_json,
@@ -371,14 +371,14 @@ def unroll(inst: Instance, cex: dict[str, Any]) -> None:
     visited = [_bits(robots0)]
     events = [event_from_json(w, e) for e in cex["events"]]
     for e in events:
-        state = _apply(state, e)
+        state = apply_event(state, e)
         visited.append(visited[-1] | _bits(v for v, _, _ in state))
     loop = cex["loop"]
     cycle = cex["events"][loop:]
     while cycle and visited[-1] != visited[loop]:
         shift = len(cex["events"]) - loop
         for raw in cycle:
-            state = _apply(state, event_from_json(w, raw))
+            state = apply_event(state, event_from_json(w, raw))
             visited.append(visited[-1] | _bits(v for v, _, _ in state))
         cex["events"] = cex["events"] + cycle
         cex["stays"] = [[j + shift, i] for j, i in cex["stays"]]
