@@ -264,11 +264,34 @@ def test_a_tiny_limit_says_unknown_and_names_it(tmp_path: Path) -> None:
     (["--world", "ring:6", "--robots", "2", "--scheduler", "nope"], "unknown scheduler"),
     (["--world", "ring:6", "--robots", "2", "--multiplicity", "nope"], "multiplicity"),
     (["--world", "ring:6", "--robots", "2", "--witness", "x.txt"], ".py"),
+    (["--world", "ring:6", "--robots", "3-2", "--minimum"], "A <= B"),
+    (["--world", "ring:6", "--robots", "2", "--minimum", "--scheduler", "fsync,nope"],
+     "unknown scheduler"),
+    (["--world", "ring:6", "--robots", "2", "--colours", "0 1"], "one configuration"),
+    (["--world", "ring:6", "--robots", "0 1", "--lights", "2", "--colours", "0 2"],
+     "each in 0..1"),
 ])
 def test_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list[str], words: str) -> None:
     run = cli(*args, cwd=tmp_path)
     assert run.returncode == 2, (run.returncode, run.stderr)
     assert words in one_line(run)
+
+
+def test_a_graph_file_and_a_torus(tmp_path: Path) -> None:
+    """Aut(G) of a graph file keys its views (the pendant node breaks the square's
+    symmetry: two robots gather); on the 3 x 3 torus two robots never do under SSYNC."""
+    graph = tmp_path / "g.edgelist"
+    graph.write_text("a b\nb c\nc d\nd a\nd e\n")
+    run = cli("--world", f"graph:{graph}", "--robots", "2", "--scheduler", "async", "--task",
+              "gathering", "--multiplicity", "global-weak", "--witness",
+              str(tmp_path / "w.py"), "--json")
+    assert run.returncode == 0, run.stderr
+    assert json.loads(run.stdout)["checker"]["verdicts"] == ["VERIFIED"]
+    cert = tmp_path / "t.json"
+    run = cli("--world", "torus:3x3", "--robots", "2", "--scheduler", "ssync", "--task",
+              "gathering", "--multiplicity", "global-weak", "--certificate", str(cert))
+    assert run.returncode == 1, run.stderr
+    assert verify_certificate(str(cert))["holds"]
 
 
 def test_a_myopic_graph_file_is_refused(tmp_path: Path) -> None:
