@@ -14,6 +14,8 @@ import subprocess
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 pytest.importorskip("pysat", reason="synthesize needs python-sat (extra synth)")
 
@@ -377,3 +379,35 @@ def test_minimum_prints_the_least_count_stores_it_and_resumes(tmp_path: Path) ->
     assert stored == len(got["rows"]) == 3 + 3 + 3 + 3
     again = cli(*args)  # resumed: the same answers, from the store
     assert again.returncode == 0 and json.loads(again.stdout) == got
+
+
+# -- keys are up to isomorphism: Hypothesis over worlds, capabilities and symmetries ---------
+
+WORLDS = ["ring:5", "ring:6", "grid:3x2", "grid:3x3", "torus:3x3"]
+
+
+@settings(max_examples=60, deadline=None)
+@given(world=st.sampled_from(WORLDS), data=st.data(),
+       detection=st.sampled_from(["none", "local-weak", "global-strong"]),
+       frames=st.sampled_from(["all", "chirality"]),
+       visibility=st.sampled_from([None, 1]), lights=st.sampled_from([None, "2"]))
+def test_keys_and_move_sets_follow_the_symmetries(world: str, data, detection: str,
+                                                  frames: str, visibility, lights) -> None:
+    """For any configuration and any symmetry p of the world under the frames, the robot on
+    p(v) in p(C) has the key of the robot on v in C, and each option's actions move by p."""
+    inst = make_instance(world, "1", "", "fsync", "gathering", detection, frames, visibility,
+                         lights)
+    views = Views(inst)
+    w = inst.world
+    n = data.draw(st.integers(1, 3))
+    nodes = data.draw(st.lists(st.integers(0, w.size - 1), min_size=n, max_size=n))
+    colours = data.draw(st.lists(st.integers(0, inst.lights.colours - 1), min_size=n,
+                                 max_size=n))
+    p = data.draw(st.sampled_from(w.symmetries(frames)))
+    seen = tuple(sorted(zip(nodes, colours, strict=True)))
+    moved = tuple(sorted((p[v], c) for v, c in seen))
+    for v, c in set(seen):
+        k, acts = views.occurrence(seen, v, c)
+        k2, acts2 = views.occurrence(moved, p[v], c)
+        assert views.texts[k] == views.texts[k2]
+        assert [frozenset((p[d], col) for d, col in a) for a in acts] == list(acts2)
