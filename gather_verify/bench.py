@@ -1,6 +1,6 @@
-"""Explorer benchmark against SPIN (issue 8): states/s, bytes per state, time to a verdict.
+"""Explorer benchmark against SPIN: states/s, bytes per state, time to a verdict.
 
-The instance of issue 8: go-to-target, ASYNC, robots ``0,0 5,1 1,5 6,6 3,0``,
+The bench instance: go-to-target, ASYNC, robots ``0,0 5,1 1,5 6,6 3,0``,
 meeting node ``3,3`` (4,939,200 states without reductions); ``quick`` uses the
 SEMANTICS.md yardstick (2184 states). Every measurement runs in a fresh Python
 process and is timed *whole* (interpreter start, imports, search), as SPIN's

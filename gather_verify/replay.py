@@ -1,6 +1,6 @@
 """Replay: re-execute a trace from scratch and confirm its violation independently.
 
-Uses only the algorithm, :mod:`moves` and the schedulers (never the
+Uses only the algorithm, :mod:`~gather_verify.algorithms.moves` and the schedulers (never the
 explorer): every event must be one the scheduler offers from the previous
 state, every recorded state must be the one reached, and the property's
 failure is re-established on the replayed states by the property object itself

@@ -1,4 +1,4 @@
-"""``gather-verify bench``: the explorer against SPIN on the issue-8 instance (or ``--quick``)."""
+"""``gather-verify bench``: the explorer against SPIN on the bench instance (or ``--quick``)."""
 
 from __future__ import annotations
 

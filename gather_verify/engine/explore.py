@@ -7,7 +7,7 @@ destination. States are stored as integers: each robot is a *code*
 ``geometry.STEPS``), and a state packs its codes in base ``5 * cells``. The
 visited set maps these integers to dense ids; the graph is kept in CSR arrays
 (successor ids and edge weights per state, in id order), so the same layout
-can be moved to numpy for a bulk frontier (issue 8).
+can be moved to numpy for a bulk frontier.
 
 Reductions (both on by default, both sound):
 

@@ -1,6 +1,6 @@
 """The bulk explorer: the same breadth-first search as :mod:`explore`, on numpy arrays.
 
-SEMANTICS.md §4-5, issue 8. It explores exactly the states of the reference
+SEMANTICS.md §4-5. It explores exactly the states of the reference
 explorer (:func:`gather_verify.engine.explore.explore_reference`), gives them the same
 ids in the same order (so the same BFS parents, the same first witnesses and the
 same traces), and returns the same :class:`~gather_verify.engine.explore.Exploration`.

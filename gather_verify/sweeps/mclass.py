@@ -1,4 +1,4 @@
-"""A sweep's unit of work as one meeting-node class (issue 17, ``sweep --engine union``).
+"""A sweep's unit of work as one meeting-node class (``sweep --engine union``).
 
 :func:`verify_class` gives the rows of every configuration of one class, the
 same rows :func:`gather_verify.sweeps.sweep.verify_one` gives one at a time:

@@ -1,4 +1,4 @@
-"""``ring:N``: the cycle of N nodes, written ``0 .. N-1`` (SEMANTICS.md §9).
+"""``ring:N``: the cycle of N nodes, written ``0`` to ``N-1`` (SEMANTICS.md §9).
 
 A robot sees the ring from its own node, which it reads as 0, in one of the two
 directions: its frames label node ``u`` as ``(u - v) mod N`` or ``(v - u) mod N``.
