@@ -480,12 +480,13 @@ class PropertyResult:
 class CheckReport:
     """What a check found. ``verdict`` is VERIFIED, VIOLATED, INCOMPLETE or NOT-APPLICABLE;
     ``property`` the first failing one (``failing``: every one), with its ``reason`` and
-    ``trace`` (a JSON object, docs/traces.md: it is a file format)."""
+    ``trace`` (a JSON object, docs/traces.md: it is a file format). Each field is named as
+    its JSON key, but for ``class_`` (JSON ``class``, a reserved word in Python)."""
 
     verdict: str
     property: str | None
     reason: str | None
-    configuration_class: str
+    class_: str
     n: int
     D: int
     states: int
@@ -512,10 +513,19 @@ class CheckReport:
         """Every property that fails."""
         return [name for name, r in self.properties.items() if r.holds is False]
 
+    @property
+    def configuration_class(self) -> str:
+        """Deprecated: ``class_``, as JSON's ``class``."""
+        import warnings
+
+        warnings.warn("CheckReport.configuration_class is deprecated: use class_ (JSON 'class')",
+                      DeprecationWarning, stacklevel=2)
+        return self.class_
+
     def to_json(self) -> dict[str, Any]:
         """The report as ``run_check`` returns it (and ``check --json --timings`` prints it)."""
         out = {
-            "class": self.configuration_class, "verdict": self.verdict, "property": self.property,
+            "class": self.class_, "verdict": self.verdict, "property": self.property,
             "reason": self.reason, "states": self.states, "transitions": self.transitions,
             "max_moves": self.max_moves, "max_moves_infinite": self.max_moves_infinite,
             "D": self.D, "n": self.n, "ratio": self.ratio, "bound": self.bound,
@@ -535,7 +545,7 @@ class CheckReport:
     def from_json(cls, data: dict[str, Any]) -> CheckReport:
         return cls(
             verdict=data["verdict"], property=data["property"], reason=data["reason"],
-            configuration_class=data["class"], n=data["n"], D=data["D"], states=data["states"],
+            class_=data["class"], n=data["n"], D=data["D"], states=data["states"],
             transitions=data["transitions"], max_moves=data["max_moves"],
             max_moves_infinite=data["max_moves_infinite"], ratio=data["ratio"],
             bound=data["bound"], trace=data["trace"],
