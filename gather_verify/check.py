@@ -48,7 +48,7 @@ from gather_verify.properties.facts import StateFacts
 from gather_verify.properties.graph import GraphFacts, Walk, longest_path, most_moves
 from gather_verify.properties.registry import check_property_names, get_property, registered
 from gather_verify.trace import build_trace, initial_of, steps_of
-from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine
+from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine, named_first
 from schedulers import initial_state
 
 
@@ -424,6 +424,12 @@ def run_check(
         results["move-bound"] = {"holds": False, "max_moves": None,
                                  "bound": move_bound_c * D * n,
                                  "reason": traces["move-bound"]["reason"]}
+    for prop in on_graph:  # not decided: say why, as for the others
+        if results[prop.name].get("holds") is None and "reason" not in results[prop.name]:
+            results[prop.name]["reason"] = (
+                SETTLED if e.stopped == "settled" else f"search stopped ({e.stopped})"
+                if e.stopped is not None else f"search stopped while lifting the reduced "
+                f"graph to check cycles ({str(stopped).split(' ', 1)[0]})")
     drift = _drift(e, move_bound_c * D * n) if e.stopped == "region" and keep_graph else None
     if drift is not None:
         report["drift"] = drift
@@ -433,7 +439,7 @@ def run_check(
     for name, trace in traces.items():
         trace["cause"] = cause_of(e.algorithm, trace)
         results[name]["cause"] = trace["cause"]
-    failing = [p.name for p in registered() if p.name in traces]
+    failing = named_first([p.name for p in registered() if p.name in traces])
     verdict = combine(failing, stopped)
     report["verdict"] = verdict
     if failing:

@@ -170,7 +170,8 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
     parts += ["<h3>Verdicts: class × verdict × failing property</h3>",
               "<p class='note'>Each count opens the list of its configurations. One property is "
               "named per configuration: the first that fails in the order "
-              f"{', '.join(ORDER)}.</p>",
+              f"{', '.join(ORDER)}, but a livelock is named termination (move-bound fails "
+              "with it).</p>",
               "<table class='verdicts'>" + head + "".join(body) + "</table>"]
     parts += _causes_table(rows)
     # the smallest counterexample of each (class, property), as a thumbnail opening its viewer
