@@ -203,7 +203,8 @@ def cause_of(algorithm: object, trace: dict[str, Any]) -> str:
         before, after = phase(len(states) - 2), phase(len(states) - 1)
         if before is None and after is None:
             return prop
-        return str(before) if before == after else f"{before} -> {after}"
+        return str(before) if before == after else \
+            f"{before or 'no phase'} -> {after or 'no phase'}"
     if prop in ("no-ungatherable", "move-bound"):
         return behind_last_move() or prop
     return prop

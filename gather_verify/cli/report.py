@@ -27,7 +27,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from gather_verify.sweeps.report import summaries, write_html, write_plot
+    from gather_verify.sweeps.report import settings_line, summaries, write_html, write_plot
     from gather_verify.sweeps.sweep import format_summary
 
     found = summaries(args.db)
@@ -66,8 +66,7 @@ def run(args: argparse.Namespace) -> int:
         if (summary["settings"].get("extra") or {}).get("readings"):
             continue  # one of the readings below
         settings = summary["settings"] or {}
-        print(f"== sweep {i + 1}: " + ", ".join(f"{k}={v}" for k, v in settings.items()
-                                                if k != "extra" or v))
+        print(f"== sweep {i + 1}: " + settings_line(settings))
         format_summary(summary)
         print()
     for group, tables in robust.items():

@@ -68,6 +68,37 @@ def _slug(*parts: Any) -> str:
     return "-".join("".join(c if c.isalnum() else "_" for c in str(p)) for p in parts)
 
 
+def setting_text(key: str, value: Any) -> str | None:
+    """A stored setting as people read it, never as Python or JSON (``None``, ``null``,
+    ``[3, 3]``); None: leave it out (a setting with no value).
+
+    >>> setting_text("box", [3, 3]), setting_text("properties", []), setting_text("task", None)
+    ('3x3', 'all', None)
+    >>> setting_text("visibility", None), setting_text("extra", {"readings": "alpha", "on": [1]})
+    ('unlimited', 'readings=alpha, on=1')
+    """
+    if value is None:
+        return "unlimited" if key == "visibility" else None
+    if key == "box" and isinstance(value, list):
+        return "x".join(map(str, value))
+    if key == "properties" and isinstance(value, list):
+        return ", ".join(map(str, value)) or "all"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, dict):
+        parts = ((k, setting_text(str(k), v)) for k, v in value.items())
+        return ", ".join(f"{k}={v}" for k, v in parts if v is not None) or None
+    if isinstance(value, list):
+        return " ".join(t for t in (setting_text(key, v) for v in value) if t is not None)
+    return str(value)
+
+
+def settings_line(settings: dict[str, Any]) -> str:
+    """A sweep's settings as ``key=value, ...`` (:func:`setting_text`, sorted by key)."""
+    texts = ((k, setting_text(k, v)) for k, v in sorted(settings.items(), key=lambda kv: str(kv[0])))
+    return ", ".join(f"{k}={v}" for k, v in texts if v is not None)
+
+
 def _settings_table(common: dict[str, Any], sweeps: list[tuple[dict[str, Any], list]]) -> str:
     """The settings of a batch as a table, and its configurations per (n, m)."""
     from gather_verify.properties import PROPERTIES
@@ -81,18 +112,16 @@ def _settings_table(common: dict[str, Any], sweeps: list[tuple[dict[str, Any], l
     shown = dict(common)
     if "box" in shown and isinstance(shown["box"], list):
         shown["box"] = " × ".join(map(str, shown["box"]))
-    if "properties" in shown:
-        shown["properties"] = ", ".join(shown["properties"]) or f"all ({', '.join(PROPERTIES)})"
-    if "reduction" in shown:
+    if shown.get("properties") == []:
+        shown["properties"] = f"all ({', '.join(PROPERTIES)})"
+    if "reduction" in shown and isinstance(shown["reduction"], bool):
         shown["reduction"] = "on" if shown["reduction"] else "off"
-    if shown.get("extra") in ({}, None):
-        shown.pop("extra", None)
     rows = []
-    for key in [*labels, *sorted(k for k in shown if k not in labels)]:
+    for key in [*labels, *sorted((k for k in shown if k not in labels), key=str)]:
         if key in shown:
-            value = shown[key]
-            text = json.dumps(value, sort_keys=True) if isinstance(value, dict | list) else value
-            rows.append(f"<tr><th>{_esc(labels.get(key, key))}</th><td>{_esc(text)}</td></tr>")
+            text = setting_text(str(key), shown[key])
+            if text is not None:
+                rows.append(f"<tr><th>{_esc(labels.get(key, key))}</th><td>{_esc(text)}</td></tr>")
     ns = sorted({s.get("robots") for s, _ in sweeps}, key=str)
     ms = sorted({s.get("meeting") for s, _ in sweeps}, key=str)
     count = {(s.get("robots"), s.get("meeting")): len(r) for s, r in sweeps}
