@@ -43,6 +43,7 @@ from gather_verify.errors import InvalidInput
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
+from gather_verify.progress import PROGRESS
 from gather_verify.properties.drift import find_drift
 from gather_verify.properties.facts import StateFacts
 from gather_verify.properties.graph import GraphFacts, Walk, longest_path, most_moves
@@ -113,6 +114,7 @@ def _over_bound(e: Exploration, c: float, D: int, n: int) -> dict[str, Any] | No
     """The trace of an execution whose total moves exceed ``c * D * n`` in ``e``'s stored
     graph, finished or not (fewest events first, :func:`most_moves`), or None."""
     bound = c * D * n
+    PROGRESS.doing = "searching the longest walk (move-bound)"
     walk = _walk(e, bound)
     if walk is None or walk.moves <= bound:
         return None
@@ -131,6 +133,7 @@ def _drift(e: Exploration, bound: float) -> dict[str, Any] | None:
     def move_sets(robots: tuple[Node, ...]) -> Any:
         return e.facts(robots).move_sets or {}
 
+    PROGRESS.doing = "looking for a drift along the run that left the region"
     walk = _walk(e, bound)
     runs = [(e.path_to(max(len(e.offsets) - 2, 0)), None)]
     if walk is not None:
@@ -226,8 +229,10 @@ def _witnesses(e: Exploration, configuration: Configuration, algorithm: str | Al
     concrete graph, and left out if that search does not meet it)."""
     traces: dict[str, dict[str, Any]] = {}
     for name, v in e.violations.items():
+        PROGRESS.doing = f"building the counterexample of {name}"
         trace = _safety_trace(e, v)
         if trace is None:  # target not equivariant: find the witness on the concrete graph
+            PROGRESS.doing = f"exploring without reductions (the counterexample of {name})"
             plain = explore(configuration, algorithm, scheduler, engine=engine,
                             detection=detection, frames=frames, reduction=False,
                             properties=[name], limits=lim, graph=False)
@@ -310,6 +315,8 @@ def run_check(
                  margin=DEFAULT_MARGIN if fixed_margin is None else fixed_margin)
     if limits:
         raise InvalidInput(f"unknown limit(s): {', '.join(sorted(limits))}")
+    first_margin = lim.margin
+    PROGRESS.doing = "classifying the configuration"
     cls = classify_configuration(configuration)
     n, D = configuration.n, configuration.D
     report: dict[str, Any] = {
@@ -340,6 +347,8 @@ def run_check(
     def search(lim: Limits) -> tuple[Exploration, dict[str, dict[str, Any]] | None]:
         """The search in ``lim``'s region, and its traces (None: not needed yet, the region
         grows whatever they are)."""
+        PROGRESS.doing = ("exploring" if lim.margin == first_margin else
+                          f"exploring a larger region (margin {lim.margin})")
         e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
                     frames=frames, reduction=reduction, properties=wanted, limits=lim,
                     memo=memo, graph=keep_graph, settle=not keep_going)
@@ -391,9 +400,11 @@ def run_check(
                 results[prop.name] = {"holds": True, "reason": e.vacuous[prop.name]}
     on_graph = [p for p in chosen if p.kind == "graph"]
     if complete and on_graph:
+        PROGRESS.doing = "measuring the longest run (move-bound)"
         longest = longest_path(e)
         lifted = e
         if longest.max_moves is None and (e.anonymity or e.symmetry):
+            PROGRESS.doing = "exploring without reductions (to check the cycles)"
             lifted = explore(configuration, algorithm, scheduler, engine=engine,
                              detection=detection, frames=frames, reduction=False, properties=[], limits=lim)
             if lifted.stopped:
@@ -408,6 +419,8 @@ def run_check(
                                D, n, move_bound_c)
             for prop in on_graph:
                 assert prop.decide is not None
+                PROGRESS.doing = f"deciding {prop.name}" + (
+                    " (looking for a fair livelock)" if prop.name == "termination" else "")
                 outcome = prop.decide(graph)
                 results[prop.name] = outcome.result
                 w = outcome.witness
@@ -437,6 +450,7 @@ def run_check(
     for name, v in e.violations.items():  # always checked, so never requested: add them
         if get_property(name).pseudo:
             results.setdefault(name, {"holds": False, "reason": v.reason})
+    PROGRESS.doing = "naming the causes"
     for name, trace in traces.items():
         trace["cause"] = cause_of(e.algorithm, trace)
         results[name]["cause"] = trace["cause"]
