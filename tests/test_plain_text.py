@@ -84,3 +84,14 @@ def test_sweep_and_report_print_no_none_or_null(
     report = _text(capsys, "report", "--db", db, "--workers-curve", "1,2")
     assert "box=3x3" in report and "properties=all" in report  # a setting reads as text
     assert "visibility=unlimited" in report
+
+
+def test_pictures_of_a_verdict_without_counterexample_are_not_written_and_it_says_so(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    files = [tmp_path / name for name in ("v.html", "v.svg", "t.json")]
+    code = main(["check", *CHECKS["verified"], "--html", str(files[0]), "--svg", str(files[1]),
+                 "--trace-out", str(files[2])])
+    err = capsys.readouterr().err
+    assert code == 0 and not any(f.exists() for f in files)
+    assert "VERIFIED has no counterexample trace" in err and "not written" in err
+    assert all(str(f) in err for f in files)
