@@ -440,10 +440,14 @@ def run_check(
                                  "reason": traces["move-bound"]["reason"]}
     for prop in on_graph:  # not decided: say why, as for the others
         if results[prop.name].get("holds") is None and "reason" not in results[prop.name]:
-            results[prop.name]["reason"] = (
-                SETTLED if e.stopped == "settled" else f"search stopped ({e.stopped})"
-                if e.stopped is not None else f"search stopped while lifting the reduced "
-                f"graph to check cycles ({str(stopped).split(' ', 1)[0]})")
+            if e.stopped == "settled":
+                why = SETTLED
+            elif e.stopped is not None:
+                why = f"search stopped ({e.stopped})"
+            else:  # the search finished, lifting its graph did not
+                limit = (stopped or "a limit").split(" ", 1)[0]
+                why = f"search stopped while lifting the reduced graph to check cycles ({limit})"
+            results[prop.name]["reason"] = why
     drift = _drift(e, move_bound_c * D * n) if e.stopped == "region" and keep_graph else None
     if drift is not None:
         report["drift"] = drift
