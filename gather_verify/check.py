@@ -43,12 +43,13 @@ from gather_verify.errors import InvalidInput
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
+from gather_verify.progress import PROGRESS
 from gather_verify.properties.drift import find_drift
 from gather_verify.properties.facts import StateFacts
 from gather_verify.properties.graph import GraphFacts, Walk, longest_path, most_moves
 from gather_verify.properties.registry import check_property_names, get_property, registered
 from gather_verify.trace import build_trace, initial_of, steps_of
-from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine
+from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine, named_first
 from schedulers import initial_state
 
 
@@ -113,6 +114,7 @@ def _over_bound(e: Exploration, c: float, D: int, n: int) -> dict[str, Any] | No
     """The trace of an execution whose total moves exceed ``c * D * n`` in ``e``'s stored
     graph, finished or not (fewest events first, :func:`most_moves`), or None."""
     bound = c * D * n
+    PROGRESS.doing = "searching the longest walk (move-bound)"
     walk = _walk(e, bound)
     if walk is None or walk.moves <= bound:
         return None
@@ -131,6 +133,7 @@ def _drift(e: Exploration, bound: float) -> dict[str, Any] | None:
     def move_sets(robots: tuple[Node, ...]) -> Any:
         return e.facts(robots).move_sets or {}
 
+    PROGRESS.doing = "looking for a drift along the run that left the region"
     walk = _walk(e, bound)
     runs = [(e.path_to(max(len(e.offsets) - 2, 0)), None)]
     if walk is not None:
@@ -203,7 +206,8 @@ def cause_of(algorithm: object, trace: dict[str, Any]) -> str:
         before, after = phase(len(states) - 2), phase(len(states) - 1)
         if before is None and after is None:
             return prop
-        return str(before) if before == after else f"{before} -> {after}"
+        return str(before) if before == after else \
+            f"{before or 'no phase'} -> {after or 'no phase'}"
     if prop in ("no-ungatherable", "move-bound"):
         return behind_last_move() or prop
     return prop
@@ -225,8 +229,10 @@ def _witnesses(e: Exploration, configuration: Configuration, algorithm: str | Al
     concrete graph, and left out if that search does not meet it)."""
     traces: dict[str, dict[str, Any]] = {}
     for name, v in e.violations.items():
+        PROGRESS.doing = f"building the counterexample of {name}"
         trace = _safety_trace(e, v)
         if trace is None:  # target not equivariant: find the witness on the concrete graph
+            PROGRESS.doing = f"exploring without reductions (the counterexample of {name})"
             plain = explore(configuration, algorithm, scheduler, engine=engine,
                             detection=detection, frames=frames, reduction=False,
                             properties=[name], limits=lim, graph=False)
@@ -309,6 +315,8 @@ def run_check(
                  margin=DEFAULT_MARGIN if fixed_margin is None else fixed_margin)
     if limits:
         raise InvalidInput(f"unknown limit(s): {', '.join(sorted(limits))}")
+    first_margin = lim.margin
+    PROGRESS.doing = "classifying the configuration"
     cls = classify_configuration(configuration)
     n, D = configuration.n, configuration.D
     report: dict[str, Any] = {
@@ -339,6 +347,8 @@ def run_check(
     def search(lim: Limits) -> tuple[Exploration, dict[str, dict[str, Any]] | None]:
         """The search in ``lim``'s region, and its traces (None: not needed yet, the region
         grows whatever they are)."""
+        PROGRESS.doing = ("exploring" if lim.margin == first_margin else
+                          f"exploring a larger region (margin {lim.margin})")
         e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
                     frames=frames, reduction=reduction, properties=wanted, limits=lim,
                     memo=memo, graph=keep_graph, settle=not keep_going)
@@ -390,9 +400,11 @@ def run_check(
                 results[prop.name] = {"holds": True, "reason": e.vacuous[prop.name]}
     on_graph = [p for p in chosen if p.kind == "graph"]
     if complete and on_graph:
+        PROGRESS.doing = "measuring the longest run (move-bound)"
         longest = longest_path(e)
         lifted = e
         if longest.max_moves is None and (e.anonymity or e.symmetry):
+            PROGRESS.doing = "exploring without reductions (to check the cycles)"
             lifted = explore(configuration, algorithm, scheduler, engine=engine,
                              detection=detection, frames=frames, reduction=False, properties=[], limits=lim)
             if lifted.stopped:
@@ -407,6 +419,8 @@ def run_check(
                                D, n, move_bound_c)
             for prop in on_graph:
                 assert prop.decide is not None
+                PROGRESS.doing = f"deciding {prop.name}" + (
+                    " (looking for a fair livelock)" if prop.name == "termination" else "")
                 outcome = prop.decide(graph)
                 results[prop.name] = outcome.result
                 w = outcome.witness
@@ -424,16 +438,27 @@ def run_check(
         results["move-bound"] = {"holds": False, "max_moves": None,
                                  "bound": move_bound_c * D * n,
                                  "reason": traces["move-bound"]["reason"]}
+    for prop in on_graph:  # not decided: say why, as for the others
+        if results[prop.name].get("holds") is None and "reason" not in results[prop.name]:
+            if e.stopped == "settled":
+                why = SETTLED
+            elif e.stopped is not None:
+                why = f"search stopped ({e.stopped})"
+            else:  # the search finished, lifting its graph did not
+                limit = (stopped or "a limit").split(" ", 1)[0]
+                why = f"search stopped while lifting the reduced graph to check cycles ({limit})"
+            results[prop.name]["reason"] = why
     drift = _drift(e, move_bound_c * D * n) if e.stopped == "region" and keep_graph else None
     if drift is not None:
         report["drift"] = drift
     for name, v in e.violations.items():  # always checked, so never requested: add them
         if get_property(name).pseudo:
             results.setdefault(name, {"holds": False, "reason": v.reason})
+    PROGRESS.doing = "naming the causes"
     for name, trace in traces.items():
         trace["cause"] = cause_of(e.algorithm, trace)
         results[name]["cause"] = trace["cause"]
-    failing = [p.name for p in registered() if p.name in traces]
+    failing = named_first([p.name for p in registered() if p.name in traces])
     verdict = combine(failing, stopped)
     report["verdict"] = verdict
     if failing:
@@ -480,12 +505,13 @@ class PropertyResult:
 class CheckReport:
     """What a check found. ``verdict`` is VERIFIED, VIOLATED, INCOMPLETE or NOT-APPLICABLE;
     ``property`` the first failing one (``failing``: every one), with its ``reason`` and
-    ``trace`` (a JSON object, docs/traces.md: it is a file format)."""
+    ``trace`` (a JSON object, docs/traces.md: it is a file format). Each field is named as
+    its JSON key, but for ``class_`` (JSON ``class``, a reserved word in Python)."""
 
     verdict: str
     property: str | None
     reason: str | None
-    configuration_class: str
+    class_: str
     n: int
     D: int
     states: int
@@ -512,10 +538,19 @@ class CheckReport:
         """Every property that fails."""
         return [name for name, r in self.properties.items() if r.holds is False]
 
+    @property
+    def configuration_class(self) -> str:
+        """Deprecated: ``class_``, as JSON's ``class``."""
+        import warnings
+
+        warnings.warn("CheckReport.configuration_class is deprecated: use class_ (JSON 'class')",
+                      DeprecationWarning, stacklevel=2)
+        return self.class_
+
     def to_json(self) -> dict[str, Any]:
         """The report as ``run_check`` returns it (and ``check --json --timings`` prints it)."""
         out = {
-            "class": self.configuration_class, "verdict": self.verdict, "property": self.property,
+            "class": self.class_, "verdict": self.verdict, "property": self.property,
             "reason": self.reason, "states": self.states, "transitions": self.transitions,
             "max_moves": self.max_moves, "max_moves_infinite": self.max_moves_infinite,
             "D": self.D, "n": self.n, "ratio": self.ratio, "bound": self.bound,
@@ -535,7 +570,7 @@ class CheckReport:
     def from_json(cls, data: dict[str, Any]) -> CheckReport:
         return cls(
             verdict=data["verdict"], property=data["property"], reason=data["reason"],
-            configuration_class=data["class"], n=data["n"], D=data["D"], states=data["states"],
+            class_=data["class"], n=data["n"], D=data["D"], states=data["states"],
             transitions=data["transitions"], max_moves=data["max_moves"],
             max_moves_infinite=data["max_moves_infinite"], ratio=data["ratio"],
             bound=data["bound"], trace=data["trace"],

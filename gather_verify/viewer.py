@@ -86,6 +86,7 @@ def _state_info(algorithm: Any, trace: dict[str, Any], robots: list[tuple[int, i
                 with_moves: bool) -> dict[str, Any]:
     """Class, target, phase, guard and move sets of one configuration (None where unknown)."""
     from gather_verify.algorithms import AlgorithmCrash, AlgorithmError, Unhandled, target_of
+    from gather_verify.algorithms.base import phase_of
     from gather_verify.algorithms.moves import frames_for, move_sets
     from gather_verify.model.classes import classify_configuration
 
@@ -106,9 +107,11 @@ def _state_info(algorithm: Any, trace: dict[str, Any], robots: list[tuple[int, i
     if plan is not None:
         try:
             p = plan(conf)
-            out["phase"], out["guard"] = p.phase, _node(p.guard)
+            out["phase"], out["guard"] = p.phase, _node(getattr(p, "guard", None))
         except Unhandled as error:
             out["phase"], out["unhandled"] = "no rule", str(error)
+    elif getattr(algorithm, "phase", None) is not None:  # an algorithm that names its rules
+        out["phase"] = phase_of(algorithm, conf)
     if with_moves:
         try:
             sets = move_sets(algorithm, conf, trace["detection"], frames_for(trace["frames"]))
@@ -144,11 +147,29 @@ def _decision(states: list, robot: int, look: int, now: int) -> dict[str, Any]:
             "stale": _positions(seen) != _positions(now_state), "moved_since": moved}
 
 
+def provides(algorithm: Any) -> dict[str, bool]:
+    """Which of the paper's rows an algorithm gives the viewer: a ``phase`` (its ``plan``'s,
+    or its own ``phase``), a ``guard`` (a ``plan`` with one), a ``target`` meeting node.
+    Nothing for an algorithm that was not loaded: the page then shows none of these rows.
+
+    >>> from gather_verify.algorithms import get_algorithm
+    >>> provides(get_algorithm("paper")), provides(get_algorithm("go-to-target"))
+    ({'phase': True, 'guard': True, 'target': True}, {'phase': False, 'guard': False, 'target': True})
+    """
+    if algorithm is None:
+        return {"phase": False, "guard": False, "target": False}
+    plan = getattr(algorithm, "plan", None) is not None
+    return {"phase": plan or getattr(algorithm, "phase", None) is not None, "guard": plan,
+            "target": getattr(algorithm, "target", None) is not None}
+
+
 def annotate(trace: dict[str, Any], load_code: bool = True) -> dict[str, Any]:
     """The data the viewer embeds: the trace, and per state its class, target, phase, guard and
     move sets; per event its text and, for an ASYNC Move, the Look it executes (its snapshot,
     stale or not; for an event in the cycle of a livelock also the Look it executes when the
-    cycle repeats, which can be a different one)."""
+    cycle repeats, which can be a different one); ``provides``: which of the rows phase,
+    guard and target the algorithm gives (:func:`provides`), and ``loaded``: whether the
+    algorithm was loaded at all."""
     trace = load_trace(trace)
     states = _states(trace)
     steps = trace["steps"]
@@ -198,6 +219,8 @@ def annotate(trace: dict[str, Any], load_code: bool = True) -> dict[str, Any]:
         "pending_since": pending_since,
         "box": list(bounding_box(nodes)),  # type: ignore[arg-type]
         "n": len(states[0]),
+        "provides": provides(algorithm),
+        "loaded": algorithm is not None,
     }
 
 

@@ -26,6 +26,7 @@ from gather_verify.engine.encoding import (
 )
 from gather_verify.engine.world_search import WorldSearch, search
 from gather_verify.errors import InvalidInput
+from gather_verify.progress import PROGRESS
 from gather_verify.tasks import Context, Finding, Task, get_task
 from gather_verify.worlds import get_world
 from gather_verify.worlds.base import World
@@ -81,6 +82,7 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
     reduce = reduction and not liveness and not stateful
     moves = WorldMoves(w, algo, frozenset(m), detection, frames, visibility, light)
     limits = Limits(max_states=max_states, max_seconds=max_seconds, max_memory_mb=max_memory_mb)
+    PROGRESS.doing = "exploring"
     s = search(w, tuple(r), moves.actions, scheduler, colours=colours, visits=t.visits,
                anonymity=reduce, symmetries=w.symmetries(frames) if reduce else (),
                meeting=frozenset(m), limits=limits)
@@ -91,6 +93,7 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
     if s.halt is not None:
         first = Finding(s.halt.property, s.halt.state, s.halt.reason, detail=s.halt.detail)
         results[s.halt.property] = {"holds": False, "reason": s.halt.reason}
+    PROGRESS.doing = f"deciding the task's properties ({', '.join(parts)})"
     found = t.check(s, ctx) if s.halt is None else {}
     for name in parts:
         got = found.get(name)

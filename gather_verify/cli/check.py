@@ -31,6 +31,7 @@ from gather_verify.engine.explore import (
     DEFAULT_MAX_STATES,
     Exploration,
 )
+from gather_verify.progress import Reporter, default_every
 from gather_verify.scenario import Scenario
 from schedulers import SCHEDULERS
 
@@ -101,6 +102,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
                         help="run the paper's algorithm under every reading of its ambiguous "
                              "passages (docs/interpretations.md) and report the robustness")
+    parser.add_argument("--progress", type=bounded_float(0, 10**6), default=None,
+                        metavar="SECONDS",
+                        help="print a progress line on stderr every SECONDS (states so far, "
+                             "seconds, what is being done); default: every 2 s when stderr is "
+                             "a terminal, never otherwise; 0: never")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--timings", action="store_true",
                         help="with --json, also print the wall-clock seconds and peak memory "
@@ -145,14 +151,15 @@ def run(args: argparse.Namespace) -> int:
 
         run_check = partial(check_readings, readings=args.readings)  # type: ignore[assignment]
     try:
-        report = run_check(
-            configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
-            frames=frames, properties=args.properties, reduction=not args.no_reduction,
-            max_states=args.max_states, max_seconds=args.max_seconds,
-            move_bound_c=args.move_bound_c, force=args.force, max_memory_mb=args.max_memory,
-            keep_growing=args.keep_growing, keep_going=args.keep_going,
-            on_exploration=explored.append if args.graph_out else None,
-            **({} if args.margin is None else {"margin": args.margin}))
+        with _progress(args):
+            report = run_check(
+                configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
+                frames=frames, properties=args.properties, reduction=not args.no_reduction,
+                max_states=args.max_states, max_seconds=args.max_seconds,
+                move_bound_c=args.move_bound_c, force=args.force, max_memory_mb=args.max_memory,
+                keep_growing=args.keep_growing, keep_going=args.keep_going,
+                on_exploration=explored.append if args.graph_out else None,
+                **({} if args.margin is None else {"margin": args.margin}))
     except KeyboardInterrupt:
         print("interrupted: check keeps no partial results (nothing was written); run the same "
               "command again to start over, with --max-seconds or --max-states to stop with "
@@ -223,6 +230,11 @@ def run(args: argparse.Namespace) -> int:
     return VERDICT_EXIT[report["verdict"]]
 
 
+def _progress(args: argparse.Namespace) -> Reporter:
+    """The progress lines of ``check --progress`` (default: every 2 s on a terminal)."""
+    return Reporter(default_every() if args.progress is None else args.progress)
+
+
 def _colours(text: str) -> list[int]:
     try:
         return [int(part, 10) for part in text.split()]
@@ -256,19 +268,20 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
     writable_outputs(trace_out=args.trace_out)
     try:
-        report = run_world_check(
-            world, robots, meeting, algorithm, scheduler,
-            task=args.task or (scenario.task if scenario else None), properties=args.properties,
-            detection=args.multiplicity or (scenario.multiplicity if scenario else "local-weak"),
-            frames=args.frames or (scenario.frames if scenario else "all"),
-            visibility=args.visibility if args.visibility is not None else (
-                scenario.visibility if scenario else None),
-            lights=args.lights or (scenario.lights if scenario else None),
-            colours=_colours(args.colours) if args.colours is not None else (
-                scenario.colours if scenario else None),
-            reduction=not args.no_reduction,
-            max_states=args.max_states, max_seconds=args.max_seconds,
-            **({} if args.max_memory is None else {"max_memory_mb": args.max_memory}))
+        with _progress(args):
+            report = run_world_check(
+                world, robots, meeting, algorithm, scheduler,
+                task=args.task or (scenario.task if scenario else None), properties=args.properties,
+                detection=args.multiplicity or (scenario.multiplicity if scenario else "local-weak"),
+                frames=args.frames or (scenario.frames if scenario else "all"),
+                visibility=args.visibility if args.visibility is not None else (
+                    scenario.visibility if scenario else None),
+                lights=args.lights or (scenario.lights if scenario else None),
+                colours=_colours(args.colours) if args.colours is not None else (
+                    scenario.colours if scenario else None),
+                reduction=not args.no_reduction,
+                max_states=args.max_states, max_seconds=args.max_seconds,
+                **({} if args.max_memory is None else {"max_memory_mb": args.max_memory}))
     except KeyboardInterrupt:
         print("interrupted: check keeps no partial results (nothing was written)",
               file=sys.stderr)

@@ -1,4 +1,5 @@
-"""The registry of properties, in verdict order (when several fail, the first is named).
+"""The registry of properties, in verdict order (when several fail, the first is named; a
+livelock is named termination, :func:`gather_verify.verdict.named_first`).
 
 The built-in properties come first; a property written elsewhere is one
 :class:`~gather_verify.properties.base.Property` and one :func:`register` call (it goes

@@ -94,24 +94,10 @@ class SweepSettings:
         """The digest of the code and data behind the rows (:mod:`gather_verify.fingerprint`):
         the algorithm's, every property file's, the ``fingerprint_extra`` files' and
         gather-verify's own source."""
-        import hashlib
+        from gather_verify.fingerprint import algorithm_fingerprint, sweep_fingerprint
 
-        from gather_verify.algorithms.loading import is_path_spec
-        from gather_verify.fingerprint import (
-            algorithm_fingerprint,
-            files_fingerprint,
-            source_fingerprint,
-        )
-
-        parts = [algorithm_fingerprint(self.algorithm)["digest"]]
-        if self.world.startswith("graph:"):  # the graph file is an input like the algorithm
-            parts.append(files_fingerprint((self.world.partition(":")[2],)))
-        parts += [source_fingerprint(p.rpartition(":")[0])["digest"]
-                  for p in self.properties if is_path_spec(p)]
-        if not parts[1:] and not self.fingerprint_extra:
-            return parts[0]  # the algorithm's alone, as every store before property digests
-        parts.append(files_fingerprint(self.fingerprint_extra))
-        return hashlib.sha256("\0".join(parts).encode()).hexdigest()[:16]
+        return sweep_fingerprint(algorithm_fingerprint(self.algorithm)["digest"], self.world,
+                                 self.properties, self.fingerprint_extra)
 
 
 def configuration_key(c: Configuration) -> str:
@@ -258,6 +244,8 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
             sweep = store.sweep_id(one.key())
             if fresh:
                 store.forget(sweep)
+            if one.fingerprint_extra:
+                store.note_extra(sweep, one.fingerprint_extra)
             done = store.done_keys(sweep)
             shape = (one.world, one.robots, one.meeting, one.box, one.frames)
             if shape not in census:  # classes up to the robots' frame group, never more
