@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 
 from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
 from gather_verify.engine.encoding import NO_LIMITS, Limits
-from gather_verify.engine.explore import rss_mb
+from gather_verify.engine.explore import PROGRESS, rss_mb
 from schedulers import Event, get_scheduler
 
 WorldState = tuple[tuple[tuple[int, int | None, int], ...], int, object]
@@ -147,9 +147,11 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
     halt = None
     sid = 0
     while sid < len(reps):
-        if sid & 63 == 0 and time.perf_counter() - started > limits.max_seconds:
-            stopped = "time"
-            break
+        if sid & 63 == 0:
+            PROGRESS.states = len(reps)  # (what a check stopped by the watchdog reports)
+            if time.perf_counter() - started > limits.max_seconds:
+                stopped = "time"
+                break
         if sid & 4095 == 0 and rss_mb() > limits.max_memory_mb:
             stopped = "memory"
             break
