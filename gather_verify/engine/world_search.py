@@ -150,7 +150,7 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
     PROGRESS.states = len(reps)
     while sid < len(reps):
         if sid & 63 == 0:
-            PROGRESS.states = len(reps)  # read by a progress line (check --progress)
+            PROGRESS.states = len(reps)  # read by a progress line and by the watchdog's report
             if time.perf_counter() - started > limits.max_seconds:
                 stopped = "time"
                 break
