@@ -54,8 +54,9 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
                     max_seconds: float = DEFAULT_MAX_SECONDS,
                     max_memory_mb: float = DEFAULT_MAX_MEMORY_MB) -> dict[str, Any]:
     """Check ``algorithm`` from one initial configuration of ``world``; a JSON-ready report
-    (``verdict``, ``property``, ``reason``, ``states``, ``transitions``, per-part results and
-    the counterexample ``trace``)."""
+    (``verdict``, ``property``, ``reason``, ``states``, ``transitions``, per-part results,
+    the counterexample ``trace``, ``seconds`` of the whole check and ``search_seconds`` of
+    the search alone)."""
     started = time.perf_counter()
     w = get_world(world) if isinstance(world, str) else world
     r = w.parse_nodes(robots) if isinstance(robots, str) else list(robots)
@@ -148,6 +149,7 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
                                                          t.name, detection, frames, visibility,
                                                          str(light)),
             "seconds": time.perf_counter() - started,
+            "search_seconds": s.seconds,
         }
 
     try:  # the user's code that does not return ends with the time limit (watchdog)
