@@ -327,8 +327,9 @@ def annotate_world(trace: dict[str, Any]) -> dict[str, Any]:
     node indices of the drawing (``trace``, with the states under ``robots``), the
     ``drawing``, per state the ``colours`` and the ``visited`` nodes (None where the trace
     has none), per event its text and the Looks a Move executes (stale when a robot moved or
-    changed its light since), the node the failing property names (``focus``) and the
-    world's settings (``world``)."""
+    changed its light since), the node the failing property names (``focus``: the node a
+    fair run stops visiting, the node of a crashed robot) and the world's settings
+    (``world``)."""
     if not isinstance(trace.get("steps"), list) or not trace["steps"] \
             or not isinstance(trace.get("robots"), list):
         raise _bad("a world trace needs 'robots' and a non-empty list of 'steps'")
@@ -340,6 +341,8 @@ def annotate_world(trace: dict[str, Any]) -> dict[str, Any]:
              for i, node in enumerate(drawing["nodes"])}
     names = [node["text"] for node in drawing["nodes"]]
     n = len(trace["robots"])
+    # with lights, a step whose colours are all 0 leaves them out: every robot is lit 0
+    luminous = str(trace.get("lights", "1")).partition(":")[0] not in ("", "1")
 
     def node(value: Any) -> int:
         found = index.get(json.dumps(value, sort_keys=True))
@@ -367,7 +370,8 @@ def annotate_world(trace: dict[str, Any]) -> dict[str, Any]:
         c = raw.get("colours")
         if c is not None and (not isinstance(c, list) or len(c) != n):
             raise _bad(f"step {k}: 'colours' must list {n} colours")
-        colours.append(None if c is None else [_int(x, "a colour") for x in c])
+        colours.append([_int(x, "a colour") for x in c] if c is not None else
+                       [0] * n if luminous else None)
         seen = raw.get("visited")
         if seen is not None and not isinstance(seen, list):
             raise _bad(f"step {k}: 'visited' must be a list of nodes")
@@ -403,7 +407,8 @@ def annotate_world(trace: dict[str, Any]) -> dict[str, Any]:
     detail = trace.get("detail") or {}
     if not isinstance(detail, dict):
         raise _bad("'detail' must be an object")
-    focus = node(detail["node"]) if "node" in detail else None
+    named = detail.get("node", detail.get("robot_node"))  # the node, or the crashed robot's
+    focus = None if named is None else node(named)
     shown = {k: (names[focus] if k == "node" and focus is not None else v)
              for k, v in detail.items() if k != "drift"}  # drift: a Z² notion
     normal = {
