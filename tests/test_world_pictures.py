@@ -420,3 +420,63 @@ def test_browser_hostile_node_names_show_as_text(web, tmp_path):
     page.goto((tmp_path / "s.svg").as_uri())
     assert page.evaluate("() => window.__pwned === undefined")
     assert web.errors == []
+
+
+def test_a_hostile_world_database_shows_as_text_in_the_report(web, tmp_path):
+    import sqlite3
+
+    db, out = tmp_path / "w.sqlite", tmp_path / "report.html"
+    main(["sweep", "--world", "ring:5", "--robots", "2", "--meeting", "0", "--algorithm",
+          "ring-gather", "--multiplicity", "global-weak", "--task", "gathering", "--scheduler",
+          "fsync", "--workers", "1", "--db", str(db)])
+    con = sqlite3.connect(db)
+    with con:
+        for key, raw in con.execute("SELECT key, trace FROM results").fetchall():
+            trace = json.loads(raw)
+            for name in ("property", "reason", "algorithm", "world", "task", "lights"):
+                trace[name] = PAYLOAD + str(trace[name])
+            trace["detail"] = {PAYLOAD: PAYLOAD}
+            for node in trace["drawing"]["nodes"]:
+                node["text"] = PAYLOAD + node["text"]
+            con.execute("UPDATE results SET trace = ?, class = ?, reason = ?, property = ?, "
+                        "robots = ? WHERE key = ?", (json.dumps(trace), PAYLOAD, PAYLOAD,
+                                                     PAYLOAD, json.dumps([PAYLOAD, 1]), key))
+    con.close()
+    assert main(["report", "--db", str(db), "--html", str(out)]) == 0
+    page = web.page
+    for target in [out, *sorted((tmp_path / "report-files").glob("*.html"))]:
+        page.goto(target.as_uri())
+        for _ in range(3):
+            assert page.evaluate("() => window.__pwned === undefined")
+            assert page.query_selector("#injected") is None
+            assert page.query_selector("img[src=x]") is None
+            page.keyboard.press("ArrowRight")
+    assert len(list((tmp_path / "report-files").glob("*.html"))) == 1
+    assert PAYLOAD.split(" ")[0] in page.inner_text("#verdict")  # the viewer shows it, as text
+
+
+def test_replay_says_a_world_trace_is_not_one_of_z2(tmp_path, capsys):
+    path = tmp_path / "t.json"
+    path.write_text(json.dumps(ring_trace()))
+    assert main(["replay", str(path), "--html", str(tmp_path / "v.html")]) == 2
+    assert "a trace of the finite world 'ring:6'" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("broken", ["previous-state", "node-places"])
+def test_browser_checks_catch_a_broken_world_viewer(web, tmp_path, broken):
+    """The checks above fail on a viewer that draws the state before, or puts the robots at
+    the wrong node's place."""
+    trace = ring_trace()
+    page_text = viewer_html(trace)
+    if broken == "previous-state":
+        page_text = page_text.replace("const state = states[k], info",
+                                      "const state = states[Math.max(0, k - 1)], info")
+    else:
+        page_text = page_text.replace("const [cx, cy] = at(node);",
+                                      "const [cx, cy] = at((node + 1) % WORLD.nodes.length);")
+    assert page_text != viewer_html(trace)
+    path = tmp_path / "bad.html"
+    path.write_text(page_text)
+    web.page.goto(path.as_uri())
+    with pytest.raises(AssertionError):
+        check_every_step(web, web.page, trace, 6)
