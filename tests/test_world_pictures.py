@@ -472,8 +472,8 @@ def test_browser_checks_catch_a_broken_world_viewer(web, tmp_path, broken):
         page_text = page_text.replace("const state = states[k], info",
                                       "const state = states[Math.max(0, k - 1)], info")
     else:
-        page_text = page_text.replace("const [cx, cy] = at(node);",
-                                      "const [cx, cy] = at((node + 1) % WORLD.nodes.length);")
+        page_text = page_text.replace("const [cx, cy] = at(node), where",
+                                      "const [cx, cy] = at((node + 1) % WORLD.nodes.length), where")
     assert page_text != viewer_html(trace)
     path = tmp_path / "bad.html"
     path.write_text(page_text)
