@@ -194,21 +194,31 @@ def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
              meeting: list[int], algorithm: str, scheduler: str, task: str, detection: str,
              frames: str, visibility: int | None, lights: str = "1") -> dict[str, Any]:
     """The counterexample as JSON: the shortest path to the failing state (then, for a
-    liveness part, the cycle the run can stay on), every state in the world's node names."""
+    liveness part, the cycle the run can stay on), every state in the world's node names,
+    and the world's drawing (:meth:`~gather_verify.worlds.base.World.drawing`) so that a
+    picture of the trace needs nothing but the trace. On a task that explores, each step
+    names the nodes visited so far (from the state when the search carries them, else
+    counted along the trace)."""
     ids = s.path_to(finding.state)
     cycle_start = None
     if finding.cycle is not None and len(finding.cycle) > 1:
         cycle_start = len(ids) - 1
         ids = ids + finding.cycle[1:]
-    steps = [_step(world, None, s.keys[ids[0]])]
-    for a, b in zip(ids, ids[1:], strict=False):
-        event = _event_between(s, a, b)
-        steps.append(_step(world, event, s.keys[b]))
+    keys = [s.keys[i] for i in ids]
+    events: list[Any] = [None] + [_event_between(s, a, b) for a, b in zip(ids, ids[1:],
+                                                                        strict=False)]
     if finding.edge is not None:  # a transition part: the failing round itself
         src, k = finding.edge
-        _, _, event = s.edges[src][k]
-        target = s.edges[src][k][0]
-        steps.append(_step(world, event, s.keys[target]))
+        target, _, event = s.edges[src][k]
+        keys.append(s.keys[target])
+        events.append(event)
+    steps = [_step(world, event, key) for event, key in zip(events, keys, strict=True)]
+    if get_task(task).explores and not any("visited" in step for step in steps):
+        seen = 0
+        for step, key in zip(steps, keys, strict=True):
+            for v, *_ in key[0]:
+                seen |= 1 << v
+            step["visited"] = [world.node_to_json(v) for v in range(world.size) if seen >> v & 1]
     return {
         "world": world.name, "task": task, "algorithm": algorithm, "scheduler": scheduler,
         "detection": detection, "frames": frames, "visibility": visibility, "lights": lights,
@@ -217,7 +227,7 @@ def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
                    for k, v in finding.detail.items()},
         "robots": [world.node_to_json(v) for v in robots],
         "meeting_nodes": [world.node_to_json(v) for v in meeting],
-        "steps": steps, "cycle_start": cycle_start,
+        "steps": steps, "cycle_start": cycle_start, "drawing": world.drawing(),
     }
 
 

@@ -242,7 +242,7 @@ def _colours(text: str) -> list[int]:
         raise UsageError(f"--colours {text!r}: write one integer colour per robot") from None
 
 
-PLANE_ONLY = ("readings", "margin", "keep_growing", "force", "graph_out", "svg", "html", "junit")
+PLANE_ONLY = ("readings", "margin", "keep_growing", "force", "graph_out", "junit")
 """Options of the paper's world (Z²) that a finite world does not take."""
 
 
@@ -266,7 +266,7 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
         list(scenario.nodes[1]) if scenario else "")
     algorithm = args.algorithm or (scenario.algorithm if scenario else "go-to-target")
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
-    writable_outputs(trace_out=args.trace_out)
+    writable_outputs(trace_out=args.trace_out, svg=args.svg, html=args.html)
     try:
         with _progress(args):
             report = run_world_check(
@@ -292,6 +292,18 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
     trace = report["trace"]
     if trace is not None and args.trace_out:
         Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
+    if trace is not None and args.svg:
+        from gather_verify.render import trace_svg
+
+        Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
+    if trace is not None and args.html:
+        from gather_verify.viewer import write_viewer
+
+        write_viewer(trace, args.html)
+    unwritten = [f for f in (args.trace_out, args.svg, args.html) if f and trace is None]
+    if unwritten:
+        print(f"note: {report['verdict']} has no counterexample trace: "
+              f"{', '.join(unwritten)} not written", file=sys.stderr)
     if args.json:
         print_json(report if args.timings else without_timings(report))
     else:

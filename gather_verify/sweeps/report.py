@@ -157,8 +157,45 @@ def _number(value: Any) -> str:
         return _esc(value)
 
 
-def _nodes(nodes: Any) -> str:
-    return " ".join(f"{x},{y}" for x, y in nodes)
+def _nodes(nodes: Any, lit: bool = False) -> str:
+    """Nodes as the command line writes them: ``x,y`` on Z² and on grids and tori, a ring's
+    number, a graph file's id; ``lit``: each is [node, colour] (a robot with its initial
+    light), the node is written."""
+    return " ".join(",".join(map(str, v)) if isinstance(v, list) else str(v)
+                    for v in ((n[0] if lit and isinstance(n, list) else n) for n in nodes))
+
+
+def _lit(common: dict[str, Any]) -> bool:
+    """Whether a batch's rows store each robot with its initial colour (a finite world swept
+    over every initial colouring)."""
+    return common.get("world", "grid") != "grid" and common.get("initial_colours") == "all"
+
+
+def _recheck(r: dict[str, Any], verdict: str, common: dict[str, Any]) -> str:
+    """The command that checks one stored configuration again (and writes its viewer when it
+    fails)."""
+    lit, plane = _lit(common), common.get("world", "grid") == "grid"
+    parts = ["gather-verify check"]
+    if not plane:  # a finite world: a row's class is its world's name
+        parts.append(f"--world {r['class']}")
+    parts.append(f"--robots \"{_nodes(r['robots'], lit)}\"")
+    if plane or r["meeting_nodes"]:
+        parts.append(f"--meeting \"{_nodes(r['meeting_nodes'])}\"")
+    parts.append(f"--algorithm {common.get('algorithm')} --scheduler {common.get('scheduler')}")
+    if not plane:
+        for option, key, default in (("--task", "task", None),
+                                     ("--multiplicity", "detection", "local-weak"),
+                                     ("--frames", "frames", "all"),
+                                     ("--visibility", "visibility", None),
+                                     ("--lights", "lights", None)):
+            if common.get(key, default) != default:
+                parts.append(f"{option} {common[key]}")
+        if lit:
+            colours = " ".join(str(n[1]) for n in r["robots"] if isinstance(n, list))
+            parts.append(f"--colours \"{colours}\"")
+    if verdict == "VIOLATED":
+        parts.append("--html trace.html")
+    return " ".join(parts)
 
 
 def _slug(*parts: Any) -> str:
@@ -210,7 +247,8 @@ def _settings_table(common: dict[str, Any], sweeps: list[tuple[dict[str, Any], l
     if "box" in shown and isinstance(shown["box"], list):
         shown["box"] = " × ".join(map(str, shown["box"]))
     if shown.get("properties") == []:
-        shown["properties"] = f"all ({', '.join(PROPERTIES)})"
+        shown["properties"] = (f"all ({', '.join(PROPERTIES)})" if common.get("world", "grid") == "grid"
+                               else "all of the task's")
     if "reduction" in shown and isinstance(shown["reduction"], bool):
         shown["reduction"] = "on" if shown["reduction"] else "off"
     rows = []
@@ -229,7 +267,9 @@ def _settings_table(common: dict[str, Any], sweeps: list[tuple[dict[str, Any], l
                       + f"<td>{sum(c for (a, _), c in count.items() if a == n)}</td></tr>"
                       for n in ns) + "</table>")
     return ("<div class='settings'><table class='kv'>" + "".join(rows) + "</table>"
-            "<div><p class='note'>configurations (up to translation and the 8 isometries)</p>"
+            "<div><p class='note'>configurations (up to "
+            + ("translation and the 8 isometries" if common.get("world", "grid") == "grid" else
+               "the world's symmetries") + ")</p>"
             + grid + "</div></div>")
 
 
@@ -330,7 +370,8 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
                 f"<figure><a href='{_esc(folder.name)}/{name}' title='open the viewer'>"
                 f"{thumbnail_svg(r['trace'], uid=_slug('t', number, c, p))}</a>"
                 f"<figcaption><b>{_esc(c)}</b> · <span class='bad'>{_esc(p)}</span> · "
-                f"{steps} event{'s' if steps != 1 else ''}<br>robots {_esc(_nodes(r['robots']))}"
+                f"{steps} event{'s' if steps != 1 else ''}<br>robots "
+                f"{_esc(_nodes(r['robots'], _lit(common)))}"
                 f"<br>meeting {_esc(_nodes(r['meeting_nodes']))}<br>"
                 f"<a href='{_esc(folder.name)}/{name}'>open the viewer</a> · "
                 f"<a href='#{_slug('list', number, c, 'VIOLATED', p)}'>all "
@@ -354,13 +395,11 @@ def _filtered_list(anchor: str, c: str, verdict: str, prop: str, found: list[dic
     """The configurations of one table cell, each with the command that re-checks it."""
     items = []
     for r in found[:LIST_LIMIT]:
-        command = (f"gather-verify check --robots \"{_nodes(r['robots'])}\" --meeting "
-                   f"\"{_nodes(r['meeting_nodes'])}\" --algorithm {common.get('algorithm')} "
-                   f"--scheduler {common.get('scheduler')}"
-                   + (" --html trace.html" if verdict == "VIOLATED" else ""))
+        command = _recheck(r, verdict, common)
         ratio = "" if r.get("ratio") is None else _number(r["ratio"])
         items.append(f"<tr><td>{_esc(r['robots_n'])}</td><td>{_esc(r['meeting_m'])}</td>"
-                     f"<td>{_esc(_nodes(r['robots']))}</td><td>{_esc(_nodes(r['meeting_nodes']))}</td>"
+                     f"<td>{_esc(_nodes(r['robots'], _lit(common)))}</td>"
+                     f"<td>{_esc(_nodes(r['meeting_nodes']))}</td>"
                      f"<td>{'' if r.get('max_moves') is None else _esc(r['max_moves'])}</td>"
                      f"<td>{ratio}</td>"
                      f"<td class='reason'>{_esc(r.get('reason') or '')}</td>"
@@ -421,14 +460,17 @@ def write_html(db_path: str, out: str, svg_dir: str | None = None,
     for k, (batch, target) in enumerate(zip(groups, names, strict=False), 1):
         common, sweeps = batch.common, batch.sweeps
         plot = None
+        plane = common.get("world", "grid") == "grid"  # a finite world counts no moves
         try:
-            folder.mkdir(parents=True, exist_ok=True)
-            _plot([(common, [r for _, rs in sweeps for r in rs])], str(folder / f"plot-{k}.png"))
-            plot = f"{folder.name}/plot-{k}.png"
+            if plane:
+                folder.mkdir(parents=True, exist_ok=True)
+                _plot([(common, [r for _, rs in sweeps for r in rs])],
+                      str(folder / f"plot-{k}.png"))
+                plot = f"{folder.name}/plot-{k}.png"
         except InvalidInput:  # no matplotlib: the page says so instead of showing the plot
             pass
         body = _batch_page(k, common, sweeps, folder, plot, batch)
-        if plot is None:
+        if plot is None and plane:
             body += "<p class='note'>(install matplotlib for the plot: pip install 'gather-verify[plot]')</p>"
         back = f"<nav><a href='{_esc(page.name)}'>← all batches</a></nav>" if len(groups) > 1 else ""
         target.write_text(_document("gather-verify report", back + body), encoding="utf-8")
