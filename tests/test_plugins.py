@@ -316,6 +316,20 @@ def test_check_report_round_trips_run_check(algorithm: str, options: dict) -> No
     assert gv.CheckReport.from_json(u).to_json() == u
 
 
+def test_check_report_fields_are_named_as_the_json_keys() -> None:
+    """One name per datum: a field of ``CheckReport`` is its JSON key (``class_`` for
+    ``class``, reserved in Python); the older ``configuration_class`` still reads it."""
+    import dataclasses
+
+    raw = run_check(TWO, algorithm="go-to-target", scheduler="async")
+    report = gv.CheckReport.from_json(raw)
+    fields = {f.name.rstrip("_") for f in dataclasses.fields(report)}
+    assert fields <= set(raw) | {"peak_rss_mb", "drift"}
+    assert report.class_ == raw["class"] == "I13"
+    with pytest.warns(DeprecationWarning, match="class_"):
+        assert report.configuration_class == report.class_
+
+
 def test_abbreviations_and_semicolons_are_refused(capsys) -> None:
     assert main(["check", "--robot", "0,0 3,1", "--meeting", "2,2"]) == 2
     assert main(["check", "--robots", "0,0;3,1", "--meeting", "2,2"]) == 2

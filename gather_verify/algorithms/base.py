@@ -26,6 +26,7 @@ from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.view import View
+from gather_verify.watchdog import Overtime, watched
 
 
 @runtime_checkable
@@ -108,8 +109,9 @@ def target_of(algorithm: object, configuration: Configuration) -> Node | None:
     if target is None:
         return None
     try:
-        return target(configuration)
-    except (Unhandled, KeyboardInterrupt):
+        with watched():
+            return target(configuration)
+    except (Unhandled, KeyboardInterrupt, Overtime):
         raise
     except BaseException as error:  # SystemExit too: user code never ends the verifier
         raise AlgorithmCrash(getattr(algorithm, "name", "?"), "target", error) from None
@@ -127,7 +129,8 @@ def phase_of(algorithm: object, configuration: Configuration) -> str | None:
     if phase is None:
         return None
     try:
-        got = phase(configuration)
+        with watched():  # (the watchdog's Overtime is no Exception: it goes through)
+            got = phase(configuration)
     except Exception:  # noqa: BLE001 - the cause is optional; the search reports crashes
         return None
     return got if isinstance(got, str) else None
