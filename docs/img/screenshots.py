@@ -4,11 +4,15 @@
     gather-verify sweep --robots 2-3 --meeting 2-4 --box 3x3 --algorithm paper --scheduler async --db out/paper.sqlite
     python docs/img/screenshots.py out/paper.sqlite
     python docs/img/screenshots.py --worlds    # the pictures of finite worlds only
+    python -m sphinx -W -n --keep-going -b html docs docs/_build/html
+    python docs/img/screenshots.py --site      # the built site's landing and findings pages
 
 Writes viewer-f4-deadlock.png, viewer-f6-livelock.png, viewer-async-stale.png, report.png,
 trace-svg.png and moves.png next to this file, and the pictures of finite worlds
 (docs/worlds.md): world-viewer-ring.png, world-viewer-graph.png and world-svg-torus.png (PNG,
-palette-reduced to stay small).
+palette-reduced to stay small). ``--site`` builds nothing: it photographs the landing page
+and the findings page of a site already built in docs/_build/html (site-index.png,
+site-findings.png, 1200 pixels wide, the top of each page).
 """
 
 from __future__ import annotations
@@ -109,8 +113,34 @@ def worlds() -> None:
         print(f"{name}: {(HERE / name).stat().st_size // 1024} KB")
 
 
+SITE = ROOT / "docs/_build/html"
+
+
+def site() -> None:
+    """The built docs site's landing page and findings page, the top of each (a full page
+    of findings would be tens of thousands of pixels tall). Builds nothing: run the Sphinx
+    build first."""
+    pages = [("index.html", "site-index.png"), ("findings.html", "site-findings.png")]
+    missing = [name for name, _ in pages if not (SITE / name).exists()]
+    if missing:
+        sys.exit(f"not built: {', '.join(missing)} in docs/_build/html (run the Sphinx build)")
+    chromium = shutil.which("chromium") or "/usr/bin/chromium"
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=chromium, args=["--disable-gpu", "--no-sandbox"])
+        page = browser.new_page(viewport={"width": 1200, "height": 900})
+        for name, out in pages:
+            page.goto((SITE / name).as_uri())
+            page.screenshot(path=HERE / out)
+        browser.close()
+    for _, out in pages:
+        small(HERE / out)
+        print(f"{out}: {(HERE / out).stat().st_size // 1024} KB")
+
+
 if __name__ == "__main__":
     if sys.argv[1:] == ["--worlds"]:
         worlds()
+    elif sys.argv[1:] == ["--site"]:
+        site()
     else:
         main(sys.argv[1] if len(sys.argv) > 1 else "out/paper.sqlite")
