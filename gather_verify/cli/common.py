@@ -20,7 +20,7 @@ EXIT_BUG = 70
 """An unexpected exception: a bug of gather-verify (``EX_SOFTWARE`` of ``sysexits.h``)."""
 EXIT_INTERRUPTED = 130
 """Ctrl-C (SIGINT): 128 + 2, as shells report it; one line on stderr says what was kept."""
-TIMING_KEYS = ("seconds", "peak_rss_mb", "computed", "written")
+TIMING_KEYS = ("seconds", "search_seconds", "peak_rss_mb", "computed", "written")
 """Report fields that vary from run to run (``computed``: how many rows a sweep computed
 rather than found stored; ``written``: when a stored sweep's rows were written); ``--json``
 leaves them out unless ``--timings``."""
