@@ -17,6 +17,7 @@ from typing import Any
 
 import pytest
 
+from gather_verify.errors import GatherVerifyError
 from gather_verify.scenario_tests import Case, cases
 
 
@@ -62,8 +63,12 @@ class ScenarioFile(pytest.File):
             yield item
 
 
-class ScenarioFailure(Exception):
-    """An expectation that did not hold (the message says why, with the trace)."""
+class ScenarioFailure(GatherVerifyError):
+    """An expectation of a scenario that did not hold (the message says why, with the trace).
+
+    Cause: the verdict of a scenario's case differs from the one the scenario expects.
+    Fix: read the trace in the message; correct the algorithm, or the expectation when the
+    algorithm is right."""
 
 
 class ScenarioItem(pytest.Item):

@@ -33,7 +33,11 @@ MAPPED_BACK = tuple({answer: geometry.apply(geometry.inverse(g), answer) for ans
 
 class HiddenRead(Unhandled, MultiplicityHidden):
     """The algorithm read multiplicity its detection model hides: it has no rule its robots
-    could follow (the explorer reports it as a ``defined`` violation, with a trace)."""
+    could follow (the explorer reports it as a ``defined`` violation, with a trace).
+
+    Cause and fix: those of :class:`~gather_verify.model.view.MultiplicityHidden`, raised
+    from a move set; an :class:`~gather_verify.algorithms.base.Unhandled` as well, so the
+    explorer treats it as a missing rule."""
 
 
 def frames_for(name: str) -> tuple[int, ...]:

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 from functools import cached_property
 
-from gather_verify.errors import InvalidInput
+from gather_verify.errors import GatherVerifyError, InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.canonical import Key
 from gather_verify.model.configuration import Configuration
@@ -38,8 +38,13 @@ FRAME_SETS: dict[str, tuple[int, ...]] = {
 }
 
 
-class MultiplicityHidden(LookupError):
-    """The algorithm asked for multiplicity information its detection model hides."""
+class MultiplicityHidden(GatherVerifyError, LookupError):
+    """The algorithm asked for multiplicity information its detection model hides.
+
+    Cause: under ``local-weak`` (or ``none``) detection, the algorithm read how many robots
+    stand on a node it may not count (or whether a node holds a meeting it cannot see).
+    Fix: make the algorithm decide from what the view shows, or check it under a stronger
+    detection model. The explorer reports the read as a ``defined`` violation."""
 
 
 def check_detection(detection: str) -> str:
