@@ -130,3 +130,16 @@ def test_the_root_keeps_the_builtin_bases_callers_catch() -> None:
     assert issubclass(MultiplicityHidden, LookupError) and issubclass(LightHidden, LookupError)
     assert issubclass(HiddenRead, LookupError) and issubclass(AdversaryError, AssertionError)
     assert issubclass(GatherVerifyError, Exception)
+
+
+def test_a_missing_command_module_fails_loudly_as_a_bug(monkeypatch, capsys) -> None:
+    """A command never vanishes from the CLI in silence: build_parser names the missing module
+    and calls it a bug, and main exits 70 with the traceback."""
+    from gather_verify import cli
+
+    monkeypatch.setattr(cli, "COMMANDS", (*cli.COMMANDS, "no_such_command"))
+    with pytest.raises(ImportError, match=r"gather_verify\.cli\.no_such_command is missing: a bug"):
+        cli.build_parser()
+    assert main(["check", "--help"]) == 70
+    err = capsys.readouterr().err
+    assert "a bug of gather-verify" in err and "no_such_command" in err
