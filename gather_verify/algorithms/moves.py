@@ -79,10 +79,10 @@ def move_set(
             try:
                 dx, dy = MAPPED_BACK[g][answer]  # the answer, mapped back to global coordinates
             except (KeyError, TypeError):
-                error = AlgorithmError(
+                wrong = AlgorithmError(
                     f"algorithm {algorithm.name!r} answered {answer!r}: a move must be (0, 0) "
                     "or a unit step (1, 0), (0, 1), (-1, 0), (0, -1) in the robot's frame")
-                raise AlgorithmCrash(algorithm.name, "decide", error, node, seen) from None
+                raise AlgorithmCrash(algorithm.name, "decide", wrong, node, seen) from None
             out.add((x + dx, y + dy))
     return frozenset(out)
 
