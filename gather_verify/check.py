@@ -109,7 +109,7 @@ def _walk(e: Exploration, bound: float) -> Walk | None:
     cached = getattr(e, "_most_moves", None)
     if cached is None or cached[0] != bound:
         cached = (bound, most_moves(e, bound))
-        e._most_moves = cached  # type: ignore[attr-defined]
+        e._most_moves = cached
     return cached[1]
 
 
@@ -655,7 +655,7 @@ def check(
     name = algorithm if isinstance(algorithm, str) else getattr(algorithm, "name", None)
     if not isinstance(name, str):
         raise InvalidInput("an algorithm object needs a name (a string attribute)")
-    report = run_check(configuration, algorithm=algorithm,  # type: ignore[arg-type]
+    report = run_check(configuration, algorithm=algorithm,
                        scheduler=scheduler, detection=detection, frames=frames,
                        properties=properties, reduction=reduction, max_states=max_states,
                        max_seconds=max_seconds, move_bound_c=move_bound_c, force=force,

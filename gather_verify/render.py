@@ -46,7 +46,7 @@ def _box(trace: dict[str, Any]) -> tuple[int, int, int, int]:
     nodes = [tuple(m) for m in trace["initial"]["meeting_nodes"]]
     for state in _states(trace):
         nodes += [tuple(r["node"]) for r in state]
-    return bounding_box(nodes)  # type: ignore[arg-type]
+    return bounding_box(nodes)
 
 
 def _event_text(event: dict[str, Any]) -> str:
@@ -66,7 +66,7 @@ def render_trace(trace: dict[str, Any]) -> str:
         if trace.get("cycle_start") == k:
             out.append("-- the cycle starts here --")
         robots = [tuple(r["node"]) for r in state]
-        out.append(ascii_grid(robots, meeting, box))  # type: ignore[arg-type]
+        out.append(ascii_grid(robots, meeting, box))
         pending = [f"r{i}->{tuple(r['pending'])}" for i, r in enumerate(state) if r["pending"]]
         if pending:
             out.append("pending: " + " ".join(pending))
@@ -206,7 +206,7 @@ def grid_svg(state: Sequence[dict[str, Any]], meeting: Sequence[Node],
                        f'marker-end="url(#{uid}-m-done)"/>')
     by_node: dict[tuple[int, int], list[int]] = {}
     for i, r in enumerate(state):
-        by_node.setdefault(tuple(r["node"]), []).append(i)  # type: ignore[arg-type]
+        by_node.setdefault(tuple(r["node"]), []).append(i)
     offsets = {2: ((-1, 0), (1, 0)), 3: ((-1, -1), (1, -1), (0, 1))}
     corners = ((-1, -1), (1, -1), (-1, 1), (1, 1), (0, 0), (0, -1), (0, 1), (-1, 0), (1, 0))
     for v, ids in by_node.items():
@@ -216,19 +216,19 @@ def grid_svg(state: Sequence[dict[str, Any]], meeting: Sequence[Node],
         for j, i in enumerate(ids):
             place = offsets.get(len(ids), corners)
             dx, dy = place[j % len(place)] if many else (0, 0)
-            x, y = cx + dx * cell * 0.21, cy + dy * cell * 0.21
-            out.append(f'<circle cx="{x:g}" cy="{y:g}" r="{radius:g}" fill="{PALETTE[i % 8]}" '
+            px, py = cx + dx * cell * 0.21, cy + dy * cell * 0.21
+            out.append(f'<circle cx="{px:g}" cy="{py:g}" r="{radius:g}" fill="{PALETTE[i % 8]}" '
                        'stroke="#fff"/>')
             if cell >= 20:
                 size = max(7, round(radius * (0.95 if i < 10 else 0.75)))
-                out.append(f'<text x="{x:g}" y="{y + size * 0.35:g}" font-size="{size}" '
+                out.append(f'<text x="{px:g}" y="{py + size * 0.35:g}" font-size="{size}" '
                            f'font-weight="bold" fill="#fff" text-anchor="middle">r{i}</text>')
     for i, r in enumerate(state):
         if r["pending"]:
             (ax, ay), (bx, by) = at(r["node"]), at(r["pending"])
             d = max(1.0, ((bx - ax) ** 2 + (by - ay) ** 2) ** 0.5)
             ux, uy = (bx - ax) / d, (by - ay) / d
-            stop = 0.3 if tuple(r["pending"]) in by_node else 0.08  # type: ignore[arg-type]
+            stop = 0.3 if tuple(r["pending"]) in by_node else 0.08
             out.append(f'<line x1="{ax + ux * cell * 0.28:g}" y1="{ay + uy * cell * 0.28:g}" '
                        f'x2="{bx - ux * cell * stop:g}" y2="{by - uy * cell * stop:g}" '
                        f'stroke="{PALETTE[i % 8]}" stroke-width="2.5" stroke-dasharray="5 2" '
@@ -281,12 +281,12 @@ def trace_svg(trace: dict[str, Any]) -> str:
     x0, y0, x1, y1 = box
     cell = max(22, min(40, 220 // max(x1 - x0, y1 - y0, 1)))
     states = _states(trace)
-    _, gw, gh = grid_svg(states[0], meeting, box, cell)  # type: ignore[arg-type]
+    _, gw, gh = grid_svg(states[0], meeting, box, cell)
 
     def panel(k: int, ox: float, oy: float) -> str:
         event = trace["steps"][k - 1]["event"] if k else None
         info = data["states"][k]
-        body, _, _ = grid_svg(states[k], meeting, box, cell,  # type: ignore[arg-type]
+        body, _, _ = grid_svg(states[k], meeting, box, cell,
                               target=tuple(info["target"]) if info.get("target") else None,
                               event=event, ox=ox, oy=oy, uid="s")
         return body
@@ -368,7 +368,7 @@ def thumbnail_svg(trace: dict[str, Any], cell: int = 26, uid: str = "t") -> str:
                 f'viewBox="0 0 {_f(width)} {_f(h)}">{_defs(uid)}{first}{arrow}{final}</svg>')
     states = _states(trace)
     meeting = [tuple(m) for m in trace["initial"]["meeting_nodes"]]
-    box = bounding_box([*meeting, *(tuple(r[key]) for st in states for r in st  # type: ignore[misc]
+    box = bounding_box([*meeting, *(tuple(r[key]) for st in states for r in st
                                     for key in ("node", "pending") if r[key])])
     first, w, h = grid_svg(states[0], meeting, box, cell, uid=uid, labels=False)
     last, _, _ = grid_svg(states[-1], meeting, box, cell, ox=w + 18, uid=uid, labels=False,

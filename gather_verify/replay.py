@@ -34,8 +34,13 @@ from schedulers import State, configuration_of, get_scheduler, initial_state
 
 
 class NoLongerReproduces(InvalidInput):
-    """Every step of the trace is a legal execution of the robots, but the algorithm no longer
-    takes it (it was changed since the trace was written): ``replay`` exits 5."""
+    """The trace no longer reproduces: ``replay`` exits 5.
+
+    Cause: the algorithm, scheduler or property changed since the trace was written. Either
+    every step is a legal execution of the robots but the algorithm no longer takes one of
+    them, or the trace is still taken but its property no longer fails at its end (the
+    message says which). Fix: run ``check`` again for a fresh trace; if the change was not
+    meant, the trace points at what it altered."""
 
 
 @dataclass

@@ -117,7 +117,7 @@ def _state_info(algorithm: Any, trace: dict[str, Any], robots: list[tuple[int, i
     if with_moves:
         try:
             sets = move_sets(algorithm, conf, trace["detection"], frames_for(trace["frames"]))
-            out["moves"] = {f"{v[0]},{v[1]}": sorted(_node(d) for d in s)  # type: ignore[type-var]
+            out["moves"] = {f"{v[0]},{v[1]}": sorted(_node(d) for d in s)
                             for v, s in sets.items()}
         except Unhandled as error:
             out["unhandled"] = out["unhandled"] or str(error)
@@ -136,7 +136,7 @@ def _look_before(steps: list[dict[str, Any]], robot: int, k: int, lo: int) -> in
 
 
 def _positions(state: list[dict[str, Any]]) -> list[tuple[int, int]]:
-    return sorted(tuple(r["node"]) for r in state)  # type: ignore[misc]
+    return sorted(tuple(r["node"]) for r in state)
 
 
 def _decision(states: list, robot: int, look: int, now: int) -> dict[str, Any]:
@@ -195,7 +195,7 @@ def annotate(trace: dict[str, Any], load_code: bool = True) -> dict[str, Any]:
         "states": infos,
         "events": events,
         "pending_since": _pending_since(trace["steps"], len(states[0])),
-        "box": list(bounding_box(nodes)),  # type: ignore[arg-type]
+        "box": list(bounding_box(nodes)),
         "n": len(states[0]),
         "provides": provides(algorithm),
         "loaded": algorithm is not None,

@@ -56,7 +56,14 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 class Overtime(BaseException):
     """The user's code was still running when a :func:`deadline` passed (``seconds``: that
-    deadline). A ``BaseException``, as ``KeyboardInterrupt``: ``except Exception`` in the
+    deadline).
+
+    Cause: an algorithm's ``decide`` or ``target`` (or a user's property, scheduler or world)
+    took longer than its deadline, most often an endless loop. Fix: make the code return in
+    time, or raise the deadline.
+
+    Deliberately *not* a :class:`~gather_verify.errors.GatherVerifyError`: a
+    ``BaseException``, as ``KeyboardInterrupt``, so that ``except Exception`` in the
     user's code does not swallow it, and the verifier's crash handling lets it through."""
 
     def __init__(self, seconds: float):

@@ -34,7 +34,11 @@ MEANINGS = {
     "EXIT_NOT_APPLICABLE": "NOT-APPLICABLE: the initial configuration is in U or "
                            "UNCLASSIFIED (``impossibility``: it is not in U)",
     "EXIT_NO_LONGER_REPRODUCES": "``replay``: the trace no longer reproduces (the algorithm "
-                                 "was changed since the trace was written)",
+                                 "was changed since the trace was written), and the output "
+                                 "says which of two kinds: ``step-not-taken`` (the algorithm "
+                                 "no longer takes one of its steps) or ``property-holds`` "
+                                 "(every step is taken, but the property no longer fails at "
+                                 "the end)",
     "EXIT_BUG": "a bug of gather-verify (any other exception): the traceback, then one line "
                 "saying so",
     "EXIT_INTERRUPTED": "interrupted by Ctrl-C; one line says what was kept (a sweep resumes "

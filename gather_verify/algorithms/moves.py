@@ -33,7 +33,11 @@ MAPPED_BACK = tuple({answer: geometry.apply(geometry.inverse(g), answer) for ans
 
 class HiddenRead(Unhandled, MultiplicityHidden):
     """The algorithm read multiplicity its detection model hides: it has no rule its robots
-    could follow (the explorer reports it as a ``defined`` violation, with a trace)."""
+    could follow (the explorer reports it as a ``defined`` violation, with a trace).
+
+    Cause and fix: those of :class:`~gather_verify.model.view.MultiplicityHidden`, raised
+    from a move set; an :class:`~gather_verify.algorithms.base.Unhandled` as well, so the
+    explorer treats it as a missing rule."""
 
 
 def frames_for(name: str) -> tuple[int, ...]:
@@ -75,10 +79,10 @@ def move_set(
             try:
                 dx, dy = MAPPED_BACK[g][answer]  # the answer, mapped back to global coordinates
             except (KeyError, TypeError):
-                error = AlgorithmError(
+                wrong = AlgorithmError(
                     f"algorithm {algorithm.name!r} answered {answer!r}: a move must be (0, 0) "
                     "or a unit step (1, 0), (0, 1), (-1, 0), (0, -1) in the robot's frame")
-                raise AlgorithmCrash(algorithm.name, "decide", error, node, seen) from None
+                raise AlgorithmCrash(algorithm.name, "decide", wrong, node, seen) from None
             out.add((x + dx, y + dy))
     return frozenset(out)
 

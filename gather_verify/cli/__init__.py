@@ -48,8 +48,17 @@ class _Parser(argparse.ArgumentParser):
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="gather-verify", description=__doc__.splitlines()[0], allow_abbrev=False)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
-    for name in COMMANDS:  # a missing command module is a broken install: fail loudly
-        module = importlib.import_module(f"gather_verify.cli.{name}")
+    for name in COMMANDS:
+        try:
+            module = importlib.import_module(f"gather_verify.cli.{name}")
+        except ModuleNotFoundError as error:
+            if error.name != f"gather_verify.cli.{name}":
+                raise  # a module the command imports: its own message says which
+            # never skipped: a command that vanishes from --help would hide a broken install
+            raise ImportError(
+                f"the command module gather_verify.cli.{name} is missing: a bug of "
+                "gather-verify (a broken install, or a command listed with no module)",
+                name=error.name) from error
         p = sub.add_parser(name, help=module.HELP, description=module.HELP, allow_abbrev=False)
         module.add_arguments(p)
         p.set_defaults(_run=module.run)

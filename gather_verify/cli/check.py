@@ -149,7 +149,7 @@ def run(args: argparse.Namespace) -> int:
 
         from gather_verify.readings import check_readings
 
-        run_check = partial(check_readings, readings=args.readings)  # type: ignore[assignment]
+        run_check = partial(check_readings, readings=args.readings)
     try:
         with _progress(args):
             report = run_check(
@@ -252,7 +252,7 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
     from gather_verify.world_check import render_world_trace, run_world_check
     from gather_verify.worlds import is_plane
 
-    world = args.world if not is_plane(args.world) else scenario.raw["world"]  # type: ignore[union-attr]
+    world = args.world if not is_plane(args.world) else scenario.raw["world"]
     for option in PLANE_ONLY:
         if getattr(args, option):
             raise UsageError(f"--{option.replace('_', '-')} is an option of the paper's world "
@@ -261,7 +261,7 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
         raise UsageError("give --robots (and --meeting for meeting nodes)")
     if scenario is not None and world.startswith("graph:"):  # a file beside the scenario
         world = "graph:" + str(Path(args.scenario).resolve().parent / world[6:])
-    robots = args.robots if args.robots is not None else list(scenario.nodes[0])  # type: ignore[union-attr]
+    robots = args.robots if args.robots is not None else list(scenario.nodes[0])
     meeting = args.meeting if args.meeting is not None else (
         list(scenario.nodes[1]) if scenario else "")
     algorithm = args.algorithm or (scenario.algorithm if scenario else "go-to-target")

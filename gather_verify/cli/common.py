@@ -29,7 +29,10 @@ VERDICT_EXIT = {"VERIFIED": EXIT_OK, "VIOLATED": EXIT_VIOLATED, "INCOMPLETE": EX
 
 
 class UsageError(InvalidInput):
-    """Bad command-line usage; printed as one line, exit code 2."""
+    """Bad command-line usage; printed as one line, exit code 2.
+
+    Cause: options that contradict each other, or an output path that cannot be written.
+    Fix: the message names the option; change it (``gather-verify COMMAND --help``)."""
 
 
 def writable_outputs(**paths: str | None) -> None:

@@ -143,9 +143,10 @@ def run(args: argparse.Namespace) -> int:
         for m in args.meeting:
             validate_census_arguments(n, m, *args.box)
     if args.properties:
-        from gather_verify.properties.registry import absolute_spec, check_property_names
+        from gather_verify.properties.registry import absolute_spec as absolute_property
+        from gather_verify.properties.registry import check_property_names
 
-        args.properties = [absolute_spec(p) for p in args.properties]  # workers load the file
+        args.properties = [absolute_property(p) for p in args.properties]  # workers load the file
         with deadline(args.max_seconds_per_config):
             check_property_names(args.properties)
     settings = [SweepSettings(

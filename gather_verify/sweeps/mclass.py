@@ -267,4 +267,4 @@ def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, back: Automo
                     enc, keys, [-1, *range(len(path) - 1)], [], [], [], 0, len(path), 0, None,
                     {}, 0.0, 0.0, facts[c.meeting_nodes], {})
     event = _TRANSITION if prop == "target-invariance" else None
-    return _safety_trace(e, Violation(prop, len(path) - 1, "", event))  # type: ignore[arg-type]
+    return _safety_trace(e, Violation(prop, len(path) - 1, "", event))

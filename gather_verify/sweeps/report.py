@@ -547,9 +547,9 @@ def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -
             ax.scatter(xs, ys, s=sizes, alpha=0.55, color=VERDICT_COLOURS.get(verdict, "#333"),
                        marker=MARKERS[b % len(MARKERS)], edgecolors="none",
                        label=f"{name}{verdict} ({sum(points.values())})")
-    xs = [0, top * 1.05]
+    ends = [0, top * 1.05]
     for c in sorted(bounds):
-        ax.plot(xs, [c * x for x in xs], "k--", linewidth=1, label=f"bound {c:g}·D·n")
+        ax.plot(ends, [c * x for x in ends], "k--", linewidth=1, label=f"bound {c:g}·D·n")
     ax.set_xlabel("D·n (D: longer side of the initial MER, n: robots)")
     ax.set_ylabel("largest total moves over all executions")
     ax.set_title("Moves against D·n (marker area: configurations on the point)", fontsize=10)

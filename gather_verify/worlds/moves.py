@@ -69,7 +69,7 @@ class WorldMoves:
                              self.lights, colours, colour)
             try:
                 with watched():  # an endless decide ends with the time limit (watchdog)
-                    answer = algorithm.decide(view)  # type: ignore[arg-type]
+                    answer = algorithm.decide(view)
             except (MultiplicityHidden, LightHidden) as error:
                 raise HiddenRead(f"algorithm {algorithm.name!r} reads what its robots cannot "
                                  f"see: {error}") from None
@@ -102,7 +102,7 @@ class WorldMoves:
             raise AlgorithmCrash(self.algorithm.name, "decide",
                                  AlgorithmError(f"algorithm {self.algorithm.name!r} {problem}"),
                                  self.world.label(node), view) from None
-        return back, new  # type: ignore[return-value]
+        return back, new
 
 
 def parse_lights(text: str | None) -> Lights:
