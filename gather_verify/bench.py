@@ -243,6 +243,11 @@ def ring_bench(quick: bool = False, max_seconds: float = 3600.0,
     return out
 
 
+def num(x: Any, fmt: str = ",.0f") -> str:
+    """A number of the table, or ``-`` when there is none (SPIN not available)."""
+    return "-" if x is None else format(x, fmt)
+
+
 def format_bench(r: dict[str, Any], write: Any = print) -> None:
     """The side-by-side table."""
     i, e, v, s = r["instance"], r["explore"], r["verdict"], r["spin"]
@@ -254,9 +259,6 @@ def format_bench(r: dict[str, Any], write: Any = print) -> None:
 
     def row(name: str, ours: str, theirs: str, ratio: str = "") -> None:
         write(f"{name:34}{ours:>16}{theirs:>34}{ratio:>8}")
-
-    def num(x: Any, fmt: str = ",.0f") -> str:
-        return "-" if x is None else format(x, fmt)
 
     row("states (reductions off)", num(e["states"]), num(s and s["states"]))
     row("transitions", num(e["transitions"]), num(s and s["edges"]))
@@ -301,9 +303,6 @@ def format_ring(g: dict[str, Any], write: Any = print) -> None:
 
     def row(name: str, ours: str, theirs: str, ratio: str = "") -> None:
         write(f"{name:34}{ours:>16}{theirs:>34}{ratio:>8}")
-
-    def num(x: Any, fmt: str = ",.0f") -> str:
-        return "-" if x is None else format(x, fmt)
 
     row("  states", num(o["states"]), num(s and s["states"]))
     row("  transitions", num(o["transitions"]), num(s and s["edges"]))

@@ -17,6 +17,19 @@ from typing import Any
 
 from gather_verify.model.geometry import Node, bounding_box
 
+ROBOT_OFFSETS = {2: ((-1, 0), (1, 0)), 3: ((-1, -1), (1, -1), (0, 1))}
+CROWD_OFFSETS = ((-1, -1), (1, -1), (-1, 1), (1, 1), (0, 0), (0, -1), (0, 1), (-1, 0), (1, 0))
+
+
+def robot_spots(count: int, unit: float) -> tuple[float, list[tuple[float, float]]]:
+    """How ``count`` robots on one node are drawn: their radius and each one's offset from the
+    node's centre (one robot in the middle; two side by side; three in a triangle; more in
+    the corners and the middle of the cell), for a cell ``unit`` wide."""
+    if count == 1:
+        return unit * 0.3, [(0.0, 0.0)]
+    place = ROBOT_OFFSETS.get(count, CROWD_OFFSETS)
+    return unit * 0.21, [(place[j % len(place)][0] * unit * 0.21,
+                          place[j % len(place)][1] * unit * 0.21) for j in range(count)]
 
 def ascii_grid(robots: Sequence[Node], meeting: Iterable[Node],
                box: tuple[int, int, int, int] | None = None) -> str:
@@ -207,16 +220,11 @@ def grid_svg(state: Sequence[dict[str, Any]], meeting: Sequence[Node],
     by_node: dict[tuple[int, int], list[int]] = {}
     for i, r in enumerate(state):
         by_node.setdefault(tuple(r["node"]), []).append(i)
-    offsets = {2: ((-1, 0), (1, 0)), 3: ((-1, -1), (1, -1), (0, 1))}
-    corners = ((-1, -1), (1, -1), (-1, 1), (1, 1), (0, 0), (0, -1), (0, 1), (-1, 0), (1, 0))
     for v, ids in by_node.items():
         cx, cy = at(v)
-        many = len(ids) > 1
-        radius = cell * (0.21 if many else 0.3)
-        for j, i in enumerate(ids):
-            place = offsets.get(len(ids), corners)
-            dx, dy = place[j % len(place)] if many else (0, 0)
-            px, py = cx + dx * cell * 0.21, cy + dy * cell * 0.21
+        radius, spots = robot_spots(len(ids), cell)
+        for i, (dx, dy) in zip(ids, spots, strict=True):
+            px, py = cx + dx, cy + dy
             out.append(f'<circle cx="{px:g}" cy="{py:g}" r="{radius:g}" fill="{PALETTE[i % 8]}" '
                        'stroke="#fff"/>')
             if cell >= 20:
@@ -546,17 +554,12 @@ def world_svg(pic: WorldPicture, data: dict[str, Any], k: int, ox: float = 0, oy
     by_node: dict[int, list[int]] = {}
     for i, r in enumerate(state):
         by_node.setdefault(r["node"], []).append(i)
-    offsets = {2: ((-1, 0), (1, 0)), 3: ((-1, -1), (1, -1), (0, 1))}
-    corners = ((-1, -1), (1, -1), (-1, 1), (1, 1), (0, 0), (0, -1), (0, 1), (-1, 0), (1, 0))
     colours = info["colours"]
     for v, ids in by_node.items():
         cx, cy = at(v)
-        many = len(ids) > 1
-        radius = u * (0.21 if many else 0.3)
-        for j, i in enumerate(ids):
-            place = offsets.get(len(ids), corners)
-            dx, dy = place[j % len(place)] if many else (0, 0)
-            x, y = cx + dx * u * 0.21, cy + dy * u * 0.21
+        radius, spots = robot_spots(len(ids), u)
+        for i, (dx, dy) in zip(ids, spots, strict=True):
+            x, y = cx + dx, cy + dy
             out.append(f'<circle cx="{_f(x)}" cy="{_f(y)}" r="{_f(radius)}" '
                        f'fill="{PALETTE[i % 8]}" stroke="#fff" class="robot" data-robot="{i}" '
                        f'data-node="{_attr(names[v])}"/>')
@@ -573,7 +576,7 @@ def world_svg(pic: WorldPicture, data: dict[str, Any], k: int, ox: float = 0, oy
                     out.append(f'<text x="{_f(x + radius * 0.8)}" y="{_f(y - radius * 0.8 + 2.5)}" '
                                f'font-size="{max(6, round(b * 1.2))}" fill="#111" '
                                f'text-anchor="middle">{c}</text>')
-        if many:
+        if len(ids) > 1:
             out.append(f'<text x="{_f(cx + u * 0.42)}" y="{_f(cy - u * 0.3)}" font-size="10" '
                        'font-weight="bold" fill="#333" stroke="#fff" stroke-width="2.5" '
                        f'paint-order="stroke" text-anchor="middle" class="count">'
