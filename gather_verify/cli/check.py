@@ -116,7 +116,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from gather_verify.check import run_check
     from gather_verify.engine.export import graph_format, write_graph
-    from gather_verify.render import render_trace, trace_svg
+    from gather_verify.render import render_trace
     from gather_verify.worlds import is_plane
 
     if not is_plane(args.world):
@@ -175,18 +175,7 @@ def run(args: argparse.Namespace) -> int:
         else:
             print(f"note: nothing was explored ({report['verdict']}): {args.graph_out} not "
                   "written", file=sys.stderr)
-    if trace is not None and args.trace_out:
-        Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
-    if trace is not None and args.svg:
-        Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
-    if trace is not None and args.html:
-        from gather_verify.viewer import write_viewer
-
-        write_viewer(trace, args.html)
-    unwritten = [f for f in (args.trace_out, args.svg, args.html) if f and trace is None]
-    if unwritten:
-        print(f"note: {report['verdict']} has no counterexample trace: "
-              f"{', '.join(unwritten)} not written", file=sys.stderr)
+    _write_pictures(args, report)
     if args.junit:
         from gather_verify.junit import write_junit
 
@@ -290,20 +279,7 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
     if expected is not None:
         report["expectation"] = expected
     trace = report["trace"]
-    if trace is not None and args.trace_out:
-        Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
-    if trace is not None and args.svg:
-        from gather_verify.render import trace_svg
-
-        Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
-    if trace is not None and args.html:
-        from gather_verify.viewer import write_viewer
-
-        write_viewer(trace, args.html)
-    unwritten = [f for f in (args.trace_out, args.svg, args.html) if f and trace is None]
-    if unwritten:
-        print(f"note: {report['verdict']} has no counterexample trace: "
-              f"{', '.join(unwritten)} not written", file=sys.stderr)
+    _write_pictures(args, report)
     if args.json:
         print_json(report if args.timings else without_timings(report))
     else:
@@ -341,3 +317,23 @@ def _expectation(scenario: Scenario | None, algorithm: str, scheduler: str,
         why = f"expected class {scenario.expected_class}, got {report['class']}"
     return {"matched": why is None, "mismatch": why, "verdict": expectation.verdict,
             "property": expectation.property}
+
+
+def _write_pictures(args: argparse.Namespace, report: dict[str, Any]) -> None:
+    """The counterexample's trace, SVG and viewer, where asked for; a note for each file
+    that a result with no counterexample leaves unwritten."""
+    trace = report["trace"]
+    if trace is not None and args.trace_out:
+        Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
+    if trace is not None and args.svg:
+        from gather_verify.render import trace_svg
+
+        Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
+    if trace is not None and args.html:
+        from gather_verify.viewer import write_viewer
+
+        write_viewer(trace, args.html)
+    unwritten = [f for f in (args.trace_out, args.svg, args.html) if f and trace is None]
+    if unwritten:
+        print(f"note: {report['verdict']} has no counterexample trace: "
+              f"{', '.join(unwritten)} not written", file=sys.stderr)
