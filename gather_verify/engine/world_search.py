@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
 from gather_verify.engine.encoding import NO_LIMITS, Limits
 from gather_verify.engine.explore import rss_mb
+from gather_verify.progress import PROGRESS
 from schedulers import Event, get_scheduler
 
 WorldState = tuple[tuple[tuple[int, int | None, int], ...], int, object]
@@ -152,10 +153,13 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
     stopped: str | None = None
     halt = None
     sid = 0
+    PROGRESS.states = len(reps)
     while sid < len(reps):
-        if sid & 63 == 0 and time.perf_counter() - started > limits.max_seconds:
-            stopped = "time"
-            break
+        if sid & 63 == 0:
+            PROGRESS.states = len(reps)  # read by a progress line and by the watchdog's report
+            if time.perf_counter() - started > limits.max_seconds:
+                stopped = "time"
+                break
         if sid & 4095 == 0 and rss_mb() > limits.max_memory_mb:
             stopped = "memory"
             break

@@ -19,6 +19,7 @@ class ExclusivePerpetualExploration(Task):
               "infinitely often"
     parts = ("exclusivity", "perpetual-exploration")
     liveness = ("perpetual-exploration",)
+    explores = True
 
     def check(self, s: WorldSearch, ctx: Context) -> dict[str, Finding | None]:
         return {"exclusivity": _exclusivity(s),
@@ -60,6 +61,7 @@ class ExplorationWithStop(Task):
     parts = ("termination", "explored-when-final")
     liveness = ("termination",)
     visits = True
+    explores = True
 
     def check(self, s: WorldSearch, ctx: Context) -> dict[str, Finding | None]:
         everything = (1 << ctx.size) - 1
