@@ -268,7 +268,8 @@ def _minimum(args: argparse.Namespace) -> int:
                 }
                 sweep = store.sweep_id(settings)
                 stored = {r["key"]: r for r in store.results(sweep)}
-                cell, below = None, []
+                cell: str | None = None
+                below: list[int] = []
                 for k in counts:
                     key = f"k={k}"
                     row = stored.get(key)

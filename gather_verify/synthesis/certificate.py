@@ -31,7 +31,8 @@ from schedulers import Event, get_scheduler
 FORMAT = "gather-verify synthesis certificate 1"
 SAFETY_FINAL = ("gathered-when-final", "final", "explored-when-final")
 LIVENESS = ("termination", "perpetual-exploration")
-State = tuple[tuple[tuple[int, int | None, int], ...], int, object]
+State = tuple[Any, int, object]
+"""A replayed state: the robots (node, pending, colour), the visited nodes, the scheduler's."""
 
 
 class CertificateError(Exception):
@@ -66,7 +67,7 @@ def event_from_json(world: Any, raw: Any) -> Event:
 
 def apply_event(robots: tuple[tuple[int, int | None, int], ...], event: Event
            ) -> tuple[tuple[int, int | None, int], ...]:
-    out = list(robots)
+    out: list[Any] = list(robots)
     for i, _, new in event.lights:
         out[i] = (out[i][0], out[i][1], new)
     for i, src, dst in event.moves:
@@ -160,14 +161,14 @@ def replay(views: Views, cex: dict[str, Any]) -> Replayed:
                 raise CertificateError(f"the last state: robot {i} cannot be made to stay")
     # pass 2: each event is one the scheduler takes, with the move sets of those literals
     for step, event in enumerate(events):
-        rs, seen, extra = states[step]
+        rs, _, now = states[step]
         per = views.robots(rs)
 
         def actions(i: int, per: Any = per) -> frozenset[tuple[int, int]]:
             k, acts = per[i]
             return acts[literals[k]] if k in literals else frozenset()
 
-        for got, succ, after in sched.luminous(rs, extra, actions):
+        for got, succ, after in sched.luminous(rs, now, actions):
             if got == event and succ == states[step + 1][0]:
                 states[step + 1] = (succ, states[step + 1][1], after)
                 break

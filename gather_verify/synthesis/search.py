@@ -353,7 +353,7 @@ def counterexample(inst: Instance, views: Views, choice: dict[int, int], idx: in
     if f.edge is not None:
         src, k = f.edge
         events.append(s.edges[src][k][2])
-    start = s.keys[ids[0]][2]
+    start: Any = s.keys[ids[0]][2]  # the scheduler's own state: round-robin's (order, turn)
     out["start"] = None if start is None else [list(start[0]), start[1]]
     out["events"] = [event_to_json(w, e) for e in events]
     if inst.task.visits and f.property in LIVENESS:
@@ -367,7 +367,8 @@ def unroll(inst: Instance, cex: dict[str, Any]) -> None:
     busy robots move to the last round."""
     w = inst.world
     robots0, colours0 = inst.configurations[cex["configuration"]]
-    state = tuple((v, None, c) for v, c in zip(robots0, colours0, strict=True))
+    state: tuple[tuple[int, int | None, int], ...] = tuple(
+        (v, None, c) for v, c in zip(robots0, colours0, strict=True))
     visited = [_bits(robots0)]
     events = [event_from_json(w, e) for e in cex["events"]]
     for e in events:
@@ -449,8 +450,10 @@ def fair_cycle(inst: Instance, views: Views, choice: dict[int, int], s: WorldSea
     take_stays()
     needs_edge = inst.task.name != "exclusive-perpetual-exploration" or len(comp) > 1
     while covered != full or (needs_edge and len(walk) == 1):
-        steps = path(walk[-1], lambda _v, t, r, c=covered: (r | s.stay[t]) & ~c != 0
-                     or c == full)
+        def uncovered(_v: int, t: int, r: int, c: int = covered) -> bool:
+            return (r | s.stay[t]) & ~c != 0 or c == full
+
+        steps = path(walk[-1], uncovered)
         if steps is None:  # pragma: no cover - the component is fair
             raise AssertionError("no fair cycle in a fair component")
         for t, robots in steps:
@@ -466,9 +469,9 @@ def fair_cycle(inst: Instance, views: Views, choice: dict[int, int], s: WorldSea
     busy: list[tuple[int, int, int, int]] = []
     if getattr(_scheduler(inst), "stateful", False):
         for j, sid in enumerate(walk[:-1]):
-            robots = s.keys[sid][0]
-            for i, (k, acts) in enumerate(views.robots(robots)):
-                v, p, c = robots[i]
+            state = s.keys[sid][0]
+            for i, (k, acts) in enumerate(views.robots(state)):
+                v, p, c = state[i]
                 other = [a for a in sorted(acts[choice.get(k, 0)]) if a != (v, c)]
                 if p is None and other:
                     busy.append((j, i, other[0][0], other[0][1]))

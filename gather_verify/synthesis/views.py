@@ -20,6 +20,7 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import dataclass
 from itertools import combinations
+from typing import Any
 
 from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
@@ -28,7 +29,7 @@ from gather_verify.synthesis import viewkey
 from gather_verify.tasks import Task, get_task
 from gather_verify.world_check import default_task
 from gather_verify.worlds import get_world, is_plane
-from gather_verify.worlds.base import World
+from gather_verify.worlds.base import FrameMap, World
 from gather_verify.worlds.graph import FileGraph
 from gather_verify.worlds.grid import D4_FRAMES, GridFamily
 from gather_verify.worlds.moves import parse_lights
@@ -241,17 +242,17 @@ class Views:
             acts.append(frozenset((d, colour if new is None else new) for d in dests))
         return k, tuple(acts)
 
-    def _new_key(self, text: str, key: object, view: WorldView, t: int,
-                 per_frame: list[tuple[object, int]]) -> int:
+    def _new_key(self, text: str, key: Any, view: WorldView, t: int,
+                 per_frame: list[tuple[FrameMap, int]]) -> int:
         """Register a key: its options, the answers up to the view's symmetries (labels whose
         destinations coincide at one occurrence are one orbit, hence one option)."""
         group = self.group
-        me = key[0]  # type: ignore[index]
+        me = key[0]
         labels = [me] + sorted((viewkey.image(group, t, n) for n in view.neighbours()),
                                key=_order)
         orbits: dict[frozenset[int], list[object]] = {}
         for label in labels:
-            dests = frozenset(frame.inverse[viewkey.inverse(group, tf, label)]  # type: ignore[attr-defined]
+            dests = frozenset(frame.inverse[viewkey.inverse(group, tf, label)]
                               for frame, tf in per_frame)
             orbits.setdefault(dests, []).append(label)
         groups = sorted(orbits.values(), key=lambda ls: _order(ls[0]))
