@@ -24,7 +24,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
 
-from gather_verify.errors import InvalidInput
+from gather_verify.errors import GatherVerifyError, InvalidInput
 from gather_verify.synthesis.views import Instance, Views, make_instance
 from schedulers import Event, get_scheduler
 
@@ -35,8 +35,15 @@ State = tuple[Any, int, object]
 """A replayed state: the robots (node, pending, colour), the visited nodes, the scheduler's."""
 
 
-class CertificateError(Exception):
-    """The counterexample or the certificate does not hold; the message says where."""
+class CertificateError(GatherVerifyError):
+    """A counterexample or a certificate of ``none`` does not hold.
+
+    Cause: an event the scheduler cannot take with the move sets its literals give, a view
+    that would need two answers, a run that violates nothing, or a decision tree that misses
+    an option or uses a counterexample where its literals do not hold (a file edited or
+    damaged, or one written for another instance). Fix: the message says where; run
+    ``synthesize`` again to get a certificate that holds (``--verify`` exits 1 with that
+    line)."""
 
 
 @dataclass
@@ -247,8 +254,12 @@ def _bits(nodes: Iterable[int]) -> int:
 
 # -- the decision tree ------------------------------------------------------------------
 
-class TreeTooLarge(Exception):
-    """The tree outgrew its limit of nodes."""
+class TreeTooLarge(GatherVerifyError):
+    """The certificate's decision tree outgrew its limit of nodes.
+
+    Cause: the counterexamples refute every algorithm, but only through a tree larger than
+    ``--max-tree``. Fix: ``synthesize`` answers ``unknown`` naming ``max-tree``; raise it and
+    run again."""
 
 
 def build_tree(clauses: list[dict[int, int]], options: list[int], limit: int) -> Any:
