@@ -236,9 +236,15 @@ class Views:
         if k is None:
             k = self._new_key(text, key, first_view, first_t, per_frame)
         acts = []
-        for labels, (_, new) in zip(self._labels[k], self.options[k], strict=True):
-            dests = {frame.inverse[viewkey.inverse(group, t, label)]
-                     for label in labels for frame, t in per_frame}
+        for labels, (answer, new) in zip(self._labels[k], self.options[k], strict=True):
+            # the move set of the answer the witness gives (the option's first label), over
+            # the robot's frames, exactly as the checker will compute it
+            dests = {frame.inverse[viewkey.inverse(group, t, answer)] for frame, t in per_frame}
+            if len(labels) > 1 and dests != {frame.inverse[viewkey.inverse(group, t, label)]
+                                             for label in labels for frame, t in per_frame}:
+                raise AssertionError(f"the answers of one option of view {k} move the robot "
+                                     "differently: the options are not up to the view's "
+                                     "symmetries")
             acts.append(frozenset((d, colour if new is None else new) for d in dests))
         return k, tuple(acts)
 
