@@ -18,6 +18,7 @@ import time
 from typing import Any
 
 from gather_verify.algorithms import Algorithm, get_algorithm
+from gather_verify.engine import world_bulk
 from gather_verify.engine.encoding import (
     DEFAULT_MAX_MEMORY_MB,
     DEFAULT_MAX_SECONDS,
@@ -32,6 +33,8 @@ from gather_verify.worlds.base import World
 from gather_verify.worlds.moves import WorldMoves, parse_lights
 from schedulers import get_scheduler
 
+ENGINES = ("auto", "reference", "bulk")
+"""``--engine`` on a finite world (:func:`run_world_check`)."""
 PSEUDO = ("crash", "defined")
 """Checked on every task: the algorithm must answer a move in every view it meets."""
 PAPER_ONLY = ("target-invariance", "no-ungatherable", "move-bound")
@@ -50,11 +53,21 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
                     lights: str | None = None, colours: list[int] | None = None,
                     reduction: bool = True, max_states: int = DEFAULT_MAX_STATES,
                     max_seconds: float = DEFAULT_MAX_SECONDS,
-                    max_memory_mb: float = DEFAULT_MAX_MEMORY_MB) -> dict[str, Any]:
+                    max_memory_mb: float = DEFAULT_MAX_MEMORY_MB,
+                    engine: str = "reference") -> dict[str, Any]:
     """Check ``algorithm`` from one initial configuration of ``world``; a JSON-ready report
     (``verdict``, ``property``, ``reason``, ``states``, ``transitions``, per-part results and
-    the counterexample ``trace``)."""
+    the counterexample ``trace``).
+
+    ``engine``: ``bulk`` (:mod:`gather_verify.engine.world_bulk`, refused in one line when it
+    cannot run the request), ``reference`` (:mod:`gather_verify.engine.world_search`), or
+    ``auto`` (the bulk engine when it can, else the reference; the default is the
+    reference). Both find the
+    same search; the report names the engine that ran (``engine``) and, when ``auto`` fell
+    back to the reference, why (``engine_fallback``)."""
     started = time.perf_counter()
+    if engine not in ENGINES:
+        raise InvalidInput(f"unknown engine {engine!r}: use one of {', '.join(ENGINES)}")
     w = get_world(world) if isinstance(world, str) else world
     r = w.parse_nodes(robots) if isinstance(robots, str) else list(robots)
     m = w.parse_nodes(meeting) if isinstance(meeting, str) else list(meeting)
@@ -81,9 +94,21 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
     reduce = reduction and not liveness and not stateful
     moves = WorldMoves(w, algo, frozenset(m), detection, frames, visibility, light)
     limits = Limits(max_states=max_states, max_seconds=max_seconds, max_memory_mb=max_memory_mb)
-    s = search(w, tuple(r), moves.actions, scheduler, colours=colours, visits=t.visits,
-               anonymity=reduce, symmetries=w.symmetries(frames) if reduce else (),
-               meeting=frozenset(m), limits=limits)
+    symmetries = w.symmetries(frames) if reduce else ()
+    why = None if engine == "reference" else world_bulk.unsupported(
+        w, len(r), scheduler, light.colours, visits=t.visits, anonymity=reduce,
+        symmetries=symmetries, meeting=frozenset(m))
+    if engine == "bulk" and why is not None:
+        raise InvalidInput(f"the bulk engine cannot run this check: {why} (use --engine auto "
+                           "or reference)")
+    if engine != "reference" and why is None:
+        s = world_bulk.search(w, tuple(r), moves, scheduler, colours=colours, visits=t.visits,
+                              anonymity=reduce, symmetries=symmetries, meeting=frozenset(m),
+                              limits=limits)
+    else:
+        s = search(w, tuple(r), moves.actions, scheduler, colours=colours, visits=t.visits,
+                   anonymity=reduce, symmetries=symmetries, meeting=frozenset(m),
+                   limits=limits)
     ctx = Context(len(r), w.size, frozenset(m), scheduler,
                   tuple(w.format_node(v) for v in range(w.size)))
     results: dict[str, dict[str, Any]] = {}
@@ -129,6 +154,8 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
         "stopped": s.stopped,
         "states": s.states,
         "transitions": s.transitions,
+        "engine": s.engine,
+        **({"engine_fallback": why} if why is not None else {}),
         "lights": str(light),
         "reductions": ("anonymity, the symmetries fixing the meeting nodes" if s.reduced else
                        "off: liveness needs robot identities" if reduction and liveness else
