@@ -18,6 +18,7 @@ import time
 from typing import Any
 
 from gather_verify.algorithms import Algorithm, get_algorithm
+from gather_verify.engine import world_bulk
 from gather_verify.engine.encoding import (
     DEFAULT_MAX_MEMORY_MB,
     DEFAULT_MAX_SECONDS,
@@ -34,6 +35,8 @@ from gather_verify.worlds.base import World
 from gather_verify.worlds.moves import WorldMoves, parse_lights
 from schedulers import get_scheduler
 
+ENGINES = ("auto", "reference", "bulk")
+"""``--engine`` on a finite world (:func:`run_world_check`)."""
 PSEUDO = ("crash", "defined")
 """Checked on every task: the algorithm must answer a move in every view it meets."""
 PAPER_ONLY = ("target-invariance", "no-ungatherable", "move-bound")
@@ -52,12 +55,22 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
                     lights: str | None = None, colours: list[int] | None = None,
                     reduction: bool = True, max_states: int = DEFAULT_MAX_STATES,
                     max_seconds: float = DEFAULT_MAX_SECONDS,
-                    max_memory_mb: float = DEFAULT_MAX_MEMORY_MB) -> dict[str, Any]:
+                    max_memory_mb: float = DEFAULT_MAX_MEMORY_MB,
+                    engine: str = "reference") -> dict[str, Any]:
     """Check ``algorithm`` from one initial configuration of ``world``; a JSON-ready report
     (``verdict``, ``property``, ``reason``, ``states``, ``transitions``, per-part results,
     the counterexample ``trace``, ``seconds`` of the whole check and ``search_seconds`` of
-    the search alone)."""
+    the search alone).
+
+    ``engine``: ``bulk`` (:mod:`gather_verify.engine.world_bulk`, refused in one line when it
+    cannot run the request), ``reference`` (:mod:`gather_verify.engine.world_search`), or
+    ``auto`` (the bulk engine when it can, else the reference; the default is the
+    reference). Both find the
+    same search; the report names the engine that ran (``engine``) and, when ``auto`` fell
+    back to the reference, why (``engine_fallback``)."""
     started = time.perf_counter()
+    if engine not in ENGINES:
+        raise InvalidInput(f"unknown engine {engine!r}: use one of {', '.join(ENGINES)}")
     w = get_world(world) if isinstance(world, str) else world
     r = w.parse_nodes(robots) if isinstance(robots, str) else list(robots)
     m = w.parse_nodes(meeting) if isinstance(meeting, str) else list(meeting)
@@ -90,12 +103,24 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
                   "off: the scheduler keeps robot identities" if reduction and stateful
                   else "off")  # (the search reduces exactly when ``reduce`` holds)
     PROGRESS.states = 0
+    symmetries = w.symmetries(frames) if reduce else ()
+    fallback = None if engine == "reference" else world_bulk.unsupported(
+        w, len(r), scheduler, light.colours, visits=t.visits, anonymity=reduce,
+        symmetries=symmetries, meeting=frozenset(m))
+    if engine == "bulk" and fallback is not None:
+        raise InvalidInput(f"the bulk engine cannot run this check: {fallback} (use --engine auto "
+                           "or reference)")
 
     def decided() -> dict[str, Any]:
         PROGRESS.doing = "exploring"
-        s = search(w, tuple(r), moves.actions, scheduler, colours=colours, visits=t.visits,
-                   anonymity=reduce, symmetries=w.symmetries(frames) if reduce else (),
-                   meeting=frozenset(m), limits=limits)
+        if engine != "reference" and fallback is None:
+            s = world_bulk.search(w, tuple(r), moves, scheduler, colours=colours,
+                                  visits=t.visits, anonymity=reduce, symmetries=symmetries,
+                                  meeting=frozenset(m), limits=limits)
+        else:
+            s = search(w, tuple(r), moves.actions, scheduler, colours=colours, visits=t.visits,
+                       anonymity=reduce, symmetries=symmetries, meeting=frozenset(m),
+                       limits=limits)
         ctx = Context(len(r), w.size, frozenset(m), scheduler,
                       tuple(w.format_node(v) for v in range(w.size)))
         results: dict[str, dict[str, Any]] = {}
@@ -142,6 +167,8 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
             "stopped": s.stopped,
             "states": s.states,
             "transitions": s.transitions,
+            "engine": s.engine,
+            **({"engine_fallback": fallback} if fallback is not None else {}),
             "lights": str(light),
             "reductions": reductions,
             "properties": results,

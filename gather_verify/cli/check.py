@@ -66,6 +66,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "defined in that file, docs/properties.md); repeatable; default all")
     parser.add_argument("--no-reduction", action="store_true",
                         help="switch off the anonymity and Aut(M) reductions")
+    parser.add_argument("--engine", choices=("auto", "bulk", "reference"), default=None,
+                        help="the search: bulk (numpy and compiled kernels), reference (plain "
+                             "Python, the engine the bulk one is tested against), or auto "
+                             "(default: bulk when it can run the request); both give the same "
+                             "states, verdict and trace (docs/explorer.md, docs/worlds.md)")
     parser.add_argument("--max-states", type=bounded_int(1, 10**10), default=DEFAULT_MAX_STATES)
     parser.add_argument("--max-seconds", type=bounded_float(0.001, 10**7),
                         default=DEFAULT_MAX_SECONDS)
@@ -158,6 +163,7 @@ def run(args: argparse.Namespace) -> int:
                 max_states=args.max_states, max_seconds=args.max_seconds,
                 move_bound_c=args.move_bound_c, force=args.force, max_memory_mb=args.max_memory,
                 keep_growing=args.keep_growing, keep_going=args.keep_going,
+                engine={"bulk": "fast"}.get(args.engine, args.engine or "auto"),
                 on_exploration=explored.append if args.graph_out else None,
                 **({} if args.margin is None else {"margin": args.margin}))
     except KeyboardInterrupt:
@@ -268,7 +274,7 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
                 lights=args.lights or (scenario.lights if scenario else None),
                 colours=_colours(args.colours) if args.colours is not None else (
                     scenario.colours if scenario else None),
-                reduction=not args.no_reduction,
+                reduction=not args.no_reduction, engine=args.engine or "reference",
                 max_states=args.max_states, max_seconds=args.max_seconds,
                 **({} if args.max_memory is None else {"max_memory_mb": args.max_memory}))
     except KeyboardInterrupt:
@@ -289,7 +295,10 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
             print(f"{'property ' + report['property'] if report['property'] else 'reason'}: "
                   f"{report['reason']}")
         print(f"states {report['states']}  transitions {report['transitions']}  "
-              f"reductions {report['reductions']}  {report['seconds']:.2f}s")
+              f"reductions {report['reductions']}  {report['seconds']:.2f}s  "
+              f"engine {report['engine']}")
+        if report.get("engine_fallback"):
+            print(f"(the bulk engine cannot run this check: {report['engine_fallback']})")
         for name, result in report["properties"].items():
             holds = {True: "holds", False: "FAILS", None: "unknown"}[result["holds"]]
             print(f"  {name:24} {holds}  {result.get('reason', '')}".rstrip())

@@ -28,6 +28,9 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
 
 from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
 from gather_verify.engine.encoding import NO_LIMITS, Limits
@@ -56,6 +59,26 @@ class Halt:
 
 
 @dataclass
+class SearchArrays:
+    """A search as arrays, for the tasks' compiled tests (:mod:`gather_verify.tasks.base`):
+    the edges of the expanded states (CSR, in the order of :attr:`WorldSearch.edges`),
+    per edge its robots' mask and whether it is a round that moves two robots across one
+    edge in opposite directions; per state (expanded or not) its robots' nodes."""
+
+    offsets: np.ndarray  # (expanded + 1,) int64
+    targets: np.ndarray  # (E,) int64
+    robots: np.ndarray  # (E,) int64
+    crossing: np.ndarray  # (E,) bool
+    final: np.ndarray  # (expanded,) bool
+    stay: np.ndarray  # (expanded,) int64
+    nodes_of: Callable[[], np.ndarray]  # -> (states, n) robot nodes, computed when asked
+
+    @cached_property
+    def nodes(self) -> np.ndarray:
+        return self.nodes_of()
+
+
+@dataclass
 class WorldSearch:
     """What :func:`search` found: the states (ids in BFS order), their edges, and per state
     the facts the tasks read."""
@@ -72,6 +95,12 @@ class WorldSearch:
     reduced: bool
     seconds: float
     canonical: Callable[[WorldState], WorldState]
+    engine: str = "reference"
+    """Which engine searched: ``reference`` (this module) or ``bulk``
+    (:mod:`gather_verify.engine.world_bulk`); both find the same fields."""
+    arrays: SearchArrays | None = None
+    """The same search as arrays (the bulk engine's; None for the reference, whose tasks
+    read the fields above)."""
 
     @property
     def complete(self) -> bool:
@@ -206,6 +235,24 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
                        states=len(reps), transitions=transitions, stopped=stopped, halt=halt,
                        reduced=anonymity or len(symmetries) > 1,
                        seconds=time.perf_counter() - started, canonical=canon)
+
+
+def arrays_of(s: WorldSearch) -> SearchArrays:
+    """A reference search's :class:`SearchArrays` (the tests run the tasks' compiled tests on
+    it, to compare them with their Python reading of the same search)."""
+    offsets = np.zeros(len(s.edges) + 1, dtype=np.int64)
+    offsets[1:] = np.cumsum([len(out) for out in s.edges])
+    flat = [edge for out in s.edges for edge in out]
+    targets = np.array([t for t, _, _ in flat], dtype=np.int64)
+    robots = np.array([m for _, m, _ in flat], dtype=np.int64)
+    crossing = np.array([e.kind == "round" and any(
+        (b, a) in {(a, b) for _, a, b in e.moves} for _, a, b in e.moves) for _, _, e in flat],
+        dtype=bool)
+    n = len(s.keys[0][0]) if s.keys else 0
+    return SearchArrays(offsets, targets, robots, crossing,
+                        np.array(s.final, dtype=bool), np.array(s.stay, dtype=np.int64),
+                        lambda: np.array([[v for v, _, _ in k[0]] for k in s.keys],
+                                         dtype=np.int64).reshape(len(s.keys), n))
 
 
 def _visit_bits(nodes: object) -> int:

@@ -11,7 +11,9 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
-from gather_verify.engine.world_search import WorldSearch
+import numpy as np
+
+from gather_verify.engine.world_search import SearchArrays, WorldSearch
 
 
 @dataclass
@@ -139,12 +141,20 @@ def cycle_in(s: WorldSearch, comp: list[int]) -> list[int]:
 
 
 def livelock(s: WorldSearch, ctx: Context, name: str, what: str,
-             inside: Callable[[int], bool] | None = None,
+             inside: Callable[[int], bool] | np.ndarray | None = None,
              single_states: bool = False) -> Finding | None:
     """The first fair component (with an edge between distinct states, or any state when
     ``single_states``), as a finding whose cycle a trace can show. Without ``inside`` (the
     termination test) a component that holds a final state does not count: a run in it has
-    reached a final state (a round-robin turn going round gathered robots, say)."""
+    reached a final state (a round-robin turn going round gathered robots, say).
+
+    ``inside``: a test of a state id, or a boolean array over the states. On a search with
+    arrays (the bulk engine's) the same component is found by compiled code
+    (:func:`livelock_arrays`)."""
+    if s.arrays is not None:
+        return livelock_arrays(s.arrays, ctx, name, what, inside, single_states)
+    if isinstance(inside, np.ndarray):
+        inside = inside.__getitem__
     found = None
     for comp in components(s, inside):
         if len(comp) == 1 and not single_states:
@@ -157,3 +167,35 @@ def livelock(s: WorldSearch, ctx: Context, name: str, what: str,
         return None
     cycle = cycle_in(s, found)
     return Finding(name, cycle[0], what, cycle=cycle)
+
+
+def livelock_arrays(a: SearchArrays, ctx: Context, name: str, what: str,
+                    inside: Callable[[int], bool] | np.ndarray | None = None,
+                    single_states: bool = False) -> Finding | None:
+    """:func:`livelock` on a search's arrays: the same component (the fair one whose least
+    state is least) and the same cycle, by compiled Tarjan and breadth-first search."""
+    from gather_verify.kernels import world as kw
+
+    total = len(a.offsets) - 1
+    if inside is None:
+        mask = np.ones(total, dtype=np.bool_)
+    elif isinstance(inside, np.ndarray):
+        mask = np.ascontiguousarray(inside[:total], dtype=np.bool_)
+    else:
+        mask = np.fromiter((bool(inside(v)) for v in range(total)), dtype=np.bool_, count=total)
+    labels, count = kw.scc_labels(a.offsets, a.targets, mask)
+    best = kw.fair_pick(a.offsets, a.targets, a.robots, a.stay, a.final, labels, count,
+                        inside is None, single_states, (1 << ctx.n) - 1)
+    if best < 0:
+        return None
+    member = labels == best
+    start = int(np.argmax(member))
+    cycle = kw.cycle_from(a.offsets, a.targets, member, start).tolist()
+    return Finding(name, cycle[0], what, cycle=cycle)
+
+
+def final_states(s: WorldSearch) -> list[int]:
+    """The ids of the final states, in order."""
+    if s.arrays is not None:
+        return np.flatnonzero(s.arrays.final).tolist()
+    return [sid for sid, is_final in enumerate(s.final) if is_final]

@@ -9,8 +9,10 @@ final state has seen every node visited (the search carries the visited set).
 
 from __future__ import annotations
 
-from gather_verify.engine.world_search import WorldSearch
-from gather_verify.tasks.base import Context, Finding, Task, livelock
+import numpy as np
+
+from gather_verify.engine.world_search import SearchArrays, WorldSearch
+from gather_verify.tasks.base import Context, Finding, Task, final_states, livelock
 
 
 class ExclusivePerpetualExploration(Task):
@@ -27,6 +29,8 @@ class ExclusivePerpetualExploration(Task):
 
 
 def _exclusivity(s: WorldSearch) -> Finding | None:
+    if s.arrays is not None:
+        return _exclusivity_arrays(s.arrays)
     for sid in range(len(s.keys)):
         nodes = [v for v, *_ in s.keys[sid][0]]
         if len(set(nodes)) < len(nodes):
@@ -43,12 +47,33 @@ def _exclusivity(s: WorldSearch) -> Finding | None:
     return None
 
 
+def _exclusivity_arrays(a: SearchArrays) -> Finding | None:
+    """:func:`_exclusivity` on a search's arrays: the first state with two robots on one
+    node, unless a crossing round comes out of an earlier state."""
+    nodes = np.sort(a.nodes, axis=1)
+    shared = np.flatnonzero((nodes[:, 1:] == nodes[:, :-1]).any(axis=1))
+    crossing = np.flatnonzero(a.crossing)
+    at = int(shared[0]) if len(shared) else None
+    if len(crossing):
+        e = int(crossing[0])
+        sid = int(np.searchsorted(a.offsets, e, side="right")) - 1
+        if at is None or sid < at:
+            return Finding("exclusivity", sid, "two robots cross one edge in opposite "
+                           "directions in one round", edge=(sid, e - int(a.offsets[sid])))
+    if at is not None:
+        return Finding("exclusivity", at, "two robots on one node")
+    return None
+
+
 def _perpetual(s: WorldSearch, ctx: Context) -> Finding | None:
     for v in range(ctx.size):
+        if s.arrays is not None:
+            inside: object = ~(s.arrays.nodes[:len(s.arrays.offsets) - 1] == v).any(axis=1)
+        else:
+            inside = lambda sid, v=v: all(u != v for u, *_ in s.keys[sid][0])  # noqa: E731
         found = livelock(s, ctx, "perpetual-exploration",
                          f"a fair execution stops visiting node {ctx.names[v]}",
-                         inside=lambda sid, v=v: all(u != v for u, *_ in s.keys[sid][0]),
-                         single_states=True)
+                         inside=inside, single_states=True)  # type: ignore[arg-type]
         if found is not None:
             found.detail["node"] = v
             return found
@@ -66,8 +91,8 @@ class ExplorationWithStop(Task):
     def check(self, s: WorldSearch, ctx: Context) -> dict[str, Finding | None]:
         everything = (1 << ctx.size) - 1
         explored = None
-        for sid, is_final in enumerate(s.final):
-            if is_final and s.keys[sid][1] != everything:
+        for sid in final_states(s):
+            if s.keys[sid][1] != everything:
                 missing = ctx.size - bin(s.keys[sid][1]).count("1")
                 explored = Finding("explored-when-final", sid,
                                    f"the robots stopped with {missing} node(s) never visited")

@@ -9,7 +9,7 @@ states that are not final (§5's livelock test).
 from __future__ import annotations
 
 from gather_verify.engine.world_search import WorldSearch
-from gather_verify.tasks.base import Context, Finding, Task, livelock
+from gather_verify.tasks.base import Context, Finding, Task, final_states, livelock
 
 
 class Gathering(Task):
@@ -22,9 +22,7 @@ class Gathering(Task):
     def check(self, s: WorldSearch, ctx: Context) -> dict[str, Finding | None]:
         safety = self.parts[0]
         out: dict[str, Finding | None] = {safety: None}
-        for sid, is_final in enumerate(s.final):
-            if not is_final:
-                continue
+        for sid in final_states(s):
             nodes = {v for v, *_ in s.keys[sid][0]}
             if len(nodes) > 1:
                 out[safety] = Finding(safety, sid, f"deadlock: no robot can move, robots on "

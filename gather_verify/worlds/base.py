@@ -389,3 +389,29 @@ class FrameMap:
     @cached_property
     def distances(self) -> dict[Label, dict[Label, int]]:
         return dict(nx.all_pairs_shortest_path_length(self.graph))
+
+    @cached_property
+    def _neighbours(self) -> dict[Label, tuple[Label, ...]]:
+        return {}
+
+    def neighbours(self, label: Label) -> tuple[Label, ...]:
+        """The neighbours of ``label`` in the frame's graph, sorted (computed once)."""
+        got = self._neighbours.get(label)
+        if got is None:
+            got = self._neighbours[label] = tuple(sorted(self.graph[label]))
+        return got
+
+    @cached_property
+    def _shown(self) -> dict[frozenset[int], frozenset[Label]]:
+        return {}
+
+    def shown(self, nodes: frozenset[int]) -> frozenset[Label]:
+        """The labels of those of ``nodes`` in the frame (the meeting nodes a view shows:
+        computed once per set)."""
+        if not isinstance(nodes, frozenset):
+            nodes = frozenset(nodes)
+        got = self._shown.get(nodes)
+        if got is None:
+            got = self._shown[nodes] = frozenset(self.labels[u] for u in nodes
+                                                 if u in self.labels)
+        return got

@@ -50,15 +50,23 @@ class WorldMoves:
         seen = tuple(sorted((v, c) for v, _, c in robots))
         table = self._memo.get(seen)
         if table is None:
-            counts = Counter(v for v, _ in seen)
-            colours: dict[int, Counter[int]] = {}
-            for v, c in seen:
-                colours.setdefault(v, Counter())[c] += 1
-            table = {(v, c): self.action_set(counts, colours, v, c) for v, c in set(seen)}
+            table = self.table(seen)
             if len(self._memo) >= MEMO_SIZE:
                 self._memo.clear()
             self._memo[seen] = table
         return [table[v, c] for v, _, c in robots]
+
+    def table(self, seen: tuple[tuple[int, int], ...]
+              ) -> dict[tuple[int, int], frozenset[tuple[int, int]]]:
+        """The actions of every robot of the configuration ``seen`` (its robots' (node,
+        colour) pairs, sorted), by (node, colour); not memoised. Raises what the algorithm
+        raises (:class:`AlgorithmCrash`, :class:`Unhandled`) for the first pair that fails,
+        in the same order whoever asks."""
+        counts = Counter(v for v, _ in seen)
+        colours: dict[int, Counter[int]] = {}
+        for v, c in seen:
+            colours.setdefault(v, Counter())[c] += 1
+        return {(v, c): self.action_set(counts, colours, v, c) for v, c in set(seen)}
 
     def action_set(self, counts: Counter[int], colours: dict[int, Counter[int]], node: int,
                    colour: int) -> frozenset[tuple[int, int]]:

@@ -109,7 +109,7 @@ class WorldView:
     def neighbours(self, node: Label | None = None) -> tuple[Label, ...]:
         """The neighbours of ``node`` (default: the robot's own) in the visible graph,
         sorted."""
-        return tuple(sorted(self.graph[self.me if node is None else node]))
+        return self._map.neighbours(self.me if node is None else node)
 
     def distance(self, a: Label, b: Label) -> int:
         """Hops between two visible nodes inside the visible graph."""
@@ -123,7 +123,7 @@ class WorldView:
     @property
     def meeting_nodes(self) -> frozenset[Label]:
         """The visible meeting nodes, in the frame."""
-        return frozenset(self._frame[u] for u in self._meeting if u in self._frame)
+        return self._map.shown(self._meeting)
 
     def _visible(self, node: Label, strong: bool) -> int:
         d = self.detection

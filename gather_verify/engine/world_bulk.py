@@ -1,0 +1,451 @@
+"""The bulk search on a finite world: what :func:`gather_verify.engine.world_search.search`
+finds, on numpy arrays and compiled kernels (SEMANTICS.md §4, §9-11).
+
+It finds the same :class:`~gather_verify.engine.world_search.WorldSearch`: the same states
+with the same ids (breadth-first, in the order the reference meets them), the same parents,
+edges, transitions, final and stay facts, the same halt and the same stop under a state
+limit. What changes is how:
+
+- a state is one ``int64`` (:mod:`gather_verify.kernels.world` gives the layout): per robot
+  its node, its pending destination as a slot of the world's neighbour table (none, or
+  one of the node's neighbours: the table is as wide as the world's degree) and its
+  colour; then the visited nodes and the round-robin scheduler's order and turn;
+- visited states live in the bulk engine's hash index (:class:`KeyIndex`) of their keys
+  (their least images under the reductions, when those are on); the stored state is the
+  first concrete successor met, as in the reference;
+- the algorithm is asked once per configuration (the robots' nodes and colours: the
+  robots are oblivious, so pending moves play no part), through
+  :meth:`~gather_verify.worlds.moves.WorldMoves.table`; each robot's answers become a bit
+  set over its node's possible actions, in the order the schedulers try them;
+- the frontier is expanded a chunk of states at a time by a compiled kernel per scheduler
+  (ASYNC; the rounds of FSYNC, SSYNC, centralized and round-robin).
+
+The edges are kept as arrays; :attr:`WorldSearch.edges` builds a state's list of
+``(target, robots, Event)`` when asked (a trace), from the scheduler's own ``luminous``;
+the tasks read the arrays (:attr:`WorldSearch.arrays`). :func:`unsupported` says when this
+engine cannot run a request (the compiled kernels switched off, a key past 63 bits, a
+scheduler it does not know); the caller then runs the reference.
+
+>>> from gather_verify.algorithms import get_algorithm
+>>> from gather_verify.worlds import get_world
+>>> from gather_verify.worlds.moves import WorldMoves
+>>> ring = get_world("ring:9")
+>>> moves = WorldMoves(ring, get_algorithm("go-to-target"), frozenset({7}))
+>>> s = search(ring, (0, 3, 5), moves, "async")
+>>> s.states, s.transitions, s.stopped, s.engine
+(225, 560, None, 'bulk')
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterator, Sequence
+from itertools import combinations
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from gather_verify import kernels
+from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
+from gather_verify.engine.encoding import NO_LIMITS, Limits
+from gather_verify.engine.explore import rss_mb
+from gather_verify.engine.fast_explore import Growing, KeyIndex
+from gather_verify.engine.world_search import (
+    Halt,
+    SearchArrays,
+    WorldSearch,
+    WorldState,
+    canonicaliser,
+)
+from schedulers import Async, Event, FSync, SSync, get_scheduler
+from schedulers.centralized import Centralized
+from schedulers.round_robin import RoundRobin
+
+if TYPE_CHECKING:
+    from gather_verify.worlds.base import World
+    from gather_verify.worlds.moves import WorldMoves
+
+CHUNK = 1 << 13
+"""States expanded per bulk step at first (halved while a step makes more than
+:data:`EVENTS` events, doubled up to :data:`MAX_CHUNK` while it makes fewer)."""
+MAX_CHUNK = 1 << 16
+EVENTS = 1 << 20
+KEY_LIMIT = 1 << 63
+_SCHEDULERS = {Async: "async", FSync: "rounds", SSync: "rounds", Centralized: "rounds",
+               RoundRobin: "rounds"}
+"""The schedulers this engine runs, exactly these classes (a new scheduler runs on the
+reference until it has a kernel here)."""
+
+
+def unsupported(world: World, n: int, scheduler: str, colours: int, *, visits: bool = False,
+                anonymity: bool = False, symmetries: Sequence[Sequence[int]] = (),
+                meeting: frozenset[int] = frozenset()) -> str | None:
+    """Why the bulk engine cannot run this search (one line), or None when it can."""
+    if not kernels.enabled():
+        return "the compiled kernels are off (numba missing, or GATHER_VERIFY_KERNELS=numpy)"
+    sched = get_scheduler(scheduler)
+    if type(sched) not in _SCHEDULERS:
+        return f"no bulk kernel for the scheduler {sched.name}"
+    stateful = getattr(sched, "stateful", False)
+    if stateful and (anonymity or len(_group(symmetries, meeting)) > 1):
+        return "reductions with a scheduler that keeps its own state"
+    if n < 1 or n > 62:
+        return f"{n} robots (the bulk engine takes 1 to 62)"
+    if (world.degree + 1) * colours > 63:
+        return (f"a robot has {(world.degree + 1) * colours} possible actions (degree + 1 "
+                "times the colours; at most 63)")
+    starts = len(sched.starts(n)) if stateful else 1  # type: ignore[attr-defined]
+    radix = world.size * (world.degree + 1) * colours
+    if radix ** n * (1 << world.size if visits else 1) * (n * starts if stateful else 1) \
+            >= KEY_LIMIT:
+        return "a state does not fit 63 bits"
+    return None
+
+
+def _group(symmetries: Sequence[Sequence[int]], meeting: frozenset[int]) -> list[Sequence[int]]:
+    """The symmetries the reductions use: those fixing the meeting nodes (as the reference)."""
+    return [p for p in symmetries if frozenset(p[m] for m in meeting) == meeting]
+
+
+class _Plan:
+    """The static tables of one search: the world's neighbour table, each node's possible
+    actions in the schedulers' order, the key layout."""
+
+    def __init__(self, world: World, n: int, colours: int, visits: bool, sched: Any,
+                 starts: list[Any]):
+        size, adjacency = world.size, world.adjacency
+        self.n, self.size, self.colours, self.visits = n, size, colours, visits
+        self.adjacency = adjacency
+        degree = max(1, world.degree)
+        self.pend = world.degree + 1
+        self.adj = np.full((size, degree), -1, dtype=np.int64)
+        for v, nbrs in enumerate(adjacency):
+            self.adj[v, :len(nbrs)] = nbrs
+        width = max((len(a) + 1) * colours for a in adjacency)
+        self.act_node = np.zeros((size, width), dtype=np.int64)
+        self.act_col = np.zeros((size, width), dtype=np.int64)
+        self.act_slot = np.zeros((size, width), dtype=np.int64)
+        self.stay_bit = np.zeros((size, colours), dtype=np.int64)
+        self.bit: list[dict[tuple[int, int], int]] = []
+        self.action: list[list[tuple[int, int]]] = []
+        for v, nbrs in enumerate(adjacency):
+            # the schedulers try a robot's actions sorted by repr: bit b is the b-th of them
+            acts = sorted(((d, c) for d in (v, *nbrs) for c in range(colours)), key=repr)
+            self.action.append(acts)
+            self.bit.append({a: b for b, a in enumerate(acts)})
+            for b, (d, c) in enumerate(acts):
+                self.act_node[v, b], self.act_col[v, b] = d, c
+                self.act_slot[v, b] = 0 if d == v else 1 + nbrs.index(d)
+            for c in range(colours):
+                self.stay_bit[v, c] = self.bit[v][v, c]
+        self.radix = size * self.pend * colours
+        self.vb = 1 << size if visits else 1
+        self.pw = np.array([self.radix ** i for i in range(n + 1)], dtype=np.int64)
+        self.cfg_base = size * colours
+        self.starts = starts
+        self.rr = isinstance(sched, RoundRobin)
+        self.rr_orders = np.array([list(order) for order, _ in starts] if self.rr else [[0] * n],
+                                  dtype=np.int64).reshape(-1, n)
+        if isinstance(sched, FSync):
+            subsets: list[tuple[int, ...]] = [tuple(range(n))]
+        elif isinstance(sched, SSync):
+            subsets = [a for k in range(1, n + 1) for a in combinations(range(n), k)]
+        else:  # centralized (round-robin reads its own turn)
+            subsets = [(i,) for i in range(n)]
+        self.subsets = np.array([[i in a for i in range(n)] for a in subsets],
+                                dtype=np.bool_).reshape(len(subsets), n)
+
+    def pack(self, robots: Sequence[tuple[int, int | None, int]], visited: int,
+             extra: int) -> int:
+        key = 0
+        for i, (v, p, c) in enumerate(robots):
+            slot = 0 if p is None else 1 + self.adjacency[v].index(p)
+            key += ((v * self.pend + slot) * self.colours + c) * self.radix ** i
+        return key + (visited + self.vb * extra) * self.radix ** self.n
+
+    def unpack(self, key: int) -> WorldState:
+        robots = []
+        for _ in range(self.n):
+            key, rc = divmod(key, self.radix)
+            t, c = divmod(rc, self.colours)
+            v, slot = divmod(t, self.pend)
+            robots.append((v, None if slot == 0 else self.adjacency[v][slot - 1], c))
+        extra, visited = divmod(key, self.vb)
+        if self.rr:
+            order, turn = divmod(extra, self.n)
+            return tuple(robots), visited, (self.starts[order][0], turn)
+        return tuple(robots), visited, None
+
+    def mask(self, v: int, actions: frozenset[tuple[int, int]]) -> int:
+        bits = self.bit[v]
+        out = 0
+        for a in actions:
+            out |= 1 << bits[a]
+        return out
+
+
+class _Configurations:
+    """Each configuration met (the sorted (node, colour) pairs of a state's robots), once:
+    its robots' action bit sets by sorted position, or why the algorithm gave none."""
+
+    def __init__(self, plan: _Plan, moves: WorldMoves):
+        self.plan, self.moves = plan, moves
+        self.index = KeyIndex(bits=12, capacity=1 << 12)
+        self.masks = np.zeros((1 << 12, plan.n), dtype=np.int64)
+        self.halted = np.zeros(1 << 12, dtype=np.bool_)
+        self.why: dict[int, tuple[str, str, dict[str, object]]] = {}
+
+    def rows(self, ckey: np.ndarray, nodes: np.ndarray, cols: np.ndarray) -> np.ndarray:
+        rows, first = self.index.find_or_add(ckey.view(np.uint64))
+        if len(first):
+            count = self.index.count
+            if count > len(self.masks):
+                grow = max(count, 2 * len(self.masks))
+                self.masks = np.resize(self.masks, (grow, self.plan.n))
+                self.halted = np.resize(self.halted, grow)
+            for f, row in zip(first.tolist(), rows[first].tolist(), strict=True):
+                self._evaluate(row, nodes[f].tolist(), cols[f].tolist())
+        return rows
+
+    def _evaluate(self, row: int, nodes: list[int], cols: list[int]) -> None:
+        seen = tuple(sorted(zip(nodes, cols, strict=True)))
+        self.halted[row] = False
+        try:
+            table = self.moves.table(seen)
+        except AlgorithmCrash as error:
+            self.halted[row] = True
+            self.why[row] = ("crash", error.reason, error.detail())
+            return
+        except Unhandled as error:
+            self.halted[row] = True
+            self.why[row] = ("defined", f"the algorithm has no rule here: {error}", {})
+            return
+        mask = self.plan.mask
+        self.masks[row] = [mask(v, table[v, c]) for v, c in seen]
+
+    def actions(self, robots: Sequence[tuple[int, int | None, int]]
+                ) -> list[frozenset[tuple[int, int]]]:
+        """Each robot's actions in the configuration of ``robots`` (met already), read back
+        from its row's bit sets (what the kernels used)."""
+        plan = self.plan
+        seen = sorted((v * plan.colours + c) for v, _, c in robots)
+        key = sum(e * plan.cfg_base ** j for j, e in enumerate(seen))
+        count = self.index.count
+        rows, _ = self.index.find_or_add(np.array([key], dtype=np.uint64))
+        row = int(rows[0])
+        if row >= count or self.halted[row]:  # pragma: no cover - never for a stored edge
+            raise AssertionError(f"configuration {seen} was not expanded")
+        out = []
+        for v, _, c in robots:
+            m = int(self.masks[row, seen.index(v * plan.colours + c)])
+            out.append(frozenset(a for b, a in enumerate(plan.action[v]) if m >> b & 1))
+        return out
+
+
+class _Column(Sequence[Any]):
+    """A read-only numpy column handing out Python scalars."""
+
+    __slots__ = ("array",)
+
+    def __init__(self, array: np.ndarray):
+        self.array = array
+
+    def __len__(self) -> int:
+        return len(self.array)
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, slice):
+            return self.array[i].tolist()
+        return self.array[i].item()
+
+    def __iter__(self) -> Iterator[Any]:
+        for start in range(0, len(self.array), 1 << 16):
+            yield from self.array[start:start + (1 << 16)].tolist()
+
+
+class _Keys(_Column):
+    """The stored states, decoded when read."""
+
+    __slots__ = ("plan",)
+
+    def __init__(self, array: np.ndarray, plan: _Plan):
+        super().__init__(array)
+        self.plan = plan
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, slice):
+            return [self.plan.unpack(k) for k in self.array[i].tolist()]
+        return self.plan.unpack(int(self.array[i]))
+
+    def __iter__(self) -> Iterator[Any]:
+        for start in range(0, len(self.array), 1 << 16):
+            yield from map(self.plan.unpack, self.array[start:start + (1 << 16)].tolist())
+
+
+class _Edges(Sequence[list[tuple[int, int, Event]]]):
+    """Per expanded state, its ``(target, robots, event)`` list, built when read: the events
+    from the scheduler's ``luminous`` on the stored state (the same, in the same order, as
+    the kernel's), the targets and masks from the arrays."""
+
+    def __init__(self, arrays: SearchArrays, keys: _Keys, sched: Any,
+                 actions: Callable[..., list[frozenset[tuple[int, int]]]]):
+        self.arrays, self.keys, self.sched, self.actions = arrays, keys, sched, actions
+
+    def __len__(self) -> int:
+        return len(self.arrays.offsets) - 1
+
+    def __getitem__(self, sid: Any) -> Any:
+        if isinstance(sid, slice):
+            return [self[i] for i in range(*sid.indices(len(self)))]
+        if sid < 0:
+            sid += len(self)
+        if not 0 <= sid < len(self):
+            raise IndexError(sid)
+        robots, _, extra = self.keys[sid]
+        options = self.actions(robots)
+        events = [e for e, _, _ in self.sched.luminous(robots, extra, options.__getitem__)]
+        lo, hi = int(self.arrays.offsets[sid]), int(self.arrays.offsets[sid + 1])
+        if len(events) != hi - lo:  # pragma: no cover - the kernels and luminous disagree
+            raise AssertionError(f"state {sid}: {hi - lo} edges kept, {len(events)} events")
+        targets = self.arrays.targets[lo:hi].tolist()
+        masks = self.arrays.robots[lo:hi].tolist()
+        return list(zip(targets, masks, events, strict=True))
+
+    def __iter__(self) -> Iterator[Any]:
+        for sid in range(len(self)):
+            yield self[sid]
+
+
+def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: str, *,
+           colours: Sequence[int] | None = None, visits: bool = False,
+           anonymity: bool = False, symmetries: Sequence[Sequence[int]] = (),
+           meeting: frozenset[int] = frozenset(), limits: Limits = NO_LIMITS) -> WorldSearch:
+    """:func:`gather_verify.engine.world_search.search` in bulk (same arguments, but the
+    :class:`~gather_verify.worlds.moves.WorldMoves` itself instead of its ``actions``);
+    :func:`unsupported` must have said yes."""
+    from gather_verify.kernels import world as kw
+
+    started = time.perf_counter()
+    sched = get_scheduler(scheduler)
+    n = len(robots)
+    k_colours = moves.lights.colours
+    why = unsupported(world, n, scheduler, k_colours, visits=visits, anonymity=anonymity,
+                      symmetries=symmetries, meeting=meeting)
+    if why is not None:
+        raise ValueError(f"the bulk engine cannot run this search: {why}")
+    starts = getattr(sched, "starts", lambda _n: [None])(n)
+    plan = _Plan(world, n, k_colours, visits, sched, starts)
+    rounds = _SCHEDULERS[type(sched)] == "rounds"
+    group = _group(symmetries, meeting)
+    reduce = anonymity or len(group) > 1
+    perms = np.array(group if len(group) > 1 else [list(range(world.size))],
+                     dtype=np.int64).reshape(-1, world.size)
+
+    def canon(keys: np.ndarray) -> np.ndarray:
+        if not reduce:
+            return keys
+        return kw.world_canon(keys, perms, anonymity, visits, n, world.size, plan.radix,
+                              plan.pend, plan.colours, plan.adj, plan.vb, plan.pw)
+
+    lights = tuple(colours) if colours is not None else (0,) * n
+    seen0 = sum(1 << v for v in set(robots)) if visits else 0
+    first_keys = np.array([plan.pack([(v, None, c) for v, c in zip(robots, lights, strict=True)],
+                                     seen0, r * n if plan.rr else 0)
+                           for r in range(len(starts))], dtype=np.int64)
+    index = KeyIndex()
+    _, first = index.find_or_add(canon(first_keys).view(np.uint64))
+    reps = Growing(np.int64)
+    reps.extend(first_keys[first])
+    parents = Growing(np.int64)
+    parents.extend(np.full(len(first), -1, dtype=np.int64))
+    configs = _Configurations(plan, moves)
+    offsets = Growing(np.int64)
+    offsets.extend(np.zeros(1, dtype=np.int64))
+    targets, rmasks = Growing(np.int64), Growing(np.int64)
+    crossing = Growing(np.bool_)
+    final, stay = Growing(np.bool_), Growing(np.int64)
+    transitions = 0
+    stopped: str | None = None
+    halt: Halt | None = None
+    expanded = 0
+    chunk = CHUNK
+    while expanded < reps.size:
+        if time.perf_counter() - started > limits.max_seconds:
+            stopped = "time"
+            break
+        if rss_mb() > limits.max_memory_mb:
+            stopped = "memory"
+            break
+        lo = expanded
+        keys = reps.data[lo:min(reps.size, lo + chunk)]
+        nodes, slots, cols, dest, rest, ckey, pos = kw.world_decode(
+            keys, n, plan.radix, plan.pend, plan.colours, plan.adj, plan.cfg_base)
+        rows = configs.rows(ckey, nodes, cols)
+        bad = configs.halted[rows]
+        cut = int(np.argmax(bad)) if bad.any() else len(keys)
+        halted = int(rows[cut]) if cut < len(keys) else -1
+        if cut < len(keys):
+            keys, nodes, slots, cols, dest, rest, rows, pos = (
+                a[:cut] for a in (keys, nodes, slots, cols, dest, rest, rows, pos))
+        masks = configs.masks[rows[:, None], pos]
+        fin, sty = kw.world_facts(nodes, slots, cols, masks, plan.stay_bit)
+        vis = rest % plan.vb
+        if rounds:
+            src, succ, rmask, cross = kw.world_rounds(
+                keys, nodes, slots, cols, vis, rest // plan.vb, masks, plan.subsets, plan.rr,
+                plan.rr_orders, plan.act_node, plan.act_col, plan.pw, visits, plan.pend,
+                plan.colours, plan.vb)
+        else:
+            src, succ, rmask = kw.world_async(
+                keys, nodes, slots, cols, dest, vis, masks, plan.act_node, plan.act_col,
+                plan.act_slot, plan.pw, visits, plan.pend, plan.colours)
+            cross = None
+        before = index.count
+        ids, first = index.find_or_add(canon(succ).view(np.uint64))
+        ends = np.searchsorted(src, np.arange(cut), side="right")  # per state: its events' end
+        if cut and before + len(first) > limits.max_states:
+            # the reference stops after the first state whose expansion passes the limit
+            grown = before + np.searchsorted(first, ends, side="left")
+            k = int(np.argmax(grown > limits.max_states))
+            cut, stopped = k + 1, "states"
+            first = first[:grown[k] - before]
+            ends = ends[:cut]
+            index.truncate(int(grown[k]))
+        e_end = int(ends[-1]) if cut else 0
+        reps.extend(succ[first])
+        parents.extend(lo + src[first])
+        offsets.extend(transitions + ends)
+        targets.extend(ids[:e_end])
+        rmasks.extend(rmask[:e_end])
+        if cross is not None:
+            crossing.extend(cross[:e_end])
+        final.extend(fin[:cut])
+        stay.extend(sty[:cut])
+        transitions += e_end
+        expanded = lo + cut
+        if stopped is not None:
+            break
+        if halted >= 0:
+            kind, reason, detail = configs.why[halted]
+            halt = Halt(kind, expanded, reason, detail)
+            stopped = kind
+            break
+        chunk = max(1, chunk // 2) if e_end > EVENTS else min(MAX_CHUNK, chunk * 2)
+    all_reps = reps.array()
+    edges_crossing = crossing.array() if rounds else np.zeros(transitions, dtype=np.bool_)
+
+    def nodes_of() -> np.ndarray:
+        return kw.world_nodes(all_reps, n, plan.radix, plan.pend, plan.colours)[0]
+
+    arrays = SearchArrays(offsets.array(), targets.array(), rmasks.array(), edges_crossing,
+                          final.array(), stay.array(), nodes_of)
+    keys_col = _Keys(all_reps, plan)
+    return WorldSearch(
+        keys=keys_col, parents=_Column(parents.array()),  # type: ignore[arg-type]
+        edges=_Edges(arrays, keys_col, sched, configs.actions),  # type: ignore[arg-type]
+        final=_Column(arrays.final), stay=_Column(arrays.stay),  # type: ignore[arg-type]
+        states=int(reps.size), transitions=transitions, stopped=stopped, halt=halt,
+        reduced=anonymity or len(symmetries) > 1, seconds=time.perf_counter() - started,
+        canonical=canonicaliser(symmetries, meeting, anonymity, visits), engine="bulk",
+        arrays=arrays)
+
