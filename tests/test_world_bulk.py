@@ -308,7 +308,7 @@ def test_sweep_exploration_with_the_visited_nodes(world_name: str, scheduler: st
 
 
 @pytest.mark.parametrize("scheduler", SCHEDULERS)
-@pytest.mark.parametrize("size", [5, 6, pytest.param(7, marks=SLOW)])
+@pytest.mark.parametrize("size", [5, pytest.param(6, marks=SLOW), pytest.param(7, marks=SLOW)])
 def test_sweep_ring_algorithms(size: int, scheduler: str) -> None:
     """ring-gather (global-weak), ring-explore with and without a common direction, and the
     inchworm (lights, visibility 2), every configuration of 2 and 3 robots on rings 5-7."""
