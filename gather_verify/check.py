@@ -52,7 +52,7 @@ from gather_verify.properties.graph import GraphFacts, Walk, longest_path, most_
 from gather_verify.properties.registry import check_property_names, get_property, registered
 from gather_verify.trace import build_trace, initial_of, steps_of
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine, named_first
-from gather_verify.watchdog import GRACE_SECONDS, Overtime, deadline
+from gather_verify.watchdog import Overtime, allowance, deadline
 from schedulers import initial_state
 
 
@@ -290,15 +290,15 @@ def run_check(
     ``drift`` when nothing fails, never a proof.
 
     The user's code runs under a watchdog (:mod:`gather_verify.watchdog`, on the main thread
-    of a POSIX system): the algorithm and property files must import within
-    ``max_seconds`` (else InvalidInput, one line), and a call of ``decide`` (``target``, a
-    property's function ...) still running ``max_seconds`` plus as much again (at least
-    :data:`~gather_verify.watchdog.GRACE_SECONDS` more) into the check ends it: INCOMPLETE,
-    reason ``time``, never a crash and never VERIFIED. ``max_seconds=math.inf``: no watchdog."""
+    of a POSIX system), with the :func:`~gather_verify.watchdog.allowance` of
+    ``max_seconds`` (as much again, at least :data:`~gather_verify.watchdog.GRACE_SECONDS`
+    more): the algorithm and property files must import within it (else InvalidInput, one
+    line), and a call of ``decide`` (``target``, a property's function ...) still running
+    past it ends the check: INCOMPLETE, reason ``time``, never a crash and never VERIFIED. ``max_seconds=math.inf``: no watchdog."""
     started = time.perf_counter()
     from gather_verify.algorithms import get_algorithm
 
-    with deadline(max_seconds):  # the user's files import within the time limit (watchdog)
+    with deadline(allowance(max_seconds)):  # the user's files import in time (watchdog)
         wanted = check_property_names(properties)
         algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
     not_applicable: dict[str, str] = {}
@@ -492,7 +492,7 @@ def run_check(
 def _watchdog(report: dict[str, Any], wanted: Sequence[str], started: float,
               max_seconds: float) -> Iterator[list[Exploration]]:
     """The search and the decisions of :func:`run_check`, under a :func:`deadline` of
-    ``max_seconds`` plus as much again (at least :data:`GRACE_SECONDS`): the engines read
+    its :func:`~gather_verify.watchdog.allowance` of ``max_seconds``: the engines read
     their clock first, and the alarm only stops the user's code that does not return
     (:mod:`gather_verify.watchdog`). When it does, ``report`` becomes INCOMPLETE with reason
     ``time``, the states stored so far, and no property decided; the block yields a list
@@ -500,7 +500,7 @@ def _watchdog(report: dict[str, Any], wanted: Sequence[str], started: float,
     searched: list[Exploration] = []
     PROGRESS.states = 0
     try:
-        with deadline(max_seconds + max(max_seconds, GRACE_SECONDS)):
+        with deadline(allowance(max_seconds)):
             yield searched
     except Overtime as stopped:
         last = searched[-1] if searched else None

@@ -48,6 +48,17 @@ GRACE_SECONDS = 1.0
 """The least time a check's watchdog adds to its own time limit (``run_check`` arms
 ``max_seconds + max(max_seconds, GRACE_SECONDS)``): the engines' clock checks end a search
 first, and the alarm only catches user code that does not return."""
+
+
+def allowance(max_seconds: float) -> float:
+    """The watchdog's deadline for a check limited to ``max_seconds``: as much again, at
+    least :data:`GRACE_SECONDS` more. The engines read their own clock and stop at
+    ``max_seconds``; the alarm is only for user code that does not return, and a tiny limit
+    (``--max-seconds 1e-9``) gives an INCOMPLETE search, not an algorithm that "did not
+    load in time"."""
+    return max_seconds + max(max_seconds, GRACE_SECONDS)
+
+
 INTERVAL = 0.05
 """Seconds between the alarm's rings once the deadline has passed."""
 
@@ -184,5 +195,5 @@ def guards(function: F) -> F:
     return guarded  # type: ignore[return-value]
 
 
-__all__ = ["GRACE_SECONDS", "INTERVAL", "Overtime", "available", "deadline", "guards",
+__all__ = ["GRACE_SECONDS", "INTERVAL", "Overtime", "allowance", "available", "deadline", "guards",
            "watched"]

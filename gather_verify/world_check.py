@@ -29,7 +29,7 @@ from gather_verify.engine.world_search import WorldSearch, search
 from gather_verify.errors import InvalidInput
 from gather_verify.progress import PROGRESS
 from gather_verify.tasks import Context, Finding, Task, get_task
-from gather_verify.watchdog import GRACE_SECONDS, Overtime, deadline
+from gather_verify.watchdog import Overtime, allowance, deadline
 from gather_verify.worlds import get_world
 from gather_verify.worlds.base import World
 from gather_verify.worlds.moves import WorldMoves, parse_lights
@@ -78,7 +78,7 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
         raise InvalidInput("no robots: give at least one robot node")
     if visibility is not None and visibility < 0:
         raise InvalidInput(f"visibility {visibility} is negative: give a number of hops >= 0")
-    with deadline(max_seconds):  # the algorithm's file imports within the time limit
+    with deadline(allowance(max_seconds)):  # the algorithm's file imports within the time limit
         algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
     stateful = getattr(get_scheduler(scheduler), "stateful", False)
     light = parse_lights(lights)
@@ -180,7 +180,7 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
         }
 
     try:  # the user's code that does not return ends with the time limit (watchdog)
-        with deadline(max_seconds + max(max_seconds, GRACE_SECONDS)):
+        with deadline(allowance(max_seconds)):
             return decided()
     except Overtime as stopped:
         names = [*parts, *PSEUDO]

@@ -16,7 +16,7 @@ from gather_verify.cli.common import (
     writable_outputs,
 )
 from gather_verify.errors import InvalidInput
-from gather_verify.watchdog import deadline
+from gather_verify.watchdog import allowance, deadline
 from schedulers import SCHEDULERS
 
 HELP = "verify every configuration of a box (up to symmetry) and store the results"
@@ -134,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
         raise InvalidInput("--readings-types needs --readings (it picks which configurations the "
                            "readings run on)")
     args.algorithm = absolute_spec(args.algorithm)  # the workers load the same file
-    with deadline(args.max_seconds_per_config):  # an endless import ends (watchdog)
+    with deadline(allowance(args.max_seconds_per_config)):  # an endless import ends (watchdog)
         get_algorithm(args.algorithm)  # unknown names fail before any work
     writable_outputs(junit=args.junit)
     check_detection(args.multiplicity)
@@ -147,7 +147,7 @@ def run(args: argparse.Namespace) -> int:
         from gather_verify.properties.registry import check_property_names
 
         args.properties = [absolute_property(p) for p in args.properties]  # workers load the file
-        with deadline(args.max_seconds_per_config):
+        with deadline(allowance(args.max_seconds_per_config)):
             check_property_names(args.properties)
     settings = [SweepSettings(
         robots=n, meeting=m, box=args.box, algorithm=args.algorithm,
@@ -208,7 +208,7 @@ def _worlds(args: argparse.Namespace) -> int:
         raise InvalidInput("--robots: at least one robot")
     args.algorithm = absolute_spec(args.algorithm if args.algorithm != "paper" else
                                    "go-to-target")
-    with deadline(args.max_seconds_per_config):  # an endless import ends (watchdog)
+    with deadline(allowance(args.max_seconds_per_config)):  # an endless import ends (watchdog)
         get_algorithm(args.algorithm)
     check_detection(args.multiplicity)
     specs = world_specs(args.world)

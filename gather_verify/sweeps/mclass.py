@@ -36,7 +36,7 @@ from gather_verify.model import geometry
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import Automorphism
-from gather_verify.watchdog import GRACE_SECONDS, Overtime, deadline
+from gather_verify.watchdog import Overtime, allowance, deadline
 
 ENGINES = ("union", "per-config")
 Row = dict[str, Any]
@@ -136,7 +136,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
         kept, left = len(rows), len(fallback)
         try:  # the user's code that does not return: the per-configuration checks decide
             # (each stops at its own time limit, INCOMPLETE); the watchdog's bound is theirs
-            with deadline(settings.max_seconds + max(settings.max_seconds, GRACE_SECONDS)):
+            with deadline(allowance(settings.max_seconds)):
                 union_states += _decide_union(settings, wanted, todo, ks, normal, group, box,
                                               turned, memory, graph_props, rows, fallback,
                                               configuration_key, trace_facts)
