@@ -388,8 +388,8 @@ def test_a_crash_report_and_its_trace_are_the_same() -> None:
 
 
 def test_auto_names_the_engine_and_why_it_fell_back() -> None:
-    report = run_world_check("ring:9", "0 3 5", "7", "go-to-target", "async", engine="auto")
-    assert report["engine"] == "bulk" and "engine_fallback" not in report
+    report = run_world_check("ring:9", "0 3 5", "7", "go-to-target", "async")
+    assert report["engine"] == "bulk" and "engine_fallback" not in report  # the default
     kernels.use(False)
     try:
         report = run_world_check("ring:9", "0 3 5", "7", "go-to-target", "async",
