@@ -1,6 +1,6 @@
-"""Explorer benchmark against SPIN (issue 8): states/s, bytes per state, time to a verdict.
+"""Explorer benchmark against SPIN: states/s, bytes per state, time to a verdict.
 
-The instance of issue 8: go-to-target, ASYNC, robots ``0,0 5,1 1,5 6,6 3,0``,
+The bench instance: go-to-target, ASYNC, robots ``0,0 5,1 1,5 6,6 3,0``,
 meeting node ``3,3`` (4,939,200 states without reductions); ``quick`` uses the
 SEMANTICS.md yardstick (2184 states). Every measurement runs in a fresh Python
 process and is timed *whole* (interpreter start, imports, search), as SPIN's
@@ -17,6 +17,13 @@ process and is timed *whole* (interpreter start, imports, search), as SPIN's
   during the check per state;
 - ``spin``: ``bench/spin/run_spin.py`` when ``spin`` and the script are there,
   else the stored result in ``bench/spin/results/`` (labelled ``stored``);
+- ``ring``: a finite world beside SPIN. The world check (``run_world_check``) of
+  go-to-target on ``ring:14``, robots ``5 6 7 8 9``, meeting node 0, ASYNC, reductions
+  off (572,572 states; ``quick``: SEMANTICS.md §9's ``ring:9``, robots ``0 3 5``, meeting
+  node 7, 225 states), then ``run_spin.py --world ring:N`` on the same space
+  (``bench/spin/make_ring_model.py``; stored: ``ring.json``, ``ring-quick.json``). Our
+  states/s whole process (the check with its properties) and of the search alone, beside
+  SPIN's whole run and ``./pan`` alone;
 - ``sweep`` (optional): configurations/s of the paper's algorithm, n=3, m=3,
   4 x 4, ASYNC, one worker, over the first ``sweep_limit`` configurations.
 
@@ -41,6 +48,8 @@ from typing import Any
 
 FULL = ([(0, 0), (5, 1), (1, 5), (6, 6), (3, 0)], [(3, 3)])
 QUICK = ([(0, 0), (3, 1), (1, 4)], [(2, 2)])
+RING = ("ring:14", [5, 6, 7, 8, 9], 0)
+RING_QUICK = ("ring:9", [0, 3, 5], 7)  # SEMANTICS.md §9's test data: 225 states, 560 transitions
 SPIN_DIR = Path(__file__).resolve().parent.parent / "bench" / "spin"
 
 
@@ -80,11 +89,32 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float) -> dict[s
             "max_moves": r["max_moves"], "check_seconds": r["seconds"]}
 
 
+def _ring_child(world: str, robots: list, meeting: int, max_seconds: float) -> dict[str, Any]:
+    """The world check of go-to-target on a ring, reductions off, inside the child process:
+    its verdict and counts, the check's and the search's seconds, and the peak resident
+    memory grown during the check per state (the graph is kept for ``termination``)."""
+    import resource
+
+    from gather_verify.engine.explore import rss_mb
+    from gather_verify.world_check import run_world_check
+
+    before = rss_mb()
+    r = run_world_check(world, robots, [meeting], "go-to-target", "async", reduction=False,
+                        max_states=30_000_000, max_seconds=max_seconds)
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    return {"verdict": r["verdict"], "task": r["task"], "reductions": r["reductions"],
+            "states": r["states"], "transitions": r["transitions"],
+            "complete": r["stopped"] is None, "check_seconds": r["seconds"],
+            "search_seconds": r["search_seconds"],
+            "bytes_per_state": max(peak - before, 0.0) * 2**20 / r["states"]}
+
+
 def _run_child(kind: str, instance: tuple, max_seconds: float) -> dict[str, Any]:
-    robots, meeting = instance
+    """One measurement in a fresh process, timed whole; ``instance`` is ``(robots, meeting)``
+    on Z², ``(world, robots, meeting)`` for ``ring``."""
     started, cpu = time.perf_counter(), _children_cpu()
     out = subprocess.run(
-        [sys.executable, "-m", "gather_verify.bench", kind, json.dumps([robots, meeting]),
+        [sys.executable, "-m", "gather_verify.bench", kind, json.dumps(list(instance)),
          str(max_seconds)], capture_output=True, text=True, check=True)
     result = json.loads(out.stdout)
     result["seconds"] = time.perf_counter() - started
@@ -108,18 +138,31 @@ def _since(before: tuple[float, float]) -> tuple[float, float]:
 def spin(instance: tuple, quick: bool, run: bool = True) -> dict[str, Any] | None:
     """SPIN's numbers: measured now when possible, else the stored ones (None if neither)."""
     robots, meeting = instance
+    return _spin(["--robots", " ".join(f"{x},{y}" for x, y in robots),
+                  "--meeting", "{},{}".format(*meeting[0])],
+                 "quick.json" if quick else "issue8.json", run)
+
+
+def spin_ring(instance: tuple, quick: bool, run: bool = True) -> dict[str, Any] | None:
+    """SPIN on the ring instance ``(world, robots, meeting)``
+    (``bench/spin/make_ring_model.py``): measured now when possible, else stored."""
+    world, robots, meeting = instance
+    return _spin(["--world", world, "--robots", " ".join(map(str, robots)),
+                  "--meeting", str(meeting)], "ring-quick.json" if quick else "ring.json", run)
+
+
+def _spin(args: list[str], stored_name: str, run: bool) -> dict[str, Any] | None:
     script = SPIN_DIR / "run_spin.py"
     if run and shutil.which("spin") and shutil.which("gcc") and script.exists():
         cpu = _children_cpu()
-        out = subprocess.run(
-            [sys.executable, str(script), "--robots", " ".join(f"{x},{y}" for x, y in robots),
-             "--meeting", "{},{}".format(*meeting[0])], capture_output=True, text=True)
+        out = subprocess.run([sys.executable, str(script), *args], capture_output=True,
+                             text=True)
         if out.returncode == 0:
             result = json.loads(out.stdout)
             result["source"] = "measured"
             result["cpu_user_seconds"], result["cpu_system_seconds"] = _since(cpu)
             return result
-    stored = SPIN_DIR / "results" / ("quick.json" if quick else "issue8.json")
+    stored = SPIN_DIR / "results" / stored_name
     if stored.exists():
         result = json.loads(stored.read_text())
         result["source"] = f"stored ({stored.name})"
@@ -166,9 +209,43 @@ def bench(quick: bool = False, max_seconds: float = 3600.0, run_spin: bool = Tru
         out["ratio_time_to_verdict"] = theirs["seconds"] / verdict["seconds"]
         out["ratio_full_states_per_second"] = (full["states_per_second"]
                                                / theirs["states_per_second"])
+    out["ring"] = ring_bench(quick, max_seconds, run_spin)
     if sweep_limit:
         out["sweep"] = sweep_rate(sweep_limit)
     return out
+
+
+def ring_bench(quick: bool = False, max_seconds: float = 3600.0,
+               run_spin: bool = True) -> dict[str, Any]:
+    """The ring row: our world check, then SPIN on the same space, back to back."""
+    world, robots, meeting = instance = RING_QUICK if quick else RING
+    ours = _run_child("ring", instance, max_seconds)
+    ours["states_per_second"] = ours["states"] / ours["seconds"]
+    ours["search_states_per_second"] = ours["states"] / ours["search_seconds"]
+    theirs = spin_ring(instance, quick, run_spin)
+    out: dict[str, Any] = {
+        "instance": {"name": "ring-quick" if quick else "ring", "world": world,
+                     "robots": robots, "meeting": meeting, "algorithm": "go-to-target",
+                     "scheduler": "async"},
+        "ours": ours, "spin": None, "same_space": None, "ratio_states_per_second": None,
+        "ratio_search_states_per_second": None,
+    }
+    if theirs is not None:
+        out["spin"] = {k: theirs.get(k) for k in (
+            "source", "states", "edges", "seconds", "search_seconds", "states_per_second",
+            "search_states_per_second", "bytes_per_state", "cpu_user_seconds",
+            "cpu_system_seconds")}
+        out["same_space"] = (ours["states"], ours["transitions"]) == (theirs["states"],
+                                                                      theirs["edges"])
+        out["ratio_states_per_second"] = ours["states_per_second"] / theirs["states_per_second"]
+        out["ratio_search_states_per_second"] = (ours["search_states_per_second"]
+                                                 / theirs["search_states_per_second"])
+    return out
+
+
+def num(x: Any, fmt: str = ",.0f") -> str:
+    """A number of the table, or ``-`` when there is none (SPIN not available)."""
+    return "-" if x is None else format(x, fmt)
 
 
 def format_bench(r: dict[str, Any], write: Any = print) -> None:
@@ -182,9 +259,6 @@ def format_bench(r: dict[str, Any], write: Any = print) -> None:
 
     def row(name: str, ours: str, theirs: str, ratio: str = "") -> None:
         write(f"{name:34}{ours:>16}{theirs:>34}{ratio:>8}")
-
-    def num(x: Any, fmt: str = ",.0f") -> str:
-        return "-" if x is None else format(x, fmt)
 
     row("states (reductions off)", num(e["states"]), num(s and s["states"]))
     row("transitions", num(e["transitions"]), num(s and s["edges"]))
@@ -211,12 +285,48 @@ def format_bench(r: dict[str, Any], write: Any = print) -> None:
           f"{'on' if f['kernels'] else 'off'}; ratio = our states/s / SPIN's (goal >= 1.5)")
     if not e["complete"]:
         write("  the reductions-off search hit --max-seconds: INCOMPLETE, rates are partial")
+    if r.get("ring"):
+        format_ring(r["ring"], write)
     if r["sweep"]:
         w = r["sweep"]
         write(f"sweep paper n=3 m=3 4x4 async, first {w['configurations']} configurations, "
               f"1 worker: {w['seconds']:.1f} s, {w['per_second']:.1f} configurations/s")
 
 
+def format_ring(g: dict[str, Any], write: Any = print) -> None:
+    """The ring row: our world check beside SPIN on the same space."""
+    i, o, s = g["instance"], g["ours"], g["spin"]
+    write(f"ring instance {i['world']}: {i['algorithm']}, {i['scheduler']}, robots "
+          + " ".join(map(str, i["robots"])) + f", meeting {i['meeting']}, reductions off")
+    label = f"SPIN ({s['source']})" if s else "SPIN (not available)"
+    write(f"{'':34}{'gather-verify':>16}{label:>34}{'ratio':>8}")
+
+    def row(name: str, ours: str, theirs: str, ratio: str = "") -> None:
+        write(f"{name:34}{ours:>16}{theirs:>34}{ratio:>8}")
+
+    row("  states", num(o["states"]), num(s and s["states"]))
+    row("  transitions", num(o["transitions"]), num(s and s["edges"]))
+    row("  seconds, whole process", num(o["seconds"], ".2f"), num(s and s["seconds"], ".2f"))
+    row("  states/s, whole process", num(o["states_per_second"]),
+        num(s and s["states_per_second"]), num(g["ratio_states_per_second"], ".3f"))
+    row("  seconds, search only", num(o["search_seconds"], ".2f"),
+        num(s and s["search_seconds"], ".2f"))
+    row("  states/s, search only", num(o["search_states_per_second"]),
+        num(s and s["search_states_per_second"]), num(g["ratio_search_states_per_second"], ".3f"))
+    row("  bytes per state, graph kept", num(o["bytes_per_state"], ".1f"),
+        num(s and s["bytes_per_state"], ".1f"))
+    same = {None: "", True: ", the same space as SPIN's",
+            False: ", NOT the same space as SPIN's"}[g["same_space"]]
+    write(f"  verdict {o['verdict']} (task {o['task']}){same}")
+    write("  ours: the reference search (Python), then the task's properties; search only: "
+          "our search, SPIN's ./pan; ratio = our states/s / SPIN's")
+    if not o["complete"]:
+        write("  the ring check hit --max-seconds: INCOMPLETE, rates are partial")
+
+
 if __name__ == "__main__":  # the child of _run_child
-    robots, meeting = json.loads(sys.argv[2])
-    print(json.dumps(_child(sys.argv[1], robots, meeting, float(sys.argv[3]))))
+    args = json.loads(sys.argv[2])
+    if sys.argv[1] == "ring":
+        print(json.dumps(_ring_child(*args, float(sys.argv[3]))))
+    else:
+        print(json.dumps(_child(sys.argv[1], *args, float(sys.argv[3]))))

@@ -24,7 +24,8 @@ from __future__ import annotations
 import sys
 import time
 import types
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -36,6 +37,7 @@ from gather_verify.engine.explore import (
     DEFAULT_MAX_STATES,
     Exploration,
     Limits,
+    rss_mb,
 )
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.engine.search import explore
@@ -43,12 +45,14 @@ from gather_verify.errors import InvalidInput
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
+from gather_verify.progress import PROGRESS
 from gather_verify.properties.drift import find_drift
 from gather_verify.properties.facts import StateFacts
 from gather_verify.properties.graph import GraphFacts, Walk, longest_path, most_moves
 from gather_verify.properties.registry import check_property_names, get_property, registered
 from gather_verify.trace import build_trace, initial_of, steps_of
-from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine
+from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine, named_first
+from gather_verify.watchdog import GRACE_SECONDS, Overtime, deadline
 from schedulers import initial_state
 
 
@@ -105,7 +109,7 @@ def _walk(e: Exploration, bound: float) -> Walk | None:
     cached = getattr(e, "_most_moves", None)
     if cached is None or cached[0] != bound:
         cached = (bound, most_moves(e, bound))
-        e._most_moves = cached  # type: ignore[attr-defined]
+        e._most_moves = cached
     return cached[1]
 
 
@@ -113,6 +117,7 @@ def _over_bound(e: Exploration, c: float, D: int, n: int) -> dict[str, Any] | No
     """The trace of an execution whose total moves exceed ``c * D * n`` in ``e``'s stored
     graph, finished or not (fewest events first, :func:`most_moves`), or None."""
     bound = c * D * n
+    PROGRESS.doing = "searching the longest walk (move-bound)"
     walk = _walk(e, bound)
     if walk is None or walk.moves <= bound:
         return None
@@ -131,6 +136,7 @@ def _drift(e: Exploration, bound: float) -> dict[str, Any] | None:
     def move_sets(robots: tuple[Node, ...]) -> Any:
         return e.facts(robots).move_sets or {}
 
+    PROGRESS.doing = "looking for a drift along the run that left the region"
     walk = _walk(e, bound)
     runs = [(e.path_to(max(len(e.offsets) - 2, 0)), None)]
     if walk is not None:
@@ -203,7 +209,8 @@ def cause_of(algorithm: object, trace: dict[str, Any]) -> str:
         before, after = phase(len(states) - 2), phase(len(states) - 1)
         if before is None and after is None:
             return prop
-        return str(before) if before == after else f"{before} -> {after}"
+        return str(before) if before == after else \
+            f"{before or 'no phase'} -> {after or 'no phase'}"
     if prop in ("no-ungatherable", "move-bound"):
         return behind_last_move() or prop
     return prop
@@ -225,8 +232,10 @@ def _witnesses(e: Exploration, configuration: Configuration, algorithm: str | Al
     concrete graph, and left out if that search does not meet it)."""
     traces: dict[str, dict[str, Any]] = {}
     for name, v in e.violations.items():
+        PROGRESS.doing = f"building the counterexample of {name}"
         trace = _safety_trace(e, v)
         if trace is None:  # target not equivariant: find the witness on the concrete graph
+            PROGRESS.doing = f"exploring without reductions (the counterexample of {name})"
             plain = explore(configuration, algorithm, scheduler, engine=engine,
                             detection=detection, frames=frames, reduction=False,
                             properties=[name], limits=lim, graph=False)
@@ -278,13 +287,21 @@ def run_check(
     :func:`~gather_verify.properties.graph.most_moves`); it holds only on a finished graph.
     A search stopped by the region also looks for a drift along the run that left it
     (:mod:`gather_verify.properties.drift`): evidence under ``drift``, and the reason
-    ``drift`` when nothing fails, never a proof."""
+    ``drift`` when nothing fails, never a proof.
+
+    The user's code runs under a watchdog (:mod:`gather_verify.watchdog`, on the main thread
+    of a POSIX system): the algorithm and property files must import within
+    ``max_seconds`` (else InvalidInput, one line), and a call of ``decide`` (``target``, a
+    property's function ...) still running ``max_seconds`` plus as much again (at least
+    :data:`~gather_verify.watchdog.GRACE_SECONDS` more) into the check ends it: INCOMPLETE,
+    reason ``time``, never a crash and never VERIFIED. ``max_seconds=math.inf``: no watchdog."""
     started = time.perf_counter()
-    wanted = check_property_names(properties)
-    not_applicable: dict[str, str] = {}
     from gather_verify.algorithms import get_algorithm
 
-    algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
+    with deadline(max_seconds):  # the user's files import within the time limit (watchdog)
+        wanted = check_property_names(properties)
+        algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
+    not_applicable: dict[str, str] = {}
     if not getattr(algo, "plane", True):
         raise InvalidInput(f"algorithm {algo.name!r} is written for finite worlds: give "
                            "--world ring:N (docs/worlds.md)")
@@ -309,6 +326,8 @@ def run_check(
                  margin=DEFAULT_MARGIN if fixed_margin is None else fixed_margin)
     if limits:
         raise InvalidInput(f"unknown limit(s): {', '.join(sorted(limits))}")
+    first_margin = lim.margin
+    PROGRESS.doing = "classifying the configuration"
     cls = classify_configuration(configuration)
     n, D = configuration.n, configuration.D
     report: dict[str, Any] = {
@@ -332,121 +351,169 @@ def run_check(
                       "use the impossibility checks (or --force)",
                       seconds=time.perf_counter() - started)
         return report
-    # the edges are kept only for a graph property or the caller's use of the graph
-    keep_graph = on_exploration is not None or any(
-        get_property(p).kind == "graph" for p in wanted)
+    with _watchdog(report, wanted, started, max_seconds) as searched:
+        # the edges are kept only for a graph property or the caller's use of the graph
+        keep_graph = on_exploration is not None or any(
+            get_property(p).kind == "graph" for p in wanted)
 
-    def search(lim: Limits) -> tuple[Exploration, dict[str, dict[str, Any]] | None]:
-        """The search in ``lim``'s region, and its traces (None: not needed yet, the region
-        grows whatever they are)."""
-        e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
-                    frames=frames, reduction=reduction, properties=wanted, limits=lim,
-                    memo=memo, graph=keep_graph, settle=not keep_going)
-        if keep_growing:
-            return e, None
-        return e, _witnesses(e, configuration, algorithm, scheduler, engine, detection,
-                             frames, lim)
+        def search(lim: Limits) -> tuple[Exploration, dict[str, dict[str, Any]] | None]:
+            """The search in ``lim``'s region, and its traces (None: not needed yet, the region
+            grows whatever they are)."""
+            PROGRESS.doing = ("exploring" if lim.margin == first_margin else
+                              f"exploring a larger region (margin {lim.margin})")
+            e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
+                        frames=frames, reduction=reduction, properties=wanted, limits=lim,
+                        memo=memo, graph=keep_graph, settle=not keep_going)
+            searched[:] = [e]
+            if keep_growing:
+                return e, None
+            return e, _witnesses(e, configuration, algorithm, scheduler, engine, detection,
+                                 frames, lim)
 
-    def _unfinished(e: Exploration, traces: dict[str, dict[str, Any]]) -> dict[str, dict[str, Any]]:
-        """``traces``, with a move-bound trace on an unfinished search whose stored graph
-        already has an execution over the bound (a finite prefix: no need to finish). Only
-        on the last search: the region grows as before (a finished graph decides more)."""
-        if e.stopped is not None and "move-bound" in wanted and keep_graph:
+        def _unfinished(e: Exploration, traces: dict[str, dict[str, Any]]) -> dict[str, dict[str, Any]]:
+            """``traces``, with a move-bound trace on an unfinished search whose stored graph
+            already has an execution over the bound (a finite prefix: no need to finish). Only
+            on the last search: the region grows as before (a finished graph decides more)."""
+            if e.stopped is not None and "move-bound" in wanted and keep_graph:
+                over = _over_bound(e, move_bound_c, D, n)
+                if over is not None:
+                    traces["move-bound"] = over
+            return traces
+
+        e, traces = search(lim)
+        while (fixed_margin is None and e.stopped == "region" and lim.margin < AUTO_MARGIN_MAX
+               and not traces):
+            left = max_seconds - (time.perf_counter() - started)
+            if left <= 0:
+                break
+            lim = replace(lim, margin=min(2 * lim.margin, AUTO_MARGIN_MAX), max_seconds=left)
+            e, traces = search(lim)
+        if traces is None:
+            traces = _witnesses(e, configuration, algorithm, scheduler, engine, detection, frames,
+                                lim)
+        traces = _unfinished(e, traces)
+        report["limits"]["margin"] = lim.margin
+        if on_exploration is not None:
+            on_exploration(e)
+        report.update(states=e.states, transitions=e.transitions, peak_rss_mb=round(e.peak_rss_mb, 1))
+        results = report["properties"]
+        for name, trace in traces.items():
+            # the trace's reason: it names the nodes of the concrete execution shown
+            results[name] = {"holds": False, "reason": trace["reason"]}
+        halted = e.stopped is not None and e.stopped in e.violations  # a halting property
+        stopped = None if halted or e.stopped == "settled" else e.stopped
+        complete = e.stopped is None
+        chosen = [p for p in registered() if p.name in wanted]
+        for prop in chosen:
+            if prop.kind != "graph" and prop.name not in traces:
+                results[prop.name] = {"holds": True} if complete else {
+                    "holds": None, "reason": SETTLED if e.stopped == "settled" else
+                    f"search stopped ({e.stopped})"}
+                if complete and prop.name in e.vacuous:
+                    results[prop.name] = {"holds": True, "reason": e.vacuous[prop.name]}
+        on_graph = [p for p in chosen if p.kind == "graph"]
+        if complete and on_graph:
+            PROGRESS.doing = "measuring the longest run (move-bound)"
+            longest = longest_path(e)
+            lifted = e
+            if longest.max_moves is None and (e.anonymity or e.symmetry):
+                PROGRESS.doing = "exploring without reductions (to check the cycles)"
+                lifted = explore(configuration, algorithm, scheduler, engine=engine,
+                                 detection=detection, frames=frames, reduction=False, properties=[], limits=lim)
+                if lifted.stopped:
+                    stopped = f"{lifted.stopped} (while lifting the reduced graph to check cycles)"
+            if longest.max_moves is not None:
+                report["max_moves"] = longest.max_moves
+                report["ratio"] = longest.max_moves / (D * n) if D * n else None
+            elif not lifted.stopped:
+                report["max_moves_infinite"] = True
+            if longest.max_moves is not None or not lifted.stopped:
+                graph = GraphFacts(e, longest, None if longest.max_moves is not None else lifted,
+                                   D, n, move_bound_c)
+                for prop in on_graph:
+                    assert prop.decide is not None
+                    PROGRESS.doing = f"deciding {prop.name}" + (
+                        " (looking for a fair livelock)" if prop.name == "termination" else "")
+                    outcome = prop.decide(graph)
+                    results[prop.name] = outcome.result
+                    w = outcome.witness
+                    if w is not None:
+                        traces[prop.name] = _trace(w.exploration, prop.name, w.reason, w.path,
+                                                   w.cycle, **w.detail)
+        if ("move-bound" in wanted and keep_graph and complete and "move-bound" not in traces
+                and results["move-bound"].get("holds") is None):
+            # the graph is finished but its cycles could not be lifted: a finite execution over
+            # the bound is found on the reduced graph all the same
             over = _over_bound(e, move_bound_c, D, n)
             if over is not None:
                 traces["move-bound"] = over
-        return traces
-
-    e, traces = search(lim)
-    while (fixed_margin is None and e.stopped == "region" and lim.margin < AUTO_MARGIN_MAX
-           and not traces):
-        left = max_seconds - (time.perf_counter() - started)
-        if left <= 0:
-            break
-        lim = replace(lim, margin=min(2 * lim.margin, AUTO_MARGIN_MAX), max_seconds=left)
-        e, traces = search(lim)
-    if traces is None:
-        traces = _witnesses(e, configuration, algorithm, scheduler, engine, detection, frames,
-                            lim)
-    traces = _unfinished(e, traces)
-    report["limits"]["margin"] = lim.margin
-    if on_exploration is not None:
-        on_exploration(e)
-    report.update(states=e.states, transitions=e.transitions, peak_rss_mb=round(e.peak_rss_mb, 1))
-    results = report["properties"]
-    for name, trace in traces.items():
-        # the trace's reason: it names the nodes of the concrete execution shown
-        results[name] = {"holds": False, "reason": trace["reason"]}
-    halted = e.stopped is not None and e.stopped in e.violations  # a halting property
-    stopped = None if halted or e.stopped == "settled" else e.stopped
-    complete = e.stopped is None
-    chosen = [p for p in registered() if p.name in wanted]
-    for prop in chosen:
-        if prop.kind != "graph" and prop.name not in traces:
-            results[prop.name] = {"holds": True} if complete else {
-                "holds": None, "reason": SETTLED if e.stopped == "settled" else
-                f"search stopped ({e.stopped})"}
-            if complete and prop.name in e.vacuous:
-                results[prop.name] = {"holds": True, "reason": e.vacuous[prop.name]}
-    on_graph = [p for p in chosen if p.kind == "graph"]
-    if complete and on_graph:
-        longest = longest_path(e)
-        lifted = e
-        if longest.max_moves is None and (e.anonymity or e.symmetry):
-            lifted = explore(configuration, algorithm, scheduler, engine=engine,
-                             detection=detection, frames=frames, reduction=False, properties=[], limits=lim)
-            if lifted.stopped:
-                stopped = f"{lifted.stopped} (while lifting the reduced graph to check cycles)"
-        if longest.max_moves is not None:
-            report["max_moves"] = longest.max_moves
-            report["ratio"] = longest.max_moves / (D * n) if D * n else None
-        elif not lifted.stopped:
-            report["max_moves_infinite"] = True
-        if longest.max_moves is not None or not lifted.stopped:
-            graph = GraphFacts(e, longest, None if longest.max_moves is not None else lifted,
-                               D, n, move_bound_c)
-            for prop in on_graph:
-                assert prop.decide is not None
-                outcome = prop.decide(graph)
-                results[prop.name] = outcome.result
-                w = outcome.witness
-                if w is not None:
-                    traces[prop.name] = _trace(w.exploration, prop.name, w.reason, w.path,
-                                               w.cycle, **w.detail)
-    if ("move-bound" in wanted and keep_graph and complete and "move-bound" not in traces
-            and results["move-bound"].get("holds") is None):
-        # the graph is finished but its cycles could not be lifted: a finite execution over
-        # the bound is found on the reduced graph all the same
-        over = _over_bound(e, move_bound_c, D, n)
-        if over is not None:
-            traces["move-bound"] = over
-    if "moves" in traces.get("move-bound", {}).get("detail", {}):  # an execution over the bound
-        results["move-bound"] = {"holds": False, "max_moves": None,
-                                 "bound": move_bound_c * D * n,
-                                 "reason": traces["move-bound"]["reason"]}
-    drift = _drift(e, move_bound_c * D * n) if e.stopped == "region" and keep_graph else None
-    if drift is not None:
-        report["drift"] = drift
-    for name, v in e.violations.items():  # always checked, so never requested: add them
-        if get_property(name).pseudo:
-            results.setdefault(name, {"holds": False, "reason": v.reason})
-    for name, trace in traces.items():
-        trace["cause"] = cause_of(e.algorithm, trace)
-        results[name]["cause"] = trace["cause"]
-    failing = [p.name for p in registered() if p.name in traces]
-    verdict = combine(failing, stopped)
-    report["verdict"] = verdict
-    if failing:
-        report["property"] = failing[0]
-        report["trace"] = traces[failing[0]]
+        if "moves" in traces.get("move-bound", {}).get("detail", {}):  # an execution over the bound
+            results["move-bound"] = {"holds": False, "max_moves": None,
+                                     "bound": move_bound_c * D * n,
+                                     "reason": traces["move-bound"]["reason"]}
+        for prop in on_graph:  # not decided: say why, as for the others
+            if results[prop.name].get("holds") is None and "reason" not in results[prop.name]:
+                if e.stopped == "settled":
+                    why = SETTLED
+                elif e.stopped is not None:
+                    why = f"search stopped ({e.stopped})"
+                else:  # the search finished, lifting its graph did not
+                    limit = (stopped or "a limit").split(" ", 1)[0]
+                    why = f"search stopped while lifting the reduced graph to check cycles ({limit})"
+                results[prop.name]["reason"] = why
+        drift = _drift(e, move_bound_c * D * n) if e.stopped == "region" and keep_graph else None
         if drift is not None:
-            report["trace"]["detail"]["drift"] = drift
-        report["reason"] = results[failing[0]]["reason"]
-        report["cause"] = report["trace"]["cause"]
-    elif verdict == INCOMPLETE:
-        report["reason"] = "drift" if drift is not None and stopped == "region" else stopped
-    report["seconds"] = time.perf_counter() - started
-    return report
+            report["drift"] = drift
+        for name, v in e.violations.items():  # always checked, so never requested: add them
+            if get_property(name).pseudo:
+                results.setdefault(name, {"holds": False, "reason": v.reason})
+        PROGRESS.doing = "naming the causes"
+        for name, trace in traces.items():
+            trace["cause"] = cause_of(e.algorithm, trace)
+            results[name]["cause"] = trace["cause"]
+        failing = named_first([p.name for p in registered() if p.name in traces])
+        verdict = combine(failing, stopped)
+        report["verdict"] = verdict
+        if failing:
+            report["property"] = failing[0]
+            report["trace"] = traces[failing[0]]
+            if drift is not None:
+                report["trace"]["detail"]["drift"] = drift
+            report["reason"] = results[failing[0]]["reason"]
+            report["cause"] = report["trace"]["cause"]
+        elif verdict == INCOMPLETE:
+            report["reason"] = "drift" if drift is not None and stopped == "region" else stopped
+        report["seconds"] = time.perf_counter() - started
+        return report
+    return report  # stopped by the watchdog (INCOMPLETE, time)
+
+
+@contextmanager
+def _watchdog(report: dict[str, Any], wanted: Sequence[str], started: float,
+              max_seconds: float) -> Iterator[list[Exploration]]:
+    """The search and the decisions of :func:`run_check`, under a :func:`deadline` of
+    ``max_seconds`` plus as much again (at least :data:`GRACE_SECONDS`): the engines read
+    their clock first, and the alarm only stops the user's code that does not return
+    (:mod:`gather_verify.watchdog`). When it does, ``report`` becomes INCOMPLETE with reason
+    ``time``, the states stored so far, and no property decided; the block yields a list
+    that holds the last search that returned."""
+    searched: list[Exploration] = []
+    PROGRESS.states = 0
+    try:
+        with deadline(max_seconds + max(max_seconds, GRACE_SECONDS)):
+            yield searched
+    except Overtime as stopped:
+        last = searched[-1] if searched else None
+        report.update(
+            verdict=INCOMPLETE, property=None, trace=None, cause=None, max_moves=None,
+            max_moves_infinite=False, ratio=None,
+            reason=f"time (the watchdog stopped your code: still running {stopped.seconds:g} s "
+                   "into the check)",
+            states=max(PROGRESS.states, last.states if last else 0),
+            transitions=last.transitions if last else 0, peak_rss_mb=round(rss_mb(), 1),
+            properties={p: {"holds": None, "reason": "search stopped (time)"} for p in wanted},
+            seconds=time.perf_counter() - started)
+        report.pop("drift", None)
 
 
 SETTLED = ("not looked for: the search stopped once every requested property had its "
@@ -480,12 +547,13 @@ class PropertyResult:
 class CheckReport:
     """What a check found. ``verdict`` is VERIFIED, VIOLATED, INCOMPLETE or NOT-APPLICABLE;
     ``property`` the first failing one (``failing``: every one), with its ``reason`` and
-    ``trace`` (a JSON object, docs/traces.md: it is a file format)."""
+    ``trace`` (a JSON object, docs/traces.md: it is a file format). Each field is named as
+    its JSON key, but for ``class_`` (JSON ``class``, a reserved word in Python)."""
 
     verdict: str
     property: str | None
     reason: str | None
-    configuration_class: str
+    class_: str
     n: int
     D: int
     states: int
@@ -512,10 +580,19 @@ class CheckReport:
         """Every property that fails."""
         return [name for name, r in self.properties.items() if r.holds is False]
 
+    @property
+    def configuration_class(self) -> str:
+        """Deprecated: ``class_``, as JSON's ``class``."""
+        import warnings
+
+        warnings.warn("CheckReport.configuration_class is deprecated: use class_ (JSON 'class')",
+                      DeprecationWarning, stacklevel=2)
+        return self.class_
+
     def to_json(self) -> dict[str, Any]:
         """The report as ``run_check`` returns it (and ``check --json --timings`` prints it)."""
         out = {
-            "class": self.configuration_class, "verdict": self.verdict, "property": self.property,
+            "class": self.class_, "verdict": self.verdict, "property": self.property,
             "reason": self.reason, "states": self.states, "transitions": self.transitions,
             "max_moves": self.max_moves, "max_moves_infinite": self.max_moves_infinite,
             "D": self.D, "n": self.n, "ratio": self.ratio, "bound": self.bound,
@@ -535,7 +612,7 @@ class CheckReport:
     def from_json(cls, data: dict[str, Any]) -> CheckReport:
         return cls(
             verdict=data["verdict"], property=data["property"], reason=data["reason"],
-            configuration_class=data["class"], n=data["n"], D=data["D"], states=data["states"],
+            class_=data["class"], n=data["n"], D=data["D"], states=data["states"],
             transitions=data["transitions"], max_moves=data["max_moves"],
             max_moves_infinite=data["max_moves_infinite"], ratio=data["ratio"],
             bound=data["bound"], trace=data["trace"],
@@ -578,7 +655,7 @@ def check(
     name = algorithm if isinstance(algorithm, str) else getattr(algorithm, "name", None)
     if not isinstance(name, str):
         raise InvalidInput("an algorithm object needs a name (a string attribute)")
-    report = run_check(configuration, algorithm=algorithm,  # type: ignore[arg-type]
+    report = run_check(configuration, algorithm=algorithm,
                        scheduler=scheduler, detection=detection, frames=frames,
                        properties=properties, reduction=reduction, max_states=max_states,
                        max_seconds=max_seconds, move_bound_c=move_bound_c, force=force,

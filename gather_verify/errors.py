@@ -1,5 +1,9 @@
-"""The two kinds of failure, kept apart (as Hypothesis keeps ``InvalidArgument`` apart).
+"""The project's exceptions share one root, and two kinds of failure are kept apart (as
+Hypothesis keeps ``InvalidArgument`` apart).
 
+- :class:`GatherVerifyError`: the root. Every exception class that gather-verify defines
+  derives from it, except :class:`gather_verify.watchdog.Overtime`, a ``BaseException``
+  on purpose (the user's ``except Exception`` must not swallow it).
 - :class:`InvalidInput`: the user's mistake (a bad node, an unknown algorithm, a
   malformed scenario or trace). The CLI prints its message as one line on stderr
   and exits 2. It subclasses ``ValueError`` so callers that caught ``ValueError``
@@ -14,8 +18,8 @@ A bug in the user's *algorithm* is neither: it is a counterexample (the
 Traceback (most recent call last):
 ...
 gather_verify.errors.InvalidInput: bad node 'x': expected x,y
->>> issubclass(InvalidInput, ValueError)
-True
+>>> issubclass(InvalidInput, ValueError), issubclass(InvalidInput, GatherVerifyError)
+(True, True)
 """
 
 from __future__ import annotations
@@ -23,8 +27,21 @@ from __future__ import annotations
 from pathlib import Path
 
 
-class InvalidInput(ValueError):
-    """The user's mistake: the message names the bad value and what to do instead."""
+class GatherVerifyError(Exception):
+    """The root of every exception gather-verify defines: ``except GatherVerifyError``
+    catches what the project raises on purpose, and nothing else.
+
+    Each subclass states its cause and its fix. Each also keeps the built-in base it had
+    before (``ValueError``, ``LookupError``, ``AssertionError``), so that code catching
+    those keeps working."""
+
+
+class InvalidInput(GatherVerifyError, ValueError):
+    """The user's mistake: a bad node, an unknown name, a malformed scenario, trace or file.
+
+    Cause: a value given on the command line or in an input file is not one gather-verify
+    accepts. Fix: the message names the bad value and what to give instead; the CLI prints
+    it as one line and exits 2."""
 
 
 MAX_INPUT_BYTES = 64 << 20
@@ -50,4 +67,4 @@ def read_input(path: str | Path, what: str) -> str:
         raise InvalidInput(f"{what} {path}: not UTF-8 text (byte {error.start})") from None
 
 
-__all__ = ["InvalidInput", "read_input"]
+__all__ = ["GatherVerifyError", "InvalidInput", "read_input"]

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import hashlib
 import sys
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from functools import lru_cache
 from importlib import metadata
 from pathlib import Path
@@ -147,3 +147,77 @@ def files_fingerprint(paths: Iterable[str]) -> str:
                                f"({error.strerror or error})") from None
         h.update(f"{path.name}\0{digest}\0".encode())
     return h.hexdigest()[:16]
+
+
+def sweep_fingerprint(algorithm_digest: str, world: str, properties: Iterable[str],
+                      extra: Iterable[str]) -> str:
+    """A sweep's fingerprint (``SweepSettings.fingerprint``): the algorithm's digest, with
+    the graph file of a ``graph:`` world, the source of every property file and the
+    ``--fingerprint-extra`` files (the algorithm's digest alone when there are none, as every
+    store before property digests)."""
+    from gather_verify.algorithms.loading import is_path_spec
+
+    extra = tuple(extra)
+    parts = [algorithm_digest]
+    if world.startswith("graph:"):  # the graph file is an input like the algorithm
+        parts.append(files_fingerprint((world.partition(":")[2],)))
+    parts += [source_fingerprint(p.rpartition(":")[0])["digest"]
+              for p in properties if is_path_spec(p)]
+    if not parts[1:] and not extra:
+        return parts[0]
+    parts.append(files_fingerprint(extra))
+    return hashlib.sha256("\0".join(parts).encode()).hexdigest()[:16]
+
+
+def file_algorithm_digest(spec: str) -> str:
+    """:func:`algorithm_fingerprint`'s digest of an algorithm in a file (``FILE.py:NAME``),
+    from the files alone, nothing imported: the file and the local modules it imports. The
+    same digest when ``NAME`` is defined in that file (a class or factory brought in from
+    elsewhere adds its own module's files, which only loading it can name)."""
+    from gather_verify.algorithms.loading import local_sources
+
+    path = Path(spec[:spec.find(".py:") + 3]).resolve()
+    if not path.is_file():
+        raise FileNotFoundError(path)
+    named = {name: file_digest(p) for name, p in _named(local_sources(path), path.parent)}
+    h = hashlib.sha256()
+    for name, digest in sorted(named.items()):
+        h.update(f"{name}\0{digest}\0".encode())
+    h.update(f"{spec}\0{version()}\0{own_digest()}".encode())
+    return h.hexdigest()[:16]
+
+
+def disk_fingerprint(settings: dict[str, Any], extra: Sequence[str] | None,
+                     folder: str | Path) -> str | None:
+    """The fingerprint the code and data on disk give a stored sweep's ``settings`` now (what
+    ``report`` compares with the stored one), or None when it cannot be told without running
+    code the database names: a module path, files outside ``folder`` (the database's) and the
+    working directory (the trust model, docs/reliability.md), unknown extra files; or when a
+    file is gone. A registered algorithm or an installed entry point is loaded, as anywhere."""
+    from gather_verify.algorithms.loading import confined_spec, is_path_spec, split_external
+
+    try:
+        algorithm, world = settings["algorithm"], settings.get("world", "grid")
+        properties, extra = list(settings.get("properties") or ()), list(extra or ())
+        if not all(isinstance(x, str) for x in (algorithm, world, *properties, *extra)):
+            return None
+
+        if is_path_spec(algorithm):
+            digest = file_algorithm_digest(confined_spec(algorithm, folder, "the database"))
+        elif split_external(algorithm) is not None:  # a module path: importing it runs code
+            return None
+        else:
+            digest = algorithm_fingerprint(algorithm)["digest"]
+        for spec in properties:
+            if is_path_spec(spec):
+                confined_spec(spec, folder, "the database")
+        files = [str(Path(f).resolve()) for f in extra]
+        if world.startswith("graph:"):
+            files.append(world.partition(":")[2])
+        for f in files:
+            if not Path(f).is_file() or not (Path(f).resolve().is_relative_to(
+                    Path(folder).resolve()) or Path(f).resolve().is_relative_to(Path.cwd())):
+                return None
+        return sweep_fingerprint(digest, world, properties, extra)
+    except Exception:  # noqa: BLE001 - a database of another's: never a reason to fail
+        return None

@@ -66,7 +66,7 @@ from typing import Any
 
 from gather_verify.algorithms.base import Algorithm, Unhandled
 from gather_verify.algorithms.moves import move_set
-from gather_verify.errors import InvalidInput
+from gather_verify.errors import GatherVerifyError, InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.classes import Classification, classify_configuration
 from gather_verify.model.configuration import Configuration
@@ -78,8 +78,15 @@ EXPLORE_MODES = ("all", "random")
 Move = tuple[Node, Node]
 
 
-class AdversaryError(AssertionError):
-    """A move the theorem's adversary needs is missing from a robot's move set."""
+class AdversaryError(GatherVerifyError, AssertionError):
+    """A move the theorem's adversary needs is missing from a robot's move set.
+
+    Cause: the adversary of the impossibility theorem, built for a configuration in U, needs
+    a move (or a split of a multiplicity) that a robot's move set does not hold: the move sets
+    are not equivariant, a bug in the model or the algorithm. Fix: check that the algorithm
+    answers from its view alone (no state, no randomness outside the view); if it does,
+    report the configuration and the algorithm (an ``AssertionError``: the proof's premise
+    failed)."""
 
 
 # -- the theorem's data ---------------------------------------------------------------

@@ -13,11 +13,15 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import pytest
 
+from gather_verify.errors import GatherVerifyError
 from gather_verify.scenario_tests import Case, cases
+
+if TYPE_CHECKING:
+    from _pytest._code.code import TerminalRepr
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -62,8 +66,12 @@ class ScenarioFile(pytest.File):
             yield item
 
 
-class ScenarioFailure(Exception):
-    """An expectation that did not hold (the message says why, with the trace)."""
+class ScenarioFailure(GatherVerifyError):
+    """An expectation of a scenario that did not hold (the message says why, with the trace).
+
+    Cause: the verdict of a scenario's case differs from the one the scenario expects.
+    Fix: read the trace in the message; correct the algorithm, or the expectation when the
+    algorithm is right."""
 
 
 class ScenarioItem(pytest.Item):
@@ -79,7 +87,7 @@ class ScenarioItem(pytest.Item):
             raise ScenarioFailure(outcome.message)
 
     def repr_failure(self, excinfo: pytest.ExceptionInfo[BaseException],
-                     style: Any = None) -> str:
+                     style: Any = None) -> str | TerminalRepr:
         if isinstance(excinfo.value, ScenarioFailure):
             return str(excinfo.value)
         return super().repr_failure(excinfo)

@@ -462,17 +462,18 @@ def readings_sweep(settings: Sequence[Any], readings: str, db_path: str, *, on: 
     return tables["table"], tables["switches"]
 
 
-def stored_robustness(db_path: str) -> dict[str, dict[str, Any]]:
-    """Per readings group stored in ``db_path``: its class x robustness ``table`` and its
-    ``switches`` (:func:`robustness_table`, :func:`switch_table`)."""
-    from gather_verify.sweeps.store import Store
+def stored_robustness(db_path: str, algorithm: str | None = None) -> dict[str, dict[str, Any]]:
+    """Per readings group stored in ``db_path`` (of the sweeps of ``algorithm``, when given):
+    its class x robustness ``table`` and its ``switches`` (:func:`robustness_table`,
+    :func:`switch_table`)."""
+    from gather_verify.sweeps.store import Store, algorithm_matches
 
     store = Store(db_path, read_only=True)
     try:
         groups: dict[str, list[tuple[dict[str, Any], list[dict[str, Any]]]]] = {}
         for i, settings in store.sweeps():
             group = (settings.get("extra") or {}).get("readings")
-            if group:
+            if group and algorithm_matches(settings.get("algorithm"), algorithm):
                 groups.setdefault(group, []).append((settings, store.results(i)))
     finally:
         store.close()

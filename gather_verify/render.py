@@ -17,6 +17,19 @@ from typing import Any
 
 from gather_verify.model.geometry import Node, bounding_box
 
+ROBOT_OFFSETS = {2: ((-1, 0), (1, 0)), 3: ((-1, -1), (1, -1), (0, 1))}
+CROWD_OFFSETS = ((-1, -1), (1, -1), (-1, 1), (1, 1), (0, 0), (0, -1), (0, 1), (-1, 0), (1, 0))
+
+
+def robot_spots(count: int, unit: float) -> tuple[float, list[tuple[float, float]]]:
+    """How ``count`` robots on one node are drawn: their radius and each one's offset from the
+    node's centre (one robot in the middle; two side by side; three in a triangle; more in
+    the corners and the middle of the cell), for a cell ``unit`` wide."""
+    if count == 1:
+        return unit * 0.3, [(0.0, 0.0)]
+    place = ROBOT_OFFSETS.get(count, CROWD_OFFSETS)
+    return unit * 0.21, [(place[j % len(place)][0] * unit * 0.21,
+                          place[j % len(place)][1] * unit * 0.21) for j in range(count)]
 
 def ascii_grid(robots: Sequence[Node], meeting: Iterable[Node],
                box: tuple[int, int, int, int] | None = None) -> str:
@@ -46,7 +59,7 @@ def _box(trace: dict[str, Any]) -> tuple[int, int, int, int]:
     nodes = [tuple(m) for m in trace["initial"]["meeting_nodes"]]
     for state in _states(trace):
         nodes += [tuple(r["node"]) for r in state]
-    return bounding_box(nodes)  # type: ignore[arg-type]
+    return bounding_box(nodes)
 
 
 def _event_text(event: dict[str, Any]) -> str:
@@ -66,7 +79,7 @@ def render_trace(trace: dict[str, Any]) -> str:
         if trace.get("cycle_start") == k:
             out.append("-- the cycle starts here --")
         robots = [tuple(r["node"]) for r in state]
-        out.append(ascii_grid(robots, meeting, box))  # type: ignore[arg-type]
+        out.append(ascii_grid(robots, meeting, box))
         pending = [f"r{i}->{tuple(r['pending'])}" for i, r in enumerate(state) if r["pending"]]
         if pending:
             out.append("pending: " + " ".join(pending))
@@ -206,29 +219,24 @@ def grid_svg(state: Sequence[dict[str, Any]], meeting: Sequence[Node],
                        f'marker-end="url(#{uid}-m-done)"/>')
     by_node: dict[tuple[int, int], list[int]] = {}
     for i, r in enumerate(state):
-        by_node.setdefault(tuple(r["node"]), []).append(i)  # type: ignore[arg-type]
-    offsets = {2: ((-1, 0), (1, 0)), 3: ((-1, -1), (1, -1), (0, 1))}
-    corners = ((-1, -1), (1, -1), (-1, 1), (1, 1), (0, 0), (0, -1), (0, 1), (-1, 0), (1, 0))
+        by_node.setdefault(tuple(r["node"]), []).append(i)
     for v, ids in by_node.items():
         cx, cy = at(v)
-        many = len(ids) > 1
-        radius = cell * (0.21 if many else 0.3)
-        for j, i in enumerate(ids):
-            place = offsets.get(len(ids), corners)
-            dx, dy = place[j % len(place)] if many else (0, 0)
-            x, y = cx + dx * cell * 0.21, cy + dy * cell * 0.21
-            out.append(f'<circle cx="{x:g}" cy="{y:g}" r="{radius:g}" fill="{PALETTE[i % 8]}" '
+        radius, spots = robot_spots(len(ids), cell)
+        for i, (dx, dy) in zip(ids, spots, strict=True):
+            px, py = cx + dx, cy + dy
+            out.append(f'<circle cx="{px:g}" cy="{py:g}" r="{radius:g}" fill="{PALETTE[i % 8]}" '
                        'stroke="#fff"/>')
             if cell >= 20:
                 size = max(7, round(radius * (0.95 if i < 10 else 0.75)))
-                out.append(f'<text x="{x:g}" y="{y + size * 0.35:g}" font-size="{size}" '
+                out.append(f'<text x="{px:g}" y="{py + size * 0.35:g}" font-size="{size}" '
                            f'font-weight="bold" fill="#fff" text-anchor="middle">r{i}</text>')
     for i, r in enumerate(state):
         if r["pending"]:
             (ax, ay), (bx, by) = at(r["node"]), at(r["pending"])
             d = max(1.0, ((bx - ax) ** 2 + (by - ay) ** 2) ** 0.5)
             ux, uy = (bx - ax) / d, (by - ay) / d
-            stop = 0.3 if tuple(r["pending"]) in by_node else 0.08  # type: ignore[arg-type]
+            stop = 0.3 if tuple(r["pending"]) in by_node else 0.08
             out.append(f'<line x1="{ax + ux * cell * 0.28:g}" y1="{ay + uy * cell * 0.28:g}" '
                        f'x2="{bx - ux * cell * stop:g}" y2="{by - uy * cell * stop:g}" '
                        f'stroke="{PALETTE[i % 8]}" stroke-width="2.5" stroke-dasharray="5 2" '
@@ -268,22 +276,46 @@ def trace_svg(trace: dict[str, Any]) -> str:
     meeting node with a red border), robots labelled with their identity, pending moves as
     dashed arrows with heads, the moves just made as grey arrows; each panel captioned with
     its event, stale snapshots, the class, the phase and the target (captions wrapped, never
-    clipped); the failing property and its reason above, wrapped too."""
+    clipped); the failing property and its reason above, wrapped too. A finite world's trace
+    is drawn from the world's drawing (:func:`world_svg`)."""
     from gather_verify.viewer import annotate
 
     data = annotate(trace)
     trace = data["trace"]
+    if "drawing" in data:
+        return _storyboard(data, *_world_panels(data))
     meeting = [tuple(m) for m in trace["initial"]["meeting_nodes"]]
     box = tuple(data["box"])
     x0, y0, x1, y1 = box
     cell = max(22, min(40, 220 // max(x1 - x0, y1 - y0, 1)))
     states = _states(trace)
-    _, gw, gh = grid_svg(states[0], meeting, box, cell)  # type: ignore[arg-type]
+    _, gw, gh = grid_svg(states[0], meeting, box, cell)
+
+    def panel(k: int, ox: float, oy: float) -> str:
+        event = trace["steps"][k - 1]["event"] if k else None
+        info = data["states"][k]
+        body, _, _ = grid_svg(states[k], meeting, box, cell,
+                              target=tuple(info["target"]) if info.get("target") else None,
+                              event=event, ox=ox, oy=oy, uid="s")
+        return body
+
+    sub = (f"{trace['algorithm']} / {trace['scheduler']} / {trace['detection']} / frames "
+           f"{trace['frames']}: {len(states) - 1} events; robot ri keeps its identity; "
+           "dashed arrow = pending move (decided at a Look, not done yet)")
+    return _storyboard(data, panel, gw, gh, [_caption(data, k) for k in range(len(states))], sub,
+                       _defs("s"))
+
+
+def _storyboard(data: dict[str, Any], panel: Any, gw: float, gh: float,
+                captions: list[tuple[str, list[str]]], sub_text: str, defs: str) -> str:
+    """Panels of ``gw`` x ``gh`` (``panel(k, ox, oy)`` draws state k there) in rows, each with
+    its caption, under the failing property and ``sub_text``."""
+    trace = data["trace"]
+    n_states = len(captions)
     pw = max(gw, 210) + 12
     chars = int((pw - 12) // CHAR)
-    captions = [_caption(data, k) for k in range(len(states))]
-    cols = min(len(states), max(1, 1200 // int(pw)))
-    rows = (len(states) + cols - 1) // cols
+    cols = min(n_states, max(1, 1200 // int(pw)))
+    rows = (n_states + cols - 1) // cols
     line_h = FONT * 1.3
     wrapped = [(wrap(h, chars), [x for n in notes for x in wrap(n, chars)]) for h, notes in captions]
     row_h = []
@@ -292,15 +324,12 @@ def trace_svg(trace: dict[str, Any]) -> str:
         row_h.append(gh + 10 + line_h * max(len(h) + len(n) for h, n in part) + 8)
     width = max(cols * pw + 8, 560)
     title = wrap(f"{trace['property']} fails: {trace.get('reason', '')}", int((width - 12) // (0.62 * 13)))
-    sub = wrap(f"{trace['algorithm']} / {trace['scheduler']} / {trace['detection']} / frames "
-               f"{trace['frames']}: {len(states) - 1} events; robot ri keeps its identity; "
-               "dashed arrow = pending move (decided at a Look, not done yet)",
-               int((width - 12) // CHAR))
+    sub = wrap(sub_text, int((width - 12) // CHAR))
     top = 8 + 13 * 1.3 * len(title) + line_h * len(sub) + 6
     height = top + sum(row_h) + 4
     out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:g}" height="{height:g}" '
            f'viewBox="0 0 {width:g} {height:g}" font-family="DejaVu Sans Mono, Menlo, Consolas, '
-           f'monospace" font-size="{FONT}">', _defs("s"),
+           f'monospace" font-size="{FONT}">', defs,
            '<rect width="100%" height="100%" fill="#fff"/>',
            _text_lines(6, 20, title, 13, font_weight="bold", fill="#b3261e"),
            _text_lines(6, 20 + 13 * 1.3 * len(title), sub, FONT, fill="#555")]
@@ -308,19 +337,14 @@ def trace_svg(trace: dict[str, Any]) -> str:
     for r in range(rows):
         for c in range(cols):
             k = r * cols + c
-            if k >= len(states):
+            if k >= n_states:
                 break
             ox = 4 + c * pw
             in_cycle = trace.get("cycle_start") is not None and k >= trace["cycle_start"]
             frame = 'stroke="#6a3dba" stroke-width="2"' if in_cycle else 'stroke="#ccc"'
             out.append(f'<rect x="{ox + 2:g}" y="{oy:g}" width="{pw - 4:g}" '
                        f'height="{row_h[r] - 6:g}" rx="4" fill="none" {frame}/>')
-            event = trace["steps"][k - 1]["event"] if k else None
-            info = data["states"][k]
-            body, _, _ = grid_svg(states[k], meeting, box, cell,  # type: ignore[arg-type]
-                                  target=tuple(info["target"]) if info.get("target") else None,
-                                  event=event, ox=ox + (pw - gw) / 2, oy=oy + 4, uid="s")
-            out.append(body)
+            out.append(panel(k, ox + (pw - gw) / 2, oy + 4))
             head, notes = wrapped[k]
             y = oy + gh + 4 + FONT + 4
             out.append(_text_lines(ox + 8, y, head, FONT, fill="#111"))
@@ -332,13 +356,27 @@ def trace_svg(trace: dict[str, Any]) -> str:
     return "\n".join(out) + "\n"
 
 
+
+
 def thumbnail_svg(trace: dict[str, Any], cell: int = 26, uid: str = "t") -> str:
     """A small picture of a counterexample (for reports): the initial and the last
     configuration side by side, robots coloured by identity, pending moves as arrows
     (``uid`` keeps the arrowhead ids of several thumbnails on one page apart)."""
+    from gather_verify.viewer import annotate_world, is_world_trace
+
+    if is_world_trace(trace):
+        data = annotate_world(trace)
+        pic = WorldPicture(data["drawing"], 130, cell, 8, names=False)
+        first, w, h = world_svg(pic, data, 0, uid=uid)
+        final, _, _ = world_svg(pic, data, len(data["robots"]) - 1, ox=w + 18, uid=uid)
+        width, mid = 2 * w + 18, w + 9
+        arrow = (f'<line x1="{_f(mid - 6)}" y1="{_f(h / 2)}" x2="{_f(mid + 4)}" y2="{_f(h / 2)}" '
+                 f'stroke="#555" stroke-width="1.5" marker-end="url(#{uid}-m-done)"/>')
+        return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{_f(width)}" height="{_f(h)}" '
+                f'viewBox="0 0 {_f(width)} {_f(h)}">{_defs(uid)}{first}{arrow}{final}</svg>')
     states = _states(trace)
     meeting = [tuple(m) for m in trace["initial"]["meeting_nodes"]]
-    box = bounding_box([*meeting, *(tuple(r[key]) for st in states for r in st  # type: ignore[misc]
+    box = bounding_box([*meeting, *(tuple(r[key]) for st in states for r in st
                                     for key in ("node", "pending") if r[key])])
     first, w, h = grid_svg(states[0], meeting, box, cell, uid=uid, labels=False)
     last, _, _ = grid_svg(states[-1], meeting, box, cell, ox=w + 18, uid=uid, labels=False,
@@ -350,5 +388,264 @@ def thumbnail_svg(trace: dict[str, Any], cell: int = 26, uid: str = "t") -> str:
             f'viewBox="0 0 {width:g} {h:g}">{_defs(uid)}{first}{arrow}{last}</svg>')
 
 
+# -- finite worlds -------------------------------------------------------------------------
+# A finite world's trace carries the world's drawing (gather_verify.worlds.base.World.drawing):
+# where each node is, how each edge is drawn (and whether it wraps), the line around the
+# world. The pictures below draw from it alone, as the viewer does, and never ask which world
+# it is.
+
+LIGHTS = ("#ffffff", "#ffd23f", "#3fc1ff", "#ff6b6b", "#8fdc5a", "#c39bff", "#ff9f1c", "#a0a0a0")
+"""A robot's light (a numbered badge on its disc) by colour number, the same as the viewer's."""
+
+
+def _f(x: float) -> str:
+    """A coordinate as the SVG writes it (two decimals at most: the same bytes every run)."""
+    out = round(x, 2)
+    return f"{0.0 if out == 0 else out:g}"
+
+
+def trim(line: Sequence[tuple[float, float]], start: float, end: float
+         ) -> list[tuple[float, float]]:
+    """A polyline shortened by ``start`` at its beginning and ``end`` at its end (never to
+    less than 4 long).
+
+    >>> trim([(0, 0), (10, 0), (10, 10)], 5, 5)
+    [(5.0, 0.0), (10, 0), (10.0, 5.0)]
+    """
+    lens = [((b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2) ** 0.5 for a, b in zip(line, line[1:],
+                                                                             strict=False)]
+    total = sum(lens)
+    if start + end > total - 4:
+        f = max(0.0, total - 4) / ((start + end) or 1)
+        start, end = start * f, end * f
+
+    def point_at(s: float) -> tuple[float, float]:
+        j = 0
+        while j < len(lens) - 1 and s > lens[j]:
+            s -= lens[j]
+            j += 1
+        t = min(1.0, s / lens[j]) if lens[j] else 0.0
+        (ax, ay), (bx, by) = line[j], line[j + 1]
+        return ax + (bx - ax) * t, ay + (by - ay) * t
+
+    out = [point_at(start)]
+    acc = 0.0
+    for j in range(1, len(line) - 1):
+        acc += lens[j - 1]
+        if start < acc < total - end:
+            out.append(line[j])
+    out.append(point_at(total - end))
+    return out
+
+
+class WorldPicture:
+    """A world's drawing placed in pixels: ``unit`` pixels to the drawing's unit, as many as
+    fit the drawing in ``size`` pixels, within ``[low, high]``; nodes named when ``names``
+    and there is room. The same geometry as the viewer's."""
+
+    def __init__(self, drawing: dict[str, Any], size: int = 220, high: int = 56, low: int = 14,
+                 names: bool = True):
+        self.drawing = drawing
+        nodes = drawing["nodes"]
+        pts = [(n["x"], n["y"]) for n in nodes]
+        pts += [tuple(p) for e in drawing["edges"] for line in e.get("lines", ()) for p in line]
+        if drawing["outline"]:
+            pts += [tuple(p) for p in drawing["outline"]["points"]]
+        xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+        self.x0, self.y1 = min(xs), max(ys)
+        span = max(max(xs) - self.x0, self.y1 - min(ys), 1)
+        self.unit = max(low, min(high, int(size // span)))
+        self.names = names and self.unit >= 22
+        self.margin = self.unit * 0.5 + (16 if self.names else 4)
+        self.width = 2 * self.margin + (max(xs) - self.x0) * self.unit
+        self.height = 2 * self.margin + (self.y1 - min(ys)) * self.unit
+        self.routes: dict[tuple[int, int], list[list[tuple[float, float]]]] = {}
+        for e in drawing["edges"]:
+            a, b = e["ends"]
+            lines = [[self.place(p) for p in line] for line in e.get("lines") or
+                     [[(nodes[a]["x"], nodes[a]["y"]), (nodes[b]["x"], nodes[b]["y"])]]]
+            self.routes[a, b] = lines
+            self.routes[b, a] = [line[::-1] for line in lines[::-1]]
+
+    def place(self, p: Sequence[float]) -> tuple[float, float]:
+        return (self.margin + (p[0] - self.x0) * self.unit,
+                self.margin + (self.y1 - p[1]) * self.unit)
+
+    def at(self, v: int) -> tuple[float, float]:
+        node = self.drawing["nodes"][v]
+        return self.place((node["x"], node["y"]))
+
+    def route(self, a: int, b: int, start: float, end: float) -> list[list[tuple[float, float]]]:
+        """The edge from ``a`` to ``b`` as lines, ``start`` pixels off ``a``, ``end`` off ``b``."""
+        lines = self.routes.get((a, b)) or [[self.at(a), self.at(b)]]
+        return [trim(line, start if j == 0 else 0, end if j == len(lines) - 1 else 0)
+                for j, line in enumerate(lines)]
+
+
+def _poly(line: Sequence[tuple[float, float]], ox: float, oy: float, attrs: str) -> str:
+    if len(line) == 2:
+        (ax, ay), (bx, by) = line
+        return (f'<line x1="{_f(ax + ox)}" y1="{_f(ay + oy)}" x2="{_f(bx + ox)}" '
+                f'y2="{_f(by + oy)}" {attrs}/>')
+    points = " ".join(f"{_f(x + ox)},{_f(y + oy)}" for x, y in line)
+    return f'<polyline points="{points}" fill="none" {attrs}/>'
+
+
+def world_svg(pic: WorldPicture, data: dict[str, Any], k: int, ox: float = 0, oy: float = 0,
+              uid: str = "w") -> tuple[str, float, float]:
+    """State ``k`` of an annotated world trace (:func:`gather_verify.viewer.annotate_world`) as
+    SVG elements at ``(ox, oy)``: the outline (a border, or a dashed seam), the edges (those
+    that wrap dashed), the nodes (visited ones green), their names, the node the failing
+    property names (a red dashed ring), meeting nodes, the moves of the event that led here
+    (grey), the robots (labelled with their identity, side by side on a shared node with the
+    count, a numbered light badge), pending moves as dashed arrows along their edge. Returns
+    (elements, width, height)."""
+    d, u = pic.drawing, pic.unit
+    nodes = d["nodes"]
+    names = [n["text"] for n in nodes]
+    trace = data["trace"]
+    state, info = data["robots"][k], data["states"][k]
+    out = []
+
+    def at(v: int) -> tuple[float, float]:
+        x, y = pic.at(v)
+        return x + ox, y + oy
+
+    if d["outline"]:
+        o = d["outline"]
+        points = " ".join(f"{_f(x + ox)},{_f(y + oy)}" for x, y in map(pic.place, o["points"]))
+        style = ('stroke="#9b87d6" stroke-width="1.5" stroke-dasharray="6 4" class="outline seam"'
+                 if o["wraps"] else 'stroke="#777" stroke-width="2.5" class="outline border"')
+        out.append(f'<polygon points="{points}" fill="none" {style}><title>{_esc(o["title"])}'
+                   '</title></polygon>')
+    for e in d["edges"]:
+        style = ('stroke="#9b87d6" stroke-width="2" stroke-dasharray="4 3" class="edge wrap"'
+                 if e.get("wraps") else 'stroke="#cfcfcf" stroke-width="2.5" class="edge"')
+        out += [_poly(line, ox, oy, style) for line in pic.routes[tuple(e["ends"])]]
+    visited = set(info["visited"] or ())
+    for v in range(len(nodes)):
+        x, y = at(v)
+        fill, stroke = ("#bfe3c0", "#3d8b40") if v in visited else ("#fff", "#9a9a9a")
+        out.append(f'<circle cx="{_f(x)}" cy="{_f(y)}" r="{_f(max(2.5, u * 0.1))}" fill="{fill}" '
+                   f'stroke="{stroke}" stroke-width="1.2" class="node'
+                   f'{" visited" if v in visited else ""}" data-node="{_attr(names[v])}"/>')
+        if pic.names:  # on the side the drawing gives (away from the edges)
+            (dx, dy), off = nodes[v]["side"], u * 0.36 + 8
+            out.append(f'<text x="{_f(x + dx * off)}" y="{_f(y - dy * off + 3)}" '
+                       f'font-size="9" fill="#777" text-anchor="middle">{_esc(names[v])}</text>')
+    if data.get("focus") is not None:
+        x, y = at(data["focus"])
+        out.append(f'<circle cx="{_f(x)}" cy="{_f(y)}" r="{_f(u * 0.46)}" fill="none" '
+                   'stroke="#b3261e" stroke-width="2" stroke-dasharray="4 2" class="focus"/>')
+    s = u * 0.36
+    for m in trace["initial"]["meeting_nodes"]:
+        x, y = at(m)
+        out.append(f'<rect x="{_f(x - s)}" y="{_f(y - s)}" width="{_f(2 * s)}" height="{_f(2 * s)}" '
+                   'rx="2" fill="#ffe9a8" stroke="#c9a227" stroke-width="1.2" class="meeting"/>')
+    event = trace["steps"][k - 1]["event"] if k else None
+    if event and event["kind"] != "look":
+        for _, a, b in event["moves"]:
+            if a == b:
+                continue
+            lines = pic.route(a, b, 0, u * 0.38)
+            out += [_poly(line, ox, oy, 'stroke="#999" stroke-width="2"' +
+                          (f' marker-end="url(#{uid}-m-done)"' if j == len(lines) - 1 else ""))
+                    for j, line in enumerate(lines)]
+    by_node: dict[int, list[int]] = {}
+    for i, r in enumerate(state):
+        by_node.setdefault(r["node"], []).append(i)
+    colours = info["colours"]
+    for v, ids in by_node.items():
+        cx, cy = at(v)
+        radius, spots = robot_spots(len(ids), u)
+        for i, (dx, dy) in zip(ids, spots, strict=True):
+            x, y = cx + dx, cy + dy
+            out.append(f'<circle cx="{_f(x)}" cy="{_f(y)}" r="{_f(radius)}" '
+                       f'fill="{PALETTE[i % 8]}" stroke="#fff" class="robot" data-robot="{i}" '
+                       f'data-node="{_attr(names[v])}"/>')
+            if u >= 20:
+                size = max(7, round(radius * (0.95 if i < 10 else 0.75)))
+                out.append(f'<text x="{_f(x)}" y="{_f(y + size * 0.35)}" font-size="{size}" '
+                           f'font-weight="bold" fill="#fff" text-anchor="middle">r{i}</text>')
+            if colours is not None:
+                c, b = colours[i], max(3.5, radius * 0.45)
+                out.append(f'<circle cx="{_f(x + radius * 0.8)}" cy="{_f(y - radius * 0.8)}" '
+                           f'r="{_f(b)}" fill="{LIGHTS[c % len(LIGHTS)]}" stroke="#222" '
+                           f'stroke-width="0.8" class="light" data-colour="{c}"/>')
+                if u >= 20:
+                    out.append(f'<text x="{_f(x + radius * 0.8)}" y="{_f(y - radius * 0.8 + 2.5)}" '
+                               f'font-size="{max(6, round(b * 1.2))}" fill="#111" '
+                               f'text-anchor="middle">{c}</text>')
+        if len(ids) > 1:
+            out.append(f'<text x="{_f(cx + u * 0.42)}" y="{_f(cy - u * 0.3)}" font-size="10" '
+                       'font-weight="bold" fill="#333" stroke="#fff" stroke-width="2.5" '
+                       f'paint-order="stroke" text-anchor="middle" class="count">'
+                       f'\u00d7{len(ids)}</text>')
+    for i, r in enumerate(state):
+        if r["pending"] is None or r["pending"] == r["node"]:
+            continue
+        stop = 0.3 if r["pending"] in by_node else 0.08
+        lines = pic.route(r["node"], r["pending"], u * 0.28, u * stop)
+        for j, line in enumerate(lines):
+            last = j == len(lines) - 1
+            out.append(_poly(line, ox, oy, f'stroke="{PALETTE[i % 8]}" stroke-width="2.5" '
+                             f'stroke-dasharray="5 2" class="{"pending" if last else "pending-part"}"'
+                             + (f' marker-end="url(#{uid}-m{i % 8})"' if last else "")))
+    return "\n".join(out), pic.width, pic.height
+
+
+def _world_caption(data: dict[str, Any], k: int) -> tuple[str, list[str]]:
+    """The head line of panel ``k`` of a world trace and its notes (the cycle, stale
+    snapshots, robots sharing a node, the nodes visited)."""
+    trace, names = data["trace"], [n["text"] for n in data["drawing"]["nodes"]]
+    head = "initial" if k == 0 else data["events"][k - 1]["text"]
+    notes = []
+    if trace.get("cycle_start") == k:
+        notes.append(f"cycle starts (state {len(trace['steps'])} = state {k})")
+    if k:
+        for d in data["events"][k - 1]["decisions"]:
+            if d["stale"]:
+                changed = [f"{', '.join(d['moved_since'])} moved"] if d["moved_since"] else []
+                changed += [f"{', '.join(d['relit_since'])} changed colour"] \
+                    if d["relit_since"] else []
+                notes.append(f"STALE: r{d['robot']} moves on its Look at event {d['look']}; "
+                             f"since then {' and '.join(changed)}")
+    at: dict[int, list[str]] = {}
+    for i, r in enumerate(data["robots"][k]):
+        at.setdefault(r["node"], []).append(f"r{i}")
+    notes += [f"{' '.join(ids)} on {names[v]}" for v, ids in at.items() if len(ids) > 1]
+    visited = data["states"][k]["visited"]
+    if visited is not None:
+        notes.append(f"visited {len(visited)}/{len(names)}")
+    return f"{k}: {head}", notes
+
+
+def _world_panels(data: dict[str, Any]) -> tuple[Any, float, float, list, str, str]:
+    """What :func:`_storyboard` needs for a world trace."""
+    pic = WorldPicture(data["drawing"])
+    trace, world = data["trace"], data["world"]
+
+    def panel(k: int, ox: float, oy: float) -> str:
+        return world_svg(pic, data, k, ox, oy, uid="s")[0]
+
+    seen = "" if world["visibility"] is None else f" / visibility {world['visibility']}"
+    lights = "" if world["lights"] == "1" else f" / lights {world['lights']}"
+    sub = (f"{world['name']} / task {world['task']} / {trace['algorithm']} / "
+           f"{trace['scheduler']} / {trace['detection']} / frames {trace['frames']}{seen}"
+           f"{lights}: {len(trace['steps'])} events; robot ri keeps its identity; dashed arrow "
+           "= pending move (decided at a Look, not done yet)"
+           + ("; green node = visited so far" if any(s["visited"] for s in data["states"])
+              else "")
+           + ("; red dashed ring = the node the property names"
+              if data.get("focus") is not None else ""))
+    captions = [_world_caption(data, k) for k in range(len(data["robots"]))]
+    return panel, pic.width, pic.height, captions, sub, _defs("s")
+
+
 def _esc(text: str) -> str:
     return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+
+
+def _attr(text: str) -> str:
+    """Text for an attribute value in double quotes."""
+    return _esc(text).replace('"', "&quot;")

@@ -1,6 +1,6 @@
 """Replay: re-execute a trace from scratch and confirm its violation independently.
 
-Uses only the algorithm, :mod:`moves` and the schedulers (never the
+Uses only the algorithm, :mod:`~gather_verify.algorithms.moves` and the schedulers (never the
 explorer): every event must be one the scheduler offers from the previous
 state, every recorded state must be the one reached, and the property's
 failure is re-established on the replayed states by the property object itself
@@ -34,8 +34,13 @@ from schedulers import State, configuration_of, get_scheduler, initial_state
 
 
 class NoLongerReproduces(InvalidInput):
-    """Every step of the trace is a legal execution of the robots, but the algorithm no longer
-    takes it (it was changed since the trace was written): ``replay`` exits 5."""
+    """The trace no longer reproduces: ``replay`` exits 5.
+
+    Cause: the algorithm, scheduler or property changed since the trace was written. Either
+    every step is a legal execution of the robots but the algorithm no longer takes one of
+    them, or the trace is still taken but its property no longer fails at its end (the
+    message says which). Fix: run ``check`` again for a fresh trace; if the change was not
+    meant, the trace points at what it altered."""
 
 
 @dataclass

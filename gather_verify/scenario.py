@@ -49,7 +49,10 @@ EXPECTATION_FIELDS = {"algorithm", "scheduler", "verdict", "property", "max_move
 
 
 class ScenarioError(InvalidInput):
-    """A scenario file is malformed; the message names the file and the problem."""
+    """A scenario file is malformed; the message names the file and the problem.
+
+    Cause: a missing or unknown key, a value of the wrong type, an unknown algorithm or
+    scheduler name. Fix: correct the file as the message says (docs: the scenario format)."""
 
 
 @dataclass(frozen=True)

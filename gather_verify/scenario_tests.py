@@ -98,7 +98,10 @@ def expectation_mismatch(expectation: Expectation, report: dict[str, Any]) -> st
         return (f"expected {_pair(want)}, got {_pair(got)}"
                 + (f": {report['reason']}" if report.get("reason") else ""))
     if expectation.max_moves is not None and report.get("max_moves") != expectation.max_moves:
-        return f"expected max_moves {expectation.max_moves}, got {report.get('max_moves')}"
+        got = report.get("max_moves")
+        return (f"expected max_moves {expectation.max_moves}, got "
+                + (str(got) if got is not None else "no move count (the graph was not "
+                   "finished, or has a cycle with moves)"))
     return None
 
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 import json
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 from gather_verify.errors import InvalidInput, read_input
 from gather_verify.model.configuration import Configuration, _as_node
@@ -49,7 +49,7 @@ def build_trace(initial: Configuration, algorithm: str, scheduler: str, detectio
     }
 
 
-def _fail(message: str) -> None:
+def _fail(message: str) -> NoReturn:
     raise InvalidInput(f"bad trace: {message}")
 
 
@@ -64,7 +64,7 @@ def parse_state(raw: object, n: int, where: str) -> State:
     if not isinstance(raw, list) or len(raw) != n:
         _fail(f"{where}: expected a list of {n} robots")
     out = []
-    for r in raw:  # type: ignore[union-attr]
+    for r in raw:
         if not isinstance(r, dict) or set(r) != {"node", "pending"}:
             _fail(f"{where}: each robot is an object with 'node' and 'pending'")
         p = r["pending"]
@@ -75,9 +75,9 @@ def parse_state(raw: object, n: int, where: str) -> State:
 def parse_event(raw: object, where: str) -> Event:
     if not isinstance(raw, dict) or set(raw) != {"kind", "robots", "moves"}:
         _fail(f"{where}: an event is an object with 'kind', 'robots' and 'moves'")
-    if raw["kind"] not in KINDS:  # type: ignore[index]
+    if raw["kind"] not in KINDS:
         _fail(f"{where}: event kind must be one of {', '.join(KINDS)}")
-    robots, moves = raw["robots"], raw["moves"]  # type: ignore[index]
+    robots, moves = raw["robots"], raw["moves"]
     if not isinstance(robots, list) or not all(isinstance(i, int) and not isinstance(i, bool)
                                                for i in robots):
         _fail(f"{where}: 'robots' must be a list of robot indices")
@@ -85,7 +85,7 @@ def parse_event(raw: object, where: str) -> Event:
             isinstance(m, list) and len(m) == 3 and isinstance(m[0], int)
             and not isinstance(m[0], bool) for m in moves):
         _fail(f"{where}: 'moves' must be a list of [robot, [x, y], [x, y]]")
-    return Event(raw["kind"], tuple(robots),  # type: ignore[index]
+    return Event(raw["kind"], tuple(robots),
                  tuple((int(i), _node(a, "node"), _node(b, "node")) for i, a, b in moves))
 
 
@@ -109,6 +109,9 @@ def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
 
         data = {**data, "algorithm": confined_spec(data["algorithm"],
                                                    Path(source).resolve().parent, str(source))}
+    if isinstance(data, dict) and "format" not in data and isinstance(data.get("world"), str):
+        _fail(f"a trace of the finite world {data['world'][:80]!r}: only traces of Z² are read "
+              "here (check --world ... --html FILE or --svg FILE draws a world's counterexample)")
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         _fail(f"not a {FORMAT} object")
     if data.get("version") != VERSION:

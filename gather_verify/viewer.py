@@ -29,12 +29,14 @@ from __future__ import annotations
 import contextlib
 import html
 import json
+import math
 from importlib import resources
 from typing import Any
 
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import bounding_box
-from gather_verify.trace import load_trace
+from gather_verify.trace import KINDS, load_trace
 
 MAX_ANNOTATED_STATES = 5000
 """Longer traces are shown without move sets (they cost one view per robot and frame)."""
@@ -86,6 +88,7 @@ def _state_info(algorithm: Any, trace: dict[str, Any], robots: list[tuple[int, i
                 with_moves: bool) -> dict[str, Any]:
     """Class, target, phase, guard and move sets of one configuration (None where unknown)."""
     from gather_verify.algorithms import AlgorithmCrash, AlgorithmError, Unhandled, target_of
+    from gather_verify.algorithms.base import phase_of
     from gather_verify.algorithms.moves import frames_for, move_sets
     from gather_verify.model.classes import classify_configuration
 
@@ -106,13 +109,15 @@ def _state_info(algorithm: Any, trace: dict[str, Any], robots: list[tuple[int, i
     if plan is not None:
         try:
             p = plan(conf)
-            out["phase"], out["guard"] = p.phase, _node(p.guard)
+            out["phase"], out["guard"] = p.phase, _node(getattr(p, "guard", None))
         except Unhandled as error:
             out["phase"], out["unhandled"] = "no rule", str(error)
+    elif getattr(algorithm, "phase", None) is not None:  # an algorithm that names its rules
+        out["phase"] = phase_of(algorithm, conf)
     if with_moves:
         try:
             sets = move_sets(algorithm, conf, trace["detection"], frames_for(trace["frames"]))
-            out["moves"] = {f"{v[0]},{v[1]}": sorted(_node(d) for d in s)  # type: ignore[type-var]
+            out["moves"] = {f"{v[0]},{v[1]}": sorted(_node(d) for d in s)
                             for v, s in sets.items()}
         except Unhandled as error:
             out["unhandled"] = out["unhandled"] or str(error)
@@ -131,7 +136,7 @@ def _look_before(steps: list[dict[str, Any]], robot: int, k: int, lo: int) -> in
 
 
 def _positions(state: list[dict[str, Any]]) -> list[tuple[int, int]]:
-    return sorted(tuple(r["node"]) for r in state)  # type: ignore[misc]
+    return sorted(tuple(r["node"]) for r in state)
 
 
 def _decision(states: list, robot: int, look: int, now: int) -> dict[str, Any]:
@@ -144,14 +149,33 @@ def _decision(states: list, robot: int, look: int, now: int) -> dict[str, Any]:
             "stale": _positions(seen) != _positions(now_state), "moved_since": moved}
 
 
+def provides(algorithm: Any) -> dict[str, bool]:
+    """Which of the paper's rows an algorithm gives the viewer: a ``phase`` (its ``plan``'s,
+    or its own ``phase``), a ``guard`` (a ``plan`` with one), a ``target`` meeting node.
+    Nothing for an algorithm that was not loaded: the page then shows none of these rows.
+
+    >>> from gather_verify.algorithms import get_algorithm
+    >>> provides(get_algorithm("paper")), provides(get_algorithm("go-to-target"))
+    ({'phase': True, 'guard': True, 'target': True}, {'phase': False, 'guard': False, 'target': True})
+    """
+    if algorithm is None:
+        return {"phase": False, "guard": False, "target": False}
+    plan = getattr(algorithm, "plan", None) is not None
+    return {"phase": plan or getattr(algorithm, "phase", None) is not None, "guard": plan,
+            "target": getattr(algorithm, "target", None) is not None}
+
+
 def annotate(trace: dict[str, Any], load_code: bool = True) -> dict[str, Any]:
     """The data the viewer embeds: the trace, and per state its class, target, phase, guard and
     move sets; per event its text and, for an ASYNC Move, the Look it executes (its snapshot,
     stale or not; for an event in the cycle of a livelock also the Look it executes when the
-    cycle repeats, which can be a different one)."""
+    cycle repeats, which can be a different one); ``provides``: which of the rows phase,
+    guard and target the algorithm gives (:func:`provides`), and ``loaded``: whether the
+    algorithm was loaded at all. A trace of a finite world: :func:`annotate_world`."""
+    if is_world_trace(trace):
+        return annotate_world(trace)
     trace = load_trace(trace)
     states = _states(trace)
-    steps = trace["steps"]
     algorithm = _load_algorithm(trace["algorithm"], load_code)
     with_moves = len(states) <= MAX_ANNOTATED_STATES
     cache: dict[tuple, dict[str, Any]] = {}
@@ -161,32 +185,7 @@ def annotate(trace: dict[str, Any], load_code: bool = True) -> dict[str, Any]:
         if key not in cache:
             cache[key] = _state_info(algorithm, trace, list(key), with_moves)
         infos.append(cache[key])
-    cs = trace.get("cycle_start")
-    events = []
-    for k, step in enumerate(steps, 1):
-        ev = step["event"]
-        item: dict[str, Any] = {"text": event_text(ev), "decisions": [], "loop_decisions": []}
-        if ev["kind"] == "move":
-            for i in ev["robots"]:
-                look = _look_before(steps, i, k, 0)
-                if look is not None:
-                    item["decisions"].append(_decision(states, i, look, k - 1))
-                if cs is not None and k > cs:
-                    # when the cycle repeats, the Look is the last one of the cycle before this
-                    # Move, cyclically (the robot is idle after its Move, and the cycle ends
-                    # in the state it started from, so it looked again in the cycle)
-                    loop = _look_before(steps, i, k, cs) or _look_before(steps, i, len(steps) + 1, k)
-                    if loop is not None:
-                        item["loop_decisions"].append(_decision(states, i, loop, k - 1))
-        events.append(item)
-    pending_since = []  # per state, per robot: the event of the Look behind its pending move
-    since: list[int | None] = [None] * len(states[0])
-    pending_since.append(list(since))
-    for k, step in enumerate(steps, 1):
-        ev = step["event"]
-        for i in ev["robots"]:
-            since[i] = k if ev["kind"] == "look" and step["state"][i]["pending"] else None
-        pending_since.append(list(since))
+    events = _events(trace, states, event_text, _decision)
     nodes = [tuple(m) for m in trace["initial"]["meeting_nodes"]]
     for state in states:
         nodes += [tuple(r["node"]) for r in state]
@@ -195,9 +194,282 @@ def annotate(trace: dict[str, Any], load_code: bool = True) -> dict[str, Any]:
         "trace": trace,
         "states": infos,
         "events": events,
-        "pending_since": pending_since,
-        "box": list(bounding_box(nodes)),  # type: ignore[arg-type]
+        "pending_since": _pending_since(trace["steps"], len(states[0])),
+        "box": list(bounding_box(nodes)),
         "n": len(states[0]),
+        "provides": provides(algorithm),
+        "loaded": algorithm is not None,
+    }
+
+
+def _events(trace: dict[str, Any], states: list, text: Any, decision: Any) -> list[dict[str, Any]]:
+    """Per event its text and, for a Move, the Looks it executes (see :func:`annotate`)."""
+    steps, cs = trace["steps"], trace.get("cycle_start")
+    events = []
+    for k, step in enumerate(steps, 1):
+        ev = step["event"]
+        item: dict[str, Any] = {"text": text(ev), "decisions": [], "loop_decisions": []}
+        if ev["kind"] == "move":
+            for i in ev["robots"]:
+                look = _look_before(steps, i, k, 0)
+                if look is not None:
+                    item["decisions"].append(decision(states, i, look, k - 1))
+                if cs is not None and k > cs:
+                    # when the cycle repeats, the Look is the last one of the cycle before this
+                    # Move, cyclically (the robot is idle after its Move, and the cycle ends
+                    # in the state it started from, so it looked again in the cycle)
+                    loop = _look_before(steps, i, k, cs) or _look_before(steps, i, len(steps) + 1, k)
+                    if loop is not None:
+                        item["loop_decisions"].append(decision(states, i, loop, k - 1))
+        events.append(item)
+    return events
+
+
+def _pending_since(steps: list[dict[str, Any]], n: int) -> list[list[int | None]]:
+    """Per state, per robot: the event of the Look behind its pending move."""
+    out = []
+    since: list[int | None] = [None] * n
+    out.append(list(since))
+    for k, step in enumerate(steps, 1):
+        ev = step["event"]
+        for i in ev["robots"]:
+            since[i] = k if ev["kind"] == "look" and step["state"][i]["pending"] is not None \
+                else None
+        out.append(list(since))
+    return out
+
+
+# -- finite worlds ---------------------------------------------------------------------------
+# A trace of a finite world (gather_verify.world_check) names its nodes as the world writes
+# them and carries the world's drawing. The page draws from the drawing alone: here every node
+# becomes its index in the drawing, and the trace takes the shape of a Z² trace (initial
+# robots, steps of event and state) so that stepping, the timeline and stale snapshots work
+# the same way on every world.
+
+def is_world_trace(trace: Any) -> bool:
+    """A trace written by a finite world's check (it names its world; a Z² trace has a format
+    tag instead)."""
+    return isinstance(trace, dict) and "format" not in trace and isinstance(trace.get("world"), str)
+
+
+def _bad(message: str) -> InvalidInput:
+    return InvalidInput(f"bad world trace: {message}")
+
+
+def _number(value: Any, what: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise _bad(f"{what} must be a finite number, not {value!r:.40}")
+    return float(value)
+
+
+def _point(value: Any, what: str) -> list[float]:
+    if not isinstance(value, list) or len(value) != 2:
+        raise _bad(f"{what} must be a point [x, y]")
+    return [_number(value[0], what), _number(value[1], what)]
+
+
+def check_drawing(raw: Any) -> dict[str, Any]:
+    """A world's drawing (:meth:`gather_verify.worlds.base.World.drawing`) as read from a
+    trace: the keys the pictures use, checked (numbers finite, ends in range), nothing else."""
+    if not isinstance(raw, dict) or not isinstance(raw.get("nodes"), list) or not raw["nodes"] \
+            or not isinstance(raw.get("edges"), list):
+        raise _bad("'drawing' needs a list of 'nodes' and a list of 'edges'")
+    nodes = []
+    for k, node in enumerate(raw["nodes"]):
+        if not isinstance(node, dict) or "label" not in node:
+            raise _bad(f"drawing node {k} needs a 'label'")
+        nodes.append({"label": node["label"], "text": str(node.get("text", node["label"])),
+                      "x": _number(node.get("x"), "a node's x"),
+                      "y": _number(node.get("y"), "a node's y"),
+                      "side": _point(node.get("side", [0.7071, -0.7071]), "a node's side")})
+    edges = []
+    for edge in raw["edges"]:
+        ends = edge.get("ends") if isinstance(edge, dict) else None
+        if not isinstance(ends, list) or len(ends) != 2 or not all(
+                isinstance(e, int) and not isinstance(e, bool) and 0 <= e < len(nodes)
+                for e in ends):
+            raise _bad("a drawing edge needs 'ends', two node numbers of the drawing")
+        item: dict[str, Any] = {"ends": list(ends)}
+        if "lines" in edge:
+            lines = edge["lines"]
+            if not isinstance(lines, list) or not lines or not all(
+                    isinstance(line, list) and len(line) >= 2 for line in lines):
+                raise _bad("an edge's 'lines' must be lists of at least two points")
+            item["lines"] = [[_point(p, "a line's point") for p in line] for line in lines]
+        if edge.get("wraps") is True:
+            item["wraps"] = True
+        edges.append(item)
+    outline = raw.get("outline")
+    if outline is not None:
+        if not isinstance(outline, dict) or not isinstance(outline.get("points"), list):
+            raise _bad("the drawing's 'outline' needs 'points'")
+        outline = {"points": [_point(p, "an outline point") for p in outline["points"]],
+                   "wraps": outline.get("wraps") is True, "title": str(outline.get("title", ""))}
+    return {"nodes": nodes, "edges": edges, "outline": outline}
+
+
+def world_drawing(trace: dict[str, Any]) -> dict[str, Any]:
+    """The drawing a world trace carries (checked), or, for a trace written before traces
+    carried one, the drawing of the world it names."""
+    if "drawing" in trace:
+        return check_drawing(trace["drawing"])
+    from gather_verify.worlds import get_world
+
+    try:
+        return check_drawing(get_world(trace["world"]).drawing())
+    except InvalidInput as error:
+        raise _bad(f"no drawing, and the world cannot be had ({error})") from None
+
+
+def _int(value: Any, what: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise _bad(f"{what} must be an integer")
+    return value
+
+
+def world_event_text(event: dict[str, Any], name: Any) -> str:
+    """One line for an event of a finite world, nodes as ``name`` writes them:
+    ``look(r0): r0 decides 2``, ``move(r0): r0 1->2``, ``round(r0,r1): r0 0->1, r1 light 0->1``.
+
+    >>> world_event_text({"kind": "round", "robots": [0, 1], "moves": [[0, 0, 1]],
+    ...                   "lights": [[1, 0, 1]]}, str)
+    'round(r0,r1): r0 0->1, r1 light 0->1'
+    """
+    robots = ",".join(f"r{i}" for i in event["robots"])
+    if event["kind"] == "look":
+        parts = [f"r{i} decides {name(b)}" for i, _, b in event["moves"]]
+    else:
+        parts = [f"r{i} {name(a)}->{name(b)}" for i, a, b in event["moves"]]
+    parts += [f"r{i} light {a}->{b}" for i, a, b in event.get("lights", [])]
+    return f"{event['kind']}({robots}): " + (", ".join(parts) or "all stay")
+
+
+def annotate_world(trace: dict[str, Any]) -> dict[str, Any]:
+    """The data the viewer embeds for a trace of a finite world: the trace in Z² shape with
+    node indices of the drawing (``trace``, with the states under ``robots``), the
+    ``drawing``, per state the ``colours`` and the ``visited`` nodes (None where the trace
+    has none), per event its text and the Looks a Move executes (stale when a robot moved or
+    changed its light since), the node the failing property names (``focus``: the node a
+    fair run stops visiting, the node of a crashed robot) and the world's settings
+    (``world``)."""
+    if not isinstance(trace.get("steps"), list) or not trace["steps"] \
+            or not isinstance(trace.get("robots"), list):
+        raise _bad("a world trace needs 'robots' and a non-empty list of 'steps'")
+    for key in ("algorithm", "scheduler", "detection", "frames", "property", "world"):
+        if not isinstance(trace.get(key), str):
+            raise _bad(f"{key!r} must be a string")
+    drawing = world_drawing(trace)
+    index = {json.dumps(node["label"], sort_keys=True): i
+             for i, node in enumerate(drawing["nodes"])}
+    names = [node["text"] for node in drawing["nodes"]]
+    n = len(trace["robots"])
+    # with lights, a step whose colours are all 0 leaves them out: every robot is lit 0
+    luminous = str(trace.get("lights", "1")).partition(":")[0] not in ("", "1")
+
+    def node(value: Any) -> int:
+        found = index.get(json.dumps(value, sort_keys=True))
+        if found is None:
+            raise _bad(f"{json.dumps(value)[:40]} is not a node of the drawing")
+        return found
+
+    def robots_of(raw: Any, k: int) -> list[dict[str, Any]]:
+        if not isinstance(raw, list) or len(raw) != n or not all(
+                isinstance(r, list) and len(r) == 2 for r in raw):
+            raise _bad(f"step {k}: 'robots' must list {n} pairs [node, pending]")
+        return [{"node": node(v), "pending": None if p is None else node(p)} for v, p in raw]
+
+    def robot(i: Any) -> int:
+        i = _int(i, "a robot")
+        if not 0 <= i < n:
+            raise _bad(f"robot {i} is not one of the {n} robots")
+        return i
+
+    states, colours, visited, steps = [], [], [], []
+    for k, raw in enumerate(trace["steps"]):
+        if not isinstance(raw, dict):
+            raise _bad(f"step {k} must be an object")
+        states.append(robots_of(raw.get("robots"), k))
+        c = raw.get("colours")
+        if c is not None and (not isinstance(c, list) or len(c) != n):
+            raise _bad(f"step {k}: 'colours' must list {n} colours")
+        colours.append([_int(x, "a colour") for x in c] if c is not None else
+                       [0] * n if luminous else None)
+        seen = raw.get("visited")
+        if seen is not None and not isinstance(seen, list):
+            raise _bad(f"step {k}: 'visited' must be a list of nodes")
+        visited.append(None if seen is None else sorted({node(v) for v in seen}))
+        if k == 0:
+            continue
+        ev = raw.get("event")
+        if not isinstance(ev, dict) or ev.get("kind") not in KINDS \
+                or not isinstance(ev.get("robots"), list) or not isinstance(ev.get("moves"), list):
+            raise _bad(f"step {k}: an event has a 'kind' ({', '.join(KINDS)}), 'robots' and "
+                       "'moves'")
+        event: dict[str, Any] = {"kind": ev["kind"], "robots": [robot(i) for i in ev["robots"]],
+                                 "moves": []}
+        for m in ev["moves"]:
+            if not isinstance(m, list) or len(m) != 3:
+                raise _bad(f"step {k}: a move is [robot, from, to]")
+            event["moves"].append([robot(m[0]), node(m[1]), node(m[2])])
+        lights = ev.get("lights", [])
+        if not isinstance(lights, list) or not all(isinstance(x, list) and len(x) == 3
+                                                   for x in lights):
+            raise _bad(f"step {k}: 'lights' is a list of [robot, old, new]")
+        if lights:
+            event["lights"] = [[robot(i), _int(a, "a colour"), _int(b, "a colour")]
+                               for i, a, b in lights]
+        steps.append({"event": event, "state": states[-1]})
+    cs = trace.get("cycle_start")
+    if cs is not None and (isinstance(cs, bool) or not isinstance(cs, int)
+                           or not 0 <= cs <= len(steps)):
+        raise _bad("'cycle_start' must be null or a state index")
+    meeting = trace.get("meeting_nodes", [])
+    if not isinstance(meeting, list):
+        raise _bad("'meeting_nodes' must be a list")
+    detail = trace.get("detail") or {}
+    if not isinstance(detail, dict):
+        raise _bad("'detail' must be an object")
+    named = detail.get("node", detail.get("robot_node"))  # the node, or the crashed robot's
+    focus = None if named is None else node(named)
+    shown = {k: (names[focus] if k == "node" and focus is not None else v)
+             for k, v in detail.items() if k != "drift"}  # drift: a Z² notion
+    normal = {
+        "initial": {"robots": [r["node"] for r in states[0]],
+                    "meeting_nodes": sorted({node(m) for m in meeting})},
+        "steps": steps, "cycle_start": cs, "detail": shown,
+        **{key: trace[key] for key in ("algorithm", "scheduler", "detection", "frames",
+                                       "property")},
+        "reason": str(trace.get("reason") or ""),
+    }
+
+    def text(ev: dict[str, Any]) -> str:
+        return world_event_text(ev, lambda v: names[v])
+
+    def decision(_: list, robot: int, look: int, now: int) -> dict[str, Any]:
+        seen = [(r["node"], c) for r, c in zip(states[look - 1], colours[look - 1] or [0] * n,
+                                                strict=True)]
+        current = [(r["node"], c) for r, c in zip(states[now], colours[now] or [0] * n,
+                                                   strict=True)]
+        return {"robot": robot, "look": look, "snapshot": look - 1,
+                "stale": sorted(seen) != sorted(current),
+                "moved_since": [f"r{i}" for i, (a, b) in enumerate(zip(seen, current,
+                                                                      strict=True))
+                                if a[0] != b[0]],
+                "relit_since": [f"r{i}" for i, (a, b) in enumerate(zip(seen, current,
+                                                                      strict=True))
+                                if a[1] != b[1]]}
+
+    return {
+        "trace": normal,
+        "robots": states,
+        "drawing": drawing,
+        "world": {"name": trace["world"], "task": str(trace.get("task", "")),
+                  "visibility": trace.get("visibility"), "lights": str(trace.get("lights", "1"))},
+        "states": [{"colours": c, "visited": v} for c, v in zip(colours, visited, strict=True)],
+        "events": _events(normal, states, text, decision),
+        "pending_since": _pending_since(steps, n),
+        "focus": focus,
+        "n": n,
     }
 
 
@@ -212,7 +484,8 @@ def viewer_html(trace: dict[str, Any], title: str | None = None, load_code: bool
     text = json.dumps(data, separators=(",", ":"), sort_keys=True)
     # "<" only occurs inside JSON strings; as \u003c it cannot end the <script> element
     text = text.replace("<", "\\u003c")
-    name = title or (f"{trace['property']} fails: {trace['algorithm']} / {trace['scheduler']}")
+    name = title or (f"{trace['property']} fails: {trace['algorithm']} / {trace['scheduler']}"
+                     + (f" on {trace['world']}" if is_world_trace(trace) else ""))
     return (_template().replace("/*DATA*/null", text)
             .replace("<!--TITLE-->", html.escape(name)))
 

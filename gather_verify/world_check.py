@@ -27,7 +27,9 @@ from gather_verify.engine.encoding import (
 )
 from gather_verify.engine.world_search import WorldSearch, search
 from gather_verify.errors import InvalidInput
+from gather_verify.progress import PROGRESS
 from gather_verify.tasks import Context, Finding, Task, get_task
+from gather_verify.watchdog import GRACE_SECONDS, Overtime, deadline
 from gather_verify.worlds import get_world
 from gather_verify.worlds.base import World
 from gather_verify.worlds.moves import WorldMoves, parse_lights
@@ -56,8 +58,9 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
                     max_memory_mb: float = DEFAULT_MAX_MEMORY_MB,
                     engine: str = "auto") -> dict[str, Any]:
     """Check ``algorithm`` from one initial configuration of ``world``; a JSON-ready report
-    (``verdict``, ``property``, ``reason``, ``states``, ``transitions``, per-part results and
-    the counterexample ``trace``).
+    (``verdict``, ``property``, ``reason``, ``states``, ``transitions``, per-part results,
+    the counterexample ``trace``, ``seconds`` of the whole check and ``search_seconds`` of
+    the search alone).
 
     ``engine``: ``bulk`` (:mod:`gather_verify.engine.world_bulk`, refused in one line when it
     cannot run the request), ``reference`` (:mod:`gather_verify.engine.world_search`), or
@@ -74,7 +77,8 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
         raise InvalidInput("no robots: give at least one robot node")
     if visibility is not None and visibility < 0:
         raise InvalidInput(f"visibility {visibility} is negative: give a number of hops >= 0")
-    algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
+    with deadline(max_seconds):  # the algorithm's file imports within the time limit
+        algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
     stateful = getattr(get_scheduler(scheduler), "stateful", False)
     light = parse_lights(lights)
     if colours is not None and (len(colours) != len(r) or any(
@@ -93,79 +97,105 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
     reduce = reduction and not liveness and not stateful
     moves = WorldMoves(w, algo, frozenset(m), detection, frames, visibility, light)
     limits = Limits(max_states=max_states, max_seconds=max_seconds, max_memory_mb=max_memory_mb)
+    reductions = ("anonymity, the symmetries fixing the meeting nodes" if reduce else
+                  "off: liveness needs robot identities" if reduction and liveness else
+                  "off: the scheduler keeps robot identities" if reduction and stateful
+                  else "off")  # (the search reduces exactly when ``reduce`` holds)
+    PROGRESS.states = 0
     symmetries = w.symmetries(frames) if reduce else ()
-    why = None if engine == "reference" else world_bulk.unsupported(
+    fallback = None if engine == "reference" else world_bulk.unsupported(
         w, len(r), scheduler, light.colours, visits=t.visits, anonymity=reduce,
         symmetries=symmetries, meeting=frozenset(m))
-    if engine == "bulk" and why is not None:
-        raise InvalidInput(f"the bulk engine cannot run this check: {why} (use --engine auto "
+    if engine == "bulk" and fallback is not None:
+        raise InvalidInput(f"the bulk engine cannot run this check: {fallback} (use --engine auto "
                            "or reference)")
-    if engine != "reference" and why is None:
-        s = world_bulk.search(w, tuple(r), moves, scheduler, colours=colours, visits=t.visits,
-                              anonymity=reduce, symmetries=symmetries, meeting=frozenset(m),
-                              limits=limits)
-    else:
-        s = search(w, tuple(r), moves.actions, scheduler, colours=colours, visits=t.visits,
-                   anonymity=reduce, symmetries=symmetries, meeting=frozenset(m),
-                   limits=limits)
-    ctx = Context(len(r), w.size, frozenset(m), scheduler,
-                  tuple(w.format_node(v) for v in range(w.size)))
-    results: dict[str, dict[str, Any]] = {}
-    first: Finding | None = None
-    if s.halt is not None:
-        first = Finding(s.halt.property, s.halt.state, s.halt.reason, detail=s.halt.detail)
-        results[s.halt.property] = {"holds": False, "reason": s.halt.reason}
-    found = t.check(s, ctx) if s.halt is None else {}
-    for name in parts:
-        got = found.get(name)
-        if got is not None:
-            results[name] = {"holds": False, "reason": got.reason}
-            first = first or got
-        elif s.complete:
-            results[name] = {"holds": True}
+
+    def decided() -> dict[str, Any]:
+        PROGRESS.doing = "exploring"
+        if engine != "reference" and fallback is None:
+            s = world_bulk.search(w, tuple(r), moves, scheduler, colours=colours,
+                                  visits=t.visits, anonymity=reduce, symmetries=symmetries,
+                                  meeting=frozenset(m), limits=limits)
         else:
-            why = (f"the search stopped ({s.stopped}) before the whole space was seen"
-                   if s.halt is None else f"the search stopped at a {s.halt.property} violation")
-            results[name] = {"holds": None, "reason": why}
-    for name in PSEUDO:
-        results.setdefault(name, {"holds": True} if s.complete else
-                           {"holds": None, "reason": "the search did not finish"})
-    if first is not None:
-        verdict = "VIOLATED"
-    elif s.complete:
-        verdict = "VERIFIED"
-    else:
-        verdict = "INCOMPLETE"
-    return {
-        "verdict": verdict,
-        "world": w.name,
-        "task": t.name,
-        "algorithm": algo.name,
-        "scheduler": scheduler,
-        "detection": detection,
-        "frames": frames,
-        "visibility": visibility,
-        "robots": [w.node_to_json(v) for v in r],
-        "meeting_nodes": [w.node_to_json(v) for v in m],
-        "property": None if first is None else first.property,
-        "reason": (first.reason if first is not None else
-                   None if s.complete else f"the search stopped: {s.stopped} limit"),
-        "stopped": s.stopped,
-        "states": s.states,
-        "transitions": s.transitions,
-        "engine": s.engine,
-        **({"engine_fallback": why} if why is not None else {}),
-        "lights": str(light),
-        "reductions": ("anonymity, the symmetries fixing the meeting nodes" if s.reduced else
-                       "off: liveness needs robot identities" if reduction and liveness else
-                       "off: the scheduler keeps robot identities" if reduction and stateful
-                       else "off"),
-        "properties": results,
-        "trace": None if first is None else trace_of(w, s, first, r, m, algo.name, scheduler,
-                                                     t.name, detection, frames, visibility,
-                                                     str(light)),
-        "seconds": time.perf_counter() - started,
-    }
+            s = search(w, tuple(r), moves.actions, scheduler, colours=colours, visits=t.visits,
+                       anonymity=reduce, symmetries=symmetries, meeting=frozenset(m),
+                       limits=limits)
+        ctx = Context(len(r), w.size, frozenset(m), scheduler,
+                      tuple(w.format_node(v) for v in range(w.size)))
+        results: dict[str, dict[str, Any]] = {}
+        first: Finding | None = None
+        if s.halt is not None:
+            first = Finding(s.halt.property, s.halt.state, s.halt.reason, detail=s.halt.detail)
+            results[s.halt.property] = {"holds": False, "reason": s.halt.reason}
+        PROGRESS.doing = f"deciding the task's properties ({', '.join(parts)})"
+        found = t.check(s, ctx) if s.halt is None else {}
+        for name in parts:
+            got = found.get(name)
+            if got is not None:
+                results[name] = {"holds": False, "reason": got.reason}
+                first = first or got
+            elif s.complete:
+                results[name] = {"holds": True}
+            else:
+                why = (f"the search stopped ({s.stopped}) before the whole space was seen"
+                       if s.halt is None else f"the search stopped at a {s.halt.property} violation")
+                results[name] = {"holds": None, "reason": why}
+        for name in PSEUDO:
+            results.setdefault(name, {"holds": True} if s.complete else
+                               {"holds": None, "reason": "the search did not finish"})
+        if first is not None:
+            verdict = "VIOLATED"
+        elif s.complete:
+            verdict = "VERIFIED"
+        else:
+            verdict = "INCOMPLETE"
+        return {
+            "verdict": verdict,
+            "world": w.name,
+            "task": t.name,
+            "algorithm": algo.name,
+            "scheduler": scheduler,
+            "detection": detection,
+            "frames": frames,
+            "visibility": visibility,
+            "robots": [w.node_to_json(v) for v in r],
+            "meeting_nodes": [w.node_to_json(v) for v in m],
+            "property": None if first is None else first.property,
+            "reason": (first.reason if first is not None else
+                       None if s.complete else f"the search stopped: {s.stopped} limit"),
+            "stopped": s.stopped,
+            "states": s.states,
+            "transitions": s.transitions,
+            "engine": s.engine,
+            **({"engine_fallback": fallback} if fallback is not None else {}),
+            "lights": str(light),
+            "reductions": reductions,
+            "properties": results,
+            "trace": None if first is None else trace_of(w, s, first, r, m, algo.name, scheduler,
+                                                         t.name, detection, frames, visibility,
+                                                         str(light)),
+            "seconds": time.perf_counter() - started,
+            "search_seconds": s.seconds,
+        }
+
+    try:  # the user's code that does not return ends with the time limit (watchdog)
+        with deadline(max_seconds + max(max_seconds, GRACE_SECONDS)):
+            return decided()
+    except Overtime as stopped:
+        names = [*parts, *PSEUDO]
+        return {
+            "verdict": "INCOMPLETE", "world": w.name, "task": t.name, "algorithm": algo.name,
+            "scheduler": scheduler, "detection": detection, "frames": frames,
+            "visibility": visibility, "robots": [w.node_to_json(v) for v in r],
+            "meeting_nodes": [w.node_to_json(v) for v in m], "property": None,
+            "reason": (f"time (the watchdog stopped your code: still running "
+                       f"{stopped.seconds:g} s into the check)"),
+            "stopped": "time", "states": PROGRESS.states, "transitions": 0,
+            "lights": str(light), "reductions": reductions,
+            "properties": {name: {"holds": None, "reason": "the search stopped (time)"}
+                           for name in names},
+            "trace": None, "seconds": time.perf_counter() - started,
+        }
 
 
 def _parts(task: Task, properties: list[str] | None, world: World) -> list[str]:
@@ -190,21 +220,31 @@ def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
              meeting: list[int], algorithm: str, scheduler: str, task: str, detection: str,
              frames: str, visibility: int | None, lights: str = "1") -> dict[str, Any]:
     """The counterexample as JSON: the shortest path to the failing state (then, for a
-    liveness part, the cycle the run can stay on), every state in the world's node names."""
+    liveness part, the cycle the run can stay on), every state in the world's node names,
+    and the world's drawing (:meth:`~gather_verify.worlds.base.World.drawing`) so that a
+    picture of the trace needs nothing but the trace. On a task that explores, each step
+    names the nodes visited so far (from the state when the search carries them, else
+    counted along the trace)."""
     ids = s.path_to(finding.state)
     cycle_start = None
     if finding.cycle is not None and len(finding.cycle) > 1:
         cycle_start = len(ids) - 1
         ids = ids + finding.cycle[1:]
-    steps = [_step(world, None, s.keys[ids[0]])]
-    for a, b in zip(ids, ids[1:], strict=False):
-        event = _event_between(s, a, b)
-        steps.append(_step(world, event, s.keys[b]))
+    keys = [s.keys[i] for i in ids]
+    events: list[Any] = [None] + [_event_between(s, a, b) for a, b in zip(ids, ids[1:],
+                                                                        strict=False)]
     if finding.edge is not None:  # a transition part: the failing round itself
         src, k = finding.edge
-        _, _, event = s.edges[src][k]
-        target = s.edges[src][k][0]
-        steps.append(_step(world, event, s.keys[target]))
+        target, _, event = s.edges[src][k]
+        keys.append(s.keys[target])
+        events.append(event)
+    steps = [_step(world, event, key) for event, key in zip(events, keys, strict=True)]
+    if get_task(task).explores and not any("visited" in step for step in steps):
+        seen = 0
+        for step, key in zip(steps, keys, strict=True):
+            for v, *_ in key[0]:
+                seen |= 1 << v
+            step["visited"] = [world.node_to_json(v) for v in range(world.size) if seen >> v & 1]
     return {
         "world": world.name, "task": task, "algorithm": algorithm, "scheduler": scheduler,
         "detection": detection, "frames": frames, "visibility": visibility, "lights": lights,
@@ -213,7 +253,7 @@ def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
                    for k, v in finding.detail.items()},
         "robots": [world.node_to_json(v) for v in robots],
         "meeting_nodes": [world.node_to_json(v) for v in meeting],
-        "steps": steps, "cycle_start": cycle_start,
+        "steps": steps, "cycle_start": cycle_start, "drawing": world.drawing(),
     }
 
 

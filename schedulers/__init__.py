@@ -37,7 +37,7 @@ from schedulers.ssync import SSync
 
 SCHEDULERS: dict[str, type[Scheduler]] = {"fsync": FSync, "ssync": SSync, "async": Async,
                                           "centralized": Centralized,
-                                          "round-robin": RoundRobin}  # type: ignore[dict-item]
+                                          "round-robin": RoundRobin}
 """Every scheduler by name, in the order the CLI and the scenario loader list them: a new
 scheduler is one module implementing :class:`Scheduler` and one line here."""
 

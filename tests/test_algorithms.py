@@ -76,28 +76,59 @@ def test_reading_hidden_multiplicity_fails_loudly():
     assert move_set(Peeking(), c, (0, 0), "global-weak", frames=[0]) == {(1, 0)}
 
 
-@pytest.mark.parametrize("name", ALGORITHMS)
-def test_registered_algorithms_run_under_local_weak(name):
-    """None of ours reads more than local-weak shows: a hidden read is a ``HiddenRead``, an
-    ``Unhandled`` that ``outcome`` would swallow, so it is asked of ``move_set`` directly and
-    only the paper's own no-rule cases (plain ``Unhandled``) are let through."""
-    c = Configuration([(0, 0), (0, 0), (3, 1), (1, 4)], [(2, 2), (0, 4)])
-    algorithm = get_algorithm(name)
+LOCAL_WEAK_YARD = Configuration([(0, 0), (0, 0), (3, 1), (1, 4)], [(2, 2), (0, 4)])
+
+
+def run_under_local_weak(algorithm, c: Configuration = LOCAL_WEAK_YARD) -> int:
+    """Every robot's move set under local-weak; the number of nodes with no rule.
+
+    A hidden read is a ``HiddenRead``, which is also an ``Unhandled``: it is re-raised
+    before the paper's own no-rule cases (plain ``Unhandled``) are let through, so an
+    algorithm that reads what it cannot see fails here instead of counting as "no rule"."""
+    unhandled = 0
     for node in c.counts:
         try:
             move_set(algorithm, c, node, "local-weak")
         except HiddenRead:
             raise
         except Unhandled:
-            pass
+            unhandled += 1
+    return unhandled
+
+
+@pytest.mark.parametrize("name", ALGORITHMS)
+def test_registered_algorithms_run_under_local_weak(name):
+    """None of ours reads more than local-weak shows (a hidden read raises ``HiddenRead``)."""
+    assert 0 <= run_under_local_weak(get_algorithm(name)) <= len(LOCAL_WEAK_YARD.counts)
+
+
+class Leaking:
+    """Reads the multiplicity of another robot's node (hidden under local-weak) where it sees
+    one, and has no rule (``Unhandled``) elsewhere: a leak among no-rule cases."""
+
+    name = "leaking"
+
+    def decide(self, view: View) -> Node:
+        others = sorted(v for v in view.robots if v != ORIGIN)
+        if view.multiplicity() and others:
+            return (1, 0) if view.multiplicity(others[0]) else ORIGIN
+        raise Unhandled("no rule here")
 
 
 def test_the_local_weak_test_fails_on_a_hidden_read():
-    """The check above is not vacuous: an algorithm that peeks at a neighbour's multiplicity
-    raises ``HiddenRead`` through it."""
-    c = Configuration([(0, 0), (1, 0), (1, 0)], [(5, 5)])
+    """The check above is not vacuous: the very helper it runs lets a plain ``Unhandled``
+    through but fails on an algorithm that reads what local-weak hides."""
+    class NoRule:
+        name = "no-rule"
+
+        def decide(self, view: View) -> Node:
+            raise Unhandled("no rule anywhere")
+
+    assert run_under_local_weak(NoRule()) == len(LOCAL_WEAK_YARD.counts)
+    with pytest.raises(HiddenRead, match="local-weak"):
+        run_under_local_weak(Leaking())
     with pytest.raises(HiddenRead):
-        move_set(Peeking(), c, (0, 0), "local-weak")
+        run_under_local_weak(Peeking(), Configuration([(0, 0), (1, 0), (1, 0)], [(5, 5)]))
 
 
 def test_register_a_new_algorithm():

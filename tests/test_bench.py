@@ -1,14 +1,95 @@
-"""``gather-verify bench --quick`` runs and prints every field (timings are never asserted)."""
+"""``gather-verify bench --quick`` runs and prints every field (timings are never asserted);
+the ring's Promela model (``bench/spin/make_ring_model.py``) has our state space."""
 
 from __future__ import annotations
 
+import json
+import runpy
+import shutil
 import subprocess
 import sys
+
+import pytest
+
+from gather_verify import bench
+from gather_verify.world_check import run_world_check
+
+RING_MODEL = runpy.run_path(str(bench.SPIN_DIR / "make_ring_model.py"))  # no __pycache__
+needs_spin = pytest.mark.skipif(not (shutil.which("spin") and shutil.which("gcc")),
+                                reason="spin and gcc are not installed (apt-get install spin gcc)")
 
 
 def test_bench_quick_prints_every_field():
     out = subprocess.run([sys.executable, "-m", "gather_verify", "bench", "--quick", "--no-spin"],
                          capture_output=True, text=True, check=True).stdout
     for field in ("states/s, whole process", "bytes per stored state", "SPIN (",
-                  "time to verdict, reductions on", "verdict VERIFIED", "2,184", "7,032"):
+                  "time to verdict, reductions on", "verdict VERIFIED", "2,184", "7,032",
+                  "ring instance ring:9", "SPIN (stored (ring-quick.json))",
+                  "states/s, search only", "the same space as SPIN's", "225", "560"):
         assert field in out, out
+
+
+def _ours(world: str, robots: list[int], meeting: int) -> tuple[int, int]:
+    r = run_world_check(world, robots, [meeting], "go-to-target", "async", reduction=False)
+    assert r["verdict"] == "VERIFIED"
+    return r["states"], r["transitions"]
+
+
+@pytest.mark.parametrize("world, robots, meeting", [
+    ("ring:9", [0, 3, 5], 7),        # SEMANTICS.md §9: 225 states, 560 transitions
+    ("ring:8", [4, 1, 6], 0),        # node 4 is opposite the meeting node: two closer steps
+    ("ring:3", [1, 2], 0),
+    ("ring:10", [5, 0, 4, 7], 2),    # a robot on the meeting node from the start
+    ("ring:12", [6, 5, 7], 0),
+])
+def test_ring_closed_form_is_our_count(world, robots, meeting):
+    n = int(world.split(":")[1])
+    assert RING_MODEL["closed_form_counts"](n, robots, meeting) == _ours(world, robots, meeting)
+
+
+def test_stored_ring_results_are_the_bench_instances():
+    """The no-spin path: SPIN's stored numbers, labelled stored, for the instances the bench
+    checks, and their counts are the closed form's (that is, ours)."""
+    for instance, quick, name in ((bench.RING, False, "ring.json"),
+                                  (bench.RING_QUICK, True, "ring-quick.json")):
+        world, robots, meeting = instance
+        stored = bench.spin_ring(instance, quick, run=False)
+        assert stored is not None and stored["source"] == f"stored ({name})"
+        assert stored["instance"] == {"world": world, "algorithm": "go-to-target",
+                                      "scheduler": "ASYNC", "reductions": "none",
+                                      "robots": robots, "meeting": meeting}
+        n = int(world.split(":")[1])
+        expected = RING_MODEL["closed_form_counts"](n, robots, meeting)
+        assert (stored["states"], stored["edges"]) == expected
+        assert stored["validated"] and stored["states_per_second"] > 0
+
+
+def test_ring_bench_quick_json_without_spin():
+    r = bench.ring_bench(quick=True, run_spin=False)
+    assert r["ours"]["states"] == 225 and r["ours"]["transitions"] == 560
+    assert r["spin"]["source"] == "stored (ring-quick.json)"
+    assert r["same_space"] is True
+    assert r["ratio_states_per_second"] > 0 and r["ratio_search_states_per_second"] > 0
+    json.dumps(r)
+
+
+@needs_spin
+def test_spin_ring_quick_measured_is_our_space():
+    theirs = bench.spin_ring(bench.RING_QUICK, quick=True)
+    assert theirs is not None and theirs["source"] == "measured"
+    assert (theirs["states"], theirs["edges"]) == _ours(*bench.RING_QUICK) == (225, 560)
+    assert theirs["transitions"] == theirs["edges"] + 1  # pan also counts the initial state
+
+
+@needs_spin
+@pytest.mark.parametrize("world, robots, meeting", [
+    ("ring:8", [4, 1, 6], 0),
+    ("ring:10", [5, 0, 4, 7], 2),
+])
+def test_spin_ring_model_states_equal_ours(world, robots, meeting):
+    out = subprocess.run([sys.executable, str(bench.SPIN_DIR / "run_spin.py"), "--world", world,
+                          "--robots", " ".join(map(str, robots)), "--meeting", str(meeting)],
+                         capture_output=True, text=True, check=True)
+    theirs = json.loads(out.stdout)
+    assert theirs["validated"]
+    assert (theirs["states"], theirs["edges"]) == _ours(world, robots, meeting)

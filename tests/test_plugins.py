@@ -235,7 +235,7 @@ def test_replay_after_a_fix_exits_5_and_tampering_stays_2(tmp_path: Path, capsys
     r = run_check(TWO, algorithm=f"{path}:Home:lazy=1", scheduler="ssync", margin=4)
     (tmp_path / "t.json").write_text(json.dumps(r["trace"]))
     assert main(["replay", str(tmp_path / "t.json"), "--quiet"]) == 1
-    fixed = r["trace"] | {"algorithm": f"{path}:Home"}  # a step the fixed one does not take
+    fixed = r["trace"] | {"algorithm": f"{path}:Home"}  # the fixed one leaves the deadlock
     (tmp_path / "fixed.json").write_text(json.dumps(fixed))
     r2 = run_check(TWO, algorithm="broken-stay", scheduler="ssync")
     tampered = json.loads(json.dumps(r2["trace"]))
@@ -316,6 +316,20 @@ def test_check_report_round_trips_run_check(algorithm: str, options: dict) -> No
     assert gv.CheckReport.from_json(u).to_json() == u
 
 
+def test_check_report_fields_are_named_as_the_json_keys() -> None:
+    """One name per datum: a field of ``CheckReport`` is its JSON key (``class_`` for
+    ``class``, reserved in Python); the older ``configuration_class`` still reads it."""
+    import dataclasses
+
+    raw = run_check(TWO, algorithm="go-to-target", scheduler="async")
+    report = gv.CheckReport.from_json(raw)
+    fields = {f.name.rstrip("_") for f in dataclasses.fields(report)}
+    assert fields <= set(raw) | {"peak_rss_mb", "drift"}
+    assert report.class_ == raw["class"] == "I13"
+    with pytest.warns(DeprecationWarning, match="class_"):
+        assert report.configuration_class == report.class_
+
+
 def test_abbreviations_and_semicolons_are_refused(capsys) -> None:
     assert main(["check", "--robot", "0,0 3,1", "--meeting", "2,2"]) == 2
     assert main(["check", "--robots", "0,0;3,1", "--meeting", "2,2"]) == 2
@@ -343,3 +357,50 @@ def test_a_worker_without_the_file_receives_it(tmp_path: Path) -> None:
     edited = {**sources[path], "plug_helper_h.py": "def step(target):\n    return (0, 0)\n"}
     _, rows, _ = _run_task((1, settings, chunk), sources={moved: edited})  # a later, edited one
     assert rows[0]["verdict"] == "VIOLATED"
+
+
+BOOM = '''\
+from {helper} import step
+
+class Boom:
+    name = "boom"
+
+    def __init__(self, fixed="0"):
+        self.fixed = fixed == "1"
+
+    def decide(self, view):
+        (target,) = view.meeting_nodes
+        if not self.fixed and abs(target[0]) + abs(target[1]) == 1:
+            raise RuntimeError("boom next to the meeting node")
+        return step(target)
+'''
+
+
+def test_replay_exit_5_says_which_of_its_two_kinds_happened(tmp_path: Path, capsys) -> None:
+    """Exit 5 has two causes, and the output names the one that happened: a step the changed
+    algorithm no longer takes, or every step still taken but the property no longer failing
+    at the end (here: a crash, fixed, with the moves before it unchanged)."""
+    path = write_algorithm(tmp_path, "plug_helper_k")
+    (tmp_path / "boom_alg.py").write_text(BOOM.format(helper="plug_helper_k"))
+    boom = run_check(TWO, algorithm=f"{tmp_path / 'boom_alg.py'}:Boom", scheduler="ssync")
+    assert (boom["verdict"], boom["property"]) == ("VIOLATED", "crash") and boom["trace"]["steps"]
+    (tmp_path / "step.json").write_text(json.dumps(  # a lazy algorithm takes none of its moves
+        boom["trace"] | {"algorithm": f"{path}:Home:lazy=1"}))
+    (tmp_path / "end.json").write_text(json.dumps(  # the same moves, and no crash at the end
+        boom["trace"] | {"algorithm": f"{tmp_path / 'boom_alg.py'}:Boom:fixed=1"}))
+    capsys.readouterr()
+
+    assert main(["replay", str(tmp_path / "step.json"), "--quiet"]) == 5
+    out = capsys.readouterr().out
+    assert "NO LONGER REPRODUCES (the algorithm no longer takes one of its steps)" in out
+    assert "property no longer fails" not in out
+    assert main(["replay", str(tmp_path / "end.json"), "--quiet"]) == 5
+    out = capsys.readouterr().out
+    assert "NO LONGER REPRODUCES (its steps replay, but the property no longer fails at the " \
+           "end)" in out
+    assert "no longer takes" not in out
+
+    for name, why in (("step", "step-not-taken"), ("end", "property-holds")):
+        assert main(["replay", str(tmp_path / f"{name}.json"), "--json"]) == 5
+        answer = json.loads(capsys.readouterr().out)
+        assert answer["confirmed"] is False and answer["why"] == why

@@ -164,7 +164,27 @@ def test_new_property_is_checked_by_default_once_registered(user_properties):
                   max_seconds=60, margin=4)
     assert list(r["properties"])[-2:] == ["test-stays-near", "test-closer"]
     assert r["properties"]["test-stays-near"]["holds"] is False
-    assert r["property"] == "move-bound"  # the built-ins come first in verdict order
+    # the built-ins come first in verdict order; this livelock is named termination
+    assert r["property"] == "termination"
+    assert r["properties"]["move-bound"]["holds"] is False
+
+
+def test_a_livelock_is_named_termination_and_a_walk_away_move_bound():
+    """Termination is what a livelock breaks: with a fair cycle found, the check is named
+    by it (move-bound fails with it: a cycle with moves has no bound). A run over the bound
+    whose search stopped before termination was decided stays move-bound, and the
+    undecided termination says why."""
+    live = run_check(C([(0, 0), (0, 1), (0, 2), (2, 0)], [(1, 1), (2, 2)],
+                       initial=True), algorithm="paper", scheduler="fsync",
+                     max_seconds=60)
+    assert live["property"] == "termination" and live["trace"]["property"] == "termination"
+    assert live["properties"]["move-bound"]["holds"] is False
+    assert replay(live["trace"]).confirmed
+    away = run_check(TWO, algorithm="broken-away", scheduler="fsync", max_seconds=60)
+    assert away["property"] == "move-bound" and away["trace"]["cycle_start"] is None
+    assert away["properties"]["termination"] == {
+        "holds": None, "reason": "search stopped while lifting the reduced graph to check "
+                                 "cycles (region)"}
 
 
 def test_a_property_that_is_not_symmetric_switches_the_symmetry_reduction_off(user_properties):

@@ -4,6 +4,7 @@ viewers, the plot coloured by verdict with the bound line."""
 
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 
@@ -131,3 +132,47 @@ def test_browser_report_counts_open_lists_and_thumbnails_open_viewers(db, web, t
     assert page.url.endswith(".html") and "report-files" in page.url
     assert page.is_visible("#now")
     assert web.errors == [] and web.remote == []
+
+
+def test_the_index_tells_the_batches_of_an_edited_algorithm_apart(tmp_path, capsys,
+                                                                  monkeypatch):
+    """Each batch names its fingerprint, when its rows were written and whether it is the
+    code on disk now: after an edit, the old batch is older code and the new one current.
+    ``--algorithm`` keeps one algorithm's sweeps."""
+    import sqlite3
+
+    alg = tmp_path / "walk.py"
+    alg.write_text("from gather_verify.algorithms.go_to_target import GoToTarget\n\n\n"
+                   "class Walk(GoToTarget):\n    name = 'walk'\n")
+    db = tmp_path / "r.sqlite"
+    sweep(db, f"{alg}:Walk")
+    alg.write_text(alg.read_text() + "# edited\n")
+    sweep(db, f"{alg}:Walk")
+    sweep(db, "go-to-target")
+    out = tmp_path / "report.html"
+    write_html(str(db), str(out))
+    items = re.findall(r"<li>.*?</li>", out.read_text())
+    assert len(items) == 3
+    tags = [re.search(r"<span class='code (\w+)'[^>]*>(.*?)</span>", li).groups() for li in items]
+    assert [kind for kind, _ in tags] == ["older", "current", "current"]
+    fingerprints = [re.search(r"fingerprint (\w{8}) · written \d{4}-\d\d-\d\d \d\d:\d\d UTC",
+                              text).group(1) for _, text in tags]
+    assert len(set(fingerprints)) == 3
+    assert "current" in (tmp_path / "report-2.html").read_text()  # and on the batch's page
+    assert main(["report", "--db", str(db), "--algorithm", "Walk"]) == 0
+    text = capsys.readouterr().out
+    assert text.count("== sweep") == 4 and "go-to-target" not in text
+    assert text.count("older code: not the code on disk now; rows written ") == 2
+    assert text.count("current: the code on disk now; rows written ") == 2
+    monkeypatch.chdir(tmp_path)  # a file named as on the command line, from where it is
+    assert main(["report", "--db", str(db), "--algorithm", "walk.py:Walk", "--json"]) == 0
+    found = json.loads(capsys.readouterr().out)["sweeps"]
+    assert [s["current"] for s in found] == [False, False, True, True]
+    assert all("written" not in s for s in found)  # wall-clock: only with --timings
+    write_html(str(db), str(out), algorithm="go-to-target")
+    assert "go-to-target" in out.read_text() and "walk.py" not in out.read_text()
+    with sqlite3.connect(db) as con:  # a database written before the dates were kept
+        con.execute("DROP TABLE written")
+    main(["report", "--db", str(db), "--algorithm", "go-to-target"])
+    assert "current: the code on disk now; written before dates were kept" in \
+        capsys.readouterr().out

@@ -43,3 +43,15 @@ def test_report_workers_curve(tmp_path, capsys):
     assert curve["wall"]["64"] == pytest.approx(curve["largest"], abs=1e-2)
     assert main(["report", "--db", db, "--workers-curve", "two"]) == 2
     assert "bad --workers-curve" in capsys.readouterr().err
+
+
+def test_a_finite_world_s_rows_are_cut_into_the_tasks_its_sweep_hands_out():
+    """A finite world's nodes are numbers, not points: its rows are costed by the chunks of
+    configurations its sweep hands out (``report --workers-curve`` on such a database)."""
+    from gather_verify.sweeps.schedule import WORLD_CHUNK, task_seconds
+    from gather_verify.sweeps.sweep import CHUNK
+
+    assert WORLD_CHUNK == CHUNK
+    rows = [{"sweep": 1, "index": k, "meeting_nodes": [] if k % 2 else [0], "seconds": 1.0}
+            for k in range(2 * CHUNK + 1)]
+    assert task_seconds(rows) == [CHUNK, CHUNK, 1.0]

@@ -78,7 +78,12 @@ def test_a_database_never_makes_the_report_run_code(tmp_path):
             t = json.loads(trace)
             t["algorithm"] = f"{tmp_path / 'evil.py'}:X"
             con.execute("UPDATE results SET trace = ? WHERE key = ?", (json.dumps(t), key))
+        # the sweep's own algorithm too: whether it is the code on disk is read, never run
+        for sweep, settings in con.execute("SELECT id, settings FROM sweeps").fetchall():
+            s = {**json.loads(settings), "algorithm": f"{tmp_path / 'evil.py'}:X"}
+            con.execute("UPDATE sweeps SET settings = ? WHERE id = ?", (json.dumps(s), sweep))
     con.close()
     done = cli("report", "--db", str(db), "--html", str(tmp_path / "report.html"), cwd=tmp_path)
     assert done.returncode == 0, done.stderr
+    assert "older code: not the code on disk now" in done.stdout  # its file was read
     assert (tmp_path / "report.html").exists() and not marker.exists()

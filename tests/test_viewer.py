@@ -121,10 +121,37 @@ def test_cycle_decisions_when_the_cycle_repeats():
 
 def test_algorithm_without_phases_and_unknown_algorithm():
     trace = synthetic_cycle()
-    assert annotate(trace)["states"][0]["phase"] is None  # go-to-target has no plan
+    data = annotate(trace)
+    assert data["states"][0]["phase"] is None  # go-to-target has no plan
+    assert data["provides"] == {"phase": False, "guard": False, "target": True}
+    assert data["loaded"]
+    assert annotate(stored(STALE))["provides"] == {"phase": True, "guard": True, "target": True}
     trace["algorithm"] = "someone-elses"
     data = annotate(trace)
     assert data["states"][0]["class"] and data["states"][0]["moves"] is None
+    assert not data["loaded"] and not any(data["provides"].values())
+
+
+def test_an_algorithm_s_own_phase_is_shown_without_a_plan():
+    from gather_verify.algorithms.go_to_target import GoToTarget
+
+    class Named(GoToTarget):
+        name = "go-to-target"
+
+        def phase(self, configuration):
+            return "walking"
+
+    import gather_verify.viewer as viewer
+
+    trace = synthetic_cycle()
+    original = viewer._load_algorithm
+    viewer._load_algorithm = lambda name, load_code=True: Named()
+    try:
+        data = annotate(trace)
+    finally:
+        viewer._load_algorithm = original
+    assert data["provides"] == {"phase": True, "guard": False, "target": True}
+    assert {info["phase"] for info in data["states"]} == {"walking"}
 
 
 def test_event_text():
@@ -225,6 +252,27 @@ def test_browser_steps_through_the_trace(web, tmp_path):
     assert page.inner_text("#info .v-class") == "I22"
     x, y = annotate(trace)["states"][3]["target"]  # the target moved (F9): shown per state
     assert page.inner_text("#info .v-target") == f"({x}, {y})" == "(2, 0)"
+    assert web.errors == [] and web.remote == []
+
+
+def test_browser_shows_the_paper_s_rows_only_for_an_algorithm_that_gives_them(web, tmp_path):
+    rows = "ths => ths.map(t => t.textContent)"
+    page = open_viewer(web, tmp_path, stored(STALE), "paper.html")
+    assert page.eval_on_selector_all("#info th", rows) == [
+        "class", "phase", "target meeting node", "guard"]
+    assert "guard" in page.inner_text("#legend")
+    page = open_viewer(web, tmp_path, synthetic_cycle(), "mine.html")  # go-to-target
+    assert page.eval_on_selector_all("#info th", rows) == ["class", "target meeting node"]
+    assert "guard" not in page.inner_text("#legend")
+    assert "\u2014" not in page.inner_text("#info")
+    unknown = synthetic_cycle()
+    unknown["algorithm"] = "someone-elses"
+    page = open_viewer(web, tmp_path, unknown, "unknown.html")
+    assert page.eval_on_selector_all("#info th", rows) == ["class", "algorithm"]
+    assert "not loaded" in page.inner_text("#info")
+    assert "target meeting node" not in page.inner_text("#legend")
+    page = open_viewer(web, tmp_path, stored(CYCLE_ASYNC), "cycle.html")
+    assert "null" not in page.inner_text("#verdict")  # a cycle's move-bound has no max_moves
     assert web.errors == [] and web.remote == []
 
 

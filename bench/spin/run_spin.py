@@ -3,12 +3,16 @@
 
     python3 bench/spin/run_spin.py --robots "0,0 5,1 1,5 6,6 3,0" --meeting 3,3
     python3 bench/spin/run_spin.py --quick      # robots 0,0 3,1 1,4, M 2,2
+    python3 bench/spin/run_spin.py --ring       # ring:14, robots 5 6 7 8 9, m 0
+    python3 bench/spin/run_spin.py --ring --quick   # ring:9, robots 0 3 5, m 7
+    python3 bench/spin/run_spin.py --world ring:9 --robots "0 3 5" --meeting 7
 
 Everything happens in a fresh temporary directory (unless --keep DIR). Prints
 one JSON object on stdout; the fields are documented in bench/spin/README.md.
 The main ones:
 
   instance                  algorithm, scheduler, reductions, robots, meeting
+                            (and world, for a ring)
   states                    pan's "states, stored"
   transitions               pan's "transitions (= stored+matched)"
   edges                     transitions - 1 = adversary actions (one d_step each)
@@ -45,9 +49,12 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.dont_write_bytecode = True  # leave no __pycache__ in the repository
 import make_model  # noqa: E402
+import make_ring_model  # noqa: E402
 
 QUICK = ("0,0 3,1 1,4", "2,2")                  # SEMANTICS.md §4 yardstick
 ISSUE8 = ("0,0 5,1 1,5 6,6 3,0", "3,3")         # issue 8 measuring stick
+RING_QUICK = ("ring:9", "0 3 5", "7")           # SEMANTICS.md §9 test data
+RING = ("ring:14", "5 6 7 8 9", "0")            # the ring instance of gather-verify bench
 GCC_FLAGS = ["-O2", "-DNOREDUCE", "-DSAFETY"]
 
 
@@ -113,15 +120,16 @@ def machine_info() -> dict:
     }
 
 
-def longest_path(robots, meeting) -> int:
+def grid_longest_path(robots, meeting) -> int:
     """Length of the longest execution: a Look and a Move per unit distance."""
     return sum(2 * (abs(x - meeting[0]) + abs(y - meeting[1])) for x, y in robots)
 
 
-def run_once(robots, meeting, depth: int, hash_log2: int, memlim: int | None,
+def run_once(model, depth: int, hash_log2: int, memlim: int | None,
              workdir: str, t0: float) -> dict:
+    """One pipeline run; ``model()`` gives the Promela text (generated inside the timing)."""
     with open(os.path.join(workdir, "model.pml"), "w", encoding="ascii") as fh:
-        fh.write(make_model.make_model(robots, meeting))
+        fh.write(model())
 
     gcc_flags = list(GCC_FLAGS) + ([f"-DMEMLIM={memlim}"] if memlim else [])
     t_c0 = time.perf_counter()
@@ -165,15 +173,24 @@ def run_once(robots, meeting, depth: int, hash_log2: int, memlim: int | None,
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(
-        description="SPIN yardstick: go-to-target, ASYNC, identities kept, "
-                    "no reduction. Prints one JSON object.")
-    ap.add_argument("--robots", type=make_model.parse_robots, default=None,
-                    help=f'robot nodes (default, issue 8: "{ISSUE8[0]}")')
-    ap.add_argument("--meeting", type=make_model.parse_point, default=None,
-                    help=f"meeting node (default, issue 8: {ISSUE8[1]})")
+        description="SPIN yardstick: go-to-target on Z x Z or ring:N, ASYNC, "
+                    "identities kept, no reduction. Prints one JSON object.")
+    ap.add_argument("--world", default="grid",
+                    help="grid (Z x Z, the default) or ring:N")
+    ap.add_argument("--robots", default=None,
+                    help=f'robot nodes: "x,y ..." on the grid (default, issue 8: '
+                         f'"{ISSUE8[0]}"), "v ..." on a ring')
+    ap.add_argument("--meeting", default=None,
+                    help=f"meeting node: x,y on the grid (default, issue 8: "
+                         f"{ISSUE8[1]}), v on a ring")
     ap.add_argument("--quick", action="store_true",
                     help=f'the small instance: robots "{QUICK[0]}", M {QUICK[1]} '
-                         "(2184 states, 7032 transitions)")
+                         "(2184 states, 7032 transitions); with --ring, "
+                         f'{RING_QUICK[0]}, robots "{RING_QUICK[1]}", m {RING_QUICK[2]} '
+                         "(225 states, 560 transitions)")
+    ap.add_argument("--ring", action="store_true",
+                    help=f'the ring instance of gather-verify bench: {RING[0]}, robots '
+                         f'"{RING[1]}", m {RING[2]} (572572 states, 2670668 transitions)')
     ap.add_argument("-w", "--hash-log2", type=int, default=None,
                     help="pan -w (log2 of hash slots); default: bit length of "
                          "the exact state count, so the load factor is < 1")
@@ -191,15 +208,43 @@ def main(argv: list[str] | None = None) -> int:
                     help="also write the JSON (indented) to FILE")
     args = ap.parse_args(argv)
 
-    if args.quick:
-        if args.robots is not None or args.meeting is not None:
-            ap.error("--quick takes no --robots/--meeting")
-        args.robots = make_model.parse_robots(QUICK[0])
-        args.meeting = make_model.parse_point(QUICK[1])
-    if args.robots is None:
-        args.robots = make_model.parse_robots(ISSUE8[0])
-    if args.meeting is None:
-        args.meeting = make_model.parse_point(ISSUE8[1])
+    if args.ring or args.quick:
+        if args.robots is not None or args.meeting is not None or args.world != "grid":
+            ap.error("--quick and --ring take no --world/--robots/--meeting")
+        args.world, robots, meeting = (
+            (RING_QUICK if args.quick else RING) if args.ring
+            else ("grid", *QUICK))
+    elif args.world == "grid":
+        robots = ISSUE8[0] if args.robots is None else args.robots
+        meeting = ISSUE8[1] if args.meeting is None else args.meeting
+    elif args.robots is None or args.meeting is None:
+        ap.error(f"--world {args.world} needs --robots and --meeting")
+    else:
+        robots, meeting = args.robots, args.meeting
+    try:
+        if args.world == "grid":
+            args.robots = make_model.parse_robots(robots)
+            args.meeting = make_model.parse_point(meeting)
+            expected_states, expected_edges = make_model.closed_form_counts(
+                args.robots, args.meeting)
+            longest = grid_longest_path(args.robots, args.meeting)
+            robots, meeting = args.robots, args.meeting
+
+            def model():
+                return make_model.make_model(robots, meeting)
+        else:
+            n = make_ring_model.parse_world(args.world)
+            args.robots = make_ring_model.parse_nodes(robots)
+            args.meeting = int(meeting)
+            expected_states, expected_edges = make_ring_model.closed_form_counts(
+                n, args.robots, args.meeting)
+            longest = make_ring_model.longest_path(n, args.robots, args.meeting)
+            robots, meeting = args.robots, args.meeting
+
+            def model():
+                return make_ring_model.make_model(n, robots, meeting)
+    except (argparse.ArgumentTypeError, ValueError) as exc:
+        ap.error(str(exc))
 
     for tool in ("spin", "gcc"):
         if shutil.which(tool) is None:
@@ -207,9 +252,6 @@ def main(argv: list[str] | None = None) -> int:
                   f"(apt-get install -y spin gcc)", file=sys.stderr)
             return 2
 
-    expected_states, expected_edges = make_model.closed_form_counts(
-        args.robots, args.meeting)
-    longest = longest_path(args.robots, args.meeting)
     if args.depth is None:
         args.depth = longest + 1000
     if args.depth <= longest + 1:
@@ -225,12 +267,12 @@ def main(argv: list[str] | None = None) -> int:
             t0 = T_PROCESS if k == 0 else time.perf_counter()
             if args.keep:
                 os.makedirs(args.keep, exist_ok=True)
-                runs.append(run_once(args.robots, args.meeting, args.depth,
-                                     args.hash_log2, args.memlim, args.keep, t0))
+                runs.append(run_once(model, args.depth, args.hash_log2,
+                                     args.memlim, args.keep, t0))
             else:
                 with tempfile.TemporaryDirectory(prefix="spin-bench-") as tmp:
-                    runs.append(run_once(args.robots, args.meeting, args.depth,
-                                         args.hash_log2, args.memlim, tmp, t0))
+                    runs.append(run_once(model, args.depth, args.hash_log2,
+                                         args.memlim, tmp, t0))
     except Failure as exc:
         print(f"run_spin: {exc}", file=sys.stderr)
         return 1
@@ -247,6 +289,13 @@ def main(argv: list[str] | None = None) -> int:
             "reductions": "none",
             "robots": [list(p) for p in args.robots],
             "meeting": list(args.meeting),
+        } if args.world == "grid" else {
+            "world": args.world,
+            "algorithm": "go-to-target",
+            "scheduler": "ASYNC",
+            "reductions": "none",
+            "robots": args.robots,
+            "meeting": args.meeting,
         },
         "states": info["states"],
         "transitions": info["transitions"],

@@ -22,10 +22,11 @@ import sysconfig
 import traceback
 from typing import Protocol, runtime_checkable
 
-from gather_verify.errors import InvalidInput
+from gather_verify.errors import GatherVerifyError, InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.view import View
+from gather_verify.watchdog import Overtime, watched
 
 
 @runtime_checkable
@@ -39,17 +40,27 @@ class Algorithm(Protocol):
         ...
 
 
-class Unhandled(Exception):
+class Unhandled(GatherVerifyError):
     """The algorithm has no rule for this view (the paper leaves the case open).
 
     Raise it instead of inventing a move: the explorer reports the state as a
     violation of the ``defined`` property, with the trace that reaches it.
+
+    Cause: an algorithm raised it (or read what its model hides: :class:`HiddenRead`).
+    Fix: give the algorithm a rule for the view in the trace, or accept the ``defined``
+    violation as the finding.
     """
 
 
 class AlgorithmError(InvalidInput):
     """The algorithm answered something that is not a move: a bug in the *algorithm* (the
-    user's, when it is a plug-in), so exit 2 naming it, not a bug of gather-verify."""
+    user's, when it is a plug-in), so exit 2 naming it, not a bug of gather-verify.
+
+    Cause: ``decide`` returned a value that is not a move: on the grid neither ``(0, 0)`` nor
+    a unit step, in a finite world neither the robot's node, a neighbour, nor (with lights)
+    such a node with a colour in range. It reaches the user wrapped in an
+    :class:`AlgorithmCrash`. Fix: the message names the algorithm and the answer; make it
+    return a move in the robot's frame."""
 
 
 _PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -57,10 +68,13 @@ _LIBRARY = tuple(os.path.abspath(p) + os.sep for p in {
     sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")})
 
 
-class AlgorithmCrash(Exception):
+class AlgorithmCrash(GatherVerifyError):
     """An exception escaped the algorithm's ``decide`` or ``target``, or ``decide`` answered
     something that is not a move: a bug in the algorithm. The explorer reports the state as
     a violation of the ``crash`` property, with the shortest trace that reaches it.
+
+    Cause: the algorithm's code raised (``exception``, ``frames``). Fix: correct the
+    algorithm at the frame it names, replaying the trace to see the view it crashed on.
 
     Plain data only (it crosses process boundaries): ``call`` (decide or target), the robot's
     ``node`` and its ``view`` (robots and meeting nodes in its frame) for ``decide``, the
@@ -108,8 +122,9 @@ def target_of(algorithm: object, configuration: Configuration) -> Node | None:
     if target is None:
         return None
     try:
-        return target(configuration)
-    except (Unhandled, KeyboardInterrupt):
+        with watched():
+            return target(configuration)
+    except (Unhandled, KeyboardInterrupt, Overtime):
         raise
     except BaseException as error:  # SystemExit too: user code never ends the verifier
         raise AlgorithmCrash(getattr(algorithm, "name", "?"), "target", error) from None
@@ -127,7 +142,8 @@ def phase_of(algorithm: object, configuration: Configuration) -> str | None:
     if phase is None:
         return None
     try:
-        got = phase(configuration)
+        with watched():  # (the watchdog's Overtime is no Exception: it goes through)
+            got = phase(configuration)
     except Exception:  # noqa: BLE001 - the cause is optional; the search reports crashes
         return None
     return got if isinstance(got, str) else None

@@ -94,6 +94,7 @@ class GoToTarget:
         if type(view) is not View and hasattr(view, "graph"):
             return _on_graph(view)
         meeting = view.meeting_nodes
+        target: Node | None
         if len(meeting) == 1:
             (target,) = meeting
         else:

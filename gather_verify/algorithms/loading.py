@@ -39,6 +39,7 @@ from types import ModuleType
 from typing import Any
 
 from gather_verify.errors import InvalidInput
+from gather_verify.watchdog import Overtime, watched
 
 ENTRY_POINT_GROUP = "gather_verify.algorithms"
 _LIBRARY = {os.path.abspath(sysconfig.get_paths()[k])
@@ -261,10 +262,15 @@ def load_file(path: str) -> ModuleType:
     module = importlib.util.module_from_spec(loader_spec)
     sys.modules[name] = module  # classes defined there pickle by this name
     try:
-        loader_spec.loader.exec_module(module)
+        with watched():  # an endless loop at import ends with the time limit (watchdog)
+            loader_spec.loader.exec_module(module)
     except KeyboardInterrupt:
         del sys.modules[name]
         raise
+    except Overtime as error:
+        del sys.modules[name]
+        raise InvalidInput(f"algorithm file {path}: did not finish importing within "
+                           f"{error.seconds:g} s (an endless loop at import?)") from None
     except BaseException as error:  # SystemExit, GeneratorExit ... at import: bad input too
         del sys.modules[name]
         raise InvalidInput(f"algorithm file {path}: importing it failed: "
@@ -330,9 +336,13 @@ def snapshot(specs: set[str]) -> Iterator[dict[str, dict[str, str]]]:
 
 def load_module(name: str) -> ModuleType:
     try:
-        return importlib.import_module(name)
+        with watched():
+            return importlib.import_module(name)
     except KeyboardInterrupt:
         raise
+    except Overtime as error:
+        raise InvalidInput(f"algorithm module {name!r}: did not finish importing within "
+                           f"{error.seconds:g} s (an endless loop at import?)") from None
     except BaseException as error:  # not only ImportError: whatever its import raises
         raise InvalidInput(f"algorithm module {name!r}: cannot import it "
                            f"({type(error).__name__}: {error})") from None
@@ -343,9 +353,13 @@ def entry_point_factory(name: str) -> Any | None:
     for point in metadata.entry_points(group=ENTRY_POINT_GROUP):
         if point.name == name:
             try:
-                return point.load()
+                with watched():
+                    return point.load()
             except KeyboardInterrupt:
                 raise
+            except Overtime as error:
+                raise InvalidInput(f"algorithm {name!r} (entry point {point.value}): loading "
+                                   f"it did not finish within {error.seconds:g} s") from None
             except BaseException as error:
                 raise InvalidInput(f"algorithm {name!r} (entry point {point.value}): "
                                  f"loading it failed: {type(error).__name__}: {error}") from None
@@ -364,11 +378,15 @@ def instantiate(target: Any, options: dict[str, str], spec: str) -> Any:
         algorithm = target
     elif callable(target):
         try:
-            algorithm = target(**options)
+            with watched():
+                algorithm = target(**options)
         except TypeError as error:
             raise InvalidInput(f"bad options for algorithm {spec!r}: {error}") from None
         except KeyboardInterrupt:
             raise
+        except Overtime as error:
+            raise InvalidInput(f"algorithm {spec!r}: constructing it did not finish within "
+                               f"{error.seconds:g} s") from None
         except BaseException as error:  # the user's constructor rejected its options
             raise InvalidInput(f"algorithm {spec!r}: constructing it failed: "
                                f"{type(error).__name__}: {error}") from None

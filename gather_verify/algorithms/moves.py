@@ -23,6 +23,7 @@ from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import ORIGIN, STEPS, Node
 from gather_verify.model.view import FRAME_SETS, MultiplicityHidden, View, check_detection
+from gather_verify.watchdog import Overtime, watched
 
 ANSWERS = frozenset((ORIGIN, *STEPS))
 MAPPED_BACK = tuple({answer: geometry.apply(geometry.inverse(g), answer) for answer in ANSWERS}
@@ -32,7 +33,11 @@ MAPPED_BACK = tuple({answer: geometry.apply(geometry.inverse(g), answer) for ans
 
 class HiddenRead(Unhandled, MultiplicityHidden):
     """The algorithm read multiplicity its detection model hides: it has no rule its robots
-    could follow (the explorer reports it as a ``defined`` violation, with a trace)."""
+    could follow (the explorer reports it as a ``defined`` violation, with a trace).
+
+    Cause and fix: those of :class:`~gather_verify.model.view.MultiplicityHidden`, raised
+    from a move set; an :class:`~gather_verify.algorithms.base.Unhandled` as well, so the
+    explorer treats it as a missing rule."""
 
 
 def frames_for(name: str) -> tuple[int, ...]:
@@ -59,25 +64,26 @@ def move_set(
         raise ValueError(f"no robot at {node} to take a view from")
     out = set()
     decide, (x, y), view = algorithm.decide, node, View.trusted
-    for g in frames:
-        seen = view(configuration, node, g, detection)
-        try:
-            answer = decide(seen)
-        except MultiplicityHidden as error:  # a rule its robots cannot apply: no rule at all
-            raise HiddenRead(f"algorithm {algorithm.name!r} reads multiplicity its robots cannot "
-                            f"see: {error}") from None
-        except (Unhandled, KeyboardInterrupt):  # no rule; a real Ctrl-C stays an interrupt
-            raise
-        except BaseException as error:  # a bug in the algorithm (SystemExit too): a crash
-            raise AlgorithmCrash(algorithm.name, "decide", error, node, seen) from None
-        try:
-            dx, dy = MAPPED_BACK[g][answer]  # the answer, mapped back to global coordinates
-        except (KeyError, TypeError):
-            error = AlgorithmError(
-                f"algorithm {algorithm.name!r} answered {answer!r}: a move must be (0, 0) "
-                "or a unit step (1, 0), (0, 1), (-1, 0), (0, -1) in the robot's frame")
-            raise AlgorithmCrash(algorithm.name, "decide", error, node, seen) from None
-        out.add((x + dx, y + dy))
+    with watched():  # an endless decide ends with the time limit (the watchdog)
+        for g in frames:
+            seen = view(configuration, node, g, detection)
+            try:
+                answer = decide(seen)
+            except MultiplicityHidden as error:  # a rule its robots cannot apply: no rule
+                raise HiddenRead(f"algorithm {algorithm.name!r} reads multiplicity its robots "
+                                 f"cannot see: {error}") from None
+            except (Unhandled, KeyboardInterrupt, Overtime):  # no rule; a real Ctrl-C stays
+                raise  # an interrupt, the watchdog's a stop at the time limit
+            except BaseException as error:  # a bug in the algorithm (SystemExit too): a crash
+                raise AlgorithmCrash(algorithm.name, "decide", error, node, seen) from None
+            try:
+                dx, dy = MAPPED_BACK[g][answer]  # the answer, mapped back to global coordinates
+            except (KeyError, TypeError):
+                wrong = AlgorithmError(
+                    f"algorithm {algorithm.name!r} answered {answer!r}: a move must be (0, 0) "
+                    "or a unit step (1, 0), (0, 1), (-1, 0), (0, -1) in the robot's frame")
+                raise AlgorithmCrash(algorithm.name, "decide", wrong, node, seen) from None
+            out.add((x + dx, y + dy))
     return frozenset(out)
 
 
@@ -98,8 +104,9 @@ def move_sets(
     planned = getattr(algorithm, "move_sets", None)
     if planned is not None:  # the algorithm computes the union over the frames itself
         try:
-            out = planned(configuration, detection, frames)
-        except (Unhandled, KeyboardInterrupt):
+            with watched():
+                out = planned(configuration, detection, frames)
+        except (Unhandled, KeyboardInterrupt, Overtime):
             raise
         except BaseException as error:  # SystemExit too: user code never ends the verifier
             raise AlgorithmCrash(algorithm.name, "move_sets", error) from None

@@ -221,7 +221,7 @@ def distance_function(symmetry: Automorphism, metric: str = "manhattan"):
     """
     if symmetry.kind == "reflection":
         return lambda v: manhattan(v, symmetry(v))
-    cx, cy = symmetry.centre2  # type: ignore[misc]
+    cx, cy = symmetry.centre2
     if metric == "euclid":
         return lambda v: (2 * v[0] - cx) ** 2 + (2 * v[1] - cy) ** 2
     return lambda v: abs(2 * v[0] - cx) + abs(2 * v[1] - cy)
@@ -253,7 +253,7 @@ def analyse(c: Configuration, reading: Mapping[str, str] | None = None, **option
         reading = Reading({**DEFAULTS, **(reading or {}), **options})
     aut_m = meeting_automorphisms(c)[1:]
     if not aut_m:
-        order = strings.ordering_O(c, reading["alpha"])  # type: ignore[arg-type]
+        order = strings.ordering_O(c, reading["alpha"])
         if order is None:
             raise Unhandled("I11: the leading corner is not unique, O is not defined")
         return _everyone_to(c, "I11", order[-1])
@@ -261,7 +261,7 @@ def analyse(c: Configuration, reading: Mapping[str, str] | None = None, **option
     symmetry = min(rotations, key=lambda a: a.order == 2) if rotations else aut_m[0]
     on_symmetry = sorted(m for m in c.meeting_nodes if symmetry.fixes(m))
     if not rotations and on_symmetry:
-        order = strings.ordering_O_prime(c, on_symmetry, reading["alpha"])  # type: ignore[arg-type]
+        order = strings.ordering_O_prime(c, on_symmetry, reading["alpha"])
         if order is None:
             raise Unhandled("I12: the leading corners order the meeting nodes on L differently")
         return _everyone_to(c, "I12", order[-1])

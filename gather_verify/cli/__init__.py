@@ -3,7 +3,8 @@
 Every subcommand module defines ``HELP``, ``add_arguments(parser)`` and
 ``run(args) -> int``. Exit codes are shared by all commands: 0 success or
 VERIFIED, 1 VIOLATED, 2 bad input or usage (:class:`~gather_verify.errors.InvalidInput`
-or an unreadable/unwritable file: one line on stderr, never a traceback), 3 INCOMPLETE,
+or an unreadable/unwritable file: one line on stderr, never a traceback), 3 INCOMPLETE
+(also when the watchdog stopped the user's code where no check could report it),
 4 NOT-APPLICABLE, 5 a replayed trace no longer reproduces, 70 a bug of gather-verify (any other exception: it says so and prints
 the traceback), 130 interrupted by Ctrl-C (one line on stderr says what was kept and how
 to resume), 141 the output pipe was closed (``| head``). See docs/reliability.md.
@@ -22,17 +23,19 @@ from collections.abc import Sequence
 from gather_verify.algorithms.base import AlgorithmCrash
 from gather_verify.cli.common import (
     EXIT_BUG,
+    EXIT_INCOMPLETE,
     EXIT_INTERRUPTED,
     EXIT_USAGE,
     EXIT_VIOLATED,
     UsageError,
 )
 from gather_verify.errors import InvalidInput
+from gather_verify.watchdog import Overtime
 
 EXIT_BROKEN_PIPE = 141
 """The output pipe was closed by its reader (128 + SIGPIPE, as shells report it)."""
 COMMANDS = ("classify", "census", "simulate", "check", "replay", "sweep", "report",
-            "impossibility", "bench", "test")
+            "impossibility", "bench", "test", "synthesize")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -45,8 +48,17 @@ class _Parser(argparse.ArgumentParser):
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="gather-verify", description=__doc__.splitlines()[0], allow_abbrev=False)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
-    for name in COMMANDS:  # a missing command module is a broken install: fail loudly
-        module = importlib.import_module(f"gather_verify.cli.{name}")
+    for name in COMMANDS:
+        try:
+            module = importlib.import_module(f"gather_verify.cli.{name}")
+        except ModuleNotFoundError as error:
+            if error.name != f"gather_verify.cli.{name}":
+                raise  # a module the command imports: its own message says which
+            # never skipped: a command that vanishes from --help would hide a broken install
+            raise ImportError(
+                f"the command module gather_verify.cli.{name} is missing: a bug of "
+                "gather-verify (a broken install, or a command listed with no module)",
+                name=error.name) from error
         p = sub.add_parser(name, help=module.HELP, description=module.HELP, allow_abbrev=False)
         module.add_arguments(p)
         p.set_defaults(_run=module.run)
@@ -82,6 +94,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("interrupted; run the same command again (a sweep keeps every row it stored and "
               "resumes)", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except Overtime as stopped:  # the watchdog, where no check turned it into INCOMPLETE
+        print(f"stopped: your code was still running after {stopped.seconds:g} s (the time "
+              "limit's watchdog); nothing was decided", file=sys.stderr)
+        return EXIT_INCOMPLETE
     except Exception as error:  # anything else is ours
         if _interrupted(error):  # Ctrl-C inside C code (numba loading its kernels) comes wrapped
             print("interrupted; run the same command again (a sweep keeps every row it stored and "

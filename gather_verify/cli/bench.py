@@ -1,4 +1,5 @@
-"""``gather-verify bench``: the explorer against SPIN on the issue-8 instance (or ``--quick``)."""
+"""``gather-verify bench``: the explorer against SPIN on the bench instance (or ``--quick``),
+and the finite-world check against SPIN on a ring."""
 
 from __future__ import annotations
 
@@ -6,14 +7,16 @@ import argparse
 
 from gather_verify.cli.common import bounded_float, bounded_int, print_json
 
-HELP = "measure explorer states/s, bytes per state and time to a verdict, beside SPIN"
+HELP = ("measure explorer states/s, bytes per state and time to a verdict, beside SPIN; "
+        "and a ring world's check beside SPIN")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--quick", action="store_true", help="the small yardstick instance")
+    parser.add_argument("--quick", action="store_true",
+                        help="the small yardstick instances (Z² and ring:9)")
     parser.add_argument("--max-seconds", type=bounded_float(0.1, 10**6), default=3600.0)
     parser.add_argument("--no-spin", action="store_true",
-                        help="do not run SPIN; compare with its stored result")
+                        help="do not run SPIN; compare with its stored results")
     parser.add_argument("--sweep", type=bounded_int(0, 10**6), default=0, metavar="K",
                         help="also time the paper sweep (n=3, m=3, 4x4, async) on K configurations")
     parser.add_argument("--json", action="store_true")

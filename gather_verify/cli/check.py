@@ -31,6 +31,7 @@ from gather_verify.engine.explore import (
     DEFAULT_MAX_STATES,
     Exploration,
 )
+from gather_verify.progress import Reporter, default_every
 from gather_verify.scenario import Scenario
 from schedulers import SCHEDULERS
 
@@ -106,6 +107,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
                         help="run the paper's algorithm under every reading of its ambiguous "
                              "passages (docs/interpretations.md) and report the robustness")
+    parser.add_argument("--progress", type=bounded_float(0, 10**6), default=None,
+                        metavar="SECONDS",
+                        help="print a progress line on stderr every SECONDS (states so far, "
+                             "seconds, what is being done); default: every 2 s when stderr is "
+                             "a terminal, never otherwise; 0: never")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--timings", action="store_true",
                         help="with --json, also print the wall-clock seconds and peak memory "
@@ -115,7 +121,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from gather_verify.check import run_check
     from gather_verify.engine.export import graph_format, write_graph
-    from gather_verify.render import render_trace, trace_svg
+    from gather_verify.render import render_trace
     from gather_verify.worlds import is_plane
 
     if not is_plane(args.world):
@@ -148,17 +154,18 @@ def run(args: argparse.Namespace) -> int:
 
         from gather_verify.readings import check_readings
 
-        run_check = partial(check_readings, readings=args.readings)  # type: ignore[assignment]
+        run_check = partial(check_readings, readings=args.readings)
     try:
-        report = run_check(
-            configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
-            frames=frames, properties=args.properties, reduction=not args.no_reduction,
-            max_states=args.max_states, max_seconds=args.max_seconds,
-            move_bound_c=args.move_bound_c, force=args.force, max_memory_mb=args.max_memory,
-            keep_growing=args.keep_growing, keep_going=args.keep_going,
-            engine={"bulk": "fast"}.get(args.engine, args.engine),
-            on_exploration=explored.append if args.graph_out else None,
-            **({} if args.margin is None else {"margin": args.margin}))
+        with _progress(args):
+            report = run_check(
+                configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
+                frames=frames, properties=args.properties, reduction=not args.no_reduction,
+                max_states=args.max_states, max_seconds=args.max_seconds,
+                move_bound_c=args.move_bound_c, force=args.force, max_memory_mb=args.max_memory,
+                keep_growing=args.keep_growing, keep_going=args.keep_going,
+                engine={"bulk": "fast"}.get(args.engine, args.engine),
+                on_exploration=explored.append if args.graph_out else None,
+                **({} if args.margin is None else {"margin": args.margin}))
     except KeyboardInterrupt:
         print("interrupted: check keeps no partial results (nothing was written); run the same "
               "command again to start over, with --max-seconds or --max-states to stop with "
@@ -174,18 +181,7 @@ def run(args: argparse.Namespace) -> int:
         else:
             print(f"note: nothing was explored ({report['verdict']}): {args.graph_out} not "
                   "written", file=sys.stderr)
-    if trace is not None and args.trace_out:
-        Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
-    if trace is not None and args.svg:
-        Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
-    if trace is not None and args.html:
-        from gather_verify.viewer import write_viewer
-
-        write_viewer(trace, args.html)
-    unwritten = [f for f in (args.trace_out, args.svg, args.html) if f and trace is None]
-    if unwritten:
-        print(f"note: {report['verdict']} has no counterexample trace: "
-              f"{', '.join(unwritten)} not written", file=sys.stderr)
+    _write_pictures(args, report)
     if args.junit:
         from gather_verify.junit import write_junit
 
@@ -229,6 +225,11 @@ def run(args: argparse.Namespace) -> int:
     return VERDICT_EXIT[report["verdict"]]
 
 
+def _progress(args: argparse.Namespace) -> Reporter:
+    """The progress lines of ``check --progress`` (default: every 2 s on a terminal)."""
+    return Reporter(default_every() if args.progress is None else args.progress)
+
+
 def _colours(text: str) -> list[int]:
     try:
         return [int(part, 10) for part in text.split()]
@@ -236,7 +237,7 @@ def _colours(text: str) -> list[int]:
         raise UsageError(f"--colours {text!r}: write one integer colour per robot") from None
 
 
-PLANE_ONLY = ("readings", "margin", "keep_growing", "force", "graph_out", "svg", "html", "junit")
+PLANE_ONLY = ("readings", "margin", "keep_growing", "force", "graph_out", "junit")
 """Options of the paper's world (Z²) that a finite world does not take."""
 
 
@@ -246,7 +247,7 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
     from gather_verify.world_check import render_world_trace, run_world_check
     from gather_verify.worlds import is_plane
 
-    world = args.world if not is_plane(args.world) else scenario.raw["world"]  # type: ignore[union-attr]
+    world = args.world if not is_plane(args.world) else scenario.raw["world"]
     for option in PLANE_ONLY:
         if getattr(args, option):
             raise UsageError(f"--{option.replace('_', '-')} is an option of the paper's world "
@@ -255,26 +256,27 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
         raise UsageError("give --robots (and --meeting for meeting nodes)")
     if scenario is not None and world.startswith("graph:"):  # a file beside the scenario
         world = "graph:" + str(Path(args.scenario).resolve().parent / world[6:])
-    robots = args.robots if args.robots is not None else list(scenario.nodes[0])  # type: ignore[union-attr]
+    robots = args.robots if args.robots is not None else list(scenario.nodes[0])
     meeting = args.meeting if args.meeting is not None else (
         list(scenario.nodes[1]) if scenario else "")
     algorithm = args.algorithm or (scenario.algorithm if scenario else "go-to-target")
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
-    writable_outputs(trace_out=args.trace_out)
+    writable_outputs(trace_out=args.trace_out, svg=args.svg, html=args.html)
     try:
-        report = run_world_check(
-            world, robots, meeting, algorithm, scheduler,
-            task=args.task or (scenario.task if scenario else None), properties=args.properties,
-            detection=args.multiplicity or (scenario.multiplicity if scenario else "local-weak"),
-            frames=args.frames or (scenario.frames if scenario else "all"),
-            visibility=args.visibility if args.visibility is not None else (
-                scenario.visibility if scenario else None),
-            lights=args.lights or (scenario.lights if scenario else None),
-            colours=_colours(args.colours) if args.colours is not None else (
-                scenario.colours if scenario else None),
-            reduction=not args.no_reduction, engine=args.engine,
-            max_states=args.max_states, max_seconds=args.max_seconds,
-            **({} if args.max_memory is None else {"max_memory_mb": args.max_memory}))
+        with _progress(args):
+            report = run_world_check(
+                world, robots, meeting, algorithm, scheduler,
+                task=args.task or (scenario.task if scenario else None), properties=args.properties,
+                detection=args.multiplicity or (scenario.multiplicity if scenario else "local-weak"),
+                frames=args.frames or (scenario.frames if scenario else "all"),
+                visibility=args.visibility if args.visibility is not None else (
+                    scenario.visibility if scenario else None),
+                lights=args.lights or (scenario.lights if scenario else None),
+                colours=_colours(args.colours) if args.colours is not None else (
+                    scenario.colours if scenario else None),
+                reduction=not args.no_reduction, engine=args.engine,
+                max_states=args.max_states, max_seconds=args.max_seconds,
+                **({} if args.max_memory is None else {"max_memory_mb": args.max_memory}))
     except KeyboardInterrupt:
         print("interrupted: check keeps no partial results (nothing was written)",
               file=sys.stderr)
@@ -283,8 +285,7 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
     if expected is not None:
         report["expectation"] = expected
     trace = report["trace"]
-    if trace is not None and args.trace_out:
-        Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
+    _write_pictures(args, report)
     if args.json:
         print_json(report if args.timings else without_timings(report))
     else:
@@ -325,3 +326,23 @@ def _expectation(scenario: Scenario | None, algorithm: str, scheduler: str,
         why = f"expected class {scenario.expected_class}, got {report['class']}"
     return {"matched": why is None, "mismatch": why, "verdict": expectation.verdict,
             "property": expectation.property}
+
+
+def _write_pictures(args: argparse.Namespace, report: dict[str, Any]) -> None:
+    """The counterexample's trace, SVG and viewer, where asked for; a note for each file
+    that a result with no counterexample leaves unwritten."""
+    trace = report["trace"]
+    if trace is not None and args.trace_out:
+        Path(args.trace_out).write_text(json.dumps(trace, indent=1) + "\n", encoding="utf-8")
+    if trace is not None and args.svg:
+        from gather_verify.render import trace_svg
+
+        Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
+    if trace is not None and args.html:
+        from gather_verify.viewer import write_viewer
+
+        write_viewer(trace, args.html)
+    unwritten = [f for f in (args.trace_out, args.svg, args.html) if f and trace is None]
+    if unwritten:
+        print(f"note: {report['verdict']} has no counterexample trace: "
+              f"{', '.join(unwritten)} not written", file=sys.stderr)

@@ -20,15 +20,19 @@ EXIT_BUG = 70
 """An unexpected exception: a bug of gather-verify (``EX_SOFTWARE`` of ``sysexits.h``)."""
 EXIT_INTERRUPTED = 130
 """Ctrl-C (SIGINT): 128 + 2, as shells report it; one line on stderr says what was kept."""
-TIMING_KEYS = ("seconds", "peak_rss_mb", "computed")
+TIMING_KEYS = ("seconds", "search_seconds", "peak_rss_mb", "computed", "written")
 """Report fields that vary from run to run (``computed``: how many rows a sweep computed
-rather than found stored); ``--json`` leaves them out unless ``--timings``."""
+rather than found stored; ``written``: when a stored sweep's rows were written); ``--json``
+leaves them out unless ``--timings``."""
 VERDICT_EXIT = {"VERIFIED": EXIT_OK, "VIOLATED": EXIT_VIOLATED, "INCOMPLETE": EXIT_INCOMPLETE,
                 "NOT-APPLICABLE": EXIT_NOT_APPLICABLE}
 
 
 class UsageError(InvalidInput):
-    """Bad command-line usage; printed as one line, exit code 2."""
+    """Bad command-line usage; printed as one line, exit code 2.
+
+    Cause: options that contradict each other, or an output path that cannot be written.
+    Fix: the message names the option; change it (``gather-verify COMMAND --help``)."""
 
 
 def writable_outputs(**paths: str | None) -> None:

@@ -1,9 +1,10 @@
 """``gather-verify replay TRACE.json``: re-execute a trace from scratch and confirm its violation.
 
 Exit 1 when the violation is confirmed (it stands, as ``check`` said); 5 when it no longer
-reproduces (the algorithm no longer takes one of its steps, or the property no longer fails
-at its end: the algorithm was changed since); 2 when the trace does not match its
-configuration or is malformed."""
+reproduces, of one of two kinds, and the output says which (``why`` under ``--json``):
+``step-not-taken``, the algorithm no longer takes one of its steps, or ``property-holds``,
+every step is still taken but the property no longer fails at its end (the algorithm was
+changed since); 2 when the trace does not match its configuration or is malformed."""
 
 from __future__ import annotations
 
@@ -19,6 +20,12 @@ from gather_verify.cli.common import (
 from gather_verify.errors import InvalidInput
 
 HELP = "re-execute a counterexample trace and confirm its violation independently"
+
+WHY = {
+    "step-not-taken": "the algorithm no longer takes one of its steps",
+    "property-holds": "its steps replay, but the property no longer fails at the end",
+}
+"""The two kinds of exit 5: the ``why`` of ``--json``, and the words the text output says."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -49,10 +56,10 @@ def run(args: argparse.Namespace) -> int:
     trace = load_trace(args.trace)
     try:
         result = replay(trace)
-        kind = "its steps replay, but the property no longer fails at the end"
+        why = "property-holds"
     except NoLongerReproduces as error:
         result = Replayed(False, str(error), len(trace["steps"]))
-        kind = "the algorithm no longer takes one of its steps"
+        why = "step-not-taken"
     if args.svg:
         Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
     if args.html:
@@ -62,10 +69,10 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json({"confirmed": result.confirmed, "message": result.message,
                     "steps": result.steps, "property": trace["property"],
-                    **({} if result.confirmed else {"why": kind})})
+                    **({} if result.confirmed else {"why": why})})
     else:
         if not args.quiet:
             print(render_trace(trace))
-        word = "CONFIRMED" if result.confirmed else f"NO LONGER REPRODUCES ({kind})"
+        word = "CONFIRMED" if result.confirmed else f"NO LONGER REPRODUCES ({WHY[why]})"
         print(f"{word}: {trace['property']} ({result.steps} steps) - {result.message}")
     return EXIT_VIOLATED if result.confirmed else EXIT_NO_LONGER_REPRODUCES

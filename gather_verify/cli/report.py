@@ -21,28 +21,41 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--workers-curve", metavar="N,N,...",
                    help="predict the wall time of these sweeps on N workers (a pool or a Dask "
                         "cluster), from the stored seconds of their tasks")
+    p.add_argument("--algorithm", metavar="NAME",
+                   help="only the sweeps of this algorithm: its spec, or its name with any "
+                        "options (paper names paper:alpha=mer_f), or the NAME of FILE.py:NAME")
     p.add_argument("--json", action="store_true")
     p.add_argument("--timings", action="store_true",
                    help="with --json, also print the slowest configurations and their seconds")
 
 
 def run(args: argparse.Namespace) -> int:
-    from gather_verify.sweeps.report import summaries, write_html, write_plot
+    from gather_verify.sweeps.report import (
+        code_text,
+        settings_line,
+        summaries,
+        when,
+        write_html,
+        write_plot,
+    )
     from gather_verify.sweeps.sweep import format_summary
 
-    found = summaries(args.db)
+    only = args.algorithm
+    if only is not None and not only.strip():
+        raise InvalidInput("--algorithm is empty: name the algorithm whose sweeps to report")
+    found = summaries(args.db, only)
     if args.html:
-        write_html(args.db, args.html)
+        write_html(args.db, args.html, algorithm=only)
     if args.plot:
-        write_plot(args.db, args.plot)
+        write_plot(args.db, args.plot, algorithm=only)
     if args.regressions:
         from gather_verify.sweeps.regressions import write_regressions
 
-        for path in write_regressions(args.db, args.regressions):
+        for path in write_regressions(args.db, args.regressions, algorithm=only):
             print(f"wrote {path}", file=sys.stderr)
     from gather_verify.readings import format_robustness, stored_robustness
 
-    robust = stored_robustness(args.db)  # sweeps run with --readings: class x robustness
+    robust = stored_robustness(args.db, only)  # sweeps run with --readings: class x robustness
     curve = None
     if args.workers_curve is not None:  # an empty list is refused, not ignored
         from gather_verify.sweeps.schedule import predict, task_seconds
@@ -66,10 +79,14 @@ def run(args: argparse.Namespace) -> int:
         if (summary["settings"].get("extra") or {}).get("readings"):
             continue  # one of the readings below
         settings = summary["settings"] or {}
-        print(f"== sweep {i + 1}: " + ", ".join(f"{k}={v}" for k, v in settings.items()
-                                                if k != "extra" or v))
+        print(f"== sweep {i + 1}: " + settings_line(settings))
+        written = when(summary["written"]["last"])
+        print(f"{code_text(summary['current'])}; "
+              + (f"rows written {written}" if written else "written before dates were kept"))
         format_summary(summary)
         print()
+    if not found:
+        print(f"no sweep in {args.db}" + (f" of algorithm {only}" if only else ""))
     for group, tables in robust.items():
         print(f"== readings {group}: class x robustness")
         format_robustness(tables["table"], switches=tables["switches"])

@@ -16,6 +16,7 @@ from gather_verify.cli.common import (
     writable_outputs,
 )
 from gather_verify.errors import InvalidInput
+from gather_verify.watchdog import deadline
 from schedulers import SCHEDULERS
 
 HELP = "verify every configuration of a box (up to symmetry) and store the results"
@@ -133,7 +134,8 @@ def run(args: argparse.Namespace) -> int:
         raise InvalidInput("--readings-types needs --readings (it picks which configurations the "
                            "readings run on)")
     args.algorithm = absolute_spec(args.algorithm)  # the workers load the same file
-    get_algorithm(args.algorithm)  # unknown names fail before any work
+    with deadline(args.max_seconds_per_config):  # an endless import ends (watchdog)
+        get_algorithm(args.algorithm)  # unknown names fail before any work
     writable_outputs(junit=args.junit)
     check_detection(args.multiplicity)
     frames_for(args.frames)
@@ -141,10 +143,12 @@ def run(args: argparse.Namespace) -> int:
         for m in args.meeting:
             validate_census_arguments(n, m, *args.box)
     if args.properties:
-        from gather_verify.properties.registry import absolute_spec, check_property_names
+        from gather_verify.properties.registry import absolute_spec as absolute_property
+        from gather_verify.properties.registry import check_property_names
 
-        args.properties = [absolute_spec(p) for p in args.properties]  # workers load the file
-        check_property_names(args.properties)
+        args.properties = [absolute_property(p) for p in args.properties]  # workers load the file
+        with deadline(args.max_seconds_per_config):
+            check_property_names(args.properties)
     settings = [SweepSettings(
         robots=n, meeting=m, box=args.box, algorithm=args.algorithm,
         scheduler=args.scheduler, detection=args.multiplicity, frames=args.frames,
@@ -204,7 +208,8 @@ def _worlds(args: argparse.Namespace) -> int:
         raise InvalidInput("--robots: at least one robot")
     args.algorithm = absolute_spec(args.algorithm if args.algorithm != "paper" else
                                    "go-to-target")
-    get_algorithm(args.algorithm)
+    with deadline(args.max_seconds_per_config):  # an endless import ends (watchdog)
+        get_algorithm(args.algorithm)
     check_detection(args.multiplicity)
     specs = world_specs(args.world)
     if args.world.startswith("graph:"):  # the workers read the same file, wherever they run

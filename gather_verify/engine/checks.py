@@ -10,7 +10,7 @@ the reference engine, evaluated on the same facts.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -85,7 +85,8 @@ class Checks:
     def settled(self) -> bool:
         """Whether every requested property has its counterexample: the search may stop
         there (the shortest witnesses are kept), as SPIN stops at its first error."""
-        return bool(self._settles) and all(name in self.violations for name in self._settles)
+        settles = self._settles or ()
+        return bool(settles) and all(name in self.violations for name in settles)
 
     def _record(self, prop: Property, sid: int, *args: Any,
                 step: tuple[Event, State] | None = None) -> None:
@@ -193,7 +194,7 @@ class ColumnChecks:
                       ) -> tuple[int, Property] | None:
         """The first state (index) where one of ``props`` fails (``failures``, their columns),
         and the first such property."""
-        hit = np.flatnonzero(failures.any(axis=1)) if len(props) else []
+        hit: Sequence[int] | np.ndarray = np.flatnonzero(failures.any(axis=1)) if len(props) else []
         if not len(hit):
             return None
         i = int(hit[0])

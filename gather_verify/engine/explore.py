@@ -7,7 +7,7 @@ destination. States are stored as integers: each robot is a *code*
 ``geometry.STEPS``), and a state packs its codes in base ``5 * cells``. The
 visited set maps these integers to dense ids; the graph is kept in CSR arrays
 (successor ids and edge weights per state, in id order), so the same layout
-can be moved to numpy for a bulk frontier (issue 8).
+can be moved to numpy for a bulk frontier.
 
 Reductions (both on by default, both sound):
 
@@ -57,6 +57,7 @@ from gather_verify.engine.encoding import (
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.view import check_detection
+from gather_verify.progress import PROGRESS
 from gather_verify.properties.facts import ConfigurationFacts, StateFacts, configuration_facts
 from schedulers import Event, State, configuration_of, get_scheduler, initial_state
 
@@ -68,13 +69,6 @@ __all__ = ["DEFAULT_MARGIN", "DEFAULT_MAX_MEMORY_MB", "DEFAULT_MAX_SECONDS", "DE
 :mod:`gather_verify.engine.encoding`; they are re-exported here for existing callers.)"""
 
 
-class _Progress:
-    """What a long search has done so far, for a progress line (read by another thread)."""
-
-    states = 0
-
-
-PROGRESS = _Progress()
 _STATM: list[int] = []  # this process's id and its open /proc/self/statm
 
 
@@ -244,6 +238,7 @@ def explore_reference(
     peak = rss_mb()
     n = initial.n
     sid = 0
+    PROGRESS.states = 1
     while sid < len(keys):
         if time.perf_counter() - started > limits.max_seconds:  # every state: a state of
             stopped = "time"  # many robots costs far more than the clock read
@@ -299,7 +294,7 @@ def explore_reference(
         if settle and checks.settled():
             stopped = "settled"
             break
-        PROGRESS.states = len(keys)
+        PROGRESS.states = len(keys)  # read by a progress line (check --progress)
         if len(keys) > limits.max_states:
             stopped = "states"
             break

@@ -1,6 +1,6 @@
 """The bulk explorer: the same breadth-first search as :mod:`explore`, on numpy arrays.
 
-SEMANTICS.md §4-5, issue 8. It explores exactly the states of the reference
+SEMANTICS.md §4-5. It explores exactly the states of the reference
 explorer (:func:`gather_verify.engine.explore.explore_reference`), gives them the same
 ids in the same order (so the same BFS parents, the same first witnesses and the
 same traces), and returns the same :class:`~gather_verify.engine.explore.Exploration`.
@@ -56,7 +56,6 @@ from gather_verify.engine.encoding import (
     symmetry_group,
 )
 from gather_verify.engine.explore import (
-    PROGRESS,
     Exploration,
     facts_cache,
     rss_mb,
@@ -68,6 +67,7 @@ from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
 from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
 from gather_verify.model.view import check_detection
+from gather_verify.progress import PROGRESS
 from gather_verify.recent import most_recent
 from schedulers import State, get_scheduler, initial_state
 
@@ -994,6 +994,7 @@ def explore_fast(
     peak = rss_mb()
     sid = 0
     chunk = CHUNK
+    PROGRESS.states = 1
     while sid < index.count and stopped is None:
         if time.perf_counter() - started > limits.max_seconds:
             stopped = "time"
@@ -1147,7 +1148,7 @@ def explore_fast(
             stopped = stop
             break
         sid = hi
-        PROGRESS.states = index.count
+        PROGRESS.states = index.count  # read by a progress line (check --progress)
         if settle and checks.settled():
             stopped = "settled"
             break

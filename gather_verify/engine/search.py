@@ -47,8 +47,8 @@ def explore(
         keys = ("reduction", "anonymity", "symmetry", "frames", "limits")
         if fast_explore.supports(initial, scheduler, **{k: options[k] for k in keys if k in options}):
             return fast_explore.explore_fast(initial, algorithm, scheduler, graph=graph,
-                                             memo=memo, **options)  # type: ignore[arg-type]
+                                             memo=memo, **options)
         if engine == "fast":
             raise InvalidInput("the fast engine cannot run this request (its keys do not fit 63 "
                                "bits): use engine='auto' or 'reference'")
-    return explore_reference(initial, algorithm, scheduler, **options)  # type: ignore[arg-type]
+    return explore_reference(initial, algorithm, scheduler, **options)

@@ -1,7 +1,7 @@
 """One state graph per shape of meeting-node set: every initial configuration whose M
 has that shape at once.
 
-Issue 17. The configurations of a sweep that share their meeting nodes ``M``
+The configurations of a sweep that share their meeting nodes ``M``
 (up to an isometry) explore largely the same states: on the 4 x 4 box the
 union of their reachable states is 80-120 times smaller than the sum of
 their searches. This module explores that union once (the bulk explorer's

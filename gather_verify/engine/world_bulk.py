@@ -116,7 +116,7 @@ class _Plan:
     actions in the schedulers' order, the key layout."""
 
     def __init__(self, world: World, n: int, colours: int, visits: bool, sched: Any,
-                 starts: list[object]):
+                 starts: list[Any]):
         size, adjacency = world.size, world.adjacency
         self.n, self.size, self.colours, self.visits = n, size, colours, visits
         self.adjacency = adjacency
@@ -181,7 +181,7 @@ class _Plan:
         extra, visited = divmod(key, self.vb)
         if self.rr:
             order, turn = divmod(extra, self.n)
-            return tuple(robots), visited, (self.starts[order][0], turn)  # type: ignore[index]
+            return tuple(robots), visited, (self.starts[order][0], turn)
         return tuple(robots), visited, None
 
     def mask(self, v: int, actions: frozenset[tuple[int, int]]) -> int:

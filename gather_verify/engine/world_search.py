@@ -35,6 +35,7 @@ import numpy as np
 from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
 from gather_verify.engine.encoding import NO_LIMITS, Limits
 from gather_verify.engine.explore import rss_mb
+from gather_verify.progress import PROGRESS
 from schedulers import Event, get_scheduler
 
 WorldState = tuple[tuple[tuple[int, int | None, int], ...], int, object]
@@ -43,6 +44,8 @@ as a bit set (0 when the task does not explore); the scheduler's own state (None
 scheduler that keeps one, such as round-robin's order and turn)."""
 Actions = Callable[[tuple[tuple[int, int | None, int], ...]], list[frozenset[tuple[int, int]]]]
 """The robots of a state -> per robot, its actions ``(destination, colour)``."""
+Watch = Callable[[int, WorldState, bool, list[tuple[int, int, Event]]], "Halt | None"]
+"""A safety test run on each expanded state (:func:`search`'s ``watch``)."""
 
 
 @dataclass
@@ -143,7 +146,8 @@ def _state_order(state: WorldState) -> tuple[object, ...]:
 def search(world: object, robots: Sequence[int], actions: Actions, scheduler: str, *,
            colours: Sequence[int] | None = None, visits: bool = False,
            anonymity: bool = False, symmetries: Sequence[Sequence[int]] = (),
-           meeting: frozenset[int] = frozenset(), limits: Limits = NO_LIMITS) -> WorldSearch:
+           meeting: frozenset[int] = frozenset(), limits: Limits = NO_LIMITS,
+           watch: Watch | None = None) -> WorldSearch:
     """Breadth-first search of every state reachable from ``robots`` (all idle, with the
     initial ``colours``, default 0), from each start the scheduler has (one, or one per
     round-robin order).
@@ -152,7 +156,10 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
     ``symmetries``: the automorphisms that commute with the robots' frames
     (:meth:`~gather_verify.worlds.base.World.symmetries`), to merge states by (those that
     fix the meeting nodes). A crash or a missing rule stops the search at that state
-    (``halt``); a limit stops it with ``stopped`` naming the limit.
+    (``halt``); a limit stops it with ``stopped`` naming the limit. ``watch``, called on each
+    expanded state with its id, key, finality and out-edges, stops the search (``stopped`` =
+    ``"watch"``, ``halt`` = what it returned) when it returns a :class:`Halt`: a caller that
+    needs only the first violation of a safety part need not search on.
     """
     started = time.perf_counter()
     sched = get_scheduler(scheduler)
@@ -175,10 +182,13 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
     stopped: str | None = None
     halt = None
     sid = 0
+    PROGRESS.states = len(reps)
     while sid < len(reps):
-        if sid & 63 == 0 and time.perf_counter() - started > limits.max_seconds:
-            stopped = "time"
-            break
+        if sid & 63 == 0:
+            PROGRESS.states = len(reps)  # read by a progress line and by the watchdog's report
+            if time.perf_counter() - started > limits.max_seconds:
+                stopped = "time"
+                break
         if sid & 4095 == 0 and rss_mb() > limits.max_memory_mb:
             stopped = "memory"
             break
@@ -212,6 +222,11 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
                 parents.append(sid)
             out.append((did, _mask(event.robots), event))
         edges.append(out)
+        if watch is not None:
+            halt = watch(sid, reps[sid], final[-1], out)
+            if halt is not None:
+                stopped = "watch"
+                break
         sid += 1
         if len(reps) > limits.max_states:
             stopped = "states"

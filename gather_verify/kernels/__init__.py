@@ -1,4 +1,4 @@
-"""Compiled kernels (numba) for the bulk engine's hot loops (issue 17).
+"""Compiled kernels (numba) for the bulk engine's hot loops.
 
 Each kernel does, in compiled code, what a numpy/Python function of the engine does, with
 the same result: the hash index of visited keys (``KeyIndex.find_or_add`` of

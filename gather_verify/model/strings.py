@@ -158,7 +158,7 @@ def representations(rect: Rect, value: Callable[[Node], int],
     if width != height:
         along_x = width < height  # the fast side is the shorter one
         return [s for s in scans if (s.fast[0] != 0) == along_x]
-    out = []
+    out: list[Scan] = []
     for a, b in zip(scans[0::2], scans[1::2], strict=True):
         if a.labels == b.labels:
             out.extend((a, b))

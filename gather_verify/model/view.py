@@ -22,7 +22,7 @@ from __future__ import annotations
 
 from functools import cached_property
 
-from gather_verify.errors import InvalidInput
+from gather_verify.errors import GatherVerifyError, InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.canonical import Key
 from gather_verify.model.configuration import Configuration
@@ -38,8 +38,14 @@ FRAME_SETS: dict[str, tuple[int, ...]] = {
 }
 
 
-class MultiplicityHidden(LookupError):
-    """The algorithm asked for multiplicity information its detection model hides."""
+class MultiplicityHidden(GatherVerifyError, LookupError):
+    """The algorithm asked for multiplicity information its detection model hides.
+
+    Cause: the algorithm read multiplicity its detection model does not show: any at all
+    under ``none``, another node's than its own under a ``local-`` model, or a number of
+    robots (:meth:`View.count`) under a ``-weak`` model, which tells only whether a node is a
+    multiplicity. Fix: make the algorithm decide from what the view shows, or check it under
+    a stronger detection model. The explorer reports the read as a ``defined`` violation."""
 
 
 def check_detection(detection: str) -> str:
@@ -59,6 +65,9 @@ class View:
 
     __slots__ = ("detection", "_snapshot", "_node", "_frame", "_meeting", "_robots", "_cnt",
                  "__dict__")
+    _meeting: frozenset[Node] | None  # each computed on first use, then kept
+    _robots: frozenset[Node] | None
+    _cnt: dict[Node, int] | None
 
     def __init__(self, configuration: Configuration, node: Node, frame: int, detection: str):
         check_detection(detection)

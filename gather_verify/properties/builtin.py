@@ -206,4 +206,5 @@ def fair_cycle(run: Run, cs: int) -> tuple[bool, str]:
 
 
 BUILTIN = (CRASH, DEFINED, FINAL, NO_UNGATHERABLE, TARGET_INVARIANCE, MOVE_BOUND, TERMINATION)
-"""The built-in properties in verdict order: when several fail, the first is named."""
+"""The built-in properties in verdict order: when several fail, the first is named (a
+livelock is named termination: :func:`gather_verify.verdict.named_first`)."""

@@ -221,7 +221,7 @@ def strongly_connected(e: Exploration) -> list[list[int]]:
             import numpy as np
 
             members, starts = kernels.tarjan_csr(e.offsets.array[:e.states + 1],  # type: ignore[attr-defined]
-                                                 e.targets.array, True)  # type: ignore[attr-defined]
+                                                 e.targets.array, True)
             return [np.sort(members[a:b]).tolist() for a, b in zip(starts[:-1], starts[1:], strict=True)]
     succs = [[t for t, _ in real_edges(e, s)] for s in range(e.states)]
     if e.states <= NX_MAX_STATES:
@@ -453,7 +453,10 @@ def most_moves(e: Exploration, bound: float) -> Walk | None:
                 j = here.get(t)
                 if j is None:
                     here[t] = len(state)
-                    state.append(t), moves.append(mt), parent.append(k), weight.append(w)
+                    state.append(t)
+                    moves.append(mt)
+                    parent.append(k)
+                    weight.append(w)
                 elif mt > moves[j]:
                     moves[j], parent[j], weight[j] = mt, k, w
         layer = sorted(here.values(), key=lambda j: state[j])

@@ -1,4 +1,5 @@
-"""The registry of properties, in verdict order (when several fail, the first is named).
+"""The registry of properties, in verdict order (when several fail, the first is named; a
+livelock is named termination, :func:`gather_verify.verdict.named_first`).
 
 The built-in properties come first; a property written elsewhere is one
 :class:`~gather_verify.properties.base.Property` and one :func:`register` call (it goes
@@ -18,11 +19,13 @@ import hashlib
 import importlib.util
 import sys
 from collections.abc import Iterable
+from dataclasses import replace
 from pathlib import Path
 
 from gather_verify.errors import InvalidInput
 from gather_verify.properties.base import Property
 from gather_verify.properties.builtin import BUILTIN
+from gather_verify.watchdog import Overtime, guards, watched
 
 RESERVED = ("states", "time", "memory", "region")
 """Names a search's ``stopped`` uses for its limits: no property may take them."""
@@ -114,11 +117,16 @@ def load_property(spec: str) -> Property:
         module = importlib.util.module_from_spec(loader_spec)
         sys.modules[module_name] = module
         try:
-            loader_spec.loader.exec_module(module)
+            with watched():  # an endless loop at import ends with the time limit (watchdog)
+                loader_spec.loader.exec_module(module)
         except BaseException as error:  # the user's file: any failure is bad input
             del sys.modules[module_name]
             if isinstance(error, KeyboardInterrupt):
                 raise
+            if isinstance(error, Overtime):
+                raise InvalidInput(f"cannot load property {spec!r}: {text} did not finish "
+                                   f"importing within {error.seconds:g} s (an endless loop "
+                                   "at import?)") from None
             why = " ".join(str(error).split()) or "no message"
             raise InvalidInput(f"cannot load property {spec!r}: {text} raised "
                              f"{type(error).__name__}: {why}") from None
@@ -128,9 +136,24 @@ def load_property(spec: str) -> Property:
     if not isinstance(prop, Property):
         raise InvalidInput(f"cannot load property {spec!r}: {attr} is a {type(prop).__name__}, "
                          "not a gather_verify.properties.Property")
-    register(prop)
+    prop = _guarded(prop)
+    if _REGISTRY.get(prop.name) is getattr(module, attr):  # the file registered it itself
+        _REGISTRY[prop.name] = prop
+    else:
+        register(prop)
     _LOADED[key] = prop
     return prop
+
+
+CALLABLES = ("holds", "message", "value", "detail", "vacuous", "confirm", "decide")
+"""The fields of a :class:`Property` that hold the user's code."""
+
+
+def _guarded(prop: Property) -> Property:
+    """``prop`` with each of its functions run as the user's code, which the watchdog stops
+    at the time limit (:func:`gather_verify.watchdog.guards`)."""
+    return replace(prop, **{name: guards(f) for name in CALLABLES
+                            if callable(f := getattr(prop, name))})
 
 
 def check_property_names(requested: Iterable[str] | None) -> list[str]:

@@ -1,6 +1,6 @@
 """Census: every initial configuration of a box, once per symmetry class, counted per class.
 
-Issue 2, SEMANTICS.md §1-2. A configuration has ``n`` robots on distinct nodes
+SEMANTICS.md §1-2. A configuration has ``n`` robots on distinct nodes
 and ``m`` meeting nodes (a robot may stand on a meeting node). It *fits* a
 ``w x h`` box of nodes when some placement of it (a translate of one of its 8
 images under D4) lies inside the box. Two configurations are the same when one

@@ -1,4 +1,4 @@
-"""A sweep's unit of work as one meeting-node class (issue 17, ``sweep --engine union``).
+"""A sweep's unit of work as one meeting-node class (``sweep --engine union``).
 
 :func:`verify_class` gives the rows of every configuration of one class, the
 same rows :func:`gather_verify.sweeps.sweep.verify_one` gives one at a time:
@@ -36,6 +36,7 @@ from gather_verify.model import geometry
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import Automorphism
+from gather_verify.watchdog import GRACE_SECONDS, Overtime, deadline
 
 ENGINES = ("union", "per-config")
 Row = dict[str, Any]
@@ -124,7 +125,6 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     graph_props = bool({"move-bound", "termination"} & set(wanted))
     for ks in by_n.values():
         normal = [todo[k][3] for k in ks]
-        meeting = normal[0].meeting_nodes
         group = symmetry_group(normal[0], settings.frames)  # what the frames allow
         box = geometry.bounding_box([v for c in normal for b in [region_box(c, union.UNION_MARGIN, group)]
                                      for v in (b[:2], b[2:])])
@@ -133,71 +133,93 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
             if todo[k][4].g != geometry.IDENTITY:
                 turned.setdefault(todo[k][4].g, todo[k][4])
         make_room(memory)
-        u = union.explore_union(meeting, [c.robots for c in normal], settings.algorithm,
-                          settings.scheduler, detection=settings.detection,
-                          frames=settings.frames, properties=wanted, box=box,
-                          max_states=max(union.UNION_MAX_STATES, settings.max_states),
-                          orientations=list(turned.values()))
-        if u is None or rss_mb() > memory or u.seconds > settings.max_seconds:
-            # too large, or past a limit the per-configuration searches might hit: they decide
+        kept, left = len(rows), len(fallback)
+        try:  # the user's code that does not return: the per-configuration checks decide
+            # (each stops at its own time limit, INCOMPLETE); the watchdog's bound is theirs
+            with deadline(settings.max_seconds + max(settings.max_seconds, GRACE_SECONDS)):
+                union_states += _decide_union(settings, wanted, todo, ks, normal, group, box,
+                                              turned, memory, graph_props, rows, fallback,
+                                              configuration_key, trace_facts)
+        except Overtime:
+            del rows[kept:], fallback[left:]
             fallback.extend((todo[k][0], todo[k][1]) for k in ks)
-            continue
-        union_states += u.states
-        share = u.seconds / len(ks)
-        for j, k in enumerate(ks):
-            index, c, cls, nc, back = todo[k]
-            s = int(u.seeds[j])
-            reach = int(u.reach[s])
-            count = int(u.counts[j])
-            margin = union.margin_needed(nc, group, u.box[s])
-            if (reach & (union.DEFINED | union.TAINT | union.CYCLE) or margin is None or count < 0
-                    or count > settings.max_states):
-                fallback.append((index, c))
-                continue
-            D, n = c.D, c.n
-            max_moves = int(u.best[s]) if graph_props else None
-            failing = [p for p in props.ORDER if union.SAFETY_BITS.get(p, 0) & reach and p in wanted]
-            if failing and margin > union.MARGINS[0] and not settings.keep_growing:
-                # its own search at the first margin is stopped by the region: whether that
-                # BFS prefix meets a violation, and so ends the search there, only it can say
-                fallback.append((index, c))
-                continue
-            bound = settings.move_bound_c * D * n
-            if not failing and max_moves is not None and "move-bound" in wanted \
-                    and max_moves > bound:
-                fallback.append((index, c))  # its trace is its own graph's longest path
-                continue
-            t0 = time.perf_counter()
-            trace = None
-            if failing:
-                trace = witness_trace(u, j, c, back, failing[0], margin, settings, trace_facts)
-                if trace is None:
-                    fallback.append((index, c))
-                    continue
-                trace["cause"] = cause_of(get_algorithm(settings.algorithm), trace)
-            rows.append({
-                "key": configuration_key(c),
-                "index": index,
-                "robots": [list(r) for r in c.robots],
-                "meeting_nodes": sorted(list(m) for m in c.meeting_nodes),
-                "class": cls.name,
-                "verdict": "VIOLATED" if failing else "VERIFIED",
-                "property": failing[0] if failing else None,
-                "reason": trace["reason"] if trace else None,
-                "states": count,
-                "transitions": int(u.transitions[j]),
-                "max_moves": max_moves,
-                "D": D,
-                "n": n,
-                "ratio": None if max_moves is None or not D * n else max_moves / (D * n),
-                "trace": trace,
-                "seconds": share + time.perf_counter() - t0,
-                # every failing property, as the check lists them (acyclic: termination holds)
-                "failing": failing + (["move-bound"] if max_moves is not None
-                                      and "move-bound" in wanted and max_moves > bound else []),
-                "cause": None if trace is None else trace["cause"],
-            })
     return ClassDecision(rows, fallback, union_states)
+
+
+def _decide_union(settings: Any, wanted: list[str], todo: list[Any], ks: list[int],
+                  normal: list[Configuration], group: Any, box: Any, turned: dict,
+                  memory: float, graph_props: bool, rows: list[Row],
+                  fallback: list[tuple[int, Configuration]],
+                  configuration_key: Callable[[Configuration], str],
+                  trace_facts: dict[frozenset, Any]) -> int:
+    """The rows of the configurations ``ks`` of ``todo`` (one shape of ``M`` and one ``n``,
+    ``normal``: moved onto it) from their union graph, into ``rows``; those it does not
+    settle into ``fallback``. The union's states (0 when it settles none)."""
+    u = union.explore_union(normal[0].meeting_nodes, [c.robots for c in normal],
+                            settings.algorithm,
+                            settings.scheduler, detection=settings.detection,
+                            frames=settings.frames, properties=wanted, box=box,
+                            max_states=max(union.UNION_MAX_STATES, settings.max_states),
+                            orientations=list(turned.values()))
+    if u is None or rss_mb() > memory or u.seconds > settings.max_seconds:
+        # too large, or past a limit the per-configuration searches might hit: they decide
+        fallback.extend((todo[k][0], todo[k][1]) for k in ks)
+        return 0
+    share = u.seconds / len(ks)
+    for j, k in enumerate(ks):
+        index, c, cls, nc, back = todo[k]
+        s = int(u.seeds[j])
+        reach = int(u.reach[s])
+        count = int(u.counts[j])
+        margin = union.margin_needed(nc, group, u.box[s])
+        if (reach & (union.DEFINED | union.TAINT | union.CYCLE) or margin is None or count < 0
+                or count > settings.max_states):
+            fallback.append((index, c))
+            continue
+        D, n = c.D, c.n
+        max_moves = int(u.best[s]) if graph_props else None
+        failing = [p for p in props.ORDER if union.SAFETY_BITS.get(p, 0) & reach and p in wanted]
+        if failing and margin > union.MARGINS[0] and not settings.keep_growing:
+            # its own search at the first margin is stopped by the region: whether that
+            # BFS prefix meets a violation, and so ends the search there, only it can say
+            fallback.append((index, c))
+            continue
+        bound = settings.move_bound_c * D * n
+        if not failing and max_moves is not None and "move-bound" in wanted \
+                and max_moves > bound:
+            fallback.append((index, c))  # its trace is its own graph's longest path
+            continue
+        t0 = time.perf_counter()
+        trace = None
+        if failing:
+            trace = witness_trace(u, j, c, back, failing[0], margin, settings, trace_facts)
+            if trace is None:
+                fallback.append((index, c))
+                continue
+            trace["cause"] = cause_of(get_algorithm(settings.algorithm), trace)
+        rows.append({
+            "key": configuration_key(c),
+            "index": index,
+            "robots": [list(r) for r in c.robots],
+            "meeting_nodes": sorted(list(m) for m in c.meeting_nodes),
+            "class": cls.name,
+            "verdict": "VIOLATED" if failing else "VERIFIED",
+            "property": failing[0] if failing else None,
+            "reason": trace["reason"] if trace else None,
+            "states": count,
+            "transitions": int(u.transitions[j]),
+            "max_moves": max_moves,
+            "D": D,
+            "n": n,
+            "ratio": None if max_moves is None or not D * n else max_moves / (D * n),
+            "trace": trace,
+            "seconds": share + time.perf_counter() - t0,
+            # every failing property, as the check lists them (acyclic: termination holds)
+            "failing": failing + (["move-bound"] if max_moves is not None
+                                  and "move-bound" in wanted and max_moves > bound else []),
+            "cause": None if trace is None else trace["cause"],
+        })
+    return u.states
 
 
 DECIDED = {"final", "no-ungatherable", "target-invariance", "move-bound", "termination"}
@@ -245,4 +267,4 @@ def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, back: Automo
                     enc, keys, [-1, *range(len(path) - 1)], [], [], [], 0, len(path), 0, None,
                     {}, 0.0, 0.0, facts[c.meeting_nodes], {})
     event = _TRANSITION if prop == "target-invariance" else None
-    return _safety_trace(e, Violation(prop, len(path) - 1, "", event))  # type: ignore[arg-type]
+    return _safety_trace(e, Violation(prop, len(path) - 1, "", event))

@@ -35,10 +35,12 @@ def reason_kind(reason: str | None) -> str:
     return _NUMBER.sub("#", text)
 
 
-def distinct_counterexamples(db_path: str) -> list[tuple[dict[str, Any], dict[str, Any]]]:
-    """``(settings, row)`` for the smallest witness of every counterexample kind in a store."""
+def distinct_counterexamples(db_path: str, algorithm: str | None = None
+                             ) -> list[tuple[dict[str, Any], dict[str, Any]]]:
+    """``(settings, row)`` for the smallest witness of every counterexample kind in a store
+    (of the sweeps of ``algorithm``, when given)."""
     best: dict[tuple, tuple[tuple, dict[str, Any], dict[str, Any]]] = {}
-    for settings, rows in load_sweeps(db_path):
+    for settings, rows in load_sweeps(db_path, algorithm):
         for row in rows:
             if row["verdict"] != "VIOLATED" or not row.get("trace"):
                 continue
@@ -87,14 +89,16 @@ SUFFIX = ".scenario.json"
 """What a regression file is called: the pytest plugin collects ``*.scenario.json``."""
 
 
-def write_regressions(db_path: str, folder: str | Path) -> list[Path]:
-    """Write one scenario per counterexample kind into ``folder``; the paths written.
+def write_regressions(db_path: str, folder: str | Path,
+                      algorithm: str | None = None) -> list[Path]:
+    """Write one scenario per counterexample kind into ``folder`` (of the sweeps of
+    ``algorithm``, when given); the paths written.
 
     A file whose name exists already is left alone (its name fixes its witness)."""
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     written = []
-    for settings, row in distinct_counterexamples(db_path):
+    for settings, row in distinct_counterexamples(db_path, algorithm):
         scenario = scenario_for(settings, row, folder)
         path = out / f"{scenario['name']}{SUFFIX}"
         if not path.exists():

@@ -4,28 +4,88 @@ from __future__ import annotations
 
 import html
 import json
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from gather_verify.errors import InvalidInput
-from gather_verify.sweeps.store import Store
+from gather_verify.sweeps.store import Store, algorithm_matches
 from gather_verify.sweeps.sweep import summarise
 
 
-def load_sweeps(db_path: str) -> list[tuple[dict[str, Any], list[dict[str, Any]]]]:
-    """Every sweep in a results database with its rows."""
+def load_sweeps(db_path: str, algorithm: str | None = None
+                ) -> list[tuple[dict[str, Any], list[dict[str, Any]]]]:
+    """Every sweep in a results database with its rows (those of ``algorithm`` only, when
+    given: :func:`~gather_verify.sweeps.store.algorithm_matches`)."""
+    return [(settings, rows) for _, settings, rows, _ in _records(db_path, algorithm)]
+
+
+def _records(db_path: str, algorithm: str | None = None
+             ) -> list[tuple[int, dict[str, Any], list[dict[str, Any]], dict[str, Any] | None]]:
+    """Every sweep (of ``algorithm``) as (id, settings, rows, when it was written: None for a
+    sweep stored before that was kept)."""
     store = Store(db_path, read_only=True)
     try:
-        return [(settings, store.results(i)) for i, settings in store.sweeps()]
+        written = store.written()
+        return [(i, settings, store.results(i), written.get(i)) for i, settings in store.sweeps()
+                if algorithm_matches(settings.get("algorithm"), algorithm)]
     finally:
         store.close()
 
 
-def summaries(db_path: str) -> list[dict[str, Any]]:
+def code_status(db_path: str, settings: dict[str, Any], written: dict[str, Any] | None,
+                cache: dict[str, bool | None] | None = None) -> bool | None:
+    """Whether the code and data on disk now give a stored sweep's fingerprint (its rows are
+    the current code's), False when they do not, None when that cannot be told
+    (:func:`gather_verify.fingerprint.disk_fingerprint`; for a sweep stored before its
+    ``--fingerprint-extra`` files were kept, only a match can be told)."""
+    from gather_verify.fingerprint import disk_fingerprint
+
+    stored = settings.get("fingerprint")
+    extra = None if written is None else written.get("fingerprint_extra")
+    key = json.dumps([settings.get("algorithm"), settings.get("world"),
+                      settings.get("properties"), extra, stored], sort_keys=True, default=str)
+    if cache is not None and key in cache:
+        return cache[key]
+    folder = Path(db_path).resolve().parent
+    now = disk_fingerprint(settings, extra or [], folder)
+    status = None if now is None or not isinstance(stored, str) else now == stored
+    if status is False and extra is None:
+        status = None  # it may have read files we do not know of
+    if cache is not None:
+        cache[key] = status
+    return status
+
+
+def when(text: Any) -> str | None:
+    """A stored UTC time as people read it, to the minute (None: not recorded).
+
+    >>> when("2026-01-31T09:05:07Z"), when(None)
+    ('2026-01-31 09:05 UTC', None)
+    """
+    if not isinstance(text, str) or len(text) < 16:
+        return None
+    return f"{text[:10]} {text[11:16]} UTC"
+
+
+def code_text(status: bool | None) -> str:
+    """What :func:`code_status` says, in words."""
+    return {True: "current: the code on disk now", False: "older code: not the code on disk "
+            "now"}.get(status, "cannot tell whether it is the code on disk now")  # type: ignore[arg-type]
+
+
+def summaries(db_path: str, algorithm: str | None = None) -> list[dict[str, Any]]:
+    """Every sweep's :func:`summarise`, with ``current`` (:func:`code_status`) and
+    ``written`` (``first`` and ``last``: when its rows were written, UTC; wall-clock, so
+    ``--json`` leaves it out unless ``--timings``)."""
     out = []
-    for settings, rows in load_sweeps(db_path):
+    cache: dict[str, bool | None] = {}
+    for _, settings, rows, written in _records(db_path, algorithm):
         summary = summarise(rows)
         summary["settings"] = settings
+        summary["current"] = code_status(db_path, settings, written, cache)
+        summary["written"] = {"first": (written or {}).get("first"),
+                              "last": (written or {}).get("last")}
         out.append(summary)
     return out
 
@@ -38,14 +98,51 @@ BATCH_AXES = ("robots", "meeting")
 per (n, m) with everything else equal, and the report shows them as one batch."""
 
 
-def batches(db_path: str) -> list[tuple[dict[str, Any], list[tuple[dict[str, Any], list[dict[str, Any]]]]]]:
-    """The sweeps of a database grouped into batches: (common settings, [(settings, rows)])."""
-    groups: dict[str, tuple[dict[str, Any], list]] = {}
-    for settings, rows in load_sweeps(db_path):
+@dataclass
+class Batch:
+    """The sweeps of one ``sweep`` command: their ``common`` settings, each sweep's settings
+    and rows, when its rows were written (``first``, ``last``: UTC text, None when not
+    recorded) and whether they are the current code's (:func:`code_status`)."""
+
+    common: dict[str, Any]
+    sweeps: list[tuple[dict[str, Any], list[dict[str, Any]]]] = field(default_factory=list)
+    first: str | None = None
+    last: str | None = None
+    current: bool | None = None
+
+    def describe(self) -> str:
+        """``fingerprint 1a2b3c4d · written 2026-01-31 09:05 UTC · current: ...``"""
+        fingerprint = self.common.get("fingerprint")
+        parts = [f"fingerprint {str(fingerprint)[:8]}" if fingerprint else "no fingerprint",
+                 f"written {when(self.last)}" if when(self.last) else
+                 "written before dates were kept", code_text(self.current)]
+        return " · ".join(parts)
+
+
+def batch_list(db_path: str, algorithm: str | None = None) -> list[Batch]:
+    """The sweeps of a database grouped into batches (:class:`Batch`), in the order of their
+    first sweep."""
+    groups: dict[str, Batch] = {}
+    cache: dict[str, bool | None] = {}
+    for _, settings, rows, written in _records(db_path, algorithm):
         common = {k: v for k, v in settings.items() if k not in BATCH_AXES}
         key = json.dumps(common, sort_keys=True)
-        groups.setdefault(key, (common, []))[1].append((settings, rows))
+        if key not in groups:
+            groups[key] = Batch(common, current=code_status(db_path, common, written, cache))
+        batch = groups[key]
+        batch.sweeps.append((settings, rows))
+        times = [t for t in ((written or {}).get("first"), (written or {}).get("last"))
+                 if isinstance(t, str)]
+        if times:
+            batch.first = min([t for t in (batch.first, *times) if t is not None])
+            batch.last = max([t for t in (batch.last, *times) if t is not None])
     return list(groups.values())
+
+
+def batches(db_path: str, algorithm: str | None = None
+            ) -> list[tuple[dict[str, Any], list[tuple[dict[str, Any], list[dict[str, Any]]]]]]:
+    """The sweeps of a database grouped into batches: (common settings, [(settings, rows)])."""
+    return [(b.common, b.sweeps) for b in batch_list(db_path, algorithm)]
 
 
 def _esc(value: Any) -> str:
@@ -60,12 +157,80 @@ def _number(value: Any) -> str:
         return _esc(value)
 
 
-def _nodes(nodes: Any) -> str:
-    return " ".join(f"{x},{y}" for x, y in nodes)
+def _nodes(nodes: Any, lit: bool = False) -> str:
+    """Nodes as the command line writes them: ``x,y`` on Z² and on grids and tori, a ring's
+    number, a graph file's id; ``lit``: each is [node, colour] (a robot with its initial
+    light), the node is written."""
+    return " ".join(",".join(map(str, v)) if isinstance(v, list) else str(v)
+                    for v in ((n[0] if lit and isinstance(n, list) else n) for n in nodes))
+
+
+def _lit(common: dict[str, Any]) -> bool:
+    """Whether a batch's rows store each robot with its initial colour (a finite world swept
+    over every initial colouring)."""
+    return common.get("world", "grid") != "grid" and common.get("initial_colours") == "all"
+
+
+def _recheck(r: dict[str, Any], verdict: str, common: dict[str, Any]) -> str:
+    """The command that checks one stored configuration again (and writes its viewer when it
+    fails)."""
+    lit, plane = _lit(common), common.get("world", "grid") == "grid"
+    parts = ["gather-verify check"]
+    if not plane:  # a finite world: a row's class is its world's name
+        parts.append(f"--world {r['class']}")
+    parts.append(f"--robots \"{_nodes(r['robots'], lit)}\"")
+    if plane or r["meeting_nodes"]:
+        parts.append(f"--meeting \"{_nodes(r['meeting_nodes'])}\"")
+    parts.append(f"--algorithm {common.get('algorithm')} --scheduler {common.get('scheduler')}")
+    if not plane:
+        for option, key, default in (("--task", "task", None),
+                                     ("--multiplicity", "detection", "local-weak"),
+                                     ("--frames", "frames", "all"),
+                                     ("--visibility", "visibility", None),
+                                     ("--lights", "lights", None)):
+            if common.get(key, default) != default:
+                parts.append(f"{option} {common[key]}")
+        if lit:
+            colours = " ".join(str(n[1]) for n in r["robots"] if isinstance(n, list))
+            parts.append(f"--colours \"{colours}\"")
+    if verdict == "VIOLATED":
+        parts.append("--html trace.html")
+    return " ".join(parts)
 
 
 def _slug(*parts: Any) -> str:
     return "-".join("".join(c if c.isalnum() else "_" for c in str(p)) for p in parts)
+
+
+def setting_text(key: str, value: Any) -> str | None:
+    """A stored setting as people read it, never as Python or JSON (``None``, ``null``,
+    ``[3, 3]``); None: leave it out (a setting with no value).
+
+    >>> setting_text("box", [3, 3]), setting_text("properties", []), setting_text("task", None)
+    ('3x3', 'all', None)
+    >>> setting_text("visibility", None), setting_text("extra", {"readings": "alpha", "on": [1]})
+    ('unlimited', 'readings=alpha, on=1')
+    """
+    if value is None:
+        return "unlimited" if key == "visibility" else None
+    if key == "box" and isinstance(value, list):
+        return "x".join(map(str, value))
+    if key == "properties" and isinstance(value, list):
+        return ", ".join(map(str, value)) or "all"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, dict):
+        parts = ((k, setting_text(str(k), v)) for k, v in value.items())
+        return ", ".join(f"{k}={v}" for k, v in parts if v is not None) or None
+    if isinstance(value, list):
+        return " ".join(t for t in (setting_text(key, v) for v in value) if t is not None)
+    return str(value)
+
+
+def settings_line(settings: dict[str, Any]) -> str:
+    """A sweep's settings as ``key=value, ...`` (:func:`setting_text`, sorted by key)."""
+    texts = ((k, setting_text(k, v)) for k, v in sorted(settings.items(), key=lambda kv: str(kv[0])))
+    return ", ".join(f"{k}={v}" for k, v in texts if v is not None)
 
 
 def _settings_table(common: dict[str, Any], sweeps: list[tuple[dict[str, Any], list]]) -> str:
@@ -81,18 +246,17 @@ def _settings_table(common: dict[str, Any], sweeps: list[tuple[dict[str, Any], l
     shown = dict(common)
     if "box" in shown and isinstance(shown["box"], list):
         shown["box"] = " × ".join(map(str, shown["box"]))
-    if "properties" in shown:
-        shown["properties"] = ", ".join(shown["properties"]) or f"all ({', '.join(PROPERTIES)})"
-    if "reduction" in shown:
+    if shown.get("properties") == []:
+        shown["properties"] = (f"all ({', '.join(PROPERTIES)})" if common.get("world", "grid") == "grid"
+                               else "all of the task's")
+    if "reduction" in shown and isinstance(shown["reduction"], bool):
         shown["reduction"] = "on" if shown["reduction"] else "off"
-    if shown.get("extra") in ({}, None):
-        shown.pop("extra", None)
     rows = []
-    for key in [*labels, *sorted(k for k in shown if k not in labels)]:
+    for key in [*labels, *sorted((k for k in shown if k not in labels), key=str)]:
         if key in shown:
-            value = shown[key]
-            text = json.dumps(value, sort_keys=True) if isinstance(value, dict | list) else value
-            rows.append(f"<tr><th>{_esc(labels.get(key, key))}</th><td>{_esc(text)}</td></tr>")
+            text = setting_text(str(key), shown[key])
+            if text is not None:
+                rows.append(f"<tr><th>{_esc(labels.get(key, key))}</th><td>{_esc(text)}</td></tr>")
     ns = sorted({s.get("robots") for s, _ in sweeps}, key=str)
     ms = sorted({s.get("meeting") for s, _ in sweeps}, key=str)
     count = {(s.get("robots"), s.get("meeting")): len(r) for s, r in sweeps}
@@ -103,7 +267,9 @@ def _settings_table(common: dict[str, Any], sweeps: list[tuple[dict[str, Any], l
                       + f"<td>{sum(c for (a, _), c in count.items() if a == n)}</td></tr>"
                       for n in ns) + "</table>")
     return ("<div class='settings'><table class='kv'>" + "".join(rows) + "</table>"
-            "<div><p class='note'>configurations (up to translation and the 8 isometries)</p>"
+            "<div><p class='note'>configurations (up to "
+            + ("translation and the 8 isometries" if common.get("world", "grid") == "grid" else
+               "the world's symmetries") + ")</p>"
             + grid + "</div></div>")
 
 
@@ -115,8 +281,19 @@ def _smallest(rows: list[dict[str, Any]]) -> dict[str, Any]:
                                     r.get("D") or 0, r["index"]))
 
 
+def _code_tag(batch: Batch) -> str:
+    """The batch's fingerprint, when it was written and whether it is the current code's, as
+    one line of the page (the current one marked)."""
+    kind = {True: "current", False: "older"}.get(batch.current, "unknown")  # type: ignore[arg-type]
+    title = f"fingerprint {batch.common.get('fingerprint')}"
+    if when(batch.first) and when(batch.first) != when(batch.last):
+        title += f"; first rows written {when(batch.first)}"
+    return (f"<span class='code {kind}' title='{_esc(title)}'>{_esc(batch.describe())}"
+            "</span>")
+
+
 def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
-                plot: str | None) -> str:
+                plot: str | None, batch: Batch | None = None) -> str:
     from gather_verify.model.classes import CLASS_NAMES
     from gather_verify.properties import ORDER
     from gather_verify.render import thumbnail_svg
@@ -128,6 +305,7 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
     title = (f"{common.get('algorithm')} / {common.get('scheduler')}"
              + (f", box {' × '.join(map(str, common['box']))}" if common.get("box") else ""))
     parts = [f"<h2 id='batch{number}'>Batch {number}: {_esc(title)}</h2>",
+             *([f"<p>{_code_tag(batch)}</p>"] if batch is not None else []),
              f"<p>{len(rows)} configurations in {len(sweeps)} sweep(s) of one command "
              "(one sweep per number of robots and of meeting nodes).</p>",
              "<h3>Settings</h3>", _settings_table(common, sweeps)]
@@ -170,7 +348,8 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
     parts += ["<h3>Verdicts: class × verdict × failing property</h3>",
               "<p class='note'>Each count opens the list of its configurations. One property is "
               "named per configuration: the first that fails in the order "
-              f"{', '.join(ORDER)}.</p>",
+              f"{', '.join(ORDER)}, but a livelock is named termination (move-bound fails "
+              "with it).</p>",
               "<table class='verdicts'>" + head + "".join(body) + "</table>"]
     parts += _causes_table(rows)
     # the smallest counterexample of each (class, property), as a thumbnail opening its viewer
@@ -191,7 +370,8 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
                 f"<figure><a href='{_esc(folder.name)}/{name}' title='open the viewer'>"
                 f"{thumbnail_svg(r['trace'], uid=_slug('t', number, c, p))}</a>"
                 f"<figcaption><b>{_esc(c)}</b> · <span class='bad'>{_esc(p)}</span> · "
-                f"{steps} event{'s' if steps != 1 else ''}<br>robots {_esc(_nodes(r['robots']))}"
+                f"{steps} event{'s' if steps != 1 else ''}<br>robots "
+                f"{_esc(_nodes(r['robots'], _lit(common)))}"
                 f"<br>meeting {_esc(_nodes(r['meeting_nodes']))}<br>"
                 f"<a href='{_esc(folder.name)}/{name}'>open the viewer</a> · "
                 f"<a href='#{_slug('list', number, c, 'VIOLATED', p)}'>all "
@@ -215,13 +395,11 @@ def _filtered_list(anchor: str, c: str, verdict: str, prop: str, found: list[dic
     """The configurations of one table cell, each with the command that re-checks it."""
     items = []
     for r in found[:LIST_LIMIT]:
-        command = (f"gather-verify check --robots \"{_nodes(r['robots'])}\" --meeting "
-                   f"\"{_nodes(r['meeting_nodes'])}\" --algorithm {common.get('algorithm')} "
-                   f"--scheduler {common.get('scheduler')}"
-                   + (" --html trace.html" if verdict == "VIOLATED" else ""))
+        command = _recheck(r, verdict, common)
         ratio = "" if r.get("ratio") is None else _number(r["ratio"])
         items.append(f"<tr><td>{_esc(r['robots_n'])}</td><td>{_esc(r['meeting_m'])}</td>"
-                     f"<td>{_esc(_nodes(r['robots']))}</td><td>{_esc(_nodes(r['meeting_nodes']))}</td>"
+                     f"<td>{_esc(_nodes(r['robots'], _lit(common)))}</td>"
+                     f"<td>{_esc(_nodes(r['meeting_nodes']))}</td>"
                      f"<td>{'' if r.get('max_moves') is None else _esc(r['max_moves'])}</td>"
                      f"<td>{ratio}</td>"
                      f"<td class='reason'>{_esc(r.get('reason') or '')}</td>"
@@ -255,48 +433,64 @@ figure svg{display:block;margin-bottom:4px} figcaption{font-size:12px;color:#444
 .list code{font-size:11px;white-space:nowrap}
 .plot{max-width:100%;border:1px solid #ddd;border-radius:6px}
 nav a{margin-right:12px}
+.code{font-size:13px;color:#555;padding:1px 6px;border-radius:4px;background:#f4f4f4}
+.code.current{color:#1b5e20;background:#e3f1e3;font-weight:600}
+.code.older{color:#7a4b00;background:#fff3dc} .batches li{margin:6px 0}
 """
 
 
-def write_html(db_path: str, out: str, svg_dir: str | None = None) -> list[Path]:
+def write_html(db_path: str, out: str, svg_dir: str | None = None,
+               algorithm: str | None = None) -> list[Path]:
     """The report: one page per batch of sweeps (one ``sweep`` command), with a settings table,
     the class × verdict × property table whose counts open filtered lists, the smallest
     counterexample of each (class, property) as a thumbnail opening its viewer, and the plot
     of moves against D·n (when matplotlib is installed). With several batches ``out`` is an
     index and the batches are ``<out stem>-<k>.html`` beside it; the viewers and the plot go
-    into the folder ``svg_dir`` (default ``<out stem>-files``). Returns the pages written."""
+    into the folder ``svg_dir`` (default ``<out stem>-files``). Every page names each batch's
+    fingerprint, when its rows were written and whether it is the code on disk now (the
+    index marks the current batches: those of an edited algorithm differ in all three).
+    ``algorithm``: only the sweeps of that algorithm. Returns the pages written."""
     page = Path(out)
     folder = Path(svg_dir) if svg_dir else page.with_name(page.stem + "-files")
-    groups = batches(db_path)
+    groups = batch_list(db_path, algorithm)
     page.parent.mkdir(parents=True, exist_ok=True)
     written = []
     names = [page] if len(groups) <= 1 else [page.with_name(f"{page.stem}-{k}.html")
                                             for k in range(1, len(groups) + 1)]
-    for k, ((common, sweeps), target) in enumerate(zip(groups, names, strict=False), 1):
+    for k, (batch, target) in enumerate(zip(groups, names, strict=False), 1):
+        common, sweeps = batch.common, batch.sweeps
         plot = None
+        plane = common.get("world", "grid") == "grid"  # a finite world counts no moves
         try:
-            folder.mkdir(parents=True, exist_ok=True)
-            _plot([(common, [r for _, rs in sweeps for r in rs])], str(folder / f"plot-{k}.png"))
-            plot = f"{folder.name}/plot-{k}.png"
+            if plane:
+                folder.mkdir(parents=True, exist_ok=True)
+                _plot([(common, [r for _, rs in sweeps for r in rs])],
+                      str(folder / f"plot-{k}.png"))
+                plot = f"{folder.name}/plot-{k}.png"
         except InvalidInput:  # no matplotlib: the page says so instead of showing the plot
             pass
-        body = _batch_page(k, common, sweeps, folder, plot)
-        if plot is None:
+        body = _batch_page(k, common, sweeps, folder, plot, batch)
+        if plot is None and plane:
             body += "<p class='note'>(install matplotlib for the plot: pip install 'gather-verify[plot]')</p>"
         back = f"<nav><a href='{_esc(page.name)}'>← all batches</a></nav>" if len(groups) > 1 else ""
         target.write_text(_document("gather-verify report", back + body), encoding="utf-8")
         written.append(target)
     if len(groups) != 1:
         index = ["<p>One page per batch of sweeps (one <code>gather-verify sweep</code> command "
-                 "each).</p><ul>"]
-        for k, ((common, sweeps), target) in enumerate(zip(groups, names, strict=False), 1):
-            n = sum(len(rs) for _, rs in sweeps)
-            bad = sum(r["verdict"] == "VIOLATED" for _, rs in sweeps for r in rs)
+                 "each), with its fingerprint (the code and data behind its rows), when they "
+                 "were written and whether they are the code on disk now (<span class='code "
+                 "current'>current</span>): the batches of an edited algorithm differ in "
+                 "all three.</p><ul class='batches'>"]
+        for k, (batch, target) in enumerate(zip(groups, names, strict=False), 1):
+            n = sum(len(rs) for _, rs in batch.sweeps)
+            bad = sum(r["verdict"] == "VIOLATED" for _, rs in batch.sweeps for r in rs)
             index.append(f"<li><a href='{_esc(target.name)}'>Batch {k}: "
-                         f"{_esc(common.get('algorithm'))} / {_esc(common.get('scheduler'))}</a>: "
-                         f"{n} configurations, {bad} VIOLATED</li>")
+                         f"{_esc(batch.common.get('algorithm'))} / "
+                         f"{_esc(batch.common.get('scheduler'))}</a>: "
+                         f"{n} configurations, {bad} VIOLATED<br>{_code_tag(batch)}</li>")
         if not groups:
-            index.append("<li>(no sweep in this database)</li>")
+            index.append("<li>(no sweep in this database"
+                         + (f" of algorithm {_esc(algorithm)}" if algorithm else "") + ")</li>")
         page.write_text(_document("gather-verify report", "".join(index) + "</ul>"),
                         encoding="utf-8")
         written.insert(0, page)
@@ -314,12 +508,13 @@ VERDICT_COLOURS = {"VERIFIED": "#2e7d32", "VIOLATED": "#c62828", "INCOMPLETE": "
 MARKERS = "os^Dv<>p*h"
 
 
-def write_plot(db_path: str, out: str) -> list[str]:
+def write_plot(db_path: str, out: str, algorithm: str | None = None) -> list[str]:
     """Scatter of the largest total moves against D·n, one series per verdict (and per batch
     when there are several), marker area growing with the number of configurations on a
-    point, and the line c·D·n of each batch's move bound (matplotlib). Returns the legend."""
-    return _plot([(common, [r for _, rs in sweeps for r in rs]) for common, sweeps in batches(db_path)],
-          out)
+    point, and the line c·D·n of each batch's move bound (matplotlib); ``algorithm``: only
+    its sweeps. Returns the legend."""
+    return _plot([(common, [r for _, rs in sweeps for r in rs])
+                  for common, sweeps in batches(db_path, algorithm)], out)
 
 
 def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -> list[str]:
@@ -352,9 +547,9 @@ def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -
             ax.scatter(xs, ys, s=sizes, alpha=0.55, color=VERDICT_COLOURS.get(verdict, "#333"),
                        marker=MARKERS[b % len(MARKERS)], edgecolors="none",
                        label=f"{name}{verdict} ({sum(points.values())})")
-    xs = [0, top * 1.05]
+    ends = [0, top * 1.05]
     for c in sorted(bounds):
-        ax.plot(xs, [c * x for x in xs], "k--", linewidth=1, label=f"bound {c:g}·D·n")
+        ax.plot(ends, [c * x for x in ends], "k--", linewidth=1, label=f"bound {c:g}·D·n")
     ax.set_xlabel("D·n (D: longer side of the initial MER, n: robots)")
     ax.set_ylabel("largest total moves over all executions")
     ax.set_title("Moves against D·n (marker area: configurations on the point)", fontsize=10)

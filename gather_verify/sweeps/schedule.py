@@ -12,6 +12,9 @@ sweep, under its load.
 
 >>> predict([5.0, 3.0, 2.0, 2.0], [1, 2, 4])
 {1: 12.0, 2: 7.0, 4: 5.0}
+>>> task_seconds([{"sweep": 1, "index": k, "meeting_nodes": [], "seconds": 1.0}
+...               for k in range(10)])  # a finite world's: tasks of 8 configurations
+[8.0, 2.0]
 """
 
 from __future__ import annotations
@@ -22,6 +25,9 @@ from typing import Any
 
 from gather_verify.model.canonical import canonical_form
 
+WORLD_CHUNK = 8
+"""Configurations per task of a finite world's sweep (``sweeps.sweep.CHUNK``)."""
+
 
 def task_seconds(rows: Iterable[dict[str, Any]]) -> list[float]:
     """The seconds of each task of a sweep's stored rows (one task per shape of ``M`` and
@@ -31,10 +37,16 @@ def task_seconds(rows: Iterable[dict[str, Any]]) -> list[float]:
     tasks: dict[tuple[Any, Any], list[float]] = {}  # seconds, -members, first index
     shapes: dict[tuple, Any] = {}  # a sweep's rows share few meeting-node sets
     for row in rows:
-        meeting = tuple(tuple(m) for m in row["meeting_nodes"])
-        if meeting not in shapes:
-            shapes[meeting] = canonical_form((), meeting).key
-        key = (row.get("sweep"), shapes[meeting])
+        nodes = row["meeting_nodes"] or ()
+        if not nodes or not isinstance(nodes[0], list | tuple):
+            # a finite world's row (its nodes are numbers): its checks go out in chunks of
+            # ``sweeps.sweep.CHUNK`` configurations in enumeration order
+            key = (row.get("sweep"), ("chunk", row.get("index", 0) // WORLD_CHUNK))
+        else:
+            meeting = tuple(tuple(m) for m in nodes)
+            if meeting not in shapes:
+                shapes[meeting] = canonical_form((), meeting).key
+            key = (row.get("sweep"), shapes[meeting])
         task = tasks.setdefault(key, [0.0, 0, float("inf")])
         task[0] += float(row.get("seconds") or 0.0)
         task[1] -= 1

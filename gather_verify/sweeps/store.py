@@ -55,7 +55,51 @@ CREATE TABLE IF NOT EXISTS results (
 CREATE TABLE IF NOT EXISTS timings (
     sweep INTEGER NOT NULL, key TEXT NOT NULL, seconds REAL, PRIMARY KEY (sweep, key)
 );
+CREATE TABLE IF NOT EXISTS written (
+    sweep INTEGER PRIMARY KEY, first TEXT, last TEXT, fingerprint_extra TEXT
+);
 """
+WRITTEN = ("first", "last", "fingerprint_extra")
+"""Per sweep, outside its results (which stay the same whatever ran them): when its first and
+its last rows were written (UTC, ISO 8601), and the files named with ``--fingerprint-extra``
+(``report`` tells with them whether the code on disk is the one behind the rows). A
+database written before has no such table: its dates are unknown."""
+
+
+def algorithm_matches(spec: Any, name: str | None) -> bool:
+    """Whether a stored sweep's algorithm ``spec`` is one ``name`` names (``report
+    --algorithm``): the same spec, the same file (a relative path is taken from the working
+    directory) or registered name with any options, or the algorithm's ``NAME`` in its file.
+
+    >>> [algorithm_matches(s, "paper") for s in ("paper", "paper:alpha=mer_f", "paperx")]
+    [True, True, False]
+    >>> algorithm_matches("/home/me/alg.py:Walk:k=1", "Walk"), algorithm_matches("/a/alg.py:W", "alg.py:W")
+    (True, False)
+    """
+    from gather_verify.algorithms.loading import absolute_spec, split_external
+
+    if name is None:
+        return True
+    if not isinstance(spec, str):
+        return False
+    if spec in (name, absolute_spec(name)):
+        return True
+    try:
+        external = split_external(spec)
+        if external is None:
+            return spec.partition(":")[0] == name
+        where, what, _ = external
+        return name in (what, f"{where}:{what}") or absolute_spec(name) == f"{where}:{what}"
+    except ValueError:
+        return False
+
+
+def utc_now() -> str:
+    """The time now, UTC, to the second (``2026-01-31T09:05:00Z``)."""
+    import datetime
+
+    now = datetime.datetime.now(datetime.UTC).replace(microsecond=0)
+    return now.isoformat().replace("+00:00", "Z")
 
 
 class Store:
@@ -157,6 +201,38 @@ class Store:
                 "INSERT OR REPLACE INTO timings(sweep, key, seconds) VALUES (?, ?, ?)",
                 [(sweep, r["key"], r.get("seconds")) for r in rows],
             )
+            if rows:
+                now = utc_now()
+                self.db.execute("INSERT INTO written(sweep, first, last) VALUES (?, ?, ?) "
+                                "ON CONFLICT(sweep) DO UPDATE SET last = excluded.last",
+                                (sweep, now, now))
+
+    def note_extra(self, sweep: int, files: Iterable[str]) -> None:
+        """Keep the ``--fingerprint-extra`` files of a sweep (what ``report`` needs to tell
+        whether the code and data on disk are those behind its rows)."""
+        text = json.dumps(list(files))
+        with self.db:
+            self.db.execute("INSERT INTO written(sweep, fingerprint_extra) VALUES (?, ?) "
+                            "ON CONFLICT(sweep) DO UPDATE SET fingerprint_extra = "
+                            "excluded.fingerprint_extra", (sweep, text))
+
+    def written(self) -> dict[int, dict[str, Any]]:
+        """Per sweep id: ``first`` and ``last`` (when its first and last rows were written,
+        None if unknown) and ``fingerprint_extra`` (a list); empty for a database written
+        before these were kept."""
+        have = self.db.execute("SELECT count(*) FROM sqlite_master WHERE type = 'table' AND "
+                               "name = 'written'").fetchone()[0]
+        if not have:
+            return {}
+        out = {}
+        for sweep, first, last, extra in self.db.execute(
+                "SELECT sweep, first, last, fingerprint_extra FROM written"):
+            try:
+                files = json.loads(extra) if extra else []
+            except ValueError:
+                files = None  # damaged: the files cannot be named
+            out[sweep] = {"first": first, "last": last, "fingerprint_extra": files}
+        return out
 
     def seconds(self) -> list[dict[str, Any]]:
         """Every stored row's sweep, index, meeting nodes and seconds (no traces read)."""
@@ -193,6 +269,7 @@ class Store:
         with self.db:
             self.db.execute("DELETE FROM results WHERE sweep = ?", (sweep,))
             self.db.execute("DELETE FROM timings WHERE sweep = ?", (sweep,))
+            self.db.execute("DELETE FROM written WHERE sweep = ?", (sweep,))
 
     def results(self, sweep: int) -> list[dict[str, Any]]:
         """All results of a sweep in enumeration order, with their timings."""

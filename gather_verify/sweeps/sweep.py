@@ -15,6 +15,7 @@ import os
 import sys
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field, replace
 from functools import partial
 from typing import Any
@@ -94,24 +95,10 @@ class SweepSettings:
         """The digest of the code and data behind the rows (:mod:`gather_verify.fingerprint`):
         the algorithm's, every property file's, the ``fingerprint_extra`` files' and
         gather-verify's own source."""
-        import hashlib
+        from gather_verify.fingerprint import algorithm_fingerprint, sweep_fingerprint
 
-        from gather_verify.algorithms.loading import is_path_spec
-        from gather_verify.fingerprint import (
-            algorithm_fingerprint,
-            files_fingerprint,
-            source_fingerprint,
-        )
-
-        parts = [algorithm_fingerprint(self.algorithm)["digest"]]
-        if self.world.startswith("graph:"):  # the graph file is an input like the algorithm
-            parts.append(files_fingerprint((self.world.partition(":")[2],)))
-        parts += [source_fingerprint(p.rpartition(":")[0])["digest"]
-                  for p in self.properties if is_path_spec(p)]
-        if not parts[1:] and not self.fingerprint_extra:
-            return parts[0]  # the algorithm's alone, as every store before property digests
-        parts.append(files_fingerprint(self.fingerprint_extra))
-        return hashlib.sha256("\0".join(parts).encode()).hexdigest()[:16]
+        return sweep_fingerprint(algorithm_fingerprint(self.algorithm)["digest"], self.world,
+                                 self.properties, self.fingerprint_extra)
 
 
 def configuration_key(c: Configuration) -> str:
@@ -258,6 +245,8 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
             sweep = store.sweep_id(one.key())
             if fresh:
                 store.forget(sweep)
+            if one.fingerprint_extra:
+                store.note_extra(sweep, one.fingerprint_extra)
             done = store.done_keys(sweep)
             shape = (one.world, one.robots, one.meeting, one.box, one.frames)
             if shape not in census:  # classes up to the robots' frame group, never more
@@ -375,7 +364,8 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
     import queue
 
     done: queue.SimpleQueue = queue.SimpleQueue()
-    with multiprocessing.get_context("fork").Pool(workers, initializer=_ignore_sigint) as pool:
+    with multiprocessing.get_context("fork").Pool(workers, initializer=_pool_worker,
+                                                  initargs=(os.getpid(),)) as pool:
         def submit(fn: Callable[..., Done], task: Task) -> None:
             pool.apply_async(fn, (task,), callback=done.put, error_callback=done.put)
 
@@ -406,12 +396,29 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
             yield sweep, rows
 
 
-def _ignore_sigint() -> None:
+def _pool_worker(parent: int) -> None:
     """Pool workers leave Ctrl-C to the parent, which stops the pool and says how to resume
-    (otherwise every worker prints its own traceback)."""
+    (otherwise every worker prints its own traceback); and they end, quietly, when the
+    parent ``parent`` (a process id) is killed, instead of finishing their task and printing
+    the broken pipe they could not send it back through: at once on Linux (the kernel kills
+    them), within a second elsewhere."""
     import signal
+    import threading
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        import ctypes
+        from contextlib import suppress
+
+        with suppress(OSError, AttributeError):  # prctl(PR_SET_PDEATHSIG, SIGKILL)
+            ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL, 0, 0, 0)
+
+    def orphaned() -> None:
+        while os.getppid() == parent:
+            time.sleep(1.0)
+        os._exit(1)
+
+    threading.Thread(target=orphaned, name="gather-verify parent watch", daemon=True).start()
 
 
 def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
@@ -450,22 +457,26 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None,
         from dask.distributed import Client, LocalCluster, as_completed
     except ImportError:
         raise InvalidInput("--dask needs the dask extra: pip install 'gather-verify[dask]'") from None
-    cluster = None
-    if address == "local":
-        import logging
-
-        cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
-                               processes=True, dashboard_address=None,
-                               silence_logs=logging.ERROR)  # no nanny warnings at close
-        client = Client(cluster)
-    else:
-        try:
-            client = Client(address, timeout=30)
-        except (OSError, ValueError, TypeError) as error:  # a bad or unreachable address
-            raise InvalidInput(f"--dask {address}: cannot reach a Dask scheduler there "
-                               f"({type(error).__name__}: {error}); give 'local' or "
-                               "tcp://HOST:PORT") from None
+    cluster = client = None
     try:
+        if address == "local":
+            import logging
+
+            with _workers_stderr_discarded():
+                cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1,
+                                       threads_per_worker=1, processes=True,
+                                       dashboard_address=None,
+                                       # no nanny warnings at close, nor a worker's heartbeat
+                                       # failing while an interrupted sweep stops the cluster
+                                       silence_logs=logging.CRITICAL)
+            client = Client(cluster)
+        else:
+            try:
+                client = Client(address, timeout=30)
+            except (OSError, ValueError, TypeError) as error:  # a bad or unreachable address
+                raise InvalidInput(f"--dask {address}: cannot reach a Dask scheduler there "
+                                   f"({type(error).__name__}: {error}); give 'local' or "
+                                   "tcp://HOST:PORT") from None
         from gather_verify.algorithms.loading import ship
 
         sources = ship({settings.algorithm for _, settings, _ in tasks}) or None
@@ -475,10 +486,64 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None,
             for task in more:
                 pending.add(client.submit(_run_task, task, sources=sources, pure=False))
             yield sweep, rows
+    except KeyboardInterrupt:  # stop the workers quietly; the command says what was kept
+        _quiet_dask_logs()
+        if address == "local" and cluster is None:
+            _leave_unstarted_clusters()
+        raise
     finally:
-        client.close()
+        if client is not None:
+            client.close()
         if cluster is not None:
             cluster.close()
+
+
+@contextmanager
+def _workers_stderr_discarded() -> Iterator[None]:
+    """While a local Dask cluster starts, its worker processes take /dev/null as their
+    standard error (a spawned process inherits the parent's): a terminal's Ctrl-C reaches the
+    whole process group, and each worker would print its traceback (every one at its own
+    stage of starting: no signal mask or handler set in time covers them all). The parent
+    alone says what was kept and how to resume, as the process pool's workers leave it to
+    the parent; a worker's failure still reaches the parent through its task."""
+    try:
+        saved = os.dup(2)
+    except OSError:  # no standard error to begin with
+        yield
+        return
+    sys.stderr.flush()
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, 2)
+    os.close(null)
+    try:
+        yield
+    except BaseException:  # interrupted while it starts: its threads may spawn workers yet,
+        # so they keep /dev/null, and this process writes on through the saved descriptor
+        sys.stderr = open(saved, "w", buffering=1, encoding=sys.stderr.encoding,  # noqa: SIM115
+                          errors="backslashreplace")
+        raise
+    sys.stderr.flush()
+    os.dup2(saved, 2)
+    os.close(saved)
+
+
+def _leave_unstarted_clusters() -> None:
+    """A local cluster interrupted while it starts cannot be closed (Dask's own exit hook
+    fails on its half-started workers, with a traceback): it is left to end with this
+    process, as its workers do (each watches its parent)."""
+    from distributed.deploy.spec import SpecCluster
+
+    for cluster in list(getattr(SpecCluster, "_instances", ())):
+        cluster.shutdown_on_close = False
+
+
+def _quiet_dask_logs() -> None:
+    """Dask's own logs at CRITICAL: an interrupted sweep closes its cluster without the
+    warnings of futures cancelled and connections closed on the way."""
+    import logging
+
+    for name in ("distributed", "tornado", "asyncio"):
+        logging.getLogger(name).setLevel(logging.CRITICAL)
 
 
 def summarise(rows: list[dict[str, Any]], settings: SweepSettings | None = None) -> dict[str, Any]:

@@ -49,6 +49,9 @@ class Task:
     parts: tuple[str, ...]
     liveness: tuple[str, ...] = ()
     visits: bool = False
+    explores: bool = False
+    """The traces record the nodes visited so far (from the state when ``visits``, else
+    counted along the trace) and the pictures mark them."""
     needs_meeting: bool = False
 
     def check(self, s: WorldSearch, ctx: Context) -> dict[str, Finding | None]:

@@ -21,6 +21,7 @@ class ExclusivePerpetualExploration(Task):
               "infinitely often"
     parts = ("exclusivity", "perpetual-exploration")
     liveness = ("perpetual-exploration",)
+    explores = True
 
     def check(self, s: WorldSearch, ctx: Context) -> dict[str, Finding | None]:
         return {"exclusivity": _exclusivity(s),
@@ -85,6 +86,7 @@ class ExplorationWithStop(Task):
     parts = ("termination", "explored-when-final")
     liveness = ("termination",)
     visits = True
+    explores = True
 
     def check(self, s: WorldSearch, ctx: Context) -> dict[str, Finding | None]:
         everything = (1 << ctx.size) - 1

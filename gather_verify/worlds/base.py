@@ -18,9 +18,12 @@ schedulers never ask which world they run.
 
 from __future__ import annotations
 
+import copy
+import statistics
 from collections import deque
 from collections.abc import Hashable, Iterable, Sequence
 from functools import cached_property
+from typing import Any, NamedTuple
 
 import networkx as nx
 
@@ -31,6 +34,31 @@ Label = Hashable
 grids and tori, the file's id on ``graph:FILE``)."""
 Frame = dict[int, Label]
 """One presentation of a robot's view: node index -> the label the robot reads."""
+
+Point = tuple[float, float]
+"""A place in a world's drawing (x to the right, y up)."""
+
+
+class DrawnEdge(NamedTuple):
+    """An edge as the pictures draw it: its ends (node indices), the lines that draw it
+    (each a list of points, the first line leaving ``a``, the last one reaching ``b``) and
+    whether it wraps around (its lines leave the picture on one side and come back on the
+    other)."""
+
+    a: int
+    b: int
+    lines: tuple[tuple[Point, ...], ...]
+    wraps: bool = False
+
+
+class Outline(NamedTuple):
+    """A closed line around the world's nodes: its border (``wraps`` false), or the seam
+    that wrapping edges cross (``wraps`` true, drawn dashed); ``title`` says which."""
+
+    points: tuple[Point, ...]
+    wraps: bool
+    title: str
+
 
 FRAME_SETS = ("all", "chirality", "compass")
 MAX_AUTOMORPHISMS = 100_000
@@ -188,13 +216,131 @@ class World:
         return {}
 
     # -- drawing -----------------------------------------------------------------------
-    def layout(self) -> dict[int, tuple[float, float]]:
-        """Where to draw each node (unit-ish coordinates, y up); stable across runs."""
-        pos = nx.spring_layout(self.graph, seed=1)
+    # The pictures (the viewer, the SVG storyboard, the report) draw a world from
+    # :meth:`drawing` alone and never ask which world it is: a world says where its nodes
+    # are (:meth:`layout`), how its edges are drawn (:meth:`drawn_edges`) and what line goes
+    # around it (:meth:`outline`).
+    def layout(self) -> dict[int, Point]:
+        """Where to draw each node (y up), the same on every run: by default a spring layout
+        with a fixed seed (a circle past 500 nodes, where the spring layout needs scipy)."""
+        if self.size >= 500:
+            pos = nx.circular_layout(self.graph)
+        else:
+            pos = nx.spring_layout(self.graph, seed=0, method="force")
         return {v: (float(x), float(y)) for v, (x, y) in pos.items()}
+
+    def drawn_edges(self) -> list[DrawnEdge]:
+        """Every edge once, as drawn: by default a straight line between its ends."""
+        pos = self.layout()
+        return [DrawnEdge(a, b, ((pos[a], pos[b]),))
+                for a, nbrs in enumerate(self.adjacency) for b in nbrs if a < b]
+
+    def outline(self) -> Outline | None:
+        """The line around the world, if it has one (a finite grid's border, a torus's seam)."""
+        return None
+
+    def drawing(self) -> dict[str, Any]:
+        """The picture of the world as JSON, for the traces and the renderers: per node its
+        label, its text, its place and the side its name is written on (a unit vector away
+        from its edges, outwards where it can); per edge its ends, its lines when they are not the
+        straight segment between the ends, and whether it wraps; the outline. Coordinates
+        are scaled so that the median edge is 1 long (or longer, so that no two nodes are
+        closer than 0.625), and rounded: the same world gives the
+        same drawing, byte for byte.
+
+        >>> from gather_verify.worlds import get_world
+        >>> d = get_world("ring:4").drawing()
+        >>> d["nodes"][0], d["edges"][0]["ends"], len(d["edges"][0]["lines"][0]), d["outline"]
+        ({'label': 0, 'text': '0', 'x': 0.0, 'y': 0.7071, 'side': [0.0, 1.0]}, [0, 1], 10, None)
+        """
+        return copy.deepcopy(self._drawing)
+
+    @cached_property
+    def _drawing(self) -> dict[str, Any]:
+        pos = self.layout()
+        edges = self.drawn_edges()
+        lengths = [_dist(pos[e.a], pos[e.b]) for e in edges if not e.wraps]
+        unit = statistics.median(lengths) if lengths else 1.0
+        # two nodes closer than an edge (a spring layout puts some at half an edge) stay
+        # far enough apart for the robots drawn on them not to overlap
+        unit = min(unit, 1.6 * _closest(list(pos.values())))
+        unit = unit if unit > 1e-9 else 1.0
+
+        def at(p: Point) -> list[float]:
+            return [_round(p[0] / unit), _round(p[1] / unit)]
+
+        out_edges = []
+        for e in edges:
+            item: dict[str, Any] = {"ends": [e.a, e.b]}
+            if e.wraps or e.lines != ((pos[e.a], pos[e.b]),):
+                item["lines"] = [[at(p) for p in line] for line in e.lines]
+            if e.wraps:
+                item["wraps"] = True
+            out_edges.append(item)
+        outline = self.outline()
+        sides = _name_sides(pos, edges)
+        return {
+            "nodes": [{"label": self.node_to_json(v), "text": self.format_node(v),
+                       **dict(zip(("x", "y"), at(pos[v]), strict=True)),
+                       "side": [_round(sides[v][0]), _round(sides[v][1])]}
+                      for v in range(self.size)],
+            "edges": out_edges,
+            "outline": None if outline is None else {
+                "points": [at(p) for p in outline.points], "wraps": outline.wraps,
+                "title": outline.title},
+        }
 
     def __repr__(self) -> str:
         return f"<world {self.name}>"
+
+
+def _dist(p: Point, q: Point) -> float:
+    return ((p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2) ** 0.5
+
+
+def _name_sides(pos: dict[int, Point], edges: list[DrawnEdge]) -> dict[int, Point]:
+    """Per node, the side to write its name on: of 16 directions, the one farthest in angle
+    from the node's edges, outwards from the middle of the drawing on a tie (the same every
+    run: the directions are tried in a fixed order)."""
+    import math
+
+    leaving: dict[int, list[float]] = {v: [] for v in pos}
+    for e in edges:
+        for v, line in ((e.a, e.lines[0]), (e.b, e.lines[-1][::-1])):
+            (x0, y0), (x1, y1) = line[0], line[1]
+            if (x1, y1) != (x0, y0):
+                leaving[v].append(math.atan2(y1 - y0, x1 - x0))
+    mx = sum(p[0] for p in pos.values()) / len(pos)
+    my = sum(p[1] for p in pos.values()) / len(pos)
+    out = {}
+    for v, (x, y) in pos.items():
+        away = math.atan2(y - my, x - mx) if (x, y) != (mx, my) else -math.pi / 4
+
+        def gap(a: float, v: int = v) -> float:
+            return min((abs((a - b + math.pi) % (2 * math.pi) - math.pi) for b in leaving[v]),
+                       default=math.pi)
+
+        best = max((k * math.pi / 8 for k in range(16)),
+                   key=lambda a, away=away: (round(gap(a), 6), math.cos(a - away)))
+        out[v] = (math.cos(best), math.sin(best))
+    return out
+
+
+def _closest(points: list[Point]) -> float:
+    """The smallest distance between two of ``points`` (infinity for fewer than two)."""
+    import numpy as np
+
+    p = np.array(points, dtype=float).reshape(-1, 2)
+    best = float("inf")
+    for i in range(len(p) - 1):
+        d = np.hypot(*(p[i + 1:] - p[i]).T)
+        best = min(best, float(d.min()))
+    return best
+
+
+def _round(value: float) -> float:
+    out = round(value, 4)
+    return 0.0 if out == 0 else out  # never -0.0
 
 
 def enumerate_automorphisms(graph: nx.Graph, name: str,

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
-from gather_verify.worlds.base import Frame, Label, World
+from gather_verify.worlds.base import Frame, Label, Outline, Point, World
 from gather_verify.worlds.ring import parse_size
 
 D4_FRAMES = {"all": geometry.ALL, "chirality": geometry.ROTATIONS,
@@ -64,8 +64,14 @@ class GridFamily(World):
                         for u in ball for x, y in (self.offset(u, v),)})
         return out
 
-    def layout(self) -> dict[int, tuple[float, float]]:
+    def layout(self) -> dict[int, Point]:
+        """Each node at its coordinates."""
         return {v: (float(x), float(y)) for v, (x, y) in enumerate(self.labels)}
+
+    def box_outline(self, wraps: bool, title: str) -> Outline:
+        """The rectangle half a step outside the nodes."""
+        x1, y1 = self.width - 0.5, self.height - 0.5
+        return Outline(((-0.5, -0.5), (x1, -0.5), (x1, y1), (-0.5, y1)), wraps, title)
 
 
 class FiniteGrid(GridFamily):
@@ -89,6 +95,9 @@ class FiniteGrid(GridFamily):
     @property
     def automorphisms(self) -> tuple[tuple[int, ...], ...]:
         return self.symmetries("all")
+
+    def outline(self) -> Outline:
+        return self.box_outline(False, f"the border of {self.name}: the world ends here")
 
     def placements(self, g: int) -> list[tuple[int, ...]]:
         a, b, c, d = geometry.MATRICES[g]

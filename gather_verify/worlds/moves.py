@@ -20,6 +20,7 @@ from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, AlgorithmEr
 from gather_verify.algorithms.moves import HiddenRead
 from gather_verify.errors import InvalidInput
 from gather_verify.model.view import MultiplicityHidden, check_detection
+from gather_verify.watchdog import Overtime, watched
 from gather_verify.worlds.base import World
 from gather_verify.worlds.view import LightHidden, Lights, WorldView
 
@@ -98,11 +99,12 @@ class WorldMoves:
             view = WorldView(self.world, counts, self.meeting, node, frame, self.detection,
                              self.lights, colours, colour)
             try:
-                answer = algorithm.decide(view)  # type: ignore[arg-type]
+                with watched():  # an endless decide ends with the time limit (watchdog)
+                    answer = algorithm.decide(view)
             except (MultiplicityHidden, LightHidden) as error:
                 raise HiddenRead(f"algorithm {algorithm.name!r} reads what its robots cannot "
                                  f"see: {error}") from None
-            except (Unhandled, KeyboardInterrupt):
+            except (Unhandled, KeyboardInterrupt, Overtime):
                 raise
             except BaseException as error:  # SystemExit too: user code never ends the verifier
                 raise AlgorithmCrash(algorithm.name, "decide", error,
@@ -131,7 +133,7 @@ class WorldMoves:
             raise AlgorithmCrash(self.algorithm.name, "decide",
                                  AlgorithmError(f"algorithm {self.algorithm.name!r} {problem}"),
                                  self.world.label(node), view) from None
-        return back, new  # type: ignore[return-value]
+        return back, new
 
 
 def _counted(seen: tuple[tuple[int, int], ...]) -> tuple[Counter[int], dict[int, Counter[int]]]:

@@ -1,4 +1,4 @@
-"""``ring:N``: the cycle of N nodes, written ``0 .. N-1`` (SEMANTICS.md §9).
+"""``ring:N``: the cycle of N nodes, written ``0`` to ``N-1`` (SEMANTICS.md §9).
 
 A robot sees the ring from its own node, which it reads as 0, in one of the two
 directions: its frames label node ``u`` as ``(u - v) mod N`` or ``(v - u) mod N``.
@@ -13,8 +13,10 @@ A common compass or chirality keeps the first direction only.
 
 from __future__ import annotations
 
+import math
+
 from gather_verify.errors import InvalidInput
-from gather_verify.worlds.base import Frame, Label, World
+from gather_verify.worlds.base import DrawnEdge, Frame, Label, Point, World
 
 
 class Ring(World):
@@ -50,12 +52,24 @@ class Ring(World):
         directions = (1, -1) if frames == "all" else (1,)
         return [{u: (s * (u - v)) % self.n for u in ball} for s in directions]
 
-    def layout(self) -> dict[int, tuple[float, float]]:
+    def layout(self) -> dict[int, Point]:
         """A circle, node 0 at the top, clockwise."""
-        import math
+        return {v: _on_circle(v / self.n) for v in range(self.n)}
 
-        return {v: (math.sin(2 * math.pi * v / self.n), math.cos(2 * math.pi * v / self.n))
-                for v in range(self.n)}
+    def drawn_edges(self) -> list[DrawnEdge]:
+        """Arcs of the circle (a few straight pieces each, one piece from 36 nodes on)."""
+        pieces = max(1, math.ceil(36 / self.n))
+        out = []
+        for v in range(self.n):
+            arc = tuple(_on_circle((v + t / pieces) / self.n) for t in range(pieces + 1))
+            w = (v + 1) % self.n
+            out.append(DrawnEdge(v, w, (arc,)) if v < w else DrawnEdge(w, v, (arc[::-1],)))
+        return sorted(out)
+
+
+def _on_circle(turn: float) -> Point:
+    """The point ``turn`` of a full turn clockwise from the top of the unit circle."""
+    return math.sin(2 * math.pi * turn), math.cos(2 * math.pi * turn)
 
 
 def parse_size(arg: str, form: str, low: int = 1, high: int = 10_000) -> int:

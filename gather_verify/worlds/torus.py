@@ -12,7 +12,7 @@ translations with the rectangle's symmetries.
 
 from __future__ import annotations
 
-from gather_verify.worlds.base import World
+from gather_verify.worlds.base import DrawnEdge, Outline, World
 from gather_verify.worlds.grid import GridFamily, parse_box
 
 
@@ -41,6 +41,27 @@ class Torus(GridFamily):
             return []
         return [tuple(self.index[((a * x + b * y + tx) % w, (c * x + d * y + ty) % h)]
                       for x, y in self.labels) for tx in range(w) for ty in range(h)]
+
+    def drawn_edges(self) -> list[DrawnEdge]:
+        """The grid's edges; an edge across the seam (from the last column to the first, or
+        the last row to the first) as two short stubs: one leaving its node towards the seam,
+        one coming back from the opposite side of the seam into the other node."""
+        out = []
+        for v, (x, y) in enumerate(self.labels):
+            for dx, dy in ((1, 0), (0, 1)):
+                nx_, ny = x + dx, y + dy
+                w = self.index[(nx_ % self.width, ny % self.height)]
+                if nx_ < self.width and ny < self.height:
+                    out.append(DrawnEdge(v, w, (((x, y), (nx_, ny)),)))
+                else:
+                    (wx, wy) = self.labels[w]
+                    out.append(DrawnEdge(v, w, (((x, y), (x + dx / 2, y + dy / 2)),
+                                                ((wx - dx / 2, wy - dy / 2), (wx, wy))), True))
+        return out
+
+    def outline(self) -> Outline:
+        return self.box_outline(True, f"the seam of {self.name}: an edge that crosses it comes "
+                                "back on the opposite side")
 
     def offset(self, u: int, v: int) -> tuple[int, int]:
         (ux, uy), (vx, vy) = self.labels[u], self.labels[v]

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import networkx as nx
 
+from gather_verify.errors import GatherVerifyError
 from gather_verify.model.view import MultiplicityHidden
 from gather_verify.worlds.base import FrameMap, Label, World
 
@@ -40,8 +41,12 @@ class Lights:
         return f"{self.colours}" + ("" if self.variant == "full" else f":{self.variant}")
 
 
-class LightHidden(LookupError):
-    """The algorithm asked for a colour its lights variant hides."""
+class LightHidden(GatherVerifyError, LookupError):
+    """The algorithm asked for a colour its lights variant hides.
+
+    Cause: the algorithm read another robot's light under a variant where only its own is
+    visible (or its own where only the others' are). Fix: decide from the lights the variant
+    shows, or check the algorithm under the variant it was written for."""
 
 
 class WorldView:

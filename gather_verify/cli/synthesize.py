@@ -1,0 +1,342 @@
+"""``gather-verify synthesize``: does any algorithm solve the task? (SEMANTICS.md §12)
+
+Answers ``exists`` (exit 0) with an algorithm file the ordinary checker then verifies,
+``none`` (exit 1) with a certificate that ``--verify`` checks again without searching, or
+``unknown`` (exit 3) naming the limit that stopped the search. ``--verify CERT`` exits 0
+when the certificate holds and 1 when it does not (one line saying where).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from typing import Any
+
+from gather_verify.cli.common import (
+    EXIT_BUG,
+    EXIT_INCOMPLETE,
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    EXIT_VIOLATED,
+    UsageError,
+    bounded_float,
+    bounded_int,
+    print_json,
+    writable_outputs,
+)
+from gather_verify.errors import InvalidInput
+from schedulers import SCHEDULERS
+
+HELP = ("does any algorithm solve the task on a finite world? exists (with an algorithm file, "
+        "verified), none (with a certificate) or unknown (with the limit that stopped it)")
+ANSWER_EXIT = {"exists": EXIT_OK, "none": EXIT_VIOLATED, "unknown": EXIT_INCOMPLETE}
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--world", help="a finite world: ring:N, grid:WxH, torus:WxH or graph:FILE")
+    p.add_argument("--robots", help='one initial configuration ("0 2"), or a count of robots '
+                   "(2: every initial configuration of that many, up to the world's "
+                   "symmetries)")
+    p.add_argument("--meeting", default="", help="meeting nodes, for the task that has them")
+    p.add_argument("--task", default=None,
+                   help="gathering, gathering-on-meeting-nodes (default with meeting nodes), "
+                        "exclusive-perpetual-exploration or exploration-with-stop")
+    p.add_argument("--scheduler", default="async", metavar="NAME",
+                   help=f"the adversary: {', '.join(SCHEDULERS)} (default async)")
+    p.add_argument("--multiplicity", default="local-weak", help="detection model "
+                   "(none, local-weak, local-strong, global-weak, global-strong)")
+    p.add_argument("--frames", default="all", choices=("all", "chirality", "compass"))
+    p.add_argument("--visibility", type=bounded_int(-10**6, 10**6), default=None,
+                   metavar="HOPS", help="robots see only the nodes within this many hops")
+    p.add_argument("--lights", default=None, metavar="K[:internal]",
+                   help="luminous robots with K colours, all starting at 0")
+    p.add_argument("--colours", default=None, metavar="C ...",
+                   help="with lights and one configuration: each robot's initial colour "
+                        "(default 0)")
+    p.add_argument("--witness", default="synthesized.py", metavar="FILE.py",
+                   help="where exists writes the algorithm (default synthesized.py)")
+    p.add_argument("--certificate", default="synthesized.cert.json", metavar="FILE",
+                   help="where none writes its certificate (default synthesized.cert.json)")
+    p.add_argument("--verify", metavar="CERT",
+                   help="re-check a certificate of none without searching, and exit")
+    p.add_argument("--max-seconds", type=bounded_float(0.001, 10**7), default=600.0)
+    p.add_argument("--max-candidates", type=bounded_int(1, 10**9), default=1_000_000,
+                   help="tables the solver may propose")
+    p.add_argument("--max-states", type=bounded_int(1, 10**9), default=2_000_000,
+                   help="states of one exploration of one candidate")
+    p.add_argument("--max-tree", type=bounded_int(1, 10**9), default=2_000_000,
+                   help="nodes of the certificate's decision tree")
+    p.add_argument("--minimum", action="store_true",
+                   help="the least number of robots with an algorithm: --robots A-B (counts), "
+                        "--world a size or a range of rings (ring:4-8), --scheduler a comma "
+                        "list; one row per answer in the results store (--db), resumed")
+    p.add_argument("--db", default="gather-verify-results.sqlite",
+                   help="with --minimum: the results database (as sweep's)")
+    p.add_argument("--out", default=None, metavar="DIR",
+                   help="with --minimum: where the witnesses and certificates go (default: "
+                        "a folder synthesis/ beside the database)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--timings", action="store_true",
+                   help="with --json, also print the seconds (left out by default so the "
+                        "output is byte-for-byte reproducible)")
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.verify:
+        return _verify(args)
+    if not args.world:
+        raise UsageError("give --world (a finite world), or --verify CERT")
+    if args.robots is None:
+        raise UsageError("give --robots: nodes (\"0 2\") or a count (2)")
+    if args.minimum:
+        return _minimum(args)
+    from gather_verify.synthesis.search import certificate_stats, synthesize
+    from gather_verify.synthesis.views import Views, make_instance
+
+    if not args.witness.endswith(".py"):
+        raise UsageError(f"--witness {args.witness}: the algorithm file must end in .py")
+    writable_outputs(witness=args.witness, certificate=args.certificate)
+    inst = make_instance(args.world, args.robots, args.meeting, args.scheduler, args.task,
+                         args.multiplicity, args.frames, args.visibility, args.lights,
+                         args.colours)
+    views = Views(inst)
+    started = time.perf_counter()
+    try:
+        result = synthesize(inst, max_seconds=args.max_seconds,
+                            max_candidates=args.max_candidates, max_states=args.max_states,
+                            max_tree=args.max_tree, views=views)
+    except KeyboardInterrupt:
+        print("interrupted: synthesize keeps no partial results; run the same command again "
+              "(it starts over)", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    report: dict[str, Any] = {
+        "answer": result.answer, "world": inst.world.name, "task": inst.task.name,
+        "scheduler": inst.scheduler, "detection": inst.detection, "frames": inst.frames,
+        "visibility": inst.visibility, "lights": str(inst.lights),
+        "configurations": len(inst.configurations), "views": result.views,
+        "candidates": result.candidates, "counterexamples": len(result.counterexamples),
+        "states": result.states, "limit": result.limit, "witness": None, "certificate": None,
+    }
+    code = ANSWER_EXIT[result.answer]
+    problem = None
+    if result.answer == "exists":
+        from gather_verify.synthesis.witness import check_witness, write_witness
+
+        spec = write_witness(args.witness, inst, views, result.table)
+        reports = check_witness(spec, inst, args.max_seconds)
+        verdicts = sorted({r["verdict"] for r in reports})
+        report["witness"] = spec
+        report["table"] = len(result.table)
+        report["checker"] = {"verdicts": verdicts, "reductions": "off",
+                             "states": sum(r["states"] for r in reports)}
+        if verdicts != ["VERIFIED"]:
+            bad = next(r for r in reports if r["verdict"] != "VERIFIED")
+            problem = (f"the ordinary checker says {bad['verdict']} of the witness from robots "
+                       f"{bad['robots']} ({bad['property']}: {bad['reason']}): this is a bug "
+                       "of gather-verify's synthesis, please report it")
+    elif result.answer == "none":
+        from gather_verify.synthesis.certificate import (
+            CertificateError,
+            verify_certificate,
+            write_certificate,
+        )
+
+        stats = certificate_stats(result)
+        write_certificate(args.certificate, inst, views, result.counterexamples,
+                          result.literals, result.tree, stats)
+        report["certificate"] = args.certificate
+        report["tree"] = {"nodes": stats["tree_nodes"], "leaves": stats["tree_leaves"]}
+        try:
+            verify_certificate(args.certificate)
+        except CertificateError as error:
+            problem = (f"the certificate just written does not re-check ({error}): this is a "
+                       "bug of gather-verify's synthesis, please report it")
+    report["seconds"] = time.perf_counter() - started
+    if args.json:
+        print_json(report if args.timings else {k: v for k, v in report.items()
+                                                 if k != "seconds"})
+    else:
+        _print(report, args)
+    if problem is not None:
+        print(f"internal error: {problem}", file=sys.stderr)
+        return EXIT_BUG
+    return code
+
+
+def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
+    what = (f"{report['world']}  task {report['task']} / {report['scheduler']}  "
+            f"detection {report['detection']}  frames {report['frames']}"
+            + ("" if report["visibility"] is None else f"  visibility {report['visibility']}")
+            + ("" if report["lights"] == "1" else f"  lights {report['lights']}"))
+    print(f"{report['answer']}  {what}")
+    print(f"configurations {report['configurations']}  views {report['views']}  candidates "
+          f"{report['candidates']}  counterexamples {report['counterexamples']}  states "
+          f"{report['states']}  {report['seconds']:.2f}s")
+    if report["answer"] == "exists":
+        checker = report["checker"]
+        print(f"witness: --algorithm {report['witness']} ({report['table']} views in its "
+              f"table)")
+        print(f"checker, every reduction off: {', '.join(checker['verdicts'])} from "
+              f"{report['configurations']} configuration(s), {checker['states']} states")
+    elif report["answer"] == "none":
+        tree = report["tree"]
+        print(f"certificate: {report['certificate']} (a decision tree of {tree['nodes']} "
+              f"views and {tree['leaves']} leaves over {report['counterexamples']} "
+              "counterexamples); re-check it with")
+        print(f"  gather-verify synthesize --verify {report['certificate']}")
+    else:
+        print(f"the search stopped at a limit: {report['limit']} (no answer; raise it and run "
+              "again)")
+
+
+def _verify(args: argparse.Namespace) -> int:
+    from gather_verify.synthesis.certificate import CertificateError, verify_certificate
+
+    started = time.perf_counter()
+    try:
+        got = verify_certificate(args.verify)
+    except CertificateError as error:
+        print(f"certificate REJECTED: {os.path.basename(args.verify)}: {error}",
+              file=sys.stderr)
+        return EXIT_VIOLATED
+    got["seconds"] = time.perf_counter() - started
+    if args.json:
+        print_json(got if args.timings else {k: v for k, v in got.items() if k != "seconds"})
+    else:
+        inst = got["instance"]
+        print(f"certificate holds: none  {inst['world']}  task {inst['task']} / "
+              f"{inst['scheduler']}  ({got['counterexamples']} counterexamples replayed, "
+              f"{got['views']} views, {got['leaves']} leaves; no search)  "
+              f"{got['seconds']:.2f}s")
+    return EXIT_OK
+
+
+def _counts(text: str) -> range:
+    low, dash, high = text.strip().partition("-")
+    try:
+        a = int(low, 10)
+        b = int(high, 10) if dash else a
+    except ValueError:
+        raise UsageError(f"--robots {text!r}: with --minimum, a count or a range A-B") from None
+    if not 1 <= a <= b <= 16:
+        raise UsageError(f"--robots {text!r}: counts from 1 to 16, A <= B")
+    return range(a, b + 1)
+
+
+def _minimum(args: argparse.Namespace) -> int:
+    """``--minimum``: per world and scheduler, synthesize for k = A, A+1, ... robots (every
+    initial configuration of k) up to the first ``exists``; each answer is a row of the
+    results store keyed by the settings and gather-verify's own fingerprint, so a rerun
+    resumes and an edited verifier computes again."""
+    from pathlib import Path
+
+    from gather_verify.fingerprint import own_digest
+    from gather_verify.sweeps.store import Store
+    from gather_verify.synthesis.certificate import write_certificate
+    from gather_verify.synthesis.search import certificate_stats, synthesize
+    from gather_verify.synthesis.views import Views, make_instance
+    from gather_verify.synthesis.witness import check_witness, write_witness
+    from gather_verify.worlds import world_specs
+    from schedulers import get_scheduler
+
+    counts = _counts(args.robots)
+    worlds = world_specs(args.world)
+    schedulers = [x.strip() for x in args.scheduler.split(",") if x.strip()]
+    for name in schedulers:
+        get_scheduler(name)
+    for world in worlds:  # bad input fails before any work
+        make_instance(world, str(min(counts[0], 3)), args.meeting, schedulers[0], args.task,
+                      args.multiplicity, args.frames, args.visibility, args.lights)
+    out = Path(args.out) if args.out else Path(args.db).resolve().parent / "synthesis"
+    out.mkdir(parents=True, exist_ok=True)
+    store = Store(args.db)
+    table: dict[tuple[str, str], str] = {}
+    rows_out = []
+    unknown = False
+    try:
+        for world in worlds:
+            for sched in schedulers:
+                settings = {
+                    "command": "synthesize --minimum", "world": world, "scheduler": sched,
+                    "task": args.task, "detection": args.multiplicity, "frames": args.frames,
+                    "visibility": args.visibility, "lights": args.lights,
+                    "meeting": args.meeting, "max_seconds": args.max_seconds,
+                    "max_candidates": args.max_candidates, "max_states": args.max_states,
+                    "gather_verify": own_digest(),
+                }
+                sweep = store.sweep_id(settings)
+                stored = {r["key"]: r for r in store.results(sweep)}
+                cell: str | None = None
+                below: list[int] = []
+                for k in counts:
+                    key = f"k={k}"
+                    row = stored.get(key)
+                    if row is None:
+                        try:
+                            inst = make_instance(world, str(k), args.meeting, sched, args.task,
+                                                 args.multiplicity, args.frames,
+                                                 args.visibility, args.lights)
+                        except InvalidInput:  # more robots than nodes
+                            break
+                        views = Views(inst)
+                        started = time.perf_counter()
+                        res = synthesize(inst, max_seconds=args.max_seconds,
+                                         max_candidates=args.max_candidates,
+                                         max_states=args.max_states, max_tree=args.max_tree,
+                                         views=views)
+                        stem = out / f"{world.replace(':', '-').replace('/', '_')}-{sched}-k{k}"
+                        files: dict[str, str] = {}
+                        if res.answer == "exists":
+                            spec = write_witness(f"{stem}.py", inst, views, res.table)
+                            verdicts = {r["verdict"] for r in
+                                        check_witness(spec, inst, args.max_seconds)}
+                            if verdicts != {"VERIFIED"}:
+                                print(f"internal error: the checker says {sorted(verdicts)} of "
+                                      f"the witness {spec}: this is a bug of gather-verify's "
+                                      "synthesis, please report it", file=sys.stderr)
+                                return EXIT_BUG
+                            files["witness"] = spec
+                        elif res.answer == "none":
+                            write_certificate(f"{stem}.cert.json", inst, views,
+                                              res.counterexamples, res.literals, res.tree,
+                                              certificate_stats(res))
+                            files["certificate"] = f"{stem}.cert.json"
+                        row = {"key": key, "index": k, "class": inst.world.name,
+                               "verdict": res.answer, "reason": res.limit, "n": k,
+                               "states": res.states, "transitions": res.candidates,
+                               "trace": files, "seconds": time.perf_counter() - started}
+                        store.add(sweep, [dict(row)])  # (the store encodes its copy)
+                    rows_out.append({"world": world, "scheduler": sched, "robots": k,
+                                     "answer": row["verdict"], "limit": row["reason"],
+                                     "files": row["trace"]})
+                    if row["verdict"] == "exists":
+                        cell = f"{k}" + ("?" if below else "")
+                        break
+                    if row["verdict"] == "unknown":
+                        below.append(k)
+                if cell is None:
+                    cell = f">{counts[-1]}" + ("?" if below else "")
+                unknown = unknown or bool(below)
+                table[world, sched] = cell
+    except KeyboardInterrupt:
+        print("interrupted; run the same command again (every answer stored is kept, and it "
+              "resumes)", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    finally:
+        store.close()
+    if args.json:
+        print_json({"minimum": [{"world": w, "scheduler": sc, "least": table[w, sc]}
+                                for w in worlds for sc in schedulers], "rows": rows_out})
+    else:
+        print(f"least robots with an algorithm  task {args.task or 'default'}  detection "
+              f"{args.multiplicity}  frames {args.frames}"
+              + ("" if args.visibility is None else f"  visibility {args.visibility}")
+              + ("" if args.lights is None else f"  lights {args.lights}")
+              + f"  (robots {counts[0]}-{counts[-1]}; ?: some count below is unknown)")
+        width = max(len(w) for w in worlds)
+        print(" " * width + "  " + "  ".join(f"{sc:>11}" for sc in schedulers))
+        for w in worlds:
+            print(f"{w:<{width}}  " + "  ".join(f"{table[w, sc]:>11}" for sc in schedulers))
+    return EXIT_INCOMPLETE if unknown else EXIT_OK

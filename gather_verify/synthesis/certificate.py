@@ -1,0 +1,421 @@
+"""Counterexamples and the certificate of ``none`` (SEMANTICS.md §12), and their re-check.
+
+A *counterexample* is one execution from one initial configuration that violates the task:
+the events of a path (a safety part: two robots on one node or crossing one edge, or a final
+state that is not a success), or of a path and a cycle a fair run can repeat for ever (a
+liveness part). Replaying it from scratch gives the *literals* it relies on: per view met on
+the way, the option the acting robots took (and, where the run needs it, that a robot may
+stay, or that a state is not final). Every algorithm that takes those options has that
+execution, so fails: the counterexample refutes all of them at once.
+
+The certificate of ``none`` is a list of counterexamples and a decision tree: each inner node
+names a view and has one child per option of it, each leaf names a counterexample whose
+literals all hold on the path to it. Following the tree with any algorithm's answers ends
+at a leaf, so every algorithm fails. :func:`verify_certificate` checks that with no search:
+it replays each counterexample through the schedulers and the views (the same code the
+checker runs), recomputes its literals and walks the tree.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Any
+
+from gather_verify.errors import GatherVerifyError, InvalidInput
+from gather_verify.synthesis.views import Instance, Views, make_instance
+from schedulers import Event, get_scheduler
+
+FORMAT = "gather-verify synthesis certificate 1"
+SAFETY_FINAL = ("gathered-when-final", "final", "explored-when-final")
+LIVENESS = ("termination", "perpetual-exploration")
+State = tuple[Any, int, object]
+"""A replayed state: the robots (node, pending, colour), the visited nodes, the scheduler's."""
+
+
+class CertificateError(GatherVerifyError):
+    """A counterexample or a certificate of ``none`` does not hold.
+
+    Cause: an event the scheduler cannot take with the move sets its literals give, a view
+    that would need two answers, a run that violates nothing, or a decision tree that misses
+    an option or uses a counterexample where its literals do not hold (a file edited or
+    damaged, or one written for another instance). Fix: the message says where; run
+    ``synthesize`` again to get a certificate that holds (``--verify`` exits 1 with that
+    line)."""
+
+
+@dataclass
+class Replayed:
+    """What a replay found: the literals (view id -> option) the run relies on, and the
+    states it went through."""
+
+    literals: dict[int, int]
+    states: list[State]
+
+
+def event_to_json(world: Any, event: Event) -> dict[str, Any]:
+    name = world.node_to_json
+    return {"kind": event.kind, "robots": list(event.robots),
+            "moves": [[i, name(a), name(b)] for i, a, b in event.moves],
+            "lights": [list(x) for x in event.lights]}
+
+
+def event_from_json(world: Any, raw: Any) -> Event:
+    try:
+        node = world.node_from_json
+        return Event(str(raw["kind"]), tuple(int(i) for i in raw["robots"]),
+                     tuple((int(i), node(a), node(b)) for i, a, b in raw["moves"]),
+                     tuple((int(i), int(a), int(b)) for i, a, b in raw.get("lights", [])))
+    except (KeyError, TypeError, ValueError) as error:
+        raise CertificateError(f"a malformed event {raw!r}: {error}") from None
+
+
+def apply_event(robots: tuple[tuple[int, int | None, int], ...], event: Event
+           ) -> tuple[tuple[int, int | None, int], ...]:
+    out: list[Any] = list(robots)
+    for i, _, new in event.lights:
+        out[i] = (out[i][0], out[i][1], new)
+    for i, src, dst in event.moves:
+        out[i] = (src, dst, out[i][2]) if event.kind == "look" else (dst, None, out[i][2])
+    return tuple(out)
+
+
+def _action(robots: tuple[tuple[int, int | None, int], ...], event: Event, i: int
+            ) -> tuple[int, int]:
+    """What robot ``i`` chose in ``event`` (it acted in it): its destination and colour."""
+    after = apply_event(robots, event)[i]
+    if event.kind == "look":
+        return (after[1] if after[1] is not None else after[0]), after[2]
+    return after[0], after[2]
+
+
+def replay(views: Views, cex: dict[str, Any]) -> Replayed:
+    """Replay ``cex`` from scratch: its literals, or :class:`CertificateError` naming what
+    fails (an event the scheduler cannot take, two options for one view, no violation)."""
+    inst = views.inst
+    world, task = inst.world, inst.task
+    sched = get_scheduler(inst.scheduler)
+    try:
+        config = inst.configurations[int(cex["configuration"])]
+        raw_events = list(cex["events"])
+        loop = cex.get("loop")
+        stays = [(int(s), int(i)) for s, i in cex.get("stays", [])]
+        busy = [(int(s), int(i), world.node_from_json(d), int(c))
+                for s, i, d, c in cex.get("busy", [])]
+        final = bool(cex.get("final", False))
+        prop = str(cex["property"])
+    except (KeyError, TypeError, ValueError, IndexError) as error:
+        raise CertificateError(f"a malformed counterexample: {error!r}") from None
+    except InvalidInput as error:
+        raise CertificateError(f"a malformed counterexample: {error}") from None
+    robots0, colours0 = config
+    n = len(robots0)
+    starts = getattr(sched, "starts", lambda _n: [None])(n)
+    start = cex.get("start")
+    extra = None if start is None else (tuple(start[0]), int(start[1]))
+    if extra not in starts:
+        raise CertificateError(f"the scheduler has no start {start!r}")
+    visits = task.visits
+    robots = tuple((v, None, c) for v, c in zip(robots0, colours0, strict=True))
+    visited = _bits(robots0) if visits else 0
+    states: list[State] = [(robots, visited, extra)]
+    events = [event_from_json(world, e) for e in raw_events]
+    literals: dict[int, int] = {}
+
+    def need(state: State, i: int, action: tuple[int, int], why: str) -> None:
+        rs = state[0]
+        k, acts = views.robots(rs)[i]
+        hits = [o for o, a in enumerate(acts) if action in a]
+        if len(hits) != 1:
+            raise CertificateError(f"{why}: robot {i} cannot do {action} there")
+        if literals.setdefault(k, hits[0]) != hits[0]:
+            raise CertificateError(f"{why}: view {k} would need two answers")
+
+    # pass 1: the states and the literals the events rely on
+    for step, event in enumerate(events):
+        rs = states[-1][0]
+        if any(not 0 <= i < n for i in event.robots):
+            raise CertificateError(f"step {step}: no such robot")
+        if event.kind in ("round", "look"):
+            for i in event.robots:
+                need(states[-1], i, _action(rs, event, i), f"step {step}")
+        nxt = apply_event(rs, event)
+        seen = states[-1][1]
+        if visits:
+            seen |= _bits(v for v, _, _ in nxt)
+        states.append((nxt, seen, None))  # the scheduler's state is filled in by pass 2
+    for s, i in stays:
+        if not 0 <= s < len(states) or not 0 <= i < n or states[s][0][i][1] is not None:
+            raise CertificateError(f"stay ({s}, {i}): no idle robot {i} in state {s}")
+        v, _, c = states[s][0][i]
+        need(states[s], i, (v, c), f"stay ({s}, {i})")
+    for s, i, d, c in busy:
+        if not 0 <= s < len(states) or not 0 <= i < n or states[s][0][i][1] is not None:
+            raise CertificateError(f"busy ({s}, {i}): no idle robot {i} in state {s}")
+        if (d, c) == (states[s][0][i][0], states[s][0][i][2]):
+            raise CertificateError(f"busy ({s}, {i}): staying does not make a state busy")
+        need(states[s], i, (d, c), f"busy ({s}, {i})")
+    if final:
+        last = states[-1]
+        for i, (v, p, c) in enumerate(last[0]):
+            if p is not None:
+                raise CertificateError("the last state has a pending move: it is not final")
+            k, acts = views.robots(last[0])[i]
+            stay = views.stay_option(k, acts, v, c)
+            if stay < 0 or literals.setdefault(k, stay) != stay:
+                raise CertificateError(f"the last state: robot {i} cannot be made to stay")
+    # pass 2: each event is one the scheduler takes, with the move sets of those literals
+    for step, event in enumerate(events):
+        rs, _, now = states[step]
+        per = views.robots(rs)
+
+        def actions(i: int, per: Any = per) -> frozenset[tuple[int, int]]:
+            k, acts = per[i]
+            return acts[literals[k]] if k in literals else frozenset()
+
+        for got, succ, after in sched.luminous(rs, now, actions):
+            if got == event and succ == states[step + 1][0]:
+                states[step + 1] = (succ, states[step + 1][1], after)
+                break
+        else:
+            raise CertificateError(f"step {step}: the scheduler has no such event")
+    _violation(views, inst, prop, cex, states, events, loop, stays, busy, final)
+    return Replayed(literals, states)
+
+
+def _violation(views: Views, inst: Instance, prop: str, cex: dict[str, Any],
+               states: list[State], events: list[Event], loop: Any,
+               stays: list[tuple[int, int]], busy: list[tuple[int, int, int, int]],
+               final: bool) -> None:
+    """The replayed run violates ``prop`` of the task (else :class:`CertificateError`)."""
+    task = inst.task
+    if prop not in task.parts:
+        raise CertificateError(f"task {task.name} has no part {prop!r}")
+    last = states[-1][0]
+    nodes = [v for v, _, _ in last]
+    if prop == "exclusivity":
+        if len(set(nodes)) < len(nodes):
+            return
+        if events and events[-1].kind == "round":
+            crossing = {(a, b) for _, a, b in events[-1].moves}
+            if any((b, a) in crossing for a, b in crossing):
+                return
+        raise CertificateError("exclusivity: no two robots share a node or cross an edge")
+    if prop in SAFETY_FINAL:
+        if not final:
+            raise CertificateError(f"{prop}: the counterexample does not end in a final state")
+        if prop == "explored-when-final":
+            if states[-1][1] != (1 << inst.world.size) - 1:
+                return
+        elif len(set(nodes)) > 1 or (prop == "final" and not set(nodes) <= inst.meeting):
+            return
+        raise CertificateError(f"{prop}: the final state is a success")
+    if prop not in LIVENESS:  # pragma: no cover - every task part is one of the above
+        raise CertificateError(f"no re-check for {prop!r}")
+    if not isinstance(loop, int) or not 0 <= loop < len(states):
+        raise CertificateError(f"{prop}: no cycle")
+    if states[loop] != states[-1]:
+        raise CertificateError(f"{prop}: the cycle does not come back to state {loop}")
+    n = len(last)
+    covered = set()
+    for event in events[loop:]:
+        covered |= set(event.robots)
+    covered |= {i for s, i in stays if s >= loop}
+    if covered != set(range(n)):
+        raise CertificateError(f"{prop}: the cycle is not fair (robots "
+                               f"{sorted(set(range(n)) - covered)} never act nor stay)")
+    if prop == "termination":
+        if len(states) - 1 == loop:
+            raise CertificateError("termination: the cycle has no event")
+        shown = {s for s, _, _, _ in busy}
+        for s in range(loop, len(states) - 1):
+            e = events[s]
+            pending = any(p is not None for _, p, _ in states[s][0])
+            if not (e.moves or e.lights or pending or s in shown):
+                raise CertificateError(f"termination: state {s} of the cycle may be final")
+        return
+    node = cex.get("node")
+    try:
+        v = inst.world.node_from_json(node)
+    except InvalidInput:
+        raise CertificateError(f"perpetual-exploration: {node!r} is not a node") from None
+    if any(v in {u for u, _, _ in st[0]} for st in states[loop:]):
+        raise CertificateError(f"perpetual-exploration: node {node} is visited on the cycle")
+
+
+def _bits(nodes: Iterable[int]) -> int:
+    bits = 0
+    for v in nodes:
+        bits |= 1 << v
+    return bits
+
+
+# -- the decision tree ------------------------------------------------------------------
+
+class TreeTooLarge(GatherVerifyError):
+    """The certificate's decision tree outgrew its limit of nodes.
+
+    Cause: the counterexamples refute every algorithm, but only through a tree larger than
+    ``--max-tree``. Fix: ``synthesize`` answers ``unknown`` naming ``max-tree``; raise it and
+    run again."""
+
+
+def build_tree(clauses: list[dict[int, int]], options: list[int], limit: int) -> Any:
+    """A decision tree over views that ends, on every path, at a clause (a counterexample's
+    literals) that holds there: an int (the clause) or ``[view, [child per option]]``.
+    ``clauses`` must be unsatisfiable together with "one option per view"."""
+    count = [0]
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), 4 * len(options) + 1000))
+
+    def grow(assign: dict[int, int], active: list[int]) -> Any:
+        count[0] += 1
+        if count[0] > limit:
+            raise TreeTooLarge
+        score: dict[int, float] = {}
+        for j in active:
+            open_ = [k for k in clauses[j] if k not in assign]
+            if not open_:
+                return j
+            weight = 2.0 ** -len(open_)
+            for k in open_:
+                score[k] = score.get(k, 0.0) + weight
+        if not score:  # pragma: no cover - the clauses were not unsatisfiable
+            raise AssertionError("the counterexamples leave an algorithm unrefuted")
+        k = max(score, key=lambda key: (score[key], -key))
+        children = []
+        for o in range(options[k]):
+            assign[k] = o
+            children.append(grow(assign, [j for j in active if clauses[j].get(k, o) == o]))
+            del assign[k]
+        return [k, children]
+
+    return grow({}, list(range(len(clauses))))
+
+
+def tree_size(tree: Any) -> tuple[int, int]:
+    """(inner nodes, leaves)."""
+    if isinstance(tree, int):
+        return 0, 1
+    inner, leaves = 1, 0
+    for child in tree[1]:
+        a, b = tree_size(child)
+        inner, leaves = inner + a, leaves + b
+    return inner, leaves
+
+
+def check_tree(tree: Any, clauses: list[dict[int, int]], options: dict[int, int]) -> int:
+    """Walk the tree: every inner node branches on a view with one child per option, no view
+    twice on a path, every leaf's clause holds on its path. Returns the number of leaves."""
+    leaves = 0
+    stack: list[tuple[Any, dict[int, int]]] = [(tree, {})]
+    while stack:
+        node, assign = stack.pop()
+        if isinstance(node, int) and not isinstance(node, bool):
+            if not 0 <= node < len(clauses):
+                raise CertificateError(f"a leaf names counterexample {node}, which is not there")
+            if any(assign.get(k) != o for k, o in clauses[node].items()):
+                raise CertificateError(f"counterexample {node} does not hold where the tree "
+                                       "uses it")
+            leaves += 1
+            continue
+        if not (isinstance(node, list) and len(node) == 2 and isinstance(node[0], int)
+                and isinstance(node[1], list)):
+            raise CertificateError(f"a malformed tree node {str(node)[:60]}")
+        k, children = node
+        if k in assign:
+            raise CertificateError(f"the tree branches on view {k} twice on one path")
+        if k not in options:
+            raise CertificateError(f"the tree branches on view {k}, which no counterexample "
+                                   "meets")
+        if len(children) != options[k]:
+            raise CertificateError(f"view {k} has {options[k]} options, the tree "
+                                   f"{len(children)} branches")
+        for o, child in enumerate(children):
+            stack.append((child, {**assign, k: o}))
+    return leaves
+
+
+# -- the certificate file ------------------------------------------------------------------
+
+def write_certificate(path: str, inst: Instance, views: Views, cexs: list[dict[str, Any]],
+                      literals: list[dict[int, int]], tree: Any, stats: dict[str, Any]
+                      ) -> None:
+    """The certificate as JSON: the instance, the views the counterexamples meet (by key
+    text, with their number of options), the counterexamples and the tree."""
+    used = sorted({k for lits in literals for k in lits})
+    number = {k: j for j, k in enumerate(used)}
+
+    def renumber(node: Any) -> Any:
+        return node if isinstance(node, int) else [number[node[0]],
+                                                   [renumber(c) for c in node[1]]]
+
+    doc = {
+        "format": FORMAT,
+        "answer": "none",
+        "instance": inst.describe(),
+        "covers": ("every algorithm that is a deterministic function of the view up to "
+                   "isomorphism (these capabilities, these frames) fails the task from at "
+                   "least one of these initial configurations under this scheduler: each "
+                   "leaf's counterexample is an execution every algorithm on its path has"),
+        "views": [{"key": views.texts[k], "options": len(views.options[k])} for k in used],
+        "counterexamples": cexs,
+        "tree": renumber(tree),
+        "stats": stats,
+    }
+    with open(path, "w", encoding="utf-8") as f:
+        json.dump(doc, f, separators=(",", ":"))
+        f.write("\n")
+
+
+def verify_certificate(path: str) -> dict[str, Any]:
+    """Re-check a certificate without searching; a summary, or :class:`CertificateError`
+    (the certificate does not hold) / :class:`InvalidInput` (not a certificate)."""
+    from gather_verify.errors import read_input
+
+    try:
+        doc = json.loads(read_input(path, "certificate"))
+    except json.JSONDecodeError as error:
+        raise InvalidInput(f"{path}: not JSON ({error})") from None
+    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
+        raise InvalidInput(f"{path}: not a synthesis certificate ({FORMAT!r})")
+    try:
+        raw = doc["instance"]
+        inst = make_instance(raw["world"], raw["robots"],
+                             " ".join(str(_text(v)) for v in raw["meeting_nodes"]),
+                             raw["scheduler"], raw["task"], raw["detection"], raw["frames"],
+                             raw["visibility"], raw["lights"], raw.get("colours"))
+        cexs = doc["counterexamples"]
+        tree = doc["tree"]
+        listed = [v["key"] for v in doc["views"]]
+    except (KeyError, TypeError) as error:
+        raise CertificateError(f"a malformed certificate: missing {error}") from None
+    if inst.describe() != raw:
+        raise CertificateError("the instance does not match what its text gives today (the "
+                               "configurations or the graph file changed)")
+    views = Views(inst)
+    clauses = []
+    for j, cex in enumerate(cexs):
+        try:
+            got = replay(views, cex)
+        except CertificateError as error:
+            raise CertificateError(f"counterexample {j}: {error}") from None
+        clauses.append(got.literals)
+    # the certificate names views by its own numbering (its list of key texts)
+    number = {views.index[text]: j for j, text in enumerate(listed) if text in views.index}
+    renamed = []
+    for lits in clauses:
+        try:
+            renamed.append({number[k]: o for k, o in lits.items()})
+        except KeyError as error:
+            raise CertificateError(f"a counterexample meets a view the list leaves out "
+                                   f"({views.texts[error.args[0]][:60]})") from None
+    options = {number[k]: len(views.options[k]) for lits in clauses for k in lits}
+    leaves = check_tree(tree, renamed, options)
+    return {"answer": "none", "holds": True, "counterexamples": len(cexs),
+            "views": len(options), "leaves": leaves, "instance": raw}
+
+
+def _text(node: Any) -> str:
+    return ",".join(map(str, node)) if isinstance(node, list) else str(node)

@@ -1,0 +1,492 @@
+"""The search for an algorithm: counterexample-guided, with a SAT solver proposing tables
+(SEMANTICS.md §12).
+
+An algorithm is a table: one option per view (:mod:`gather_verify.synthesis.views`). A
+Boolean variable says "view k takes option o"; exactly one holds per view. The loop:
+
+1. the solver proposes a table (views not met yet take their first option);
+2. the ordinary search (:func:`~gather_verify.engine.world_search.search`) explores every
+   execution of that table from each initial configuration and the task's tests judge them:
+   the safety parts as states are expanded (the search stops soon after the first
+   violation), the liveness parts on the whole space with every reduction off (§5, §11);
+3. all pass: the table is the witness (``exists``). A part fails: its counterexample is
+   replayed (:func:`~gather_verify.synthesis.certificate.replay`) into the literals it
+   relies on, and the clause "not all of these" is added. Every table with those literals
+   has that execution, so no algorithm that works is ever excluded;
+4. no table is left (the solver says unsatisfiable): ``none``, and the clauses become the
+   certificate's decision tree.
+
+A limit (time, candidates, states of one exploration) stops the loop with ``unknown``,
+naming it; a truncated search never answers ``none``.
+
+The solver is CaDiCaL through python-sat (``pip install 'gather-verify[synth]'``): an
+incremental CDCL solver, so the clauses it learns survive from one candidate to the next.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from gather_verify.engine.encoding import Limits
+from gather_verify.engine.world_search import Halt, WorldSearch, search
+from gather_verify.errors import InvalidInput
+from gather_verify.synthesis.certificate import (
+    LIVENESS,
+    SAFETY_FINAL,
+    TreeTooLarge,
+    apply_event,
+    build_tree,
+    event_from_json,
+    event_to_json,
+    replay,
+    tree_size,
+)
+from gather_verify.synthesis.views import Instance, Views
+from gather_verify.tasks import Context, Finding
+from gather_verify.tasks.base import components, fair
+
+DEFAULT_MAX_SECONDS = 600.0
+DEFAULT_MAX_CANDIDATES = 1_000_000
+DEFAULT_MAX_STATES = 2_000_000
+DEFAULT_MAX_TREE = 2_000_000
+
+
+@dataclass
+class Result:
+    """The answer (exists, none, unknown) and what backs it."""
+
+    answer: str
+    views: int
+    candidates: int
+    seconds: float
+    limit: str | None = None
+    table: dict[int, int] = field(default_factory=dict)
+    counterexamples: list[dict[str, Any]] = field(default_factory=list)
+    literals: list[dict[int, int]] = field(default_factory=list)
+    tree: Any = None
+    states: int = 0
+    """States explored, over every candidate."""
+
+
+def solver_class() -> Callable[..., Any]:
+    try:
+        from pysat.solvers import Solver
+    except ImportError:
+        raise InvalidInput("synthesize needs python-sat: pip install 'gather-verify[synth]'"
+                           ) from None
+    return Solver
+
+
+def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
+               max_candidates: int = DEFAULT_MAX_CANDIDATES,
+               max_states: int = DEFAULT_MAX_STATES, max_tree: int = DEFAULT_MAX_TREE,
+               views: Views | None = None) -> Result:
+    """Search for a table that solves ``inst`` from every initial configuration."""
+    started = time.perf_counter()
+    views = views or Views(inst)
+    solver = solver_class()(name="cadical153")
+    base: list[int] = []  # per view: its first variable - 1
+    total = [0]
+
+    def register(k: int) -> None:
+        while len(base) <= k:
+            j = len(base)
+            count = len(views.options[j])
+            base.append(total[0])
+            total[0] += count
+            xs = [base[j] + o + 1 for o in range(count)]
+            solver.add_clause(xs)
+            for a in range(count):
+                for b in range(a + 1, count):
+                    solver.add_clause([-xs[a], -xs[b]])
+
+    order = list(range(len(inst.configurations)))
+    cexs: list[dict[str, Any]] = []
+    clauses: list[dict[int, int]] = []
+    candidates = 0
+    explored = 0
+
+    def result(answer: str, limit: str | None = None, **more: Any) -> Result:
+        solver.delete()
+        return Result(answer, len(views.texts), candidates, time.perf_counter() - started,
+                      limit, counterexamples=cexs, literals=clauses, states=explored, **more)
+
+    while True:
+        if time.perf_counter() - started > max_seconds:
+            return result("unknown", "max-seconds")
+        if candidates >= max_candidates:
+            return result("unknown", "max-candidates")
+        register(len(views.texts) - 1)
+        if not solver.solve():
+            try:
+                tree = build_tree(clauses, [len(o) for o in views.options], max_tree)
+            except TreeTooLarge:
+                return result("unknown", "max-tree (the certificate outgrew it)")
+            return result("none", tree=tree)
+        model = solver.get_model() or []
+        choice: dict[int, int] = {}
+        for k, first in enumerate(base):
+            for o in range(len(views.options[k])):
+                if model[first + o] > 0:
+                    choice[k] = o
+        candidates += 1
+        failed = None
+        reached: set[int] = set()
+        for idx in order:
+            left = max_seconds - (time.perf_counter() - started)
+            s, findings = explore(inst, views, choice, idx, reached,
+                                  Limits(max_states=max_states, max_seconds=max(left, 0.001)))
+            explored += s.states
+            if s.stopped is not None:
+                limit = {"time": "max-seconds", "states": "max-states",
+                         "memory": "memory"}.get(s.stopped, s.stopped)
+                return result("unknown", limit)
+            if findings:
+                failed = (idx, s, findings)
+                break
+        if failed is None:
+            return result("exists", table={k: choice.get(k, 0) for k in sorted(reached)})
+        idx, s, findings = failed
+        order.remove(idx)
+        order.insert(0, idx)
+        known = {frozenset(c.items()) for c in clauses[-len(findings) * 4:]}
+        for finding in findings:
+            cex = counterexample(inst, views, choice, idx, s, finding)
+            lits = replay(views, cex).literals  # the clause is what the replay shows
+            register(len(views.texts) - 1)
+            if not all(choice.get(k, 0) == o for k, o in lits.items()):  # pragma: no cover
+                raise AssertionError("a counterexample that the candidate does not have")
+            if frozenset(lits.items()) in known:
+                continue
+            known.add(frozenset(lits.items()))
+            cexs.append(cex)
+            clauses.append(lits)
+            solver.add_clause([-(base[k] + o + 1) for k, o in sorted(lits.items())])
+
+
+def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
+            reached: set[int], limits: Limits) -> tuple[WorldSearch, list[Finding]]:
+    """Every execution of the table ``choice`` from configuration ``idx``, and the task's
+    violations there: a few of its safety parts (the search stops soon after the first),
+    else its first liveness failure (on the whole space, unreduced); none when it holds."""
+    robots, colours = inst.configurations[idx]
+
+    def actions(state: tuple[tuple[int, int | None, int], ...]) -> list[frozenset]:
+        out = []
+        for k, acts in views.robots(state):
+            reached.add(k)
+            out.append(acts[choice.get(k, 0)])
+        return out
+
+    w = inst.world
+    ctx = Context(len(robots), w.size, inst.meeting, inst.scheduler,
+                  tuple(w.format_node(v) for v in range(w.size)))
+    stateful = getattr(_scheduler(inst), "stateful", False)
+    if inst.task.visits:
+        # the safety part first, on the reduced states (sound for safety, §4: a BFS parent's
+        # stored state is the concrete predecessor, so the path is a concrete run), stopping
+        # at the first final state that has not seen every node
+        if TERMINATION_FIRST:
+            s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits)
+            if not s.complete:
+                return s, []
+            loops = livelocks(s, ctx, "termination")
+            if loops:
+                return s, loops
+        found: list[Halt] = []
+        s = search(w, robots, actions, inst.scheduler, colours=colours, visits=True,
+                   limits=limits, watch=watcher(inst, found), anonymity=not stateful,
+                   symmetries=() if stateful else w.symmetries(inst.frames),
+                   meeting=inst.meeting)
+        if not found:
+            if not s.complete or TERMINATION_FIRST:
+                return s, []
+            # termination on the states without the visited nodes, unreduced: a fair cycle
+            # there repeats into one of the full states (the visited set only grows)
+            s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits)
+            if not s.complete:
+                return s, []
+            return s, livelocks(s, ctx, "termination")
+    else:
+        found = []
+        s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits,
+                   watch=watcher(inst, found))
+    if found:
+        if s.stopped == "watch":
+            s.stopped, s.halt = None, None  # violations, not a limit
+        return s, [Finding(h.property, h.state, h.reason,
+                           edge=None if h.detail.get("edge") is None else
+                           (h.state, h.detail["edge"]))  # type: ignore[arg-type]
+                   for h in found]
+    if s.halt is not None:  # pragma: no cover - a table answers every view
+        raise AssertionError(f"a table halted the search: {s.halt.reason}")
+    if not s.complete:
+        return s, []
+    if "termination" in inst.task.parts:
+        return s, livelocks(s, ctx, "termination")
+    out: list[Finding] = []
+    for v in range(w.size):  # perpetual exploration: per node, as the task checks it
+        out += livelocks(s, ctx, "perpetual-exploration", v)
+        if len(out) >= LIVENESS_FINDINGS:
+            break
+    return s, out[:LIVENESS_FINDINGS]
+
+
+def livelocks(s: WorldSearch, ctx: Context, prop: str, node: int | None = None
+              ) -> list[Finding]:
+    """Up to :data:`LIVENESS_FINDINGS` fair components (§5's test, as
+    :func:`~gather_verify.tasks.base.livelock` runs it): for ``termination``, those with
+    an edge between distinct states and no final state; for ``perpetual-exploration``,
+    those inside the states where ``node`` is empty (one state is enough)."""
+    out = []
+    if node is None:
+        inside = None
+    else:
+        def inside(sid: int) -> bool:
+            return all(u != node for u, *_ in s.keys[sid][0])
+    for comp in components(s, inside):
+        if node is None and (len(comp) == 1 or any(s.final[v] for v in comp)):
+            continue
+        if fair(s, comp, ctx.n):
+            f = Finding(prop, min(comp), "a fair execution never ends" if node is None else
+                        f"a fair execution stops visiting node {ctx.names[node]}")
+            if node is not None:
+                f.detail["node"] = node
+            out.append(f)
+            if len(out) >= LIVENESS_FINDINGS:
+                break
+    return out
+
+
+TERMINATION_FIRST = True
+"""Terminating exploration: decide termination (on the states without the visited set)
+before the safety part (measured: fewer candidates, as counterexamples of termination name
+the views of the moves that matter)."""
+SAFETY_FINDINGS = 8
+"""Safety violations collected from one exploration (one clause each)."""
+LIVENESS_FINDINGS = 1
+"""Fair components taken from one exploration (measured: more of them, each with its long
+path and cycle, sends the solver astray more often than it helps)."""
+
+
+def watcher(inst: Instance, found: list[Halt]) -> Callable[..., Halt | None]:
+    """The task's safety parts, tested on each state as the search expands it (the same
+    tests as :mod:`gather_verify.tasks`; the liveness parts wait for the whole space). Each
+    violation goes to ``found``; the search stops at the eighth, or once it has expanded
+    twice as many states as it had at the first."""
+    first = [0]
+
+    def watch(sid: int, key: Any, final: bool, out: list[Any]) -> Halt | None:
+        got = test(sid, key, final, out)
+        if got is not None:
+            if not found:
+                first[0] = sid
+            found.append(got)
+            if len(found) >= SAFETY_FINDINGS:
+                return got
+        if found and sid > 2 * first[0] + 100:
+            return found[-1]
+        return None
+
+    name = inst.task.name
+    meeting = inst.meeting
+    everything = (1 << inst.world.size) - 1
+
+    def test(sid: int, key: Any, final: bool, out: list[Any]) -> Halt | None:
+        robots = key[0]
+        nodes = [v for v, _, _ in robots]
+        if name == "exclusive-perpetual-exploration":
+            if len(set(nodes)) < len(nodes):
+                return Halt("exclusivity", sid, "two robots on one node")
+            for k, (_, _, event) in enumerate(out):
+                if event.kind == "round":
+                    crossing = {(a, b) for _, a, b in event.moves}
+                    if any((b, a) in crossing for a, b in crossing):
+                        return Halt("exclusivity", sid, "two robots cross one edge",
+                                    {"edge": k})
+            return None
+        if not final:
+            return None
+        if name == "exploration-with-stop":
+            if key[1] != everything:
+                return Halt("explored-when-final", sid, "stopped before every node was seen")
+            return None
+        if len(set(nodes)) > 1:
+            return Halt(inst.task.parts[0], sid, "deadlock")
+        if name == "gathering-on-meeting-nodes" and nodes[0] not in meeting:
+            return Halt("final", sid, "gathered off the meeting nodes")
+        return None
+
+    return watch
+
+
+# -- from a finding to a counterexample ----------------------------------------------------
+
+def counterexample(inst: Instance, views: Views, choice: dict[int, int], idx: int,
+                   s: WorldSearch, f: Finding) -> dict[str, Any]:
+    """The finding as a counterexample: the path's events, and for a liveness part a cycle
+    through the failing component that every robot acts on or may stay in (so it is fair in
+    every table that has its literals)."""
+    w = inst.world
+    out: dict[str, Any] = {"configuration": idx, "property": f.property}
+    if f.property in LIVENESS:
+        inside = None
+        if f.property == "perpetual-exploration":
+            node = f.detail["node"]
+            out["node"] = w.node_to_json(node)  # type: ignore[arg-type]
+            inside = (lambda sid: all(u != node for u, *_ in s.keys[sid][0]))  # noqa: E731
+        comp = next(c for c in components(s, inside) if f.state in c)
+        walk, stays, busy = fair_cycle(inst, views, choice, s, comp, f.state)
+        path = s.path_to(f.state)
+        out["loop"] = len(path) - 1
+        ids = path + walk[1:]
+        out["stays"] = [[out["loop"] + j, i] for j, i in stays]
+        if busy:
+            out["busy"] = [[out["loop"] + j, i, w.node_to_json(d), c] for j, i, d, c in busy]
+    else:
+        ids = s.path_to(f.state)
+        out["final"] = f.property in SAFETY_FINAL
+    events = [_event(s, a, b) for a, b in zip(ids, ids[1:], strict=False)]
+    if f.edge is not None:
+        src, k = f.edge
+        events.append(s.edges[src][k][2])
+    start: Any = s.keys[ids[0]][2]  # the scheduler's own state: round-robin's (order, turn)
+    out["start"] = None if start is None else [list(start[0]), start[1]]
+    out["events"] = [event_to_json(w, e) for e in events]
+    if inst.task.visits and f.property in LIVENESS:
+        unroll(inst, out)
+    return out
+
+
+def unroll(inst: Instance, cex: dict[str, Any]) -> None:
+    """A cycle found without the visited nodes, repeated until the visited set comes back
+    to itself (it only grows, so within as many rounds as there are nodes): the stays and
+    busy robots move to the last round."""
+    w = inst.world
+    robots0, colours0 = inst.configurations[cex["configuration"]]
+    state: tuple[tuple[int, int | None, int], ...] = tuple(
+        (v, None, c) for v, c in zip(robots0, colours0, strict=True))
+    visited = [_bits(robots0)]
+    events = [event_from_json(w, e) for e in cex["events"]]
+    for e in events:
+        state = apply_event(state, e)
+        visited.append(visited[-1] | _bits(v for v, _, _ in state))
+    loop = cex["loop"]
+    cycle = cex["events"][loop:]
+    while cycle and visited[-1] != visited[loop]:
+        shift = len(cex["events"]) - loop
+        for raw in cycle:
+            state = apply_event(state, event_from_json(w, raw))
+            visited.append(visited[-1] | _bits(v for v, _, _ in state))
+        cex["events"] = cex["events"] + cycle
+        cex["stays"] = [[j + shift, i] for j, i in cex["stays"]]
+        if "busy" in cex:
+            cex["busy"] = [[j + shift, *rest] for j, *rest in cex["busy"]]
+        loop += shift
+    cex["loop"] = loop
+
+
+def _bits(nodes: Any) -> int:
+    bits = 0
+    for v in nodes:
+        bits |= 1 << v
+    return bits
+
+
+def _event(s: WorldSearch, a: int, b: int) -> Any:
+    for target, _, event in s.edges[a]:
+        if target == b:
+            return event
+    raise AssertionError(f"no edge {a} -> {b}")  # pragma: no cover
+
+
+def fair_cycle(inst: Instance, views: Views, choice: dict[int, int], s: WorldSearch,
+               comp: list[int], entry: int
+               ) -> tuple[list[int], list[tuple[int, int]], list[tuple[int, int, int, int]]]:
+    """A closed walk from ``entry`` inside ``comp`` (state ids, first = last) on which every
+    robot acts or is idle where it may stay; the stays used, as (position on the walk,
+    robot); for round-robin, a robot with a move in each state where the walk only stays
+    (that state is not final)."""
+    members = set(comp)
+    n = len(s.keys[entry][0])
+    walk = [entry]
+    stays: list[tuple[int, int]] = []
+    covered = 0
+    full = (1 << n) - 1
+
+    def take_stays() -> None:
+        nonlocal covered
+        here = walk[-1]
+        for i in range(n):
+            if not covered >> i & 1 and s.stay[here] >> i & 1:
+                stays.append((len(walk) - 1, i))
+                covered |= 1 << i
+
+    def path(src: int, goal: Callable[[int, int, int], bool]) -> list[tuple[int, int]] | None:
+        """Shortest (target, robots) steps inside comp from src to an edge that ``goal``
+        accepts (goal(source, target, robots)); the last step is that edge."""
+        parent: dict[int, tuple[int, int, int] | None] = {src: None}
+        queue = [src]
+        for v in queue:
+            for t, robots, _ in s.edges[v]:
+                if t not in members:
+                    continue
+                if goal(v, t, robots):
+                    steps = [(t, robots)]
+                    x = v
+                    while parent[x] is not None:
+                        p, r, _ = parent[x]  # type: ignore[misc]
+                        steps.append((x, r))
+                        x = p
+                    return steps[::-1]
+                if t not in parent:
+                    parent[t] = (v, robots, 0)
+                    queue.append(t)
+        return None
+
+    take_stays()
+    needs_edge = inst.task.name != "exclusive-perpetual-exploration" or len(comp) > 1
+    while covered != full or (needs_edge and len(walk) == 1):
+        def uncovered(_v: int, t: int, r: int, c: int = covered) -> bool:
+            return (r | s.stay[t]) & ~c != 0 or c == full
+
+        steps = path(walk[-1], uncovered)
+        if steps is None:  # pragma: no cover - the component is fair
+            raise AssertionError("no fair cycle in a fair component")
+        for t, robots in steps:
+            walk.append(t)
+            covered |= robots
+            take_stays()
+    if walk[-1] != entry:
+        back = path(walk[-1], lambda _v, t, _r: t == entry)
+        if back is None:  # pragma: no cover - a component is strongly connected
+            raise AssertionError("a component that does not lead back")
+        for t, _robots in back:
+            walk.append(t)
+    busy: list[tuple[int, int, int, int]] = []
+    if getattr(_scheduler(inst), "stateful", False):
+        for j, sid in enumerate(walk[:-1]):
+            state = s.keys[sid][0]
+            for i, (k, acts) in enumerate(views.robots(state)):
+                v, p, c = state[i]
+                other = [a for a in sorted(acts[choice.get(k, 0)]) if a != (v, c)]
+                if p is None and other:
+                    busy.append((j, i, other[0][0], other[0][1]))
+                    break
+    return walk, stays, busy
+
+
+def _scheduler(inst: Instance) -> Any:
+    from schedulers import get_scheduler
+
+    return get_scheduler(inst.scheduler)
+
+
+def certificate_stats(result: Result) -> dict[str, Any]:
+    inner, leaves = tree_size(result.tree)
+    return {"views": result.views, "candidates": result.candidates,
+            "counterexamples": len(result.counterexamples), "tree_nodes": inner,
+            "tree_leaves": leaves}

@@ -1,0 +1,188 @@
+"""A watchdog over the user's code: an endless loop in ``decide`` (or ``target``, ``phase``,
+``move_sets``, a property's functions, the import of an algorithm or property file, an
+algorithm's constructor) ends with the time limit instead of hanging the verifier.
+
+:func:`deadline` arms a real-time alarm (``SIGALRM``, through ``signal.setitimer``). When it
+rings, the handler raises :class:`Overtime`, but only inside the user's code: the blocks
+marked :func:`watched` (or the functions wrapped by :func:`guards`). Rung in the verifier's
+own code, which reads its own clock, it only marks the deadline as passed, and the next
+block of user code raises as it starts or ends: the verifier's state (a results database,
+a cache being filled) is never cut at an arbitrary bytecode. Past the deadline the alarm
+rings again every :data:`INTERVAL` seconds, so code that catches the exception and loops on
+is stopped again, and an answer returned after the deadline is never used (the block raises
+on its way out). ``Overtime`` derives from ``BaseException``: the user's ``except
+Exception`` does not swallow it.
+
+Where it does nothing: without ``SIGALRM`` (Windows) and off the main thread (Python runs
+signal handlers there only: a Dask worker's task, for one); ``deadline(None)`` or an
+infinite one. A single call into C code that never returns is not cut (the handler runs
+between bytecodes). Deadlines nest: an inner one is armed only when it ends first, and an
+alarm set before (an outer deadline, or another library's, pytest-timeout's) is put back,
+with the time it had left, when the inner one ends.
+
+>>> with deadline(0.05):
+...     try:
+...         with watched():
+...             while True:
+...                 pass
+...     except Overtime as stopped:
+...         print(f"stopped after {stopped.seconds:g} s")
+stopped after 0.05 s
+>>> with deadline(60), watched():  # code that returns in time is left alone
+...     sum(range(10))
+45
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import signal
+import threading
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import Any, TypeVar
+
+GRACE_SECONDS = 1.0
+"""The least time a check's watchdog adds to its own time limit (``run_check`` arms
+``max_seconds + max(max_seconds, GRACE_SECONDS)``): the engines' clock checks end a search
+first, and the alarm only catches user code that does not return."""
+INTERVAL = 0.05
+"""Seconds between the alarm's rings once the deadline has passed."""
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+class Overtime(BaseException):
+    """The user's code was still running when a :func:`deadline` passed (``seconds``: that
+    deadline).
+
+    Cause: an algorithm's ``decide`` or ``target`` (or a user's property, scheduler or world)
+    took longer than its deadline, most often an endless loop. Fix: make the code return in
+    time, or raise the deadline.
+
+    Deliberately *not* a :class:`~gather_verify.errors.GatherVerifyError`: a
+    ``BaseException``, as ``KeyboardInterrupt``, so that ``except Exception`` in the
+    user's code does not swallow it, and the verifier's crash handling lets it through."""
+
+    def __init__(self, seconds: float):
+        super().__init__(f"the code was still running after {seconds:g} s")
+        self.seconds = seconds
+
+    def __reduce__(self) -> tuple[Any, ...]:  # crosses process boundaries with its seconds
+        return Overtime, (self.seconds,)
+
+
+class _Deadline:
+    __slots__ = ("expired", "seconds")
+
+    def __init__(self, seconds: float):
+        self.seconds, self.expired = seconds, False
+
+
+_ARMED: list[_Deadline] = []
+"""The deadlines whose alarm is set, the one ringing next last."""
+_inside = 0
+"""How deep the user's code is (0: the verifier's own code runs)."""
+
+
+def available() -> bool:
+    """Whether a deadline can be armed here: ``SIGALRM`` exists and this is the main thread."""
+    return hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
+
+
+def _ring(signum: int, frame: Any) -> None:
+    if not _ARMED:
+        return
+    passed = _ARMED[-1]
+    passed.expired = True
+    if _inside and (frame is None or frame.f_code not in _COUNTING):
+        raise Overtime(passed.seconds)
+
+
+def _passed() -> _Deadline | None:
+    """The armed deadline that has passed, if any."""
+    return _ARMED[-1] if _ARMED and _ARMED[-1].expired else None
+
+
+@contextmanager
+def deadline(seconds: float | None) -> Iterator[None]:
+    """Within the block, the user's code (:func:`watched`) raises :class:`Overtime` once
+    ``seconds`` have passed. None, an infinite or a non-positive value: no deadline; nor
+    where :func:`available` is false."""
+    if seconds is None or not 0 < seconds < math.inf or not available():
+        yield
+        return
+    left, interval = signal.getitimer(signal.ITIMER_REAL)
+    if left and left <= seconds:  # an alarm set before rings first: it stays in charge
+        yield
+        return
+    try:
+        previous = signal.signal(signal.SIGALRM, _ring)
+    except (ValueError, OSError):  # pragma: no cover - an embedding that refuses handlers
+        yield
+        return
+    armed = _Deadline(seconds)
+    _ARMED.append(armed)
+    began = time.monotonic()
+    signal.setitimer(signal.ITIMER_REAL, seconds, INTERVAL)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        _ARMED.remove(armed)
+        signal.signal(signal.SIGALRM, signal.SIG_DFL if previous is None else previous)
+        if left:  # the alarm set before, with the time it has left
+            signal.setitimer(signal.ITIMER_REAL,
+                             max(left - (time.monotonic() - began), 1e-6), interval)
+
+
+class _Watched:
+    """The context of :func:`watched` (one object, reentrant: it keeps no state of its own)."""
+
+    __slots__ = ()
+
+    def __enter__(self) -> None:
+        global _inside
+        passed = _passed()
+        if passed is not None:  # no user code starts after the deadline
+            raise Overtime(passed.seconds)
+        _inside += 1
+
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 tb: object) -> None:
+        global _inside
+        _inside -= 1
+        passed = _passed()
+        if passed is not None and not isinstance(error, Overtime | KeyboardInterrupt):
+            # whatever the code did after the deadline (an answer, an exception of its own,
+            # or the Overtime it caught) is not used
+            raise Overtime(passed.seconds) from None
+
+
+_WATCHED = _Watched()
+_COUNTING = frozenset((_Watched.__enter__.__code__, _Watched.__exit__.__code__))
+"""Where the alarm never raises: an exception between the count's change and the block's
+start or end would leave the count wrong (the block checks the deadline itself)."""
+
+
+def watched() -> _Watched:
+    """Marks a block of the user's code: a :func:`deadline` that passes while it runs (or
+    before it starts, or before it returns) raises :class:`Overtime` there."""
+    return _WATCHED
+
+
+def guards(function: F) -> F:
+    """``function``, every call of it run as the user's code (:func:`watched`)."""
+
+    @functools.wraps(function)
+    def guarded(*args: Any, **kwargs: Any) -> Any:
+        with _WATCHED:
+            return function(*args, **kwargs)
+
+    return guarded  # type: ignore[return-value]
+
+
+__all__ = ["GRACE_SECONDS", "INTERVAL", "Overtime", "available", "deadline", "guards",
+           "watched"]
