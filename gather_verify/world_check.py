@@ -56,7 +56,7 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
                     reduction: bool = True, max_states: int = DEFAULT_MAX_STATES,
                     max_seconds: float = DEFAULT_MAX_SECONDS,
                     max_memory_mb: float = DEFAULT_MAX_MEMORY_MB,
-                    engine: str = "reference") -> dict[str, Any]:
+                    engine: str = "auto") -> dict[str, Any]:
     """Check ``algorithm`` from one initial configuration of ``world``; a JSON-ready report
     (``verdict``, ``property``, ``reason``, ``states``, ``transitions``, per-part results,
     the counterexample ``trace``, ``seconds`` of the whole check and ``search_seconds`` of
@@ -64,10 +64,9 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
 
     ``engine``: ``bulk`` (:mod:`gather_verify.engine.world_bulk`, refused in one line when it
     cannot run the request), ``reference`` (:mod:`gather_verify.engine.world_search`), or
-    ``auto`` (the bulk engine when it can, else the reference; the default is the
-    reference). Both find the
-    same search; the report names the engine that ran (``engine``) and, when ``auto`` fell
-    back to the reference, why (``engine_fallback``)."""
+    ``auto`` (the default: the bulk engine when it can, else the reference). Both find the
+    same search (``tests/test_world_bulk.py``); the report names the engine that ran
+    (``engine``) and, when ``auto`` fell back to the reference, why (``engine_fallback``)."""
     started = time.perf_counter()
     if engine not in ENGINES:
         raise InvalidInput(f"unknown engine {engine!r}: use one of {', '.join(ENGINES)}")

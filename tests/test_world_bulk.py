@@ -80,6 +80,24 @@ class Picky(Chaotic):
         return super().decide(view)
 
 
+class NodePicky:
+    """An algorithm that answers by its node only (the ``answers_by_node`` hook on), with no
+    rule two hops from the meeting node and a bug four hops from it."""
+
+    name = "node-picky"
+
+    def answers_by_node(self) -> bool:
+        return True
+
+    def decide(self, view: Any) -> Any:
+        d = min(view.distance(view.me, m) for m in view.meeting_nodes)
+        if d == 2:
+            raise Unhandled("two hops from the meeting node")
+        if d == 4:
+            return 1 // 0
+        return view.neighbours()[-1] if d else view.me
+
+
 def searches(world: World, robots: tuple[int, ...], meeting: tuple[int, ...], algorithm: Any,
              scheduler: str, *, task: str = "gathering", detection: str = "local-weak",
              frames: str = "all", visibility: int | None = None, lights: str | None = None,
@@ -342,6 +360,9 @@ def test_halts_are_the_same(world_name: str, scheduler: str) -> None:
         ref, bulk = searches(w, robots, (), Picky(), scheduler)
         assert_same(ref, bulk)
         halted += ref.halt is not None
+        ref, bulk = searches(w, robots, (0,), NodePicky(), scheduler)
+        assert_same(ref, bulk)
+        halted += ref.halt is not None
     assert halted
 
 
@@ -367,8 +388,8 @@ def test_a_crash_report_and_its_trace_are_the_same() -> None:
 
 
 def test_auto_names_the_engine_and_why_it_fell_back() -> None:
-    report = run_world_check("ring:9", "0 3 5", "7", "go-to-target", "async", engine="auto")
-    assert report["engine"] == "bulk" and "engine_fallback" not in report
+    report = run_world_check("ring:9", "0 3 5", "7", "go-to-target", "async")
+    assert report["engine"] == "bulk" and "engine_fallback" not in report  # the default
     kernels.use(False)
     try:
         report = run_world_check("ring:9", "0 3 5", "7", "go-to-target", "async",
@@ -425,3 +446,36 @@ def test_random_instances(**kw: Any) -> None:
 @given(**INSTANCES)
 def test_random_instances_many(**kw: Any) -> None:
     random_instance(**kw)
+
+
+# -- go-to-target's answers by node ------------------------------------------------------
+
+class PlainGoToTarget(get_algorithm("go-to-target").__class__):  # type: ignore[misc]
+    """go-to-target asked view by view (a subclass: the answers-by-node hook is off)."""
+
+    def decide(self, view: Any) -> Any:
+        return super().decide(view)
+
+
+@pytest.mark.parametrize("world_name", ["ring:7", "grid:3x4", "torus:3x3", "torus:4x4",
+                                        "grid:1x5", "house"])
+def test_go_to_target_answers_by_node_are_its_answers(world_name: str, tmp_path: Path) -> None:
+    """The hook (a node's actions asked once, whatever the other robots) gives what asking
+    every view gives, on every node, colour, visibility, frame set and detection."""
+    w = sweep_world(world_name, tmp_path)
+    assert get_algorithm("go-to-target").answers_by_node()
+    assert not PlainGoToTarget().answers_by_node()
+    frame_sets = ["all", "compass"] + ([] if world_name == "house" else ["chirality"])
+    for meeting, frames, visibility, detection, lights in itertools.product(
+            [(0,), (w.size - 1,), (1, w.size - 2)], frame_sets, [None, 1, 2],
+            ["local-weak", "global-strong"], ["1", "2"]):
+        light = parse_lights(lights)
+        fast = WorldMoves(w, get_algorithm("go-to-target"), frozenset(meeting), detection,
+                          frames, visibility, light)
+        plain = WorldMoves(w, PlainGoToTarget(), frozenset(meeting), detection, frames,
+                           visibility, light)
+        assert fast._by_node is not None and plain._by_node is None
+        for robots in itertools.combinations(range(w.size), 2):
+            for c in range(light.colours):
+                seen = tuple(sorted((v, c) for v in robots))
+                assert fast.table(seen) == plain.table(seen)

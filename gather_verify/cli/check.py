@@ -66,7 +66,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "defined in that file, docs/properties.md); repeatable; default all")
     parser.add_argument("--no-reduction", action="store_true",
                         help="switch off the anonymity and Aut(M) reductions")
-    parser.add_argument("--engine", choices=("auto", "bulk", "reference"), default=None,
+    parser.add_argument("--engine", choices=("auto", "bulk", "reference"), default="auto",
                         help="the search: bulk (numpy and compiled kernels), reference (plain "
                              "Python, the engine the bulk one is tested against), or auto "
                              "(default: bulk when it can run the request); both give the same "
@@ -163,7 +163,7 @@ def run(args: argparse.Namespace) -> int:
                 max_states=args.max_states, max_seconds=args.max_seconds,
                 move_bound_c=args.move_bound_c, force=args.force, max_memory_mb=args.max_memory,
                 keep_growing=args.keep_growing, keep_going=args.keep_going,
-                engine={"bulk": "fast"}.get(args.engine, args.engine or "auto"),
+                engine={"bulk": "fast"}.get(args.engine, args.engine),
                 on_exploration=explored.append if args.graph_out else None,
                 **({} if args.margin is None else {"margin": args.margin}))
     except KeyboardInterrupt:
@@ -274,7 +274,7 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
                 lights=args.lights or (scenario.lights if scenario else None),
                 colours=_colours(args.colours) if args.colours is not None else (
                     scenario.colours if scenario else None),
-                reduction=not args.no_reduction, engine=args.engine or "reference",
+                reduction=not args.no_reduction, engine=args.engine,
                 max_states=args.max_states, max_seconds=args.max_seconds,
                 **({} if args.max_memory is None else {"max_memory_mb": args.max_memory}))
     except KeyboardInterrupt:

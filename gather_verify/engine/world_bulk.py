@@ -77,6 +77,10 @@ _SCHEDULERS = {Async: "async", FSync: "rounds", SSync: "rounds", Centralized: "r
 reference until it has a kernel here)."""
 
 
+Why = tuple[str, str, dict[str, object]]
+"""Why a configuration has no answer: ``crash`` or ``defined``, the reason, the detail."""
+
+
 def unsupported(world: World, n: int, scheduler: str, colours: int, *, visits: bool = False,
                 anonymity: bool = False, symmetries: Sequence[Sequence[int]] = (),
                 meeting: frozenset[int] = frozenset()) -> str | None:
@@ -139,6 +143,10 @@ class _Plan:
             for c in range(colours):
                 self.stay_bit[v, c] = self.bit[v][v, c]
         self.radix = size * self.pend * colours
+        codes = np.arange(self.radix, dtype=np.int64)  # a robot's code -> its parts
+        self.rc_col = codes % colours
+        self.rc_slot = codes // colours % self.pend
+        self.rc_node = codes // colours // self.pend
         self.vb = 1 << size if visits else 1
         self.pw = np.array([self.radix ** i for i in range(n + 1)], dtype=np.int64)
         self.cfg_base = size * colours
@@ -194,6 +202,18 @@ class _Configurations:
         self.masks = np.zeros((1 << 12, plan.n), dtype=np.int64)
         self.halted = np.zeros(1 << 12, dtype=np.bool_)
         self.why: dict[int, tuple[str, str, dict[str, object]]] = {}
+        self.mask_of: dict[tuple[int, frozenset[tuple[int, int]]], int] = {}
+        """A node's action set -> its bit set (algorithms answer few distinct sets)."""
+
+    def chunk(self, nodes: np.ndarray, cols: np.ndarray, ckey: np.ndarray, pos: np.ndarray
+              ) -> tuple[np.ndarray, int, Why | None]:
+        """The robots' bit sets of a chunk's states, as far as the first state whose
+        configuration has no answer (its index, and why; else the chunk's length, None)."""
+        rows = self.rows(ckey, nodes, cols)
+        bad = self.halted[rows]
+        cut = int(np.argmax(bad)) if bad.any() else len(rows)
+        why = self.why[int(rows[cut])] if cut < len(rows) else None
+        return self.masks[rows[:cut, None], pos[:cut]], cut, why
 
     def rows(self, ckey: np.ndarray, nodes: np.ndarray, cols: np.ndarray) -> np.ndarray:
         rows, first = self.index.find_or_add(ckey.view(np.uint64))
@@ -203,25 +223,36 @@ class _Configurations:
                 grow = max(count, 2 * len(self.masks))
                 self.masks = np.resize(self.masks, (grow, self.plan.n))
                 self.halted = np.resize(self.halted, grow)
-            for f, row in zip(first.tolist(), rows[first].tolist(), strict=True):
-                self._evaluate(row, nodes[f].tolist(), cols[f].tolist())
+            new = rows[first]
+            self.halted[new] = False
+            got = [self._evaluate(row, v, c) for row, v, c in zip(
+                new.tolist(), nodes[first].tolist(), cols[first].tolist(), strict=True)]
+            self.masks[new] = got
         return rows
 
-    def _evaluate(self, row: int, nodes: list[int], cols: list[int]) -> None:
+    def _evaluate(self, row: int, nodes: list[int], cols: list[int]) -> list[int]:
+        """The bit sets of a new configuration's robots, by sorted position (zeros when the
+        algorithm gives none: the row is marked halted, with why)."""
         seen = tuple(sorted(zip(nodes, cols, strict=True)))
-        self.halted[row] = False
         try:
             table = self.moves.table(seen)
         except AlgorithmCrash as error:
             self.halted[row] = True
             self.why[row] = ("crash", error.reason, error.detail())
-            return
+            return [0] * len(seen)
         except Unhandled as error:
             self.halted[row] = True
             self.why[row] = ("defined", f"the algorithm has no rule here: {error}", {})
-            return
-        mask = self.plan.mask
-        self.masks[row] = [mask(v, table[v, c]) for v, c in seen]
+            return [0] * len(seen)
+        cache, mask = self.mask_of, self.plan.mask
+        out = []
+        for v, c in seen:
+            actions = table[v, c]
+            m = cache.get((v, actions))
+            if m is None:
+                m = cache[v, actions] = mask(v, actions)
+            out.append(m)
+        return out
 
     def actions(self, robots: Sequence[tuple[int, int | None, int]]
                 ) -> list[frozenset[tuple[int, int]]]:
@@ -238,6 +269,59 @@ class _Configurations:
         out = []
         for v, _, c in robots:
             m = int(self.masks[row, seen.index(v * plan.colours + c)])
+            out.append(frozenset(a for b, a in enumerate(plan.action[v]) if m >> b & 1))
+        return out
+
+
+class _Nodes:
+    """:class:`_Configurations` for an algorithm whose answers depend on the robot's node
+    only (``WorldMoves.by_node``, go-to-target): each (node, colour)'s bit set, once."""
+
+    def __init__(self, plan: _Plan, moves: WorldMoves):
+        self.plan, self.moves = plan, moves
+        self.masks = np.zeros(plan.size * plan.colours, dtype=np.int64)
+        self.known = np.zeros(plan.size * plan.colours, dtype=np.bool_)
+        self.halted = np.zeros(plan.size * plan.colours, dtype=np.bool_)
+
+    def chunk(self, nodes: np.ndarray, cols: np.ndarray, ckey: np.ndarray, pos: np.ndarray
+              ) -> tuple[np.ndarray, int, Why | None]:
+        pairs = nodes * self.plan.colours + cols
+        fresh = ~self.known[pairs]
+        if fresh.any():
+            for s, i in zip(*np.nonzero(fresh), strict=True):
+                pair = int(pairs[s, i])
+                if self.known[pair]:
+                    continue
+                self.known[pair] = True
+                v, c = divmod(pair, self.plan.colours)
+                seen = tuple(sorted(zip(nodes[s].tolist(), cols[s].tolist(), strict=True)))
+                try:
+                    actions = self.moves.table_of(seen, v, c)
+                except (AlgorithmCrash, Unhandled):
+                    self.halted[pair] = True
+                    continue
+                self.masks[pair] = self.plan.mask(v, actions)
+        bad = self.halted[pairs].any(axis=1)
+        if not bad.any():
+            return self.masks[pairs], len(pairs), None
+        cut = int(np.argmax(bad))
+        # the reference's own error: its configuration's table, asked as the reference asks
+        seen = tuple(sorted(zip(nodes[cut].tolist(), cols[cut].tolist(), strict=True)))
+        try:
+            self.moves.table(seen)
+        except AlgorithmCrash as error:
+            return self.masks[pairs[:cut]], cut, ("crash", error.reason, error.detail())
+        except Unhandled as error:
+            return self.masks[pairs[:cut]], cut, (
+                "defined", f"the algorithm has no rule here: {error}", {})
+        raise AssertionError(f"the algorithm answered {seen} after failing on it")  # pragma: no cover
+
+    def actions(self, robots: Sequence[tuple[int, int | None, int]]
+                ) -> list[frozenset[tuple[int, int]]]:
+        plan = self.plan
+        out = []
+        for v, _, c in robots:
+            m = int(self.masks[v * plan.colours + c])
             out.append(frozenset(a for b, a in enumerate(plan.action[v]) if m >> b & 1))
         return out
 
@@ -354,16 +438,20 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
                            for r in range(len(starts))], dtype=np.int64)
     index = KeyIndex()
     _, first = index.find_or_add(canon(first_keys).view(np.uint64))
-    reps = Growing(np.int64)
+    # robots' masks as the smallest unsigned type that holds them (and int64 past 32)
+    mask_type = next((t for t, bits in ((np.uint8, 8), (np.uint16, 16), (np.uint32, 32))
+                      if n <= bits), np.int64)
+    reps = Growing(np.int64, 1 << 20)  # read back a chunk at a time
     reps.extend(first_keys[first])
-    parents = Growing(np.int64)
-    parents.extend(np.full(len(first), -1, dtype=np.int64))
-    configs = _Configurations(plan, moves)
-    offsets = Growing(np.int64)
-    offsets.extend(np.zeros(1, dtype=np.int64))
-    targets, rmasks = Growing(np.int64), Growing(np.int64)
-    crossing = Growing(np.bool_)
-    final, stay = Growing(np.bool_), Growing(np.int64)
+    # the other columns are only appended to: kept as chunks, joined once at the end
+    parents: list[np.ndarray] = [np.full(len(first), -1, dtype=np.int64)]
+    configs = (_Nodes if moves.by_node else _Configurations)(plan, moves)
+    offsets: list[np.ndarray] = [np.zeros(1, dtype=np.int64)]
+    targets: list[np.ndarray] = []
+    rmasks: list[np.ndarray] = []
+    crossing: list[np.ndarray] = []
+    final: list[np.ndarray] = []
+    stay: list[np.ndarray] = []
     transitions = 0
     stopped: str | None = None
     halt: Halt | None = None
@@ -378,16 +466,13 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
             break
         lo = expanded
         keys = reps.data[lo:min(reps.size, lo + chunk)]
-        nodes, slots, cols, dest, rest, ckey, pos = kw.world_decode(
-            keys, n, plan.radix, plan.pend, plan.colours, plan.adj, plan.cfg_base)
-        rows = configs.rows(ckey, nodes, cols)
-        bad = configs.halted[rows]
-        cut = int(np.argmax(bad)) if bad.any() else len(keys)
-        halted = int(rows[cut]) if cut < len(keys) else -1
-        if cut < len(keys):
-            keys, nodes, slots, cols, dest, rest, rows, pos = (
-                a[:cut] for a in (keys, nodes, slots, cols, dest, rest, rows, pos))
-        masks = configs.masks[rows[:, None], pos]
+        nodes, slots, cols, rest, ckey, pos = kw.world_decode(
+            keys, n, plan.radix, plan.rc_node, plan.rc_slot, plan.rc_col, plan.colours,
+            plan.cfg_base)
+        masks, cut, why_halt = configs.chunk(nodes, cols, ckey, pos)
+        whole = len(keys)
+        if cut < whole:
+            keys, nodes, slots, cols, rest = (a[:cut] for a in (keys, nodes, slots, cols, rest))
         fin, sty = kw.world_facts(nodes, slots, cols, masks, plan.stay_bit)
         vis = rest % plan.vb
         if rounds:
@@ -397,7 +482,7 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
                 plan.colours, plan.vb)
         else:
             src, succ, rmask = kw.world_async(
-                keys, nodes, slots, cols, dest, vis, masks, plan.act_node, plan.act_col,
+                keys, nodes, slots, cols, plan.adj, vis, masks, plan.act_node, plan.act_col,
                 plan.act_slot, plan.pw, visits, plan.pend, plan.colours)
             cross = None
         before = index.count
@@ -413,35 +498,39 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
             index.truncate(int(grown[k]))
         e_end = int(ends[-1]) if cut else 0
         reps.extend(succ[first])
-        parents.extend(lo + src[first])
-        offsets.extend(transitions + ends)
-        targets.extend(ids[:e_end])
-        rmasks.extend(rmask[:e_end])
+        parents.append(lo + src[first])
+        offsets.append(transitions + ends)
+        targets.append(ids[:e_end].astype(np.int32))
+        rmasks.append(rmask[:e_end].astype(mask_type))
         if cross is not None:
-            crossing.extend(cross[:e_end])
-        final.extend(fin[:cut])
-        stay.extend(sty[:cut])
+            crossing.append(cross[:e_end])
+        final.append(fin[:cut])
+        stay.append(sty[:cut])
         transitions += e_end
         expanded = lo + cut
         if stopped is not None:
             break
-        if halted >= 0:
-            kind, reason, detail = configs.why[halted]
+        if why_halt is not None:
+            kind, reason, detail = why_halt
             halt = Halt(kind, expanded, reason, detail)
             stopped = kind
             break
         chunk = max(1, chunk // 2) if e_end > EVENTS else min(MAX_CHUNK, chunk * 2)
     all_reps = reps.array()
-    edges_crossing = crossing.array() if rounds else np.zeros(transitions, dtype=np.bool_)
+
+    def join(parts: list[np.ndarray], dtype: Any) -> np.ndarray:
+        return np.concatenate(parts) if parts else np.zeros(0, dtype=dtype)
 
     def nodes_of() -> np.ndarray:
         return kw.world_nodes(all_reps, n, plan.radix, plan.pend, plan.colours)[0]
 
-    arrays = SearchArrays(offsets.array(), targets.array(), rmasks.array(), edges_crossing,
-                          final.array(), stay.array(), nodes_of)
+    arrays = SearchArrays(join(offsets, np.int64), join(targets, np.int32),
+                          join(rmasks, mask_type),
+                          join(crossing, np.bool_) if rounds else None,
+                          join(final, np.bool_), join(stay, np.int64), nodes_of)
     keys_col = _Keys(all_reps, plan)
     return WorldSearch(
-        keys=keys_col, parents=_Column(parents.array()),  # type: ignore[arg-type]
+        keys=keys_col, parents=_Column(join(parents, np.int64)),  # type: ignore[arg-type]
         edges=_Edges(arrays, keys_col, sched, configs.actions),  # type: ignore[arg-type]
         final=_Column(arrays.final), stay=_Column(arrays.stay),  # type: ignore[arg-type]
         states=int(reps.size), transitions=transitions, stopped=stopped, halt=halt,

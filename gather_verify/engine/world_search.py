@@ -66,9 +66,9 @@ class SearchArrays:
     edge in opposite directions; per state (expanded or not) its robots' nodes."""
 
     offsets: np.ndarray  # (expanded + 1,) int64
-    targets: np.ndarray  # (E,) int64
-    robots: np.ndarray  # (E,) int64
-    crossing: np.ndarray  # (E,) bool
+    targets: np.ndarray  # (E,) int32 or int64
+    robots: np.ndarray  # (E,) unsigned, or int64 past 32 robots
+    crossing: np.ndarray | None  # (E,) bool; None: no round among the events
     final: np.ndarray  # (expanded,) bool
     stay: np.ndarray  # (expanded,) int64
     nodes_of: Callable[[], np.ndarray]  # -> (states, n) robot nodes, computed when asked

@@ -11,7 +11,8 @@ compare the two paths field by field.
 
 The package imports nothing of the project (the engine, the graph properties and the ASYNC
 scheduler all use it: it sits at the bottom of the import layers, beside ``errors``), and
-numba only when a kernel is first used (:mod:`.compiled`). Kernels are compiled on first
+numba only when a kernel is first used (:mod:`.compiled`; the finite worlds' bulk search
+imports its own, :mod:`.world`, when it runs). Kernels are compiled on first
 use and cached on disk (``cache=True``: numba's cache beside the module, or under
 ``NUMBA_CACHE_DIR``), so only the first process pays the compile.
 """

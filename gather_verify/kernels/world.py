@@ -24,15 +24,16 @@ from numba import njit
 
 
 @njit(cache=True, nogil=True)
-def world_decode(keys, n, radix, pend, colours, adj, cfg_base):  # pragma: no cover - compiled
-    """Per state key: per robot its node, slot, colour and pending node (-1: idle); the rest
-    (visited and extra); the configuration key (the sorted ``node * K + colour`` digits in
-    base ``cfg_base``); each robot's position among those sorted digits (the first equal)."""
+def world_decode(keys, n, radix, rc_node, rc_slot, rc_col, colours,
+                 cfg_base):  # pragma: no cover - compiled
+    """Per state key: per robot its node, slot and colour (a robot code ``rc`` is read
+    through the tables ``rc_node``, ``rc_slot``, ``rc_col``); the rest (visited and extra);
+    the configuration key (the sorted ``node * K + colour`` digits in base ``cfg_base``);
+    each robot's position among those sorted digits (the first equal)."""
     s_count = len(keys)
     nodes = np.empty((s_count, n), dtype=np.int64)
     slots = np.empty((s_count, n), dtype=np.int64)
     cols = np.empty((s_count, n), dtype=np.int64)
-    dest = np.empty((s_count, n), dtype=np.int64)
     rest_out = np.empty(s_count, dtype=np.int64)
     ckey = np.empty(s_count, dtype=np.int64)
     pos = np.empty((s_count, n), dtype=np.int64)
@@ -44,14 +45,11 @@ def world_decode(keys, n, radix, pend, colours, adj, cfg_base):  # pragma: no co
             q = rest // radix
             rc = rest - q * radix
             rest = q
-            c = rc % colours
-            t = rc // colours
-            slot = t % pend
-            v = t // pend
+            v = rc_node[rc]
+            c = rc_col[rc]
             nodes[s, i] = v
-            slots[s, i] = slot
+            slots[s, i] = rc_slot[rc]
             cols[s, i] = c
-            dest[s, i] = adj[v, slot - 1] if slot > 0 else -1
             e = v * colours + c
             elem[i] = e
             k = i
@@ -72,7 +70,7 @@ def world_decode(keys, n, radix, pend, colours, adj, cfg_base):  # pragma: no co
                 if srt[j] == elem[i]:
                     pos[s, i] = j
                     break
-    return nodes, slots, cols, dest, rest_out, ckey, pos
+    return nodes, slots, cols, rest_out, ckey, pos
 
 
 @njit(cache=True, nogil=True)
@@ -119,7 +117,7 @@ def world_facts(nodes, slots, cols, masks, stay_bit):  # pragma: no cover - comp
 
 
 @njit(cache=True, nogil=True)
-def world_async(keys, nodes, slots, cols, dest, vis, masks, act_node, act_col, act_slot, pw,
+def world_async(keys, nodes, slots, cols, adj, vis, masks, act_node, act_col, act_slot, pw,
                 visits, pend, colours):  # pragma: no cover - compiled
     """ASYNC's events of each state, in the order of ``Async.luminous``: per robot, its Looks
     (idle: per action bit, but staying with its colour) or its Move (pending). Returns per
@@ -169,7 +167,7 @@ def world_async(keys, nodes, slots, cols, dest, vis, masks, act_node, act_col, a
                     rmask[e] = one << i
                     e += 1
             else:
-                d = dest[s, i]
+                d = adj[v, slots[s, i] - 1]
                 new = d * pend * colours + c
                 moved = seen
                 if visits:

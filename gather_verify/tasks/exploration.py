@@ -52,7 +52,7 @@ def _exclusivity_arrays(a: SearchArrays) -> Finding | None:
     node, unless a crossing round comes out of an earlier state."""
     nodes = np.sort(a.nodes, axis=1)
     shared = np.flatnonzero((nodes[:, 1:] == nodes[:, :-1]).any(axis=1))
-    crossing = np.flatnonzero(a.crossing)
+    crossing = np.flatnonzero(a.crossing) if a.crossing is not None else ()
     at = int(shared[0]) if len(shared) else None
     if len(crossing):
         e = int(crossing[0])

@@ -42,7 +42,16 @@ class WorldMoves:
         self.lights = lights or Lights(1)
         self._memo: dict[tuple[tuple[int, int], ...], dict[tuple[int, int],
                                                             frozenset[tuple[int, int]]]] = {}
+        hook = getattr(algorithm, "answers_by_node", None)
+        self._by_node: dict[tuple[int, int], frozenset[tuple[int, int]]] | None = (
+            {} if hook is not None and hook() else None)
         world.frames(0, visibility, frames)  # bad frames (chirality on a graph) fail here
+
+    @property
+    def by_node(self) -> bool:
+        """Whether the algorithm's answers depend on the robot's node (and colour) only
+        (its ``answers_by_node`` hook, go-to-target's)."""
+        return self._by_node is not None
 
     def actions(self, robots: LightedRobots) -> list[frozenset[tuple[int, int]]]:
         """Each robot's actions ``(destination, colour)`` in the configuration of ``robots``
@@ -62,11 +71,25 @@ class WorldMoves:
         colour) pairs, sorted), by (node, colour); not memoised. Raises what the algorithm
         raises (:class:`AlgorithmCrash`, :class:`Unhandled`) for the first pair that fails,
         in the same order whoever asks."""
-        counts = Counter(v for v, _ in seen)
-        colours: dict[int, Counter[int]] = {}
-        for v, c in seen:
-            colours.setdefault(v, Counter())[c] += 1
+        by_node = self._by_node
+        if by_node is not None:
+            # an algorithm that reads only its node, the graph and the meeting nodes
+            # (``answers_by_node``): each node's actions once, whatever the configuration
+            out = {}
+            for v, c in set(seen):
+                got = by_node.get((v, c))
+                if got is None:
+                    got = by_node[v, c] = self.table_of(seen, v, c)
+                out[v, c] = got
+            return out
+        counts, colours = _counted(seen)
         return {(v, c): self.action_set(counts, colours, v, c) for v, c in set(seen)}
+
+    def table_of(self, seen: tuple[tuple[int, int], ...], node: int,
+                 colour: int) -> frozenset[tuple[int, int]]:
+        """The actions of the robots on ``node`` with light ``colour`` in ``seen``."""
+        counts, colours = _counted(seen)
+        return self.action_set(counts, colours, node, colour)
 
     def action_set(self, counts: Counter[int], colours: dict[int, Counter[int]], node: int,
                    colour: int) -> frozenset[tuple[int, int]]:
@@ -111,6 +134,15 @@ class WorldMoves:
                                  AlgorithmError(f"algorithm {self.algorithm.name!r} {problem}"),
                                  self.world.label(node), view) from None
         return back, new
+
+
+def _counted(seen: tuple[tuple[int, int], ...]) -> tuple[Counter[int], dict[int, Counter[int]]]:
+    """The robots per node, and the colours per node, of a configuration."""
+    counts = Counter(v for v, _ in seen)
+    colours: dict[int, Counter[int]] = {}
+    for v, c in seen:
+        colours.setdefault(v, Counter())[c] += 1
+    return counts, colours
 
 
 def parse_lights(text: str | None) -> Lights:
