@@ -30,7 +30,7 @@ from gather_verify.engine.explore import (
     rss_mb,
     symmetry_group,
 )
-from gather_verify.engine.fast_explore import make_room
+from gather_verify.engine.facts_table import make_room
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.model import geometry
 from gather_verify.model.classes import classify_configuration
