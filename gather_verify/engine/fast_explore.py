@@ -65,6 +65,7 @@ from gather_verify.engine.encoding import (
     NO_LIMITS,
     Encoding,
     Limits,
+    Stop,
     region_box,
     symmetry_group,
 )
@@ -177,7 +178,7 @@ def explore_fast(
     weight_type = np.int8 if n <= 127 else np.int16  # a weight is at most n edges
     weights = Growing(weight_type, edges)
     transitions = changed_loops = 0
-    stopped: str | None = None
+    stopped: Stop | str | None = None
     compiled = kernels.enabled()
     pair_rows = PairRows(table) if compiled else None
     peak = rss_mb()
@@ -186,11 +187,11 @@ def explore_fast(
     PROGRESS.states = 1
     while sid < index.count and stopped is None:
         if time.perf_counter() - started > limits.max_seconds:
-            stopped = "time"
+            stopped = Stop.TIME
             break
         peak = max(peak, rss_mb())
         if peak > limits.max_memory_mb:
-            stopped = "memory"
+            stopped = Stop.MEMORY
             break
         hi = min(index.count, sid + chunk)
         step = decode_chunk(index.keys[sid:hi].copy(), table, compiled)
@@ -224,7 +225,7 @@ def explore_fast(
         if len(outside):
             cut = int(outside[0]) if single else int(event[outside[0]])
             stop_src = int(src[cut])
-            stop = "region"
+            stop = Stop.REGION
             transitions += cut + 1
         else:
             stop_src = limit_src
@@ -246,7 +247,7 @@ def explore_fast(
             after = known + np.searchsorted(fresh_src, np.arange(stop_src), side="right")
             over = np.flatnonzero(after > max_states)
             if len(over):
-                stop_src, stop = int(over[0]), "states"
+                stop_src, stop = int(over[0]), Stop.STATES
                 keep = int(np.searchsorted(src, stop_src, side="right"))
                 transitions -= cut - keep
                 cut = keep
@@ -262,7 +263,7 @@ def explore_fast(
                 fresh_src = fresh_src[:m]
                 index.truncate(known + m)
         fresh_keys = index.keys[known:index.count]
-        expanded = stop_src + (stop in ("region", "states"))
+        expanded = stop_src + (stop in (Stop.REGION, Stop.STATES))
         columns.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
                        rows, idle)
         open_transition = checks.open(checks.on_transition) and cut
@@ -315,17 +316,21 @@ def explore_fast(
         sid = hi
         PROGRESS.states = index.count  # read by a progress line (check --progress)
         if settle and checks.settled():
-            stopped = "settled"
+            stopped = Stop.SETTLED
             break
     if graph:
         offsets.extend(np.array([targets.size], dtype=np.int64))
     peak = max(peak, rss_mb())
     keys = index.keys[:index.count]
     return Exploration(
-        initial, algo, scheduler, detection, frames, anonymity, symmetry, enc, IntColumn(keys),
-        IntColumn(parents.array()), IntColumn(offsets.array()), IntColumn(targets.array()),
-        IntColumn(weights.array()), changed_loops, index.count, transitions, stopped,
-        checks.violations, time.perf_counter() - started, peak, facts, checks.vacuous)
+        initial=initial, algorithm=algo, scheduler_name=scheduler, detection=detection,
+        frames=frames, anonymity=anonymity, symmetry=symmetry, encoding=enc,
+        keys=IntColumn(keys), parents=IntColumn(parents.array()),
+        offsets=IntColumn(offsets.array()), targets=IntColumn(targets.array()),
+        weights=IntColumn(weights.array()), changed_loops=changed_loops, states=index.count,
+        transitions=transitions, stopped=stopped, violations=checks.violations,
+        seconds=time.perf_counter() - started, peak_rss_mb=peak, facts=facts,
+        vacuous=checks.vacuous)
 
 
 def _step(enc: Encoding, sched: Any, facts: Any, n: int, K: np.ndarray, src: np.ndarray,
