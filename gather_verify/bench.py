@@ -140,7 +140,7 @@ def spin(instance: tuple, quick: bool, run: bool = True) -> dict[str, Any] | Non
     robots, meeting = instance
     return _spin(["--robots", " ".join(f"{x},{y}" for x, y in robots),
                   "--meeting", "{},{}".format(*meeting[0])],
-                 "quick.json" if quick else "issue8.json", run)
+                 "quick.json" if quick else "grid.json", run)
 
 
 def spin_ring(instance: tuple, quick: bool, run: bool = True) -> dict[str, Any] | None:
@@ -195,7 +195,7 @@ def bench(quick: bool = False, max_seconds: float = 3600.0, run_spin: bool = Tru
     full["states_per_second"] = full["states"] / full["seconds"]
     theirs = spin(instance, quick, run_spin)
     out: dict[str, Any] = {
-        "instance": {"name": "quick" if quick else "issue-8", "robots": instance[0],
+        "instance": {"name": "quick" if quick else "grid", "robots": instance[0],
                      "meeting": instance[1], "algorithm": "go-to-target", "scheduler": "async"},
         "explore": ours, "verdict": verdict, "full": full, "spin": None,
         "ratio_states_per_second": None, "ratio_time_to_verdict": None,

@@ -249,7 +249,7 @@ def interrupt_when(proc: subprocess.Popen, ready, timeout: float = 120) -> None:
 
 
 def test_ctrl_c_during_check() -> None:
-    # a space of minutes even with the compiled kernels (the issue-8 one now ends in 5 s)
+    # a space of minutes even with the compiled kernels (the grid instance of `bench` now ends in 5 s)
     argv = ["check", "--robots", "0,0 9,1 1,9 10,10 5,0", "--meeting", "5,5", "--algorithm",
             "go-to-target", "--no-reduction", "--max-memory-mb", "12000", "--json"]
     proc = subprocess.Popen([sys.executable, "-m", "gather_verify", *argv], stdout=subprocess.PIPE,
