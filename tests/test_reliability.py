@@ -1,4 +1,4 @@
-"""Honest limits, determinism, Ctrl-C and memory (issue 7, docs/reliability.md).
+"""Honest limits, determinism, Ctrl-C and memory (docs/reliability.md).
 
 - Every limit (states, seconds, memory, region) ends in INCOMPLETE with the reason and
   the statistics so far, and can never end in VERIFIED.
@@ -135,7 +135,7 @@ def test_limits_from_the_command_line(capsys: pytest.CaptureFixture[str]) -> Non
 
 
 def test_check_over_the_memory_limit_is_incomplete(capsys: pytest.CaptureFixture[str]) -> None:
-    """The issue-4 instance (4.9 million states) with a 1 MB limit stops at once instead of
+    """The grid instance of `bench` (4.9 million states) with a 1 MB limit stops at once instead of
     growing until the system kills it."""
     code = main(["check", "--robots", "0,0 5,1 1,5 6,6 3,0", "--meeting", "3,3", "--algorithm",
                  "go-to-target", "--no-reduction", "--max-memory-mb", "1", "--json"])
