@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
 
 from gather_verify import kernels
 from gather_verify.check import run_check
@@ -212,24 +213,16 @@ def round_frontiers(draw):
     """A frontier of idle robots with arbitrary move masks (empty, staying only, any steps),
     a neighbour table with cells outside the region (-1), an event budget, and a round
     scheduler's name or a matrix of activated subsets (any rows, an empty one included)."""
-    n = draw(st.integers(1, 5))
-    s = draw(st.integers(0, 12))
-    cells = draw(st.integers(1, 30))
-    rows = st.lists(st.lists(st.integers(0, cells - 1), min_size=n, max_size=n),
-                    min_size=s, max_size=s)
-    codes = np.array(draw(rows), dtype=np.int64).reshape(s, n) * 5
-    masks = np.array(draw(st.lists(st.lists(st.integers(0, 31), min_size=n, max_size=n),
-                                   min_size=s, max_size=s)), dtype=np.uint8).reshape(s, n)
-    neighbour = np.array(draw(st.lists(st.lists(st.integers(-1, cells - 1), min_size=4,
-                                                max_size=4), min_size=cells, max_size=cells)),
-                         dtype=np.int64)
+    n, s, cells = draw(st.integers(1, 5)), draw(st.integers(0, 12)), draw(st.integers(1, 30))
+    codes = draw(arrays(np.int64, (s, n), elements=st.integers(0, cells - 1))) * 5
+    masks = draw(arrays(np.uint8, (s, n), elements=st.integers(0, 31)))
+    neighbour = draw(arrays(np.int64, (cells, 4), elements=st.integers(-1, cells - 1)))
     subsets = draw(st.sampled_from(["ssync", "fsync", "centralized"])
-                   | st.lists(st.lists(st.booleans(), min_size=n, max_size=n), min_size=1,
-                              max_size=6).map(lambda r: np.array(r, dtype=bool)))
+                   | arrays(np.bool_, st.tuples(st.integers(1, 6), st.just(n))))
     return Frontier(codes, masks, neighbour), draw(st.integers(1, 4000)), subsets
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=80, deadline=None)
 @given(round_frontiers())
 def test_compiled_rounds_are_the_numpy_rounds(case) -> None:
     """The round schedulers' compiled bulk step gives the numpy reference's events, field by
