@@ -53,6 +53,9 @@ class Replayed:
 def replay(trace: dict[str, Any]) -> Replayed:
     """Re-execute ``trace``; ValueError (one line) when it does not match its configuration."""
     trace = load_trace(trace)
+    if trace.get("lights") is not None:
+        raise InvalidInput(f"a trace with lights ({trace['lights']}) is not replayed: run "
+                           "check again to see it")
     algorithm = get_algorithm(trace["algorithm"])
     scheduler = get_scheduler(trace["scheduler"])
     frames = frames_for(trace["frames"])
