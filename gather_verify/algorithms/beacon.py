@@ -45,6 +45,7 @@ class Beacon:
     """Claim the first meeting node reached with the light; everyone else goes there."""
 
     name = "beacon"
+    luminous = True  # it answers colours: check it with --lights 2
 
     def decide(self, view: Any) -> Any:
         if view.light == 1:  # a claimed meeting node: stay on it

@@ -19,6 +19,7 @@ from typing import Any
 
 class Bounce:
     name = "bounce"
+    luminous = True  # it answers colours: check it with --lights 2
 
     def decide(self, view: Any) -> Any:
         if view.light == 0:
