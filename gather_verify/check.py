@@ -45,6 +45,7 @@ from gather_verify.errors import InvalidInput
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
+from gather_verify.model.view import Lights
 from gather_verify.progress import PROGRESS
 from gather_verify.properties.drift import find_drift
 from gather_verify.properties.facts import StateFacts
@@ -67,10 +68,18 @@ AUTO_MARGIN_MAX = 32
 
 
 def _lit(e: Exploration, trace: dict[str, Any]) -> dict[str, Any]:
-    """A trace of a search with lights names them and the initial colours (docs/traces.md)."""
-    if e.lights is not None:
-        trace["lights"] = str(e.lights)
-        trace["initial"]["colours"] = list(e.colours or (0,) * e.n)
+    """A trace of a search with lights names them and the initial colours (docs/traces.md);
+    with one colour, seen by all (``--lights 1``, the oblivious robot), it is the oblivious
+    trace: states without colours."""
+    if e.lights is None:
+        return trace
+    if e.lights == Lights(1):
+        for step in trace["steps"]:
+            for robot in step["state"]:
+                del robot["colour"]
+        return trace
+    trace["lights"] = str(e.lights)
+    trace["initial"]["colours"] = list(e.colours or (0,) * e.n)
     return trace
 
 

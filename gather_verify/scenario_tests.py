@@ -62,6 +62,8 @@ def run_expectation(scenario: Scenario, expectation: Expectation) -> dict[str, A
         reduction=options.pop("reduction", True),
         max_states=options.pop("max_states", 2_000_000),
         max_seconds=options.pop("max_seconds", 600.0),
+        lights=scenario.lights,
+        colours=scenario.colours,
         **options,
     )
 

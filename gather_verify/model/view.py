@@ -151,8 +151,20 @@ class View:
 
     @property
     def light(self) -> int:
-        """The robot's own colour: 0 for an oblivious robot (:class:`LuminousView` has lights)."""
+        """The robot's own colour: 0 for an oblivious robot, one colour (:class:`LuminousView`
+        has lights)."""
         return 0
+
+    def colours(self, v: Node = ORIGIN) -> frozenset[int]:
+        """The colours of the lights on ``v``: ``{0}`` on an occupied node of an oblivious
+        robot's view (one colour), as :meth:`LuminousView.colours` with ``--lights 1``."""
+        return frozenset({0}) if v in self._counts else frozenset()
+
+    def colour_counts(self, v: Node = ORIGIN) -> dict[int, int]:
+        """How many lights of each colour are on ``v`` (strong detection only)."""
+        self._visible(v, strong=True)
+        k = self._counts.get(v, 0)
+        return {0: k} if k else {}
 
     def _visible(self, v: Node, strong: bool) -> None:
         d = self.detection
