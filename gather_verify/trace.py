@@ -38,7 +38,7 @@ def state_json(state: State) -> list[dict[str, Any]]:
         v, p = robot[0], robot[1]
         out.append({"node": list(v), "pending": None if p is None else list(p)})
         if len(robot) > 2:
-            out[-1]["colour"] = robot[2]  # type: ignore[misc]
+            out[-1]["colour"] = robot[2]
     return out
 
 
@@ -76,7 +76,7 @@ def parse_state(raw: object, n: int, where: str) -> State:
             _fail(f"{where}: each robot is an object with 'node' and 'pending' (and, with "
                   "lights, 'colour')")
         p = r["pending"]
-        robot = (_node(r["node"], "node"), None if p is None else _node(p, "pending"))
+        robot: tuple[Any, ...] = (_node(r["node"], "node"), None if p is None else _node(p, "pending"))
         if "colour" in r:
             c = r["colour"]
             if isinstance(c, bool) or not isinstance(c, int) or c < 0:

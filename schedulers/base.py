@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from typing import NamedTuple, Protocol
+from typing import Any, NamedTuple, Protocol
 
 import numpy as np
 
@@ -130,7 +130,7 @@ Action = tuple[object, int]
 """What a robot may do when activated: go to (or stay on) a node, and set its colour."""
 Actions = Callable[[int], frozenset[Action]]
 """Robot index -> its actions in the current configuration (the union over its frames)."""
-ActionOrder = Callable[[Action], object]
+ActionOrder = Callable[[Action], Any]
 """The sort key of a robot's actions in :meth:`Scheduler.luminous` (``repr`` on finite worlds;
 the actions themselves on Z², the order of the oblivious ``successors``)."""
 

@@ -176,7 +176,7 @@ def luminous_actions(algorithm: Algorithm, configuration: Configuration,
 
 def _lookup(back: dict[Node, Node], answer: object) -> Node | None:
     try:
-        return back.get(answer)  # type: ignore[call-overload, no-any-return]
+        return back.get(answer)  # type: ignore[call-overload]
     except TypeError:  # unhashable
         return None
 

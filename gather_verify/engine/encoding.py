@@ -15,6 +15,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 
@@ -191,10 +192,11 @@ class LuminousEncoding(Encoding):
                       for t in self.tables]
             self.tables = [t.tolist() if self.base <= LIST_TABLE_CODES else t for t in tables]
 
-    def key(self, state: State) -> int:  # type: ignore[override]
+    def key(self, state: State) -> int:
         """The stored key of a luminous state (robots ``(node, pending, colour)``)."""
         k = self.colours
-        codes = [self.code(v, p) * k + c for v, p, c in state]  # type: ignore[misc]
+        robots: Any = state
+        codes = [self.code(v, p) * k + c for v, p, c in robots]
         if self.anonymity:
             codes.sort()
         best = self.pack(codes)
@@ -207,9 +209,9 @@ class LuminousEncoding(Encoding):
         return best
 
     def decode(self, key: int, n: int) -> State:
-        out = []
+        out: list[Any] = []
         for _ in range(n):
             key, c = divmod(key, self.base)
             code, colour = divmod(c, self.colours)
             out.append((*self.robot(code), colour))
-        return tuple(out)  # type: ignore[return-value]
+        return tuple(out)

@@ -115,7 +115,7 @@ class Exploration:
     violations: dict[str, Violation]
     seconds: float
     peak_rss_mb: float
-    facts: Callable[[tuple[Node, ...]], ConfigurationFacts]
+    facts: Callable[[Any], ConfigurationFacts]  # sorted robot nodes (with lights: (node, colour))
     vacuous: dict[str, str]  # properties not checked: they hold from this initial state, why
     lights: Lights | None = None
     """The robots' lights (§10); None: oblivious robots. With lights a state's robots are
@@ -320,7 +320,7 @@ def explore_reference(
             assert got is not None  # checked before the scheduler runs
             return got
 
-        def events(state: State, _: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
+        def events(state: State, here: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
             return sched.successors(state, ms)
     else:
         if getattr(sched, "stateful", False):

@@ -48,7 +48,7 @@ as with ``lights``: the bulk engine encodes no colours, ``auto`` runs the refere
         if engine == "fast":
             raise InvalidInput("the fast engine encodes no lights: use engine='auto' or "
                                "'reference'")
-        return explore_reference(initial, algorithm, scheduler, **options)  # type: ignore[arg-type]
+        return explore_reference(initial, algorithm, scheduler, **options)
     if engine != "reference":
         keys = ("reduction", "anonymity", "symmetry", "frames", "limits")
         if fast_explore.supports(initial, scheduler, **{k: options[k] for k in keys if k in options}):

@@ -257,15 +257,22 @@ class LuminousView(View):
     (1, [1, 2], [0])
     """
 
+    _lights: Lights
+    _colours: Mapping[Node, Counter[int]]
+    _mine: int
+
     @classmethod
     def luminous(cls, configuration: Configuration, node: Node, frame: int, detection: str,
                  lights: Lights, colours: Mapping[Node, Counter[int]],
                  mine: int) -> LuminousView:
         """The view of the robot on ``node`` whose light is ``mine``; ``colours``: the
         lights on each occupied node (global coordinates)."""
-        self = cls.trusted(configuration, node, frame, detection)
-        self._lights, self._colours, self._mine = lights, colours, mine  # type: ignore[attr-defined]
-        return self  # type: ignore[return-value]
+        self = object.__new__(cls)
+        self.detection = detection
+        self._snapshot, self._node, self._frame = configuration, node, frame
+        self._meeting = self._robots = self._cnt = None
+        self._lights, self._colours, self._mine = lights, colours, mine
+        return self
 
     @property
     def light(self) -> int:
@@ -279,7 +286,7 @@ class LuminousView(View):
             raise LightHidden("internal lights: a robot sees no other robot's colour")
         dx, dy = geometry.apply(geometry.inverse(self._frame), v)
         back = (self._node[0] + dx, self._node[1] + dy)
-        seen = Counter(self._colours.get(back, ()))
+        seen: Counter[int] = Counter(self._colours.get(back, ()))
         if back == self._node and self._lights.variant == "external":
             seen[self._mine] -= 1  # its own light is the one it cannot see
         return +seen
