@@ -21,6 +21,7 @@ from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import LightHidden, Lights, LuminousView, MultiplicityHidden
+from gather_verify.replay import NoLongerReproduces, replay
 
 CLI = [sys.executable, "-m", "gather_verify"]
 BEACON = Configuration([(1, 1), (3, 2)], [(0, 0), (4, 0)], initial=True)
@@ -245,9 +246,44 @@ def test_a_grid_scenario_colour_outside_the_lights_is_one_line(tmp_path, capsys)
     assert "'colours'" in capsys.readouterr().err
 
 
-def test_a_trace_with_lights_is_refused_by_replay_in_one_line(tmp_path, capsys) -> None:  # noqa: ANN001
+def test_a_trace_with_lights_replays_and_a_changed_colour_does_not(tmp_path,
+                                                                   capsys) -> None:  # noqa: ANN001
     report = run_check(BEACON, algorithm="broken-beacon", scheduler="async", lights="2")
+    assert replay(report["trace"]).confirmed
     path = tmp_path / "t.json"
     path.write_text(json.dumps(report["trace"]))
-    assert main(["replay", str(path)]) == 2
-    assert "lights" in capsys.readouterr().err
+    assert main(["replay", str(path)]) == 1  # confirmed: the violation is real
+    assert "CONFIRMED" in capsys.readouterr().out
+    good = run_check(BEACON, algorithm="beacon", scheduler="ssync", lights="2")["trace"]
+    assert replay(good).confirmed
+    bad = json.loads(json.dumps(good))
+    bad["steps"][-1]["state"][0]["colour"] = 0  # the light the round set, taken back
+    with pytest.raises(InvalidInput, match="not the one the event reaches"):
+        replay(bad)
+    bad["steps"][-1]["event"]["lights"] = bad["steps"][-1]["event"]["lights"][1:]
+    with pytest.raises(NoLongerReproduces, match="no longer allows"):  # legal, not beacon's
+        replay(bad)
+
+
+BLINK = """
+class Blink:
+    name = "blink"
+
+    def decide(self, view):
+        return view.me, 1 - view.light  # on for ever, off for ever: never still
+"""
+
+
+def test_a_luminous_livelock_is_found_and_replays(tmp_path) -> None:  # noqa: ANN001
+    """A robot that only toggles its light never terminates (a colour change is an event):
+    the cycle of the trace changes colours only, and replay confirms it fair."""
+    (tmp_path / "blink.py").write_text(BLINK)
+    c = Configuration([(0, 0)], [(0, 0)], initial=True)
+    for scheduler in ("async", "fsync"):
+        report = run_check(c, algorithm=f"{tmp_path}/blink.py:Blink", scheduler=scheduler,
+                           lights="2")
+        assert (report["verdict"], report["property"]) == ("VIOLATED", "termination")
+        trace = report["trace"]
+        assert trace["cycle_start"] is not None
+        assert all(not step["event"]["moves"] for step in trace["steps"])
+        assert replay(trace).confirmed
