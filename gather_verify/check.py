@@ -67,6 +67,21 @@ AUTO_MARGIN_MAX = 32
 """The largest region margin tried when the margin is left to grow by itself."""
 
 
+def sorted_colours(robots: Sequence[Node], colours: Sequence[int]) -> list[int]:
+    """Initial colours given robot by robot as ``robots`` are written (``--robots``, a
+    scenario's list), in the order :func:`run_check` takes them: that of the sorted robots
+    (a configuration keeps its robots sorted; robot i of a trace is the i-th of them).
+
+    >>> sorted_colours([(3, 2), (1, 1)], [1, 0])
+    [0, 1]
+    """
+    nodes = [tuple(v) for v in robots]
+    if len(nodes) != len(colours) or len(set(nodes)) != len(nodes):
+        return list(colours)  # run_check refuses it in one line
+    colour = dict(zip(nodes, colours, strict=True))
+    return [colour[v] for v in sorted(nodes)]
+
+
 def _lit(e: Exploration, trace: dict[str, Any]) -> dict[str, Any]:
     """A trace of a search with lights names them and the initial colours (docs/traces.md);
     with one colour, seen by all (``--lights 1``, the oblivious robot), it is the oblivious
@@ -303,7 +318,9 @@ def run_check(
     ``on_exploration`` receives that last search (``check --graph-out`` exports it).
 
     ``lights``: luminous robots (SEMANTICS.md §10), ``K``, ``K:external`` or ``K:internal``,
-    with ``colours`` their initial colours (default 0). The reference engine runs them (the
+    with ``colours`` their initial colours (default 0), one per robot of
+    ``configuration.robots`` (sorted: :func:`sorted_colours` reorders colours given as the
+    robots were written). The reference engine runs them (the
     bulk engine encodes no colours: with ``engine="auto"`` the report's ``engine_fallback``
     says so, ``engine="fast"`` is refused); ``no-ungatherable`` does not apply for K > 1 (a
     light changed at a Look breaks the symmetry Theorem 1 keeps).

@@ -14,7 +14,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gather_verify.check import run_check
+from gather_verify.check import run_check, sorted_colours
 from gather_verify.cli import main
 from gather_verify.engine.explore import explore_reference
 from gather_verify.errors import InvalidInput
@@ -172,11 +172,13 @@ def test_luminous_results_do_not_change_under_d4_and_translations(
     def moved(v: tuple[int, int]) -> tuple[int, int]:
         return geometry.add(geometry.apply(g, v), t)
 
-    kw = {"algorithm": "beacon", "scheduler": scheduler, "lights": "2", "colours": colours,
+    kw = {"algorithm": "beacon", "scheduler": scheduler, "lights": "2",
           "reduction": reduction, "force": True, "max_seconds": 60}
-    base = run_check(Configuration(robots, meeting, initial=True), **kw)
+    base = run_check(Configuration(robots, meeting, initial=True),
+                     colours=sorted_colours(robots, colours), **kw)
     image = run_check(Configuration([moved(v) for v in robots], [moved(m) for m in meeting],
-                                    initial=True), **kw)
+                                    initial=True),
+                      colours=sorted_colours([moved(v) for v in robots], colours), **kw)
     for key in ("verdict", "property", "class", "states", "transitions", "max_moves"):
         assert base[key] == image[key], key
 
@@ -230,6 +232,15 @@ def test_bad_lights_on_the_paper_world_are_one_line(args: tuple[str, ...], words
     assert main(["check", *BEACON_ARGS, *args]) == 2
     err = capsys.readouterr().err
     assert words in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_colours_follow_the_robots_as_written(capsys) -> None:  # noqa: ANN001
+    """Robot (0, 0) starts lit on a meeting node, written second: then even SSYNC gathers."""
+    args = ["check", "--meeting", "0,0 4,0", "--algorithm", "beacon", "--lights", "2",
+            "--scheduler", "ssync", "--json"]
+    assert main([*args, "--robots", "3,2 0,0", "--colours", "0 1"]) == 0
+    assert json.loads(capsys.readouterr().out)["colours"] == [1, 0]  # sorted: (0, 0) first
+    assert main([*args, "--robots", "3,2 0,0", "--colours", "1 0"]) != 0  # (3, 2) lit, stuck
 
 
 def test_bad_lights_are_one_line_without_a_traceback() -> None:

@@ -151,6 +151,13 @@ def run(args: argparse.Namespace) -> int:
     lights = args.lights or (scenario.lights if scenario else None)
     colours = _colours(args.colours) if args.colours is not None else (
         scenario.colours if scenario else None)
+    if colours is not None:  # given robot by robot as written; run_check takes sorted robots
+        from gather_verify.check import sorted_colours
+        from gather_verify.model.geometry import parse_nodes
+
+        written = parse_nodes(args.robots) if args.robots is not None else [
+            tuple(v) for v in scenario.raw["robots"]]
+        colours = sorted_colours(written, colours)
     explored: list[Exploration] = []
     if args.readings:  # every reading (gather_verify.readings), the first one reported in full
         from functools import partial
