@@ -191,14 +191,15 @@ NOT_COMPARED = {"seconds", "peak_rss_mb", "lights", "colours", "engine", "engine
 @pytest.mark.parametrize("algorithm", ["go-to-target", "broken-stay", "broken-wander"])
 @pytest.mark.parametrize("scheduler", ["fsync", "ssync", "async", "centralized"])
 @pytest.mark.parametrize("reduction", [True, False])
+@pytest.mark.parametrize("engine", ["reference", "auto"])
 def test_one_colour_is_the_oblivious_run_field_by_field(algorithm: str, scheduler: str,
-                                                        reduction: bool) -> None:
+                                                        reduction: bool, engine: str) -> None:
     """Every field of the report, the trace included (a region of a fixed margin: the runs
-    stop at the same place, never at a clock)."""
+    stop at the same place, never at a clock), beside the oblivious run on the reference
+    engine and on the bulk one (``auto``)."""
     c = Configuration([(0, 0), (2, 1)], [(1, 2)], initial=True)
-    kw = {"algorithm": algorithm, "scheduler": scheduler, "reduction": reduction,
-          "engine": "reference", "margin": 1}
-    plain = run_check(c, **kw)
+    kw = {"algorithm": algorithm, "scheduler": scheduler, "reduction": reduction, "margin": 1}
+    plain = run_check(c, engine=engine, **kw)
     lit = run_check(c, lights="1", **kw)
     assert lit["lights"] == "1"
     assert {k: v for k, v in lit.items() if k not in NOT_COMPARED} == \
