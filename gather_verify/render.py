@@ -238,6 +238,16 @@ def grid_svg(state: Sequence[dict[str, Any]], meeting: Sequence[Node],
                 size = max(7, round(radius * (0.95 if i < 10 else 0.75)))
                 out.append(f'<text x="{px:g}" y="{py + size * 0.35:g}" font-size="{size}" '
                            f'font-weight="bold" fill="#fff" text-anchor="middle">r{i}</text>')
+            colour = state[i].get("colour")
+            if isinstance(colour, int):  # a trace with lights: the colour as a badge
+                b = max(3.5, radius * 0.45)
+                out.append(f'<circle cx="{px + radius * 0.8:g}" cy="{py - radius * 0.8:g}" '
+                           f'r="{b:g}" fill="{LIGHTS[colour % len(LIGHTS)]}" stroke="#222" '
+                           f'stroke-width="0.8" class="light" data-colour="{colour}"/>')
+                if cell >= 20:
+                    out.append(f'<text x="{px + radius * 0.8:g}" y="{py - radius * 0.8 + 2.5:g}" '
+                               f'font-size="{max(6, round(b * 1.2))}" fill="#111" '
+                               f'text-anchor="middle">{colour}</text>')
     for i, r in enumerate(state):
         if r["pending"]:
             (ax, ay), (bx, by) = at(r["node"]), at(r["pending"])

@@ -220,6 +220,16 @@ def test_check_takes_lights_on_the_paper_world(capsys) -> None:  # noqa: ANN001
     assert "r0 light 0->1" in text and "lights: r0=1 r1=1" in text
 
 
+def test_the_storyboard_draws_each_robots_colour() -> None:
+    from gather_verify.render import trace_svg
+
+    trace = run_check(BEACON, algorithm="beacon", scheduler="ssync", lights="2")["trace"]
+    svg = trace_svg(trace)
+    last = svg.rsplit("<g", 1)[-1]  # the last panel: both robots lit
+    assert svg.count('class="light"') == 2 * (len(trace["steps"]) + 1)
+    assert last.count('data-colour="1"') == 2
+
+
 @pytest.mark.parametrize(("args", "words"), [
     (("--lights", "0"), "number of colours"),
     (("--lights", "2", "--colours", "0 2"), "initial colours"),
