@@ -230,6 +230,17 @@ def test_the_storyboard_draws_each_robots_colour() -> None:
     assert last.count('data-colour="1"') == 2
 
 
+def test_the_viewer_shows_each_robots_colour_and_the_lights_an_event_changed() -> None:
+    from gather_verify.viewer import annotate
+
+    trace = run_check(BEACON, algorithm="beacon", scheduler="ssync", lights="2")["trace"]
+    data = annotate(trace)
+    assert [s["colours"] for s in data["states"]][-1] == [1, 1]
+    assert data["states"][0]["colours"] == [0, 0]
+    assert "r0 light 0->1" in data["events"][-1]["text"]
+    assert all(s["moves"] is None for s in data["states"])  # no oblivious move sets
+
+
 @pytest.mark.parametrize(("args", "words"), [
     (("--lights", "0"), "number of colours"),
     (("--lights", "2", "--colours", "0 2"), "initial colours"),
