@@ -45,6 +45,7 @@ from gather_verify.errors import InvalidInput
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
+from gather_verify.model.view import Lights
 from gather_verify.progress import PROGRESS
 from gather_verify.properties.drift import find_drift
 from gather_verify.properties.facts import StateFacts
@@ -53,6 +54,7 @@ from gather_verify.properties.registry import check_property_names, get_property
 from gather_verify.trace import build_trace, initial_of, steps_of
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine, named_first
 from gather_verify.watchdog import Overtime, allowance, deadline
+from gather_verify.worlds.moves import parse_lights
 from schedulers import initial_state
 
 
@@ -65,6 +67,37 @@ AUTO_MARGIN_MAX = 32
 """The largest region margin tried when the margin is left to grow by itself."""
 
 
+def sorted_colours(robots: Sequence[Node], colours: Sequence[int]) -> list[int]:
+    """Initial colours given robot by robot as ``robots`` are written (``--robots``, a
+    scenario's list), in the order :func:`run_check` takes them: that of the sorted robots
+    (a configuration keeps its robots sorted; robot i of a trace is the i-th of them).
+
+    >>> sorted_colours([(3, 2), (1, 1)], [1, 0])
+    [0, 1]
+    """
+    nodes = [tuple(v) for v in robots]
+    if len(nodes) != len(colours) or len(set(nodes)) != len(nodes):
+        return list(colours)  # run_check refuses it in one line
+    colour = dict(zip(nodes, colours, strict=True))
+    return [colour[v] for v in sorted(nodes)]
+
+
+def _lit(e: Exploration, trace: dict[str, Any]) -> dict[str, Any]:
+    """A trace of a search with lights names them and the initial colours (docs/traces.md);
+    with one colour, seen by all (``--lights 1``, the oblivious robot), it is the oblivious
+    trace: states without colours."""
+    if e.lights is None:
+        return trace
+    if e.lights == Lights(1):
+        for step in trace["steps"]:
+            for robot in step["state"]:
+                del robot["colour"]
+        return trace
+    trace["lights"] = str(e.lights)
+    trace["initial"]["colours"] = list(e.colours or (0,) * e.n)
+    return trace
+
+
 def _trace(e: Exploration, prop: str, reason: str, ids: Sequence[int],
            cycle: Sequence[int] | None = None, weights: Sequence[int] | None = None,
            **detail: Any) -> dict[str, Any]:
@@ -74,8 +107,8 @@ def _trace(e: Exploration, prop: str, reason: str, ids: Sequence[int],
         cycle_start = len(steps)
         start = steps[-1][1] if steps else e.initial_state
         steps += e.concretise(cycle, start=start)
-    return build_trace(e.initial, e.algorithm.name, e.scheduler_name, e.detection, e.frames,
-                       steps, prop, reason, cycle_start, **detail)
+    return _lit(e, build_trace(e.initial, e.algorithm.name, e.scheduler_name, e.detection,
+                               e.frames, steps, prop, reason, cycle_start, **detail))
 
 
 def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
@@ -85,22 +118,22 @@ def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
     prop = get_property(v.property)
     steps = e.concretise(e.path_to(v.state))
     state = steps[-1][1] if steps else e.initial_state
-    here = e.facts(tuple(sorted(n for n, _ in state)))
+    here = e.facts_of(state)
     if prop.kind == "state":  # the reason, on the concrete state shown
-        seen = StateFacts(here, all(p is None for _, p in state))
-        return build_trace(e.initial, e.algorithm.name, e.scheduler_name, e.detection, e.frames,
-                           steps, v.property, prop.message_for(seen), None,
-                           **prop.detail_for(seen))
+        seen = StateFacts(here, all(r[1] is None for r in state))
+        return _lit(e, build_trace(e.initial, e.algorithm.name, e.scheduler_name, e.detection,
+                                   e.frames, steps, v.property, prop.message_for(seen), None,
+                                   **prop.detail_for(seen)))
     assert prop.value is not None and prop.holds is not None
     before = prop.value(here)
     for event, succ in e.concrete_successors(state):
-        after = prop.value(e.facts(tuple(sorted(n for n, _ in succ))))
+        after = prop.value(e.facts_of(succ))
         if not prop.holds(before, after):
             steps.append((event, succ))
-            return build_trace(
+            return _lit(e, build_trace(
                 e.initial, e.algorithm.name, e.scheduler_name, e.detection, e.frames, steps,
                 v.property, prop.message_for(before, after), None,
-                **prop.detail_for(before, after))
+                **prop.detail_for(before, after)))
     return None
 
 
@@ -177,7 +210,7 @@ def cause_of(algorithm: object, trace: dict[str, Any]) -> str:
     meeting = initial.meeting_nodes
 
     def phase(k: int) -> str | None:
-        robots = tuple(sorted(v for v, _ in states[k]))
+        robots = tuple(sorted(r[0] for r in states[k]))
         return phase_of(algorithm, Configuration.trusted(robots, meeting))
 
     def behind_last_move() -> str | None:
@@ -226,7 +259,7 @@ def drift_line(drift: dict[str, Any]) -> str:
 
 def _witnesses(e: Exploration, configuration: Configuration, algorithm: str | Algorithm,
                scheduler: str, engine: str, detection: str, frames: str,
-               lim: Limits) -> dict[str, dict[str, Any]]:
+               lim: Limits, **lit: Any) -> dict[str, dict[str, Any]]:
     """The trace of each violation ``e`` found, by property (a violation whose witness
     does not concretise, a target that is not equivariant, is looked for again on the
     concrete graph, and left out if that search does not meet it)."""
@@ -238,7 +271,7 @@ def _witnesses(e: Exploration, configuration: Configuration, algorithm: str | Al
             PROGRESS.doing = f"exploring without reductions (the counterexample of {name})"
             plain = explore(configuration, algorithm, scheduler, engine=engine,
                             detection=detection, frames=frames, reduction=False,
-                            properties=[name], limits=lim, graph=False)
+                            properties=[name], limits=lim, graph=False, **lit)
             w = plain.violations.get(name)
             trace = _safety_trace(plain, w) if w is not None else None
         if trace is not None:
@@ -264,6 +297,8 @@ def run_check(
     keep_growing: bool = False,
     keep_going: bool = True,
     on_exploration: Callable[[Exploration], object] | None = None,
+    lights: str | None = None,
+    colours: Sequence[int] | None = None,
     **limits: Any,
 ) -> dict[str, Any]:
     """Check ``algorithm`` from ``configuration``; the report as a JSON-able dict.
@@ -281,6 +316,14 @@ def run_check(
     named, none needing the whole graph) has its counterexample, as SPIN stops at its first
     error; the report then says the others were not looked for.
     ``on_exploration`` receives that last search (``check --graph-out`` exports it).
+
+    ``lights``: luminous robots (SEMANTICS.md §10), ``K``, ``K:external`` or ``K:internal``,
+    with ``colours`` their initial colours (default 0), one per robot of
+    ``configuration.robots`` (sorted: :func:`sorted_colours` reorders colours given as the
+    robots were written). The reference engine runs them (the
+    bulk engine encodes no colours: with ``engine="auto"`` the report's ``engine_fallback``
+    says so, ``engine="fast"`` is refused); ``no-ungatherable`` does not apply for K > 1 (a
+    light changed at a Look breaks the symmetry Theorem 1 keeps).
 
     On that last search, finished or not, ``move-bound`` fails as soon as its stored graph
     holds an execution with more than ``c * D * n`` moves (the one with the fewest events,
@@ -302,6 +345,23 @@ def run_check(
         wanted = check_property_names(properties)
         algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
     not_applicable: dict[str, str] = {}
+    light = None if lights is None else parse_lights(lights)
+    if colours is not None and (light is None or len(colours) != configuration.n or any(
+            isinstance(c, bool) or not isinstance(c, int) or not 0 <= c < light.colours
+            for c in colours)):
+        raise InvalidInput(f"initial colours {list(colours)}: give --lights, and one colour "
+                           f"per robot in 0..{(light.colours if light else 1) - 1}")
+    if light is not None and engine == "fast":
+        raise InvalidInput("the bulk engine encodes no lights: use --engine auto or reference")
+    lit: dict[str, Any] = {} if light is None else {
+        "lights": light, "colours": None if colours is None else tuple(colours)}
+    if light is not None and light.colours > 1 and "no-ungatherable" in wanted:
+        why = ("U (Theorem 1) is for oblivious robots: a light set at a Look breaks the "
+               "symmetry the theorem's adversary keeps")
+        if properties:
+            raise InvalidInput(f"no-ungatherable does not apply with --lights {light}: {why}")
+        wanted.remove("no-ungatherable")
+        not_applicable["no-ungatherable"] = why
     if not getattr(algo, "plane", True):
         raise InvalidInput(f"algorithm {algo.name!r} is written for finite worlds: give "
                            "--world ring:N (docs/worlds.md)")
@@ -343,6 +403,11 @@ def run_check(
         "scheduler": scheduler, "detection": detection, "frames": frames,
         "reduction": reduction,
         **({"not_applicable": not_applicable} if not_applicable else {}),
+        **({} if light is None else {
+            "lights": str(light), "colours": list(colours or (0,) * n), "engine": "reference",
+            **({} if engine == "reference" else {
+                "engine_fallback": "the bulk engine encodes no lights: the reference engine "
+                                   "ran"})}),
     }
     if (cls.in_U or cls.name == "UNCLASSIFIED") and frames == "all" and not force:
         # the paper's U and partition are about disoriented robots (all 8 frames): with a
@@ -363,12 +428,12 @@ def run_check(
                               f"exploring a larger region (margin {lim.margin})")
             e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
                         frames=frames, reduction=reduction, properties=wanted, limits=lim,
-                        memo=memo, graph=keep_graph, settle=not keep_going)
+                        memo=memo, graph=keep_graph, settle=not keep_going, **lit)
             searched[:] = [e]
             if keep_growing:
                 return e, None
             return e, _witnesses(e, configuration, algorithm, scheduler, engine, detection,
-                                 frames, lim)
+                                 frames, lim, **lit)
 
         def _unfinished(e: Exploration, traces: dict[str, dict[str, Any]]) -> dict[str, dict[str, Any]]:
             """``traces``, with a move-bound trace on an unfinished search whose stored graph
@@ -390,7 +455,7 @@ def run_check(
             e, traces = search(lim)
         if traces is None:
             traces = _witnesses(e, configuration, algorithm, scheduler, engine, detection, frames,
-                                lim)
+                                lim, **lit)
         traces = _unfinished(e, traces)
         report["limits"]["margin"] = lim.margin
         if on_exploration is not None:
@@ -419,7 +484,8 @@ def run_check(
             if longest.max_moves is None and (e.anonymity or e.symmetry):
                 PROGRESS.doing = "exploring without reductions (to check the cycles)"
                 lifted = explore(configuration, algorithm, scheduler, engine=engine,
-                                 detection=detection, frames=frames, reduction=False, properties=[], limits=lim)
+                                 detection=detection, frames=frames, reduction=False,
+                                 properties=[], limits=lim, **lit)
                 if lifted.stopped:
                     stopped = f"{lifted.stopped} (while lifting the reduced graph to check cycles)"
             if longest.max_moves is not None:
@@ -461,7 +527,8 @@ def run_check(
                     limit = (stopped or "a limit").split(" ", 1)[0]
                     why = f"search stopped while lifting the reduced graph to check cycles ({limit})"
                 results[prop.name]["reason"] = why
-        drift = _drift(e, move_bound_c * D * n) if e.stopped == "region" and keep_graph else None
+        drift = _drift(e, move_bound_c * D * n) if (
+            e.stopped == "region" and keep_graph and light is None) else None
         if drift is not None:
             report["drift"] = drift
         for name, v in e.violations.items():  # always checked, so never requested: add them

@@ -51,7 +51,11 @@ def ascii_grid(robots: Sequence[Node], meeting: Iterable[Node],
 
 
 def _states(trace: dict[str, Any]) -> list[list[dict[str, Any]]]:
-    first = [{"node": r, "pending": None} for r in trace["initial"]["robots"]]
+    first: list[dict[str, Any]] = [{"node": r, "pending": None} for r in trace["initial"]["robots"]]
+    colours = trace["initial"].get("colours")
+    if isinstance(colours, list) and len(colours) == len(first):  # a trace with lights
+        for robot, colour in zip(first, colours, strict=True):
+            robot["colour"] = colour
     return [first] + [step["state"] for step in trace["steps"]]
 
 
@@ -63,9 +67,10 @@ def _box(trace: dict[str, Any]) -> tuple[int, int, int, int]:
 
 
 def _event_text(event: dict[str, Any]) -> str:
-    moves = ", ".join(f"r{i} {tuple(a)}->{tuple(b)}" for i, a, b in event["moves"])
+    changes = [f"r{i} {tuple(a)}->{tuple(b)}" for i, a, b in event["moves"]]
+    changes += [f"r{i} light {a}->{b}" for i, a, b in event.get("lights", [])]
     robots = ",".join(f"r{i}" for i in event["robots"])
-    return f"{event['kind']}({robots})" + (f": {moves}" if moves else ": all stay")
+    return f"{event['kind']}({robots})" + (f": {', '.join(changes)}" if changes else ": all stay")
 
 
 def render_trace(trace: dict[str, Any]) -> str:
@@ -83,6 +88,8 @@ def render_trace(trace: dict[str, Any]) -> str:
         pending = [f"r{i}->{tuple(r['pending'])}" for i, r in enumerate(state) if r["pending"]]
         if pending:
             out.append("pending: " + " ".join(pending))
+        if any("colour" in r for r in state):
+            out.append("lights: " + " ".join(f"r{i}={r['colour']}" for i, r in enumerate(state)))
     if trace["property"] == "crash":
         out.append(crash_text(trace))
     return "\n".join(out)
@@ -231,6 +238,16 @@ def grid_svg(state: Sequence[dict[str, Any]], meeting: Sequence[Node],
                 size = max(7, round(radius * (0.95 if i < 10 else 0.75)))
                 out.append(f'<text x="{px:g}" y="{py + size * 0.35:g}" font-size="{size}" '
                            f'font-weight="bold" fill="#fff" text-anchor="middle">r{i}</text>')
+            colour = state[i].get("colour")
+            if isinstance(colour, int):  # a trace with lights: the colour as a badge
+                b = max(3.5, radius * 0.45)
+                out.append(f'<circle cx="{px + radius * 0.8:g}" cy="{py - radius * 0.8:g}" '
+                           f'r="{b:g}" fill="{LIGHTS[colour % len(LIGHTS)]}" stroke="#222" '
+                           f'stroke-width="0.8" class="light" data-colour="{colour}"/>')
+                if cell >= 20:
+                    out.append(f'<text x="{px + radius * 0.8:g}" y="{py - radius * 0.8 + 2.5:g}" '
+                               f'font-size="{max(6, round(b * 1.2))}" fill="#111" '
+                               f'text-anchor="middle">{colour}</text>')
     for i, r in enumerate(state):
         if r["pending"]:
             (ax, ay), (bx, by) = at(r["node"]), at(r["pending"])

@@ -27,9 +27,10 @@ from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, add
 from gather_verify.properties.base import Run
-from gather_verify.properties.facts import configuration_facts
+from gather_verify.properties.facts import configuration_facts, luminous_facts
 from gather_verify.properties.registry import get_property
 from gather_verify.trace import initial_of, load_trace, steps_of
+from gather_verify.worlds.moves import parse_lights
 from schedulers import State, configuration_of, get_scheduler, initial_state
 
 
@@ -53,6 +54,8 @@ class Replayed:
 def replay(trace: dict[str, Any]) -> Replayed:
     """Re-execute ``trace``; ValueError (one line) when it does not match its configuration."""
     trace = load_trace(trace)
+    if trace.get("lights") is not None:
+        return _replay_lights(trace)
     algorithm = get_algorithm(trace["algorithm"])
     scheduler = get_scheduler(trace["scheduler"])
     frames = frames_for(trace["frames"])
@@ -94,5 +97,88 @@ def replay(trace: dict[str, Any]) -> Replayed:
     run = Run(trace, states, steps,
               lambda state: configuration_facts(algorithm, conf(state), initial, detection, frames),
               ms)
+    confirmed, message = prop.confirmed(run)
+    return Replayed(confirmed, message, len(steps))
+
+
+def _replay_lights(trace: dict[str, Any]) -> Replayed:
+    """:func:`replay` of a trace with lights (SEMANTICS.md §10): the states carry colours, the
+    events the lights they changed, and the algorithm answers (move, colour)."""
+    if not isinstance(trace["lights"], str):
+        raise InvalidInput("bad trace: 'lights' must be a string, K or K:variant")
+    light = parse_lights(trace["lights"])
+    algorithm = get_algorithm(trace["algorithm"])
+    scheduler = get_scheduler(trace["scheduler"])
+    if getattr(scheduler, "stateful", False):
+        raise InvalidInput(f"bad trace: {scheduler.name} does not run on Z²")
+    frames = frames_for(trace["frames"])
+    detection = trace["detection"]
+    initial = initial_of(trace)
+    colours = trace["initial"].get("colours", [0] * initial.n)
+    if not isinstance(colours, list) or len(colours) != initial.n or any(
+            isinstance(c, bool) or not isinstance(c, int) or not 0 <= c < light.colours
+            for c in colours):
+        raise InvalidInput(f"bad trace: 'initial.colours' must give each robot a colour in "
+                           f"0..{light.colours - 1}")
+
+    def lit(state: Any) -> Any:
+        return tuple(sorted((r[0], r[2]) for r in state))
+
+    def facts(state: Any) -> Any:
+        return luminous_facts(algorithm, lit(state), initial, detection, frames, light)
+
+    def anything(state: Any) -> Any:  # stay or take any unit step, with any colour
+        return lambda i: frozenset((d, c) for d in (state[i][0], *(add(state[i][0], s)
+                                                                    for s in STEPS))
+                                   for c in range(light.colours))
+
+    def offered(state: Any) -> Any:
+        f = facts(state)
+        if f.actions is None:
+            return None, f.unhandled or str(f.crash)
+        acts = f.actions
+        return (lambda i: acts[state[i][0], state[i][2]]), None
+
+    def natural(action: Any) -> Any:
+        return action
+
+    states: list[Any] = [tuple((v, None, c) for v, c in zip(initial.robots, colours,
+                                                                strict=True))]
+    steps = steps_of(trace)
+    for k, (event, state) in enumerate(steps, 1):
+        if any(len(r) != 3 for r in state):
+            raise InvalidInput(f"trace step {k}: a state of a trace with lights gives every "
+                               "robot its 'colour'")
+        possible = {ev: succ for ev, succ, _ in scheduler.luminous(
+            states[-1], None, anything(states[-1]), order=natural, null=True)}
+        if event not in possible:
+            raise InvalidInput(f"trace step {k}: event {event.to_json()} is not allowed from the "
+                               "previous state")
+        if possible[event] != state:
+            raise InvalidInput(f"trace step {k}: the recorded state is not the one the event reaches")
+        actions, why = offered(states[-1])
+        if actions is None:
+            raise NoLongerReproduces(f"trace step {k}: the algorithm does not decide the previous "
+                                     f"state any more ({why})")
+        if event not in {ev for ev, _, _ in scheduler.luminous(states[-1], None, actions,
+                                                               order=natural, null=True)}:
+            raise NoLongerReproduces(f"trace step {k}: the algorithm no longer allows event "
+                                     f"{event.to_json()}")
+        states.append(state)
+    try:
+        prop = get_property(trace["property"])
+    except InvalidInput as error:
+        raise InvalidInput(f"bad trace: {error}") from None
+
+    def stays(state: Any, i: int) -> bool:
+        v, p, c = state[i]
+        acts = facts(state).actions
+        return p is None and acts is not None and (v, c) in acts[v, c]
+
+    def no_move_sets(robots: tuple) -> dict:
+        raise InvalidInput("with lights a robot's move set depends on its colour: read "
+                           "run.facts(state).actions, per (node, colour)")
+
+    run = Run(trace, states, steps, facts, no_move_sets, stays)
     confirmed, message = prop.confirmed(run)
     return Replayed(confirmed, message, len(steps))

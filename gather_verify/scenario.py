@@ -120,11 +120,12 @@ def parse_scenario(data: object, where: str) -> Scenario:
     configuration = None
     try:
         if world == "grid":
-            for key in ("task", "visibility", "lights", "colours"):
+            for key in ("task", "visibility"):
                 if key in data:
                     raise ScenarioError(f"{where}: {key!r} needs a finite 'world' (ring:N, "
                                         "grid:WxH, torus:WxH, graph:FILE)")
             configuration = Configuration(data["robots"], data["meeting_nodes"], initial=True)
+            _check_colours(data, configuration.n, where)
         else:
             nodes = _world_nodes(data, where)
     except ScenarioError:
@@ -173,16 +174,21 @@ def _world_nodes(data: dict[str, Any], where: str) -> tuple[tuple[int, ...], tup
                             "configuration stand on distinct nodes")
     if "task" in data:
         get_task(data["task"])
+    _check_colours(data, len(robots), where)
+    if "expect" in data and "class" in data["expect"]:
+        raise ScenarioError(f"{where}: 'expect.class' is a class of the paper's world (Z²)")
+    return robots, meeting
+
+
+def _check_colours(data: dict[str, Any], n: int, where: str) -> None:
+    """The scenario's ``lights`` parse, and its ``colours`` give each robot one in range."""
     from gather_verify.worlds.moves import parse_lights
 
     k = parse_lights(data.get("lights")).colours
     colours = data.get("colours")
-    if colours is not None and (len(colours) != len(robots) or any(
+    if colours is not None and (len(colours) != n or any(
             isinstance(c, bool) or not isinstance(c, int) or not 0 <= c < k for c in colours)):
         raise ScenarioError(f"{where}: 'colours' must give each robot a colour in 0..{k - 1}")
-    if "expect" in data and "class" in data["expect"]:
-        raise ScenarioError(f"{where}: 'expect.class' is a class of the paper's world (Z²)")
-    return robots, meeting
 
 
 def _parse_expect(

@@ -42,7 +42,7 @@ CHECK_OPTIONS = {
 
 def run_expectation(scenario: Scenario, expectation: Expectation) -> dict[str, Any]:
     """Run the explorer as the expectation says; the report of :func:`run_check`."""
-    from gather_verify.check import run_check
+    from gather_verify.check import run_check, sorted_colours
 
     unknown = set(expectation.options) - CHECK_OPTIONS - {"slow"}
     if unknown:
@@ -62,6 +62,9 @@ def run_expectation(scenario: Scenario, expectation: Expectation) -> dict[str, A
         reduction=options.pop("reduction", True),
         max_states=options.pop("max_states", 2_000_000),
         max_seconds=options.pop("max_seconds", 600.0),
+        lights=scenario.lights,
+        colours=None if scenario.colours is None else sorted_colours(
+            [tuple(v) for v in scenario.raw["robots"]], scenario.colours),
         **options,
     )
 

@@ -32,7 +32,14 @@ KINDS = tuple(dict.fromkeys(kind for s in SCHEDULERS.values() for kind in s.kind
 
 
 def state_json(state: State) -> list[dict[str, Any]]:
-    return [{"node": list(v), "pending": None if p is None else list(p)} for v, p in state]
+    """Each robot's node and pending destination, and its colour in a state with lights."""
+    out: list[dict[str, Any]] = []
+    for robot in state:
+        v, p = robot[0], robot[1]
+        out.append({"node": list(v), "pending": None if p is None else list(p)})
+        if len(robot) > 2:
+            out[-1]["colour"] = robot[2]
+    return out
 
 
 def build_trace(initial: Configuration, algorithm: str, scheduler: str, detection: str,
@@ -63,18 +70,26 @@ def _node(value: object, what: str) -> Node:
 def parse_state(raw: object, n: int, where: str) -> State:
     if not isinstance(raw, list) or len(raw) != n:
         _fail(f"{where}: expected a list of {n} robots")
-    out = []
+    out: list[Any] = []
     for r in raw:
-        if not isinstance(r, dict) or set(r) != {"node", "pending"}:
-            _fail(f"{where}: each robot is an object with 'node' and 'pending'")
+        if not isinstance(r, dict) or set(r) - {"colour"} != {"node", "pending"}:
+            _fail(f"{where}: each robot is an object with 'node' and 'pending' (and, with "
+                  "lights, 'colour')")
         p = r["pending"]
-        out.append((_node(r["node"], "node"), None if p is None else _node(p, "pending")))
+        robot: tuple[Any, ...] = (_node(r["node"], "node"), None if p is None else _node(p, "pending"))
+        if "colour" in r:
+            c = r["colour"]
+            if isinstance(c, bool) or not isinstance(c, int) or c < 0:
+                _fail(f"{where}: a robot's 'colour' is an integer >= 0")
+            robot = (*robot, c)
+        out.append(robot)
     return tuple(out)
 
 
 def parse_event(raw: object, where: str) -> Event:
-    if not isinstance(raw, dict) or set(raw) != {"kind", "robots", "moves"}:
-        _fail(f"{where}: an event is an object with 'kind', 'robots' and 'moves'")
+    if not isinstance(raw, dict) or set(raw) - {"lights"} != {"kind", "robots", "moves"}:
+        _fail(f"{where}: an event is an object with 'kind', 'robots' and 'moves' (and, with "
+              "lights, 'lights')")
     if raw["kind"] not in KINDS:
         _fail(f"{where}: event kind must be one of {', '.join(KINDS)}")
     robots, moves = raw["robots"], raw["moves"]
@@ -85,8 +100,14 @@ def parse_event(raw: object, where: str) -> Event:
             isinstance(m, list) and len(m) == 3 and isinstance(m[0], int)
             and not isinstance(m[0], bool) for m in moves):
         _fail(f"{where}: 'moves' must be a list of [robot, [x, y], [x, y]]")
+    lights = raw.get("lights", [])
+    if not isinstance(lights, list) or not all(
+            isinstance(x, list) and len(x) == 3 and all(
+                isinstance(c, int) and not isinstance(c, bool) for c in x) for x in lights):
+        _fail(f"{where}: 'lights' must be a list of [robot, old colour, new colour]")
     return Event(raw["kind"], tuple(robots),
-                 tuple((int(i), _node(a, "node"), _node(b, "node")) for i, a, b in moves))
+                 tuple((int(i), _node(a, "node"), _node(b, "node")) for i, a, b in moves),
+                 tuple((i, a, b) for i, a, b in lights))
 
 
 def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:

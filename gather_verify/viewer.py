@@ -47,7 +47,12 @@ def _node(v: Any) -> list[int] | None:
 
 
 def _states(trace: dict[str, Any]) -> list[list[dict[str, Any]]]:
-    first = [{"node": list(r), "pending": None} for r in trace["initial"]["robots"]]
+    first: list[dict[str, Any]] = [{"node": list(r), "pending": None}
+                                   for r in trace["initial"]["robots"]]
+    if trace.get("lights") is not None:  # a trace with lights: the initial colours
+        colours = trace["initial"].get("colours") or [0] * len(first)
+        for robot, colour in zip(first, colours, strict=True):
+            robot["colour"] = colour
     return [first] + [step["state"] for step in trace["steps"]]
 
 
@@ -65,6 +70,8 @@ def event_text(event: dict[str, Any]) -> str:
         moves = ", ".join(f"r{i} decides {tuple(b)}" for i, _, b in event["moves"])
     else:
         moves = ", ".join(f"r{i} {tuple(a)}->{tuple(b)}" for i, a, b in event["moves"])
+    lights = ", ".join(f"r{i} light {a}->{b}" for i, a, b in event.get("lights", []))
+    moves = ", ".join(part for part in (moves, lights) if part)
     return f"{event['kind']}({robots}): " + (moves or "all stay")
 
 
@@ -145,8 +152,15 @@ def _decision(states: list, robot: int, look: int, now: int) -> dict[str, Any]:
     seen, now_state = states[look - 1], states[now]
     moved = [f"r{i}" for i, (a, b) in enumerate(zip(seen, now_state, strict=True))
              if a["node"] != b["node"]]
+    relit = [f"r{i}" for i, (a, b) in enumerate(zip(seen, now_state, strict=True))
+             if a.get("colour") != b.get("colour")]  # with lights: a colour changed since
+
+    def lit(state: list[dict[str, Any]]) -> list[tuple[Any, ...]]:
+        return sorted((*r["node"], r.get("colour", 0)) for r in state)
+
     return {"robot": robot, "look": look, "snapshot": look - 1,
-            "stale": _positions(seen) != _positions(now_state), "moved_since": moved}
+            "stale": lit(seen) != lit(now_state), "moved_since": moved,
+            **({"relit_since": relit} if relit else {})}
 
 
 def provides(algorithm: Any) -> dict[str, bool]:
@@ -177,14 +191,17 @@ def annotate(trace: dict[str, Any], load_code: bool = True) -> dict[str, Any]:
     trace = load_trace(trace)
     states = _states(trace)
     algorithm = _load_algorithm(trace["algorithm"], load_code)
-    with_moves = len(states) <= MAX_ANNOTATED_STATES
+    lit = trace.get("lights") is not None
+    # with lights a robot's moves depend on its colour: the page shows the colours instead
+    with_moves = len(states) <= MAX_ANNOTATED_STATES and not lit
     cache: dict[tuple, dict[str, Any]] = {}
     infos = []
     for state in states:
         key = tuple(_positions(state))
         if key not in cache:
             cache[key] = _state_info(algorithm, trace, list(key), with_moves)
-        infos.append(cache[key])
+        infos.append({**cache[key], "colours": [r.get("colour", 0) for r in state]} if lit
+                     else cache[key])
     events = _events(trace, states, event_text, _decision)
     nodes = [tuple(m) for m in trace["initial"]["meeting_nodes"]]
     for state in states:

@@ -14,6 +14,7 @@ import numpy as np
 
 from gather_verify.model.geometry import STEPS
 from schedulers.base import (
+    ActionOrder,
     Actions,
     Event,
     Frontier,
@@ -51,14 +52,15 @@ class Async:
                 yield (Event("move", (i,), ((i, node, pending),)),
                        state[:i] + ((pending, None),) + state[i + 1:])
 
-    def luminous(self, robots: tuple[LRobot, ...], extra: object,
-                 actions: Actions) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
+    def luminous(self, robots: tuple[LRobot, ...], extra: object, actions: Actions, *,
+                 order: ActionOrder = repr, null: bool = False
+                 ) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
         """A Look sets the pending destination and the new colour at once (§10: others see
         the colour before the robot moves); a Look that stays and keeps its colour is no
         event, one that changes only the colour is."""
         for i, (node, pending, colour) in enumerate(robots):
             if pending is None:
-                for d, c in sorted(actions(i), key=repr):
+                for d, c in sorted(actions(i), key=order):
                     if d == node and c == colour:
                         continue
                     lights = ((i, colour, c),) if c != colour else ()

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from typing import NamedTuple, Protocol
+from typing import Any, NamedTuple, Protocol
 
 import numpy as np
 
@@ -112,11 +112,14 @@ class Scheduler(Protocol):
         they fit): the same events, in the same order."""
         ...
 
-    def luminous(self, robots: tuple[LRobot, ...], extra: object, actions: Actions
+    def luminous(self, robots: tuple[LRobot, ...], extra: object, actions: Actions, *,
+                 order: ActionOrder = repr, null: bool = False
                  ) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
-        """Every event on a finite world's state (robots with their lights, and the
-        scheduler's own ``extra``, None for the stateless ones), with the successor. An
-        event that changes nothing is not yielded (it is no transition, §9-10)."""
+        """Every event on a state of robots with their lights (and the scheduler's own
+        ``extra``, None for the stateless ones), with the successor; a robot's actions are
+        tried in the ``order`` of that key. An event that changes nothing is not yielded (it
+        is no transition, §9-10) unless ``null``: on Z² a round in which every activated
+        robot stays is a transition (§4), as the oblivious ``successors`` yield it."""
         ...
 
 
@@ -127,6 +130,9 @@ Action = tuple[object, int]
 """What a robot may do when activated: go to (or stay on) a node, and set its colour."""
 Actions = Callable[[int], frozenset[Action]]
 """Robot index -> its actions in the current configuration (the union over its frames)."""
+ActionOrder = Callable[[Action], Any]
+"""The sort key of a robot's actions in :meth:`Scheduler.luminous` (``repr`` on finite worlds;
+the actions themselves on Z², the order of the oblivious ``successors``)."""
 
 
 def round_event(active: Sequence[int], robots: tuple[LRobot, ...],

@@ -11,6 +11,7 @@ from functools import cache
 import numpy as np
 
 from schedulers.base import (
+    ActionOrder,
     Actions,
     Event,
     Frontier,
@@ -45,10 +46,11 @@ class Centralized:
     def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
         return bulk_rounds(frontier, budget, _singletons(frontier.codes.shape[1]))
 
-    def luminous(self, robots: tuple[LRobot, ...], extra: object,
-                 actions: Actions) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
+    def luminous(self, robots: tuple[LRobot, ...], extra: object, actions: Actions, *,
+                 order: ActionOrder = repr, null: bool = False
+                 ) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
         for i in range(len(robots)):
-            for action in sorted(actions(i), key=repr):
+            for action in sorted(actions(i), key=order):
                 event, succ = round_event((i,), robots, (action,))
-                if succ != robots:
+                if null or succ != robots:
                     yield event, succ, extra

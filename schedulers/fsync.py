@@ -9,6 +9,7 @@ from itertools import product
 import numpy as np
 
 from schedulers.base import (
+    ActionOrder,
     Actions,
     Event,
     Frontier,
@@ -42,10 +43,11 @@ class FSync:
     def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
         return bulk_rounds(frontier, budget, _everyone(frontier.codes.shape[1]))
 
-    def luminous(self, robots: tuple[LRobot, ...], extra: object,
-                 actions: Actions) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
+    def luminous(self, robots: tuple[LRobot, ...], extra: object, actions: Actions, *,
+                 order: ActionOrder = repr, null: bool = False
+                 ) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
         everyone = tuple(range(len(robots)))
-        for choice in product(*(sorted(actions(i), key=repr) for i in everyone)):
+        for choice in product(*(sorted(actions(i), key=order) for i in everyone)):
             event, succ = round_event(everyone, robots, choice)
-            if succ != robots:
+            if null or succ != robots:
                 yield event, succ, extra

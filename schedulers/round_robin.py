@@ -14,7 +14,7 @@ from collections.abc import Iterator
 from itertools import permutations
 
 from gather_verify.errors import InvalidInput
-from schedulers.base import Actions, Event, LRobot, round_event
+from schedulers.base import ActionOrder, Actions, Event, LRobot, round_event
 
 
 class RoundRobin:
@@ -35,12 +35,13 @@ class RoundRobin:
             return [(self.order, 0)]
         return [(p, 0) for p in permutations(range(n))]
 
-    def luminous(self, robots: tuple[LRobot, ...], extra: object,
-                 actions: Actions) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
-        order, turn = extra  # type: ignore[misc]
-        i = order[turn]
-        after = (order, (turn + 1) % len(order))
-        for action in sorted(actions(i), key=repr):
+    def luminous(self, robots: tuple[LRobot, ...], extra: object, actions: Actions, *,
+                 order: ActionOrder = repr, null: bool = False
+                 ) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
+        cycle, turn = extra  # type: ignore[misc]
+        i = cycle[turn]
+        after = (cycle, (turn + 1) % len(cycle))
+        for action in sorted(actions(i), key=order):
             event, succ = round_event((i,), robots, (action,))
             yield event, succ, after
 

@@ -10,6 +10,7 @@ from itertools import combinations, product
 import numpy as np
 
 from schedulers.base import (
+    ActionOrder,
     Actions,
     Event,
     Frontier,
@@ -54,10 +55,11 @@ class SSync:
     def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
         return bulk_rounds(frontier, budget, _subsets(frontier.codes.shape[1]))
 
-    def luminous(self, robots: tuple[LRobot, ...], extra: object,
-                 actions: Actions) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
+    def luminous(self, robots: tuple[LRobot, ...], extra: object, actions: Actions, *,
+                 order: ActionOrder = repr, null: bool = False
+                 ) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
         for active in _active_sets(len(robots)):
-            for choice in product(*(sorted(actions(i), key=repr) for i in active)):
+            for choice in product(*(sorted(actions(i), key=order) for i in active)):
                 event, succ = round_event(active, robots, choice)
-                if succ != robots:
+                if null or succ != robots:
                     yield event, succ, extra

@@ -14,7 +14,8 @@ from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import ORIGIN, Node
 from gather_verify.model.view import MultiplicityHidden, View
 
-ALGORITHMS = sorted(n for n in REGISTRY if getattr(REGISTRY[n], "plane", True)) + ["paper:alpha=mer_f", "paper:outside=mer_f", "paper:metric=euclid",
+ALGORITHMS = sorted(n for n in REGISTRY if getattr(REGISTRY[n], "plane", True)
+                    and not getattr(REGISTRY[n], "luminous", False)) + ["paper:alpha=mer_f", "paper:outside=mer_f", "paper:metric=euclid",
                                   "paper:oscan=guard,finalize=target", "paper:finalize=literal"]
 
 nodes = st.tuples(st.integers(0, 4), st.integers(0, 4))

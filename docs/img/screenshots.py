@@ -9,8 +9,8 @@
 
 Writes viewer-f4-deadlock.png, viewer-f6-livelock.png, viewer-async-stale.png, report.png,
 trace-svg.png and moves.png next to this file, and the pictures of finite worlds
-(docs/worlds.md): world-viewer-ring.png, world-viewer-graph.png, world-viewer-lights.png and
-world-svg-torus.png (PNG, palette-reduced to stay small). ``--site`` builds nothing: it photographs the landing page
+(docs/worlds.md): world-viewer-ring.png, world-viewer-graph.png, world-viewer-lights.png,
+z2-viewer-lights.png and world-svg-torus.png (PNG, palette-reduced to stay small). ``--site`` builds nothing: it photographs the landing page
 and the findings page of a site already built in docs/_build/html (site-index.png,
 site-findings.png, 1200 pixels wide, the top of each page).
 """
@@ -101,13 +101,17 @@ def worlds() -> None:
        "--html", str(graph))
     gv("check", "--world", "torus:4x3", "--robots", "0,0 2,1", "--meeting", "3,2",
        "--task", "exploration-with-stop", "--scheduler", "ssync", "--svg", str(torus))
+    beacon = work / "beacon.html"  # lights on Z²
+    gv("check", "--robots", "1,1 3,2", "--meeting", "0,0 4,0", "--algorithm", "beacon",
+       "--lights", "2", "--scheduler", "ssync", "--html", str(beacon))
     chromium = shutil.which("chromium") or "/usr/bin/chromium"
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=chromium, args=["--disable-gpu", "--no-sandbox"])
         page = browser.new_page(viewport={"width": 1100, "height": 760})
         for source, step, out in ((ring, "Infinity", "world-viewer-ring.png"),
                                   (graph, 7, "world-viewer-graph.png"),
-                                  (lit, 6, "world-viewer-lights.png")):
+                                  (lit, 6, "world-viewer-lights.png"),
+                                  (beacon, "Infinity", "z2-viewer-lights.png")):
             page.goto(source.as_uri())
             page.evaluate(f"window.viewer.go({step})")
             page.screenshot(path=HERE / out, full_page=True)
@@ -117,7 +121,7 @@ def worlds() -> None:
         page.screenshot(path=HERE / "world-svg-torus.png", full_page=True)
         browser.close()
     for name in ("world-viewer-ring.png", "world-viewer-graph.png", "world-viewer-lights.png",
-                 "world-svg-torus.png"):
+                 "z2-viewer-lights.png", "world-svg-torus.png"):
         small(HERE / name)
         print(f"{name}: {(HERE / name).stat().st_size // 1024} KB")
 

@@ -29,6 +29,7 @@ from gather_verify.algorithms.base import (
     Unhandled,
     target_of,
 )
+from gather_verify.algorithms.beacon import Beacon
 from gather_verify.algorithms.bounce import Bounce
 from gather_verify.algorithms.go_to_target import GoToTarget
 from gather_verify.algorithms.inchworm import RingInchworm
@@ -50,6 +51,7 @@ from gather_verify.errors import InvalidInput
 from gather_verify.recent import most_recent
 
 REGISTRY: dict[str, Callable[..., Algorithm]] = {
+    "beacon": Beacon,
     "bounce": Bounce,
     "go-to-target": GoToTarget,
     "nearest-centre": NearestCentre,

@@ -14,6 +14,7 @@ from __future__ import annotations
 from typing import Any
 
 from gather_verify.algorithms.base import Unhandled
+from gather_verify.algorithms.beacon import Beacon
 from gather_verify.algorithms.go_to_target import GoToTarget, nearest, step_towards
 from gather_verify.algorithms.inchworm import RingInchworm, other, towards
 from gather_verify.algorithms.ring_exploration import RingExplore
@@ -160,7 +161,18 @@ class InchwormEager(RingInchworm):
         return super().decide(view)
 
 
+class BeaconDark(Beacon):
+    """``beacon`` that never turns its light on: robots nearest to different meeting nodes
+    stop on both (``final`` fails)."""
+
+    name = "broken-beacon"
+
+    def decide(self, view: Any) -> Any:
+        answer = super().decide(view)
+        return answer[0] if isinstance(answer[0], tuple) else answer
+
+
 BROKEN = {cls.name: cls for cls in (Away, Stay, Drift, Wander, Undefined, Crash, BadAnswer,
                                     CrashTarget, RingGatherBoth, RingExploreBlind,
-                                    InchwormEager)}
+                                    InchwormEager, BeaconDark)}
 

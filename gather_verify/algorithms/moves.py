@@ -15,14 +15,23 @@ common chirality the 4 rotations.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections import Counter
+from collections.abc import Iterable, Sequence
 
 from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, AlgorithmError, Unhandled
 from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import ORIGIN, STEPS, Node
-from gather_verify.model.view import FRAME_SETS, MultiplicityHidden, View, check_detection
+from gather_verify.model.view import (
+    FRAME_SETS,
+    LightHidden,
+    Lights,
+    LuminousView,
+    MultiplicityHidden,
+    View,
+    check_detection,
+)
 from gather_verify.watchdog import Overtime, watched
 
 ANSWERS = frozenset((ORIGIN, *STEPS))
@@ -113,3 +122,74 @@ def move_sets(
         if out is not None:
             return out
     return {v: move_set(algorithm, configuration, v, detection, frames) for v in configuration.counts}
+
+
+Action = tuple[Node, int]
+"""What a luminous robot may do (§10): go to (or stay on) a node, and set its colour."""
+LitRobots = tuple[tuple[Node, int], ...]
+"""A luminous configuration: every robot's (node, colour), sorted."""
+
+
+def luminous_actions(algorithm: Algorithm, configuration: Configuration,
+                     colours: dict[Node, Counter[int]], node: Node, colour: int,
+                     detection: str, frames: Iterable[int], lights: Lights) -> frozenset[Action]:
+    """The actions ``(global destination, colour)`` of the robots on ``node`` whose light is
+    ``colour``: the union over the frames of the algorithm's answer, mapped back (§3, §10).
+
+    An answer is a move (keep the colour) or ``(move, colour)``, as on a finite world. Reading
+    a light or a multiplicity the model hides is no rule (:class:`HiddenRead`); an answer that
+    is not a move, or a colour outside ``0..K-1``, is a crash."""
+    out = set()
+    decide, (x, y) = algorithm.decide, node
+    with watched():
+        for g in frames:
+            seen = LuminousView.luminous(configuration, node, g, detection, lights, colours,
+                                         colour)
+            try:
+                answer = decide(seen)
+            except (MultiplicityHidden, LightHidden) as error:
+                raise HiddenRead(f"algorithm {algorithm.name!r} reads what its robots cannot "
+                                 f"see: {error}") from None
+            except (Unhandled, KeyboardInterrupt, Overtime):
+                raise
+            except BaseException as error:  # SystemExit too: user code never ends the verifier
+                raise AlgorithmCrash(algorithm.name, "decide", error, node, seen) from None
+            back, new = MAPPED_BACK[g], colour
+            step = _lookup(back, answer)
+            if step is None and isinstance(answer, tuple) and len(answer) == 2:
+                step, new = _lookup(back, answer[0]), answer[1]
+            problem = None
+            if step is None:
+                problem = (f"answered {answer!r}: a move must be (0, 0) or a unit step (1, 0), "
+                           "(0, 1), (-1, 0), (0, -1) in the robot's frame, or such a move with "
+                           "a colour, (move, colour)")
+            elif isinstance(new, bool) or not isinstance(new, int) or \
+                    not 0 <= new < lights.colours:
+                problem = f"answered colour {new!r}: the lights have colours 0..{lights.colours - 1}"
+            if problem is not None:
+                wrong = AlgorithmError(f"algorithm {algorithm.name!r} {problem}")
+                raise AlgorithmCrash(algorithm.name, "decide", wrong, node, seen) from None
+            assert step is not None and isinstance(new, int)
+            out.add(((x + step[0], y + step[1]), new))
+    return frozenset(out)
+
+
+def _lookup(back: dict[Node, Node], answer: object) -> Node | None:
+    try:
+        return back.get(answer)  # type: ignore[call-overload]
+    except TypeError:  # unhashable
+        return None
+
+
+def luminous_table(algorithm: Algorithm, robots: LitRobots, meeting: frozenset[Node],
+                   detection: str, frames: Sequence[int],
+                   lights: Lights) -> dict[tuple[Node, int], frozenset[Action]]:
+    """The actions of every robot of the luminous configuration ``robots`` (sorted (node,
+    colour) pairs), by (node, colour): robots on one node with one colour see one view."""
+    configuration = Configuration.trusted(tuple(v for v, _ in robots), meeting)
+    colours: dict[Node, Counter[int]] = {}
+    for v, c in robots:
+        colours.setdefault(v, Counter())[c] += 1
+    return {(v, c): luminous_actions(algorithm, configuration, colours, v, c, detection,
+                                     frames, lights)
+            for v, c in dict.fromkeys(robots)}

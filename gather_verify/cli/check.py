@@ -47,10 +47,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "gathering-on-meeting-nodes (default with meeting nodes), "
                         "exclusive-perpetual-exploration or exploration-with-stop")
     parser.add_argument("--lights", default=None, metavar="K[:external|internal]",
-                        help="on a finite world: luminous robots with K colours (docs/worlds.md)")
+                        help="luminous robots with K colours, on every world (external: a "
+                             "robot does not see its own light; internal: only its own; "
+                             "docs/worlds.md)")
     parser.add_argument("--colours", default=None, metavar="C ...",
-                        help="on a finite world with lights: each robot's initial colour "
-                             "(default 0)")
+                        help="with --lights: each robot's initial colour (default 0)")
     parser.add_argument("--visibility", type=bounded_int(-10**6, 10**6), default=None,
                         metavar="HOPS", help="on a finite world: robots see only the nodes "
                         "within this many hops (default: the whole world)")
@@ -132,11 +133,10 @@ def run(args: argparse.Namespace) -> int:
         scenario = load_scenario(args.scenario)
         if scenario.world != "grid":
             return run_world(args, scenario)
-    if args.task not in (None, "gathering-on-meeting-nodes") or args.visibility is not None \
-            or args.lights is not None or args.colours is not None:
-        raise UsageError("--task, --visibility, --lights and --colours need a finite world "
+    if args.task not in (None, "gathering-on-meeting-nodes") or args.visibility is not None:
+        raise UsageError("--task and --visibility need a finite world "
                          "(--world ring:N, grid:WxH, torus:WxH or graph:FILE); on Z² the task "
-                         "is the paper's")
+                         "is the paper's and robots see the whole grid")
     configuration, scenario = load_configuration(args)
     writable_outputs(trace_out=args.trace_out, svg=args.svg, html=args.html, junit=args.junit,
                      graph_out=args.graph_out)
@@ -148,6 +148,16 @@ def run(args: argparse.Namespace) -> int:
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
     detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")
     frames = args.frames or (scenario.frames if scenario else "all")
+    lights = args.lights or (scenario.lights if scenario else None)
+    colours = _colours(args.colours) if args.colours is not None else (
+        scenario.colours if scenario else None)
+    if colours is not None:  # given robot by robot as written; run_check takes sorted robots
+        from gather_verify.check import sorted_colours
+        from gather_verify.model.geometry import parse_nodes
+
+        written = parse_nodes(args.robots) if args.robots is not None else [
+            tuple(v) for v in scenario.raw["robots"]]
+        colours = sorted_colours(written, colours)
     explored: list[Exploration] = []
     if args.readings:  # every reading (gather_verify.readings), the first one reported in full
         from functools import partial
@@ -165,6 +175,8 @@ def run(args: argparse.Namespace) -> int:
                 keep_growing=args.keep_growing, keep_going=args.keep_going,
                 engine={"bulk": "fast"}.get(args.engine, args.engine),
                 on_exploration=explored.append if args.graph_out else None,
+                **({} if lights is None else {"lights": lights}),
+                **({} if colours is None else {"colours": colours}),
                 **({} if args.margin is None else {"margin": args.margin}))
     except KeyboardInterrupt:
         print("interrupted: check keeps no partial results (nothing was written); run the same "

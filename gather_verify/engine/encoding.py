@@ -16,6 +16,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 
@@ -180,3 +181,51 @@ class Encoding:
     def frontier(self, codes: np.ndarray, masks: np.ndarray) -> Frontier:
         """States as a scheduler's bulk interface takes them (``schedulers.base.Frontier``)."""
         return Frontier(codes, masks, self.neighbour)
+
+
+class LuminousEncoding(Encoding):
+    """:class:`Encoding` with each robot's light (§10): a robot's code is
+    ``(cell * 5 + d) * K + colour`` over K colours, and a state's robots are
+    ``(node, pending, colour)``. With K = 1 the codes, hence the keys, are those of
+    :class:`Encoding`. The symmetries move nodes and pending steps, never colours.
+
+    >>> enc = LuminousEncoding((0, 0, 2, 2), colours=3)
+    >>> s = (((0, 0), (1, 0), 2), ((2, 2), None, 0))
+    >>> enc.decode(enc.key(s), 2) == s
+    True
+    """
+
+    def __init__(self, box: tuple[int, int, int, int], group: Sequence[Automorphism] = (),
+                 anonymity: bool = True, colours: int = 1):
+        super().__init__(box, group, anonymity)
+        self.colours = colours
+        self.base = self.cells * 5 * colours
+        if colours > 1:
+            lit = np.arange(colours, dtype=np.int64)
+            tables = [(np.asarray(t, dtype=np.int64)[:, None] * colours + lit).reshape(-1)
+                      for t in self.tables]
+            self.tables = [t.tolist() if self.base <= LIST_TABLE_CODES else t for t in tables]
+
+    def key(self, state: State) -> int:
+        """The stored key of a luminous state (robots ``(node, pending, colour)``)."""
+        k = self.colours
+        robots: Any = state
+        codes = [self.code(v, p) * k + c for v, p, c in robots]
+        if self.anonymity:
+            codes.sort()
+        best = self.pack(codes)
+        for table in self.tables:
+            image = [table[c] for c in codes] if isinstance(table, list) else \
+                table[codes].tolist()
+            if self.anonymity:
+                image.sort()
+            best = min(best, self.pack(image))
+        return best
+
+    def decode(self, key: int, n: int) -> State:
+        out: list[Any] = []
+        for _ in range(n):
+            key, c = divmod(key, self.base)
+            code, colour = divmod(c, self.colours)
+            out.append((*self.robot(code), colour))
+        return tuple(out)

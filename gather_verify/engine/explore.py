@@ -38,6 +38,7 @@ import time
 from array import array
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm
 from gather_verify.algorithms.moves import frames_for
@@ -51,15 +52,22 @@ from gather_verify.engine.encoding import (
     STEP_INDEX,
     Encoding,
     Limits,
+    LuminousEncoding,
     Stop,
     region_box,
     symmetry_group,
 )
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
-from gather_verify.model.view import check_detection
+from gather_verify.model.view import Lights, check_detection
 from gather_verify.progress import PROGRESS
-from gather_verify.properties.facts import ConfigurationFacts, StateFacts, configuration_facts
+from gather_verify.properties.facts import (
+    ConfigurationFacts,
+    StateFacts,
+    configuration_facts,
+    luminous_facts,
+)
 from schedulers import Event, State, configuration_of, get_scheduler, initial_state
 
 __all__ = ["DEFAULT_MARGIN", "DEFAULT_MAX_MEMORY_MB", "DEFAULT_MAX_SECONDS", "DEFAULT_MAX_STATES",
@@ -109,8 +117,12 @@ class Exploration:
     violations: dict[str, Violation]
     seconds: float
     peak_rss_mb: float
-    facts: Callable[[tuple[Node, ...]], ConfigurationFacts]
+    facts: Callable[[Any], ConfigurationFacts]  # sorted robot nodes (with lights: (node, colour))
     vacuous: dict[str, str]  # properties not checked: they hold from this initial state, why
+    lights: Lights | None = None
+    """The robots' lights (§10); None: oblivious robots. With lights a state's robots are
+    ``(node, pending, colour)`` and :attr:`facts` takes sorted ``(node, colour)`` pairs."""
+    colours: tuple[int, ...] | None = None  # the initial colours (with lights)
 
     @property
     def n(self) -> int:
@@ -122,8 +134,32 @@ class Exploration:
     def successors(self, sid: int) -> range:
         return range(self.offsets[sid], self.offsets[sid + 1])
 
+    def facts_of(self, state: State) -> ConfigurationFacts:
+        """The facts of a concrete state's configuration (with its lights, if any)."""
+        if self.lights is not None:
+            return self.facts(lit_configuration(state))
+        return self.facts(configuration_of(state))
+
+    def may_stay(self, state: State, i: int) -> bool:
+        """Whether robot ``i`` is idle in ``state`` and may stay (keeping its colour): a null
+        activation (§5's fairness)."""
+        robot = state[i]
+        if robot[1] is not None:
+            return False
+        facts = self.facts_of(state)
+        if self.lights is not None:
+            v, _, c = robot  # type: ignore[misc]
+            return facts.actions is not None and (v, c) in facts.actions[v, c]
+        return facts.move_sets is not None and robot[0] in facts.move_sets[robot[0]]
+
     def concrete_successors(self, state: State) -> list[tuple[Event, State]]:
         """Every (event, successor) of a concrete state, from the scheduler."""
+        if self.lights is not None:
+            facts = self.facts_of(state)
+            if facts.actions is None:
+                raise Unhandled(facts.unhandled or "unhandled")
+            return list(luminous_events(get_scheduler(self.scheduler_name), state, facts))
+
         def ms(robots: tuple[Node, ...]) -> dict[Node, frozenset[Node]]:
             facts = self.facts(robots)
             if facts.move_sets is None:
@@ -159,7 +195,41 @@ class Exploration:
 
     @property
     def initial_state(self) -> State:
+        if self.lights is not None:
+            return lit_initial_state(self.initial.robots, self.colours)
         return initial_state(self.initial.robots)
+
+
+def lit_configuration(state: State) -> tuple[tuple[Node, int], ...]:
+    """What the robots of a luminous state see: every robot's (node, colour), sorted."""
+    return tuple(sorted((r[0], r[2]) for r in state))  # type: ignore[misc]
+
+
+def lit_initial_state(robots: Sequence[Node], colours: Sequence[int] | None) -> State:
+    """All robots idle on their nodes with their initial colours (default 0)."""
+    lights = colours if colours is not None else (0,) * len(robots)
+    return tuple((v, None, c) for v, c in zip(robots, lights, strict=True))  # type: ignore[misc]
+
+
+def _natural(action: object) -> object:
+    return action
+
+
+def luminous_events(sched: object, state: State,
+                    facts: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
+    """The scheduler's events from a luminous Z² state, in the order of the oblivious
+    ``successors`` (actions by destination, then colour; a round where every activated robot
+    stays is a self-loop transition, as on Z² without lights, §4)."""
+    acts = facts.actions
+    assert acts is not None
+
+    def actions(i: int) -> frozenset[tuple[Node, int]]:
+        v, _, c = state[i]  # type: ignore[misc]
+        return acts[v, c]
+
+    for event, succ, _ in sched.luminous(state, None, actions,  # type: ignore[attr-defined]
+                                         order=_natural, null=True):
+        yield event, succ
 
 
 def weight_code(n: int) -> str:
@@ -185,6 +255,20 @@ def facts_cache(algorithm: Algorithm, initial: Configuration, detection: str,
     return facts
 
 
+def luminous_facts_cache(algorithm: Algorithm, initial: Configuration, detection: str,
+                         frames: Sequence[int], lights: Lights
+                         ) -> Callable[[tuple[tuple[Node, int], ...]], ConfigurationFacts]:
+    """:func:`facts_cache` of luminous configurations (sorted (node, colour) pairs)."""
+    cache: dict[tuple[tuple[Node, int], ...], ConfigurationFacts] = {}
+
+    def facts(robots: tuple[tuple[Node, int], ...]) -> ConfigurationFacts:
+        got = cache.get(robots)
+        if got is None:
+            got = cache[robots] = luminous_facts(algorithm, robots, initial, detection, frames,
+                                                 lights)
+        return got
+
+    return facts
 
 
 def explore_reference(
@@ -200,8 +284,13 @@ def explore_reference(
     properties: Iterable[str] | None = None,
     limits: Limits = NO_LIMITS,
     settle: bool = False,
+    lights: Lights | None = None,
+    colours: Sequence[int] | None = None,
 ) -> Exploration:
     """Breadth-first search of every state reachable from ``initial`` (reference path).
+
+    ``lights``: luminous robots (§10; ``colours``: their initial colours, default 0): a
+    state's robots carry their colours, an algorithm answers a move or (move, colour).
 
     ``settle``: stop (``stopped == "settled"``) once every requested property has a
     counterexample (``properties`` named, none of them a graph property).
@@ -220,21 +309,39 @@ def explore_reference(
     anonymity = reduction if anonymity is None else anonymity
     symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
     group = symmetry_group(initial, frames) if symmetry else []
-    enc = Encoding(region_box(initial, limits.margin, group), group, anonymity)
-    facts = facts_cache(algo, initial, detection, frame_elements)
-    checks = Checks(properties, StateFacts(facts(initial.robots), True))
+    box = region_box(initial, limits.margin, group)
+    if lights is None:
+        enc = Encoding(box, group, anonymity)
+        facts: Callable[[Any], ConfigurationFacts] = facts_cache(algo, initial, detection,
+                                                                 frame_elements)
+        conf: Callable[[State], Any] = configuration_of
+        start = initial_state(initial.robots)
 
-    def ms(robots: tuple[Node, ...]) -> dict[Node, frozenset[Node]]:
-        got = facts(robots).move_sets
-        assert got is not None  # checked before the scheduler runs
-        return got
+        def ms(robots: tuple[Node, ...]) -> dict[Node, frozenset[Node]]:
+            got = facts(robots).move_sets
+            assert got is not None  # checked before the scheduler runs
+            return got
 
-    start = initial_state(initial.robots)
+        def events(state: State, here: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
+            return sched.successors(state, ms)
+    else:
+        if getattr(sched, "stateful", False):
+            raise InvalidInput(f"{sched.name} keeps a scheduler state: it runs on finite "
+                               "worlds (--world ring:N, grid:WxH, torus:WxH, graph:FILE)")
+        enc = LuminousEncoding(box, group, anonymity, lights.colours)
+        facts = luminous_facts_cache(algo, initial, detection, frame_elements, lights)
+        conf = lit_configuration
+        start = lit_initial_state(initial.robots, colours)
+
+        def events(state: State, here: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
+            return luminous_events(sched, state, here)
+    checks = Checks(properties, StateFacts(facts(conf(start)), True))
+
     keys = [enc.key(start)]
     visited = {keys[0]: 0}
     parents, offsets, targets = array("q", [-1]), array("q"), array("l")
     weights = array(weight_code(initial.n))
-    checks.state(0, StateFacts(facts(initial.robots), True), checks.on_discovery)
+    checks.state(0, StateFacts(facts(conf(start)), True), checks.on_discovery)
     transitions = changed_loops = 0
     stopped: Stop | str | None = None
     peak = rss_mb()
@@ -251,9 +358,8 @@ def explore_reference(
                 stopped = Stop.MEMORY
                 break
         state = enc.decode(keys[sid], n)
-        robots = configuration_of(state)
-        here = facts(robots)
-        seen = StateFacts(here, all(p is None for _, p in state))
+        here = facts(conf(state))
+        seen = StateFacts(here, all(r[1] is None for r in state))
         halted = checks.halt(sid, seen)
         if halted:
             stopped = halted
@@ -261,7 +367,7 @@ def explore_reference(
         assert here.move_sets is not None, "a state without move sets needs a halting property"
         checks.state(sid, seen, checks.on_expansion)
         offsets.append(len(targets))
-        for k, (event, succ) in enumerate(sched.successors(state, ms), 1):
+        for k, (event, succ) in enumerate(events(state, here), 1):
             transitions += 1
             if k & 1023 == 0 and (len(keys) > limits.max_states or
                                   time.perf_counter() - started > limits.max_seconds):
@@ -269,11 +375,11 @@ def explore_reference(
                 # limits are read every 1,024 of them (a usual state has far fewer)
                 stopped = Stop.STATES if len(keys) > limits.max_states else Stop.TIME
                 break
-            if not all(enc.inside(v) for v, _ in succ):
+            if not all(enc.inside(r[0]) for r in succ):
                 stopped = Stop.REGION
                 break
             if checks.on_transition:
-                checks.transition(sid, here, lambda: facts(configuration_of(succ)),  # noqa: B023
+                checks.transition(sid, here, lambda: facts(conf(succ)),  # noqa: B023
                                   (event, succ))
             key = enc.key(succ)
             did = visited.get(key)
@@ -283,8 +389,8 @@ def explore_reference(
                 keys.append(key)
                 parents.append(sid)
                 if checks.on_discovery:
-                    checks.state(did, StateFacts(facts(configuration_of(succ)),
-                                                 all(p is None for _, p in succ)),
+                    checks.state(did, StateFacts(facts(conf(succ)),
+                                                 all(r[1] is None for r in succ)),
                                  checks.on_discovery)
             elif did == sid and succ != state:
                 changed_loops += 1
@@ -308,4 +414,5 @@ def explore_reference(
         parents=parents, offsets=offsets, targets=targets, weights=weights,
         changed_loops=changed_loops, states=len(keys), transitions=transitions, stopped=stopped,
         violations=checks.violations, seconds=time.perf_counter() - started, peak_rss_mb=peak,
-        facts=facts, vacuous=checks.vacuous)
+        facts=facts, vacuous=checks.vacuous, lights=lights,
+        colours=None if lights is None else tuple(colours or (0,) * n))

@@ -68,8 +68,10 @@ def to_networkx(e: Exploration) -> nx.DiGraph:
     ids = {int(key): sid for sid, key in enumerate(e.keys)}
     for sid in range(len(ids)):
         state = e.state(sid)
-        g.add_node(sid, robots=" ".join(_node(v) for v, _ in state),
-                   pending=" ".join(_node(p) for _, p in state))
+        g.add_node(sid, robots=" ".join(_node(r[0]) for r in state),
+                   pending=" ".join(_node(r[1]) for r in state),
+                   **({} if e.lights is None else
+                      {"colours": " ".join(str(r[2]) for r in state)}))  # type: ignore[misc]
     expanded = max(len(e.offsets) - 1, 0)
     for sid in range(expanded):
         stored = sorted(int(e.targets[j]) for j in e.successors(sid))

@@ -35,7 +35,8 @@ def explore(
     """Every state reachable from ``initial``: the bulk engine when it supports the request
     (``engine="auto"``, the default), else the reference BFS; both give the same result.
 
-    ``engine="fast"`` insists on the bulk engine (InvalidInput if it cannot run this request),
+    ``engine="fast"`` insists on the bulk engine (InvalidInput if it cannot run this request,
+as with ``lights``: the bulk engine encodes no colours, ``auto`` runs the reference),
     ``engine="reference"`` runs :func:`explore_reference`. ``graph=False`` lets the bulk
     engine keep no edges (only states and safety witnesses; see :mod:`fast_explore`);
     ``memo=True`` lets it share configuration facts with the other searches of this
@@ -43,6 +44,11 @@ def explore(
     """
     if engine not in ENGINES:
         raise InvalidInput(f"unknown engine {engine!r}: use one of {', '.join(ENGINES)}")
+    if options.get("lights") is not None:  # the bulk engine encodes no colours
+        if engine == "fast":
+            raise InvalidInput("the fast engine encodes no lights: use engine='auto' or "
+                               "'reference'")
+        return explore_reference(initial, algorithm, scheduler, **options)
     if engine != "reference":
         keys = ("reduction", "anonymity", "symmetry", "frames", "limits")
         if fast_explore.supports(initial, scheduler, **{k: options[k] for k in keys if k in options}):

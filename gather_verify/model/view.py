@@ -20,6 +20,9 @@ gather_verify.model.view.MultiplicityHidden: local-weak detection shows multipli
 
 from __future__ import annotations
 
+from collections import Counter
+from collections.abc import Mapping
+from dataclasses import dataclass
 from functools import cached_property
 
 from gather_verify.errors import GatherVerifyError, InvalidInput
@@ -46,6 +49,27 @@ class MultiplicityHidden(GatherVerifyError, LookupError):
     robots (:meth:`View.count`) under a ``-weak`` model, which tells only whether a node is a
     multiplicity. Fix: make the algorithm decide from what the view shows, or check it under
     a stronger detection model. The explorer reports the read as a ``defined`` violation."""
+
+
+@dataclass(frozen=True)
+class Lights:
+    """The robots' lights (§10): ``colours`` K, and who sees a robot's colour: everyone
+    (``full``), the others only (``external``), the robot only (``internal``). K = 1 is an
+    oblivious robot."""
+
+    colours: int
+    variant: str = "full"
+
+    def __str__(self) -> str:
+        return f"{self.colours}" + ("" if self.variant == "full" else f":{self.variant}")
+
+
+class LightHidden(GatherVerifyError, LookupError):
+    """The algorithm asked for a colour its lights variant hides.
+
+    Cause: the algorithm read another robot's light under a variant where only its own is
+    visible (or its own where only the others' are). Fix: decide from the lights the variant
+    shows, or check the algorithm under the variant it was written for."""
 
 
 def check_detection(detection: str) -> str:
@@ -115,6 +139,32 @@ class View:
             self._cnt = {(a * (x - px) + b * (y - py), c * (x - px) + d * (y - py)): k
                          for (x, y), k in self._snapshot.counts.items()}
         return self._cnt
+
+    @property
+    def me(self) -> Node:
+        """The robot's own node in its frame: the origin (as on a finite world's view)."""
+        return ORIGIN
+
+    def neighbours(self, v: Node = ORIGIN) -> tuple[Node, ...]:
+        """The four neighbours of ``v`` in the frame, sorted (as on a finite world's view)."""
+        return tuple(sorted(geometry.add(v, step) for step in geometry.STEPS))
+
+    @property
+    def light(self) -> int:
+        """The robot's own colour: 0 for an oblivious robot, one colour (:class:`LuminousView`
+        has lights)."""
+        return 0
+
+    def colours(self, v: Node = ORIGIN) -> frozenset[int]:
+        """The colours of the lights on ``v``: ``{0}`` on an occupied node of an oblivious
+        robot's view (one colour), as :meth:`LuminousView.colours` with ``--lights 1``."""
+        return frozenset({0}) if v in self._counts else frozenset()
+
+    def colour_counts(self, v: Node = ORIGIN) -> dict[int, int]:
+        """How many lights of each colour are on ``v`` (strong detection only)."""
+        self._visible(v, strong=True)
+        k = self._counts.get(v, 0)
+        return {0: k} if k else {}
 
     def _visible(self, v: Node, strong: bool) -> None:
         d = self.detection
@@ -193,3 +243,74 @@ class View:
     def __repr__(self) -> str:
         return (f"View(robots={sorted(self.robots)}, meeting_nodes={sorted(self.meeting_nodes)}, "
                 f"detection={self.detection!r})")
+
+
+class LuminousView(View):
+    """A luminous robot's view on Z² (§10): the :class:`View`, and the lights as far as the
+    variant and the detection model show them (asking for more raises :class:`LightHidden`
+    or :class:`MultiplicityHidden`). The colours do not turn with the frame.
+
+    >>> c = Configuration([(0, 0), (0, 0), (2, 0)], [(2, 0)])
+    >>> v = LuminousView.luminous(c, (0, 0), 0, "local-weak", Lights(3),
+    ...                           {(0, 0): Counter({1: 1, 2: 1}), (2, 0): Counter({0: 1})}, 1)
+    >>> v.light, sorted(v.colours()), sorted(v.colours((2, 0)))
+    (1, [1, 2], [0])
+    """
+
+    _lights: Lights
+    _colours: Mapping[Node, Counter[int]]
+    _mine: int
+
+    @classmethod
+    def luminous(cls, configuration: Configuration, node: Node, frame: int, detection: str,
+                 lights: Lights, colours: Mapping[Node, Counter[int]],
+                 mine: int) -> LuminousView:
+        """The view of the robot on ``node`` whose light is ``mine``; ``colours``: the
+        lights on each occupied node (global coordinates)."""
+        self = object.__new__(cls)
+        self.detection = detection
+        self._snapshot, self._node, self._frame = configuration, node, frame
+        self._meeting = self._robots = self._cnt = None
+        self._lights, self._colours, self._mine = lights, colours, mine
+        return self
+
+    @property
+    def light(self) -> int:
+        """The robot's own colour (hidden under external lights)."""
+        if self._lights.variant == "external":
+            raise LightHidden("external lights: a robot does not see its own colour")
+        return self._mine
+
+    def _colours_on(self, v: Node) -> Counter[int]:
+        if self._lights.variant == "internal":
+            raise LightHidden("internal lights: a robot sees no other robot's colour")
+        dx, dy = geometry.apply(geometry.inverse(self._frame), v)
+        back = (self._node[0] + dx, self._node[1] + dy)
+        seen: Counter[int] = Counter(self._colours.get(back, ()))
+        if back == self._node and self._lights.variant == "external":
+            seen[self._mine] -= 1  # its own light is the one it cannot see
+        return +seen
+
+    def colours(self, v: Node = ORIGIN) -> frozenset[int]:
+        """The colours of the lights on ``v`` (default: the robot's own node; under external
+        lights its own light is not among them), as a set (how many of each:
+        :meth:`colour_counts`, under strong detection)."""
+        return frozenset(self._colours_on(v))
+
+    def colour_counts(self, v: Node = ORIGIN) -> dict[int, int]:
+        """How many lights of each colour are on ``v`` (strong detection only)."""
+        self._visible(v, strong=True)
+        return dict(self._colours_on(v))
+
+    def key(self) -> tuple[object, ...]:
+        """:meth:`View.key` with the lights the variant shows."""
+        variant = self._lights.variant
+        own = None if variant == "external" else self._mine
+        others = None if variant == "internal" else frozenset(
+            (v, frozenset(self._colours_on(v))) for v in self.robots)
+        return (*super().key(), own, others)
+
+    def __repr__(self) -> str:
+        return (f"LuminousView(robots={sorted(self.robots)}, "
+                f"meeting_nodes={sorted(self.meeting_nodes)}, detection={self.detection!r}, "
+                f"lights={str(self._lights)!r})")

@@ -77,11 +77,20 @@ class Run:
     steps: list[Any]
     facts: Callable[[Any], Facts]
     move_sets: Callable[[tuple], dict]
+    stays: Callable[[Any, int], bool] | None = None
+    """With lights: whether robot i of a state is idle and may stay, keeping its colour."""
 
     def state_facts(self, k: int = -1) -> StateFacts:
         """The facts of the ``k``-th replayed state (the last by default)."""
         state = self.states[k]
-        return StateFacts(self.facts(state), all(p is None for _, p in state))
+        return StateFacts(self.facts(state), all(r[1] is None for r in state))
+
+    def may_stay(self, state: Any, i: int) -> bool:
+        """Whether robot ``i`` of ``state`` is idle and may stay (a null activation, §5)."""
+        if self.stays is not None:
+            return self.stays(state, i)
+        v, p = state[i]
+        return p is None and v in self.move_sets(tuple(sorted(r[0] for r in state)))[v]
 
 
 @dataclass(frozen=True, eq=False)

@@ -188,8 +188,6 @@ TERMINATION = Property(
 def fair_cycle(run: Run, cs: int) -> tuple[bool, str]:
     """The cycle from state ``cs`` returns to it, changes something, and is fair: every robot
     has an event in it or is idle somewhere in it with staying in its move set."""
-    from schedulers import configuration_of
-
     states, steps = run.states, run.steps
     if states[cs] != states[-1] or cs == len(states) - 1:
         return False, "the cycle does not return to its first state"
@@ -198,8 +196,7 @@ def fair_cycle(run: Run, cs: int) -> tuple[bool, str]:
     for ev, _ in steps[cs:]:
         active |= set(ev.robots)
     for state in states[cs:]:
-        sets = run.move_sets(configuration_of(state))
-        active |= {i for i, (v, p) in enumerate(state) if p is None and v in sets[v]}
+        active |= {i for i in range(n) if i not in active and run.may_stay(state, i)}
     if active != set(range(n)):
         return False, f"unfair: robots {sorted(set(range(n)) - active)} never act in the cycle"
     return True, f"fair cycle of {len(states) - 1 - cs} steps confirmed"

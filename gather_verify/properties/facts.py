@@ -22,10 +22,11 @@ from dataclasses import dataclass
 from typing import Any, Protocol
 
 from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, Unhandled, target_of
-from gather_verify.algorithms.moves import move_sets
+from gather_verify.algorithms.moves import Action, LitRobots, luminous_table, move_sets
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
+from gather_verify.model.view import Lights
 
 
 class Facts(Protocol):
@@ -64,6 +65,9 @@ class ConfigurationFacts:
     in_U: bool
     target: Node | None
     crash: AlgorithmCrash | None = None
+    actions: dict[tuple[Node, int], frozenset[Action]] | None = None
+    """With lights (§10): per (node, colour), the actions (destination, colour) of the
+    robots there; ``move_sets`` is then their destinations, per node."""
 
 
 def configuration_facts(algorithm: Algorithm, configuration: Configuration,
@@ -94,6 +98,41 @@ def configuration_facts(algorithm: Algorithm, configuration: Configuration,
     gathered = len(configuration.counts) == 1 and robots[0] in configuration.meeting_nodes
     return ConfigurationFacts(configuration, initial, ms, unhandled, stuck, gathered,
                               classify_configuration(configuration).in_U, target, crash)
+
+
+def luminous_facts(algorithm: Algorithm, robots: LitRobots, initial: Configuration,
+                   detection: str, frames: Sequence[int], lights: Lights) -> ConfigurationFacts:
+    """:func:`configuration_facts` of a luminous configuration (its robots' sorted (node,
+    colour) pairs): the same facts, read from the robots' actions. A robot is stuck when its
+    one action is to stay and keep its colour (a colour change is an event, §10)."""
+    configuration = Configuration.trusted(tuple(v for v, _ in robots), initial.meeting_nodes)
+    crash = None
+    actions: dict[tuple[Node, int], frozenset[Action]] | None = None
+    unhandled = None
+    try:
+        actions = luminous_table(algorithm, robots, initial.meeting_nodes, detection, frames,
+                                 lights)
+    except Unhandled as error:
+        unhandled = str(error) or "no rule for this view"
+    except AlgorithmCrash as error:
+        crash = error
+    try:
+        target = target_of(algorithm, configuration)
+    except Unhandled:
+        target = None
+    except AlgorithmCrash as error:
+        target, crash, actions = None, crash or error, None
+    ms: dict[Node, frozenset[Node]] | None = None
+    if actions is not None:
+        ms = {}
+        for (v, _), acts in actions.items():
+            ms[v] = ms.get(v, frozenset()) | frozenset(d for d, _ in acts)
+    stuck = actions is not None and all(a == {(v, c)} for (v, c), a in actions.items())
+    gathered = len(configuration.counts) == 1 and \
+        configuration.robots[0] in configuration.meeting_nodes
+    return ConfigurationFacts(configuration, initial, ms, unhandled, stuck, gathered,
+                              classify_configuration(configuration).in_U, target, crash,
+                              actions)
 
 
 class StateFacts:

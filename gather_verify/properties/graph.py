@@ -303,9 +303,8 @@ def fair_witnesses(e: Exploration, component: Sequence[int]) -> dict[int, tuple[
     found: dict[int, tuple[int, int | None]] = {}
     for u in component:
         state = e.state(u)
-        facts = e.facts(tuple(sorted(v for v, _ in state)))
-        for i, (v, p) in enumerate(state):
-            if i in need and p is None and facts.move_sets is not None and v in facts.move_sets[v]:
+        for i in range(e.n):
+            if i in need and e.may_stay(state, i):
                 found[i] = (u, None)
                 need.discard(i)
         for event, succ in e.concrete_successors(state):

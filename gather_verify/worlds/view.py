@@ -19,34 +19,13 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Mapping
-from dataclasses import dataclass
 
 import networkx as nx
 
-from gather_verify.errors import GatherVerifyError
-from gather_verify.model.view import MultiplicityHidden
+from gather_verify.model.view import LightHidden, Lights, MultiplicityHidden
 from gather_verify.worlds.base import FrameMap, Label, World
 
-
-@dataclass(frozen=True)
-class Lights:
-    """The robots' lights (§10): ``colours`` K, and who sees a robot's colour: everyone
-    (``full``), the others only (``external``), the robot only (``internal``). K = 1 is an
-    oblivious robot."""
-
-    colours: int
-    variant: str = "full"
-
-    def __str__(self) -> str:
-        return f"{self.colours}" + ("" if self.variant == "full" else f":{self.variant}")
-
-
-class LightHidden(GatherVerifyError, LookupError):
-    """The algorithm asked for a colour its lights variant hides.
-
-    Cause: the algorithm read another robot's light under a variant where only its own is
-    visible (or its own where only the others' are). Fix: decide from the lights the variant
-    shows, or check the algorithm under the variant it was written for."""
+__all__ = ["LightHidden", "Lights", "WorldView"]
 
 
 class WorldView:
