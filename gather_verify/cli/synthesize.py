@@ -83,6 +83,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "a W x H box of nodes, --robots and --meeting as counts or ranges A-B")
     p.add_argument("--select", default="all", choices=("u", "outside-u", "all"),
                    help="with --box: the configurations in U, outside U, or all (default)")
+    p.add_argument("--classes", default=None, metavar="NAME,...",
+                   help="with --box: only the configurations of these classes (I11 ... I42, "
+                        "UNCLASSIFIED)")
     p.add_argument("--rounds", type=bounded_int(0, 1000), default=12,
                    help="the paper's world: rounds of Theorem 1's adversary that a certificate "
                         "of none re-checks with the view code (default 12)")
@@ -408,7 +411,8 @@ def _plane(args: argparse.Namespace) -> int:
         raise UsageError(f"--witness {args.witness}: the algorithm file must end in .py")
     writable_outputs(witness=args.witness, certificate=args.certificate)
     inst = plane.make_instance(args.robots, args.meeting, args.scheduler, args.task,
-                               args.multiplicity, args.frames, args.box, args.select)
+                               args.multiplicity, args.frames, args.box, args.select,
+                               args.classes)
     if not inst.configurations:
         raise UsageError("no configuration of the box is selected: widen --robots, --meeting "
                          "or --select")
@@ -431,8 +435,7 @@ def _plane(args: argparse.Namespace) -> int:
                                                                    "rounds")},
                            phi=entry["phi"]["describe"])
             else:
-                left = max(args.max_seconds - (time.perf_counter() - started), 0.001)
-                found = plane.search_algorithm(c, inst, views, max_seconds=left,
+                found = plane.search_algorithm(c, inst, views, max_seconds=args.max_seconds,
                                                max_candidates=args.max_candidates,
                                                max_states=args.max_states)
                 from gather_verify.model.classes import classify_configuration

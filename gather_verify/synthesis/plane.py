@@ -37,7 +37,7 @@ from gather_verify.errors import InvalidInput
 from gather_verify.impossibility import symmetry_defect
 from gather_verify.model import geometry
 from gather_verify.model.canonical import canonical_form
-from gather_verify.model.classes import classify_configuration
+from gather_verify.model.classes import CLASS_NAMES, classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.symmetry import Automorphism, configuration_automorphisms
@@ -303,11 +303,12 @@ def parse_range(text: str, what: str, high: int) -> range:
 
 
 def box_configurations(width: int, height: int, robots: range, meeting: range,
-                       select: str) -> list[Configuration]:
+                       select: str, classes: tuple[str, ...] = ()) -> list[Configuration]:
     """Every initial configuration whose robots and meeting nodes lie in the ``width`` x
     ``height`` box of nodes (robots on distinct nodes, a robot may stand on a meeting node),
     one per class under translations and D4 (its first member in enumeration order), with
-    ``select``: those in U (§2), those outside, or all."""
+    ``select``: those in U (§2), those outside, or all; only the paper's ``classes`` when
+    some are named."""
     if select not in SELECTIONS:
         raise InvalidInput(f"--select {select!r}: use one of {', '.join(SELECTIONS)}")
     nodes = [(x, y) for x in range(width) for y in range(height)]
@@ -324,8 +325,9 @@ def box_configurations(width: int, height: int, robots: range, meeting: range,
                         continue
                     keys.add(key)
                     c = Configuration(list(rs), list(ms), initial=True)
-                    in_u = classify_configuration(c).in_U
-                    if select == "all" or (select == "u") == in_u:
+                    cl = classify_configuration(c)
+                    if (select == "all" or (select == "u") == cl.in_U) and (
+                            not classes or cl.name in classes):
                         out.append(c)
     return out
 
@@ -347,7 +349,7 @@ class PlaneInstance:
 
 def make_instance(robots: str, meeting: str, scheduler: str, task: str | None,
                   detection: str, frames: str, box: str | None = None,
-                  select: str = "all") -> PlaneInstance:
+                  select: str = "all", classes: str | None = None) -> PlaneInstance:
     """The instance from command-line text (one line of InvalidInput for anything else)."""
     from schedulers import get_scheduler
 
@@ -365,10 +367,16 @@ def make_instance(robots: str, meeting: str, scheduler: str, task: str | None,
         width, height = parse_box(box)
         rs = parse_range(robots, "--robots", width * height)
         ms = parse_range(meeting, "--meeting", width * height)
-        configs = box_configurations(width, height, rs, ms, select)
+        names = tuple(x.strip() for x in (classes or "").split(",") if x.strip())
+        unknown = [x for x in names if x not in CLASS_NAMES]
+        if unknown:
+            raise InvalidInput(f"--classes {unknown[0]!r}: use the paper's classes "
+                               f"({', '.join(CLASS_NAMES)})")
+        configs = box_configurations(width, height, rs, ms, select, names)
         return PlaneInstance(configs, scheduler, detection, frames,
                              {"width": width, "height": height, "robots": [rs[0], rs[-1]],
-                              "meeting": [ms[0], ms[-1]], "select": select})
+                              "meeting": [ms[0], ms[-1]], "select": select,
+                              "classes": list(names)})
     if not meeting.strip():
         raise InvalidInput("the paper's world needs meeting nodes: give --meeting")
     c = Configuration(geometry.parse_nodes(robots), geometry.parse_nodes(meeting),
@@ -456,7 +464,7 @@ def _verify(data: dict[str, Any]) -> dict[str, Any]:
         want = box_configurations(int(box["width"]), int(box["height"]),
                                   range(box["robots"][0], box["robots"][1] + 1),
                                   range(box["meeting"][0], box["meeting"][1] + 1),
-                                  box["select"])
+                                  box["select"], tuple(box.get("classes", ())))
         got = sorted(_text(e["robots"], e["meeting_nodes"]) for e in entries)
         if box["select"] != "u" or got != sorted(_text(c.robots, c.meeting_nodes)
                                                  for c in want):
@@ -500,6 +508,8 @@ class TableAlgorithm:
 
 @dataclass
 class SearchResult:
+    """The search's answer (exists or unknown) and the table of exists."""
+
     answer: str  # exists | unknown
     candidates: int
     views: int
@@ -572,7 +582,7 @@ def search_algorithm(c: Configuration, inst: PlaneInstance, views: PlaneViews, *
                            scheduler=inst.scheduler, detection=inst.detection,
                            frames=inst.frames, properties=["final", "termination"],
                            reduction=False, max_states=max_states, max_seconds=left,
-                           margin=region)
+                           margin=region, force=True)
         if report["verdict"] == "VERIFIED":
             return result("exists", table=choice)
         trace = report.get("trace")
@@ -706,4 +716,4 @@ def check_witness(spec: str, inst: PlaneInstance, c: Configuration,
 
     return run_check(c, algorithm=spec, scheduler=inst.scheduler, detection=inst.detection,
                      frames=inst.frames, properties=["final", "termination"],
-                     reduction=False, max_seconds=max_seconds)
+                     reduction=False, max_seconds=max_seconds, force=True)
