@@ -211,3 +211,23 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list[str], words
     run = cli(*args, cwd=tmp_path)
     assert run.returncode == 2, (run.returncode, run.stderr)
     assert words in one_line(run)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("robots", "meeting"), [
+    ("0,0 1,2", "0,1 2,1"),  # F10: the paper's algorithm reaches UNCLASSIFIED, robust
+    ("0,0 0,1 0,2", "0,0 0,2"),  # F7: SymmetryBreaking lands on an occupied node
+])
+def test_a_configuration_the_paper_fails_is_gathered_by_a_synthesised_algorithm(
+        tmp_path: Path, robots: str, meeting: str) -> None:
+    """The faults are the algorithm's, not the characterization's: from these initial
+    configurations outside U some algorithm gathers under ASYNC, and the ordinary checker,
+    every property on, every reduction off, verifies it."""
+    run = cli("--world", "grid", "--robots", robots, "--meeting", meeting, "--scheduler",
+              "async", "--json", "--witness", "w.py", "--max-seconds", "300", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    c = Configuration([tuple(map(int, v.split(","))) for v in robots.split()],
+                      [tuple(map(int, v.split(","))) for v in meeting.split()], initial=True)
+    got = run_check(c, algorithm=str(tmp_path / "w.py") + ":Synthesized", scheduler="async",
+                    reduction=False, max_seconds=120, force=True)
+    assert got["verdict"] == "VERIFIED", got
