@@ -435,17 +435,20 @@ def _plane(args: argparse.Namespace) -> int:
                                                                    "rounds")},
                            phi=entry["phi"]["describe"])
             else:
-                found = plane.search_algorithm(c, inst, views, max_seconds=args.max_seconds,
+                # a fresh table per configuration: the views of the others do not matter
+                own = plane.PlaneViews(inst.detection, inst.frames)
+                found = plane.search_algorithm(c, inst, own, max_seconds=args.max_seconds,
                                                max_candidates=args.max_candidates,
                                                max_states=args.max_states)
                 from gather_verify.model.classes import classify_configuration
 
                 cl = classify_configuration(c)
                 row.update(answer=found.answer, limit=found.limit, candidates=found.candidates,
+                           views=found.views,
                            **{"class": cl.name, "in_U": cl.in_U})
                 if found.answer == "exists":
                     path = args.witness if len(inst.configurations) == 1 else f"{stem}-{i}.py"
-                    spec = plane.write_witness(path, inst, c, views, found.table)
+                    spec = plane.write_witness(path, inst, c, own, found.table)
                     checked = plane.check_witness(spec, inst, c, args.max_seconds)
                     row.update(witness=spec, table=len(found.table),
                                checker={"verdict": checked["verdict"],

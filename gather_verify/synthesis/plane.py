@@ -51,6 +51,9 @@ COVERED_SCHEDULERS = ("fsync", "ssync", "async")
 robot active) and an ASYNC sequence (every Look, then every Move), fair in each."""
 DEFAULT_ROUNDS = 8
 SELECTIONS = ("u", "outside-u", "all")
+CANDIDATE_SECONDS = 10.0
+"""The least time one candidate's check gets before the search moves on (it gets a quarter
+of what is left when that is more)."""
 
 
 class CertificateError(Exception):
@@ -572,20 +575,28 @@ def search_algorithm(c: Configuration, inst: PlaneInstance, views: PlaneViews, *
         register()
         if not solver.solve():
             return result("unknown", "region (every table left is excluded; the clauses that "
-                          "exclude tables leaving the region are heuristics, so this is no "
-                          "none)" if heuristic else "search exhausted without a certificate")
+                          "exclude tables leaving the region or taking too long are "
+                          "heuristics, so this is no none)" if heuristic else
+                          "search exhausted without a certificate")
         model = solver.get_model() or []
         choice = {k: o for k, first in enumerate(base)
                   for o in range(len(views.options[k])) if model[first + o] > 0}
         candidates += 1
+        cap = min(left, max(CANDIDATE_SECONDS, left / 4))
         report = run_check(c, algorithm=TableAlgorithm(views, choice, span),
                            scheduler=inst.scheduler, detection=inst.detection,
                            frames=inst.frames, properties=["final", "termination"],
-                           reduction=False, max_states=max_states, max_seconds=left,
+                           reduction=False, max_states=max_states, max_seconds=cap,
                            margin=region, force=True)
         if report["verdict"] == "VERIFIED":
             return result("exists", table=choice)
         trace = report.get("trace")
+        if report["verdict"] == "INCOMPLETE" and not trace and cap < left:
+            # one candidate took its share of the time: exclude this very table (a
+            # heuristic, as for the region) and go on
+            heuristic = True
+            solver.add_clause([-(base[k] + o + 1) for k, o in sorted(choice.items())])
+            continue
         if report["verdict"] != "VIOLATED" or not trace:
             return result("unknown", f"the checker says {report['verdict']} "
                           f"({report.get('reason')}) of a candidate")
