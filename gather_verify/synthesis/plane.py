@@ -391,9 +391,15 @@ def make_instance(robots: str, meeting: str, scheduler: str, task: str | None,
 
 def write_certificate(path: str, inst: PlaneInstance, entries: list[dict[str, Any]]) -> None:
     data = {"format": FORMAT, "instance": inst.describe(),
-            "claim": ("for each configuration: every algorithm (a deterministic function of "
-                      "the view up to isomorphism) fails to gather on one meeting node under "
-                      "this scheduler, against Theorem 1's adversary"),
+            "claim": ("for each configuration and every algorithm (a deterministic function "
+                      "of the view up to isomorphism, under these frames and this detection), "
+                      "Theorem 1's FSYNC adversary has a run that keeps every configuration "
+                      "symmetric under phi, so it never gathers on one meeting node (an FSYNC "
+                      "run is an SSYNC and an ASYNC run too). The adversary's step is "
+                      "re-checked with the view code on every configuration it reaches within "
+                      "'rounds' rounds (within the initial MER grown by 'rounds' nodes); "
+                      "beyond them it carries on by the theorem's induction, as phi's linear "
+                      "part is one of the robots' frames."),
             "configurations": entries}
     Path(path).write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
 
