@@ -29,8 +29,9 @@ from gather_verify.cli.common import (
 from gather_verify.errors import InvalidInput
 from schedulers import SCHEDULERS
 
-HELP = ("does any algorithm solve the task on a finite world? exists (with an algorithm file, "
-        "verified), none (with a certificate) or unknown (with the limit that stopped it)")
+HELP = ("does any algorithm solve the task, on a finite world or the paper's (grid)? exists "
+        "(with an algorithm file, verified), none (with a certificate) or unknown (with the "
+        "limit that stopped it)")
 ANSWER_EXIT = {"exists": EXIT_OK, "none": EXIT_VIOLATED, "unknown": EXIT_INCOMPLETE}
 
 
