@@ -603,6 +603,8 @@ def search_algorithm(c: Configuration, inst: PlaneInstance, views: PlaneViews, *
             heuristic = True
             solver.add_clause([-(base[k] + o + 1) for k, o in sorted(choice.items())])
             continue
+        if report["verdict"] == "INCOMPLETE" and report.get("reason") == "time":
+            return result("unknown", "max-seconds (during a candidate's check)")
         if report["verdict"] != "VIOLATED" or not trace:
             return result("unknown", f"the checker says {report['verdict']} "
                           f"({report.get('reason')}) of a candidate")
