@@ -162,6 +162,22 @@ def test_exists_outside_u_and_the_checker_verifies_the_witness(tmp_path: Path) -
     assert got["verdict"] == "VERIFIED"
 
 
+def test_one_algorithm_for_every_configuration_of_a_box(tmp_path: Path) -> None:
+    """--together: one table gathers from every configuration outside U of the box, and the
+    ordinary checker verifies it from each of them."""
+    run = cli("--world", "grid", "--box", "2x2", "--robots", "2", "--meeting", "1",
+              "--select", "outside-u", "--together", "--scheduler", "async", "--json",
+              "--witness", "w.py", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    report = json.loads(run.stdout)
+    assert report["answer"] == "exists" and report["checker"]["verdicts"] == ["VERIFIED"]
+    spec = str(tmp_path / "w.py") + ":Synthesized"
+    for c in plane.box_configurations(2, 2, range(2, 3), range(1, 2), "outside-u"):
+        got = run_check(c, algorithm=spec, scheduler="async", reduction=False,
+                        properties=["final", "termination"], max_seconds=60, force=True)
+        assert got["verdict"] == "VERIFIED", (c, got)
+
+
 NODES = st.tuples(st.integers(0, 3), st.integers(0, 3))
 
 
@@ -204,6 +220,8 @@ def test_mirrored_configurations_get_the_same_answer(robots: set, meeting: set, 
     (["--world", "grid", "--box", "3x", "--robots", "2", "--meeting", "2"], "--box"),
     (["--world", "grid", "--box", "3x3", "--robots", "2-x", "--meeting", "2"], "--robots"),
     (["--world", "ring:6", "--box", "3x3", "--robots", "2"], "--box"),
+    (["--world", "grid", "--box", "3x3", "--robots", "2", "--meeting", "2", "--together"],
+     "--together"),
     (["--world", "grid", "--box", "2x2", "--robots", "1", "--meeting", "1", "--select",
       "u"], "no configuration"),
 ])

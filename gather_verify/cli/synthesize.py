@@ -87,6 +87,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--classes", default=None, metavar="NAME,...",
                    help="with --box: only the configurations of these classes (I11 ... I42, "
                         "UNCLASSIFIED)")
+    p.add_argument("--together", action="store_true",
+                   help="with --box --select outside-u: one algorithm for every selected "
+                        "configuration at once")
     p.add_argument("--rounds", type=bounded_int(0, 1000), default=12,
                    help="the paper's world: rounds of Theorem 1's adversary that a certificate "
                         "of none re-checks with the view code (default 12)")
@@ -417,6 +420,8 @@ def _plane(args: argparse.Namespace) -> int:
     if not inst.configurations:
         raise UsageError("no configuration of the box is selected: widen --robots, --meeting "
                          "or --select")
+    if args.together:
+        return _plane_together(args, inst)
     started = time.perf_counter()
     views = plane.PlaneViews(inst.detection, inst.frames)
     rows: list[dict[str, Any]] = []
@@ -438,7 +443,7 @@ def _plane(args: argparse.Namespace) -> int:
             else:
                 # a fresh table per configuration: the views of the others do not matter
                 own = plane.PlaneViews(inst.detection, inst.frames)
-                found = plane.search_algorithm(c, inst, own, max_seconds=args.max_seconds,
+                found = plane.search_algorithm([c], inst, own, max_seconds=args.max_seconds,
                                                max_candidates=args.max_candidates,
                                                max_states=args.max_states)
                 from gather_verify.model.classes import classify_configuration
@@ -528,3 +533,55 @@ def _print_plane(report: dict[str, Any]) -> None:
         print(f"certificate: {report['certificate']} (Theorem 1 for every algorithm, per "
               "configuration answered none); re-check it with")
         print(f"  gather-verify synthesize --verify {report['certificate']}")
+
+
+def _plane_together(args: argparse.Namespace, inst: Any) -> int:
+    """``--together``: one table that gathers from every selected configuration (a repaired
+    algorithm for all of them), verified by the ordinary checker from each; else unknown."""
+    from gather_verify.synthesis import plane
+
+    if inst.box is None or inst.box["select"] != "outside-u" or inst.frames != "all":
+        raise UsageError("--together goes with --box and --select outside-u (disoriented "
+                         "robots: in U no algorithm gathers)")
+    started = time.perf_counter()
+    views = plane.PlaneViews(inst.detection, inst.frames)
+    found = plane.search_algorithm(inst.configurations, inst, views,
+                                   max_seconds=args.max_seconds,
+                                   max_candidates=args.max_candidates,
+                                   max_states=args.max_states)
+    report: dict[str, Any] = {"answer": found.answer, **inst.describe(), "together": True,
+                              "configurations": len(inst.configurations),
+                              "views": found.views, "candidates": found.candidates,
+                              "limit": found.limit, "witness": None}
+    problem = None
+    if found.answer == "exists":
+        spec = plane.write_witness(args.witness, inst, inst.configurations[0], views,
+                                   found.table)
+        verdicts = [plane.check_witness(spec, inst, c, args.max_seconds)["verdict"]
+                    for c in inst.configurations]
+        report.update(witness=spec, table=len(found.table),
+                      checker={"verdicts": sorted(set(verdicts)), "reductions": "off"})
+        if set(verdicts) != {"VERIFIED"}:
+            problem = (f"the ordinary checker says {sorted(set(verdicts))} of the witness "
+                       f"{spec}: this is a bug of gather-verify's synthesis, please report it")
+    report["seconds"] = time.perf_counter() - started
+    if args.json:
+        print_json(report if args.timings else {k: v for k, v in report.items()
+                                                 if k != "seconds"})
+    else:
+        box = report["box"]
+        print(f"{found.answer}  grid (Z²)  one algorithm for {len(inst.configurations)} "
+              f"configuration(s) of the {box['width']}x{box['height']} box outside U  "
+              f"task {report['task']} / {report['scheduler']}")
+        print(f"views {found.views}  candidates {found.candidates}  "
+              f"{report['seconds']:.2f}s")
+        if found.answer == "exists":
+            print(f"witness: --algorithm {report['witness']} ({report['table']} views); "
+                  f"checker, every reduction off, from each configuration: "
+                  f"{', '.join(report['checker']['verdicts'])}")
+        else:
+            print(f"the search stopped: {found.limit}")
+    if problem is not None:
+        print(f"internal error: {problem}", file=sys.stderr)
+        return EXIT_BUG
+    return EXIT_OK if found.answer == "exists" else EXIT_INCOMPLETE

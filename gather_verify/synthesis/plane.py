@@ -527,13 +527,14 @@ class SearchResult:
     table: dict[int, int] = field(default_factory=dict)
 
 
-def search_algorithm(c: Configuration, inst: PlaneInstance, views: PlaneViews, *,
-                     max_seconds: float, max_candidates: int, max_states: int,
-                     margin: int = 2) -> SearchResult:
+def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
+                     views: PlaneViews, *, max_seconds: float, max_candidates: int,
+                     max_states: int, margin: int = 2) -> SearchResult:
     """Counterexample-guided: the solver proposes a table over the views met so far, the
-    ordinary checker (every reduction off, properties final and termination) judges it; a
-    violation's trace gives the clause "not this option on every view of its
-    configurations", a view with no rule is added to the table."""
+    ordinary checker (every reduction off, properties final and termination) judges it from
+    each configuration in turn (the last one that failed first); a violation's trace gives
+    the clause "not these options on the views it relies on", a view with no rule is added
+    to the table. One table must gather from every configuration."""
     from gather_verify.check import run_check
     from gather_verify.synthesis.search import solver_class
 
@@ -557,11 +558,13 @@ def search_algorithm(c: Configuration, inst: PlaneInstance, views: PlaneViews, *
             phases.extend(x if o == best else -x for o, x in enumerate(xs))
         solver.set_phases(phases)
 
-    x0, y0, x1, y1 = geometry.bounding_box([*c.robots, *c.meeting_nodes])
-    span = max(x1 - x0, y1 - y0) + margin
-    # a robot d nodes out of the initial MER is d from every meeting node, so every view
-    # with a rule lies within span of the MER: the checker's region holds it
-    region = span + 1
+    spans = []
+    for c in configurations:
+        x0, y0, x1, y1 = geometry.bounding_box([*c.robots, *c.meeting_nodes])
+        # a robot d nodes out of the initial MER is d from every meeting node, so every view
+        # with a rule lies within span of the MER: the checker's region (span + 1) holds it
+        spans.append(max(x1 - x0, y1 - y0) + margin)
+    order = list(range(len(configurations)))
     candidates = 0
     heuristic = False
 
@@ -570,8 +573,9 @@ def search_algorithm(c: Configuration, inst: PlaneInstance, views: PlaneViews, *
         return SearchResult(answer, candidates, len(views.texts),
                             time.perf_counter() - started, limit, **more)
 
-    for v in sorted(c.occupied):
-        views.occurrence(c, v)
+    for c in configurations:
+        for v in sorted(c.occupied):
+            views.occurrence(c, v)
     while True:
         left = max_seconds - (time.perf_counter() - started)
         if left <= 0:
@@ -588,14 +592,25 @@ def search_algorithm(c: Configuration, inst: PlaneInstance, views: PlaneViews, *
         choice = {k: o for k, first in enumerate(base)
                   for o in range(len(views.options[k])) if model[first + o] > 0}
         candidates += 1
-        cap = min(left, max(CANDIDATE_SECONDS, left / 4))
-        report = run_check(c, algorithm=TableAlgorithm(views, choice, span),
-                           scheduler=inst.scheduler, detection=inst.detection,
-                           frames=inst.frames, properties=["final", "termination"],
-                           reduction=False, max_states=max_states, max_seconds=cap,
-                           margin=region, force=True)
-        if report["verdict"] == "VERIFIED":
+        failed = None
+        for idx in order:
+            c = configurations[idx]
+            left = max_seconds - (time.perf_counter() - started)
+            cap = min(left, max(CANDIDATE_SECONDS, left / 4))
+            report = run_check(c, algorithm=TableAlgorithm(views, choice, spans[idx]),
+                               scheduler=inst.scheduler, detection=inst.detection,
+                               frames=inst.frames, properties=["final", "termination"],
+                               reduction=False, max_states=max_states,
+                               max_seconds=max(cap, 0.001), margin=spans[idx] + 1,
+                               force=True)
+            if report["verdict"] != "VERIFIED":
+                failed = idx
+                break
+        if failed is None:
             return result("exists", table=choice)
+        order.remove(failed)
+        order.insert(0, failed)
+        c = configurations[failed]
         trace = report.get("trace")
         if report["verdict"] == "INCOMPLETE" and not trace and cap < left:
             # one candidate took its share of the time: exclude this very table (a
