@@ -254,7 +254,7 @@ def test_a_tiny_limit_says_unknown_and_names_it(tmp_path: Path) -> None:
 # -- bad input: one line, exit 2 --------------------------------------------------------------
 
 @pytest.mark.parametrize(("args", "words"), [
-    (["--world", "grid", "--robots", "2"], "finite world"),
+    (["--world", "grid", "--robots", "2"], "--meeting"),
     (["--robots", "2"], "--world"),
     (["--world", "ring:6"], "--robots"),
     (["--world", "ring:6", "--robots", "2", "--lights", "2:external"], "external"),

@@ -29,13 +29,15 @@ from gather_verify.cli.common import (
 from gather_verify.errors import InvalidInput
 from schedulers import SCHEDULERS
 
-HELP = ("does any algorithm solve the task on a finite world? exists (with an algorithm file, "
-        "verified), none (with a certificate) or unknown (with the limit that stopped it)")
+HELP = ("does any algorithm solve the task, on a finite world or the paper's (grid)? exists "
+        "(with an algorithm file, verified), none (with a certificate) or unknown (with the "
+        "limit that stopped it)")
 ANSWER_EXIT = {"exists": EXIT_OK, "none": EXIT_VIOLATED, "unknown": EXIT_INCOMPLETE}
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--world", help="a finite world: ring:N, grid:WxH, torus:WxH or graph:FILE")
+    p.add_argument("--world", help="a finite world (ring:N, grid:WxH, torus:WxH, graph:FILE) "
+                   "or the paper's world Z² with meeting nodes (grid)")
     p.add_argument("--robots", help='one initial configuration ("0 2"), or a count of robots '
                    "(2: every initial configuration of that many, up to the world's "
                    "symmetries)")
@@ -77,6 +79,20 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", default=None, metavar="DIR",
                    help="with --minimum: where the witnesses and certificates go (default: "
                         "a folder synthesis/ beside the database)")
+    p.add_argument("--box", default=None, metavar="WxH",
+                   help="the paper's world (--world grid): every initial configuration inside "
+                        "a W x H box of nodes, --robots and --meeting as counts or ranges A-B")
+    p.add_argument("--select", default="all", choices=("u", "outside-u", "all"),
+                   help="with --box: the configurations in U, outside U, or all (default)")
+    p.add_argument("--classes", default=None, metavar="NAME,...",
+                   help="with --box: only the configurations of these classes (I11 ... I42, "
+                        "UNCLASSIFIED)")
+    p.add_argument("--together", action="store_true",
+                   help="with --box --select outside-u: one algorithm for every selected "
+                        "configuration at once")
+    p.add_argument("--rounds", type=bounded_int(0, 1000), default=12,
+                   help="the paper's world: rounds of Theorem 1's adversary that a certificate "
+                        "of none re-checks with the view code (default 12)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--timings", action="store_true",
                    help="with --json, also print the seconds (left out by default so the "
@@ -92,6 +108,12 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("give --robots: nodes (\"0 2\") or a count (2)")
     if args.minimum:
         return _minimum(args)
+    from gather_verify.worlds import is_plane
+
+    if is_plane(args.world):
+        return _plane(args)
+    if args.box is not None:
+        raise UsageError("--box goes with the paper's world (--world grid)")
     from gather_verify.synthesis.search import certificate_stats, synthesize
     from gather_verify.synthesis.views import Views, make_instance
 
@@ -195,6 +217,8 @@ def _verify(args: argparse.Namespace) -> int:
     from gather_verify.synthesis.certificate import CertificateError, verify_certificate
 
     started = time.perf_counter()
+    if _plane_certificate(args.verify):
+        return _verify_plane(args, started)
     try:
         got = verify_certificate(args.verify)
     except CertificateError as error:
@@ -340,3 +364,224 @@ def _minimum(args: argparse.Namespace) -> int:
         for w in worlds:
             print(f"{w:<{width}}  " + "  ".join(f"{table[w, sc]:>11}" for sc in schedulers))
     return EXIT_INCOMPLETE if unknown else EXIT_OK
+
+
+# -- the paper's world ---------------------------------------------------------------------
+
+def _plane_certificate(path: str) -> bool:
+    """Whether ``path`` holds a certificate of the paper's world (a quick look at its
+    format; anything else goes to the finite worlds' verifier, which says what is wrong)."""
+    import json
+
+    from gather_verify.synthesis.plane import FORMAT
+
+    try:
+        with open(path, encoding="utf-8") as handle:
+            return json.load(handle).get("format") == FORMAT
+    except (OSError, ValueError, AttributeError):
+        return False
+
+
+def _verify_plane(args: argparse.Namespace, started: float) -> int:
+    from gather_verify.synthesis.plane import CertificateError, verify_certificate
+
+    try:
+        got = verify_certificate(args.verify)
+    except CertificateError as error:
+        print(f"certificate REJECTED: {os.path.basename(args.verify)}: {error}",
+              file=sys.stderr)
+        return EXIT_VIOLATED
+    got["seconds"] = time.perf_counter() - started
+    if args.json:
+        print_json(got if args.timings else {k: v for k, v in got.items() if k != "seconds"})
+    else:
+        inst = got["instance"]
+        print(f"certificate holds: none  grid (Z²)  task {inst['task']} / {inst['scheduler']}  "
+              f"({got['configurations']} configuration(s): Theorem 1's automorphism and its "
+              f"adversary re-checked, {got['states']} configurations, {got['views']} views; "
+              f"no search over algorithms)  {got['seconds']:.2f}s")
+    return EXIT_OK
+
+
+def _plane(args: argparse.Namespace) -> int:
+    """``synthesize --world grid``: per initial configuration, none with Theorem 1's
+    certificate, exists with a verified witness, or unknown."""
+    from gather_verify.synthesis import plane
+
+    if args.lights is not None or args.visibility is not None or args.colours is not None:
+        raise UsageError("the paper's world has no lights and no limited visibility: drop "
+                         "--lights, --colours and --visibility")
+    if not args.witness.endswith(".py"):
+        raise UsageError(f"--witness {args.witness}: the algorithm file must end in .py")
+    writable_outputs(witness=args.witness, certificate=args.certificate)
+    inst = plane.make_instance(args.robots, args.meeting, args.scheduler, args.task,
+                               args.multiplicity, args.frames, args.box, args.select,
+                               args.classes)
+    if not inst.configurations:
+        raise UsageError("no configuration of the box is selected: widen --robots, --meeting "
+                         "or --select")
+    if args.together:
+        return _plane_together(args, inst)
+    started = time.perf_counter()
+    views = plane.PlaneViews(inst.detection, inst.frames)
+    rows: list[dict[str, Any]] = []
+    entries: list[dict[str, Any]] = []
+    stem = args.witness[:-3]
+    problem = None
+    try:
+        for i, c in enumerate(inst.configurations):
+            t0 = time.perf_counter()
+            row: dict[str, Any] = {"robots": [list(v) for v in c.robots],
+                                   "meeting_nodes": [list(v) for v in sorted(c.meeting_nodes)]}
+            phi = plane.theorem1_phi(c, inst.frames)
+            if phi is not None:
+                entry = plane.theorem1_entry(c, phi, views, args.rounds)
+                entries.append(entry)
+                row.update(answer="none", **{k: entry[k] for k in ("class", "in_U", "states",
+                                                                   "rounds")},
+                           phi=entry["phi"]["describe"])
+            else:
+                # a fresh table per configuration: the views of the others do not matter
+                own = plane.PlaneViews(inst.detection, inst.frames)
+                found = plane.search_algorithm([c], inst, own, max_seconds=args.max_seconds,
+                                               max_candidates=args.max_candidates,
+                                               max_states=args.max_states)
+                from gather_verify.model.classes import classify_configuration
+
+                cl = classify_configuration(c)
+                row.update(answer=found.answer, limit=found.limit, candidates=found.candidates,
+                           views=found.views,
+                           **{"class": cl.name, "in_U": cl.in_U})
+                if found.answer == "exists":
+                    path = args.witness if len(inst.configurations) == 1 else f"{stem}-{i}.py"
+                    spec = plane.write_witness(path, inst, c, own, found.table)
+                    checked = plane.check_witness(spec, inst, c, args.max_seconds)
+                    row.update(witness=spec, table=len(found.table),
+                               checker={"verdict": checked["verdict"],
+                                        "states": checked["states"], "reductions": "off"})
+                    if checked["verdict"] != "VERIFIED" and problem is None:
+                        problem = (f"the ordinary checker says {checked['verdict']} of the "
+                                   f"witness {spec} ({checked.get('reason')}): this is a bug of "
+                                   "gather-verify's synthesis, please report it")
+            row["seconds"] = time.perf_counter() - t0
+            rows.append(row)
+    except KeyboardInterrupt:
+        print("interrupted: synthesize keeps no partial results; run the same command again "
+              "(it starts over)", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    answers = {r["answer"] for r in rows}
+    answer = (answers.pop() if len(answers) == 1 else
+              "unknown" if "unknown" in answers else "mixed")
+    report: dict[str, Any] = {"answer": answer, **inst.describe(),
+                              "configurations": len(rows), "views": len(views.texts),
+                              "answers": {a: sum(r["answer"] == a for r in rows)
+                                          for a in ("exists", "none", "unknown")},
+                              "certificate": None}
+    if entries:
+        whole = inst.box is not None and inst.box["select"] == "u" and answer == "none"
+        plane.write_certificate(args.certificate, inst if whole or inst.box is None else
+                                plane.PlaneInstance([], inst.scheduler, inst.detection,
+                                                    inst.frames), entries)
+        report["certificate"] = args.certificate
+        try:
+            plane.verify_certificate(args.certificate)
+        except plane.CertificateError as error:
+            problem = problem or (f"the certificate just written does not re-check ({error}): "
+                                  "this is a bug of gather-verify's synthesis, please report it")
+    report["seconds"] = time.perf_counter() - started
+    report["rows"] = rows
+    if args.json:
+        if not args.timings:
+            report.pop("seconds")
+            for r in rows:
+                r.pop("seconds")
+        print_json(report)
+    else:
+        _print_plane(report)
+    if problem is not None:
+        print(f"internal error: {problem}", file=sys.stderr)
+        return EXIT_BUG
+    return {"none": EXIT_VIOLATED, "exists": EXIT_OK, "mixed": EXIT_OK}.get(answer,
+                                                                              EXIT_INCOMPLETE)
+
+
+def _print_plane(report: dict[str, Any]) -> None:
+    box = report["box"]
+    where = "" if box is None else (f"  box {box['width']}x{box['height']}  robots "
+                                    f"{box['robots'][0]}-{box['robots'][1]}  meeting "
+                                    f"{box['meeting'][0]}-{box['meeting'][1]}  select "
+                                    f"{box['select']}")
+    counts = report["answers"]
+    print(f"{report['answer']}  grid (Z²)  task {report['task']} / {report['scheduler']}  "
+          f"detection {report['detection']}  frames {report['frames']}{where}")
+    print(f"configurations {report['configurations']} (none {counts['none']}, exists "
+          f"{counts['exists']}, unknown {counts['unknown']})  views {report['views']}  "
+          f"{report['seconds']:.2f}s")
+    for r in report["rows"]:
+        nodes = " ".join(f"{x},{y}" for x, y in r["robots"])
+        meeting = " ".join(f"{x},{y}" for x, y in r["meeting_nodes"])
+        line = f"  {r['answer']:<8} {r['class']:<12} robots {nodes}  meeting {meeting}  "
+        if r["answer"] == "none":
+            line += f"Theorem 1: {r['phi']}, adversary re-checked {r['rounds']} rounds"
+        elif r["answer"] == "exists":
+            line += (f"--algorithm {r['witness']}: checker {r['checker']['verdict']} "
+                     f"({r['candidates']} candidates)")
+        else:
+            line += f"limit: {r['limit']}"
+        print(line)
+    if report["certificate"]:
+        print(f"certificate: {report['certificate']} (Theorem 1 for every algorithm, per "
+              "configuration answered none); re-check it with")
+        print(f"  gather-verify synthesize --verify {report['certificate']}")
+
+
+def _plane_together(args: argparse.Namespace, inst: Any) -> int:
+    """``--together``: one table that gathers from every selected configuration (a repaired
+    algorithm for all of them), verified by the ordinary checker from each; else unknown."""
+    from gather_verify.synthesis import plane
+
+    if inst.box is None or inst.box["select"] != "outside-u" or inst.frames != "all":
+        raise UsageError("--together goes with --box and --select outside-u (disoriented "
+                         "robots: in U no algorithm gathers)")
+    started = time.perf_counter()
+    views = plane.PlaneViews(inst.detection, inst.frames)
+    found = plane.search_algorithm(inst.configurations, inst, views,
+                                   max_seconds=args.max_seconds,
+                                   max_candidates=args.max_candidates,
+                                   max_states=args.max_states)
+    report: dict[str, Any] = {"answer": found.answer, **inst.describe(), "together": True,
+                              "configurations": len(inst.configurations),
+                              "views": found.views, "candidates": found.candidates,
+                              "limit": found.limit, "witness": None}
+    problem = None
+    if found.answer == "exists":
+        spec = plane.write_witness(args.witness, inst, inst.configurations[0], views,
+                                   found.table)
+        verdicts = [plane.check_witness(spec, inst, c, args.max_seconds)["verdict"]
+                    for c in inst.configurations]
+        report.update(witness=spec, table=len(found.table),
+                      checker={"verdicts": sorted(set(verdicts)), "reductions": "off"})
+        if set(verdicts) != {"VERIFIED"}:
+            problem = (f"the ordinary checker says {sorted(set(verdicts))} of the witness "
+                       f"{spec}: this is a bug of gather-verify's synthesis, please report it")
+    report["seconds"] = time.perf_counter() - started
+    if args.json:
+        print_json(report if args.timings else {k: v for k, v in report.items()
+                                                 if k != "seconds"})
+    else:
+        box = report["box"]
+        print(f"{found.answer}  grid (Z²)  one algorithm for {len(inst.configurations)} "
+              f"configuration(s) of the {box['width']}x{box['height']} box outside U  "
+              f"task {report['task']} / {report['scheduler']}")
+        print(f"views {found.views}  candidates {found.candidates}  "
+              f"{report['seconds']:.2f}s")
+        if found.answer == "exists":
+            print(f"witness: --algorithm {report['witness']} ({report['table']} views); "
+                  f"checker, every reduction off, from each configuration: "
+                  f"{', '.join(report['checker']['verdicts'])}")
+        else:
+            print(f"the search stopped: {found.limit}")
+    if problem is not None:
+        print(f"internal error: {problem}", file=sys.stderr)
+        return EXIT_BUG
+    return EXIT_OK if found.answer == "exists" else EXIT_INCOMPLETE

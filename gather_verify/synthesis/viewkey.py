@@ -102,6 +102,24 @@ def observe(view, detection, colours, variant):
     return me, own, out
 
 
+def observe_plane(view, detection):
+    """The presentation of a view of the paper's world Z² (``gather_verify.model.view.View``)
+    in its own frame: ``((0, 0), -1, ((label, content), ...))`` over the occupied nodes and
+    the meeting nodes (every other node of Z² is empty), content as in :func:`observe`.
+    Reads exactly what ``detection`` lets the robot read."""
+    robots, meeting = view.robots, view.meeting_nodes
+    global_ = detection.startswith("global")
+    strong = detection.endswith("strong")
+    out = []
+    for label in sorted(robots | meeting):
+        occupied = label in robots
+        many = -1
+        if occupied and detection != "none" and (global_ or label == (0, 0)):
+            many = view.count(label) if strong else int(view.multiplicity(label))
+        out.append((label, (int(label in meeting), int(occupied), many, ())))
+    return (0, 0), -1, out
+
+
 def moved(group, t, seen):
     """A presentation under the group's ``t``-th map (labels sorted)."""
     me, own, nodes = seen

@@ -1,0 +1,251 @@
+"""``synthesize --world grid``: the paper's world. Theorem 1 for every algorithm (a
+certificate of none that ``--verify`` re-checks, and refuses once broken), never a none
+where an algorithm exists (a common compass gathers a configuration of U: exists, and the
+ordinary checker verifies the witness), exists outside U, and Theorem 1's automorphism
+exists exactly on U (SEMANTICS.md §2, §6, §12)."""
+
+from __future__ import annotations
+
+import copy
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+pytest.importorskip("pysat", reason="synthesize needs python-sat (extra synth)")
+
+from gather_verify.check import run_check  # noqa: E402
+from gather_verify.model.classes import classify_configuration  # noqa: E402
+from gather_verify.model.configuration import Configuration  # noqa: E402
+from gather_verify.model.symmetry import Automorphism  # noqa: E402
+from gather_verify.synthesis import plane  # noqa: E402
+from tests.test_synthesis import cli, one_line  # noqa: E402
+
+U_ROBOTS, U_MEETING = "0,1 2,1", "0,0 2,0"  # UNCLASSIFIED, in U: the axis x = 1 is empty
+
+
+@pytest.fixture(scope="module")
+def certificate(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    folder = tmp_path_factory.mktemp("plane")
+    run = cli("--world", "grid", "--box", "3x3", "--robots", "2", "--meeting", "2",
+              "--select", "u", "--scheduler", "fsync", "--rounds", "3", "--json",
+              "--certificate", "u.cert.json", cwd=folder)
+    assert run.returncode == 1, run.stderr
+    report = json.loads(run.stdout)
+    assert report["answer"] == "none" and report["answers"]["none"] == len(report["rows"]) > 0
+    assert all(r["in_U"] for r in report["rows"])
+    return json.loads((folder / "u.cert.json").read_text())  # type: ignore[no-any-return]
+
+
+def test_theorem1_none_is_reverified_without_search(tmp_path: Path,
+                                                    certificate: dict[str, Any]) -> None:
+    path = tmp_path / "c.json"
+    path.write_text(json.dumps(certificate))
+    run = cli("--verify", str(path), "--json")
+    assert run.returncode == 0, run.stderr
+    got = json.loads(run.stdout)
+    assert got["configurations"] == len(certificate["configurations"])
+    assert got["states"] == sum(e["states"] for e in certificate["configurations"])
+
+
+def _phi_moved(cert: dict[str, Any]) -> None:
+    cert["configurations"][0]["phi"]["t"][0] += 1
+
+
+def _phi_not_a_frame(cert: dict[str, Any]) -> None:
+    cert["instance"]["frames"] = "compass"
+
+
+def _robot_moved(cert: dict[str, Any]) -> None:
+    cert["configurations"][0]["robots"][0][1] += 5
+
+
+def _digest(cert: dict[str, Any]) -> None:
+    cert["configurations"][0]["digest"] = "0" * 64
+
+
+def _fewer_states(cert: dict[str, Any]) -> None:
+    cert["configurations"][0]["states"] -= 1
+
+
+def _dropped(cert: dict[str, Any]) -> None:
+    del cert["configurations"][-1]
+
+
+def _scheduler(cert: dict[str, Any]) -> None:
+    cert["instance"]["scheduler"] = "round-robin"
+
+
+def _task(cert: dict[str, Any]) -> None:
+    cert["instance"]["task"] = "gathering"
+
+
+def _meeting_on_axis(cert: dict[str, Any]) -> None:
+    """A meeting node on the axis (or centre): phi still maps M onto itself, but a gathered
+    configuration there would be symmetric too."""
+    for e in cert["configurations"]:
+        phi = Automorphism(e["phi"]["g"], tuple(e["phi"]["t"]))  # type: ignore[arg-type]
+        fixed = [(x, y) for x in range(-4, 5) for y in range(-4, 5) if phi.fixes((x, y))
+                 and [x, y] not in e["robots"]]
+        if fixed:
+            e["meeting_nodes"].append(list(fixed[0]))
+            return
+    raise AssertionError("no phi with a fixed node in the certificate")
+
+
+@pytest.mark.parametrize("tamper", [_phi_moved, _phi_not_a_frame, _robot_moved, _digest,
+                                    _fewer_states, _dropped, _scheduler, _task,
+                                    _meeting_on_axis])
+def test_a_broken_certificate_fails_verify(tmp_path: Path, certificate: dict[str, Any],
+                                           tamper: Any) -> None:
+    broken = copy.deepcopy(certificate)
+    tamper(broken)
+    path = tmp_path / "broken.json"
+    path.write_text(json.dumps(broken))
+    run = cli("--verify", str(path))
+    assert run.returncode == 1, (run.returncode, run.stdout, run.stderr)
+    assert one_line(run).startswith("certificate REJECTED")
+
+
+def test_the_adversary_check_fails_on_views_that_break_the_symmetry(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """A view code under which phi-images answer differently (a deliberately broken model)
+    makes the over-approximation fail: the certificate leans on the views, not on trust."""
+    c = Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)], initial=True)
+    phi = plane.theorem1_phi(c, "all")
+    assert phi is not None
+    views = plane.PlaneViews("local-weak", "all")
+    plane.adversary_closure(c, phi, views, 3)  # holds
+    real = plane.PlaneViews._compute
+
+    def lopsided(self: plane.PlaneViews, d: Configuration, node: Any) -> Any:
+        k, opts = real(self, d, node)
+        return (k, opts) if node[0] < 1 else (k + 1000, opts)
+
+    monkeypatch.setattr(plane.PlaneViews, "_compute", lopsided)
+    with pytest.raises(plane.CertificateError, match="different keys"):
+        plane.adversary_closure(c, phi, plane.PlaneViews("local-weak", "all"), 3)
+
+
+def test_no_none_where_an_algorithm_exists(tmp_path: Path) -> None:
+    """With a common compass the robots tell the two sides of the axis apart: the same
+    configuration of U is gathered by some algorithm, so no certificate may be claimed, and
+    the witness passes the ordinary checker."""
+    c = Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)], initial=True)
+    assert plane.theorem1_phi(c, "compass") is None
+    run = cli("--world", "grid", "--robots", U_ROBOTS, "--meeting", U_MEETING, "--scheduler",
+              "fsync", "--frames", "compass", "--json", "--witness", "w.py", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    report = json.loads(run.stdout)
+    assert report["answer"] == "exists" and report["certificate"] is None
+    spec = str(tmp_path / "w.py") + ":Synthesized"
+    got = run_check(c, algorithm=spec, scheduler="fsync", frames="compass",
+                    properties=["final", "termination"], reduction=False, max_seconds=60)
+    assert got["verdict"] == "VERIFIED", got
+
+
+def test_exists_outside_u_and_the_checker_verifies_the_witness(tmp_path: Path) -> None:
+    run = cli("--world", "grid", "--robots", "0,0 2,1", "--meeting", "1,1", "--scheduler",
+              "async", "--json", "--witness", "w.py", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    report = json.loads(run.stdout)
+    assert report["answer"] == "exists"
+    assert report["rows"][0]["checker"] == {"verdict": "VERIFIED", "states":
+                                            report["rows"][0]["checker"]["states"],
+                                            "reductions": "off"}
+    c = Configuration([(0, 0), (2, 1)], [(1, 1)], initial=True)
+    got = run_check(c, algorithm=str(tmp_path / "w.py") + ":Synthesized", scheduler="async",
+                    properties=["final", "termination"], reduction=False, max_seconds=60)
+    assert got["verdict"] == "VERIFIED"
+
+
+def test_one_algorithm_for_every_configuration_of_a_box(tmp_path: Path) -> None:
+    """--together: one table gathers from every configuration outside U of the box, and the
+    ordinary checker verifies it from each of them."""
+    run = cli("--world", "grid", "--box", "2x2", "--robots", "2", "--meeting", "1",
+              "--select", "outside-u", "--together", "--scheduler", "async", "--json",
+              "--witness", "w.py", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    report = json.loads(run.stdout)
+    assert report["answer"] == "exists" and report["checker"]["verdicts"] == ["VERIFIED"]
+    spec = str(tmp_path / "w.py") + ":Synthesized"
+    for c in plane.box_configurations(2, 2, range(2, 3), range(1, 2), "outside-u"):
+        got = run_check(c, algorithm=spec, scheduler="async", reduction=False,
+                        properties=["final", "termination"], max_seconds=60, force=True)
+        assert got["verdict"] == "VERIFIED", (c, got)
+
+
+NODES = st.tuples(st.integers(0, 3), st.integers(0, 3))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sets(NODES, min_size=1, max_size=4), st.sets(NODES, min_size=1, max_size=4))
+def test_theorem1_automorphism_exists_exactly_on_u(robots: set, meeting: set) -> None:
+    """Disoriented robots: a certificate's phi exists exactly for the configurations in U
+    (§2), so the box's none covers U and nothing else."""
+    c = Configuration(sorted(robots), sorted(meeting), initial=True)
+    assert (plane.theorem1_phi(c, "all") is not None) == classify_configuration(c).in_U
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.sets(NODES, min_size=1, max_size=2), st.sets(NODES, min_size=1, max_size=2),
+       st.sampled_from([0, 1, 2, 3, 4, 5, 6, 7]), st.sampled_from(["local-weak",
+                                                                  "global-strong"]))
+def test_mirrored_configurations_get_the_same_answer(robots: set, meeting: set, g: int,
+                                                     detection: str) -> None:
+    """The certificate is invariant under the grid's isometries: a configuration and its
+    image both have a phi or neither, and their adversaries reach as many configurations."""
+    a = Automorphism(g, (5, -2))
+    c = Configuration(sorted(robots), sorted(meeting), initial=True)
+    d = Configuration(sorted(map(a, robots)), sorted(map(a, meeting)), initial=True)
+    pc, pd = plane.theorem1_phi(c, "all"), plane.theorem1_phi(d, "all")
+    assert (pc is None) == (pd is None)
+    if pc is not None and pd is not None:
+        views = plane.PlaneViews(detection, "all")
+        assert (plane.adversary_closure(c, pc, views, 2).states
+                == plane.adversary_closure(d, pd, views, 2).states)
+
+
+@pytest.mark.parametrize(("args", "words"), [
+    (["--world", "grid", "--robots", "0,1 2,1"], "--meeting"),
+    (["--world", "grid", "--robots", U_ROBOTS, "--meeting", U_MEETING, "--lights", "2"],
+     "lights"),
+    (["--world", "grid", "--robots", U_ROBOTS, "--meeting", U_MEETING, "--scheduler",
+      "round-robin"], "round-robin"),
+    (["--world", "grid", "--robots", U_ROBOTS, "--meeting", U_MEETING, "--task",
+      "exploration-with-stop"], "task"),
+    (["--world", "grid", "--box", "3x", "--robots", "2", "--meeting", "2"], "--box"),
+    (["--world", "grid", "--box", "3x3", "--robots", "2-x", "--meeting", "2"], "--robots"),
+    (["--world", "ring:6", "--box", "3x3", "--robots", "2"], "--box"),
+    (["--world", "grid", "--box", "3x3", "--robots", "2", "--meeting", "2", "--together"],
+     "--together"),
+    (["--world", "grid", "--box", "2x2", "--robots", "1", "--meeting", "1", "--select",
+      "u"], "no configuration"),
+])
+def test_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list[str], words: str) -> None:
+    run = cli(*args, cwd=tmp_path)
+    assert run.returncode == 2, (run.returncode, run.stderr)
+    assert words in one_line(run)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("robots", "meeting"), [
+    ("0,0 1,2", "0,1 2,1"),  # F10: the paper's algorithm reaches UNCLASSIFIED, robust
+    ("0,0 0,1 0,2", "0,0 0,2"),  # F7: SymmetryBreaking lands on an occupied node
+])
+def test_a_configuration_the_paper_fails_is_gathered_by_a_synthesised_algorithm(
+        tmp_path: Path, robots: str, meeting: str) -> None:
+    """The faults are the algorithm's, not the characterization's: from these initial
+    configurations outside U some algorithm gathers under ASYNC, and the ordinary checker,
+    every property on, every reduction off, verifies it."""
+    run = cli("--world", "grid", "--robots", robots, "--meeting", meeting, "--scheduler",
+              "async", "--json", "--witness", "w.py", "--max-seconds", "300", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    c = Configuration([tuple(map(int, v.split(","))) for v in robots.split()],
+                      [tuple(map(int, v.split(","))) for v in meeting.split()], initial=True)
+    got = run_check(c, algorithm=str(tmp_path / "w.py") + ":Synthesized", scheduler="async",
+                    reduction=False, max_seconds=120, force=True)
+    assert got["verdict"] == "VERIFIED", got
