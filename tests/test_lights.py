@@ -242,3 +242,12 @@ def test_the_docs_luminous_example_gathers_from_one_lit_robot_only(scheduler: st
     dark = run_world_check("ring:7", "0 3", "", MEET, scheduler, task="gathering", lights="2")
     assert dark["verdict"] == "VIOLATED"
     assert dark["properties"]["gathered-when-final"]["holds"] is False
+
+
+@pytest.mark.parametrize("scheduler", ["centralized", "round-robin"])
+def test_the_docs_luminous_example_gathers_one_robot_at_a_time(scheduler: str) -> None:
+    """One robot per activation: the two unlit robots never swap, so both colourings gather."""
+    for colours in ([1, 0], [0, 0]):
+        r = run_world_check("ring:7", "0 3", "", MEET, scheduler, task="gathering", lights="2",
+                            colours=colours)
+        assert r["verdict"] == "VERIFIED", (colours, r["properties"])
