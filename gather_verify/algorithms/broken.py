@@ -6,7 +6,7 @@ adds them (``BROKEN``) on first use of a ``broken-*`` name, so the tests,
 all find them. All assume one meeting node unless said otherwise.
 
 >>> sorted(BROKEN)[:3]
-['broken-answer', 'broken-away', 'broken-crash']
+['broken-answer', 'broken-away', 'broken-beacon']
 """
 
 from __future__ import annotations

@@ -43,6 +43,7 @@ from gather_verify.model.geometry import Node
 from gather_verify.model.symmetry import Automorphism, configuration_automorphisms
 from gather_verify.model.view import FRAME_SETS, View, check_detection
 from gather_verify.synthesis import viewkey
+from gather_verify.synthesis.certificate import CertificateError
 
 FORMAT = "gather-verify-plane-certificate/1"
 TASK = "gathering-on-meeting-nodes"
@@ -55,12 +56,8 @@ CANDIDATE_SECONDS = 10.0
 """The least time one candidate's check gets before the search moves on (it gets a quarter
 of what is left when that is more)."""
 
-
-class CertificateError(Exception):
-    """The certificate does not hold (the message says where)."""
-
-
 # -- views of Z² up to isomorphism --------------------------------------------------------
+
 
 def group_description(frames: str) -> list[object]:
     """The robots' frames as a group of label maps (D4, the rotations, or the identity)."""
