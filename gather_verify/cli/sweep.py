@@ -237,7 +237,8 @@ def _worlds(args: argparse.Namespace) -> int:
     ) for w in worlds for n in args.robots for m in args.meeting]
     try:
         summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
-                            progress=not args.json, limit=args.limit, fresh=args.fresh)
+                            progress=not args.json, limit=args.limit, fresh=args.fresh,
+                            engine=args.engine)
     except KeyboardInterrupt:
         print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
               "run the same command again to resume", file=sys.stderr)
