@@ -76,8 +76,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--move-bound-c", type=bounded_float(0.0, 1e6), default=4.0)
     p.add_argument("--engine", choices=("union", "per-config"), default="union",
                    help="union: one state graph per meeting-node set, shared by its "
-                        "configurations (default); per-config: one search per configuration. "
-                        "Same results")
+                        "configurations (default; on a finite world too); per-config: one "
+                        "search per configuration. Same results")
     p.add_argument("--limit", type=bounded_int(1, 10**9), default=None,
                    help="only the first N configurations of the enumeration")
     p.add_argument("--keep-growing", action="store_true",
