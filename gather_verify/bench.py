@@ -17,7 +17,7 @@ process and is timed *whole* (interpreter start, imports, search), as SPIN's
   during the check per state;
 - ``spin``: ``bench/spin/run_spin.py`` when ``spin`` and the script are there,
   else the stored result in ``bench/spin/results/`` (labelled ``stored``);
-- ``ring``: a finite world beside SPIN. The world check (``run_world_check``) of
+- ``ring``: a finite world beside SPIN. The world check (``run_world_check``, its default engine: bulk) of
   go-to-target on ``ring:14``, robots ``5 6 7 8 9``, meeting node 0, ASYNC, reductions
   off (572,572 states; ``quick``: SEMANTICS.md §9's ``ring:9``, robots ``0 3 5``, meeting
   node 7, 225 states), then ``run_spin.py --world ring:N`` on the same space
@@ -103,7 +103,7 @@ def _ring_child(world: str, robots: list, meeting: int, max_seconds: float) -> d
                         max_states=30_000_000, max_seconds=max_seconds)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return {"verdict": r["verdict"], "task": r["task"], "reductions": r["reductions"],
-            "states": r["states"], "transitions": r["transitions"],
+            "engine": r["engine"], "states": r["states"], "transitions": r["transitions"],
             "complete": r["stopped"] is None, "check_seconds": r["seconds"],
             "search_seconds": r["search_seconds"],
             "bytes_per_state": max(peak - before, 0.0) * 2**20 / r["states"]}
@@ -140,7 +140,7 @@ def spin(instance: tuple, quick: bool, run: bool = True) -> dict[str, Any] | Non
     robots, meeting = instance
     return _spin(["--robots", " ".join(f"{x},{y}" for x, y in robots),
                   "--meeting", "{},{}".format(*meeting[0])],
-                 "quick.json" if quick else "issue8.json", run)
+                 "quick.json" if quick else "grid.json", run)
 
 
 def spin_ring(instance: tuple, quick: bool, run: bool = True) -> dict[str, Any] | None:
@@ -195,7 +195,7 @@ def bench(quick: bool = False, max_seconds: float = 3600.0, run_spin: bool = Tru
     full["states_per_second"] = full["states"] / full["seconds"]
     theirs = spin(instance, quick, run_spin)
     out: dict[str, Any] = {
-        "instance": {"name": "quick" if quick else "issue-8", "robots": instance[0],
+        "instance": {"name": "quick" if quick else "grid", "robots": instance[0],
                      "meeting": instance[1], "algorithm": "go-to-target", "scheduler": "async"},
         "explore": ours, "verdict": verdict, "full": full, "spin": None,
         "ratio_states_per_second": None, "ratio_time_to_verdict": None,
@@ -318,8 +318,10 @@ def format_ring(g: dict[str, Any], write: Any = print) -> None:
     same = {None: "", True: ", the same space as SPIN's",
             False: ", NOT the same space as SPIN's"}[g["same_space"]]
     write(f"  verdict {o['verdict']} (task {o['task']}){same}")
-    write("  ours: the reference search (Python), then the task's properties; search only: "
-          "our search, SPIN's ./pan; ratio = our states/s / SPIN's")
+    engine = {"bulk": "the bulk search (compiled kernels)",
+              "reference": "the reference search (Python)"}.get(o.get("engine"), "the search")
+    write(f"  ours: {engine}, then the task's properties; search only: our search, SPIN's "
+          "./pan; ratio = our states/s / SPIN's")
     if not o["complete"]:
         write("  the ring check hit --max-seconds: INCOMPLETE, rates are partial")
 

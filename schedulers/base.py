@@ -176,7 +176,30 @@ def bulk_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Success
     the order of the rows of ``subsets`` (a boolean ``(k, n)`` matrix), every choice of
     destinations of the activated robots in the order of ``itertools.product`` over
     their sorted move sets; the activated robots move at once, the others stay.
-    Pending destinations play no part (round schedulers keep every robot idle)."""
+    Pending destinations play no part (round schedulers keep every robot idle).
+
+    In compiled code when the kernels run (:mod:`gather_verify.kernels`), else in numpy
+    (:func:`numpy_rounds`, the reference): the same events, field by field."""
+    from gather_verify import kernels  # here: importing numba costs every command 0.25 s
+
+    if not kernels.enabled():
+        return numpy_rounds(frontier, budget, subsets)
+    codes, masks, neighbour = frontier
+    codes = np.ascontiguousarray(codes, dtype=np.int64)
+    masks = np.ascontiguousarray(masks, dtype=np.uint8)
+    subsets = np.ascontiguousarray(subsets, dtype=np.bool_)
+    s, e, c = kernels.round_counts(masks, subsets, _COUNT, budget)
+    n = codes.shape[1]
+    source = np.empty(e, dtype=np.int64)
+    weight = np.empty(e, dtype=np.int8 if n <= 127 else np.int16)
+    robot, code, event = (np.empty(c, dtype=np.int64) for _ in range(3))
+    kernels.round_events(codes, masks, np.ascontiguousarray(neighbour, dtype=np.int64), subsets,
+                         _NTH, _COUNT, s, source, weight, robot, code, event)
+    return Successors(s, source, weight, robot, code, event)
+
+
+def numpy_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Successors:
+    """:func:`bulk_rounds` in numpy: the reference the compiled kernel is tested against."""
     codes, masks, neighbour = frontier
     s, n = codes.shape
     k = len(subsets)

@@ -249,7 +249,7 @@ def test_longest_path_bulk(case, reduction, scheduler):
 
 
 @pytest.mark.slow
-def test_issue8_instance_counts():
+def test_grid_instance_counts():
     """The SPIN yardstick: 4,939,200 states and 27,377,280 transitions (closed form in
     bench/spin/make_model.py), without edges kept."""
     c = Configuration([(0, 0), (5, 1), (1, 5), (6, 6), (3, 0)], [(3, 3)], initial=True)

@@ -186,7 +186,7 @@ def test_fuzz_cli_arguments(command: str, tokens: list[str],
         assert len(err.strip().splitlines()) == 1
 
 
-# -- every command (issue 7): limits, options and files of every subcommand ----------------
+# -- every command: limits, options and files of every subcommand -------------------------
 
 MORE_BAD = [
     ["check", *GOOD, "--max-memory-mb", "0"],

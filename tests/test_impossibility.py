@@ -238,7 +238,7 @@ def test_random_algorithm_is_stable():
         RandomEquivariant("x")
 
 
-# -- the measurement (issue 6): every U configuration of the census ------------------------
+# -- the measurement: every U configuration of the census ---------------------------------
 
 
 def census_U(explore: str, steps: int, max_states: int,

@@ -1,7 +1,8 @@
 """The compiled kernels (``gather_verify.kernels``) against the numpy/Python reference
 path they replace, field by field: the explorations (keys, parents, graph, counts,
 violations) and the whole ``run_check`` reports (verdicts, per-property results, max moves,
-traces), on every scenario under ``scenarios/`` and on whole small boxes."""
+traces), on every scenario under ``scenarios/`` and on whole small boxes; and the round
+schedulers' bulk step on random frontiers."""
 
 from __future__ import annotations
 
@@ -9,6 +10,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
 
 from gather_verify import kernels
 from gather_verify.check import run_check
@@ -18,6 +22,8 @@ from gather_verify.properties.graph import longest_path, strongly_connected
 from gather_verify.scenario import load_scenario
 from gather_verify.scenario_tests import run_expectation
 from gather_verify.sweeps.census import enumerate_configurations
+from schedulers import Frontier, get_scheduler
+from schedulers.base import bulk_rounds, numpy_rounds
 
 pytestmark = pytest.mark.skipif(not kernels.available(), reason="numba is not installed")
 
@@ -200,3 +206,38 @@ def test_the_hashed_successor_rows_give_the_same_exploration(monkeypatch) -> Non
     fast, ref = both(lambda: run_check(c, algorithm="paper", scheduler="async",
                                        reduction=False, max_seconds=600))
     same_report(fast, ref)
+
+
+@st.composite
+def round_frontiers(draw):
+    """A frontier of idle robots with arbitrary move masks (empty, staying only, any steps),
+    a neighbour table with cells outside the region (-1), an event budget, and a round
+    scheduler's name or a matrix of activated subsets (any rows, an empty one included)."""
+    n, s, cells = draw(st.integers(1, 5)), draw(st.integers(0, 12)), draw(st.integers(1, 30))
+    codes = draw(arrays(np.int64, (s, n), elements=st.integers(0, cells - 1))) * 5
+    masks = draw(arrays(np.uint8, (s, n), elements=st.integers(0, 31)))
+    neighbour = draw(arrays(np.int64, (cells, 4), elements=st.integers(-1, cells - 1)))
+    subsets = draw(st.sampled_from(["ssync", "fsync", "centralized"])
+                   | arrays(np.bool_, st.tuples(st.integers(1, 6), st.just(n))))
+    return Frontier(codes, masks, neighbour), draw(st.integers(1, 4000)), subsets
+
+
+@settings(max_examples=80, deadline=None)
+@given(round_frontiers())
+def test_compiled_rounds_are_the_numpy_rounds(case) -> None:
+    """The round schedulers' compiled bulk step gives the numpy reference's events, field by
+    field and dtype by dtype: the states taken within the budget, each event's source and
+    weight, each change's event, robot and new code (-1 when it leaves the region)."""
+    frontier, budget, subsets = case
+
+    def run():
+        if isinstance(subsets, str):
+            return get_scheduler(subsets).bulk_successors(frontier, budget)
+        return bulk_rounds(frontier, budget, subsets) if kernels.enabled() else \
+            numpy_rounds(frontier, budget, subsets)
+
+    fast, ref = both(run)
+    assert fast.states == ref.states
+    for field in ("source", "weight", "robot", "code", "event"):
+        a, b = getattr(fast, field), getattr(ref, field)
+        assert a.dtype == b.dtype and a.tolist() == b.tolist(), field

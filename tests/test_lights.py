@@ -227,3 +227,18 @@ def test_a_scenario_colour_outside_the_lights_is_one_line(tmp_path) -> None:  # 
     assert run.returncode == 2 and "'colours'" in run.stderr
     with pytest.raises(InvalidInput):
         run_world_check("ring:6", "0 2", "", "bounce", "async", lights="2", colours=[0, 3])
+
+
+MEET = "docs/examples/lit_meet.py:Meet"
+
+
+@pytest.mark.parametrize("scheduler", ["fsync", "ssync", "async"])
+def test_the_docs_luminous_example_gathers_from_one_lit_robot_only(scheduler: str) -> None:
+    """docs/examples/lit_meet.py, as docs/worlds.md runs it: one robot lit, it gathers under
+    every scheduler; both unlit, the adversary makes them swap over the last edge and wait."""
+    lit = run_world_check("ring:7", "0 3", "", MEET, scheduler, task="gathering", lights="2",
+                          colours=[1, 0])
+    assert lit["verdict"] == "VERIFIED", lit["properties"]
+    dark = run_world_check("ring:7", "0 3", "", MEET, scheduler, task="gathering", lights="2")
+    assert dark["verdict"] == "VIOLATED"
+    assert dark["properties"]["gathered-when-final"]["holds"] is False

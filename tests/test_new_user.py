@@ -1,4 +1,4 @@
-"""A new user with an algorithm of their own, in a folder outside the project (issue 15).
+"""A new user with an algorithm of their own, in a folder outside the project.
 
 They write an algorithm file (it imports a helper module next to it), check it from the
 command line, sweep it with two workers and on a local Dask cluster, edit the helper and

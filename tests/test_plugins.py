@@ -1,4 +1,4 @@
-"""Issue 15, piece by piece: loading, fingerprints, crashes, scenario tests, the API, the
+"""A user's own algorithm, piece by piece: loading, fingerprints, crashes, scenario tests, the API, the
 small fixes. The whole path as a new user walks it is tests/test_new_user.py."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Honest limits, determinism, Ctrl-C and memory (issue 7, docs/reliability.md).
+"""Honest limits, determinism, Ctrl-C and memory (docs/reliability.md).
 
 - Every limit (states, seconds, memory, region) ends in INCOMPLETE with the reason and
   the statistics so far, and can never end in VERIFIED.
@@ -135,7 +135,7 @@ def test_limits_from_the_command_line(capsys: pytest.CaptureFixture[str]) -> Non
 
 
 def test_check_over_the_memory_limit_is_incomplete(capsys: pytest.CaptureFixture[str]) -> None:
-    """The issue-4 instance (4.9 million states) with a 1 MB limit stops at once instead of
+    """The grid instance of `bench` (4.9 million states) with a 1 MB limit stops at once instead of
     growing until the system kills it."""
     code = main(["check", "--robots", "0,0 5,1 1,5 6,6 3,0", "--meeting", "3,3", "--algorithm",
                  "go-to-target", "--no-reduction", "--max-memory-mb", "1", "--json"])
@@ -249,7 +249,7 @@ def interrupt_when(proc: subprocess.Popen, ready, timeout: float = 120) -> None:
 
 
 def test_ctrl_c_during_check() -> None:
-    # a space of minutes even with the compiled kernels (the issue-8 one now ends in 5 s)
+    # a space of minutes even with the compiled kernels (the grid instance of `bench` now ends in 5 s)
     argv = ["check", "--robots", "0,0 9,1 1,9 10,10 5,0", "--meeting", "5,5", "--algorithm",
             "go-to-target", "--no-reduction", "--max-memory-mb", "12000", "--json"]
     proc = subprocess.Popen([sys.executable, "-m", "gather_verify", *argv], stdout=subprocess.PIPE,

@@ -1,4 +1,4 @@
-"""Schedulers as plug-in parts (issue 13): the protocol, the registry, and a scheduler
+"""Schedulers as plug-in parts: the protocol, the registry, and a scheduler
 added from outside the package running on both engines, the CLI and the scenario loader."""
 
 from __future__ import annotations

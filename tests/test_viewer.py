@@ -172,7 +172,7 @@ def test_page_is_self_contained_and_escapes_the_data():
 
 def test_cli_check_and_replay_write_the_viewer(tmp_path, capsys):
     out = tmp_path / "v.html"
-    # the scenario expects this VIOLATED verdict: check says it matched (exit 0, issue 15)
+    # the scenario expects this VIOLATED verdict: check says it matched (exit 0)
     assert main(["check", str(F4), "--scheduler", "fsync", "--html", str(out)]) == 0
     assert "trace-data" in out.read_text()
     again = tmp_path / "r.html"

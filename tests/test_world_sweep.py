@@ -96,3 +96,18 @@ def test_bad_world_sweeps_are_one_line(args: tuple[str, ...], words: str, tmp_pa
                          timeout=120)
     assert run.returncode == 2 and words in run.stderr, run.stderr
     assert len(run.stderr.strip().splitlines()) == 1
+
+
+def test_a_gathering_sweep_needs_no_meeting_nodes_and_names_no_causes(tmp_path) -> None:  # noqa: ANN001
+    """On a finite world ``--meeting`` defaults to 0; a finite world's rows record no rule, so
+    the summary shows no causes rather than calling every row "not recorded"."""
+    run = subprocess.run([*CLI, "sweep", "--world", "ring:5", "--robots", "2", "--task",
+                          "gathering", "--algorithm", "go-to-target", "--scheduler", "fsync",
+                          "--db", str(tmp_path / "g.sqlite"), "--workers", "1"],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 1, run.stderr  # two robots do not gather on a ring
+    assert "VIOLATED" in run.stdout and "by cause" not in run.stdout, run.stdout
+    paper = subprocess.run([*CLI, "sweep", "--robots", "2", "--box", "3x3", "--db",
+                            str(tmp_path / "p.sqlite")], capture_output=True, text=True,
+                           timeout=120)
+    assert paper.returncode == 2 and "--meeting is required" in paper.stderr, paper.stderr

@@ -52,7 +52,7 @@ import make_model  # noqa: E402
 import make_ring_model  # noqa: E402
 
 QUICK = ("0,0 3,1 1,4", "2,2")                  # SEMANTICS.md §4 yardstick
-ISSUE8 = ("0,0 5,1 1,5 6,6 3,0", "3,3")         # issue 8 measuring stick
+GRID = ("0,0 5,1 1,5 6,6 3,0", "3,3")         # the grid instance: the measuring stick
 RING_QUICK = ("ring:9", "0 3 5", "7")           # SEMANTICS.md §9 test data
 RING = ("ring:14", "5 6 7 8 9", "0")            # the ring instance of gather-verify bench
 GCC_FLAGS = ["-O2", "-DNOREDUCE", "-DSAFETY"]
@@ -178,11 +178,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--world", default="grid",
                     help="grid (Z x Z, the default) or ring:N")
     ap.add_argument("--robots", default=None,
-                    help=f'robot nodes: "x,y ..." on the grid (default, issue 8: '
-                         f'"{ISSUE8[0]}"), "v ..." on a ring')
+                    help=f'robot nodes: "x,y ..." on the grid (default, the grid instance: '
+                         f'"{GRID[0]}"), "v ..." on a ring')
     ap.add_argument("--meeting", default=None,
-                    help=f"meeting node: x,y on the grid (default, issue 8: "
-                         f"{ISSUE8[1]}), v on a ring")
+                    help=f"meeting node: x,y on the grid (default, the grid instance: "
+                         f"{GRID[1]}), v on a ring")
     ap.add_argument("--quick", action="store_true",
                     help=f'the small instance: robots "{QUICK[0]}", M {QUICK[1]} '
                          "(2184 states, 7032 transitions); with --ring, "
@@ -215,8 +215,8 @@ def main(argv: list[str] | None = None) -> int:
             (RING_QUICK if args.quick else RING) if args.ring
             else ("grid", *QUICK))
     elif args.world == "grid":
-        robots = ISSUE8[0] if args.robots is None else args.robots
-        meeting = ISSUE8[1] if args.meeting is None else args.meeting
+        robots = GRID[0] if args.robots is None else args.robots
+        meeting = GRID[1] if args.meeting is None else args.meeting
     elif args.robots is None or args.meeting is None:
         ap.error(f"--world {args.world} needs --robots and --meeting")
     else:

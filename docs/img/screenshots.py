@@ -9,8 +9,8 @@
 
 Writes viewer-f4-deadlock.png, viewer-f6-livelock.png, viewer-async-stale.png, report.png,
 trace-svg.png and moves.png next to this file, and the pictures of finite worlds
-(docs/worlds.md): world-viewer-ring.png, world-viewer-graph.png and world-svg-torus.png (PNG,
-palette-reduced to stay small). ``--site`` builds nothing: it photographs the landing page
+(docs/worlds.md): world-viewer-ring.png, world-viewer-graph.png, world-viewer-lights.png and
+world-svg-torus.png (PNG, palette-reduced to stay small). ``--site`` builds nothing: it photographs the landing page
 and the findings page of a site already built in docs/_build/html (site-index.png,
 site-findings.png, 1200 pixels wide, the top of each page).
 """
@@ -87,6 +87,13 @@ def worlds() -> None:
     alone."""
     work = Path(tempfile.mkdtemp())
     ring, graph, torus = work / "ring.html", work / "graph.html", work / "torus.svg"
+    lit = work / "lit.html"  # a user's file in a folder of their own, as docs/worlds.md runs it
+    mine = Path(tempfile.mkdtemp(prefix="my-algorithms-"))
+    shutil.copy(ROOT / "docs/examples/lit_meet.py", mine)
+    subprocess.run(["gather-verify", "check", "--world", "ring:7", "--robots", "0 3",
+                    "--algorithm", "lit_meet.py:Meet", "--task", "gathering", "--lights", "2",
+                    "--scheduler", "async", "--html", str(lit)], check=False,
+                   capture_output=True, cwd=mine)
     gv("check", "--world", "ring:6", "--robots", "0 3", "--algorithm", "ring-explore",
        "--task", "exclusive-perpetual-exploration", "--scheduler", "async", "--html", str(ring))
     gv("check", "--world", "graph:scenarios/worlds/petersen.graphml", "--robots", "p0 p7",
@@ -99,7 +106,8 @@ def worlds() -> None:
         browser = p.chromium.launch(executable_path=chromium, args=["--disable-gpu", "--no-sandbox"])
         page = browser.new_page(viewport={"width": 1100, "height": 760})
         for source, step, out in ((ring, "Infinity", "world-viewer-ring.png"),
-                                  (graph, 7, "world-viewer-graph.png")):
+                                  (graph, 7, "world-viewer-graph.png"),
+                                  (lit, 6, "world-viewer-lights.png")):
             page.goto(source.as_uri())
             page.evaluate(f"window.viewer.go({step})")
             page.screenshot(path=HERE / out, full_page=True)
@@ -108,7 +116,8 @@ def worlds() -> None:
         page.set_content(f"<body style='margin:8px'><img src='data:image/svg+xml;base64,{svg}'>")
         page.screenshot(path=HERE / "world-svg-torus.png", full_page=True)
         browser.close()
-    for name in ("world-viewer-ring.png", "world-viewer-graph.png", "world-svg-torus.png"):
+    for name in ("world-viewer-ring.png", "world-viewer-graph.png", "world-viewer-lights.png",
+                 "world-svg-torus.png"):
         small(HERE / name)
         print(f"{name}: {(HERE / name).stat().st_size // 1024} KB")
 

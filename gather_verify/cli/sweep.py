@@ -26,8 +26,9 @@ DEFAULT_DB = "gather-verify-results.sqlite"
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--robots", type=count_range, required=True,
                    help="robots n, or a range A-B (every n from A to B)")
-    p.add_argument("--meeting", type=count_range, required=True,
-                   help="meeting nodes m, or a range A-B")
+    p.add_argument("--meeting", type=count_range, default=None,
+                   help="meeting nodes m, or a range A-B (required on the paper's world; on a "
+                        "finite world the default is 0: the task needs none)")
     p.add_argument("--box", type=parse_box, default=None,
                    help="box of nodes, WxH (the paper's world; a finite world needs none)")
     p.add_argument("--world", default="grid",
@@ -123,8 +124,9 @@ def run(args: argparse.Namespace) -> int:
     get_scheduler(args.scheduler)  # an unknown name fails before any work
     if not is_plane(args.world):
         return _worlds(args)
-    if args.box is None:
-        raise InvalidInput("--box is required in the paper's world (or give a finite --world)")
+    if args.box is None or args.meeting is None:
+        raise InvalidInput(f"--{'box' if args.box is None else 'meeting'} is required in the "
+                           "paper's world (or give a finite --world)")
     if args.task is not None or args.visibility is not None or args.lights is not None:
         raise InvalidInput("--task, --visibility and --lights need a finite world (--world ring:N, "
                            "grid:WxH, torus:WxH or graph:FILE)")
@@ -200,6 +202,8 @@ def _worlds(args: argparse.Namespace) -> int:
     from gather_verify.tasks import get_task
     from gather_verify.worlds import get_world, world_specs
 
+    if args.meeting is None:
+        args.meeting = [0]
     for option in ("box", "readings", "readings_types", "junit", "force", "keep_growing"):
         if getattr(args, option):
             raise InvalidInput(f"--{option.replace('_', '-')} is an option of the paper's world "

@@ -3,14 +3,15 @@
 Each kernel does, in compiled code, what a numpy/Python function of the engine does, with
 the same result: the hash index of visited keys (``KeyIndex.find_or_add`` of
 :mod:`gather_verify.engine.fast_explore`), the per-chunk arithmetic (decoding states,
-successor keys, the keys of (configuration, move) pairs), the ASYNC scheduler's bulk step,
+successor keys, the keys of (configuration, move) pairs), the bulk steps of the ASYNC
+and the round schedulers (FSYNC, SSYNC, centralized),
 the longest path over the kept graph (``move-bound``) and Tarjan's strongly connected
 components (``termination``). The numpy and Python code stays the tested reference: set
 ``GATHER_VERIFY_KERNELS=numpy`` (or call :func:`use` with False) to run it instead; the tests
 compare the two paths field by field.
 
-The package imports nothing of the project (the engine, the graph properties and the ASYNC
-scheduler all use it: it sits at the bottom of the import layers, beside ``errors``), and
+The package imports nothing of the project (the engine, the graph properties and the
+schedulers all use it: it sits at the bottom of the import layers, beside ``errors``), and
 numba only when a kernel is first used (:mod:`.compiled`; the finite worlds' bulk search
 imports its own, :mod:`.world`, when it runs). Kernels are compiled on first
 use and cached on disk (``cache=True``: numba's cache beside the module, or under
@@ -26,7 +27,8 @@ ENV = "GATHER_VERIFY_KERNELS"
 """Environment variable: ``numpy`` (or ``0``) selects the numpy/Python reference path (the
 same switch as the union engine's, :mod:`gather_verify.engine.union_kernels`)."""
 KERNELS = ("find_or_add", "place", "async_successors", "longest_path", "tarjan_csr",
-           "decode_chunk", "successor_keys", "pair_keys", "successor_rows")
+           "decode_chunk", "successor_keys", "pair_keys", "successor_rows", "round_counts",
+           "round_events")
 """The compiled functions (in :mod:`gather_verify.kernels.compiled`, imported on first use)."""
 _forced: bool | None = None
 _available: bool | None = None
@@ -77,6 +79,8 @@ def warm() -> None:
         longest_path,
         pair_keys,
         place,
+        round_counts,
+        round_events,
         successor_keys,
         successor_rows,
         tarjan_csr,
@@ -100,6 +104,13 @@ def warm() -> None:
     pair_keys(ck, rank, src, robot, old, new, 18, 9)
     successor_rows(ck, rank, src, robot, old, new, neighbour,
                    np.full((1, 2, 4), -1, dtype=np.int32))
+    subsets = np.ones((1, 2), dtype=np.bool_)
+    count = np.ones(32, dtype=np.int64)
+    s, e, c = round_counts(masks, subsets, count, 16)
+    round_events(codes, masks, neighbour, subsets, np.full((32, 5), 4, dtype=np.int64), count, s,
+                 np.empty(e, dtype=np.int64), np.empty(e, dtype=np.int8),
+                 np.empty(c, dtype=np.int64), np.empty(c, dtype=np.int64),
+                 np.empty(c, dtype=np.int64))
     off = np.array([0, 1, 1], dtype=np.int32)
     tgt = np.array([1], dtype=np.int32)
     longest_path(off, tgt, np.zeros(1, dtype=np.int8))

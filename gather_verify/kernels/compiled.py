@@ -149,6 +149,113 @@ def async_successors(codes, masks, neighbour, look_order):  # pragma: no cover -
     return src, weight, robot, new
 
 
+# -- the round schedulers' bulk step (FSYNC, SSYNC, centralized) ---------------------
+
+@njit(cache=True, nogil=True)
+def round_counts(masks, subsets, count, budget):  # pragma: no cover - compiled
+    """How many leading states of ``masks`` (robots' move masks) the round events take: those
+    whose events, counted from the first state, stay within ``budget`` (at least one); and
+    their events and changes. An event activates the robots of one row of ``subsets`` (a
+    boolean ``(k, n)`` matrix), each with one of its ``count[mask]`` choices; a change is an
+    activated robot whose choice is a step (every choice but staying, the last bit)."""
+    s_count, n = masks.shape
+    k = subsets.shape[0]
+    taken = 0
+    events = 0
+    changes = 0
+    for s in range(s_count):
+        ev = 0
+        ch = 0
+        for a in range(k):
+            per = 1
+            for i in range(n):
+                if subsets[a, i]:
+                    per *= count[masks[s, i]]
+            if per == 0:
+                continue
+            ev += per
+            for i in range(n):
+                if subsets[a, i]:
+                    m = masks[s, i]
+                    ch += (count[m] - ((m >> 4) & 1)) * (per // count[m])
+        if s > 0 and events + ev > budget:
+            break
+        taken = s + 1
+        events += ev
+        changes += ch
+    return taken, events, changes
+
+
+@njit(cache=True, nogil=True)
+def round_events(codes, masks, neighbour, subsets, nth, count, states, src, weight, robot, new,
+                 event):  # pragma: no cover - compiled
+    """The round events of the first ``states`` states of ``codes`` into the arrays sized by
+    :func:`round_counts`, in the order of ``schedulers.base.bulk_rounds``: per state, per row
+    of ``subsets``, every choice of the activated robots (robot j's choices in the order of
+    ``nth[mask]``, the last robot varying fastest). Per event its source and weight (the
+    robots that step); per change (the robots that step, in robot order) its event, robot and
+    new code (-1 when it leaves the region)."""
+    n = codes.shape[1]
+    k = subsets.shape[0]
+    choice = np.empty((n, 5), dtype=np.int64)  # robot i's new code for its j-th choice
+    step = np.empty((n, 5), dtype=np.bool_)  # whether that choice is a step
+    active = np.empty(n, dtype=np.int64)
+    width = np.empty(n, dtype=np.int64)
+    digit = np.empty(n, dtype=np.int64)
+    e = 0
+    c = 0
+    for s in range(states):
+        for i in range(n):
+            cell = codes[s, i] // 5
+            m = masks[s, i]
+            for j in range(count[m]):
+                kk = nth[m, j]
+                if kk < 4:
+                    dest = neighbour[cell, kk]
+                    choice[i, j] = dest * 5 if dest >= 0 else -1
+                    step[i, j] = True
+                else:
+                    choice[i, j] = cell * 5
+                    step[i, j] = False
+        for a in range(k):
+            size = 0
+            empty = False
+            for i in range(n):
+                if subsets[a, i]:
+                    w = count[masks[s, i]]
+                    active[size] = i
+                    width[size] = w
+                    digit[size] = 0
+                    size += 1
+                    if w == 0:
+                        empty = True
+            if empty:
+                continue
+            while True:
+                moved = 0
+                for t in range(size):
+                    i = active[t]
+                    j = digit[t]
+                    if step[i, j]:
+                        robot[c] = i
+                        new[c] = choice[i, j]
+                        event[c] = e
+                        c += 1
+                        moved += 1
+                src[e] = s
+                weight[e] = moved
+                e += 1
+                t = size - 1  # the next choice: the last robot varies fastest
+                while t >= 0:
+                    digit[t] += 1
+                    if digit[t] < width[t]:
+                        break
+                    digit[t] = 0
+                    t -= 1
+                if t < 0:
+                    break
+
+
 # -- graph analyses over the kept CSR graph ----------------------------------------------
 
 @njit(cache=True, nogil=True)

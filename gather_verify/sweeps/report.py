@@ -565,8 +565,8 @@ def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -
 
 def _causes_table(rows: list[dict[str, Any]]) -> list[str]:
     """The VIOLATED rows counted by failing property × cause (the rule the run failed in);
-    a row stored before causes counts as
-    :data:`~gather_verify.sweeps.store.CAUSE_UNKNOWN`, never as some cause."""
+    a row with none counts as :data:`~gather_verify.sweeps.store.CAUSE_UNKNOWN`, never as
+    some cause, and rows none of which has a cause (a finite world's) give no table."""
     from gather_verify.properties import ORDER
     from gather_verify.sweeps.store import CAUSE_UNKNOWN
 
@@ -576,7 +576,7 @@ def _causes_table(rows: list[dict[str, Any]]) -> list[str]:
             by = counts.setdefault(r["property"], {})
             why = r.get("cause") or CAUSE_UNKNOWN
             by[why] = by.get(why, 0) + 1
-    if not counts:
+    if all(set(by) == {CAUSE_UNKNOWN} for by in counts.values()):
         return []
     order = [p for p in ORDER if p in counts] + sorted(set(counts) - set(ORDER))
     body = "".join(

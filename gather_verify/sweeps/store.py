@@ -33,9 +33,10 @@ COLUMNS = (
 JSON_COLUMNS = ("robots", "meeting_nodes", "trace", "failing")
 """``failing``: every property that fails (``property`` names the first); ``cause``: the rule
 the first one's run failed in (``check``'s ``cause``). Both are added to older databases when
-they are opened; a row stored before causes has none (NULL), which a summary counts as
-:data:`CAUSE_UNKNOWN`, never as some cause."""
-CAUSE_UNKNOWN = "cause unknown (stored before causes)"
+they are opened; a row with none (NULL: stored before causes, or a finite world's, whose
+algorithms name no rules) counts in a summary as :data:`CAUSE_UNKNOWN`, never as some cause,
+and a summary where no row has a cause shows no causes at all."""
+CAUSE_UNKNOWN = "cause not recorded"
 ADDED = ("failing", "cause")
 """The columns added since the first schema, in order (older databases get them on opening)."""
 _SCHEMA = """

@@ -22,7 +22,7 @@ from typing import Any
 
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
-from gather_verify.sweeps.store import Store
+from gather_verify.sweeps.store import CAUSE_UNKNOWN, Store
 
 CHUNK = 8
 """Configurations per task: enough to amortise process overhead, small enough to lose little."""
@@ -594,10 +594,9 @@ def summarise_totals(groups: Iterable[tuple[Any, ...]], slowest: list[dict[str, 
     """:func:`summarise` from rows counted in groups (``Store.totals``: ``(class, verdict,
     property, failing, count, largest ratio, cause)``, in order of first row) and the slowest
     rows. ``causes``: per failing property (the one each configuration names first), its
-    count per cause; a row with none (stored before causes) counts under
+    count per cause; a row with none (stored before causes, or a finite world's) counts under
     :data:`~gather_verify.sweeps.store.CAUSE_UNKNOWN`."""
     from gather_verify.model.classes import CLASS_NAMES
-    from gather_verify.sweeps.store import CAUSE_UNKNOWN
 
     classes = dict.fromkeys(CLASS_NAMES, 0)
     verdicts: dict[str, dict[str, int]] = {}
@@ -671,7 +670,7 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
         write("every failing property (a configuration counts once for each):")
         for name, props in summary["failing_every"].items():
             write(f"  {name}: " + ", ".join(f"{p} x{k}" for p, k in sorted(props.items())))
-    if summary.get("causes"):
+    if any(set(by) != {CAUSE_UNKNOWN} for by in summary.get("causes", {}).values()):
         write("")
         write("failing properties by cause (the first failing property of each configuration):")
         for prop, by in summary["causes"].items():
