@@ -48,8 +48,12 @@ def assert_rows_equal(world: str, n: int, m: int, algorithm: str, scheduler: str
     settled = 0
     for members in world_class_tasks(s, items):
         settled += len(decide_world_class(s, members))
-        rows = verify_world_class(s, members)
-        assert [r["index"] for r in rows] == [i for i, _ in members]
+        rows, rest = verify_world_class(s, members)
+        assert [r["index"] for r in rows] == [i for i, _ in members] and rest == []
+        kept, handed = verify_world_class(s, members, hand_off=True)
+        assert len(kept) == len(decide_world_class(s, members))
+        assert [i for i, _ in handed] == [i for i, _ in members if i not in
+                                          {r["index"] for r in kept}]
         seen.update((r["index"], r) for r in rows)
     assert sorted(seen) == [i for i, _ in items]
     verified = 0
@@ -158,13 +162,19 @@ def test_a_union_that_takes_every_cycle_for_a_livelock_settles_less(monkeypatch)
     assert counts["settled"] < counts["verified"]
 
 
-def test_the_sweep_command_stores_the_same_rows(tmp_path, capsys):
+@pytest.mark.parametrize("workers, algorithm, verdicts", [
+    ("1", "go-to-target", 0), ("2", "ring-gather", 1)])
+def test_the_sweep_command_stores_the_same_rows(tmp_path, capsys, workers, algorithm,
+                                                verdicts):
+    """Both engines through the command; with two workers the own checks of a class are
+    handed to the other worker."""
     rows = {}
     for engine in ("union", "per-config"):
         db = tmp_path / f"{engine}.sqlite"
         assert main(["sweep", "--world", "ring:5-6", "--robots", "2-3", "--meeting", "1",
                      "--scheduler", "ssync", "--db", str(db), "--engine", engine,
-                     "--workers", "1", "--json"]) == 0
+                     "--algorithm", algorithm, "--multiplicity", "global-weak",
+                     "--workers", workers, "--json"]) == verdicts
         with sqlite3.connect(db) as con:
             rows[engine] = con.execute(
                 "SELECT r.key, robots, meeting_nodes, class, verdict, property, reason, states,"

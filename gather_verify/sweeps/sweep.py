@@ -359,7 +359,7 @@ def _execute(
         run = _run_class_task if local else partial(_run_class_task, hand_off=HAND_OFF_SECONDS)
     elif engine == WORLD_UNION:
         tasks.sort(key=lambda task: -len(task[2]))
-        run = _run_world_class_task
+        run = _run_world_class_task if local else partial(_run_world_class_task, hand_off=True)
     if dask is not None:
         yield from _execute_dask(tasks, dask, workers, run)
     elif local or not tasks:
@@ -444,6 +444,10 @@ def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
         from gather_verify.algorithms.loading import receive
 
         receive(sources)
+    if verify is verify_one and settings.world != "grid":  # handed off by a finite world's class
+        from gather_verify.sweeps.world_census import verify_world_one
+
+        verify = verify_world_one
     return sweep, Store.encode(verify_chunk(settings, chunk, verify)), []
 
 
@@ -463,9 +467,12 @@ def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None
     return sweep, Store.encode(rows), [(sweep, settings, [item]) for item in rest]
 
 
-def _run_world_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None) -> Done:
+def _run_world_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
+                          hand_off: bool = False) -> Done:
     """Worker entry point of a finite world's union sweep: the chunk is one meeting-node
-    class (:mod:`gather_verify.sweeps.world_union`)."""
+    class (:mod:`gather_verify.sweeps.world_union`); with ``hand_off`` the configurations
+    the union leaves to their own checks come back as tasks of ``CHUNK`` each, for the
+    other workers."""
     from gather_verify.sweeps.world_union import verify_world_class
 
     sweep, settings, chunk = task
@@ -473,7 +480,8 @@ def _run_world_class_task(task: Task, sources: dict[str, dict[str, str]] | None 
         from gather_verify.algorithms.loading import receive
 
         receive(sources)
-    return sweep, Store.encode(verify_world_class(settings, chunk)), []
+    rows, rest = verify_world_class(settings, chunk, hand_off)
+    return sweep, Store.encode(rows), [(sweep, settings, part) for part in _chunks(rest, CHUNK)]
 
 
 def _execute_dask(tasks: list[Task], address: str, workers: int | None,

@@ -73,21 +73,25 @@ def world_class_tasks(settings: Any, items: list[Item]) -> list[list[Item]]:
     return sorted(classes.values(), key=lambda members: -len(members))
 
 
-def verify_world_class(settings: Any, items: list[Item]) -> list[dict[str, Any]]:
-    """The rows of the configurations ``items`` (one meeting-node class): from one union
-    search where it decides them, else from their own checks."""
+def verify_world_class(settings: Any, items: list[Item], hand_off: bool = False
+                       ) -> tuple[list[dict[str, Any]], list[Item]]:
+    """The rows of the configurations ``items`` (one meeting-node class), in order: from one
+    union search where it decides them, else from their own checks; with ``hand_off`` those
+    checks are left to the caller (returned, for other workers)."""
     started = time.perf_counter()
     decided = decide_world_class(settings, items)
-    share = (time.perf_counter() - started) / max(1, len(items))
-    rows = []
+    share = (time.perf_counter() - started) / max(1, len(decided))
+    rows, rest = [], []
     for index, c in items:
         row = decided.get(index)
-        if row is None:
-            row = verify_world_one(settings, index, c)
-        else:
+        if row is not None:
             row["seconds"] = share
-        rows.append(row)
-    return rows
+            rows.append(row)
+        elif hand_off:
+            rest.append((index, c))
+        else:
+            rows.append(verify_world_one(settings, index, c))
+    return rows, rest
 
 
 def decide_world_class(settings: Any, items: list[Item]) -> dict[int, dict[str, Any]]:
