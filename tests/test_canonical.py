@@ -87,19 +87,19 @@ def test_a_process_keeps_the_memos_of_few_algorithms():
     """A sweep under every reading runs many algorithms in one worker: the memos of the least
     recently used are dropped, so they cannot fill the worker's memory limit."""
     from gather_verify.algorithms import get_algorithm
-    from gather_verify.engine import fast_explore
+    from gather_verify.engine import facts_table
 
     algorithms = [get_algorithm(f"paper:finalize={v}") for v in ("closest", "target", "n1")]
-    first = fast_explore.facts_memo(algorithms[0], "local-weak", "all")
+    first = facts_table.facts_memo(algorithms[0], "local-weak", "all")
     first["seen"] = True
     for algorithm in algorithms[1:]:
-        fast_explore.facts_memo(algorithm, "local-weak", "all")
-        fast_explore.target_memo(algorithm)
-    assert len(fast_explore._MEMOS) <= fast_explore.MEMO_ALGORITHMS
-    assert len(fast_explore._TARGETS) <= fast_explore.MEMO_ALGORITHMS
-    assert fast_explore.facts_memo(algorithms[0], "local-weak", "all") == {}  # dropped
-    recent = fast_explore.facts_memo(algorithms[2], "local-weak", "all")
-    assert fast_explore.facts_memo(algorithms[2], "local-weak", "all") is recent  # kept
+        facts_table.facts_memo(algorithm, "local-weak", "all")
+        facts_table.target_memo(algorithm)
+    assert len(facts_table._MEMOS) <= facts_table.MEMO_ALGORITHMS
+    assert len(facts_table._TARGETS) <= facts_table.MEMO_ALGORITHMS
+    assert facts_table.facts_memo(algorithms[0], "local-weak", "all") == {}  # dropped
+    recent = facts_table.facts_memo(algorithms[2], "local-weak", "all")
+    assert facts_table.facts_memo(algorithms[2], "local-weak", "all") is recent  # kept
 
 
 def test_a_process_keeps_few_algorithm_instances():
@@ -121,13 +121,13 @@ def test_a_process_keeps_few_algorithm_instances():
 def test_memos_are_dropped_when_the_process_is_over_half_its_memory_limit():
     """A check must not stop INCOMPLETE (memory) because of what earlier checks memoised."""
     from gather_verify.algorithms import get_algorithm
-    from gather_verify.engine import fast_explore
+    from gather_verify.engine import facts_table
 
-    fast_explore.facts_memo(get_algorithm("paper"), "local-weak", "all")["seen"] = True
-    fast_explore.make_room(1e9)  # far under the limit: kept
-    assert fast_explore._MEMOS
-    fast_explore.make_room(1.0)  # over half of 1 MB: dropped
-    assert not fast_explore._MEMOS and not fast_explore._TARGETS
+    facts_table.facts_memo(get_algorithm("paper"), "local-weak", "all")["seen"] = True
+    facts_table.make_room(1e9)  # far under the limit: kept
+    assert facts_table._MEMOS
+    facts_table.make_room(1.0)  # over half of 1 MB: dropped
+    assert not facts_table._MEMOS and not facts_table._TARGETS
 
 
 @settings(max_examples=300, deadline=None)
@@ -160,7 +160,7 @@ def test_facts_table_rows_carry_the_canonical_form_a_search_finds(meeting, robot
     from gather_verify.algorithms import get_algorithm
     from gather_verify.algorithms.moves import frames_for
     from gather_verify.engine.encoding import Encoding, region_box
-    from gather_verify.engine.fast_explore import FactsTable
+    from gather_verify.engine.facts_table import FactsTable
     from gather_verify.model.symmetry import meeting_automorphisms
 
     configs = [Configuration(r, meeting) for r in robot_sets]

@@ -126,7 +126,7 @@ def _bulk_order(scheduler, c):
     import numpy as np
 
     from gather_verify.engine.encoding import Encoding
-    from gather_verify.engine.fast_explore import BIT
+    from gather_verify.engine.facts_table import BIT
 
     enc = Encoding((-1, -1, 5, 5))
     algo = get_algorithm("go-to-target")

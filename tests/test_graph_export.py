@@ -81,3 +81,15 @@ def test_an_unknown_graph_format_is_refused_before_the_search(tmp_path, capsys) 
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "unknown graph format '.png'" in err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("search", [explore_reference, explore_fast])
+def test_a_stopped_search_exports_its_reason_as_a_plain_string(search, tmp_path) -> None:
+    """``stopped`` is a :class:`Stop` (a ``str`` enum); GraphML takes plain strings only."""
+    from gather_verify.engine.encoding import Limits, Stop
+
+    e = search(YARD, "go-to-target", "async", reduction=False, limits=Limits(max_states=50))
+    assert e.stopped is Stop.STATES
+    out = tmp_path / "stopped.graphml"
+    nx.write_graphml(to_networkx(e), out)
+    assert nx.read_graphml(out).graph["stopped"] == "states"

@@ -16,7 +16,8 @@ from hypothesis.extra.numpy import arrays
 
 from gather_verify import kernels
 from gather_verify.check import run_check
-from gather_verify.engine.fast_explore import KeyIndex, explore_fast
+from gather_verify.engine.fast_explore import explore_fast
+from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.configuration import Configuration
 from gather_verify.properties.graph import longest_path, strongly_connected
 from gather_verify.scenario import load_scenario
@@ -176,7 +177,7 @@ def test_switching_the_kernels_off_runs_the_reference(monkeypatch) -> None:
 def test_never_in_u_is_exact_on_a_whole_box(n, m) -> None:
     """Where every symmetry of M fixes a meeting node, no configuration is in U (the shortcut
     of FactsTable.in_u_of), with multiplicities too; and the shortcut does not claim more."""
-    from gather_verify.engine.fast_explore import never_in_u
+    from gather_verify.engine.facts_table import never_in_u
     from gather_verify.model.classes import classify_configuration
     from gather_verify.model.symmetry import meeting_automorphisms
 
@@ -197,7 +198,7 @@ def test_never_in_u_is_exact_on_a_whole_box(n, m) -> None:
 def test_the_hashed_successor_rows_give_the_same_exploration(monkeypatch) -> None:
     """Past ``PairRows.DIRECT_ROWS`` rows the (row, cell, step) triples go through a hash
     index: forced here from the first row."""
-    from gather_verify.engine.fast_explore import PairRows
+    from gather_verify.engine.bulk_step import PairRows
 
     monkeypatch.setattr(PairRows, "DIRECT_ROWS", 0)
     c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)

@@ -409,7 +409,8 @@ def test_crash_wins_over_defined_on_both_engines(scheduler):
 def test_the_engines_name_no_property():
     """The engines and the checker loop take every property from the registry."""
     root = Path(__file__).resolve().parent.parent / "gather_verify" / "engine"
-    for path in ("explore.py", "fast_explore.py", "checks.py", "search.py"):
+    for path in ("explore.py", "fast_explore.py", "bulk_step.py", "facts_table.py",
+                 "canonical_keys.py", "key_index.py", "columns.py", "checks.py", "search.py"):
         text = (root / path).read_text(encoding="utf-8")
         for name in ORDER:
             assert f'"{name}"' not in text and f"'{name}'" not in text, (path, name)

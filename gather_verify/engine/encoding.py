@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from enum import StrEnum
 from functools import cached_property
 
 import numpy as np
@@ -46,6 +47,19 @@ class Limits:
 
 NO_LIMITS = Limits()
 """The default limits (a module-level value, so it can be a default argument)."""
+
+
+class Stop(StrEnum):
+    """Why a search stopped before expanding every reachable state (its ``stopped``; else
+    the name of the halting property it stopped at, or None when it expanded them all).
+    A ``str`` enum: reports, JSON and stored rows read the plain name."""
+
+    TIME = "time"  # Limits.max_seconds
+    MEMORY = "memory"  # Limits.max_memory_mb
+    STATES = "states"  # Limits.max_states
+    REGION = "region"  # a successor left the search region (a margin too small)
+    SETTLED = "settled"  # every requested property had its counterexample (``settle``)
+    WATCH = "watch"  # the finite worlds' search: its ``watch`` asked it to stop
 
 
 def symmetry_group(initial: Configuration, frames: str) -> list[Automorphism]:

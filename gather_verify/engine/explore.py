@@ -51,6 +51,7 @@ from gather_verify.engine.encoding import (
     STEP_INDEX,
     Encoding,
     Limits,
+    Stop,
     region_box,
     symmetry_group,
 )
@@ -103,7 +104,8 @@ class Exploration:
     changed_loops: int
     states: int
     transitions: int
-    stopped: str | None  # None: the whole space was expanded
+    stopped: Stop | str | None  # None: the whole space was expanded; else why, or the
+    # halting property it stopped at
     violations: dict[str, Violation]
     seconds: float
     peak_rss_mb: float
@@ -234,19 +236,19 @@ def explore_reference(
     weights = array(weight_code(initial.n))
     checks.state(0, StateFacts(facts(initial.robots), True), checks.on_discovery)
     transitions = changed_loops = 0
-    stopped: str | None = None
+    stopped: Stop | str | None = None
     peak = rss_mb()
     n = initial.n
     sid = 0
     PROGRESS.states = 1
     while sid < len(keys):
         if time.perf_counter() - started > limits.max_seconds:  # every state: a state of
-            stopped = "time"  # many robots costs far more than the clock read
+            stopped = Stop.TIME  # many robots costs far more than the clock read
             break
         if sid & 4095 == 0:
             peak = max(peak, rss_mb())
             if peak > limits.max_memory_mb:
-                stopped = "memory"
+                stopped = Stop.MEMORY
                 break
         state = enc.decode(keys[sid], n)
         robots = configuration_of(state)
@@ -265,10 +267,10 @@ def explore_reference(
                                   time.perf_counter() - started > limits.max_seconds):
                 # one state's events can be many (FSYNC: a product over the robots): the
                 # limits are read every 1,024 of them (a usual state has far fewer)
-                stopped = "states" if len(keys) > limits.max_states else "time"
+                stopped = Stop.STATES if len(keys) > limits.max_states else Stop.TIME
                 break
             if not all(enc.inside(v) for v, _ in succ):
-                stopped = "region"
+                stopped = Stop.REGION
                 break
             if checks.on_transition:
                 checks.transition(sid, here, lambda: facts(configuration_of(succ)),  # noqa: B023
@@ -292,15 +294,18 @@ def explore_reference(
             break
         sid += 1
         if settle and checks.settled():
-            stopped = "settled"
+            stopped = Stop.SETTLED
             break
         PROGRESS.states = len(keys)  # read by a progress line (check --progress)
         if len(keys) > limits.max_states:
-            stopped = "states"
+            stopped = Stop.STATES
             break
     offsets.append(len(targets))
     peak = max(peak, rss_mb())
     return Exploration(
-        initial, algo, scheduler, detection, frames, anonymity, symmetry, enc, keys, parents,
-        offsets, targets, weights, changed_loops, len(keys), transitions, stopped,
-        checks.violations, time.perf_counter() - started, peak, facts, checks.vacuous)
+        initial=initial, algorithm=algo, scheduler_name=scheduler, detection=detection,
+        frames=frames, anonymity=anonymity, symmetry=symmetry, encoding=enc, keys=keys,
+        parents=parents, offsets=offsets, targets=targets, weights=weights,
+        changed_loops=changed_loops, states=len(keys), transitions=transitions, stopped=stopped,
+        violations=checks.violations, seconds=time.perf_counter() - started, peak_rss_mb=peak,
+        facts=facts, vacuous=checks.vacuous)

@@ -63,7 +63,7 @@ def to_networkx(e: Exploration) -> nx.DiGraph:
     g = nx.DiGraph(
         algorithm=e.algorithm.name, scheduler=e.scheduler_name, detection=e.detection,
         frames=e.frames, meeting=" ".join(_node(m) for m in sorted(e.initial.meeting_nodes)),
-        anonymity=bool(e.anonymity), symmetry=bool(e.symmetry), stopped=e.stopped or "",
+        anonymity=bool(e.anonymity), symmetry=bool(e.symmetry), stopped=str(e.stopped or ""),
         states=int(e.states), transitions=int(e.transitions))
     ids = {int(key): sid for sid, key in enumerate(e.keys)}
     for sid in range(len(ids)):

@@ -5,9 +5,10 @@ The configurations of a sweep that share their meeting nodes ``M``
 (up to an isometry) explore largely the same states: on the 4 x 4 box the
 union of their reachable states is 80-120 times smaller than the sum of
 their searches. This module explores that union once (the bulk explorer's
-machinery: :class:`~gather_verify.engine.fast_explore.KeyIndex`,
-``FactsTable``, ``Canon``, the scheduler's ``bulk_successors``) and decides
-every configuration's row from it:
+machinery: the same chunk step, :mod:`~gather_verify.engine.bulk_step`, over a
+:class:`~gather_verify.engine.key_index.KeyIndex` and a
+:class:`~gather_verify.engine.facts_table.FactsTable`) and decides every
+configuration's row from it:
 
 - each configuration is moved by an isometry of the robots' frame group
   (:func:`shape_isometry`: with all 8 frames a rotation or reflection too, with
@@ -71,23 +72,25 @@ from gather_verify import kernels
 from gather_verify.algorithms import Algorithm, AlgorithmCrash, get_algorithm
 from gather_verify.algorithms.moves import frames_for
 from gather_verify.engine import union_kernels
+from gather_verify.engine.bulk_step import (
+    cell_ranks,
+    decode_chunk,
+    move_masks,
+    successor_codes,
+    successor_keys,
+)
+from gather_verify.engine.canonical_keys import Canon, decode_keys
+from gather_verify.engine.columns import Growing
 from gather_verify.engine.encoding import STEP_INDEX
 from gather_verify.engine.explore import DEFAULT_MARGIN, Encoding, region_box, symmetry_group
-from gather_verify.engine.fast_explore import (
-    STEP_PERM,
-    Canon,
-    FactsTable,
-    Growing,
-    KeyIndex,
-    _decode,
-    facts_memo,
-)
+from gather_verify.engine.facts_table import STEP_PERM, FactsTable, facts_memo
+from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model import geometry
 from gather_verify.model.canonical import canonical_form
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
 from gather_verify.model.symmetry import Automorphism
-from schedulers import Frontier, get_scheduler, initial_state
+from schedulers import get_scheduler, initial_state
 
 UNION_MARGIN = 2
 """The margin of the configurations' regions whose union the class is explored in."""
@@ -218,17 +221,6 @@ class UnionGraph:
         return self.orders[h.g]
 
 
-def _neighbours(enc: Encoding) -> np.ndarray:
-    neighbour = np.full((enc.cells, 4), -1, dtype=np.int64)
-    for cell in range(enc.cells):
-        v = enc.node(cell)
-        for k, (dx, dy) in enumerate(STEPS):
-            w = (v[0] + dx, v[1] + dy)
-            if enc.inside(w):
-                neighbour[cell, k] = (w[0] - enc.x0) * enc.height + (w[1] - enc.y0)
-    return neighbour
-
-
 def _closed_boxes(box: np.ndarray, group: Sequence[Automorphism]) -> np.ndarray:
     """Each row ``(x0, y0, x1, y1)`` grown to the bounding box of its images under ``group``."""
     out = box.copy()
@@ -319,8 +311,7 @@ def explore_union(
                        facts_memo(algo, detection, frames), targets="target-invariance" in wanted)
     equivariance = _Equivariance(table, group, orientations)
     canon = Canon(enc, n)
-    base = enc.base
-    neighbour = _neighbours(enc)
+    compiled = kernels.enabled()
     index = KeyIndex()
     seed_ids, _ = index.find_or_add(np.array([enc.key(initial_state(r)) for r in seeds],
                                              dtype=np.uint64))
@@ -330,18 +321,13 @@ def explore_union(
     sid = 0
     while sid < index.count:
         hi = min(index.count, sid + (1 << 14))
-        K = index.keys[sid:hi].copy()
-        codes = _decode(K, base, n)
-        cells = codes // 5
-        srt, ck = table.config_keys(cells)
-        rows = table.rows(ck, srt)
+        step = decode_chunk(index.keys[sid:hi].copy(), table, compiled)
+        K, codes, cells, rows = step.keys, step.codes, step.cells, step.rows
         f = np.zeros(len(K), dtype=np.uint8)
         f[table.flags[rows, 0] != 0] |= DEFINED  # no rule, or a crash: the per-config check's
         ok = np.flatnonzero(table.flags[rows, 0] == 0)
-        rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
-        masks = table.masks[rows[:, None], rank]
-        got = sched.bulk_successors(Frontier(codes[ok], masks[ok], neighbour),
-                                    4 * n * len(ok) + 1)
+        masks = move_masks(table, rows, step.rank, flat=compiled)
+        got = sched.bulk_successors(enc.frontier(codes[ok], masks[ok]), 4 * n * len(ok) + 1)
         assert got.event is None and got.states == len(ok), "ASYNC: one change per event"
         src, robot, new, weight = got.source, got.robot, got.code, got.weight
         src = ok[src]
@@ -351,15 +337,13 @@ def explore_union(
             f[src[outside]] |= TAINT
             keep = ~outside
             src, robot, new, weight = src[keep], robot[keep], new[keep], weight[keep]
-        old = codes[src, robot]
-        succ_codes = codes[src]
-        succ_codes[np.arange(len(src)), robot] = new
-        ids, _ = index.find_or_add(canon.keys(succ_codes))
+        succ, old, succ_codes = successor_keys(K, codes, src, robot, new, None, canon, True,
+                                               compiled)
+        ids, _ = index.find_or_add(succ)
         if index.count > max_states:
             return None
         if "final" in wanted:
-            dead = (table.flags[rows, 1] == 1) & (table.flags[rows, 2] == 0) \
-                & np.all(codes % 5 == 0, axis=1)
+            dead = (table.flags[rows, 1] == 1) & (table.flags[rows, 2] == 0) & step.idle
             f[dead] |= FINAL
         if "no-ungatherable" in wanted:
             f[table.need_in_u(rows)] |= UNGATHERABLE
@@ -435,7 +419,6 @@ class Oriented:
         self.perm = np.array(STEP_PERM[h.g], dtype=np.uint8)
         self.enc_h = enc_h
         self.canon, self.canon_h = Canon(enc, self.n), Canon(enc_h, self.n)
-        self.neighbour = _neighbours(enc_h)
         self.sched = get_scheduler(u.scheduler)
         self.known: dict[int, list[int]] = {}
 
@@ -453,21 +436,19 @@ class Oriented:
     def _compute(self, states: np.ndarray) -> None:
         u, table, n = self.u, self.u.table, self.n
         back = self.back
-        rep_h = _decode(self.canon_h.keys(self.forward[_decode(u.keys[states], u.encoding.base,
-                                                                n)]), self.enc_h.base, n)
+        rep_h = decode_keys(self.canon_h.keys(self.forward[decode_keys(
+            u.keys[states], u.encoding.base, n)]), self.enc_h.base, n)
         cells = back[rep_h] // 5  # the representative, in the union's coordinates
         srt, ck = table.config_keys(cells)
         rows = table.rows(ck, srt)
         ok = np.flatnonzero(table.flags[rows, 0] == 0)
-        rank = np.argmax(cells[:, :, None] == srt[:, None, :], axis=2)
-        masks = self.perm[table.masks[rows[:, None], rank]]
-        got = self.sched.bulk_successors(Frontier(rep_h[ok], masks[ok], self.neighbour),
+        masks = self.perm[move_masks(table, rows, cell_ranks(cells, srt))]
+        got = self.sched.bulk_successors(self.enc_h.frontier(rep_h[ok], masks[ok]),
                                          4 * n * len(ok) + 1)
         src, robot, new = ok[got.source], got.robot, got.code
         keep = new >= 0
         src, robot, new = src[keep], robot[keep], new[keep]
-        succ = rep_h[src]
-        succ[np.arange(len(src)), robot] = new
+        succ = successor_codes(rep_h, src, robot, new)
         ids, first = u.index.find_or_add(self.canon.keys(back[succ]))
         assert not len(first), "a successor the union does not hold: a bug of gather-verify"
         ends = np.cumsum(np.bincount(src, minlength=len(states))).tolist()

@@ -33,7 +33,7 @@ from functools import cached_property
 import numpy as np
 
 from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
-from gather_verify.engine.encoding import NO_LIMITS, Limits
+from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop
 from gather_verify.engine.explore import rss_mb
 from gather_verify.progress import PROGRESS
 from schedulers import Event, get_scheduler
@@ -90,7 +90,7 @@ class WorldSearch:
     stay: list[int]  # per state: mask of idle robots whose move set holds staying
     states: int
     transitions: int
-    stopped: str | None  # None: the whole space; else the limit or "crash"/"defined"
+    stopped: Stop | str | None  # None: the whole space; else the limit or "crash"/"defined"
     halt: Halt | None
     reduced: bool
     seconds: float
@@ -182,7 +182,7 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
     final: list[bool] = []
     stay: list[int] = []
     transitions = 0
-    stopped: str | None = None
+    stopped: Stop | str | None = None
     halt = None
     sid = 0
     PROGRESS.states = len(reps)
@@ -190,10 +190,10 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
         if sid & 63 == 0:
             PROGRESS.states = len(reps)  # read by a progress line and by the watchdog's report
             if time.perf_counter() - started > limits.max_seconds:
-                stopped = "time"
+                stopped = Stop.TIME
                 break
         if sid & 4095 == 0 and rss_mb() > limits.max_memory_mb:
-            stopped = "memory"
+            stopped = Stop.MEMORY
             break
         state, visited, extra = reps[sid]
         try:
@@ -228,11 +228,11 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
         if watch is not None:
             halt = watch(sid, reps[sid], final[-1], out)
             if halt is not None:
-                stopped = "watch"
+                stopped = Stop.WATCH
                 break
         sid += 1
         if len(reps) > limits.max_states:
-            stopped = "states"
+            stopped = Stop.STATES
             break
     return WorldSearch(keys=reps, parents=parents, edges=edges, final=final, stay=stay,
                        states=len(reps), transitions=transitions, stopped=stopped, halt=halt,

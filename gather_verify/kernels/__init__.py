@@ -2,7 +2,7 @@
 
 Each kernel does, in compiled code, what a numpy/Python function of the engine does, with
 the same result: the hash index of visited keys (``KeyIndex.find_or_add`` of
-:mod:`gather_verify.engine.fast_explore`), the per-chunk arithmetic (decoding states,
+:mod:`gather_verify.engine.key_index`), the per-chunk arithmetic (decoding states,
 successor keys, the keys of (configuration, move) pairs), the bulk steps of the ASYNC
 and the round schedulers (FSYNC, SSYNC, centralized),
 the longest path over the kept graph (``move-bound``) and Tarjan's strongly connected

@@ -30,7 +30,7 @@ from gather_verify.engine.explore import (
     rss_mb,
     symmetry_group,
 )
-from gather_verify.engine.fast_explore import make_room
+from gather_verify.engine.facts_table import make_room
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.model import geometry
 from gather_verify.model.classes import classify_configuration
@@ -263,8 +263,11 @@ def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, back: Automo
     for sid in path:
         state = u.encoding.decode(int(u.keys[sid]), c.n)
         keys.append(enc.key(tuple((back(v), None if p is None else back(p)) for v, p in state)))
-    e = Exploration(c, algo, settings.scheduler, settings.detection, settings.frames, True, True,
-                    enc, keys, [-1, *range(len(path) - 1)], [], [], [], 0, len(path), 0, None,
-                    {}, 0.0, 0.0, facts[c.meeting_nodes], {})
+    e = Exploration(initial=c, algorithm=algo, scheduler_name=settings.scheduler,
+                    detection=settings.detection, frames=settings.frames, anonymity=True,
+                    symmetry=True, encoding=enc, keys=keys, parents=[-1, *range(len(path) - 1)],
+                    offsets=[], targets=[], weights=[], changed_loops=0, states=len(path),
+                    transitions=0, stopped=None, violations={}, seconds=0.0, peak_rss_mb=0.0,
+                    facts=facts[c.meeting_nodes], vacuous={})
     event = _TRANSITION if prop == "target-invariance" else None
     return _safety_trace(e, Violation(prop, len(path) - 1, "", event))
