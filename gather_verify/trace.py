@@ -131,8 +131,8 @@ def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
         data = {**data, "algorithm": confined_spec(data["algorithm"],
                                                    Path(source).resolve().parent, str(source))}
     if isinstance(data, dict) and "format" not in data and isinstance(data.get("world"), str):
-        _fail(f"a trace of the finite world {data['world'][:80]!r}: only traces of Z² are read "
-              "here (check --world ... --html FILE or --svg FILE draws a world's counterexample)")
+        _fail(f"a trace of the finite world {data['world'][:80]!r}, not of Z² (replay, "
+              "--html and --svg read it)")
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         _fail(f"not a {FORMAT} object")
     if data.get("version") != VERSION:

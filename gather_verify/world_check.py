@@ -29,6 +29,7 @@ from gather_verify.engine.world_search import WorldSearch, search
 from gather_verify.errors import InvalidInput
 from gather_verify.progress import PROGRESS
 from gather_verify.tasks import Context, Finding, Task, get_task
+from gather_verify.tasks.base import fair_walk
 from gather_verify.watchdog import Overtime, allowance, deadline
 from gather_verify.worlds import get_world
 from gather_verify.worlds.base import World
@@ -226,13 +227,22 @@ def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
     names the nodes visited so far (from the state when the search carries them, else
     counted along the trace)."""
     ids = s.path_to(finding.state)
-    cycle_start = None
-    if finding.cycle is not None and len(finding.cycle) > 1:
-        cycle_start = len(ids) - 1
-        ids = ids + finding.cycle[1:]
     keys = [s.keys[i] for i in ids]
     events: list[Any] = [None] + [_event_between(s, a, b) for a, b in zip(ids, ids[1:],
                                                                         strict=False)]
+    cycle_start = None
+    if finding.cycle is not None:  # a fair closed walk through the component (§5)
+        walk = (fair_walk(s, finding.component, len(robots), finding.state)
+                if finding.component is not None else
+                [(a, next(k for k, (t, _, e) in enumerate(s.edges[a]) if t == b
+                          and _apply(s.keys[a], e) == s.keys[b][0]))
+                 for a, b in zip(finding.cycle, finding.cycle[1:], strict=False)])
+        if walk:
+            cycle_start = len(ids) - 1
+        for a, k in walk:
+            target, _, event = s.edges[a][k]
+            keys.append(s.keys[target])
+            events.append(event)
     if finding.edge is not None:  # a transition part: the failing round itself
         src, k = finding.edge
         target, _, event = s.edges[src][k]
@@ -254,6 +264,8 @@ def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
         "robots": [world.node_to_json(v) for v in robots],
         "meeting_nodes": [world.node_to_json(v) for v in meeting],
         "steps": steps, "cycle_start": cycle_start, "drawing": world.drawing(),
+        **({"graph_digest": digest} if isinstance(digest := getattr(world, "digest", None), str)
+           else {}),
     }
 
 
@@ -278,13 +290,18 @@ def _apply(state: Any, event: Any) -> tuple[tuple[int, int | None, int], ...]:
     return tuple(robots)
 
 
+def event_json(world: World, event: Any) -> dict[str, Any]:
+    """An event as a trace writes it: nodes as the world writes them."""
+    name = world.node_to_json
+    return {"kind": event.kind, "robots": list(event.robots),
+            "moves": [[i, name(a), name(b)] for i, a, b in event.moves],
+            **({"lights": [list(x) for x in event.lights]} if event.lights else {})}
+
+
 def _step(world: World, event: Any, state: Any) -> dict[str, Any]:
     name = world.node_to_json
     out: dict[str, Any] = {
-        "event": None if event is None else {
-            "kind": event.kind, "robots": list(event.robots),
-            "moves": [[i, name(a), name(b)] for i, a, b in event.moves],
-            **({"lights": [list(x) for x in event.lights]} if event.lights else {})},
+        "event": None if event is None else event_json(world, event),
         "robots": [[name(v), None if p is None else name(p)] for v, p, _ in state[0]],
     }
     if any(c for _, _, c in state[0]) or (event is not None and event.lights):
@@ -315,6 +332,9 @@ def render_world_trace(trace: dict[str, Any]) -> str:
     if trace.get("cycle_start") is not None:
         lines.append(f"  (from * the run can repeat the cycle forever: steps "
                      f"{trace['cycle_start']}..{len(trace['steps']) - 1})")
+    elif trace.get("property") == "perpetual-exploration":
+        lines.append("  (every robot is idle and may stay: a fair run can stay in the last "
+                     "state for ever)")
     return "\n".join(lines)
 
 

@@ -455,11 +455,12 @@ def test_a_hostile_world_database_shows_as_text_in_the_report(web, tmp_path):
     assert PAYLOAD.split(" ")[0] in page.inner_text("#verdict")  # the viewer shows it, as text
 
 
-def test_replay_says_a_world_trace_is_not_one_of_z2(tmp_path, capsys):
+def test_replay_of_a_world_trace_draws_it(tmp_path, capsys):
     path = tmp_path / "t.json"
     path.write_text(json.dumps(ring_trace()))
-    assert main(["replay", str(path), "--html", str(tmp_path / "v.html")]) == 2
-    assert "a trace of the finite world 'ring:6'" in capsys.readouterr().err
+    assert main(["replay", str(path), "--html", str(tmp_path / "v.html")]) == 1
+    assert "CONFIRMED: exclusivity on ring:6" in capsys.readouterr().out
+    assert "ring:6" in (tmp_path / "v.html").read_text()
 
 
 @pytest.mark.parametrize("broken", ["previous-state", "node-places"])

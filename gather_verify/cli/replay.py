@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from gather_verify.cli.common import (
     EXIT_NO_LONGER_REPRODUCES,
@@ -53,6 +54,11 @@ def run(args: argparse.Namespace) -> int:
         if ":" not in spec:
             raise InvalidInput(f"--property {spec}: expected FILE.py:NAME")
         load_property(spec)
+    from gather_verify.world_replay import is_world_trace, read_trace
+
+    raw = read_trace(args.trace)
+    if is_world_trace(raw):
+        return run_world(args, raw)
     trace = load_trace(args.trace)
     try:
         result = replay(trace)
@@ -75,4 +81,39 @@ def run(args: argparse.Namespace) -> int:
             print(render_trace(trace))
         word = "CONFIRMED" if result.confirmed else f"NO LONGER REPRODUCES ({WHY[why]})"
         print(f"{word}: {trace['property']} ({result.steps} steps) - {result.message}")
+    return EXIT_VIOLATED if result.confirmed else EXIT_NO_LONGER_REPRODUCES
+
+
+def run_world(args: argparse.Namespace, trace: dict[str, Any]) -> int:
+    """``replay`` of a finite world's trace (:mod:`gather_verify.world_replay`)."""
+    from gather_verify.world_check import render_world_trace
+    from gather_verify.world_replay import NoLongerReproduces, WorldReplayed, replay_world
+
+    if args.property:
+        raise InvalidInput("--property loads a property of the paper's world (Z²): a trace of "
+                           f"{trace['world'][:80]} names one of its task's parts")
+    try:
+        result = replay_world(trace, Path(args.trace).resolve().parent)
+        why = "property-holds"
+    except NoLongerReproduces as error:
+        result = WorldReplayed(False, str(error), len(trace["steps"]) - 1)
+        why = "step-not-taken"
+    if args.svg:
+        from gather_verify.render import trace_svg
+
+        Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
+    if args.html:
+        from gather_verify.viewer import write_viewer
+
+        write_viewer(trace, args.html)
+    if args.json:
+        print_json({"confirmed": result.confirmed, "message": result.message,
+                    "steps": result.steps, "property": trace["property"],
+                    "world": trace["world"], **({} if result.confirmed else {"why": why})})
+    else:
+        if not args.quiet:
+            print(render_world_trace(trace))
+        word = "CONFIRMED" if result.confirmed else f"NO LONGER REPRODUCES ({WHY[why]})"
+        print(f"{word}: {trace['property']} on {trace['world']} ({result.steps} steps) - "
+              f"{result.message}")
     return EXIT_VIOLATED if result.confirmed else EXIT_NO_LONGER_REPRODUCES

@@ -77,8 +77,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--move-bound-c", type=bounded_float(0.0, 1e6), default=4.0)
     p.add_argument("--engine", choices=("union", "per-config"), default="union",
                    help="union: one state graph per meeting-node set, shared by its "
-                        "configurations (default); per-config: one search per configuration. "
-                        "Same results")
+                        "configurations (default; on a finite world too); per-config: one "
+                        "search per configuration. Same results")
     p.add_argument("--limit", type=bounded_int(1, 10**9), default=None,
                    help="only the first N configurations of the enumeration")
     p.add_argument("--keep-growing", action="store_true",
@@ -241,7 +241,8 @@ def _worlds(args: argparse.Namespace) -> int:
     ) for w in worlds for n in args.robots for m in args.meeting]
     try:
         summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
-                            progress=not args.json, limit=args.limit, fresh=args.fresh)
+                            progress=not args.json, limit=args.limit, fresh=args.fresh,
+                            engine=args.engine)
     except KeyboardInterrupt:
         print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
               "run the same command again to resume", file=sys.stderr)

@@ -404,10 +404,16 @@ class _Edges(Sequence[list[tuple[int, int, Event]]]):
 def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: str, *,
            colours: Sequence[int] | None = None, visits: bool = False,
            anonymity: bool = False, symmetries: Sequence[Sequence[int]] = (),
-           meeting: frozenset[int] = frozenset(), limits: Limits = NO_LIMITS) -> WorldSearch:
+           meeting: frozenset[int] = frozenset(), limits: Limits = NO_LIMITS,
+           seeds: Sequence[tuple[Sequence[int], Sequence[int]]] | None = None) -> WorldSearch:
     """:func:`gather_verify.engine.world_search.search` in bulk (same arguments, but the
     :class:`~gather_verify.worlds.moves.WorldMoves` itself instead of its ``actions``);
-    :func:`unsupported` must have said yes."""
+    :func:`unsupported` must have said yes.
+
+    ``seeds``: several initial states searched at once, each ``(robots, colours)`` (then
+    ``robots`` and ``colours`` only give the number of robots): the union of their spaces,
+    one state graph for them all (:mod:`gather_verify.sweeps.world_union`). The search's
+    ``seed_ids`` give each seed's state ids (one per start of the scheduler)."""
     from gather_verify.kernels import world as kw
 
     started = time.perf_counter()
@@ -433,12 +439,15 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
                               plan.pend, plan.colours, plan.adj, plan.vb, plan.pw)
 
     lights = tuple(colours) if colours is not None else (0,) * n
-    seen0 = sum(1 << v for v in set(robots)) if visits else 0
-    first_keys = np.array([plan.pack([(v, None, c) for v, c in zip(robots, lights, strict=True)],
-                                     seen0, r * n if plan.rr else 0)
-                           for r in range(len(starts))], dtype=np.int64)
+    if seeds is None:
+        seeds = [(robots, lights)]
+    first_keys = np.array([plan.pack([(v, None, c) for v, c in zip(nodes, lit, strict=True)],
+                                     sum(1 << v for v in set(nodes)) if visits else 0,
+                                     r * n if plan.rr else 0)
+                           for nodes, lit in seeds for r in range(len(starts))],
+                          dtype=np.int64)
     index = KeyIndex()
-    _, first = index.find_or_add(canon(first_keys).view(np.uint64))
+    seed_ids, first = index.find_or_add(canon(first_keys).view(np.uint64))
     # robots' masks as the smallest unsigned type that holds them (and int64 past 32)
     mask_type = next((t for t, bits in ((np.uint8, 8), (np.uint16, 16), (np.uint32, 32))
                       if n <= bits), np.int64)
@@ -537,5 +546,5 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
         states=int(reps.size), transitions=transitions, stopped=stopped, halt=halt,
         reduced=anonymity or len(symmetries) > 1, seconds=time.perf_counter() - started,
         canonical=canonicaliser(symmetries, meeting, anonymity, visits), engine="bulk",
-        arrays=arrays)
+        arrays=arrays, seed_ids=seed_ids.reshape(len(seeds), len(starts)))
 

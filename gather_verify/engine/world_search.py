@@ -101,6 +101,9 @@ class WorldSearch:
     arrays: SearchArrays | None = None
     """The same search as arrays (the bulk engine's; None for the reference, whose tasks
     read the fields above)."""
+    seed_ids: np.ndarray | None = None
+    """For a search of several initial states at once (the bulk engine's ``seeds``): per
+    seed, the ids of its initial states (one per start of the scheduler)."""
 
     @property
     def complete(self) -> bool:

@@ -219,7 +219,9 @@ def run_sweep(
     if engine not in ENGINES:
         raise InvalidInput(f"unknown sweep engine {engine!r}: use one of {', '.join(ENGINES)}")
     batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
-    if any(one.world != "grid" for one in batch):
+    if verify is None and engine == "union" and all(one.world != "grid" for one in batch):
+        engine = WORLD_UNION  # finite worlds: one union search per meeting-node class
+    elif any(one.world != "grid" for one in batch):
         from gather_verify.sweeps.world_census import verify_world_one
 
         verify = verify or verify_world_one  # a finite world: one search per configuration
@@ -309,6 +311,10 @@ def warm_kernels(schedulers: Iterable[str]) -> None:
                       max_seconds=60.0)
 
 
+WORLD_UNION = "world-union"
+"""The engine of a finite world's sweep under ``engine="union"``: one state graph per
+meeting-node class (:mod:`gather_verify.sweeps.world_union`)."""
+
 HAND_OFF_SECONDS = 30.0
 """With several workers, a meeting-node class that has run this long hands its remaining
 per-configuration checks to the other workers, one task each (``mclass.verify_class``)."""
@@ -335,6 +341,10 @@ def _execute(
             from gather_verify.sweeps.mclass import class_tasks
 
             chunks = class_tasks(todo, settings.frames)
+        elif engine == WORLD_UNION:
+            from gather_verify.sweeps.world_union import world_class_tasks
+
+            chunks = world_class_tasks(settings, todo)
         else:
             chunks = list(_chunks(todo, CHUNK))
         if settings.max_memory_mb is None:  # the machine's memory, shared by the workers
@@ -347,6 +357,9 @@ def _execute(
     if engine == "union":
         tasks.sort(key=lambda task: -len(task[2]))  # the largest classes of every sweep first
         run = _run_class_task if local else partial(_run_class_task, hand_off=HAND_OFF_SECONDS)
+    elif engine == WORLD_UNION:
+        tasks.sort(key=lambda task: -len(task[2]))
+        run = _run_world_class_task if local else partial(_run_world_class_task, hand_off=True)
     if dask is not None:
         yield from _execute_dask(tasks, dask, workers, run)
     elif local or not tasks:
@@ -431,6 +444,10 @@ def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
         from gather_verify.algorithms.loading import receive
 
         receive(sources)
+    if verify is verify_one and settings.world != "grid":  # handed off by a finite world's class
+        from gather_verify.sweeps.world_census import verify_world_one
+
+        verify = verify_world_one
     return sweep, Store.encode(verify_chunk(settings, chunk, verify)), []
 
 
@@ -448,6 +465,23 @@ def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None
         receive(sources)
     rows, rest = verify_class(settings, chunk, verify_one, configuration_key, hand_off)
     return sweep, Store.encode(rows), [(sweep, settings, [item]) for item in rest]
+
+
+def _run_world_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
+                          hand_off: bool = False) -> Done:
+    """Worker entry point of a finite world's union sweep: the chunk is one meeting-node
+    class (:mod:`gather_verify.sweeps.world_union`); with ``hand_off`` the configurations
+    the union leaves to their own checks come back as tasks of ``CHUNK`` each, for the
+    other workers."""
+    from gather_verify.sweeps.world_union import verify_world_class
+
+    sweep, settings, chunk = task
+    if sources:
+        from gather_verify.algorithms.loading import receive
+
+        receive(sources)
+    rows, rest = verify_world_class(settings, chunk, hand_off)
+    return sweep, Store.encode(rows), [(sweep, settings, part) for part in _chunks(rest, CHUNK)]
 
 
 def _execute_dask(tasks: list[Task], address: str, workers: int | None,

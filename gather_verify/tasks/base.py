@@ -27,6 +27,9 @@ class Finding:
     cycle: list[int] | None = None
     edge: tuple[int, int] | None = None  # a transition part: (source id, index in its edges)
     detail: dict[str, object] = field(default_factory=dict)
+    component: list[int] | None = None
+    """For a liveness part: the fair component the cycle lies in (its trace walks through it
+    so that the cycle itself is fair, :func:`fair_walk`)."""
 
 
 @dataclass(frozen=True)
@@ -166,7 +169,7 @@ def livelock(s: WorldSearch, ctx: Context, name: str, what: str,
     if found is None:
         return None
     cycle = cycle_in(s, found)
-    return Finding(name, cycle[0], what, cycle=cycle)
+    return Finding(name, cycle[0], what, cycle=cycle, component=sorted(found))
 
 
 def livelock_arrays(a: SearchArrays, ctx: Context, name: str, what: str,
@@ -191,7 +194,72 @@ def livelock_arrays(a: SearchArrays, ctx: Context, name: str, what: str,
     member = labels == best
     start = int(np.argmax(member))
     cycle = kw.cycle_from(a.offsets, a.targets, member, start).tolist()
-    return Finding(name, cycle[0], what, cycle=cycle)
+    return Finding(name, cycle[0], what, cycle=cycle, component=np.flatnonzero(member).tolist())
+
+
+def fair_walk(s: WorldSearch, component: list[int], n: int, start: int
+              ) -> list[tuple[int, int]]:
+    """A closed walk from ``start`` inside the fair ``component`` that is fair by itself
+    (§5): every robot has an event on one of its edges or is idle, and may stay, in one of
+    its states. As ``(source id, index in its edges)`` per step; empty when the run stays on
+    ``start`` alone by null activations (a component of one state with no edge)."""
+    members = set(component)
+
+    def out(u: int) -> list[tuple[int, int, int]]:  # (edge index, target, robots mask)
+        if s.arrays is not None:
+            lo, hi = int(s.arrays.offsets[u]), int(s.arrays.offsets[u + 1])
+            return [(k - lo, int(s.arrays.targets[k]), int(s.arrays.robots[k]))
+                    for k in range(lo, hi) if int(s.arrays.targets[k]) in members]
+        return [(k, w, m) for k, (w, m, _) in enumerate(s.edges[u]) if w in members]
+
+    def path(frm: int, goal: Callable[[int], tuple[int, int] | None]
+             ) -> tuple[list[tuple[int, int]], int]:
+        """Steps from ``frm`` (breadth-first, inside the component) to the first state where
+        ``goal`` gives a last step (an edge index, or -1 for none), and the state reached."""
+        parent: dict[int, tuple[int, int]] = {frm: (-1, -1)}
+        queue = [frm]
+        for u in queue:
+            hit = goal(u)
+            if hit is not None:
+                steps: list[tuple[int, int]] = []
+                v = u
+                while parent[v][0] >= 0:
+                    steps.append(parent[v])
+                    v = parent[v][0]
+                steps.reverse()
+                k, w = hit
+                if k >= 0:
+                    steps.append((u, k))
+                return steps, (w if k >= 0 else u)
+            for k, w, _ in out(u):
+                if w not in parent:
+                    parent[w] = (u, k)
+                    queue.append(w)
+        raise AssertionError("the component is not strongly connected")  # pragma: no cover
+
+    walk: list[tuple[int, int]] = []
+    here = start
+    covered = int(s.stay[start])
+    for i in range(n):
+        if covered >> i & 1:
+            continue
+
+        def witness(u: int, bit: int = 1 << i) -> tuple[int, int] | None:
+            if int(s.stay[u]) & bit:
+                return -1, u
+            return next(((k, w) for k, w, m in out(u) if m & bit), None)
+
+        steps, here = path(here, witness)
+        walk += steps
+        for u, k in steps:
+            covered |= int(s.stay[u]) | next(m for j, _, m in out(u) if j == k)
+        covered |= int(s.stay[here])
+    if here != start:
+        walk += path(here, lambda u: (-1, u) if u == start else None)[0]
+    if not walk and len(component) > 1:  # null activations cover everyone: go round once
+        k, w, _ = out(start)[0]
+        walk = [(start, k), *path(w, lambda u: (-1, u) if u == start else None)[0]]
+    return walk
 
 
 def final_states(s: WorldSearch) -> list[int]:

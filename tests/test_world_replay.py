@@ -1,0 +1,253 @@
+"""Replay of finite worlds' traces: every world kind, every task part a trace can show (with
+lights and a stateful scheduler), a tampered trace refused (exit 2), a step the algorithm no
+longer takes and a repaired algorithm (exit 5, step-not-taken / property-holds), and a
+liveness trace whose cycle is fair by itself."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from gather_verify.cli import main
+from gather_verify.errors import InvalidInput
+from gather_verify.world_check import run_world_check
+from gather_verify.world_replay import NoLongerReproduces, replay_world
+
+ROOT = Path(__file__).resolve().parent.parent
+PETERSEN = ROOT / "scenarios/worlds/petersen.graphml"
+
+CASES = {
+    # name: (world, robots, meeting, algorithm, scheduler, options, the failing part)
+    "ring-deadlock": ("ring:6", "0 2", "", "ring-gather", "fsync",
+                      {"task": "gathering", "detection": "global-weak"}, "gathered-when-final"),
+    "ring-livelock": ("ring:6", "0 1 3", "", "broken-ring-gather", "fsync",
+                      {"task": "gathering", "detection": "global-weak"}, "termination"),
+    "ring-livelock-async": ("ring:6", "0 2 3", "", "broken-ring-explore", "async",
+                            {"task": "gathering", "frames": "chirality"}, "termination"),
+    "ring-collision": ("ring:6", "0 3", "", "ring-explore", "async",
+                       {"task": "exclusive-perpetual-exploration"}, "exclusivity"),
+    "ring-crossing": ("ring:5", "0 1", "", "bounce", "fsync",
+                      {"task": "exclusive-perpetual-exploration", "lights": "2",
+                       "colours": [1, 1]}, "exclusivity"),
+    "ring-one-robot": ("ring:5", "0", "", "ring-explore", "ssync",
+                       {"task": "exclusive-perpetual-exploration"}, "perpetual-exploration"),
+    "ring-stuck-pair": ("ring:7", "0 1", "", "ring-inchworm", "async",
+                        {"task": "exclusive-perpetual-exploration", "lights": "2",
+                         "colours": [0, 0], "visibility": 2}, "perpetual-exploration"),
+    "ring-round-robin": ("ring:6", "0 2 3", "", "broken-ring-explore", "round-robin",
+                         {"task": "gathering", "frames": "chirality"}, "termination"),
+    "ring-undefined": ("ring:6", "0 1", "", "ring-gather", "fsync", {"task": "gathering"},
+                       "defined"),
+    "grid-meeting": ("grid:3x3", "0,0 2,2", "1,1", "broken-stay", "ssync", {}, "final"),
+    "grid-crash": ("grid:3x2", "0,0 2,1", "", "ring-explore", "round-robin",
+                   {"task": "exclusive-perpetual-exploration"}, "crash"),
+    "torus-explore": ("torus:3x3", "0,0 1,1", "2,2", "go-to-target", "async",
+                      {"task": "exploration-with-stop"}, "explored-when-final"),
+    "graph-explore": (f"graph:{PETERSEN}", "p0 p7", "p3", "go-to-target", "async",
+                      {"task": "exploration-with-stop"}, "explored-when-final"),
+    "graph-lights": (f"graph:{PETERSEN}", "p0 p7", "", "bounce", "ssync",
+                     {"task": "gathering", "lights": "2"}, "termination"),
+}
+
+
+def trace_of(name: str) -> dict:
+    world, robots, meeting, algorithm, scheduler, options, part = CASES[name]
+    r = run_world_check(world, robots, meeting, algorithm, scheduler, **options)
+    assert r["verdict"] == "VIOLATED" and r["property"] == part, (r["verdict"], r["reason"])
+    return json.loads(json.dumps(r["trace"]))
+
+
+def replayed(tmp_path: Path, trace: dict, capsys: pytest.CaptureFixture[str]
+             ) -> tuple[int, dict]:
+    path = tmp_path / "t.json"
+    path.write_text(json.dumps(trace))
+    code = main(["replay", str(path), "--json"])
+    out = capsys.readouterr().out
+    return code, json.loads(out) if out else {}
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_the_check_s_trace_replays_and_confirms(name):
+    trace = trace_of(name)
+    result = replay_world(trace)
+    assert result.confirmed, result.message
+    assert result.steps == len(trace["steps"]) - 1
+
+
+@pytest.mark.parametrize("name", ["ring-livelock", "torus-explore", "graph-explore",
+                                  "ring-crossing"])
+def test_replay_command_confirms_with_exit_1(tmp_path, capsys, name):
+    code, out = replayed(tmp_path, trace_of(name), capsys)
+    assert code == 1 and out["confirmed"] and out["property"] == CASES[name][-1]
+    assert "why" not in out
+
+
+def test_both_engines_write_traces_that_replay():
+    world, robots, meeting, algorithm, scheduler, options, part = CASES["ring-livelock-async"]
+    for engine in ("reference", "bulk"):
+        r = run_world_check(world, robots, meeting, algorithm, scheduler, engine=engine,
+                            **options)
+        assert r["property"] == part and replay_world(r["trace"]).confirmed
+
+
+def _first(trace: dict, kind: str) -> int:
+    return next(k for k, step in enumerate(trace["steps"])
+                if step["event"] and step["event"]["kind"] == kind)
+
+
+def test_a_step_that_jumps_two_edges_is_refused(tmp_path, capsys):
+    trace = trace_of("ring-collision")
+    k = _first(trace, "look")
+    robot, src, _ = trace["steps"][k]["event"]["moves"][0]
+    far = (src + 2) % 6
+    trace["steps"][k]["event"]["moves"][0][2] = far
+    trace["steps"][k]["robots"][robot][1] = far
+    path = tmp_path / "t.json"
+    path.write_text(json.dumps(trace))
+    assert main(["replay", str(path)]) == 2
+    assert f"cannot reach {far} from {src} in one edge" in capsys.readouterr().err
+
+
+def test_a_state_the_event_does_not_reach_is_refused():
+    trace = trace_of("ring-livelock")
+    trace["steps"][1]["robots"][2][0] = 4  # r2 did not move in that round
+    with pytest.raises(InvalidInput, match="does not reach the recorded state"):
+        replay_world(trace)
+
+
+def test_an_event_of_the_wrong_scheduler_is_refused():
+    trace = trace_of("ring-livelock")
+    trace["scheduler"] = "async"  # a round is no ASYNC event
+    with pytest.raises(InvalidInput, match="not allowed"):
+        replay_world(trace)
+
+
+def test_edited_visited_nodes_are_refused():
+    trace = trace_of("torus-explore")
+    trace["steps"][-1]["visited"] = trace["steps"][-1]["visited"][:-1]
+    with pytest.raises(InvalidInput, match="visited nodes"):
+        replay_world(trace)
+
+
+def test_a_legal_step_the_algorithm_does_not_take_exits_5(tmp_path, capsys):
+    """On the 3 x 3 torus r0 at 0,0 looks towards the meeting node 2,2 (across the wrap-around,
+    to 2,0); the edited trace has it decide 1,0 instead: a legal move, not go-to-target's."""
+    trace = trace_of("torus-explore")
+    step = trace["steps"][1]
+    assert step["event"]["moves"] == [[0, [0, 0], [2, 0]]]
+    step["event"]["moves"][0][2] = [1, 0]
+    step["robots"][0][1] = [1, 0]
+    code, out = replayed(tmp_path, trace, capsys)
+    assert code == 5 and out["why"] == "step-not-taken" and not out["confirmed"]
+    assert "step 1: the algorithm no longer lets robot 0 do 1,0" in out["message"]
+
+
+def test_a_repaired_algorithm_reports_property_holds(tmp_path, capsys):
+    """The deadlock of two robots on ring:6 replays step for step (there is no step), but an
+    algorithm that moves has no deadlock there: property-holds."""
+    trace = trace_of("ring-deadlock")
+    trace["algorithm"] = "ring-explore"
+    code, out = replayed(tmp_path, trace, capsys)
+    assert code == 5 and out["why"] == "property-holds"
+    assert "not final" in out["message"]
+
+
+def test_a_repaired_livelock_reports_property_holds(tmp_path, capsys):
+    """The same rounds of broken-ring-gather's livelock, replayed against an algorithm that
+    also allows them, but that gathers when the pair is adjacent... here the trace's own cycle
+    is cut: the last state is not the one the cycle starts from."""
+    trace = trace_of("ring-livelock")
+    trace["steps"] = trace["steps"][:-1]
+    code, out = replayed(tmp_path, trace, capsys)
+    assert code == 5 and out["why"] == "property-holds" and "does not return" in out["message"]
+
+
+def test_a_crash_fixed_reports_property_holds(tmp_path, capsys):
+    trace = trace_of("grid-crash")
+    trace["algorithm"] = "go-to-target"  # no meeting node: it stays, and does not crash
+    code, out = replayed(tmp_path, trace, capsys)
+    assert code == 5 and out["why"] == "property-holds"
+
+
+def test_an_unfair_cycle_is_not_a_livelock(monkeypatch):
+    """The cycle a trace shows must be fair by itself (§5). Written with the first cycle of
+    the component (here it leaves a robot out), replay refuses it; the check's own trace walks
+    through the component until every robot acted, and is confirmed."""
+    import gather_verify.world_check as wc
+    from gather_verify.tasks.base import cycle_in
+
+    assert replay_world(trace_of("ring-livelock-async")).confirmed
+
+    def first_cycle(s, component, n, start):
+        c = cycle_in(s, component)
+        return [(a, next(k for k, (t, _, _) in enumerate(s.edges[a]) if t == b))
+                for a, b in zip(c, c[1:], strict=False)]
+
+    monkeypatch.setattr(wc, "fair_walk", first_cycle)
+    result = replay_world(trace_of("ring-livelock-async"))
+    assert not result.confirmed and "not fair" in result.message
+
+
+def test_the_graph_file_changed_is_refused(tmp_path):
+    graph = tmp_path / "g.graphml"
+    graph.write_text(PETERSEN.read_text())
+    r = run_world_check(f"graph:{graph}", "p0 p7", "p3", "go-to-target", "async",
+                        task="exploration-with-stop")
+    trace = r["trace"]
+    assert replay_world(trace).confirmed
+    graph.write_text(PETERSEN.read_text().replace("p9", "q9"))
+    with pytest.raises(InvalidInput, match="not the one the trace was written on"):
+        replay_world(trace)
+
+
+def test_a_relative_graph_file_is_taken_from_the_trace_s_folder(tmp_path, capsys,
+                                                                monkeypatch):
+    (tmp_path / "g.graphml").write_text(PETERSEN.read_text())
+    monkeypatch.chdir(tmp_path)
+    r = run_world_check("graph:g.graphml", "p0 p7", "p3", "go-to-target", "async",
+                        task="exploration-with-stop")
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out/g.graphml").write_text(PETERSEN.read_text())
+    (tmp_path / "g.graphml").unlink()
+    path = tmp_path / "out/t.json"
+    path.write_text(json.dumps(r["trace"]))
+    assert main(["replay", str(path), "--quiet"]) == 1
+    assert "CONFIRMED: explored-when-final on graph:g.graphml" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda t: t.update(world="ring:2"), "a ring has at least 3 nodes"),
+    (lambda t: t.update(task="nope"), "unknown task"),
+    (lambda t: t.update(property="move-bound"), "has no part 'move-bound'"),
+    (lambda t: t["steps"][0]["robots"].pop(), "must list 2 pairs"),
+    (lambda t: t["steps"][1]["robots"][0].__setitem__(0, 99), "99 is not a node of ring:6"),
+    (lambda t: t.update(cycle_start=99), "cycle_start"),
+    (lambda t: t["steps"][0].update(colours=[0, 5]), "colours in 0..0"),
+    (lambda t: t.update(steps=[]), "'steps' is empty"),
+])
+def test_malformed_world_traces_get_one_line_and_exit_2(tmp_path, capsys, edit, message):
+    trace = trace_of("ring-collision")
+    edit(trace)
+    path = tmp_path / "t.json"
+    path.write_text(json.dumps(trace))
+    assert main(["replay", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_replay_text_output_and_pictures(tmp_path, capsys):
+    trace = trace_of("ring-stuck-pair")
+    path = tmp_path / "t.json"
+    path.write_text(json.dumps(trace))
+    svg, html = tmp_path / "t.svg", tmp_path / "t.html"
+    assert main(["replay", str(path), "--svg", str(svg), "--html", str(html)]) == 1
+    out = capsys.readouterr().out
+    assert "CONFIRMED: perpetual-exploration on ring:7 (0 steps)" in out
+    assert "can stay in the last state for ever" in out
+    assert svg.read_text().startswith("<svg") and "ring:7" in html.read_text()
+
+
+def test_no_longer_reproduces_is_an_input_error_subclass():
+    assert issubclass(NoLongerReproduces, InvalidInput)
