@@ -53,9 +53,11 @@ PSEUDO = ("crash", "defined")
 
 
 class NoLongerReproduces(InvalidInput):
-    """The world trace no longer reproduces (``replay`` exits 5, ``step-not-taken``): every
-    step is a legal execution of the robots, but the algorithm no longer takes one of them.
-    Fix: run ``check`` again for a fresh trace."""
+    """The world trace no longer reproduces (``replay`` exits 5, ``step-not-taken``).
+
+    Cause: every step is a legal execution of the robots, but the algorithm (edited since
+    the trace was written) no longer takes one of them. Fix: run ``check`` again for a
+    fresh trace."""
 
 
 @dataclass

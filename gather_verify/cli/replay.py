@@ -43,7 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from gather_verify.render import render_trace, trace_svg
+    from gather_verify.render import render_trace
     from gather_verify.replay import NoLongerReproduces, Replayed, replay
     from gather_verify.trace import load_trace
 
@@ -66,7 +66,16 @@ def run(args: argparse.Namespace) -> int:
     except NoLongerReproduces as error:
         result = Replayed(False, str(error), len(trace["steps"]))
         why = "step-not-taken"
+    return _answer(args, trace, result, why, render_trace, {})
+
+
+def _answer(args: argparse.Namespace, trace: dict[str, Any], result: Any, why: str,
+            render: Any, extra: dict[str, Any]) -> int:
+    """The pictures asked for, then the answer (``--json`` or text) and the exit code of a
+    replay: ``extra`` is what a world's trace adds (its ``world``)."""
     if args.svg:
+        from gather_verify.render import trace_svg
+
         Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
     if args.html:
         from gather_verify.viewer import write_viewer
@@ -74,13 +83,14 @@ def run(args: argparse.Namespace) -> int:
         write_viewer(trace, args.html)
     if args.json:
         print_json({"confirmed": result.confirmed, "message": result.message,
-                    "steps": result.steps, "property": trace["property"],
+                    "steps": result.steps, "property": trace["property"], **extra,
                     **({} if result.confirmed else {"why": why})})
     else:
         if not args.quiet:
-            print(render_trace(trace))
+            print(render(trace))
         word = "CONFIRMED" if result.confirmed else f"NO LONGER REPRODUCES ({WHY[why]})"
-        print(f"{word}: {trace['property']} ({result.steps} steps) - {result.message}")
+        where = f" on {extra['world']}" if "world" in extra else ""
+        print(f"{word}: {trace['property']}{where} ({result.steps} steps) - {result.message}")
     return EXIT_VIOLATED if result.confirmed else EXIT_NO_LONGER_REPRODUCES
 
 
@@ -98,22 +108,4 @@ def run_world(args: argparse.Namespace, trace: dict[str, Any]) -> int:
     except NoLongerReproduces as error:
         result = WorldReplayed(False, str(error), len(trace["steps"]) - 1)
         why = "step-not-taken"
-    if args.svg:
-        from gather_verify.render import trace_svg
-
-        Path(args.svg).write_text(trace_svg(trace), encoding="utf-8")
-    if args.html:
-        from gather_verify.viewer import write_viewer
-
-        write_viewer(trace, args.html)
-    if args.json:
-        print_json({"confirmed": result.confirmed, "message": result.message,
-                    "steps": result.steps, "property": trace["property"],
-                    "world": trace["world"], **({} if result.confirmed else {"why": why})})
-    else:
-        if not args.quiet:
-            print(render_world_trace(trace))
-        word = "CONFIRMED" if result.confirmed else f"NO LONGER REPRODUCES ({WHY[why]})"
-        print(f"{word}: {trace['property']} on {trace['world']} ({result.steps} steps) - "
-              f"{result.message}")
-    return EXIT_VIOLATED if result.confirmed else EXIT_NO_LONGER_REPRODUCES
+    return _answer(args, trace, result, why, render_world_trace, {"world": trace["world"]})

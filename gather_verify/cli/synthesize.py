@@ -214,13 +214,15 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
 
 
 def _verify(args: argparse.Namespace) -> int:
-    from gather_verify.synthesis.certificate import CertificateError, verify_certificate
+    """``--verify CERT``: re-check a certificate of none (a finite world's, or Theorem 1's on
+    Z²) without searching; exit 0 when it holds, 1 with the line where it does not."""
+    from gather_verify.synthesis import certificate, plane
+    from gather_verify.synthesis.certificate import CertificateError
 
     started = time.perf_counter()
-    if _plane_certificate(args.verify):
-        return _verify_plane(args, started)
+    on_plane = _plane_certificate(args.verify)
     try:
-        got = verify_certificate(args.verify)
+        got = (plane if on_plane else certificate).verify_certificate(args.verify)
     except CertificateError as error:
         print(f"certificate REJECTED: {os.path.basename(args.verify)}: {error}",
               file=sys.stderr)
@@ -228,12 +230,18 @@ def _verify(args: argparse.Namespace) -> int:
     got["seconds"] = time.perf_counter() - started
     if args.json:
         print_json(got if args.timings else {k: v for k, v in got.items() if k != "seconds"})
+        return EXIT_OK
+    inst = got["instance"]
+    if on_plane:
+        what = (f"grid (Z²)  task {inst['task']} / {inst['scheduler']}  "
+                f"({got['configurations']} configuration(s): Theorem 1's automorphism and its "
+                f"adversary re-checked, {got['states']} configurations, {got['views']} views; "
+                "no search over algorithms)")
     else:
-        inst = got["instance"]
-        print(f"certificate holds: none  {inst['world']}  task {inst['task']} / "
-              f"{inst['scheduler']}  ({got['counterexamples']} counterexamples replayed, "
-              f"{got['views']} views, {got['leaves']} leaves; no search)  "
-              f"{got['seconds']:.2f}s")
+        what = (f"{inst['world']}  task {inst['task']} / {inst['scheduler']}  "
+                f"({got['counterexamples']} counterexamples replayed, {got['views']} views, "
+                f"{got['leaves']} leaves; no search)")
+    print(f"certificate holds: none  {what}  {got['seconds']:.2f}s")
     return EXIT_OK
 
 
@@ -380,27 +388,6 @@ def _plane_certificate(path: str) -> bool:
             return json.load(handle).get("format") == FORMAT
     except (OSError, ValueError, AttributeError):
         return False
-
-
-def _verify_plane(args: argparse.Namespace, started: float) -> int:
-    from gather_verify.synthesis.plane import CertificateError, verify_certificate
-
-    try:
-        got = verify_certificate(args.verify)
-    except CertificateError as error:
-        print(f"certificate REJECTED: {os.path.basename(args.verify)}: {error}",
-              file=sys.stderr)
-        return EXIT_VIOLATED
-    got["seconds"] = time.perf_counter() - started
-    if args.json:
-        print_json(got if args.timings else {k: v for k, v in got.items() if k != "seconds"})
-    else:
-        inst = got["instance"]
-        print(f"certificate holds: none  grid (Z²)  task {inst['task']} / {inst['scheduler']}  "
-              f"({got['configurations']} configuration(s): Theorem 1's automorphism and its "
-              f"adversary re-checked, {got['states']} configurations, {got['views']} views; "
-              f"no search over algorithms)  {got['seconds']:.2f}s")
-    return EXIT_OK
 
 
 def _plane(args: argparse.Namespace) -> int:

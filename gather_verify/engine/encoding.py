@@ -147,7 +147,10 @@ class Encoding:
 
     def key(self, state: State) -> int:
         """The stored key of ``state`` (its class under the enabled reductions)."""
-        codes = [self.code(v, p) for v, p in state]
+        return self.least_key([self.code(v, p) for v, p in state])
+
+    def least_key(self, codes: list[int]) -> int:
+        """The least packed key of the robots' ``codes`` under the reductions' tables."""
         if self.anonymity:
             codes.sort()
         best = self.pack(codes)
@@ -210,17 +213,7 @@ class LuminousEncoding(Encoding):
         """The stored key of a luminous state (robots ``(node, pending, colour)``)."""
         k = self.colours
         robots: Any = state
-        codes = [self.code(v, p) * k + c for v, p, c in robots]
-        if self.anonymity:
-            codes.sort()
-        best = self.pack(codes)
-        for table in self.tables:
-            image = [table[c] for c in codes] if isinstance(table, list) else \
-                table[codes].tolist()
-            if self.anonymity:
-                image.sort()
-            best = min(best, self.pack(image))
-        return best
+        return self.least_key([self.code(v, p) * k + c for v, p, c in robots])
 
     def decode(self, key: int, n: int) -> State:
         out: list[Any] = []
