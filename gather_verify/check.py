@@ -322,8 +322,9 @@ def run_check(
     ``configuration.robots`` (sorted: :func:`sorted_colours` reorders colours given as the
     robots were written). The reference engine runs them (the
     bulk engine encodes no colours: with ``engine="auto"`` the report's ``engine_fallback``
-    says so, ``engine="fast"`` is refused); ``no-ungatherable`` does not apply for K > 1 (a
-    light changed at a Look breaks the symmetry Theorem 1 keeps).
+    says so, ``engine="fast"`` is refused); ``no-ungatherable`` does not apply for K > 1 (U is
+    where oblivious robots cannot gather: robots on U's nodes with different colours are no
+    longer symmetric, so entering U is no fault of a luminous algorithm in itself).
 
     On that last search, finished or not, ``move-bound`` fails as soon as its stored graph
     holds an execution with more than ``c * D * n`` moves (the one with the fewest events,
@@ -356,8 +357,9 @@ def run_check(
     lit: dict[str, Any] = {} if light is None else {
         "lights": light, "colours": None if colours is None else tuple(colours)}
     if light is not None and light.colours > 1 and "no-ungatherable" in wanted:
-        why = ("U (Theorem 1) is for oblivious robots: a light set at a Look breaks the "
-               "symmetry the theorem's adversary keeps")
+        why = ("U (Theorem 1) is where oblivious robots cannot gather: robots on its nodes "
+               "with different colours are not symmetric, so a luminous algorithm may pass "
+               "through it")
         if properties:
             raise InvalidInput(f"no-ungatherable does not apply with --lights {light}: {why}")
         wanted.remove("no-ungatherable")
