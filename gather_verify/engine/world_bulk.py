@@ -48,7 +48,7 @@ import numpy as np
 from gather_verify import kernels
 from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
 from gather_verify.engine.columns import Growing
-from gather_verify.engine.encoding import NO_LIMITS, Limits
+from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop
 from gather_verify.engine.explore import rss_mb
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.engine.world_search import (
@@ -463,16 +463,16 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
     final: list[np.ndarray] = []
     stay: list[np.ndarray] = []
     transitions = 0
-    stopped: str | None = None
+    stopped: Stop | str | None = None
     halt: Halt | None = None
     expanded = 0
     chunk = CHUNK
     while expanded < reps.size:
         if time.perf_counter() - started > limits.max_seconds:
-            stopped = "time"
+            stopped = Stop.TIME
             break
         if rss_mb() > limits.max_memory_mb:
-            stopped = "memory"
+            stopped = Stop.MEMORY
             break
         lo = expanded
         keys = reps.data[lo:min(reps.size, lo + chunk)]
@@ -502,7 +502,7 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
             # the reference stops after the first state whose expansion passes the limit
             grown = before + np.searchsorted(first, ends, side="left")
             k = int(np.argmax(grown > limits.max_states))
-            cut, stopped = k + 1, "states"
+            cut, stopped = k + 1, Stop.STATES
             first = first[:grown[k] - before]
             ends = ends[:cut]
             index.truncate(int(grown[k]))
