@@ -381,6 +381,13 @@ def test_browser_torus_lights_and_the_failing_node(web, tmp_path):
     page = open_viewer(web, tmp_path, trace, "inchworm.html")
     assert page.eval_on_selector("#now circle.focus", "c => c.dataset.node") == "2"
     assert page.eval_on_selector_all("#now circle.light", "cs => cs.length") == 2  # lit 0
+    from gather_verify.check import run_check  # the paper's world, lit: its header says so
+    from gather_verify.model.configuration import Configuration
+
+    start = Configuration([(1, 1), (3, 2)], [(0, 0), (4, 0)], initial=True)
+    trace = run_check(start, algorithm="beacon", scheduler="ssync", lights="2")["trace"]
+    page = open_viewer(web, tmp_path, trace, "beacon.html")
+    assert "lights 2" in page.inner_text("#meta")
     assert web.errors == [] and web.remote == []
 
 
