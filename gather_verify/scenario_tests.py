@@ -202,23 +202,32 @@ def _saved(trace: dict[str, Any]) -> str:
 
 
 def _run_replay(case: Case) -> Outcome:
+    """The scenario's stored trace replayed: a finite world's by its own replay
+    (:mod:`gather_verify.world_replay`), a trace of Z² by :mod:`gather_verify.replay`."""
     from gather_verify.render import render_trace
     from gather_verify.replay import NoLongerReproduces, replay
+    from gather_verify.viewer import is_world_trace
+    from gather_verify.world_check import render_world_trace
+    from gather_verify.world_replay import NoLongerReproduces as WorldNoLonger
+    from gather_verify.world_replay import replay_world
 
     trace = case.scenario.trace
     assert trace is not None
+    on_world = is_world_trace(trace)
     why = "the stored trace no longer reproduces"
     try:
-        outcome = replay(trace)
+        outcome = (replay_world(trace, Path(case.scenario.path).resolve().parent) if on_world
+                   else replay(trace))
         ok, message = outcome.confirmed, outcome.message
-    except NoLongerReproduces as error:  # the algorithm changed since the trace was written
+    except (NoLongerReproduces, WorldNoLonger) as error:  # the algorithm changed since
         ok, message = False, str(error)
     except ValueError as error:  # its algorithm cannot be loaded, or the trace is malformed
         ok, message, why = False, str(error), "the stored trace cannot be replayed"
     if ok:
         return Outcome(case.name, True)
+    shown = render_world_trace(trace) if on_world else render_trace(trace)
     return Outcome(case.name, False, f"{case.name}: {why}: "
-                   f"{message}\n{render_trace(trace)}\n"
+                   f"{message}\n{shown}\n"
                    f"replay: gather-verify replay {shlex.quote(case.scenario.path)}",
                    trace.get("property"), trace)
 

@@ -264,9 +264,12 @@ def _pending_since(steps: list[dict[str, Any]], n: int) -> list[list[int | None]
 # the same way on every world.
 
 def is_world_trace(trace: Any) -> bool:
-    """A trace written by a finite world's check (it names its world; a Z² trace has a format
-    tag instead)."""
-    return isinstance(trace, dict) and "format" not in trace and isinstance(trace.get("world"), str)
+    """A trace written by a finite world's check: it names its world (a trace of Z² has a
+    ``format`` tag instead, and a ``world`` of ``grid`` or none)."""
+    from gather_verify.worlds import is_plane
+
+    return isinstance(trace, dict) and "format" not in trace and isinstance(
+        trace.get("world"), str) and not is_plane(trace["world"])
 
 
 def _bad(message: str) -> InvalidInput:

@@ -41,7 +41,7 @@ from typing import Any, NoReturn
 from gather_verify.algorithms import AlgorithmCrash, Unhandled, get_algorithm
 from gather_verify.errors import InvalidInput, read_input
 from gather_verify.tasks import get_task
-from gather_verify.worlds import get_world, is_plane
+from gather_verify.worlds import get_world
 from gather_verify.worlds.base import World
 from gather_verify.worlds.moves import WorldMoves, parse_lights
 from schedulers import Event, get_scheduler
@@ -65,13 +65,6 @@ class WorldReplayed:
     confirmed: bool
     message: str
     steps: int
-
-
-def is_world_trace(trace: Any) -> bool:
-    """A trace written by a finite world's check: it names its world (a trace of Z² has a
-    ``format`` tag instead, and a ``world`` of ``grid`` or none)."""
-    return isinstance(trace, dict) and "format" not in trace and isinstance(
-        trace.get("world"), str) and not is_plane(trace["world"])
 
 
 def read_trace(source: str | Path) -> Any:

@@ -251,3 +251,25 @@ def test_replay_text_output_and_pictures(tmp_path, capsys):
 
 def test_no_longer_reproduces_is_an_input_error_subclass():
     assert issubclass(NoLongerReproduces, InvalidInput)
+
+
+def test_a_scenario_that_stores_a_world_trace_replays_it(tmp_path: Path,
+                                                         capsys: pytest.CaptureFixture[str]) -> None:
+    """``gather-verify test`` replays a finite world's stored trace with the world's replay
+    (not the Z² loader), and a trace whose step was edited fails its case."""
+    r = run_world_check("ring:6", "0 3", "", "broken-ring-explore", "ssync",
+                        task="exclusive-perpetual-exploration")
+    scenario = {"world": "ring:6", "robots": [0, 3], "meeting_nodes": [],
+                "task": "exclusive-perpetual-exploration", "algorithm": "broken-ring-explore",
+                "expect": {"verdicts": [{"algorithm": "broken-ring-explore", "scheduler": "ssync",
+                                         "verdict": "VIOLATED",
+                                         "property": r["trace"]["property"]}]},
+                "trace": r["trace"]}
+    path = tmp_path / "w.scenario.json"
+    path.write_text(json.dumps(scenario))
+    assert main(["test", str(path)]) == 0
+    assert "[replay]" in capsys.readouterr().out
+    scenario["trace"]["algorithm"] = "ring-explore"  # the fixed twin does not collide
+    path.write_text(json.dumps(scenario))
+    assert main(["test", str(path)]) == 1
+    assert "no longer reproduces" in capsys.readouterr().out

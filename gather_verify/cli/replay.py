@@ -54,7 +54,8 @@ def run(args: argparse.Namespace) -> int:
         if ":" not in spec:
             raise InvalidInput(f"--property {spec}: expected FILE.py:NAME")
         load_property(spec)
-    from gather_verify.world_replay import is_world_trace, read_trace
+    from gather_verify.viewer import is_world_trace
+    from gather_verify.world_replay import read_trace
 
     raw = read_trace(args.trace)
     if is_world_trace(raw):
