@@ -437,7 +437,7 @@ def random_instance(world_name: str, data: st.DataObject, scheduler: str, reduce
     assert_same_tasks(ref, bulk, w, n, (), scheduler)
 
 
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(**INSTANCES)
 def test_random_instances(**kw: Any) -> None:
     """Random worlds, robots (towers too), colours, schedulers, detection, visibility,
