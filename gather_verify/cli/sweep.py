@@ -41,9 +41,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--visibility", type=bounded_int(0, 10**6), default=None, metavar="HOPS",
                    help="on a finite world: robots see only the nodes within this many hops")
     p.add_argument("--lights", default=None, metavar="K[:external|internal]",
-                   help="on a finite world: luminous robots with K colours, all starting at 0")
+                   help="luminous robots with K colours, all starting at 0 (on Z² each "
+                        "configuration is checked on its own, by the reference engine)")
     p.add_argument("--initial-colours", choices=("all",), default=None,
-                   help="with --lights: every initial colouring of the robots, not only all 0")
+                   help="with --lights: every initial colouring of the robots up to the "
+                        "configuration's symmetries, not only all 0")
     p.add_argument("--algorithm", default="paper",
                    help="a name, FILE.py:NAME or package.module:NAME (docs/algorithms.md)")
     p.add_argument("--scheduler", default="async", metavar="NAME",
@@ -127,9 +129,11 @@ def run(args: argparse.Namespace) -> int:
     if args.box is None or args.meeting is None:
         raise InvalidInput(f"--{'box' if args.box is None else 'meeting'} is required in the "
                            "paper's world (or give a finite --world)")
-    if args.task is not None or args.visibility is not None or args.lights is not None:
-        raise InvalidInput("--task, --visibility and --lights need a finite world (--world ring:N, "
+    if args.task is not None or args.visibility is not None:
+        raise InvalidInput("--task and --visibility need a finite world (--world ring:N, "
                            "grid:WxH, torus:WxH or graph:FILE)")
+    if args.lights is not None or args.initial_colours is not None:
+        _lights(args)
     if 0 in args.robots:
         raise InvalidInput("--robots: at least one robot")
     if args.readings_types is not None and not args.readings:
@@ -159,7 +163,7 @@ def run(args: argparse.Namespace) -> int:
         reduction=not args.no_reduction, max_memory_mb=args.max_memory_mb,
         keep_growing=args.keep_growing,
         fingerprint_extra=tuple(os.path.abspath(f) for f in args.fingerprint_extra),
-        force=args.force,
+        force=args.force, lights=args.lights, initial_colours=args.initial_colours,
     ) for n in args.robots for m in args.meeting]
     if args.fingerprint_extra:
         settings[0].fingerprint()  # an unreadable file fails before any work
@@ -190,6 +194,22 @@ def run(args: argparse.Namespace) -> int:
     if "VIOLATED" in verdicts:
         return 1
     return 3 if "INCOMPLETE" in verdicts else 0
+
+
+def _lights(args: argparse.Namespace) -> None:
+    """Luminous robots on the paper's world: checked one configuration and colouring at a
+    time by the reference engine (the union engine encodes no lights)."""
+    from gather_verify.sweeps.lit_census import check_colourings
+    from gather_verify.worlds.moves import parse_lights
+
+    if args.lights is None:
+        raise InvalidInput("--initial-colours needs --lights K")
+    if args.readings:
+        raise InvalidInput("--readings are the paper's algorithm's, for oblivious robots: "
+                           "give no --lights")
+    light = parse_lights(args.lights)
+    if args.initial_colours == "all":
+        check_colourings(light.colours, max(args.robots))
 
 
 def _worlds(args: argparse.Namespace) -> int:

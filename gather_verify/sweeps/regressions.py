@@ -66,14 +66,23 @@ def scenario_for(settings: dict[str, Any], row: dict[str, Any],
     w, h = settings["box"]
     found_by = (f"gather-verify sweep --robots {settings['robots']} --meeting {settings['meeting']} "
                 f"--box {w}x{h} --algorithm {algorithm} --scheduler {scheduler}")
+    lit: dict[str, Any] = {}
+    robots = row["robots"]
+    if settings.get("lights") is not None:  # a luminous sweep: its lights, the row's colours
+        every = settings.get("initial_colours") == "all"
+        found_by += f" --lights {settings['lights']}" + (" --initial-colours all" if every else "")
+        colours = [r[1] for r in robots] if every else [0] * len(robots)
+        robots = [r[0] for r in robots] if every else robots
+        lit = {"lights": settings["lights"], "colours": colours}
     return {
         "name": name,
         "description": (f"Counterexample found by a sweep ({found_by}): {row['class']}, "
                         f"{row['property']} fails - {row['reason']}. "
                         f"Replay: gather-verify replay {Path(folder).as_posix()}/{name}"
                         f"{SUFFIX}"),
-        "robots": row["robots"],
+        "robots": robots,
         "meeting_nodes": row["meeting_nodes"],
+        **lit,
         "algorithm": here,
         "scheduler": scheduler,
         "multiplicity": settings.get("detection", "local-weak"),

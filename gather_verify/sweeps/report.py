@@ -166,9 +166,9 @@ def _nodes(nodes: Any, lit: bool = False) -> str:
 
 
 def _lit(common: dict[str, Any]) -> bool:
-    """Whether a batch's rows store each robot with its initial colour (a finite world swept
-    over every initial colouring)."""
-    return common.get("world", "grid") != "grid" and common.get("initial_colours") == "all"
+    """Whether a batch's rows store each robot with its initial colour (a sweep over every
+    initial colouring)."""
+    return common.get("initial_colours") == "all"
 
 
 def _recheck(r: dict[str, Any], verdict: str, common: dict[str, Any]) -> str:
@@ -186,13 +186,14 @@ def _recheck(r: dict[str, Any], verdict: str, common: dict[str, Any]) -> str:
         for option, key, default in (("--task", "task", None),
                                      ("--multiplicity", "detection", "local-weak"),
                                      ("--frames", "frames", "all"),
-                                     ("--visibility", "visibility", None),
-                                     ("--lights", "lights", None)):
+                                     ("--visibility", "visibility", None)):
             if common.get(key, default) != default:
                 parts.append(f"{option} {common[key]}")
-        if lit:
-            colours = " ".join(str(n[1]) for n in r["robots"] if isinstance(n, list))
-            parts.append(f"--colours \"{colours}\"")
+    if common.get("lights") is not None:
+        parts.append(f"--lights {common['lights']}")
+    if lit:
+        colours = " ".join(str(n[1]) for n in r["robots"] if isinstance(n, list))
+        parts.append(f"--colours \"{colours}\"")
     if verdict == "VIOLATED":
         parts.append("--html trace.html")
     return " ".join(parts)

@@ -79,14 +79,14 @@ class SweepSettings:
         out["fingerprint"] = self.fingerprint()  # never stale
         del out["fingerprint_extra"]
         if self.world == "grid":  # the paper's world: keys as every store before worlds
-            for name in ("world", "task", "visibility", "lights", "initial_colours"):
+            for name in ("world", "task", "visibility"):
                 del out[name]
         else:
             del out["box"], out["move_bound_c"], out["keep_growing"]
-            if self.lights is None:
-                del out["lights"]
-            if self.initial_colours is None:
-                del out["initial_colours"]
+        if self.lights is None:  # oblivious robots: keys as every store before lights
+            del out["lights"]
+        if self.initial_colours is None:
+            del out["initial_colours"]
         if not self.force:  # the rule every store before the field was written with
             del out["force"]
         return out
@@ -219,6 +219,11 @@ def run_sweep(
     if engine not in ENGINES:
         raise InvalidInput(f"unknown sweep engine {engine!r}: use one of {', '.join(ENGINES)}")
     batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
+    lit = LIT_FALLBACK if any(one.world == "grid" and one.lights for one in batch) else None
+    if lit and verify is None:  # the union engine encodes no colours
+        from gather_verify.sweeps.lit_census import verify_lit_one
+
+        verify = verify_lit_one
     if verify is None and engine == "union" and all(one.world != "grid" for one in batch):
         engine = WORLD_UNION  # finite worlds: one union search per meeting-node class
     elif any(one.world != "grid" for one in batch):
@@ -230,8 +235,14 @@ def run_sweep(
     from gather_verify.algorithms.loading import snapshot
 
     with snapshot({one.algorithm for one in batch}):  # fingerprinted and run: the same text
-        return _run_sweep(batch, db_path, workers, dask, progress, limit, where, fresh, engine,
-                          verify)
+        summary = _run_sweep(batch, db_path, workers, dask, progress, limit, where, fresh,
+                             engine, verify)
+    return summary if lit is None else {**summary, "engine_fallback": lit}
+
+
+LIT_FALLBACK = ("the union engine encodes no lights: each configuration and initial colouring "
+                "was checked on its own, by the reference engine")
+"""What a luminous sweep of the paper's world says of its engine (summary ``engine_fallback``)."""
 
 
 def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, dask: str | None,
@@ -250,7 +261,8 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
             if one.fingerprint_extra:
                 store.note_extra(sweep, one.fingerprint_extra)
             done = store.done_keys(sweep)
-            shape = (one.world, one.robots, one.meeting, one.box, one.frames)
+            shape = (one.world, one.robots, one.meeting, one.box, one.frames, one.lights,
+                     one.initial_colours)
             if shape not in census:  # classes up to the robots' frame group, never more
                 census[shape] = [(index, c, key) for index, (c, key) in itertools.islice(
                     enumerate(_census(one)), limit)]
@@ -278,10 +290,18 @@ def _census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
     """The sweep's configurations in enumeration order, each with its stored key."""
     if settings.world == "grid":
         from gather_verify.sweeps.census import enumerate_configurations
+        from gather_verify.sweeps.lit_census import lit_configurations
+        from gather_verify.worlds.moves import parse_lights
 
+        k = parse_lights(settings.lights).colours
         for c in enumerate_configurations(settings.robots, settings.meeting, *settings.box,
                                           settings.frames):
-            yield c, configuration_key(c)
+            if settings.lights is None:
+                yield c, configuration_key(c)
+                continue
+            for lit in lit_configurations(c, configuration_key(c), k, settings.frames,
+                                          settings.initial_colours == "all"):
+                yield lit, lit.key
         return
     from gather_verify.sweeps.world_census import world_configurations, world_key
     from gather_verify.worlds import get_world
@@ -333,8 +353,8 @@ def _execute(
     end of each sweep; the checks a long class hands off go out after the tasks before them."""
     local = dask is None and workers == 1
     if any(todo for _, _, todo in plan):  # forked workers inherit the compiled kernels
-        warm_kernels({settings.scheduler for settings, _, _ in plan
-                      if settings.world == "grid"})  # finite worlds: no compiled kernels
+        warm_kernels({settings.scheduler for settings, _, _ in plan  # (none: finite worlds,
+                      if settings.world == "grid" and not settings.lights})  # lights)
     tasks: list[Task] = []
     for settings, sweep, todo in plan:
         if engine == "union":  # a task is a meeting-node class, the largest first
@@ -684,6 +704,9 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
         for prop, by in summary["causes"].items():
             write(f"  {prop} x {sum(by.values())}: "
                   + ", ".join(f"{why} {k}" for why, k in by.items()))
+    if summary.get("engine_fallback"):
+        write("")
+        write(f"engine: {summary['engine_fallback']}")
     if summary["slowest"]:
         write("")
         write("slowest configurations:")
