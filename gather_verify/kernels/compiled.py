@@ -498,6 +498,25 @@ def successor_keys(keys, codes, src, robot, new, powers):  # pragma: no cover - 
 
 
 @njit(cache=True, nogil=True)
+def event_keys(keys, codes, src, robot, new, event, powers):  # pragma: no cover - compiled
+    """Several changes per event (change ``c`` belongs to event ``event[c]``, in order), no
+    reduction: each successor's key (its source's key with each changed robot recoded), and
+    the old code of each changed robot."""
+    m = len(src)
+    succ = np.empty(m, dtype=np.uint64)
+    old = np.empty(len(robot), dtype=np.int64)
+    for e in range(m):
+        succ[e] = keys[src[e]]
+    for c in range(len(robot)):
+        e = event[c]
+        r = robot[c]
+        o = codes[src[e], r]
+        old[c] = o
+        succ[e] += np.uint64(new[c] - o) * powers[r]  # wraps for negative steps
+    return succ, old
+
+
+@njit(cache=True, nogil=True)
 def pair_keys(rows, rank, src, robot, old, new, stride, cells):  # pragma: no cover - compiled
     """The transitions that move a robot to another cell, and for each the key of its
     (configuration row, sorted position of the cell left, cell entered)."""
