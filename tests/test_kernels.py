@@ -247,11 +247,12 @@ def test_compiled_rounds_are_the_numpy_rounds(case) -> None:
         assert a.dtype == b.dtype and a.tolist() == b.tolist(), field
 
 
-@settings(max_examples=60, deadline=None)
-@given(round_frontiers())
-def test_compiled_event_keys_are_the_numpy_keys(case) -> None:
-    """Several changes per event, no reduction: the compiled successor keys are the numpy
-    reference's (the successors' codes packed), and so are the changed robots' old codes."""
+@settings(max_examples=80, deadline=None)
+@given(round_frontiers(), st.booleans(), st.integers(0, 3), st.randoms(use_true_random=False))
+def test_compiled_event_keys_are_the_numpy_keys(case, anonymity, images, rnd) -> None:
+    """Several changes per event: the compiled successor keys are the numpy reference's (the
+    successors' codes packed; under the reductions sorted and the least over random code
+    tables), and so are the changed robots' old codes."""
     frontier, budget, subsets = case
     bulk = get_scheduler(subsets).bulk_successors(frontier, budget) \
         if isinstance(subsets, str) else numpy_rounds(frontier, budget, subsets)
@@ -264,12 +265,14 @@ def test_compiled_event_keys_are_the_numpy_keys(case) -> None:
     src, robot, new = bulk.source[inside], bulk.robot[keep], bulk.code[keep]
     event = renumber[bulk.event[keep]]
     cells = len(frontier.neighbour)
-    enc = SimpleNamespace(anonymity=False, tables=[], base=5 * cells)
+    tables = [[rnd.randrange(5 * cells) for _ in range(5 * cells)] for _ in range(images)]
+    reduced = anonymity or images > 0
+    enc = SimpleNamespace(anonymity=anonymity, tables=tables, base=5 * cells)
     canon = Canon(enc, frontier.codes.shape[1])  # type: ignore[arg-type]
     codes = frontier.codes[:bulk.states]
     keys = canon.keys(codes)
-    fast, old, none = successor_keys(keys, codes, src, robot, new, event, canon, False, True)
-    ref, ref_old, ref_codes = successor_keys(keys, codes, src, robot, new, event, canon, False,
+    fast, old, none = successor_keys(keys, codes, src, robot, new, event, canon, reduced, True)
+    ref, ref_old, ref_codes = successor_keys(keys, codes, src, robot, new, event, canon, reduced,
                                              False)
     assert none is None and ref_codes is not None
     assert fast.tolist() == ref.tolist() == canon.keys(ref_codes).tolist()
