@@ -7,6 +7,7 @@ schedulers' bulk step on random frontiers."""
 from __future__ import annotations
 
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -16,6 +17,8 @@ from hypothesis.extra.numpy import arrays
 
 from gather_verify import kernels
 from gather_verify.check import run_check
+from gather_verify.engine.bulk_step import successor_keys
+from gather_verify.engine.canonical_keys import Canon
 from gather_verify.engine.fast_explore import explore_fast
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.configuration import Configuration
@@ -242,3 +245,35 @@ def test_compiled_rounds_are_the_numpy_rounds(case) -> None:
     for field in ("source", "weight", "robot", "code", "event"):
         a, b = getattr(fast, field), getattr(ref, field)
         assert a.dtype == b.dtype and a.tolist() == b.tolist(), field
+
+
+@settings(max_examples=80, deadline=None)
+@given(round_frontiers(), st.booleans(), st.integers(0, 3), st.randoms(use_true_random=False))
+def test_compiled_event_keys_are_the_numpy_keys(case, anonymity, images, rnd) -> None:
+    """Several changes per event: the compiled successor keys are the numpy reference's (the
+    successors' codes packed; under the reductions sorted and the least over random code
+    tables), and so are the changed robots' old codes."""
+    frontier, budget, subsets = case
+    bulk = get_scheduler(subsets).bulk_successors(frontier, budget) \
+        if isinstance(subsets, str) else numpy_rounds(frontier, budget, subsets)
+    if bulk.event is None:  # one change per event: the other compiled path
+        return
+    inside = np.ones(len(bulk.source), dtype=bool)  # events whose robots all stay in the region
+    inside[bulk.event[bulk.code < 0]] = False
+    keep = inside[bulk.event]
+    renumber = np.cumsum(inside) - 1
+    src, robot, new = bulk.source[inside], bulk.robot[keep], bulk.code[keep]
+    event = renumber[bulk.event[keep]]
+    cells = len(frontier.neighbour)
+    tables = [[rnd.randrange(5 * cells) for _ in range(5 * cells)] for _ in range(images)]
+    reduced = anonymity or images > 0
+    enc = SimpleNamespace(anonymity=anonymity, tables=tables, base=5 * cells)
+    canon = Canon(enc, frontier.codes.shape[1])  # type: ignore[arg-type]
+    codes = frontier.codes[:bulk.states]
+    keys = canon.keys(codes)
+    fast, old, none = successor_keys(keys, codes, src, robot, new, event, canon, reduced, True)
+    ref, ref_old, ref_codes = successor_keys(keys, codes, src, robot, new, event, canon, reduced,
+                                             False)
+    assert none is None and ref_codes is not None
+    assert fast.tolist() == ref.tolist() == canon.keys(ref_codes).tolist()
+    assert old.tolist() == ref_old.tolist()

@@ -91,11 +91,17 @@ def successor_keys(keys: np.ndarray, codes: np.ndarray, src: np.ndarray, robot: 
                    compiled: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """The stored key of each successor (event ``e`` from state ``src[e]`` of the chunk;
     ``event`` as in :func:`successor_codes`), the old code of each changed robot, and the
-    successors' codes when they were computed (under a reduction, or several changes per
-    event); without them a one-change successor's key is its source's plus the change."""
+    successors' codes when they were computed (numpy path: under a reduction, or several
+    changes per event; compiled path: under a reduction with one change per event)."""
     single = event is None
-    if single and compiled and not reduced:
-        succ, old = kernels.successor_keys(keys, codes, src, robot, new, canon.powers)
+    if compiled and not (single and reduced):
+        if single:
+            succ, old = kernels.successor_keys(keys, codes, src, robot, new, canon.powers)
+        elif reduced:
+            succ, old = kernels.event_canonical_keys(codes, src, robot, new, event, canon.powers,
+                                                     canon.table_rows, canon.anonymity)
+        else:
+            succ, old = kernels.event_keys(keys, codes, src, robot, new, event, canon.powers)
         return succ, old, None
     old = codes[src, robot] if single else codes[src[event], robot]
     if reduced or not single:

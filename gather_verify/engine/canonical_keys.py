@@ -22,6 +22,9 @@ class Canon:
         self.anonymity = enc.anonymity
         self.tables = [np.asarray(t, dtype=np.int64) for t in enc.tables]
         self.powers = np.array([enc.base ** j for j in range(n)], dtype=np.uint64)
+        self.table_rows = np.array(self.tables, dtype=np.int64) if self.tables else \
+            np.zeros((0, 1), dtype=np.int64)
+        """The tables as the rows of one array (for the compiled keys)."""
 
     def pack(self, columns: list[np.ndarray]) -> np.ndarray:
         out = columns[0].astype(np.uint64)

@@ -56,6 +56,7 @@ from gather_verify.engine.bulk_step import (
     PairRows,
     decode_chunk,
     move_masks,
+    successor_codes,
     successor_keys,
 )
 from gather_verify.engine.canonical_keys import Canon, decode_keys
@@ -273,6 +274,8 @@ def explore_fast(
             # the configuration each transition reaches, once per (row, cell, destination)
             after = pair_rows.after(rows, cells, rank, src, robot, old, new)
         if open_transition:
+            if succ_codes is None and not single:  # the compiled keys left the codes out
+                succ_codes = successor_codes(codes, src, robot, new, event)
             if after is None:
                 # the configuration each transition reaches, from the scheduler's changes
                 if succ_codes is None:  # one change per event, no reduction: event c is change c

@@ -27,8 +27,8 @@ ENV = "GATHER_VERIFY_KERNELS"
 """Environment variable: ``numpy`` (or ``0``) selects the numpy/Python reference path (the
 same switch as the union engine's, :mod:`gather_verify.engine.union_kernels`)."""
 KERNELS = ("find_or_add", "place", "async_successors", "longest_path", "tarjan_csr",
-           "decode_chunk", "successor_keys", "pair_keys", "successor_rows", "round_counts",
-           "round_events")
+           "decode_chunk", "successor_keys", "event_keys", "event_canonical_keys",
+           "pair_keys", "successor_rows", "round_counts", "round_events")
 """The compiled functions (in :mod:`gather_verify.kernels.compiled`, imported on first use)."""
 _forced: bool | None = None
 _available: bool | None = None
@@ -75,6 +75,8 @@ def warm() -> None:
     from gather_verify.kernels.compiled import (
         async_successors,
         decode_chunk,
+        event_canonical_keys,
+        event_keys,
         find_or_add,
         longest_path,
         pair_keys,
@@ -101,6 +103,11 @@ def warm() -> None:
                                                np.arange(4, dtype=np.int64))
     powers = np.array([1, 45], dtype=np.uint64)
     succ, old = successor_keys(k, codes, src, robot, new, powers)
+    event = np.arange(len(robot), dtype=np.int64)
+    event_keys(k, codes, src, robot, new, event, powers)
+    for anonymity in (False, True):
+        event_canonical_keys(codes, src, robot, new, event, powers,
+                             np.zeros((1, 45), dtype=np.int64), anonymity)
     pair_keys(ck, rank, src, robot, old, new, 18, 9)
     successor_rows(ck, rank, src, robot, old, new, neighbour,
                    np.full((1, 2, 4), -1, dtype=np.int32))

@@ -498,6 +498,66 @@ def successor_keys(keys, codes, src, robot, new, powers):  # pragma: no cover - 
 
 
 @njit(cache=True, nogil=True)
+def event_keys(keys, codes, src, robot, new, event, powers):  # pragma: no cover - compiled
+    """Several changes per event (change ``c`` belongs to event ``event[c]``, in order), no
+    reduction: each successor's key (its source's key with each changed robot recoded), and
+    the old code of each changed robot."""
+    m = len(src)
+    succ = np.empty(m, dtype=np.uint64)
+    old = np.empty(len(robot), dtype=np.int64)
+    for e in range(m):
+        succ[e] = keys[src[e]]
+    for c in range(len(robot)):
+        e = event[c]
+        r = robot[c]
+        o = codes[src[e], r]
+        old[c] = o
+        succ[e] += np.uint64(new[c] - o) * powers[r]  # wraps for negative steps
+    return succ, old
+
+
+@njit(cache=True, nogil=True)
+def event_canonical_keys(codes, src, robot, new, event, powers, tables,
+                         anonymity):  # pragma: no cover - compiled
+    """Several changes per event under the reductions: each successor's stored key (as
+    ``Canon.keys``: its codes sorted when ``anonymity``, packed by ``powers``, the least over
+    its images by the rows of ``tables``), and the old code of each changed robot."""
+    m = len(src)
+    n = codes.shape[1]
+    rows = np.empty((m, n), dtype=np.int64)
+    for e in range(m):
+        for j in range(n):
+            rows[e, j] = codes[src[e], j]
+    old = np.empty(len(robot), dtype=np.int64)
+    for c in range(len(robot)):
+        e = event[c]
+        old[c] = rows[e, robot[c]]
+        rows[e, robot[c]] = new[c]
+    succ = np.empty(m, dtype=np.uint64)
+    image = np.empty(n, dtype=np.int64)
+    for e in range(m):
+        best = np.uint64(0)
+        for t in range(-1, len(tables)):
+            for j in range(n):
+                v = rows[e, j] if t < 0 else tables[t, rows[e, j]]
+                if anonymity:  # insertion into the sorted prefix
+                    k = j
+                    while k > 0 and image[k - 1] > v:
+                        image[k] = image[k - 1]
+                        k -= 1
+                    image[k] = v
+                else:
+                    image[j] = v
+            key = np.uint64(0)
+            for j in range(n):
+                key += np.uint64(image[j]) * powers[j]
+            if t < 0 or key < best:
+                best = key
+        succ[e] = best
+    return succ, old
+
+
+@njit(cache=True, nogil=True)
 def pair_keys(rows, rank, src, robot, old, new, stride, cells):  # pragma: no cover - compiled
     """The transitions that move a robot to another cell, and for each the key of its
     (configuration row, sorted position of the cell left, cell entered)."""
