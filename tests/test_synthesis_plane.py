@@ -249,3 +249,51 @@ def test_a_configuration_the_paper_fails_is_gathered_by_a_synthesised_algorithm(
     got = run_check(c, algorithm=str(tmp_path / "w.py") + ":Synthesized", scheduler="async",
                     reduction=False, max_seconds=120, force=True)
     assert got["verdict"] == "VERIFIED", got
+
+
+# the configurations outside U that the search left unknown and docs/examples/meet_by_hand.py
+# gathers (docs/findings.md, "The paper's characterization, checked by synthesis")
+SEARCH_UNKNOWN = [("1,1 2,1", "0,0 0,2"), ("1,0 1,2", "0,0 0,1 2,0 2,1"),
+                  ("1,1 1,2", "0,0 0,1 2,0 2,1"), ("0,0 2,1", "0,0 0,1 1,2 2,2")]
+SEARCH_UNKNOWN_3 = [("0,0 0,2 2,0", "0,0 0,2 2,0 2,2"), ("0,0 0,2 2,1", "0,0 0,2 2,0 2,2")]
+
+
+def _nodes(text: str) -> list[tuple[int, int]]:
+    return [(int(x), int(y)) for x, y in (p.split(",") for p in text.split())]
+
+
+@pytest.mark.parametrize(("robots", "meeting", "name"),
+                         [(r, m, "TwoMeet") for r, m in SEARCH_UNKNOWN]
+                         + [(r, m, "ThreeMeet") for r, m in SEARCH_UNKNOWN_3])
+def test_the_hand_written_algorithms_gather_outside_u(robots: str, meeting: str,
+                                                      name: str) -> None:
+    """Outside U, so the paper says gatherable; the ordinary checker verifies the docs'
+    hand-written algorithm from it under ASYNC, every reduction off."""
+    c = Configuration(_nodes(robots), _nodes(meeting), initial=True)
+    assert not classify_configuration(c).in_U
+    assert plane.theorem1_phi(c, "all") is None
+    got = run_check(c, algorithm=f"docs/examples/meet_by_hand.py:{name}", scheduler="async",
+                    properties=["final", "termination"], reduction=False, max_seconds=60,
+                    force=True)
+    assert got["verdict"] == "VERIFIED", got
+
+
+@pytest.mark.parametrize(("robots", "meeting"), [SEARCH_UNKNOWN[1], SEARCH_UNKNOWN[3]])
+def test_the_careless_variant_ends_on_two_meeting_nodes(robots: str, meeting: str) -> None:
+    """Walking onto another meeting node on the way ends with the robots on two meeting
+    nodes, for ever: the checker must catch it."""
+    c = Configuration(_nodes(robots), _nodes(meeting), initial=True)
+    got = run_check(c, algorithm="docs/examples/meet_by_hand.py:Careless", scheduler="async",
+                    properties=["final", "termination"], reduction=False, max_seconds=60,
+                    force=True)
+    assert got["verdict"] == "VIOLATED"
+
+
+def test_three_meet_without_its_tie_rule_deadlocks() -> None:
+    """ThreeMeet's tie rule is needed: a robot facing one other occupied meeting node that
+    waits leaves the multiplicity and itself apart for ever."""
+    c = Configuration(_nodes("0,0 0,2 2,0"), _nodes("0,0 0,2 2,0 2,2"), initial=True)
+    got = run_check(c, algorithm="docs/examples/meet_by_hand.py:ThreeMeetNoTie",
+                    scheduler="async", properties=["final", "termination"], reduction=False,
+                    max_seconds=60, force=True)
+    assert got["verdict"] == "VIOLATED"
