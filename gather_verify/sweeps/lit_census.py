@@ -86,6 +86,7 @@ def verify_lit_one(settings: Any, index: int, lit: LitConfiguration) -> dict[str
     """Classify and check one configuration with its initial colours, by the reference
     engine; the row the store keeps (robots as ``[node, colour]`` with ``every``)."""
     from gather_verify.check import run_check
+    from gather_verify.sweeps.store import check_row
 
     started = time.perf_counter()
     c = lit.configuration
@@ -97,24 +98,6 @@ def verify_lit_one(settings: Any, index: int, lit: LitConfiguration) -> dict[str
         move_bound_c=settings.move_bound_c, max_memory_mb=settings.max_memory_mb,
         keep_growing=settings.keep_growing, force=settings.force,
         lights=settings.lights, colours=list(lit.colours), engine="reference")
-    return {
-        "key": lit.key,
-        "index": index,
-        "robots": [[list(r), colour] if lit.every else list(r)
-                   for r, colour in zip(c.robots, lit.colours, strict=True)],
-        "meeting_nodes": sorted(list(m) for m in c.meeting_nodes),
-        "class": report["class"],
-        "verdict": report["verdict"],
-        "property": report.get("property"),
-        "reason": report.get("reason"),
-        "states": report.get("states"),
-        "transitions": report.get("transitions"),
-        "max_moves": report.get("max_moves"),
-        "D": report.get("D"),
-        "n": report.get("n"),
-        "ratio": report.get("ratio"),
-        "trace": report.get("trace"),
-        "failing": [p for p, r in report["properties"].items() if r.get("holds") is False],
-        "cause": report.get("cause"),
-        "seconds": time.perf_counter() - started,
-    }
+    robots = [[list(r), colour] if lit.every else list(r)
+              for r, colour in zip(c.robots, lit.colours, strict=True)]
+    return check_row(report, lit.key, index, robots, c, time.perf_counter() - started)

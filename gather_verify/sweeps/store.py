@@ -95,6 +95,33 @@ def algorithm_matches(spec: Any, name: str | None) -> bool:
         return False
 
 
+def check_row(report: dict[str, Any], key: str, index: int, robots: list[Any],
+              configuration: Any, seconds: float) -> dict[str, Any]:
+    """The row the store keeps of one check of the paper's world (``run_check``'s report):
+    the one place a sweep's row is built from a report, oblivious or luminous (``robots`` as
+    the row writes them: ``[x, y]``, or ``[[x, y], colour]``)."""
+    return {
+        "key": key,
+        "index": index,
+        "robots": robots,
+        "meeting_nodes": sorted(list(m) for m in configuration.meeting_nodes),
+        "class": report["class"],
+        "verdict": report["verdict"],
+        "property": report.get("property"),
+        "reason": report.get("reason"),
+        "states": report.get("states"),
+        "transitions": report.get("transitions"),
+        "max_moves": report.get("max_moves"),
+        "D": report.get("D"),
+        "n": report.get("n"),
+        "ratio": report.get("ratio"),
+        "trace": report.get("trace"),
+        "failing": [p for p, r in report["properties"].items() if r.get("holds") is False],
+        "cause": report.get("cause"),
+        "seconds": seconds,
+    }
+
+
 def utc_now() -> str:
     """The time now, UTC, to the second (``2026-01-31T09:05:00Z``)."""
     import datetime

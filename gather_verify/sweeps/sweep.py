@@ -22,7 +22,7 @@ from typing import Any
 
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
-from gather_verify.sweeps.store import CAUSE_UNKNOWN, Store
+from gather_verify.sweeps.store import CAUSE_UNKNOWN, Store, check_row
 
 CHUNK = 8
 """Configurations per task: enough to amortise process overhead, small enough to lose little."""
@@ -127,26 +127,8 @@ def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[st
         keep_growing=settings.keep_growing, force=settings.force,
         memo=True,  # the checks of a sweep meet the same configurations again and again
     )
-    return {
-        "key": configuration_key(c),
-        "index": index,
-        "robots": [list(r) for r in c.robots],
-        "meeting_nodes": sorted(list(m) for m in c.meeting_nodes),
-        "class": report["class"],
-        "verdict": report["verdict"],
-        "property": report.get("property"),
-        "reason": report.get("reason"),
-        "states": report.get("states"),
-        "transitions": report.get("transitions"),
-        "max_moves": report.get("max_moves"),
-        "D": report.get("D"),
-        "n": report.get("n"),
-        "ratio": report.get("ratio"),
-        "trace": report.get("trace"),
-        "failing": [p for p, r in report["properties"].items() if r.get("holds") is False],
-        "cause": report.get("cause"),
-        "seconds": time.perf_counter() - started,
-    }
+    return check_row(report, configuration_key(c), index, [list(r) for r in c.robots], c,
+                     time.perf_counter() - started)
 
 
 Verify = Callable[[SweepSettings, int, Configuration], dict[str, Any]]
