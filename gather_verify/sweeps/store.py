@@ -95,31 +95,45 @@ def algorithm_matches(spec: Any, name: str | None) -> bool:
         return False
 
 
+def row(*, key: str, index: int, robots: list[Any], meeting_nodes: list[Any], class_: str,
+        verdict: str, seconds: float, failing: list[str] | None = None, **fields: Any
+        ) -> dict[str, Any]:
+    """The row the store keeps of one configuration: the one place a sweep's row is built,
+    on any world and by any engine (a per-configuration check, the union engine). The other
+    :data:`COLUMNS` are keywords (``property``, ``reason``, ``states``, ``transitions``,
+    ``max_moves``, ``D``, ``n``, ``ratio``, ``trace``, ``cause``) and None when not given; a
+    name that is not a column is a bug of ours, refused here rather than silently dropped.
+
+    >>> row(key="k", index=0, robots=[[0, 0]], meeting_nodes=[], class_="I11",
+    ...     verdict="VERIFIED", seconds=0.0)["failing"]
+    []
+    """
+    unknown = set(fields) - set(COLUMNS)
+    if unknown:
+        raise TypeError(f"not a column of the results store: {sorted(unknown)}")
+    out: dict[str, Any] = {c: fields.get(c) for c in COLUMNS}
+    out.update(key=key, index=index, robots=robots, meeting_nodes=meeting_nodes,
+               verdict=verdict, failing=list(failing or []), seconds=seconds)
+    out["class"] = class_
+    return out
+
+
 def check_row(report: dict[str, Any], key: str, index: int, robots: list[Any],
               configuration: Any, seconds: float) -> dict[str, Any]:
-    """The row the store keeps of one check of the paper's world (``run_check``'s report):
-    the one place a sweep's row is built from a report, oblivious or luminous (``robots`` as
-    the row writes them: ``[x, y]``, or ``[[x, y], colour]``)."""
-    return {
-        "key": key,
-        "index": index,
-        "robots": robots,
-        "meeting_nodes": sorted(list(m) for m in configuration.meeting_nodes),
-        "class": report["class"],
-        "verdict": report["verdict"],
-        "property": report.get("property"),
-        "reason": report.get("reason"),
-        "states": report.get("states"),
-        "transitions": report.get("transitions"),
-        "max_moves": report.get("max_moves"),
-        "D": report.get("D"),
-        "n": report.get("n"),
-        "ratio": report.get("ratio"),
-        "trace": report.get("trace"),
-        "failing": [p for p, r in report["properties"].items() if r.get("holds") is False],
-        "cause": report.get("cause"),
-        "seconds": seconds,
-    }
+    """The row of one check of the paper's world (``run_check``'s report), oblivious or
+    luminous (``robots`` as the row writes them: ``[x, y]``, or ``[[x, y], colour]``)."""
+    return report_row(report, key=key, index=index, robots=robots, class_=report["class"],
+                      meeting_nodes=sorted(list(m) for m in configuration.meeting_nodes),
+                      seconds=seconds)
+
+
+def report_row(report: dict[str, Any], **fields: Any) -> dict[str, Any]:
+    """The row of one check's report (the paper's world or a finite world's): its verdict,
+    counts and trace, with ``fields`` (key, index, robots, meeting_nodes, class_, seconds)."""
+    taken = {c: report.get(c) for c in ("property", "reason", "states", "transitions",
+                                         "max_moves", "D", "n", "ratio", "trace", "cause")}
+    return row(verdict=report["verdict"], **{**taken, **fields},
+               failing=[p for p, r in report["properties"].items() if r.get("holds") is False])
 
 
 def utc_now() -> str:

@@ -19,6 +19,7 @@ from collections.abc import Iterator
 from itertools import combinations, product
 from typing import Any, NamedTuple
 
+from gather_verify.sweeps.store import report_row
 from gather_verify.worlds import get_world
 from gather_verify.worlds.base import World
 
@@ -76,21 +77,9 @@ def verify_world_one(settings: Any, index: int, c: WorldConfiguration) -> dict[s
         reduction=settings.reduction, max_states=settings.max_states,
         max_seconds=settings.max_seconds,
         **({} if settings.max_memory_mb is None else {"max_memory_mb": settings.max_memory_mb}))
-    return {
-        "key": world_key(world, c),
-        "index": index,
-        "robots": report["robots"] if not c.colours else [
-            [v, colour] for v, colour in zip(report["robots"], c.colours, strict=True)],
-        "meeting_nodes": report["meeting_nodes"],
-        "class": world.name,
-        "verdict": report["verdict"],
-        "property": report["property"],
-        "reason": report["reason"],
-        "states": report["states"],
-        "transitions": report["transitions"],
-        "max_moves": None, "D": None, "n": len(c.robots), "ratio": None,
-        "trace": report["trace"],
-        "failing": [p for p, r in report["properties"].items() if r.get("holds") is False],
-        "cause": None,
-        "seconds": time.perf_counter() - started,
-    }
+    robots = report["robots"] if not c.colours else [
+        [v, colour] for v, colour in zip(report["robots"], c.colours, strict=True)]
+    return report_row(report, key=world_key(world, c), index=index, robots=robots,
+                      meeting_nodes=report["meeting_nodes"], class_=world.name,
+                      n=len(c.robots), max_moves=None, D=None, ratio=None, cause=None,
+                      seconds=time.perf_counter() - started)

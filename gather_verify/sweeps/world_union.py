@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from gather_verify.errors import InvalidInput
+from gather_verify.sweeps.store import row
 from gather_verify.sweeps.world_census import WorldConfiguration, verify_world_one, world_key
 from gather_verify.worlds import get_world
 from gather_verify.worlds.base import World
@@ -183,25 +184,13 @@ class _Union:
             if states > settings.max_states:
                 continue
             transitions = int((offsets[seen + 1] - offsets[seen]).sum())
-            out[index] = {
-                "key": world_key(w, c),
-                "index": index,
-                "robots": [w.node_to_json(v) for v in c.robots] if not c.colours else [
+            out[index] = row(
+                key=world_key(w, c), index=index, class_=w.name, verdict="VERIFIED",
+                robots=[w.node_to_json(v) for v in c.robots] if not c.colours else [
                     [w.node_to_json(v), colour]
                     for v, colour in zip(c.robots, c.colours, strict=True)],
-                "meeting_nodes": [w.node_to_json(v) for v in c.meeting],
-                "class": w.name,
-                "verdict": "VERIFIED",
-                "property": None,
-                "reason": None,
-                "states": states,
-                "transitions": transitions,
-                "max_moves": None, "D": None, "n": len(c.robots), "ratio": None,
-                "trace": None,
-                "failing": [],
-                "cause": None,
-                "seconds": 0.0,
-            }
+                meeting_nodes=[w.node_to_json(v) for v in c.meeting],
+                states=states, transitions=transitions, n=len(c.robots), seconds=0.0)
         return out
 
     def _bad(self, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
