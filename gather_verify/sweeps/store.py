@@ -129,7 +129,8 @@ def check_row(report: dict[str, Any], key: str, index: int, robots: list[Any],
 
 def report_row(report: dict[str, Any], **fields: Any) -> dict[str, Any]:
     """The row of one check's report (the paper's world or a finite world's): its verdict,
-    counts and trace, with ``fields`` (key, index, robots, meeting_nodes, class_, seconds)."""
+    counts and trace, with the other ``fields`` of :func:`row` (``key``, ``index``, ``robots``,
+    ``meeting_nodes``, ``class_``, ``seconds``)."""
     taken = {c: report.get(c) for c in ("property", "reason", "states", "transitions",
                                          "max_moves", "D", "n", "ratio", "trace", "cause")}
     return row(verdict=report["verdict"], **{**taken, **fields},
