@@ -32,13 +32,13 @@ from typing import Any
 from gather_verify.algorithms.base import Algorithm, phase_of
 from gather_verify.engine.checks import Violation
 from gather_verify.engine.explore import (
-    DEFAULT_MARGIN,
     DEFAULT_MAX_SECONDS,
     DEFAULT_MAX_STATES,
     Exploration,
     Limits,
     rss_mb,
 )
+from gather_verify.engine.region import PLANE
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.engine.search import explore
 from gather_verify.errors import InvalidInput
@@ -63,7 +63,7 @@ def _memory_limit(value: float | None) -> float:
     return memory_budget_mb() if value is None else value
 
 
-AUTO_MARGIN_MAX = 32
+AUTO_MARGIN_MAX = PLANE.maximum
 """The largest region margin tried when the margin is left to grow by itself."""
 
 
@@ -305,9 +305,9 @@ def run_check(
 
     Extra ``limits``: ``max_memory_mb`` and ``margin``. Without a ``margin`` the
     region grows by itself: a search stopped by the region that has found no violation
-    is run again with the margin doubled, up to ``AUTO_MARGIN_MAX`` (the same exact
-    search on a larger region, so the verdict stays honest; only the last run is
-    reported). A search that has found one is the last, as SPIN and TLC stop at the
+    is run again in a larger region (:data:`~gather_verify.engine.region.PLANE`: the margin
+    doubled, up to ``AUTO_MARGIN_MAX``; the same exact search on a larger region, so the
+    verdict stays honest; only the last run is reported). A search that has found one is the last, as SPIN and TLC stop at the
     first error: the larger search would meet the same violations with the same traces
     (a search stopped by the region is a prefix of the larger one's BFS), only later.
     ``keep_growing`` grows it anyway, to look for violations of properties the smaller
@@ -385,7 +385,7 @@ def run_check(
     fixed_margin = limits.pop("margin", None)
     lim = Limits(max_states=max_states, max_seconds=max_seconds,
                  max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),
-                 margin=DEFAULT_MARGIN if fixed_margin is None else fixed_margin)
+                 margin=PLANE.initial if fixed_margin is None else fixed_margin)
     if limits:
         raise InvalidInput(f"unknown limit(s): {', '.join(sorted(limits))}")
     first_margin = lim.margin
@@ -448,12 +448,12 @@ def run_check(
             return traces
 
         e, traces = search(lim)
-        while (fixed_margin is None and e.stopped == "region" and lim.margin < AUTO_MARGIN_MAX
-               and not traces):
+        while fixed_margin is None and e.stopped == "region" and not traces:
+            larger = PLANE.grow(lim.margin)
             left = max_seconds - (time.perf_counter() - started)
-            if left <= 0:
+            if larger is None or left <= 0:
                 break
-            lim = replace(lim, margin=min(2 * lim.margin, AUTO_MARGIN_MAX), max_seconds=left)
+            lim = replace(lim, margin=larger, max_seconds=left)
             e, traces = search(lim)
         if traces is None:
             traces = _witnesses(e, configuration, algorithm, scheduler, engine, detection, frames,

@@ -54,9 +54,9 @@ from gather_verify.engine.encoding import (
     Limits,
     LuminousEncoding,
     Stop,
-    region_box,
     symmetry_group,
 )
+from gather_verify.engine.region import region_box
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node

@@ -26,11 +26,11 @@ from gather_verify.engine.explore import (
     Exploration,
     Violation,
     facts_cache,
-    region_box,
     rss_mb,
     symmetry_group,
 )
 from gather_verify.engine.facts_table import make_room
+from gather_verify.engine.region import PLANE
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.model import geometry
 from gather_verify.model.classes import classify_configuration
@@ -126,7 +126,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     for ks in by_n.values():
         normal = [todo[k][3] for k in ks]
         group = symmetry_group(normal[0], settings.frames)  # what the frames allow
-        box = geometry.bounding_box([v for c in normal for b in [region_box(c, union.UNION_MARGIN, group)]
+        box = geometry.bounding_box([v for c in normal for b in [PLANE.region(c, union.UNION_MARGIN, group)]
                                      for v in (b[:2], b[2:])])
         turned = {}  # per linear part, a map from M0 back to a seed's M
         for k in ks:
@@ -179,7 +179,7 @@ def _decide_union(settings: Any, wanted: list[str], todo: list[Any], ks: list[in
         D, n = c.D, c.n
         max_moves = int(u.best[s]) if graph_props else None
         failing = [p for p in props.ORDER if union.SAFETY_BITS.get(p, 0) & reach and p in wanted]
-        if failing and margin > union.MARGINS[0] and not settings.keep_growing:
+        if failing and margin > PLANE.initial and not settings.keep_growing:
             # its own search at the first margin is stopped by the region: whether that
             # BFS prefix meets a violation, and so ends the search there, only it can say
             fallback.append((index, c))
@@ -258,7 +258,7 @@ def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, back: Automo
         facts[c.meeting_nodes] = facts_cache(algo, c, settings.detection,
                                              frames_for(settings.frames))
     group = symmetry_group(c, settings.frames)
-    enc = Encoding(region_box(c, margin, group), group, True)
+    enc = Encoding(PLANE.region(c, margin, group), group, True)
     keys = []
     for sid in path:
         state = u.encoding.decode(int(u.keys[sid]), c.n)
