@@ -55,7 +55,7 @@ from gather_verify.trace import build_trace, initial_of, steps_of
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine, named_first
 from gather_verify.watchdog import Overtime, allowance, deadline
 from gather_verify.worlds.moves import parse_lights
-from schedulers import initial_state
+from schedulers import Scheduler, get_scheduler, initial_state
 
 
 def _memory_limit(value: float | None) -> float:
@@ -257,8 +257,8 @@ def drift_line(drift: dict[str, Any]) -> str:
             "not a proof: the meeting nodes stay, so the configuration never repeats")
 
 
-def _witnesses(e: Exploration, configuration: Configuration, algorithm: str | Algorithm,
-               scheduler: str, engine: str, detection: str, frames: str,
+def _witnesses(e: Exploration, configuration: Configuration, algorithm: Algorithm,
+               scheduler: Scheduler, engine: str, detection: str, frames: str,
                lim: Limits, **lit: Any) -> dict[str, dict[str, Any]]:
     """The trace of each violation ``e`` found, by property (a violation whose witness
     does not concretise, a target that is not equivariant, is looked for again on the
@@ -418,6 +418,7 @@ def run_check(
                       "use the impossibility checks (or --force)",
                       seconds=time.perf_counter() - started)
         return report
+    sched = get_scheduler(scheduler)  # resolved once: the engines take the objects
     with _watchdog(report, wanted, started, max_seconds) as searched:
         # the edges are kept only for a graph property or the caller's use of the graph
         keep_graph = on_exploration is not None or any(
@@ -428,13 +429,13 @@ def run_check(
             grows whatever they are)."""
             PROGRESS.doing = ("exploring" if lim.margin == first_margin else
                               f"exploring a larger region (margin {lim.margin})")
-            e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
+            e = explore(configuration, algo, sched, engine=engine, detection=detection,
                         frames=frames, reduction=reduction, properties=wanted, limits=lim,
                         memo=memo, graph=keep_graph, settle=not keep_going, **lit)
             searched[:] = [e]
             if keep_growing:
                 return e, None
-            return e, _witnesses(e, configuration, algorithm, scheduler, engine, detection,
+            return e, _witnesses(e, configuration, algo, sched, engine, detection,
                                  frames, lim, **lit)
 
         def _unfinished(e: Exploration, traces: dict[str, dict[str, Any]]) -> dict[str, dict[str, Any]]:
@@ -456,7 +457,7 @@ def run_check(
             lim = replace(lim, margin=larger, max_seconds=left)
             e, traces = search(lim)
         if traces is None:
-            traces = _witnesses(e, configuration, algorithm, scheduler, engine, detection, frames,
+            traces = _witnesses(e, configuration, algo, sched, engine, detection, frames,
                                 lim, **lit)
         traces = _unfinished(e, traces)
         report["limits"]["margin"] = lim.margin
@@ -485,7 +486,7 @@ def run_check(
             lifted = e
             if longest.max_moves is None and (e.anonymity or e.symmetry):
                 PROGRESS.doing = "exploring without reductions (to check the cycles)"
-                lifted = explore(configuration, algorithm, scheduler, engine=engine,
+                lifted = explore(configuration, algo, sched, engine=engine,
                                  detection=detection, frames=frames, reduction=False,
                                  properties=[], limits=lim, **lit)
                 if lifted.stopped:

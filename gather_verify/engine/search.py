@@ -5,6 +5,7 @@ It sits above :mod:`explore` and :mod:`fast_explore` so that neither imports the
 caller (no import cycle).
 
 >>> from gather_verify.model.configuration import Configuration
+from schedulers import Scheduler
 >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
 >>> e = explore(c, "go-to-target", "async", reduction=False)
 >>> e.states, e.transitions, e.stopped
@@ -18,6 +19,7 @@ from gather_verify.engine import fast_explore
 from gather_verify.engine.explore import Exploration, explore_reference
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
+from schedulers import Scheduler
 
 ENGINES = ("auto", "fast", "reference")
 
@@ -25,7 +27,7 @@ ENGINES = ("auto", "fast", "reference")
 def explore(
     initial: Configuration,
     algorithm: str | Algorithm,
-    scheduler: str,
+    scheduler: str | Scheduler,
     *,
     engine: str = "auto",
     graph: bool = True,
