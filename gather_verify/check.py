@@ -600,17 +600,23 @@ class PropertyResult:
     holds: bool | None
     reason: str | None = None
     numbers: dict[str, Any] = field(default_factory=dict)
+    order: tuple[str, ...] = field(default=(), compare=False, repr=False)
+    """The keys in the order of the JSON object read (:meth:`from_json`), so that
+    :meth:`to_json` writes it back as it was; else ``holds``, ``reason``, the numbers."""
 
     def to_json(self) -> dict[str, Any]:
         out: dict[str, Any] = {"holds": self.holds}
         if self.reason is not None:
             out["reason"] = self.reason
-        return {**out, **self.numbers}
+        out.update(self.numbers)
+        if set(self.order) == set(out):
+            return {key: out[key] for key in self.order}
+        return out
 
     @classmethod
     def from_json(cls, data: dict[str, Any]) -> PropertyResult:
         rest = {k: v for k, v in data.items() if k not in ("holds", "reason")}
-        return cls(data["holds"], data.get("reason"), rest)
+        return cls(data["holds"], data.get("reason"), rest, tuple(data))
 
 
 @dataclass(frozen=True)
@@ -644,6 +650,11 @@ class CheckReport:
     peak_rss_mb: float | None = None
     drift: dict[str, Any] | None = None  # the drift pattern of a run that left the region
     cause: str | None = None  # the rule the first failing property's run failed in
+    not_applicable: dict[str, str] | None = None  # properties left out, each with why
+    lights: str | None = None  # luminous robots (``K``, ``K:external``, ``K:internal``)
+    colours: list[int] | None = None  # their initial colours, robot by robot
+    engine: str | None = None  # the engine that ran (with lights: the reference)
+    engine_fallback: str | None = None  # why it is not the one asked for
 
     @property
     def failing(self) -> list[str]:
@@ -672,6 +683,9 @@ class CheckReport:
             "scheduler": self.scheduler, "detection": self.detection, "frames": self.frames,
             "reduction": self.reduction,
         }
+        for key in ("not_applicable", "lights", "colours", "engine", "engine_fallback"):
+            if getattr(self, key) is not None:
+                out[key] = getattr(self, key)
         if self.peak_rss_mb is not None:
             out["peak_rss_mb"] = self.peak_rss_mb
         if self.drift is not None:
@@ -690,7 +704,10 @@ class CheckReport:
             algorithm=data["algorithm"], scheduler=data["scheduler"],
             detection=data["detection"], frames=data["frames"], reduction=data["reduction"],
             limits=data["limits"], seconds=data["seconds"], peak_rss_mb=data.get("peak_rss_mb"),
-            drift=data.get("drift"), cause=data.get("cause"))
+            drift=data.get("drift"), cause=data.get("cause"),
+            not_applicable=data.get("not_applicable"), lights=data.get("lights"),
+            colours=data.get("colours"), engine=data.get("engine"),
+            engine_fallback=data.get("engine_fallback"))
 
 
 def check(
