@@ -307,9 +307,10 @@ def run_check(
     region grows by itself: a search stopped by the region that has found no violation
     is run again in a larger region (:data:`~gather_verify.engine.region.PLANE`: the margin
     doubled, up to ``AUTO_MARGIN_MAX``; the same exact search on a larger region, so the
-    verdict stays honest; only the last run is reported). A search that has found one is the last, as SPIN and TLC stop at the
-    first error: the larger search would meet the same violations with the same traces
-    (a search stopped by the region is a prefix of the larger one's BFS), only later.
+    verdict stays honest; only the last run is reported). A search that has found one is
+    the last, as SPIN and TLC stop at the first error: the larger search would meet the
+    same violations with the same traces (a search stopped by the region is a prefix of
+    the larger one's BFS), only later.
     ``keep_growing`` grows it anyway, to look for violations of properties the smaller
     region did not reach (the row then names the first in the verdict order).
     ``keep_going=False`` stops the search once every requested property (``properties``
