@@ -5,7 +5,6 @@ It sits above :mod:`explore` and :mod:`fast_explore` so that neither imports the
 caller (no import cycle).
 
 >>> from gather_verify.model.configuration import Configuration
-from schedulers import Scheduler
 >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
 >>> e = explore(c, "go-to-target", "async", reduction=False)
 >>> e.states, e.transitions, e.stopped
