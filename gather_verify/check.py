@@ -32,13 +32,13 @@ from typing import Any
 from gather_verify.algorithms.base import Algorithm, phase_of
 from gather_verify.engine.checks import Violation
 from gather_verify.engine.explore import (
-    DEFAULT_MARGIN,
     DEFAULT_MAX_SECONDS,
     DEFAULT_MAX_STATES,
     Exploration,
     Limits,
     rss_mb,
 )
+from gather_verify.engine.region import PLANE
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.engine.search import explore
 from gather_verify.errors import InvalidInput
@@ -55,7 +55,7 @@ from gather_verify.trace import build_trace, initial_of, steps_of
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine, named_first
 from gather_verify.watchdog import Overtime, allowance, deadline
 from gather_verify.worlds.moves import parse_lights
-from schedulers import initial_state
+from schedulers import Scheduler, get_scheduler, initial_state
 
 
 def _memory_limit(value: float | None) -> float:
@@ -63,7 +63,7 @@ def _memory_limit(value: float | None) -> float:
     return memory_budget_mb() if value is None else value
 
 
-AUTO_MARGIN_MAX = 32
+AUTO_MARGIN_MAX = PLANE.maximum
 """The largest region margin tried when the margin is left to grow by itself."""
 
 
@@ -257,8 +257,8 @@ def drift_line(drift: dict[str, Any]) -> str:
             "not a proof: the meeting nodes stay, so the configuration never repeats")
 
 
-def _witnesses(e: Exploration, configuration: Configuration, algorithm: str | Algorithm,
-               scheduler: str, engine: str, detection: str, frames: str,
+def _witnesses(e: Exploration, configuration: Configuration, algorithm: Algorithm,
+               scheduler: Scheduler, engine: str, detection: str, frames: str,
                lim: Limits, **lit: Any) -> dict[str, dict[str, Any]]:
     """The trace of each violation ``e`` found, by property (a violation whose witness
     does not concretise, a target that is not equivariant, is looked for again on the
@@ -305,11 +305,12 @@ def run_check(
 
     Extra ``limits``: ``max_memory_mb`` and ``margin``. Without a ``margin`` the
     region grows by itself: a search stopped by the region that has found no violation
-    is run again with the margin doubled, up to ``AUTO_MARGIN_MAX`` (the same exact
-    search on a larger region, so the verdict stays honest; only the last run is
-    reported). A search that has found one is the last, as SPIN and TLC stop at the
-    first error: the larger search would meet the same violations with the same traces
-    (a search stopped by the region is a prefix of the larger one's BFS), only later.
+    is run again in a larger region (:data:`~gather_verify.engine.region.PLANE`: the margin
+    doubled, up to ``AUTO_MARGIN_MAX``; the same exact search on a larger region, so the
+    verdict stays honest; only the last run is reported). A search that has found one is
+    the last, as SPIN and TLC stop at the first error: the larger search would meet the
+    same violations with the same traces (a search stopped by the region is a prefix of
+    the larger one's BFS), only later.
     ``keep_growing`` grows it anyway, to look for violations of properties the smaller
     region did not reach (the row then names the first in the verdict order).
     ``keep_going=False`` stops the search once every requested property (``properties``
@@ -385,7 +386,7 @@ def run_check(
     fixed_margin = limits.pop("margin", None)
     lim = Limits(max_states=max_states, max_seconds=max_seconds,
                  max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),
-                 margin=DEFAULT_MARGIN if fixed_margin is None else fixed_margin)
+                 margin=PLANE.initial if fixed_margin is None else fixed_margin)
     if limits:
         raise InvalidInput(f"unknown limit(s): {', '.join(sorted(limits))}")
     first_margin = lim.margin
@@ -418,6 +419,7 @@ def run_check(
                       "use the impossibility checks (or --force)",
                       seconds=time.perf_counter() - started)
         return report
+    sched = get_scheduler(scheduler)  # resolved once: the engines take the objects
     with _watchdog(report, wanted, started, max_seconds) as searched:
         # the edges are kept only for a graph property or the caller's use of the graph
         keep_graph = on_exploration is not None or any(
@@ -428,13 +430,13 @@ def run_check(
             grows whatever they are)."""
             PROGRESS.doing = ("exploring" if lim.margin == first_margin else
                               f"exploring a larger region (margin {lim.margin})")
-            e = explore(configuration, algorithm, scheduler, engine=engine, detection=detection,
+            e = explore(configuration, algo, sched, engine=engine, detection=detection,
                         frames=frames, reduction=reduction, properties=wanted, limits=lim,
                         memo=memo, graph=keep_graph, settle=not keep_going, **lit)
             searched[:] = [e]
             if keep_growing:
                 return e, None
-            return e, _witnesses(e, configuration, algorithm, scheduler, engine, detection,
+            return e, _witnesses(e, configuration, algo, sched, engine, detection,
                                  frames, lim, **lit)
 
         def _unfinished(e: Exploration, traces: dict[str, dict[str, Any]]) -> dict[str, dict[str, Any]]:
@@ -448,15 +450,15 @@ def run_check(
             return traces
 
         e, traces = search(lim)
-        while (fixed_margin is None and e.stopped == "region" and lim.margin < AUTO_MARGIN_MAX
-               and not traces):
+        while fixed_margin is None and e.stopped == "region" and not traces:
+            larger = PLANE.grow(lim.margin)
             left = max_seconds - (time.perf_counter() - started)
-            if left <= 0:
+            if larger is None or left <= 0:
                 break
-            lim = replace(lim, margin=min(2 * lim.margin, AUTO_MARGIN_MAX), max_seconds=left)
+            lim = replace(lim, margin=larger, max_seconds=left)
             e, traces = search(lim)
         if traces is None:
-            traces = _witnesses(e, configuration, algorithm, scheduler, engine, detection, frames,
+            traces = _witnesses(e, configuration, algo, sched, engine, detection, frames,
                                 lim, **lit)
         traces = _unfinished(e, traces)
         report["limits"]["margin"] = lim.margin
@@ -485,7 +487,7 @@ def run_check(
             lifted = e
             if longest.max_moves is None and (e.anonymity or e.symmetry):
                 PROGRESS.doing = "exploring without reductions (to check the cycles)"
-                lifted = explore(configuration, algorithm, scheduler, engine=engine,
+                lifted = explore(configuration, algo, sched, engine=engine,
                                  detection=detection, frames=frames, reduction=False,
                                  properties=[], limits=lim, **lit)
                 if lifted.stopped:
@@ -599,17 +601,23 @@ class PropertyResult:
     holds: bool | None
     reason: str | None = None
     numbers: dict[str, Any] = field(default_factory=dict)
+    order: tuple[str, ...] = field(default=(), compare=False, repr=False)
+    """The keys in the order of the JSON object read (:meth:`from_json`), so that
+    :meth:`to_json` writes it back as it was; else ``holds``, ``reason``, the numbers."""
 
     def to_json(self) -> dict[str, Any]:
         out: dict[str, Any] = {"holds": self.holds}
         if self.reason is not None:
             out["reason"] = self.reason
-        return {**out, **self.numbers}
+        out.update(self.numbers)
+        if set(self.order) == set(out):
+            return {key: out[key] for key in self.order}
+        return out
 
     @classmethod
     def from_json(cls, data: dict[str, Any]) -> PropertyResult:
         rest = {k: v for k, v in data.items() if k not in ("holds", "reason")}
-        return cls(data["holds"], data.get("reason"), rest)
+        return cls(data["holds"], data.get("reason"), rest, tuple(data))
 
 
 @dataclass(frozen=True)
@@ -643,6 +651,11 @@ class CheckReport:
     peak_rss_mb: float | None = None
     drift: dict[str, Any] | None = None  # the drift pattern of a run that left the region
     cause: str | None = None  # the rule the first failing property's run failed in
+    not_applicable: dict[str, str] | None = None  # properties left out, each with why
+    lights: str | None = None  # luminous robots (``K``, ``K:external``, ``K:internal``)
+    colours: list[int] | None = None  # their initial colours, robot by robot
+    engine: str | None = None  # the engine that ran (with lights: the reference)
+    engine_fallback: str | None = None  # why it is not the one asked for
 
     @property
     def failing(self) -> list[str]:
@@ -671,6 +684,9 @@ class CheckReport:
             "scheduler": self.scheduler, "detection": self.detection, "frames": self.frames,
             "reduction": self.reduction,
         }
+        for key in ("not_applicable", "lights", "colours", "engine", "engine_fallback"):
+            if getattr(self, key) is not None:
+                out[key] = getattr(self, key)
         if self.peak_rss_mb is not None:
             out["peak_rss_mb"] = self.peak_rss_mb
         if self.drift is not None:
@@ -689,7 +705,10 @@ class CheckReport:
             algorithm=data["algorithm"], scheduler=data["scheduler"],
             detection=data["detection"], frames=data["frames"], reduction=data["reduction"],
             limits=data["limits"], seconds=data["seconds"], peak_rss_mb=data.get("peak_rss_mb"),
-            drift=data.get("drift"), cause=data.get("cause"))
+            drift=data.get("drift"), cause=data.get("cause"),
+            not_applicable=data.get("not_applicable"), lights=data.get("lights"),
+            colours=data.get("colours"), engine=data.get("engine"),
+            engine_fallback=data.get("engine_fallback"))
 
 
 def check(

@@ -80,7 +80,8 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
         raise InvalidInput(f"visibility {visibility} is negative: give a number of hops >= 0")
     with deadline(allowance(max_seconds)):  # the algorithm's file imports within the time limit
         algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
-    stateful = getattr(get_scheduler(scheduler), "stateful", False)
+    sched = get_scheduler(scheduler)  # resolved once: the engines take the objects
+    stateful = getattr(sched, "stateful", False)
     light = parse_lights(lights)
     if colours is not None and (len(colours) != len(r) or any(
             isinstance(c, bool) or not isinstance(c, int) or not 0 <= c < light.colours
@@ -105,7 +106,7 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
     PROGRESS.states = 0
     symmetries = w.symmetries(frames) if reduce else ()
     fallback = None if engine == "reference" else world_bulk.unsupported(
-        w, len(r), scheduler, light.colours, visits=t.visits, anonymity=reduce,
+        w, len(r), sched, light.colours, visits=t.visits, anonymity=reduce,
         symmetries=symmetries, meeting=frozenset(m))
     if engine == "bulk" and fallback is not None:
         raise InvalidInput(f"the bulk engine cannot run this check: {fallback} (use --engine auto "
@@ -114,11 +115,11 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
     def decided() -> dict[str, Any]:
         PROGRESS.doing = "exploring"
         if engine != "reference" and fallback is None:
-            s = world_bulk.search(w, tuple(r), moves, scheduler, colours=colours,
+            s = world_bulk.search(w, tuple(r), moves, sched, colours=colours,
                                   visits=t.visits, anonymity=reduce, symmetries=symmetries,
                                   meeting=frozenset(m), limits=limits)
         else:
-            s = search(w, tuple(r), moves.actions, scheduler, colours=colours, visits=t.visits,
+            s = search(w, tuple(r), moves.actions, sched, colours=colours, visits=t.visits,
                        anonymity=reduce, symmetries=symmetries, meeting=frozenset(m),
                        limits=limits)
         ctx = Context(len(r), w.size, frozenset(m), scheduler,

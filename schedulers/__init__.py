@@ -61,5 +61,17 @@ def get_scheduler(name: str) -> Scheduler:
     return SCHEDULERS[base](value)  # type: ignore[call-arg]
 
 
-__all__ = ["plane_schedulers", "Async", "Event", "FSync", "Frontier", "MoveSets", "SCHEDULERS", "SSync", "Scheduler",
+def as_scheduler(scheduler: str | Scheduler) -> Scheduler:
+    """``scheduler`` itself, or the one its name names (:func:`get_scheduler`): a check
+    resolves its scheduler once, at the edge, and the engines take the object (or a name,
+    for their other callers).
+
+    >>> s = get_scheduler("ssync")
+    >>> as_scheduler(s) is s, as_scheduler("ssync").name
+    (True, 'ssync')
+    """
+    return get_scheduler(scheduler) if isinstance(scheduler, str) else scheduler
+
+
+__all__ = ["as_scheduler", "plane_schedulers", "Async", "Event", "FSync", "Frontier", "MoveSets", "SCHEDULERS", "SSync", "Scheduler",
            "State", "Successors", "configuration_of", "get_scheduler", "initial_state"]

@@ -316,6 +316,23 @@ def test_check_report_round_trips_run_check(algorithm: str, options: dict) -> No
     assert gv.CheckReport.from_json(u).to_json() == u
 
 
+@pytest.mark.parametrize(("c", "algorithm", "options"), [
+    (TWO, "broken-away", {"move_bound_c": 0.5}),  # move-bound's numbers, causes
+    (TWO, "go-to-target", {"lights": "2", "colours": [1, 0]}),  # lights, not applicable
+    (Configuration([(0, 0)], [(0, 1)], initial=True), "broken-wander",
+     {"max_states": 100_000, "properties": ["final", "termination"]}),  # a drift, INCOMPLETE
+    (TWO, "go-to-target", {"frames": "compass", "max_states": 40}),  # not applicable
+    (Configuration([(0, 0), (2, 1)], [(0, 1), (2, 0)], initial=True), "go-to-target",
+     {}),  # I42, in U: NOT-APPLICABLE
+])
+def test_check_report_writes_run_checks_json_back_byte_for_byte(
+        c: Configuration, algorithm: str, options: dict) -> None:
+    """The typed report holds every key ``run_check`` writes, in its order: its JSON is the
+    report's, text for text (what ``check --json`` prints)."""
+    raw = run_check(c, algorithm=algorithm, scheduler="async", max_seconds=600, **options)
+    assert json.dumps(gv.CheckReport.from_json(raw).to_json()) == json.dumps(raw)
+
+
 def test_check_report_fields_are_named_as_the_json_keys() -> None:
     """One name per datum: a field of ``CheckReport`` is its JSON key (``class_`` for
     ``class``, reserved in Python); the older ``configuration_class`` still reads it."""
@@ -324,7 +341,8 @@ def test_check_report_fields_are_named_as_the_json_keys() -> None:
     raw = run_check(TWO, algorithm="go-to-target", scheduler="async")
     report = gv.CheckReport.from_json(raw)
     fields = {f.name.rstrip("_") for f in dataclasses.fields(report)}
-    assert fields <= set(raw) | {"peak_rss_mb", "drift"}
+    assert fields <= set(raw) | {"peak_rss_mb", "drift", "not_applicable", "lights", "colours",
+                                 "engine", "engine_fallback"}
     assert report.class_ == raw["class"] == "I13"
     with pytest.warns(DeprecationWarning, match="class_"):
         assert report.configuration_class == report.class_

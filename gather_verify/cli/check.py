@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from gather_verify.check import AUTO_MARGIN_MAX, drift_line
+from gather_verify.check import drift_line
 from gather_verify.cli.common import (
     EXIT_INTERRUPTED,
     EXIT_OK,
@@ -25,12 +25,12 @@ from gather_verify.cli.common import (
     writable_outputs,
 )
 from gather_verify.engine.explore import (
-    DEFAULT_MARGIN,
     DEFAULT_MAX_MEMORY_MB,
     DEFAULT_MAX_SECONDS,
     DEFAULT_MAX_STATES,
     Exploration,
 )
+from gather_verify.engine.region import PLANE
 from gather_verify.progress import Reporter, default_every
 from gather_verify.scenario import Scenario
 from schedulers import SCHEDULERS
@@ -81,7 +81,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"machine's memory, at most {DEFAULT_MAX_MEMORY_MB})")
     parser.add_argument("--margin", type=bounded_int(0, 1000), default=None,
                         help="region bound: the initial MER grown by this many nodes "
-                             f"(default: {DEFAULT_MARGIN}, doubled up to {AUTO_MARGIN_MAX} "
+                             f"(default: {PLANE.initial}, doubled up to {PLANE.maximum} "
                              "while the region stops the search before any violation)")
     parser.add_argument("--keep-growing", action="store_true",
                         help="grow the region even after a violation is found, up to the "

@@ -6,8 +6,9 @@ of the search region (a box, column-major), ``d`` is 0 when the robot is idle,
 else 1 + the index in ``geometry.STEPS`` of its pending unit step. A state
 packs its codes in base ``5 * cells``; with the reductions on, the codes are
 sorted (anonymity) and the key is the least over the usable elements of
-``Aut(M)`` (symmetry). The region, the group and the limits of a search are
-decided here too, so the engines and the schedulers share one encoding.
+``Aut(M)`` (symmetry). The group and the limits of a search are decided here
+too (its region, by :mod:`gather_verify.engine.region`), so the engines and the
+schedulers share one encoding.
 """
 
 from __future__ import annotations
@@ -21,6 +22,8 @@ from typing import Any
 import numpy as np
 
 from gather_verify.algorithms.moves import frames_for
+from gather_verify.engine.region import DEFAULT_MARGIN
+from gather_verify.engine.region import region_box as region_box  # its callers' old import
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
@@ -33,7 +36,6 @@ DEFAULT_MAX_STATES = 30_000_000
 DEFAULT_MAX_SECONDS = 3600.0
 DEFAULT_MAX_MEMORY_MB = 16_000
 """Defaults sized for a 24 GiB machine (the reference path needs ~300 bytes/state)."""
-DEFAULT_MARGIN = 2
 
 
 @dataclass(frozen=True)
@@ -72,15 +74,6 @@ def symmetry_group(initial: Configuration, frames: str) -> list[Automorphism]:
     return [a for a in group if a.g in allowed and all(
         geometry.compose(geometry.compose(a.g, f), geometry.inverse(a.g)) in allowed
         for f in allowed)]
-
-
-def region_box(initial: Configuration, margin: int,
-               group: Sequence[Automorphism] = ()) -> tuple[int, int, int, int]:
-    """The MER of ``initial`` grown by ``margin``, closed under ``group``."""
-    x0, y0, x1, y1 = initial.mer()
-    corners = [(x0 - margin, y0 - margin), (x1 + margin, y1 + margin)]
-    images = [a(v) for a in group for v in corners] + corners
-    return geometry.bounding_box(images)
 
 
 LIST_TABLE_CODES = 1 << 20

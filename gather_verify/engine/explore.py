@@ -54,9 +54,9 @@ from gather_verify.engine.encoding import (
     Limits,
     LuminousEncoding,
     Stop,
-    region_box,
     symmetry_group,
 )
+from gather_verify.engine.region import region_box
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
@@ -68,7 +68,15 @@ from gather_verify.properties.facts import (
     configuration_facts,
     luminous_facts,
 )
-from schedulers import Event, State, configuration_of, get_scheduler, initial_state
+from schedulers import (
+    Event,
+    Scheduler,
+    State,
+    as_scheduler,
+    configuration_of,
+    get_scheduler,
+    initial_state,
+)
 
 __all__ = ["DEFAULT_MARGIN", "DEFAULT_MAX_MEMORY_MB", "DEFAULT_MAX_SECONDS", "DEFAULT_MAX_STATES",
            "STEP_INDEX", "ConfigurationFacts", "Encoding", "Exploration",
@@ -274,7 +282,7 @@ def luminous_facts_cache(algorithm: Algorithm, initial: Configuration, detection
 def explore_reference(
     initial: Configuration,
     algorithm: str | Algorithm,
-    scheduler: str,
+    scheduler: str | Scheduler,
     *,
     detection: str = "local-weak",
     frames: str = "all",
@@ -303,7 +311,7 @@ def explore_reference(
     """
     started = time.perf_counter()
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
-    sched = get_scheduler(scheduler)
+    sched = as_scheduler(scheduler)
     check_detection(detection)
     frame_elements = frames_for(frames)
     anonymity = reduction if anonymity is None else anonymity
@@ -409,7 +417,8 @@ def explore_reference(
     offsets.append(len(targets))
     peak = max(peak, rss_mb())
     return Exploration(
-        initial=initial, algorithm=algo, scheduler_name=scheduler, detection=detection,
+        initial=initial, algorithm=algo,
+        scheduler_name=scheduler if isinstance(scheduler, str) else sched.name, detection=detection,
         frames=frames, anonymity=anonymity, symmetry=symmetry, encoding=enc, keys=keys,
         parents=parents, offsets=offsets, targets=targets, weights=weights,
         changed_loops=changed_loops, states=len(keys), transitions=transitions, stopped=stopped,

@@ -82,7 +82,7 @@ from gather_verify.model.geometry import Node
 from gather_verify.model.symmetry import meeting_automorphisms
 from gather_verify.model.view import check_detection
 from gather_verify.progress import PROGRESS
-from schedulers import State, get_scheduler, initial_state
+from schedulers import Scheduler, State, as_scheduler, initial_state
 
 CHUNK = 1 << 14
 """States expanded per bulk step: bounds the transient arrays (a few MB)."""
@@ -92,12 +92,12 @@ EVENTS = 1 << 19
 MAX_IDS = 2**31 - 2
 
 
-def supports(initial: Configuration, scheduler: str, reduction: bool = True,
+def supports(initial: Configuration, scheduler: str | Scheduler, reduction: bool = True,
              anonymity: bool | None = None, symmetry: bool | None = None, frames: str = "all",
              limits: Limits = NO_LIMITS) -> bool:
     """Whether the bulk path can run this request (else use the reference path): every
     registered scheduler has the bulk interface; the key must fit 63 bits and the ids 31."""
-    get_scheduler(scheduler)  # an unknown name is an error, not a fallback
+    as_scheduler(scheduler)  # an unknown name is an error, not a fallback
     symmetry = reduction if symmetry is None else symmetry
     group = symmetry_group(initial, frames) if symmetry else []
     x0, y0, x1, y1 = region_box(initial, limits.margin, group)
@@ -108,7 +108,7 @@ def supports(initial: Configuration, scheduler: str, reduction: bool = True,
 def explore_fast(
     initial: Configuration,
     algorithm: str | Algorithm,
-    scheduler: str,
+    scheduler: str | Scheduler,
     *,
     detection: str = "local-weak",
     frames: str = "all",
@@ -135,7 +135,7 @@ def explore_fast(
     """
     started = time.perf_counter()
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
-    sched = get_scheduler(scheduler)
+    sched = as_scheduler(scheduler)
     check_detection(detection)
     frame_elements = frames_for(frames)
     anonymity = reduction if anonymity is None else anonymity
@@ -326,7 +326,8 @@ def explore_fast(
     peak = max(peak, rss_mb())
     keys = index.keys[:index.count]
     return Exploration(
-        initial=initial, algorithm=algo, scheduler_name=scheduler, detection=detection,
+        initial=initial, algorithm=algo, scheduler_name=scheduler if isinstance(
+            scheduler, str) else sched.name, detection=detection,
         frames=frames, anonymity=anonymity, symmetry=symmetry, encoding=enc,
         keys=IntColumn(keys), parents=IntColumn(parents.array()),
         offsets=IntColumn(offsets.array()), targets=IntColumn(targets.array()),

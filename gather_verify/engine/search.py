@@ -18,6 +18,7 @@ from gather_verify.engine import fast_explore
 from gather_verify.engine.explore import Exploration, explore_reference
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
+from schedulers import Scheduler
 
 ENGINES = ("auto", "fast", "reference")
 
@@ -25,7 +26,7 @@ ENGINES = ("auto", "fast", "reference")
 def explore(
     initial: Configuration,
     algorithm: str | Algorithm,
-    scheduler: str,
+    scheduler: str | Scheduler,
     *,
     engine: str = "auto",
     graph: bool = True,

@@ -33,8 +33,8 @@ configuration's row from it:
   would count (the orbits it reaches and their events) come from one pass of
   64-bit sets of seeds.
 
-The region rule (``check.run_check`` searches the MER grown by a margin of
-2, doubled while the region stops the search, up to 32): the union is explored
+The region rule (:data:`~gather_verify.engine.region.PLANE`: ``check.run_check`` searches
+the MER grown by a margin of 2, doubled while the region stops the search, up to 32): the union is explored
 in the union of the configurations' regions with margin ``UNION_MARGIN``; a
 configuration's own search ends at the least margin of 2, 4, 8, 16, 32 whose
 region holds every node it reaches, and its counts, verdict and moves are
@@ -82,9 +82,10 @@ from gather_verify.engine.bulk_step import (
 from gather_verify.engine.canonical_keys import Canon, decode_keys
 from gather_verify.engine.columns import Growing
 from gather_verify.engine.encoding import STEP_INDEX
-from gather_verify.engine.explore import DEFAULT_MARGIN, Encoding, region_box, symmetry_group
+from gather_verify.engine.explore import Encoding, symmetry_group
 from gather_verify.engine.facts_table import STEP_PERM, FactsTable, facts_memo
 from gather_verify.engine.key_index import KeyIndex
+from gather_verify.engine.region import PLANE
 from gather_verify.model import geometry
 from gather_verify.model.canonical import canonical_form
 from gather_verify.model.configuration import Configuration
@@ -94,8 +95,8 @@ from schedulers import get_scheduler, initial_state
 
 UNION_MARGIN = 2
 """The margin of the configurations' regions whose union the class is explored in."""
-MARGINS = tuple(DEFAULT_MARGIN << k for k in range(5))
-"""The margins ``run_check`` tries in turn (2 doubled up to ``check.AUTO_MARGIN_MAX``)."""
+MARGINS = PLANE.margins
+"""The margins ``run_check`` tries in turn (:class:`~gather_verify.engine.region.RegionPolicy`)."""
 UNION_MAX_STATES = 6_000_000
 """Largest union graph explored; a larger class is checked configuration by configuration."""
 
@@ -543,10 +544,6 @@ def _count(seed_ids: np.ndarray, which: np.ndarray, rounds: list[np.ndarray],
 
 
 def margin_needed(c: Configuration, group: Sequence[Automorphism], box: np.ndarray) -> int | None:
-    """The margin ``run_check`` ends its search with: the least whose region holds ``box``.
-    A region is the margin-0 region grown by the margin (an isometry maps a box grown by
-    ``k`` onto its image grown by ``k``), so one region box answers for every margin."""
-    x0, y0, x1, y1 = box.tolist()
-    a0, b0, a1, b1 = region_box(c, 0, group)
-    need = max(a0 - x0, b0 - y0, x1 - a1, y1 - b1)
-    return next((margin for margin in MARGINS if margin >= need), None)
+    """The margin ``run_check`` ends its search with: the least whose region holds ``box``
+    (:meth:`~gather_verify.engine.region.RegionPolicy.needed`)."""
+    return PLANE.needed(c, group, box)

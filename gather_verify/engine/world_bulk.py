@@ -58,7 +58,7 @@ from gather_verify.engine.world_search import (
     WorldState,
     canonicaliser,
 )
-from schedulers import Async, Event, FSync, SSync, get_scheduler
+from schedulers import Async, Event, FSync, Scheduler, SSync, as_scheduler
 from schedulers.centralized import Centralized
 from schedulers.round_robin import RoundRobin
 
@@ -82,13 +82,13 @@ Why = tuple[str, str, dict[str, object]]
 """Why a configuration has no answer: ``crash`` or ``defined``, the reason, the detail."""
 
 
-def unsupported(world: World, n: int, scheduler: str, colours: int, *, visits: bool = False,
+def unsupported(world: World, n: int, scheduler: str | Scheduler, colours: int, *, visits: bool = False,
                 anonymity: bool = False, symmetries: Sequence[Sequence[int]] = (),
                 meeting: frozenset[int] = frozenset()) -> str | None:
     """Why the bulk engine cannot run this search (one line), or None when it can."""
     if not kernels.enabled():
         return "the compiled kernels are off (numba missing, or GATHER_VERIFY_KERNELS=numpy)"
-    sched = get_scheduler(scheduler)
+    sched = as_scheduler(scheduler)
     if type(sched) not in _SCHEDULERS:
         return f"no bulk kernel for the scheduler {sched.name}"
     stateful = getattr(sched, "stateful", False)
@@ -401,7 +401,7 @@ class _Edges(Sequence[list[tuple[int, int, Event]]]):
             yield self[sid]
 
 
-def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: str, *,
+def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: str | Scheduler, *,
            colours: Sequence[int] | None = None, visits: bool = False,
            anonymity: bool = False, symmetries: Sequence[Sequence[int]] = (),
            meeting: frozenset[int] = frozenset(), limits: Limits = NO_LIMITS,
@@ -417,10 +417,10 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
     from gather_verify.kernels import world as kw
 
     started = time.perf_counter()
-    sched = get_scheduler(scheduler)
+    sched = as_scheduler(scheduler)
     n = len(robots)
     k_colours = moves.lights.colours
-    why = unsupported(world, n, scheduler, k_colours, visits=visits, anonymity=anonymity,
+    why = unsupported(world, n, sched, k_colours, visits=visits, anonymity=anonymity,
                       symmetries=symmetries, meeting=meeting)
     if why is not None:
         raise ValueError(f"the bulk engine cannot run this search: {why}")

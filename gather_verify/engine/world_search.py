@@ -36,7 +36,7 @@ from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
 from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop
 from gather_verify.engine.explore import rss_mb
 from gather_verify.progress import PROGRESS
-from schedulers import Event, get_scheduler
+from schedulers import Event, Scheduler, as_scheduler
 
 WorldState = tuple[tuple[tuple[int, int | None, int], ...], int, object]
 """``(robots, visited, extra)``: per robot (node, pending or None, colour); the visited nodes
@@ -146,7 +146,7 @@ def _state_order(state: WorldState) -> tuple[object, ...]:
     return tuple(_order(r) for r in state[0]), state[1]
 
 
-def search(world: object, robots: Sequence[int], actions: Actions, scheduler: str, *,
+def search(world: object, robots: Sequence[int], actions: Actions, scheduler: str | Scheduler, *,
            colours: Sequence[int] | None = None, visits: bool = False,
            anonymity: bool = False, symmetries: Sequence[Sequence[int]] = (),
            meeting: frozenset[int] = frozenset(), limits: Limits = NO_LIMITS,
@@ -165,7 +165,7 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
     needs only the first violation of a safety part need not search on.
     """
     started = time.perf_counter()
-    sched = get_scheduler(scheduler)
+    sched = as_scheduler(scheduler)
     canon = canonicaliser(symmetries, meeting, anonymity, visits)
     lights = tuple(colours) if colours is not None else (0,) * len(robots)
     start_robots = tuple((v, None, c) for v, c in zip(robots, lights, strict=True))

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from gather_verify import properties as props
-from gather_verify.algorithms import get_algorithm
+from gather_verify.algorithms import Algorithm, get_algorithm
 from gather_verify.algorithms.moves import frames_for
 from gather_verify.check import _safety_trace, cause_of
 from gather_verify.engine import union
@@ -26,11 +26,11 @@ from gather_verify.engine.explore import (
     Exploration,
     Violation,
     facts_cache,
-    region_box,
     rss_mb,
     symmetry_group,
 )
 from gather_verify.engine.facts_table import make_room
+from gather_verify.engine.region import PLANE
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.model import geometry
 from gather_verify.model.classes import classify_configuration
@@ -101,8 +101,8 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
         wanted.remove("no-ungatherable")  # U is Theorem 1's: as run_check, not applicable
     if set(wanted) - DECIDED:  # a property of the user's: only its own search knows it
         return ClassDecision([], list(members))
-    if "target-invariance" in wanted and not target_commutes_with_translations(
-            get_algorithm(settings.algorithm)):
+    algo = get_algorithm(settings.algorithm)  # resolved once, for the union and the traces
+    if "target-invariance" in wanted and not target_commutes_with_translations(algo):
         return ClassDecision([], list(members))  # its target is for its own searches to read
     memory = memory_budget_mb() if settings.max_memory_mb is None else settings.max_memory_mb
     fallback: list[tuple[int, Configuration]] = []
@@ -126,7 +126,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     for ks in by_n.values():
         normal = [todo[k][3] for k in ks]
         group = symmetry_group(normal[0], settings.frames)  # what the frames allow
-        box = geometry.bounding_box([v for c in normal for b in [region_box(c, union.UNION_MARGIN, group)]
+        box = geometry.bounding_box([v for c in normal for b in [PLANE.region(c, union.UNION_MARGIN, group)]
                                      for v in (b[:2], b[2:])])
         turned = {}  # per linear part, a map from M0 back to a seed's M
         for k in ks:
@@ -137,7 +137,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
         try:  # the user's code that does not return: the per-configuration checks decide
             # (each stops at its own time limit, INCOMPLETE); the watchdog's bound is theirs
             with deadline(allowance(settings.max_seconds)):
-                union_states += _decide_union(settings, wanted, todo, ks, normal, group, box,
+                union_states += _decide_union(settings, algo, wanted, todo, ks, normal, group, box,
                                               turned, memory, graph_props, rows, fallback,
                                               configuration_key, trace_facts)
         except Overtime:
@@ -146,7 +146,7 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     return ClassDecision(rows, fallback, union_states)
 
 
-def _decide_union(settings: Any, wanted: list[str], todo: list[Any], ks: list[int],
+def _decide_union(settings: Any, algo: Algorithm, wanted: list[str], todo: list[Any], ks: list[int],
                   normal: list[Configuration], group: Any, box: Any, turned: dict,
                   memory: float, graph_props: bool, rows: list[Row],
                   fallback: list[tuple[int, Configuration]],
@@ -156,7 +156,7 @@ def _decide_union(settings: Any, wanted: list[str], todo: list[Any], ks: list[in
     ``normal``: moved onto it) from their union graph, into ``rows``; those it does not
     settle into ``fallback``. The union's states (0 when it settles none)."""
     u = union.explore_union(normal[0].meeting_nodes, [c.robots for c in normal],
-                            settings.algorithm,
+                            algo,
                             settings.scheduler, detection=settings.detection,
                             frames=settings.frames, properties=wanted, box=box,
                             max_states=max(union.UNION_MAX_STATES, settings.max_states),
@@ -179,7 +179,7 @@ def _decide_union(settings: Any, wanted: list[str], todo: list[Any], ks: list[in
         D, n = c.D, c.n
         max_moves = int(u.best[s]) if graph_props else None
         failing = [p for p in props.ORDER if union.SAFETY_BITS.get(p, 0) & reach and p in wanted]
-        if failing and margin > union.MARGINS[0] and not settings.keep_growing:
+        if failing and margin > PLANE.initial and not settings.keep_growing:
             # its own search at the first margin is stopped by the region: whether that
             # BFS prefix meets a violation, and so ends the search there, only it can say
             fallback.append((index, c))
@@ -192,11 +192,11 @@ def _decide_union(settings: Any, wanted: list[str], todo: list[Any], ks: list[in
         t0 = time.perf_counter()
         trace = None
         if failing:
-            trace = witness_trace(u, j, c, back, failing[0], margin, settings, trace_facts)
+            trace = witness_trace(u, j, c, back, failing[0], margin, settings, algo, trace_facts)
             if trace is None:
                 fallback.append((index, c))
                 continue
-            trace["cause"] = cause_of(get_algorithm(settings.algorithm), trace)
+            trace["cause"] = cause_of(algo, trace)
         rows.append({
             "key": configuration_key(c),
             "index": index,
@@ -238,7 +238,8 @@ _TRANSITION = object()  # marks a transition witness: the trace finds the edge i
 
 
 def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, back: Automorphism,
-                  prop: str, margin: int, settings: Any, facts: dict[frozenset, Any]
+                  prop: str, margin: int, settings: Any, algo: Algorithm,
+                  facts: dict[frozenset, Any]
                   ) -> dict[str, Any] | None:
     """The trace ``run_check`` reports for the safety property ``prop`` from ``c`` (seed
     ``seed`` of ``u``, ``back`` the map from the union's ``M0`` to ``c``'s ``M``): its
@@ -253,12 +254,11 @@ def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, back: Automo
                           order=order)
     if path is None:
         return None
-    algo = get_algorithm(settings.algorithm)
     if c.meeting_nodes not in facts:
         facts[c.meeting_nodes] = facts_cache(algo, c, settings.detection,
                                              frames_for(settings.frames))
     group = symmetry_group(c, settings.frames)
-    enc = Encoding(region_box(c, margin, group), group, True)
+    enc = Encoding(PLANE.region(c, margin, group), group, True)
     keys = []
     for sid in path:
         state = u.encoding.decode(int(u.keys[sid]), c.n)

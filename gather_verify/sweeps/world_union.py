@@ -132,7 +132,8 @@ class _Union:
             raise InvalidInput("negative visibility")
         if task.needs_meeting and not m0 or task.visits and w.size > 62:
             raise InvalidInput("the task cannot run here")
-        stateful = getattr(get_scheduler(settings.scheduler), "stateful", False)
+        sched = get_scheduler(settings.scheduler)  # resolved once: the engine takes the object
+        stateful = getattr(sched, "stateful", False)
         liveness = any(p in task.liveness for p in parts)
         reduce = settings.reduction and not liveness and not stateful
         symmetries = w.symmetries(settings.frames) if reduce else ()
@@ -148,7 +149,7 @@ class _Union:
             if any(not 0 <= x < light.colours for x in colours):
                 raise InvalidInput("bad colours")
             seeds.append((tuple(p[v] for v in c.robots), colours))
-        if world_bulk.unsupported(w, n, settings.scheduler, light.colours, visits=task.visits,
+        if world_bulk.unsupported(w, n, sched, light.colours, visits=task.visits,
                                   anonymity=reduce, symmetries=symmetries,
                                   meeting=frozenset(m0)) is not None:
             raise InvalidInput("the bulk engine cannot run this class")
@@ -157,7 +158,7 @@ class _Union:
         limits = Limits(max_states=settings.max_states * len(items),
                         max_seconds=settings.max_seconds, max_memory_mb=memory)
         self.n = n
-        self.search = world_bulk.search(w, seeds[0][0], moves, settings.scheduler,
+        self.search = world_bulk.search(w, seeds[0][0], moves, sched,
                                         colours=seeds[0][1], visits=task.visits,
                                         anonymity=reduce, symmetries=symmetries,
                                         meeting=frozenset(m0), limits=limits, seeds=seeds)
