@@ -17,6 +17,7 @@ from gather_verify.engine import union
 from gather_verify.engine.explore import Limits, region_box
 from gather_verify.engine.fast_explore import explore_fast
 from gather_verify.engine.search import explore
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import meeting_automorphisms
 from gather_verify.sweeps.census import enumerate_configurations
@@ -234,3 +235,52 @@ def test_a_user_target_read_from_absolute_coordinates_is_its_own_searchs(tmp_pat
         assert decided.rows == [] and decided.fallback == list(members)
     counts = assert_rows_equal(2, 2, (3, 3), spec)
     assert counts["settled"] == 0
+
+
+def test_what_the_union_decides_is_asked_not_named(tmp_path: Path) -> None:
+    """The scheduler, each property and the algorithm's target say what the union engine may
+    decide; a scheduler or property of the user's that says nothing gets the safe default (its
+    own checks), and every configuration left to its own check says why."""
+    from gather_verify.properties import Property, register, unregister
+    from gather_verify.properties.builtin import FINAL
+    from gather_verify.sweeps.sweep import run_sweep
+
+    items = list(enumerate(enumerate_configurations(2, 1, 3, 3)))
+    s = SweepSettings(robots=2, meeting=1, box=(3, 3), algorithm="broken-stay",
+                      scheduler="centralized", max_memory_mb=8000)
+    for members in class_tasks(items):
+        d = decide_class(s, members, configuration_key)
+        assert d.rows == [] and set(d.reasons.values()) == {
+            "the union engine does not run the centralized scheduler"}
+    with pytest.raises(InvalidInput, match="union must be one of"):
+        Property("x", "state", holds=lambda f: True, union="cycles")
+    silent = Property("my-final", "state", holds=FINAL.holds, message="deadlock", symmetric=True)
+    promised = Property("my-deadlock", "state", holds=FINAL.holds, message="deadlock",
+                        symmetric=True, union="deadlock")
+    try:
+        register(silent)
+        register(promised)
+        s = SweepSettings(robots=2, meeting=1, box=(3, 3), algorithm="broken-stay",
+                          scheduler="async", max_memory_mb=8000, properties=("my-final",))
+        for members in class_tasks(items):
+            d = decide_class(s, members, configuration_key)
+            assert d.rows == [] and set(d.reasons.values()) == {
+                "property my-final names no fact of the union graph"}
+        # a property that names its fact is decided from the graph, row for row as its own check
+        counts = assert_rows_equal(2, 1, (3, 3), "broken-stay", properties=("my-deadlock",))
+        assert counts["settled"] > 0
+    finally:
+        unregister("my-final")
+        unregister("my-deadlock")
+    # the reasons, counted in the sweep's summary: one per configuration left to its own check
+    s = SweepSettings(robots=2, meeting=2, box=(3, 3), algorithm="paper", scheduler="async",
+                      max_memory_mb=8000)
+    fallback = 0
+    for members in class_tasks(list(enumerate(enumerate_configurations(2, 2, 3, 3)))):
+        d = decide_class(s, members, configuration_key)
+        assert sorted(d.reasons) == sorted(i for i, _ in d.fallback)
+        fallback += len(d.fallback)
+    summary = run_sweep(s, str(tmp_path / "s.sqlite"), workers=1, progress=False)
+    assert fallback and sum(summary["union_fallbacks"].values()) == fallback
+    assert summary["union_fallbacks"]["in U or unclassified: the impossibility checks apply"] > 0
+    assert summary["union_fallbacks"]["a cycle is reachable"] > 0

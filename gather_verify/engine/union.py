@@ -90,6 +90,7 @@ from gather_verify.model.canonical import canonical_form
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
 from gather_verify.model.symmetry import Automorphism
+from gather_verify.properties import get_property
 from schedulers import get_scheduler, initial_state
 
 UNION_MARGIN = 2
@@ -100,14 +101,29 @@ UNION_MAX_STATES = 6_000_000
 """Largest union graph explored; a larger class is checked configuration by configuration."""
 
 # per-state flags
-DEFINED, FINAL, UNGATHERABLE, TARGET, TAINT, CYCLE = (1 << k for k in range(6))
-SAFETY_BITS = {"final": FINAL, "no-ungatherable": UNGATHERABLE, "target-invariance": TARGET}
+DEFINED, FINAL, UNGATHERABLE, TARGET, TAINT, CYCLE, ASYMMETRIC = (1 << k for k in range(7))
+FACT_BITS = {"deadlock": FINAL, "in-u": UNGATHERABLE, "target-change": TARGET}
+"""The state flag of each fact of :data:`~gather_verify.properties.base.UNION_FACTS` that a
+state or a transition has (the others, ``longest-path`` and ``acyclic``, are the graph's)."""
+ALL_FRAMES_ONLY = ("in-u",)
+"""Facts defined for robots with no common sense of direction only (U is Theorem 1's): a
+property that names one does not apply under other frames, as ``run_check`` says."""
 
 
-def supports(scheduler: str, reduction: bool, frames: str) -> bool:
-    """Whether a sweep with these settings can be decided a meeting-node class at a time
-    (any frames: the isometries used are the frame group's, :func:`shape_isometry`)."""
-    return scheduler == "async" and reduction
+def property_fact(name: str) -> str | None:
+    """The union fact the registered property ``name`` names (None: the union cannot decide it)."""
+    return get_property(name).union
+
+
+def unsupported(scheduler: str, reduction: bool, frames: str) -> str | None:
+    """Why a sweep with these settings cannot be decided a meeting-node class at a time, or
+    None when it can: the scheduler says so (its ``union`` attribute) and both reductions are
+    on (any frames: the isometries used are the frame group's, :func:`shape_isometry`)."""
+    if not getattr(get_scheduler(scheduler), "union", False):
+        return f"the union engine does not run the {scheduler} scheduler"
+    if not reduction:
+        return "the union engine runs with the reductions only"
+    return None
 
 
 def meeting_form(c: Configuration) -> tuple[tuple[Node, ...], tuple[int, Node]]:
@@ -296,7 +312,8 @@ def explore_union(
     graph facts above. ``count_seeds`` (a bool per seed, default all): the seeds whose
     states and transitions are counted. ``orientations``: the maps from ``meeting`` back
     to the seeds' own meeting nodes, for those moved here by a rotation or reflection (the
-    target must commute with them too). None when the union passes ``max_states``."""
+    target must commute with them too). ``properties``: the names of the properties checked,
+    whose facts (their ``union``) the graph records. None when the union passes ``max_states``."""
     started = time.perf_counter()
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
     sched = get_scheduler(scheduler)
@@ -306,9 +323,9 @@ def explore_union(
     enc = Encoding(box, group, True)
     if enc.base ** n >= 2**63:
         return None
-    wanted = set(properties)
+    wanted = {property_fact(p) for p in properties}
     table = FactsTable(enc, n, algo, meeting, detection, frame_elements, group,
-                       facts_memo(algo, detection, frames), targets="target-invariance" in wanted)
+                       facts_memo(algo, detection, frames), targets="target-change" in wanted)
     equivariance = _Equivariance(table, group, orientations)
     canon = Canon(enc, n)
     compiled = kernels.enabled()
@@ -342,13 +359,13 @@ def explore_union(
         ids, _ = index.find_or_add(succ)
         if index.count > max_states:
             return None
-        if "final" in wanted:
+        if "deadlock" in wanted:
             dead = (table.flags[rows, 1] == 1) & (table.flags[rows, 2] == 0) & step.idle
             f[dead] |= FINAL
-        if "no-ungatherable" in wanted:
+        if "in-u" in wanted:
             f[table.need_in_u(rows)] |= UNGATHERABLE
-        if "target-invariance" in wanted and len(src):
-            f[equivariance.broken(rows)] |= TAINT
+        if "target-change" in wanted and len(src):
+            f[equivariance.broken(rows)] |= ASYMMETRIC
             before = table.need_target(rows[src])
             maybe = np.flatnonzero(before >= 0)
             if len(maybe):
