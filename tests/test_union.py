@@ -30,10 +30,11 @@ def _without_seconds(row: dict) -> dict:
 
 
 def assert_rows_equal(n: int, m: int, box: tuple[int, int], algorithm: str,
-                      properties: tuple[str, ...] = (), frames: str = "all") -> dict[str, int]:
+                      properties: tuple[str, ...] = (), frames: str = "all",
+                      scheduler: str = "async") -> dict[str, int]:
     """Every configuration of the box: the class rows equal the per-configuration rows.
     Returns how many were settled by the union graph and how many fell back."""
-    s = SweepSettings(robots=n, meeting=m, box=box, algorithm=algorithm, scheduler="async",
+    s = SweepSettings(robots=n, meeting=m, box=box, algorithm=algorithm, scheduler=scheduler,
                       properties=properties, max_memory_mb=8000, frames=frames)
     items = list(enumerate(enumerate_configurations(n, m, *box, frames)))
     seen: dict[int, dict] = {}
@@ -284,3 +285,66 @@ def test_what_the_union_decides_is_asked_not_named(tmp_path: Path) -> None:
     assert fallback and sum(summary["union_fallbacks"].values()) == fallback
     assert summary["union_fallbacks"]["in U or unclassified: the impossibility checks apply"] > 0
     assert summary["union_fallbacks"]["a cycle is reachable"] > 0
+
+
+ROUNDS = ("fsync", "ssync")
+"""The round schedulers, whose events move several robots at once."""
+
+
+@pytest.mark.parametrize("scheduler", ROUNDS)
+@pytest.mark.parametrize("n,m,algorithm", [
+    (2, 2, "paper"), (3, 1, "go-to-target"), (2, 1, "broken-stay"), (2, 1, "broken-away")])
+def test_union_rows_equal_per_config_rows_under_rounds(n: int, m: int, algorithm: str,
+                                                       scheduler: str) -> None:
+    """FSYNC and SSYNC share one state graph per shape of ``M`` as ASYNC does: every row
+    (verdict, counts, moves, trace) is the configuration's own check's."""
+    counts = assert_rows_equal(n, m, (3, 3), algorithm, scheduler=scheduler)
+    assert counts["settled"] > 0 or algorithm == "broken-away"  # (a livelock: its own checks)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scheduler", ROUNDS)
+@pytest.mark.parametrize("n,m,algorithm,box", [
+    (n, m, a, (3, 3)) for a in ("paper", "go-to-target") for n in (1, 2, 3) for m in (1, 2, 3)
+] + [(n, m, a, (4, 4)) for a in ("paper", "go-to-target") for n, m in ((2, 1), (2, 2), (1, 3))]
+  + [(2, 2, a, (3, 3)) for a in ("broken-stay", "broken-drift", "broken-undefined")])
+def test_union_rows_equal_per_config_rows_under_rounds_every_small_box(
+        n: int, m: int, algorithm: str, box: tuple[int, int], scheduler: str) -> None:
+    assert_rows_equal(n, m, box, algorithm, scheduler=scheduler)
+
+
+@pytest.mark.parametrize("scheduler", ROUNDS)
+def test_rounds_past_the_event_budget_give_the_same_rows(monkeypatch: pytest.MonkeyPatch,
+                                                        scheduler: str) -> None:
+    """A step whose states make more events than ``union.EVENTS`` takes fewer states (a
+    round makes up to ``6**n`` events): the same rows, traces included."""
+    monkeypatch.setattr(union, "EVENTS", 40)
+    counts = assert_rows_equal(2, 2, (3, 3), "broken-stay", scheduler=scheduler)
+    assert counts["settled"] > 0
+
+
+@pytest.mark.parametrize("scheduler", ROUNDS)
+@pytest.mark.parametrize("frames", ["chirality", pytest.param("compass", marks=pytest.mark.slow)])
+def test_union_rows_under_rounds_with_a_compass_or_chirality(scheduler: str, frames: str) -> None:
+    algorithm = str(FIXTURES / "counterclockwise.py") + ":Counterclockwise"
+    assert assert_rows_equal(2, 2, (3, 3), algorithm, frames=frames,
+                             scheduler=scheduler)["settled"] > 0
+
+
+@pytest.mark.parametrize("scheduler", ROUNDS)
+def test_round_sweeps_store_the_same_rows_under_both_engines(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], scheduler: str) -> None:
+    """A whole sweep under FSYNC or SSYNC: the union engine's store is the per-configuration
+    engine's, byte for byte, and so is the summary."""
+    out = {}
+    for engine in ("union", "per-config"):
+        db = tmp_path / f"{engine}.sqlite"
+        out[engine + "-exit"] = main([
+            "sweep", "--robots", "1-3", "--meeting", "1-2", "--box", "3x3", "--algorithm",
+            "paper", "--scheduler", scheduler, "--db", str(db), "--workers", "1", "--engine",
+            engine, "--json"])
+        out[engine] = json.loads(capsys.readouterr().out)
+        out[engine + "-rows"] = _table(db)
+    assert out["union"] == out["per-config"]
+    assert out["union-exit"] == out["per-config-exit"]
+    assert out["union-rows"] == out["per-config-rows"] and len(out["union-rows"]) > 300

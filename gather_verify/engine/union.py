@@ -55,6 +55,11 @@ moved back, its representative there, that representative's events in the
 scheduler's order). The target must commute with those isometries on every
 reachable configuration, as with ``Aut(M0)``, or the seed falls back.
 
+The scheduler is any that says ``union = True`` (ASYNC, FSYNC, SSYNC: :func:`unsupported`);
+its ``bulk_successors`` makes the events, one change each (ASYNC's Looks and Moves) or a
+round that changes several robots at once (FSYNC, SSYNC), fewer states at a time when their
+events pass ``EVENTS``.
+
 Time and memory limits are not deterministic: a class whose union search takes
 longer than one configuration's time limit, or leaves the process over its memory
 limit, is handed to the per-configuration checks whole.
@@ -97,6 +102,10 @@ UNION_MARGIN = 2
 """The margin of the configurations' regions whose union the class is explored in."""
 MARGINS = tuple(DEFAULT_MARGIN << k for k in range(5))
 """The margins ``run_check`` tries in turn (2 doubled up to ``check.AUTO_MARGIN_MAX``)."""
+CHUNK = 1 << 14
+"""States expanded at a time (fewer when their events pass ``EVENTS``)."""
+EVENTS = 1 << 19
+"""About how many events a step may make (FSYNC and SSYNC rounds: up to ``6**n`` per state)."""
 UNION_MAX_STATES = 6_000_000
 """Largest union graph explored; a larger class is checked configuration by configuration."""
 
@@ -335,26 +344,26 @@ def explore_union(
     e_src, e_tgt, e_w = Growing(np.int32), Growing(np.int32), Growing(np.int8)
     flags, events = Growing(np.uint8), Growing(np.int32)
     boxes_rows: list[np.ndarray] = []
-    sid = 0
+    sid, chunk = 0, CHUNK
     while sid < index.count:
-        hi = min(index.count, sid + (1 << 14))
+        hi = min(index.count, sid + chunk)
         step = decode_chunk(index.keys[sid:hi].copy(), table, compiled)
         K, codes, cells, rows = step.keys, step.codes, step.cells, step.rows
         f = np.zeros(len(K), dtype=np.uint8)
         f[table.flags[rows, 0] != 0] |= DEFINED  # no rule, or a crash: the per-config check's
         ok = np.flatnonzero(table.flags[rows, 0] == 0)
         masks = move_masks(table, rows, step.rank, flat=compiled)
-        got = sched.bulk_successors(enc.frontier(codes[ok], masks[ok]), 4 * n * len(ok) + 1)
-        assert got.event is None and got.states == len(ok), "ASYNC: one change per event"
-        src, robot, new, weight = got.source, got.robot, got.code, got.weight
+        got = sched.bulk_successors(enc.frontier(codes[ok], masks[ok]), EVENTS)
+        if got.states < len(ok):  # more events than the budget (rounds): fewer states at a time
+            chunk = int(ok[got.states])
+            continue
+        chunk = min(CHUNK, 2 * chunk)
+        src, robot, new, weight, event = got.source, got.robot, got.code, got.weight, got.event
         src = ok[src]
         events.extend(np.bincount(src, minlength=len(K)).astype(np.int32))
-        outside = new < 0
-        if outside.any():
-            f[src[outside]] |= TAINT
-            keep = ~outside
-            src, robot, new, weight = src[keep], robot[keep], new[keep], weight[keep]
-        succ, old, succ_codes = successor_keys(K, codes, src, robot, new, None, canon, True,
+        gone, (src, weight, robot, new, event) = _inside(src, weight, robot, new, event)
+        f[gone] |= TAINT
+        succ, old, succ_codes = successor_keys(K, codes, src, robot, new, event, canon, True,
                                                compiled)
         ids, _ = index.find_or_add(succ)
         if index.count > max_states:
@@ -369,12 +378,18 @@ def explore_union(
             before = table.need_target(rows[src])
             maybe = np.flatnonzero(before >= 0)
             if len(maybe):
+                if succ_codes is None:  # the compiled keys left the codes out
+                    succ_codes = successor_codes(codes, src, robot, new, event)
                 s2, k2 = table.config_keys(succ_codes[maybe] // 5)
                 after = table.need_target(table.rows(k2, s2))
                 bad = (after >= 0) & (after != before[maybe])
                 f[src[maybe[bad]]] |= TARGET
         loop = ids == sid + src
-        f[src[loop & (new != old)]] |= CYCLE  # a changed self-loop lifts to a real cycle
+        changed = new != old
+        if event is not None:  # several changes per event: one that changes a robot
+            changed = np.zeros(len(src), dtype=bool)
+            changed[event[new != old]] = True
+        f[src[loop & changed]] |= CYCLE  # a changed self-loop lifts to a real cycle
         edge = ~loop
         e_src.extend((sid + src[edge]).astype(np.int32))
         e_tgt.extend(ids[edge].astype(np.int32))
@@ -460,12 +475,18 @@ class Oriented:
         rows = table.rows(ck, srt)
         ok = np.flatnonzero(table.flags[rows, 0] == 0)
         masks = self.perm[move_masks(table, rows, cell_ranks(cells, srt))]
-        got = self.sched.bulk_successors(self.enc_h.frontier(rep_h[ok], masks[ok]),
-                                         4 * n * len(ok) + 1)
-        src, robot, new = ok[got.source], got.robot, got.code
-        keep = new >= 0
-        src, robot, new = src[keep], robot[keep], new[keep]
-        succ = successor_codes(rep_h, src, robot, new)
+        frontier = self.enc_h.frontier(rep_h[ok], masks[ok])
+        parts, at = [], 0
+        while at < len(ok):  # every event of these states, the budget's worth at a time
+            got = self.sched.bulk_successors(frontier._replace(codes=frontier.codes[at:],
+                                                               masks=frontier.masks[at:]), EVENTS)
+            _, (src, _, robot, new, event) = _inside(ok[at + got.source], got.weight, got.robot,
+                                                     got.code, got.event)
+            parts.append((src, successor_codes(rep_h, src, robot, new, event)))
+            at += got.states
+        src = np.concatenate([p[0] for p in parts]) if parts else np.zeros(0, dtype=np.int64)
+        succ = (np.concatenate([p[1] for p in parts]) if parts
+                else np.zeros((0, n), dtype=np.int64))
         ids, first = u.index.find_or_add(self.canon.keys(back[succ]))
         assert not len(first), "a successor the union does not hold: a bug of gather-verify"
         ends = np.cumsum(np.bincount(src, minlength=len(states))).tolist()
@@ -474,6 +495,26 @@ class Oriented:
         for state, b in zip(states.tolist(), ends, strict=True):
             self.known[state] = ids_list[a:b]
             a = b
+
+
+def _inside(src: np.ndarray, weight: np.ndarray, robot: np.ndarray, new: np.ndarray,
+            event: np.ndarray | None
+            ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                         np.ndarray | None]]:
+    """The source states of the events (``src``, ``weight``; their changes ``robot``,
+    ``new``, ``event`` as in :class:`schedulers.Successors`) that take a robot out of the
+    region (a code of -1), and the events without them, their changes renumbered."""
+    outside = new < 0
+    if not outside.any():
+        return src[:0], (src, weight, robot, new, event)
+    bad = np.zeros(len(src), dtype=bool)
+    bad[outside if event is None else event[outside]] = True
+    keep = ~bad
+    if event is None:
+        return src[bad], (src[keep], weight[keep], robot[keep], new[keep], None)
+    kept = keep[event]
+    renumber = np.cumsum(keep) - 1
+    return src[bad], (src[keep], weight[keep], robot[kept], new[kept], renumber[event[kept]])
 
 
 def _analyse(S: int, src: np.ndarray, tgt: np.ndarray, w: np.ndarray, flags: np.ndarray,
