@@ -354,6 +354,7 @@ def explore_union(
         ok = np.flatnonzero(table.flags[rows, 0] == 0)
         masks = move_masks(table, rows, step.rank, flat=compiled)
         got = sched.bulk_successors(enc.frontier(codes[ok], masks[ok]), EVENTS)
+        assert got.states or not len(ok), f"{scheduler}: bulk_successors took no state"
         if got.states < len(ok):  # more events than the budget (rounds): fewer states at a time
             chunk = int(ok[got.states])
             continue
