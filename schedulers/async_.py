@@ -37,6 +37,7 @@ _EVENTS = np.array([sum(1 << 8 * slot for slot, k in enumerate(LOOK_ORDER) if m 
 class Async:
     name = "async"
     kinds = ("look", "move")
+    union = True
 
     def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
         options = None

@@ -96,7 +96,14 @@ class Successors(NamedTuple):
 
 
 class Scheduler(Protocol):
-    """An adversary: the events it may choose in a state, one state at a time and in bulk."""
+    """An adversary: the events it may choose in a state, one state at a time and in bulk.
+
+    Two optional class attributes say what else may run it (absent: False): ``stateful``, it
+    keeps a state of its own (the Z² engines do not run it), and ``union``, a sweep of the
+    paper's world may explore all the configurations of one meeting-node set in one shared
+    state graph under it (:mod:`gather_verify.engine.union`): its events from a state depend
+    on that state alone and its ``bulk_successors`` gives them all, in ``successors``' order.
+    A scheduler without ``union`` has each configuration of a sweep checked on its own."""
 
     name: str
     kinds: tuple[str, ...]

@@ -32,6 +32,7 @@ def _everyone(n: int) -> np.ndarray:
 class FSync:
     name = "fsync"
     kinds = ("round",)
+    union = True
 
     def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
         options = move_sets(configuration_of(state))

@@ -39,6 +39,7 @@ def _subsets(n: int) -> np.ndarray:
 class SSync:
     name = "ssync"
     kinds = ("round",)
+    union = True
 
     def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
         options = move_sets(configuration_of(state))

@@ -17,6 +17,7 @@ from gather_verify.engine import union
 from gather_verify.engine.explore import Limits, region_box
 from gather_verify.engine.fast_explore import explore_fast
 from gather_verify.engine.search import explore
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import meeting_automorphisms
 from gather_verify.sweeps.census import enumerate_configurations
@@ -29,10 +30,11 @@ def _without_seconds(row: dict) -> dict:
 
 
 def assert_rows_equal(n: int, m: int, box: tuple[int, int], algorithm: str,
-                      properties: tuple[str, ...] = (), frames: str = "all") -> dict[str, int]:
+                      properties: tuple[str, ...] = (), frames: str = "all",
+                      scheduler: str = "async") -> dict[str, int]:
     """Every configuration of the box: the class rows equal the per-configuration rows.
     Returns how many were settled by the union graph and how many fell back."""
-    s = SweepSettings(robots=n, meeting=m, box=box, algorithm=algorithm, scheduler="async",
+    s = SweepSettings(robots=n, meeting=m, box=box, algorithm=algorithm, scheduler=scheduler,
                       properties=properties, max_memory_mb=8000, frames=frames)
     items = list(enumerate(enumerate_configurations(n, m, *box, frames)))
     seen: dict[int, dict] = {}
@@ -234,3 +236,115 @@ def test_a_user_target_read_from_absolute_coordinates_is_its_own_searchs(tmp_pat
         assert decided.rows == [] and decided.fallback == list(members)
     counts = assert_rows_equal(2, 2, (3, 3), spec)
     assert counts["settled"] == 0
+
+
+def test_what_the_union_decides_is_asked_not_named(tmp_path: Path) -> None:
+    """The scheduler, each property and the algorithm's target say what the union engine may
+    decide; a scheduler or property of the user's that says nothing gets the safe default (its
+    own checks), and every configuration left to its own check says why."""
+    from gather_verify.properties import Property, register, unregister
+    from gather_verify.properties.builtin import FINAL
+    from gather_verify.sweeps.sweep import run_sweep
+
+    items = list(enumerate(enumerate_configurations(2, 1, 3, 3)))
+    s = SweepSettings(robots=2, meeting=1, box=(3, 3), algorithm="broken-stay",
+                      scheduler="centralized", max_memory_mb=8000)
+    for members in class_tasks(items):
+        d = decide_class(s, members, configuration_key)
+        assert d.rows == [] and set(d.reasons.values()) == {
+            "the union engine does not run the centralized scheduler"}
+    with pytest.raises(InvalidInput, match="union must be one of"):
+        Property("x", "state", holds=lambda f: True, union="cycles")
+    silent = Property("my-final", "state", holds=FINAL.holds, message="deadlock", symmetric=True)
+    promised = Property("my-deadlock", "state", holds=FINAL.holds, message="deadlock",
+                        symmetric=True, union="deadlock")
+    try:
+        register(silent)
+        register(promised)
+        s = SweepSettings(robots=2, meeting=1, box=(3, 3), algorithm="broken-stay",
+                          scheduler="async", max_memory_mb=8000, properties=("my-final",))
+        for members in class_tasks(items):
+            d = decide_class(s, members, configuration_key)
+            assert d.rows == [] and set(d.reasons.values()) == {
+                "property my-final names no fact of the union graph"}
+        # a property that names its fact is decided from the graph, row for row as its own check
+        counts = assert_rows_equal(2, 1, (3, 3), "broken-stay", properties=("my-deadlock",))
+        assert counts["settled"] > 0
+    finally:
+        unregister("my-final")
+        unregister("my-deadlock")
+    # the reasons, counted in the sweep's summary: one per configuration left to its own check
+    s = SweepSettings(robots=2, meeting=2, box=(3, 3), algorithm="paper", scheduler="async",
+                      max_memory_mb=8000)
+    fallback = 0
+    for members in class_tasks(list(enumerate(enumerate_configurations(2, 2, 3, 3)))):
+        d = decide_class(s, members, configuration_key)
+        assert sorted(d.reasons) == sorted(i for i, _ in d.fallback)
+        fallback += len(d.fallback)
+    summary = run_sweep(s, str(tmp_path / "s.sqlite"), workers=1, progress=False)
+    assert fallback and sum(summary["union_fallbacks"].values()) == fallback
+    assert summary["union_fallbacks"]["in U or unclassified: the impossibility checks apply"] > 0
+    assert summary["union_fallbacks"]["a cycle is reachable"] > 0
+
+
+ROUNDS = ("fsync", "ssync")
+"""The round schedulers, whose events move several robots at once."""
+
+
+@pytest.mark.parametrize("scheduler", ROUNDS)
+@pytest.mark.parametrize("n,m,algorithm", [
+    (2, 2, "paper"), (3, 1, "go-to-target"), (2, 1, "broken-stay"), (2, 1, "broken-away")])
+def test_union_rows_equal_per_config_rows_under_rounds(n: int, m: int, algorithm: str,
+                                                       scheduler: str) -> None:
+    """FSYNC and SSYNC share one state graph per shape of ``M`` as ASYNC does: every row
+    (verdict, counts, moves, trace) is the configuration's own check's."""
+    counts = assert_rows_equal(n, m, (3, 3), algorithm, scheduler=scheduler)
+    assert counts["settled"] > 0 or algorithm == "broken-away"  # (a livelock: its own checks)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scheduler", ROUNDS)
+@pytest.mark.parametrize("n,m,algorithm,box", [
+    (n, m, a, (3, 3)) for a in ("paper", "go-to-target") for n in (1, 2, 3) for m in (1, 2, 3)
+] + [(n, m, a, (4, 4)) for a in ("paper", "go-to-target") for n, m in ((2, 1), (2, 2), (1, 3))]
+  + [(2, 2, a, (3, 3)) for a in ("broken-stay", "broken-drift", "broken-undefined")])
+def test_union_rows_equal_per_config_rows_under_rounds_every_small_box(
+        n: int, m: int, algorithm: str, box: tuple[int, int], scheduler: str) -> None:
+    assert_rows_equal(n, m, box, algorithm, scheduler=scheduler)
+
+
+@pytest.mark.parametrize("scheduler", ROUNDS)
+def test_rounds_past_the_event_budget_give_the_same_rows(monkeypatch: pytest.MonkeyPatch,
+                                                        scheduler: str) -> None:
+    """A step whose states make more events than ``union.EVENTS`` takes fewer states (a
+    round makes up to ``6**n`` events): the same rows, traces included."""
+    monkeypatch.setattr(union, "EVENTS", 40)
+    counts = assert_rows_equal(2, 2, (3, 3), "broken-stay", scheduler=scheduler)
+    assert counts["settled"] > 0
+
+
+@pytest.mark.parametrize("scheduler", ROUNDS)
+@pytest.mark.parametrize("frames", ["chirality", pytest.param("compass", marks=pytest.mark.slow)])
+def test_union_rows_under_rounds_with_a_compass_or_chirality(scheduler: str, frames: str) -> None:
+    algorithm = str(FIXTURES / "counterclockwise.py") + ":Counterclockwise"
+    assert assert_rows_equal(2, 2, (3, 3), algorithm, frames=frames,
+                             scheduler=scheduler)["settled"] > 0
+
+
+@pytest.mark.parametrize("scheduler", ROUNDS)
+def test_round_sweeps_store_the_same_rows_under_both_engines(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], scheduler: str) -> None:
+    """A whole sweep under FSYNC or SSYNC: the union engine's store is the per-configuration
+    engine's, byte for byte, and so is the summary."""
+    out = {}
+    for engine in ("union", "per-config"):
+        db = tmp_path / f"{engine}.sqlite"
+        out[engine + "-exit"] = main([
+            "sweep", "--robots", "1-3", "--meeting", "1-2", "--box", "3x3", "--algorithm",
+            "paper", "--scheduler", scheduler, "--db", str(db), "--workers", "1", "--engine",
+            engine, "--json"])
+        out[engine] = json.loads(capsys.readouterr().out)
+        out[engine + "-rows"] = _table(db)
+    assert out["union"] == out["per-config"]
+    assert out["union-exit"] == out["per-config-exit"]
+    assert out["union-rows"] == out["per-config-rows"] and len(out["union-rows"]) > 300

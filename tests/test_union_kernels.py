@@ -102,9 +102,10 @@ def test_a_wrong_count_is_caught():
                                      np.ones(3))[0].tolist() != [3]
 
 
-@pytest.mark.parametrize("n,m", [(2, 2), (3, 2)])
-def test_sweep_rows_equal_under_both_paths(monkeypatch, n, m):
-    s = SweepSettings(robots=n, meeting=m, box=(3, 3), algorithm="paper", scheduler="async",
+@pytest.mark.parametrize("n,m,scheduler", [(2, 2, "async"), (3, 2, "async"), (2, 2, "fsync"),
+                                            (2, 2, "ssync")])
+def test_sweep_rows_equal_under_both_paths(monkeypatch, n, m, scheduler):
+    s = SweepSettings(robots=n, meeting=m, box=(3, 3), algorithm="paper", scheduler=scheduler,
                       max_memory_mb=8000)
     items = list(enumerate(enumerate_configurations(n, m, 3, 3)))
 

@@ -20,13 +20,16 @@ from __future__ import annotations
 import os
 import sysconfig
 import traceback
-from typing import Protocol, runtime_checkable
+from collections.abc import Callable
+from typing import Protocol, TypeVar, runtime_checkable
 
 from gather_verify.errors import GatherVerifyError, InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.view import View
 from gather_verify.watchdog import Overtime, watched
+
+F = TypeVar("F", bound=Callable[..., object])
 
 
 @runtime_checkable
@@ -113,6 +116,23 @@ def _plain(node: object) -> object:
 
 def _shown(node: object) -> str:
     return str(tuple(node)) if isinstance(node, tuple | list) else repr(node)
+
+
+def commutes_with_translations(target: F) -> F:
+    """Mark an algorithm's ``target`` method as commuting with translations,
+    ``target(C + t) == target(C) + t`` for every configuration ``C`` and vector ``t``: the
+    union engine of a sweep (:mod:`gather_verify.engine.union`) reads the target on a
+    translate of a configuration, so it decides target-invariance from one shared graph only
+    for a target so marked; any other is read by each configuration's own search. The mark
+    belongs to the function: a subclass that overrides ``target`` has none unless it says so."""
+    target.commutes_with_translations = True  # type: ignore[attr-defined]
+    return target
+
+
+def target_commutes_with_translations(algorithm: object) -> bool:
+    """Whether ``algorithm`` has no ``target``, or one marked :func:`commutes_with_translations`."""
+    target = getattr(algorithm, "target", None)
+    return target is None or getattr(target, "commutes_with_translations", False) is True
 
 
 def target_of(algorithm: object, configuration: Configuration) -> Node | None:

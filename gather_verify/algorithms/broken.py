@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from gather_verify.algorithms.base import Unhandled
+from gather_verify.algorithms.base import Unhandled, commutes_with_translations
 from gather_verify.algorithms.beacon import Beacon
 from gather_verify.algorithms.go_to_target import GoToTarget, nearest, step_towards
 from gather_verify.algorithms.inchworm import RingInchworm, other, towards
@@ -64,6 +64,7 @@ class Drift(GoToTarget):
 
     name = "broken-drift"
 
+    @commutes_with_translations
     def target(self, configuration: Configuration) -> Node | None:
         low = min(configuration.robots, key=lambda v: (v[1], v[0]))
         return min(configuration.meeting_nodes, key=lambda m: (manhattan(m, low), m))
@@ -120,6 +121,7 @@ class CrashTarget(GoToTarget):
 
     name = "broken-crash-target"
 
+    @commutes_with_translations
     def target(self, configuration: Configuration) -> Node | None:
         if any(manhattan(v, m) == 1 for v in configuration.robots
                for m in configuration.meeting_nodes):

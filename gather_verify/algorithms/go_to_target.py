@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+from gather_verify.algorithms.base import commutes_with_translations
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import ORIGIN, STEPS, Node, manhattan
@@ -145,6 +146,7 @@ class GoToTarget:
         variants) and in a copy of this module (the mutants)."""
         return type(self).decide is GoToTarget.decide and __name__ == _HOME
 
+    @commutes_with_translations
     def target(self, configuration: Configuration) -> Node | None:
         if len(configuration.meeting_nodes) == 1:
             return next(iter(configuration.meeting_nodes))

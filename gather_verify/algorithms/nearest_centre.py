@@ -23,6 +23,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+from gather_verify.algorithms.base import commutes_with_translations
 from gather_verify.algorithms.go_to_target import step_towards
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import ORIGIN, Node, bounding_box
@@ -56,5 +57,6 @@ class NearestCentre:
         target = centre_target(view.robots, view.meeting_nodes)
         return ORIGIN if target is None else step_towards(target)
 
+    @commutes_with_translations
     def target(self, configuration: Configuration) -> Node | None:
         return centre_target(configuration.occupied, configuration.meeting_nodes)

@@ -107,7 +107,7 @@ from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
 
-from gather_verify.algorithms.base import Unhandled
+from gather_verify.algorithms.base import Unhandled, commutes_with_translations
 from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry, strings
 from gather_verify.model.canonical import Key
@@ -637,6 +637,7 @@ class PaperAlgorithm:
         plan = self._plan(key)
         return None if isinstance(plan, Unhandled) else plan.phase
 
+    @commutes_with_translations
     def target(self, configuration: Configuration) -> Node | None:
         """The target meeting node (global coordinates) where the phase defines one."""
         key, reach = configuration.canonical_form

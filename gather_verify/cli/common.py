@@ -20,10 +20,13 @@ EXIT_BUG = 70
 """An unexpected exception: a bug of gather-verify (``EX_SOFTWARE`` of ``sysexits.h``)."""
 EXIT_INTERRUPTED = 130
 """Ctrl-C (SIGINT): 128 + 2, as shells report it; one line on stderr says what was kept."""
-TIMING_KEYS = ("seconds", "search_seconds", "peak_rss_mb", "computed", "written")
+TIMING_KEYS = ("seconds", "search_seconds", "peak_rss_mb", "computed", "written",
+               "union_fallbacks")
 """Report fields that vary from run to run (``computed``: how many rows a sweep computed
-rather than found stored; ``written``: when a stored sweep's rows were written); ``--json``
-leaves them out unless ``--timings``."""
+rather than found stored; ``written``: when a stored sweep's rows were written;
+``union_fallbacks``: why the union engine left some of those computed to their own checks,
+which depends on the engine and the limits, never on the rows); ``--json`` leaves them out
+unless ``--timings``."""
 VERDICT_EXIT = {"VERIFIED": EXIT_OK, "VIOLATED": EXIT_VIOLATED, "INCOMPLETE": EXIT_INCOMPLETE,
                 "NOT-APPLICABLE": EXIT_NOT_APPLICABLE}
 

@@ -55,6 +55,11 @@ moved back, its representative there, that representative's events in the
 scheduler's order). The target must commute with those isometries on every
 reachable configuration, as with ``Aut(M0)``, or the seed falls back.
 
+The scheduler is any that says ``union = True`` (ASYNC, FSYNC, SSYNC: :func:`unsupported`);
+its ``bulk_successors`` makes the events, one change each (ASYNC's Looks and Moves) or a
+round that changes several robots at once (FSYNC, SSYNC), fewer states at a time when their
+events pass ``EVENTS``.
+
 Time and memory limits are not deterministic: a class whose union search takes
 longer than one configuration's time limit, or leaves the process over its memory
 limit, is handed to the per-configuration checks whole.
@@ -91,24 +96,44 @@ from gather_verify.model.canonical import canonical_form
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
 from gather_verify.model.symmetry import Automorphism
+from gather_verify.properties import get_property
 from schedulers import get_scheduler, initial_state
 
 UNION_MARGIN = 2
 """The margin of the configurations' regions whose union the class is explored in."""
 MARGINS = PLANE.margins
 """The margins ``run_check`` tries in turn (:class:`~gather_verify.engine.region.RegionPolicy`)."""
+CHUNK = 1 << 14
+"""States expanded at a time (fewer when their events pass ``EVENTS``)."""
+EVENTS = 1 << 19
+"""About how many events a step may make (FSYNC and SSYNC rounds: up to ``6**n`` per state)."""
 UNION_MAX_STATES = 6_000_000
 """Largest union graph explored; a larger class is checked configuration by configuration."""
 
 # per-state flags
-DEFINED, FINAL, UNGATHERABLE, TARGET, TAINT, CYCLE = (1 << k for k in range(6))
-SAFETY_BITS = {"final": FINAL, "no-ungatherable": UNGATHERABLE, "target-invariance": TARGET}
+DEFINED, FINAL, UNGATHERABLE, TARGET, TAINT, CYCLE, ASYMMETRIC = (1 << k for k in range(7))
+FACT_BITS = {"deadlock": FINAL, "in-u": UNGATHERABLE, "target-change": TARGET}
+"""The state flag of each fact of :data:`~gather_verify.properties.base.UNION_FACTS` that a
+state or a transition has (the others, ``longest-path`` and ``acyclic``, are the graph's)."""
+ALL_FRAMES_ONLY = ("in-u",)
+"""Facts defined for robots with no common sense of direction only (U is Theorem 1's): a
+property that names one does not apply under other frames, as ``run_check`` says."""
 
 
-def supports(scheduler: str, reduction: bool, frames: str) -> bool:
-    """Whether a sweep with these settings can be decided a meeting-node class at a time
-    (any frames: the isometries used are the frame group's, :func:`shape_isometry`)."""
-    return scheduler == "async" and reduction
+def property_fact(name: str) -> str | None:
+    """The union fact the registered property ``name`` names (None: the union cannot decide it)."""
+    return get_property(name).union
+
+
+def unsupported(scheduler: str, reduction: bool, frames: str) -> str | None:
+    """Why a sweep with these settings cannot be decided a meeting-node class at a time, or
+    None when it can: the scheduler says so (its ``union`` attribute) and both reductions are
+    on (any frames: the isometries used are the frame group's, :func:`shape_isometry`)."""
+    if not getattr(get_scheduler(scheduler), "union", False):
+        return f"the union engine does not run the {scheduler} scheduler"
+    if not reduction:
+        return "the union engine runs with the reductions only"
+    return None
 
 
 def meeting_form(c: Configuration) -> tuple[tuple[Node, ...], tuple[int, Node]]:
@@ -297,7 +322,8 @@ def explore_union(
     graph facts above. ``count_seeds`` (a bool per seed, default all): the seeds whose
     states and transitions are counted. ``orientations``: the maps from ``meeting`` back
     to the seeds' own meeting nodes, for those moved here by a rotation or reflection (the
-    target must commute with them too). None when the union passes ``max_states``."""
+    target must commute with them too). ``properties``: the names of the properties checked,
+    whose facts (their ``union``) the graph records. None when the union passes ``max_states``."""
     started = time.perf_counter()
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
     sched = get_scheduler(scheduler)
@@ -307,9 +333,9 @@ def explore_union(
     enc = Encoding(box, group, True)
     if enc.base ** n >= 2**63:
         return None
-    wanted = set(properties)
+    wanted = {property_fact(p) for p in properties}
     table = FactsTable(enc, n, algo, meeting, detection, frame_elements, group,
-                       facts_memo(algo, detection, frames), targets="target-invariance" in wanted)
+                       facts_memo(algo, detection, frames), targets="target-change" in wanted)
     equivariance = _Equivariance(table, group, orientations)
     canon = Canon(enc, n)
     compiled = kernels.enabled()
@@ -319,46 +345,53 @@ def explore_union(
     e_src, e_tgt, e_w = Growing(np.int32), Growing(np.int32), Growing(np.int8)
     flags, events = Growing(np.uint8), Growing(np.int32)
     boxes_rows: list[np.ndarray] = []
-    sid = 0
+    sid, chunk = 0, CHUNK
     while sid < index.count:
-        hi = min(index.count, sid + (1 << 14))
+        hi = min(index.count, sid + chunk)
         step = decode_chunk(index.keys[sid:hi].copy(), table, compiled)
         K, codes, cells, rows = step.keys, step.codes, step.cells, step.rows
         f = np.zeros(len(K), dtype=np.uint8)
         f[table.flags[rows, 0] != 0] |= DEFINED  # no rule, or a crash: the per-config check's
         ok = np.flatnonzero(table.flags[rows, 0] == 0)
         masks = move_masks(table, rows, step.rank, flat=compiled)
-        got = sched.bulk_successors(enc.frontier(codes[ok], masks[ok]), 4 * n * len(ok) + 1)
-        assert got.event is None and got.states == len(ok), "ASYNC: one change per event"
-        src, robot, new, weight = got.source, got.robot, got.code, got.weight
+        got = sched.bulk_successors(enc.frontier(codes[ok], masks[ok]), EVENTS)
+        assert got.states or not len(ok), f"{scheduler}: bulk_successors took no state"
+        if got.states < len(ok):  # more events than the budget (rounds): fewer states at a time
+            chunk = int(ok[got.states])
+            continue
+        chunk = min(CHUNK, 2 * chunk)
+        src, robot, new, weight, event = got.source, got.robot, got.code, got.weight, got.event
         src = ok[src]
         events.extend(np.bincount(src, minlength=len(K)).astype(np.int32))
-        outside = new < 0
-        if outside.any():
-            f[src[outside]] |= TAINT
-            keep = ~outside
-            src, robot, new, weight = src[keep], robot[keep], new[keep], weight[keep]
-        succ, old, succ_codes = successor_keys(K, codes, src, robot, new, None, canon, True,
+        gone, (src, weight, robot, new, event) = _inside(src, weight, robot, new, event)
+        f[gone] |= TAINT
+        succ, old, succ_codes = successor_keys(K, codes, src, robot, new, event, canon, True,
                                                compiled)
         ids, _ = index.find_or_add(succ)
         if index.count > max_states:
             return None
-        if "final" in wanted:
+        if "deadlock" in wanted:
             dead = (table.flags[rows, 1] == 1) & (table.flags[rows, 2] == 0) & step.idle
             f[dead] |= FINAL
-        if "no-ungatherable" in wanted:
+        if "in-u" in wanted:
             f[table.need_in_u(rows)] |= UNGATHERABLE
-        if "target-invariance" in wanted and len(src):
-            f[equivariance.broken(rows)] |= TAINT
+        if "target-change" in wanted and len(src):
+            f[equivariance.broken(rows)] |= ASYMMETRIC
             before = table.need_target(rows[src])
             maybe = np.flatnonzero(before >= 0)
             if len(maybe):
+                if succ_codes is None:  # the compiled keys left the codes out
+                    succ_codes = successor_codes(codes, src, robot, new, event)
                 s2, k2 = table.config_keys(succ_codes[maybe] // 5)
                 after = table.need_target(table.rows(k2, s2))
                 bad = (after >= 0) & (after != before[maybe])
                 f[src[maybe[bad]]] |= TARGET
         loop = ids == sid + src
-        f[src[loop & (new != old)]] |= CYCLE  # a changed self-loop lifts to a real cycle
+        changed = new != old
+        if event is not None:  # several changes per event: one that changes a robot
+            changed = np.zeros(len(src), dtype=bool)
+            changed[event[new != old]] = True
+        f[src[loop & changed]] |= CYCLE  # a changed self-loop lifts to a real cycle
         edge = ~loop
         e_src.extend((sid + src[edge]).astype(np.int32))
         e_tgt.extend(ids[edge].astype(np.int32))
@@ -444,12 +477,18 @@ class Oriented:
         rows = table.rows(ck, srt)
         ok = np.flatnonzero(table.flags[rows, 0] == 0)
         masks = self.perm[move_masks(table, rows, cell_ranks(cells, srt))]
-        got = self.sched.bulk_successors(self.enc_h.frontier(rep_h[ok], masks[ok]),
-                                         4 * n * len(ok) + 1)
-        src, robot, new = ok[got.source], got.robot, got.code
-        keep = new >= 0
-        src, robot, new = src[keep], robot[keep], new[keep]
-        succ = successor_codes(rep_h, src, robot, new)
+        frontier = self.enc_h.frontier(rep_h[ok], masks[ok])
+        parts, at = [], 0
+        while at < len(ok):  # every event of these states, the budget's worth at a time
+            got = self.sched.bulk_successors(frontier._replace(codes=frontier.codes[at:],
+                                                               masks=frontier.masks[at:]), EVENTS)
+            _, (src, _, robot, new, event) = _inside(ok[at + got.source], got.weight, got.robot,
+                                                     got.code, got.event)
+            parts.append((src, successor_codes(rep_h, src, robot, new, event)))
+            at += got.states
+        src = np.concatenate([p[0] for p in parts]) if parts else np.zeros(0, dtype=np.int64)
+        succ = (np.concatenate([p[1] for p in parts]) if parts
+                else np.zeros((0, n), dtype=np.int64))
         ids, first = u.index.find_or_add(self.canon.keys(back[succ]))
         assert not len(first), "a successor the union does not hold: a bug of gather-verify"
         ends = np.cumsum(np.bincount(src, minlength=len(states))).tolist()
@@ -458,6 +497,26 @@ class Oriented:
         for state, b in zip(states.tolist(), ends, strict=True):
             self.known[state] = ids_list[a:b]
             a = b
+
+
+def _inside(src: np.ndarray, weight: np.ndarray, robot: np.ndarray, new: np.ndarray,
+            event: np.ndarray | None
+            ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                         np.ndarray | None]]:
+    """The source states of the events (``src``, ``weight``; their changes ``robot``,
+    ``new``, ``event`` as in :class:`schedulers.Successors`) that take a robot out of the
+    region (a code of -1), and the events without them, their changes renumbered."""
+    outside = new < 0
+    if not outside.any():
+        return src[:0], (src, weight, robot, new, event)
+    bad = np.zeros(len(src), dtype=bool)
+    bad[outside if event is None else event[outside]] = True
+    keep = ~bad
+    if event is None:
+        return src[bad], (src[keep], weight[keep], robot[keep], new[keep], None)
+    kept = keep[event]
+    renumber = np.cumsum(keep) - 1
+    return src[bad], (src[keep], weight[keep], robot[kept], new[kept], renumber[event[kept]])
 
 
 def _analyse(S: int, src: np.ndarray, tgt: np.ndarray, w: np.ndarray, flags: np.ndarray,

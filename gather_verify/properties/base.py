@@ -43,6 +43,12 @@ WHEN = ("expansion", "discovery")
 Stateright's BFS), or as soon as it is first reached (its witness may then be a state
 the search found but never expanded before a limit stopped it)."""
 
+UNION_FACTS = ("deadlock", "in-u", "target-change", "longest-path", "acyclic")
+"""What the union engine reads per configuration off its shared state graph, the facts a
+property may name as its ``union``: a reachable deadlock (no robot can move, nothing
+pending, not gathered), a reachable configuration in U, a reachable transition that changes
+the target, the largest total moves (compared with ``c * D * n``), and no reachable cycle."""
+
 
 @dataclass
 class Witness:
@@ -116,6 +122,11 @@ class Property:
       default) switches that reduction off while the property is checked: a predicate that
       reads absolute nodes (the initial MER, a fixed node) is not symmetric. Anonymity needs
       nothing: facts are those of the robot multiset.
+    - ``union``: the fact of the union engine's shared state graph
+      (:mod:`gather_verify.engine.union`) that decides this property in a sweep, one of
+      :data:`UNION_FACTS`: a promise that the property fails exactly where that fact says.
+      None (the default): the union cannot decide it, and a sweep that checks it checks
+      every configuration on its own.
     """
 
     name: str
@@ -131,6 +142,7 @@ class Property:
     halts: bool = False
     when: str = "expansion"
     symmetric: bool = False
+    union: str | None = None
     doc: str = ""
 
     def __post_init__(self) -> None:
@@ -149,6 +161,9 @@ class Property:
             raise InvalidInput(f"{what}: a {self.kind} property needs a holds predicate")
         if self.kind == "transition" and not callable(self.value):
             raise InvalidInput(f"{what}: a transition property needs a value function")
+        if self.union is not None and self.union not in UNION_FACTS:
+            raise InvalidInput(f"{what}: union must be one of {', '.join(UNION_FACTS)} or None, "
+                               f"not {self.union!r}")
         if self.halts and self.kind != "state":
             raise InvalidInput(f"{what}: only a state property can stop the search")
 

@@ -64,7 +64,7 @@ FINAL = Property(
     message="deadlock: no robot can move, nothing is pending, and the robots are not all on "
             "one meeting node",
     confirm=_confirm_final,
-    symmetric=True,
+    symmetric=True, union="deadlock",
     doc="a state where no robot can do anything but stay, with nothing pending, has every "
         "robot on one meeting node")
 
@@ -86,7 +86,7 @@ NO_UNGATHERABLE = Property(
     holds=lambda s: not s.in_U,
     message="a configuration in U (I41/I42) is reached from one outside U",
     vacuous=_initially_in_u, confirm=_confirm_no_ungatherable, when="discovery",
-    symmetric=True,
+    symmetric=True, union="in-u",
     doc="from an initial configuration outside U, no reachable configuration is in U")
 
 
@@ -105,7 +105,7 @@ TARGET_INVARIANCE = Property(
                                   f"{list(after)}",
     detail=lambda before, after: {"target_before": list(before), "target_after": list(after)},
     confirm=_confirm_target,
-    symmetric=True,
+    symmetric=True, union="target-change",
     doc="where the algorithm exposes its target meeting node, once defined it never changes "
         "along a transition")
 
@@ -154,7 +154,7 @@ def _confirm_move_bound(prop: Property, run: Run) -> tuple[bool, str]:
 
 MOVE_BOUND = Property(
     "move-bound", "graph", decide=_decide_move_bound, confirm=_confirm_move_bound,
-    symmetric=True,
+    symmetric=True, union="longest-path",
     doc="the largest total moves over all executions is at most c * D * n")
 
 
@@ -181,7 +181,7 @@ def _confirm_termination(prop: Property, run: Run) -> tuple[bool, str]:
 
 TERMINATION = Property(
     "termination", "graph", decide=_decide_termination, confirm=_confirm_termination,
-    symmetric=True,
+    symmetric=True, union="acyclic",
     doc="no fair infinite execution that never reaches a final state")
 
 

@@ -13,11 +13,12 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from gather_verify import properties as props
 from gather_verify.algorithms import Algorithm, get_algorithm
+from gather_verify.algorithms.base import target_commutes_with_translations as commutes
 from gather_verify.algorithms.moves import frames_for
 from gather_verify.check import _safety_trace, cause_of
 from gather_verify.engine import union
@@ -45,24 +46,27 @@ Row = dict[str, Any]
 def verify_class(settings: Any, members: Sequence[tuple[int, Configuration]],
                  verify_one: Callable[[Any, int, Configuration], Row],
                  configuration_key: Callable[[Configuration], str],
-                 hand_off: float | None = None,
+                 hand_off: float | None = None, fallbacks: dict[str, int] | None = None,
                  ) -> tuple[list[Row], list[tuple[int, Configuration]]]:
     """The rows of ``members`` (configurations whose ``M`` have one shape, as
     :func:`class_tasks` makes them), in index order; ``verify_one`` checks one configuration
     on its own (the sweep's). With ``hand_off`` (seconds), the per-configuration checks left
     once the task has run that long are not run here but returned, for other workers (a
     few runs that walk away from ``M`` would otherwise make one class the whole sweep's
-    floor); without it the second list is empty."""
+    floor); without it the second list is empty. ``fallbacks``: counts, by reason
+    (:attr:`ClassDecision.reasons`), of the members the union left to their own checks,
+    added to (those checked here and those handed off)."""
     started = time.perf_counter()
-    if not union.supports(settings.scheduler, settings.reduction, settings.frames):
-        decided = ClassDecision([], list(members))
-    else:
-        decided = decide_class(settings, members, configuration_key)
+    decided = decide_class(settings, members, configuration_key)
     rows, rest = decided.rows, decided.fallback
     done = 0
     while done < len(rest) and (hand_off is None or time.perf_counter() - started < hand_off):
         rows.append(verify_one(settings, *rest[done]))
         done += 1
+    if fallbacks is not None:
+        for index, _ in rest:
+            why = decided.reasons[index]
+            fallbacks[why] = fallbacks.get(why, 0) + 1
     return sorted(rows, key=lambda r: r["index"]), rest[done:]
 
 
@@ -86,6 +90,14 @@ class ClassDecision:
     rows: list[dict[str, Any]]
     fallback: list[tuple[int, Configuration]]
     union_states: int = 0
+    reasons: dict[int, str] = field(default_factory=dict)
+    """Per member of ``fallback`` (by index): why the union left it to its own check."""
+
+    def fall_back(self, items: Sequence[tuple[int, Configuration]], why: str) -> ClassDecision:
+        """``items`` added to ``fallback``, each with the reason ``why``; ``self``."""
+        self.fallback.extend(items)
+        self.reasons.update((index, why) for index, _ in items)
+        return self
 
 
 def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
@@ -94,35 +106,42 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     configuration moved onto ``M0`` by :func:`~gather_verify.engine.union.shape_isometry`)
     that the union graphs settle
     exactly as :func:`gather_verify.sweeps.sweep.verify_one` would (rows keyed by
-    ``configuration_key``); the rest in ``fallback``."""
-
+    ``configuration_key``); the rest in ``fallback``, each with its reason. What the union
+    may decide, it asks: the scheduler (:func:`~gather_verify.engine.union.unsupported`),
+    each property (its ``union`` fact) and the algorithm's target
+    (:func:`target_commutes_with_translations`)."""
+    out = ClassDecision([], [])
+    why_not = union.unsupported(settings.scheduler, settings.reduction, settings.frames)
+    if why_not is not None:
+        return out.fall_back(members, why_not)
     wanted = props.check_property_names(settings.properties or None)
-    if settings.frames != "all" and "no-ungatherable" in wanted:
-        wanted.remove("no-ungatherable")  # U is Theorem 1's: as run_check, not applicable
-    if set(wanted) - DECIDED:  # a property of the user's: only its own search knows it
-        return ClassDecision([], list(members))
+    facts = {p: union.property_fact(p) for p in wanted}
+    if settings.frames != "all":  # U is Theorem 1's: as run_check, not applicable
+        wanted = [p for p in wanted if facts[p] not in union.ALL_FRAMES_ONLY]
+    undecided = [p for p in wanted if facts[p] is None]
+    if undecided:  # a property of the user's: only its own search knows it
+        return out.fall_back(members, f"property {undecided[0]} names no fact of the union graph")
     algo = get_algorithm(settings.algorithm)  # resolved once, for the union and the traces
-    if "target-invariance" in wanted and not target_commutes_with_translations(algo):
-        return ClassDecision([], list(members))  # its target is for its own searches to read
+    if "target-change" in facts.values() and not target_commutes_with_translations(algo):
+        # its target is for its own searches to read
+        return out.fall_back(members, "its target is not marked as commuting with translations")
     memory = memory_budget_mb() if settings.max_memory_mb is None else settings.max_memory_mb
-    fallback: list[tuple[int, Configuration]] = []
     todo: list[tuple[int, Configuration, Any, Configuration, Automorphism]] = []
     for index, c in members:
         cls = classify_configuration(c)
         if (cls.in_U or cls.name == "UNCLASSIFIED") and settings.frames == "all":
-            fallback.append((index, c))  # NOT-APPLICABLE (or --force): decided on its own
+            # NOT-APPLICABLE (or --force): decided on its own
+            out.fall_back([(index, c)], "in U or unclassified: the impossibility checks apply")
         else:
             iso = union.shape_isometry(c, settings.frames)
             todo.append((index, c, cls, union.normalise(c, iso), Automorphism(*iso).inverse()))
     if not todo:
-        return ClassDecision([], fallback)
+        return out
     by_n: dict[tuple[frozenset, int], list[int]] = {}  # one union per shape of M and n
     for k, (_, c, _, nc, _) in enumerate(todo):
         by_n.setdefault((nc.meeting_nodes, c.n), []).append(k)
-    rows: list[dict[str, Any]] = []
     trace_facts: dict[frozenset, Any] = {}  # the facts met by the traces, per M
-    union_states = 0
-    graph_props = bool({"move-bound", "termination"} & set(wanted))
+    graph_props = any(facts[p] in GRAPH_FACTS for p in wanted)
     for ks in by_n.values():
         normal = [todo[k][3] for k in ks]
         group = symmetry_group(normal[0], settings.frames)  # what the frames allow
@@ -133,28 +152,35 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
             if todo[k][4].g != geometry.IDENTITY:
                 turned.setdefault(todo[k][4].g, todo[k][4])
         make_room(memory)
-        kept, left = len(rows), len(fallback)
+        kept, left = len(out.rows), len(out.fallback)
         try:  # the user's code that does not return: the per-configuration checks decide
             # (each stops at its own time limit, INCOMPLETE); the watchdog's bound is theirs
             with deadline(allowance(settings.max_seconds)):
-                union_states += _decide_union(settings, algo, wanted, todo, ks, normal, group, box,
-                                              turned, memory, graph_props, rows, fallback,
-                                              configuration_key, trace_facts)
+                out.union_states += _decide_union(settings, algo, wanted, facts, todo, ks, normal,
+                                                  group, box, turned, memory, graph_props, out,
+                                                  configuration_key, trace_facts)
         except Overtime:
-            del rows[kept:], fallback[left:]
-            fallback.extend((todo[k][0], todo[k][1]) for k in ks)
-    return ClassDecision(rows, fallback, union_states)
+            del out.rows[kept:], out.fallback[left:]
+            out.fall_back([(todo[k][0], todo[k][1]) for k in ks],
+                          "the union search ran past the time limit")
+    return out
 
 
-def _decide_union(settings: Any, algo: Algorithm, wanted: list[str], todo: list[Any], ks: list[int],
-                  normal: list[Configuration], group: Any, box: Any, turned: dict,
-                  memory: float, graph_props: bool, rows: list[Row],
-                  fallback: list[tuple[int, Configuration]],
+GRAPH_FACTS = ("longest-path", "acyclic")
+"""The union facts of the whole graph (those of a graph property): with one checked, a row
+reports ``max_moves``."""
+
+
+def _decide_union(settings: Any, algo: Algorithm, wanted: list[str],
+                  facts: dict[str, str | None], todo: list[Any], ks: list[int], normal: list[Configuration], group: Any,
+                  box: Any, turned: dict, memory: float, graph_props: bool, out: ClassDecision,
                   configuration_key: Callable[[Configuration], str],
                   trace_facts: dict[frozenset, Any]) -> int:
     """The rows of the configurations ``ks`` of ``todo`` (one shape of ``M`` and one ``n``,
-    ``normal``: moved onto it) from their union graph, into ``rows``; those it does not
-    settle into ``fallback``. The union's states (0 when it settles none)."""
+    ``normal``: moved onto it) from their union graph, into ``out.rows``; those it does not
+    settle into ``out.fallback``, with their reasons. The union's states (0 when it settles
+    none). ``facts``: each wanted property's union fact."""
+    rows = out.rows
     u = union.explore_union(normal[0].meeting_nodes, [c.robots for c in normal],
                             algo,
                             settings.scheduler, detection=settings.detection,
@@ -163,38 +189,49 @@ def _decide_union(settings: Any, algo: Algorithm, wanted: list[str], todo: list[
                             orientations=list(turned.values()))
     if u is None or rss_mb() > memory or u.seconds > settings.max_seconds:
         # too large, or past a limit the per-configuration searches might hit: they decide
-        fallback.extend((todo[k][0], todo[k][1]) for k in ks)
+        out.fall_back([(todo[k][0], todo[k][1]) for k in ks],
+                      "the union graph is too large" if u is None else
+                      "the union search passed the memory limit" if rss_mb() > memory else
+                      "the union search ran past the time limit")
         return 0
     share = u.seconds / len(ks)
+    order = [p for p in props.names() if p in wanted]  # the verdict order
+    bits = {p: union.FACT_BITS.get(facts[p] or "", 0) for p in order}
+    bounded = [p for p in order if facts[p] == "longest-path"]
     for j, k in enumerate(ks):
         index, c, cls, nc, back = todo[k]
         s = int(u.seeds[j])
         reach = int(u.reach[s])
         count = int(u.counts[j])
+        if reach & union.ASYMMETRIC:
+            out.fall_back([(index, c)], "its target does not commute with the isometries that "
+                                        "merge its states")
+            continue
         margin = union.margin_needed(nc, group, u.box[s])
         if (reach & (union.DEFINED | union.TAINT | union.CYCLE) or margin is None or count < 0
                 or count > settings.max_states):
-            fallback.append((index, c))
+            out.fall_back([(index, c)], _seed_reason(reach, margin))
             continue
         D, n = c.D, c.n
         max_moves = int(u.best[s]) if graph_props else None
-        failing = [p for p in props.ORDER if union.SAFETY_BITS.get(p, 0) & reach and p in wanted]
+        failing = [p for p in order if bits[p] & reach]
         if failing and margin > PLANE.initial and not settings.keep_growing:
             # its own search at the first margin is stopped by the region: whether that
             # BFS prefix meets a violation, and so ends the search there, only it can say
-            fallback.append((index, c))
+            out.fall_back([(index, c)], "a violation its own search may meet at a smaller margin")
             continue
         bound = settings.move_bound_c * D * n
-        if not failing and max_moves is not None and "move-bound" in wanted \
-                and max_moves > bound:
-            fallback.append((index, c))  # its trace is its own graph's longest path
+        over = [p for p in bounded if max_moves is not None and max_moves > bound]
+        if not failing and over:
+            out.fall_back([(index, c)], "move-bound fails: its trace is its own graph's longest "
+                                        "path")
             continue
         t0 = time.perf_counter()
         trace = None
         if failing:
             trace = witness_trace(u, j, c, back, failing[0], margin, settings, algo, trace_facts)
             if trace is None:
-                fallback.append((index, c))
+                out.fall_back([(index, c)], "no witness path in the union graph")
                 continue
             trace["cause"] = cause_of(algo, trace)
         rows.append({
@@ -215,24 +252,32 @@ def _decide_union(settings: Any, algo: Algorithm, wanted: list[str], todo: list[
             "trace": trace,
             "seconds": share + time.perf_counter() - t0,
             # every failing property, as the check lists them (acyclic: termination holds)
-            "failing": failing + (["move-bound"] if max_moves is not None
-                                  and "move-bound" in wanted and max_moves > bound else []),
+            "failing": failing + over,
             "cause": None if trace is None else trace["cause"],
         })
     return u.states
 
 
-DECIDED = {"final", "no-ungatherable", "target-invariance", "move-bound", "termination"}
-"""The properties the union graph decides (every other one falls back)."""
+def _seed_reason(reach: int, margin: int | None) -> str:
+    """Why one seed of a union graph is left to its own check (the first that applies)."""
+    if reach & union.DEFINED:
+        return "a reachable configuration has no rule, or the algorithm crashes there"
+    if reach & union.TAINT:
+        return "a reachable state leaves the union's region"
+    if reach & union.CYCLE:
+        return "a cycle is reachable"
+    if margin is None:
+        return "its region would pass the largest margin"
+    return "its state space passes max_states"
 
 
 def target_commutes_with_translations(algorithm: Any) -> bool:
     """Whether the union may read ``algorithm``'s target on a translate of a configuration
-    (docs/interpretations.md, E8): no target, or a built-in one, each of which commutes with
-    translations (read off a canonical form, or a minimum over nodes ordered by their
-    coordinates). A target of the user's is global coordinates with no such promise."""
-    return (getattr(algorithm, "target", None) is None
-            or type(algorithm).__module__.startswith("gather_verify.algorithms."))
+    (docs/interpretations.md, E8): no target, or one marked
+    :func:`~gather_verify.algorithms.base.commutes_with_translations` (each built-in target
+    is: read off a canonical form, or a minimum over nodes ordered by their coordinates). A
+    target of the user's is global coordinates with no such promise unless it makes it."""
+    return commutes(algorithm)
 
 _TRANSITION = object()  # marks a transition witness: the trace finds the edge itself
 
@@ -250,8 +295,10 @@ def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, back: Automo
     facts do not depend on the initial configuration they carry, which only a property
     of the user's could read, and those are never decided here)."""
     order = None if back.g == geometry.IDENTITY else u.oriented(back)
-    path = u.witness_path(seed, union.SAFETY_BITS[prop], fresh=prop == "no-ungatherable",
-                          order=order)
+    spec = props.get_property(prop)
+    # a property that is vacuous when the initial state fails it has no witness there
+    path = u.witness_path(seed, union.FACT_BITS[spec.union or ""],
+                          fresh=spec.vacuous is not None, order=order)
     if path is None:
         return None
     if c.meeting_nodes not in facts:
@@ -269,5 +316,5 @@ def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, back: Automo
                     offsets=[], targets=[], weights=[], changed_loops=0, states=len(path),
                     transitions=0, stopped=None, violations={}, seconds=0.0, peak_rss_mb=0.0,
                     facts=facts[c.meeting_nodes], vacuous={})
-    event = _TRANSITION if prop == "target-invariance" else None
+    event = _TRANSITION if spec.kind == "transition" else None
     return _safety_trace(e, Violation(prop, len(path) - 1, "", event))

@@ -252,10 +252,13 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
                     if key not in done and (where is None or where(one, c))]
             plan.append((one, sweep, todo))
         bar = Progress(sum(len(todo) for _, _, todo in plan), progress)
+        fallbacks: dict[str, int] = {}
         try:
-            for sweep, rows in _execute(plan, workers, dask, engine, verify):
+            for sweep, rows, why in _execute(plan, workers, dask, engine, verify):
                 store.add(sweep, rows)
                 bar.advance(len(rows))
+                for reason, count in why.items():
+                    fallbacks[reason] = fallbacks.get(reason, 0) + count
         finally:
             bar.close()
         # counted in the store: reading back every row took seconds a whole box
@@ -265,6 +268,8 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
         store.close()
     summary = summarise_totals(groups, slowest, batch[0] if len(batch) == 1 else None)
     summary["computed"] = sum(len(todo) for _, _, todo in plan)  # the rest was stored before
+    if engine == "union":  # of those computed now: why the union left some to their own checks
+        summary["union_fallbacks"] = dict(sorted(fallbacks.items(), key=lambda kv: (-kv[1], kv[0])))
     return summary
 
 
@@ -297,8 +302,11 @@ def _census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
 
 Task = tuple[int, SweepSettings, list[tuple[int, Configuration]]]
 """One unit of work: the sweep's id in the store, its settings, a chunk of configurations."""
-Done = tuple[int, list[dict[str, Any]], list[Task]]
-"""What a task gives back: the sweep's id, its rows, and the tasks it hands off."""
+Done = tuple[int, list[dict[str, Any]], list[Task], dict[str, int]]
+"""What a task gives back: the sweep's id, its rows, the tasks it hands off, and how many of
+its configurations the union engine left to their own checks, by reason."""
+Finished = tuple[int, list[dict[str, Any]], dict[str, int]]
+"""What :func:`_execute` yields per task: the sweep's id, its rows, its fallbacks by reason."""
 
 def warm_kernels(schedulers: Iterable[str]) -> None:
     """Compile (or load from numba's cache) the bulk engine's kernels before any row is
@@ -328,8 +336,8 @@ def _execute(
     dask: str | None,
     engine: str = "per-config",
     verify: Verify | None = None,
-) -> Iterator[tuple[int, list[dict[str, Any]]]]:
-    """Every chunk of every sweep of the plan, as ``(sweep id, rows)`` when done. One pool
+) -> Iterator[Finished]:
+    """Every chunk of every sweep of the plan, as ``(sweep id, rows, fallbacks)`` when done. One pool
     (or cluster) runs them all, so its workers keep what they learnt (the algorithm's plans,
     the shared configuration facts) from one sweep to the next and none waits idle at the
     end of each sweep; the checks a long class hands off go out after the tasks before them."""
@@ -366,14 +374,14 @@ def _execute(
         yield from _execute_dask(tasks, dask, workers, run)
     elif local or not tasks:
         for task in tasks:
-            sweep, rows, _ = run(task)  # nothing is handed off in this process
-            yield sweep, rows
+            sweep, rows, _, why = run(task)  # nothing is handed off in this process
+            yield sweep, rows, why
     else:
         yield from _execute_pool(tasks, workers or os.cpu_count() or 1, run)
 
 
 def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
-                  ) -> Iterator[tuple[int, list[dict[str, Any]]]]:
+                  ) -> Iterator[Finished]:
     """The tasks on a local process pool, in order, and the ones they hand off after them."""
     import multiprocessing
     import queue
@@ -404,11 +412,11 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
             waiting -= 1
             if isinstance(got, BaseException):
                 raise got
-            sweep, rows, more = got
+            sweep, rows, more, why = got
             for task in more:
                 submit(_run_task, task)
             waiting += len(more)
-            yield sweep, rows
+            yield sweep, rows, why
 
 
 def _pool_worker(parent: int) -> None:
@@ -450,7 +458,7 @@ def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
         from gather_verify.sweeps.world_census import verify_world_one
 
         verify = verify_world_one
-    return sweep, Store.encode(verify_chunk(settings, chunk, verify)), []
+    return sweep, Store.encode(verify_chunk(settings, chunk, verify)), [], {}
 
 
 def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
@@ -465,8 +473,9 @@ def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None
         from gather_verify.algorithms.loading import receive
 
         receive(sources)
-    rows, rest = verify_class(settings, chunk, verify_one, configuration_key, hand_off)
-    return sweep, Store.encode(rows), [(sweep, settings, [item]) for item in rest]
+    fallbacks: dict[str, int] = {}
+    rows, rest = verify_class(settings, chunk, verify_one, configuration_key, hand_off, fallbacks)
+    return sweep, Store.encode(rows), [(sweep, settings, [item]) for item in rest], fallbacks
 
 
 def _run_world_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
@@ -483,12 +492,13 @@ def _run_world_class_task(task: Task, sources: dict[str, dict[str, str]] | None 
 
         receive(sources)
     rows, rest = verify_world_class(settings, chunk, hand_off)
-    return sweep, Store.encode(rows), [(sweep, settings, part) for part in _chunks(rest, CHUNK)]
+    return (sweep, Store.encode(rows), [(sweep, settings, part) for part in _chunks(rest, CHUNK)],
+            {})
 
 
 def _execute_dask(tasks: list[Task], address: str, workers: int | None,
                   run: Callable[..., Done] = _run_task,
-                  ) -> Iterator[tuple[int, list[dict[str, Any]]]]:
+                  ) -> Iterator[Finished]:
     try:
         from dask.distributed import Client, LocalCluster, as_completed
     except ImportError:
@@ -518,10 +528,10 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None,
         sources = ship({settings.algorithm for _, settings, _ in tasks}) or None
         pending = as_completed(client.map(run, tasks, sources=sources, pure=False))
         for future in pending:
-            sweep, rows, more = future.result()
+            sweep, rows, more, why = future.result()
             for task in more:
                 pending.add(client.submit(_run_task, task, sources=sources, pure=False))
-            yield sweep, rows
+            yield sweep, rows, why
     except KeyboardInterrupt:  # stop the workers quietly; the command says what was kept
         _quiet_dask_logs()
         if address == "local" and cluster is None:
@@ -689,6 +699,12 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
     if summary.get("engine_fallback"):
         write("")
         write(f"engine: {summary['engine_fallback']}")
+    if summary.get("union_fallbacks"):
+        write("")
+        write("checked on their own, not from the union engine's shared graph (of those "
+              "computed now), by reason:")
+        for why, k in summary["union_fallbacks"].items():
+            write(f"  {k:>6}  {why}")
     if summary["slowest"]:
         write("")
         write("slowest configurations:")
