@@ -164,7 +164,7 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
             "meeting_nodes": [w.node_to_json(v) for v in m],
             "property": None if first is None else first.property,
             "reason": (first.reason if first is not None else
-                       None if s.complete else f"the search stopped: {s.stopped} limit"),
+                       None if s.complete else str(s.stopped)),  # the limit, as on Z²
             "stopped": s.stopped,
             "states": s.states,
             "transitions": s.transitions,
