@@ -68,9 +68,12 @@ if TYPE_CHECKING:
 
 CHUNK = 1 << 13
 """States expanded per bulk step at first (halved while a step makes more than
-:data:`EVENTS` events, doubled up to :data:`MAX_CHUNK` while it makes fewer)."""
+:data:`~gather_verify.engine.world_bulk.EVENTS` events, doubled up to
+:data:`~gather_verify.engine.world_bulk.MAX_CHUNK` while it makes fewer)."""
 MAX_CHUNK = 1 << 16
+"""The most states expanded per bulk step."""
 EVENTS = 1 << 20
+"""About how many events a bulk step may make before the next step takes fewer states."""
 KEY_LIMIT = 1 << 63
 _SCHEDULERS = {Async: "async", FSync: "rounds", SSync: "rounds", Centralized: "rounds",
                RoundRobin: "rounds"}
