@@ -621,7 +621,7 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
             return result("unknown", f"the checker says {report['verdict']} "
                           f"({report.get('reason')}) of a candidate")
         before = len(views.texts)
-        configs, exact = literals(views, trace, c.meeting_nodes)
+        configs, exact = literals(views, trace, c.meeting_nodes, choice)
         used: set[int] = set()
         for d in configs:
             for v in d.occupied:
@@ -655,26 +655,50 @@ def preferred(views: PlaneViews, k: int) -> int:
     return min(range(len(opts)), key=lambda o: (far(opts[o]), o))
 
 
-def literals(views: PlaneViews, trace: dict[str, Any],
-             meeting: frozenset[Node]) -> tuple[list[Configuration], set[int] | None]:
-    """The configurations of a checker's trace, and for a path that ends in a deadlock or a
-    view with no rule the views whose chosen option it relies on: each activated robot's
-    view (the option that holds what it did) and, at a deadlock, every robot's. None for a
-    cycle (the clause then names every view of its configurations)."""
+def literals(views: PlaneViews, trace: dict[str, Any], meeting: frozenset[Node],
+             choice: dict[int, int] | None = None
+             ) -> tuple[list[Configuration], set[int] | None]:
+    """The configurations of a checker's trace, and the views whose chosen option the
+    trace relies on: each activated robot's view (the option that holds what it did); at a
+    deadlock, every robot's; on a fair cycle, for each robot that does not act on the
+    cycle, its view at one state of the cycle where it is idle and its option is to stay
+    (what makes the cycle fair for it, SEMANTICS.md §5). Any table with these options has
+    the same execution, so the clause "not all of these" excludes no table that gathers.
+    None when the trace is of another kind (the clause then names every view of its
+    configurations)."""
     configs = [Configuration([tuple(v) for v in trace["initial"]["robots"]], meeting)]
     configs += [Configuration([tuple(r["node"]) for r in step["state"]], meeting)
                 for step in trace["steps"]]
-    if trace.get("cycle_start") is not None or trace.get("property") not in ("final",
-                                                                           "defined"):
+    cs = trace.get("cycle_start")
+    kind = trace.get("property")
+    if not (kind in ("final", "defined") and cs is None
+            or kind == "termination" and cs is not None and choice is not None):
         return configs, None
     used: set[int] = set()
+    acted: set[int] = set()
     for j, step in enumerate(trace["steps"]):
         if step["event"]["kind"] in ("look", "round"):
             for i in step["event"]["robots"]:
                 used.add(views.occurrence(configs[j], _robot_node(trace, j, i))[0])
-    if trace.get("property") == "final":
+        if cs is not None and j >= cs:
+            acted.update(step["event"]["robots"])
+    if kind == "final":
         last = configs[-1]
         used.update(views.occurrence(last, v)[0] for v in last.occupied)
+    if cs is not None:
+        assert choice is not None
+        n = len(trace["initial"]["robots"])
+        for i in sorted(set(range(n)) - acted):
+            for j in range(cs, len(configs)):
+                state = trace["steps"][j - 1]["state"] if j else None
+                if state is not None and state[i]["pending"] is not None:
+                    continue
+                k = views.occurrence(configs[j], _robot_node(trace, j, i))[0]
+                if k in choice and views.options[k][choice[k]] == geometry.ORIGIN:
+                    used.add(k)
+                    break
+            else:  # no state says why the cycle is fair for robot i: fall back
+                return configs, None
     return configs, used
 
 
