@@ -52,6 +52,9 @@ COVERED_SCHEDULERS = ("fsync", "ssync", "async")
 robot active) and an ASYNC sequence (every Look, then every Move), fair in each."""
 DEFAULT_ROUNDS = 8
 SELECTIONS = ("u", "outside-u", "all")
+SEED_ROUND = 32
+"""Candidates proposed with one seed's answers as the solver's phases before the next seed
+takes over (the rounds double once every seed has had its turn)."""
 CANDIDATE_SECONDS = 10.0
 """The least time one candidate's check gets before the search moves on (it gets a quarter
 of what is left when that is more)."""
@@ -526,12 +529,19 @@ class SearchResult:
 
 def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
                      views: PlaneViews, *, max_seconds: float, max_candidates: int,
-                     max_states: int, margin: int = 2) -> SearchResult:
+                     max_states: int, margin: int = 2,
+                     seeds: list[Any] | None = None) -> SearchResult:
     """Counterexample-guided: the solver proposes a table over the views met so far, the
     ordinary checker (every reduction off, properties final and termination) judges it from
     each configuration in turn (the last one that failed first); a violation's trace gives
     the clause "not these options on the views it relies on", a view with no rule is added
-    to the table. One table must gather from every configuration."""
+    to the table. One table must gather from every configuration.
+
+    ``seeds`` (algorithms; None stands for the nearest-meeting-node rule) give the answer
+    the solver tries first on each view (:func:`preferred`), one seed at a time: the first
+    for :data:`SEED_ROUND` candidates, the next for as many, and round again with twice as
+    many. A seed is a phase, never a constraint: every clause holds whichever seed is on,
+    and the answer is judged by the checker alone. Default: :func:`default_seeds`."""
     from gather_verify.check import run_check
     from gather_verify.synthesis.search import solver_class
 
@@ -540,7 +550,10 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
     base: list[int] = []
     total = [0]
 
-    phases: list[int] = []
+    seeds = default_seeds() if seeds is None else seeds
+    best: list[list[int]] = [[] for _ in seeds]  # per seed, per view: the option tried first
+    on = [0, SEED_ROUND, 1]  # the seed in use, the candidate at which the next takes over,
+    # and how many turns have begun
 
     def register() -> None:
         while len(base) < len(views.texts):
@@ -551,9 +564,15 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
             solver.add_clause(xs)
             for a, b in combinations(xs, 2):
                 solver.add_clause([-a, -b])
-            best = preferred(views, j)
-            phases.extend(x if o == best else -x for o, x in enumerate(xs))
-        solver.set_phases(phases)
+        if candidates >= on[1]:
+            on[0] = (on[0] + 1) % len(seeds)
+            on[1] = candidates + SEED_ROUND * 2 ** (on[2] // len(seeds))
+            on[2] += 1
+        mine = best[on[0]]
+        while len(mine) < len(base):
+            mine.append(preferred(views, len(mine), seeds[on[0]]))
+        solver.set_phases([base[k] + o + 1 if o == mine[k] else -(base[k] + o + 1)
+                           for k in range(len(base)) for o in range(len(views.options[k]))])
 
     spans = []
     for c in configurations:
@@ -641,11 +660,30 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
         solver.add_clause(clause)
 
 
-def preferred(views: PlaneViews, k: int) -> int:
-    """The option the solver tries first for view ``k`` (a phase, not a constraint): stay on
-    a meeting node, else the option whose every move ends nearest a meeting node."""
+def default_seeds() -> list[Any]:
+    """The seeds of :func:`search_algorithm`: the paper's ``Gathering()`` (default reading),
+    which gathers from most configurations outside U, then the nearest-meeting-node rule."""
+    from gather_verify.algorithms import get_algorithm
+
+    return [get_algorithm("paper"), None]
+
+
+def preferred(views: PlaneViews, k: int, seed: Any = None) -> int:
+    """The option the solver tries first for view ``k`` (a phase, not a constraint): the
+    option whose move set is the ``seed`` algorithm's there, when a seed is given and has
+    one; else stay on a meeting node, else the option whose every move ends nearest a
+    meeting node."""
     c, node = views.first[k]
     _, opts = views.occurrence(c, node)
+    if seed is not None:
+        from gather_verify.algorithms.moves import move_set
+
+        try:
+            wanted = move_set(seed, c, node, views.detection, views.frame_ids)
+        except Exception:  # no rule there (or a crash): the seed has no say on this view
+            wanted = None
+        if wanted in opts:
+            return opts.index(wanted)
     if node in c.meeting_nodes:
         return next((o for o, d in enumerate(opts) if d == {node}), 0)
 
