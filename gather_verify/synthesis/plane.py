@@ -27,6 +27,7 @@ import itertools
 import json
 import time
 from collections import Counter, deque
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from itertools import combinations
 from pathlib import Path
@@ -490,14 +491,18 @@ def _text(robots: Any, meeting: Any) -> str:
 # -- exists: a table, proposed by a solver and judged by the ordinary checker --------------
 
 class TableAlgorithm:
-    """A candidate: per key, an option (its first answer label); other views have no rule.
-    A view whose robots and meeting nodes span more than ``span`` edges is out of the
-    region: no rule either (the search excludes the table; a heuristic, never a none)."""
+    """A candidate: per key, an option (its first answer label). A view the table does not
+    hold has no rule, unless ``extend`` is given: the view is then registered and takes the
+    option ``extend`` gives it, written into ``choice`` (one exploration then follows the
+    seed as far as it goes). A view whose robots and meeting nodes span more than ``span``
+    edges is out of the region: no rule (the search excludes the table; a heuristic, never a
+    none)."""
 
     name = "synthesized-candidate"
 
-    def __init__(self, views: PlaneViews, choice: dict[int, int], span: int):
-        self.views, self.choice, self.span = views, choice, span
+    def __init__(self, views: PlaneViews, choice: dict[int, int], span: int,
+                 extend: Callable[[int], int] | None = None):
+        self.views, self.choice, self.span, self.extend = views, choice, span, extend
 
     def decide(self, view: View) -> Node:
         views = self.views
@@ -508,6 +513,9 @@ class TableAlgorithm:
             raise Unhandled("region: the robots went too far from the meeting nodes")
         key, t = viewkey.canonical(views.group, viewkey.observe_plane(view, views.detection))
         k = views.index.get(viewkey.key_text(key))
+        if (k is None or k not in self.choice) and self.extend is not None:
+            k = views.occurrence(view._snapshot, view._node)[0]
+            self.choice[k] = self.extend(k)
         if k is None or k not in self.choice:
             raise Unhandled("a view the search has not met")
         label = views.options[k][self.choice[k]]
@@ -534,8 +542,9 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
     """Counterexample-guided: the solver proposes a table over the views met so far, the
     ordinary checker (every reduction off, properties final and termination) judges it from
     each configuration in turn (the last one that failed first); a violation's trace gives
-    the clause "not these options on the views it relies on", a view with no rule is added
-    to the table. One table must gather from every configuration.
+    the clause "not these options on the views it relies on". A view that the exploration
+    meets for the first time joins the table with the seed's answer, and the exploration
+    goes on. One table must gather from every configuration.
 
     ``seeds`` (algorithms; None stands for the nearest-meeting-node rule) give the answer
     the solver tries first on each view (:func:`preferred`), one seed at a time: the first
@@ -571,8 +580,16 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
         mine = best[on[0]]
         while len(mine) < len(base):
             mine.append(preferred(views, len(mine), seeds[on[0]]))
+
         solver.set_phases([base[k] + o + 1 if o == mine[k] else -(base[k] + o + 1)
                            for k in range(len(base)) for o in range(len(views.options[k]))])
+
+    def fresh(k: int) -> int:
+        """The option of a view met during an exploration that follows the seed."""
+        mine = best[on[0]]
+        while len(mine) <= k:
+            mine.append(preferred(views, len(mine), seeds[on[0]]))
+        return mine[k]
 
     spans = []
     for c in configurations:
@@ -613,7 +630,9 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
             c = configurations[idx]
             left = max_seconds - (time.perf_counter() - started)
             cap = min(left, max(CANDIDATE_SECONDS, left / 4))
-            report = run_check(c, algorithm=TableAlgorithm(views, choice, spans[idx]),
+            # a view met for the first time takes the seed's answer and the exploration goes
+            # on: one exploration settles a configuration the seed gathers from
+            report = run_check(c, algorithm=TableAlgorithm(views, choice, spans[idx], fresh),
                                scheduler=inst.scheduler, detection=inst.detection,
                                frames=inst.frames, properties=["final", "termination"],
                                reduction=False, max_states=max_states,
@@ -632,6 +651,7 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
             # one candidate took its share of the time: exclude this very table (a
             # heuristic, as for the region) and go on
             heuristic = True
+            register()
             solver.add_clause([-(base[k] + o + 1) for k, o in sorted(choice.items())])
             continue
         if report["verdict"] == "INCOMPLETE" and report.get("reason") == "time":
