@@ -224,6 +224,9 @@ def test_mirrored_configurations_get_the_same_answer(robots: set, meeting: set, 
      "--together"),
     (["--world", "grid", "--box", "2x2", "--robots", "1", "--meeting", "1", "--select",
       "u"], "no configuration"),
+    (["--world", "grid", "--robots", "0,0 2,1", "--meeting", "1,1", "--seed", "no-such"],
+     "no-such"),
+    (["--world", "ring:6", "--robots", "2", "--seed", "paper"], "--seed"),
 ])
 def test_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list[str], words: str) -> None:
     run = cli(*args, cwd=tmp_path)
@@ -394,3 +397,39 @@ def test_a_cycle_clause_excludes_only_tables_that_fail(monkeypatch: pytest.Monke
                             reduction=False, max_seconds=60, force=True, margin=8)
             assert got["verdict"] == "VIOLATED", (used, got)
     assert smaller and idle
+
+
+def test_a_broken_seed_still_gives_a_verified_witness(tmp_path: Path) -> None:
+    """A seed is only the answer tried first: seeded with a deliberately broken algorithm
+    (``Careless`` ends on two meeting nodes from this configuration), the search still
+    answers with a table the checker verifies."""
+    robots, meeting = SEARCH_UNKNOWN[1]
+    seed = "docs/examples/meet_by_hand.py:Careless"
+    run = cli("--world", "grid", "--robots", robots, "--meeting", meeting, "--scheduler",
+              "async", "--seed", str(Path(seed).resolve()), "--json", "--witness", "w.py",
+              cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    report = json.loads(run.stdout)
+    assert report["answer"] == "exists"
+    assert report["rows"][0]["checker"]["verdict"] == "VERIFIED"
+
+
+def test_a_broken_witness_is_refused_by_the_checker(tmp_path: Path) -> None:
+    """The witness is an ordinary algorithm file, judged by the checker alone: make every
+    answer of its table "stay" and the checker finds the deadlock."""
+    robots, meeting = SEARCH_UNKNOWN[0]
+    run = cli("--world", "grid", "--robots", robots, "--meeting", meeting, "--scheduler",
+              "async", "--json", "--witness", "w.py", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    text = (tmp_path / "w.py").read_text()
+    head, table = text.split("TABLE = {", 1)
+    table, tail = table.split("}\n", 1)
+    stays = "".join(line.rsplit(":", 1)[0] + ": (0, 0),\n"
+                    for line in table.splitlines() if line.strip())
+    (tmp_path / "broken.py").write_text(head + "TABLE = {\n" + stays + "}\n" + tail)
+    c = Configuration(_nodes(robots), _nodes(meeting), initial=True)
+    for name, want in (("w.py", "VERIFIED"), ("broken.py", "VIOLATED")):
+        got = run_check(c, algorithm=str(tmp_path / name) + ":Synthesized", scheduler="async",
+                        properties=["final", "termination"], reduction=False,
+                        max_seconds=60, force=True)
+        assert got["verdict"] == want, (name, got)
