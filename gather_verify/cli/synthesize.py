@@ -466,7 +466,9 @@ def _plane(args: argparse.Namespace) -> int:
     answer = (answers.pop() if len(answers) == 1 else
               "unknown" if "unknown" in answers else "mixed")
     report: dict[str, Any] = {"answer": answer, **inst.describe(),
-                              "configurations": len(rows), "views": len(views.texts),
+                              "configurations": len(rows),
+                              # the views of the certificates, and of each search
+                              "views": len(views.texts) + sum(r.get("views", 0) for r in rows),
                               "answers": {a: sum(r["answer"] == a for r in rows)
                                           for a in ("exists", "none", "unknown")},
                               "certificate": None}
