@@ -433,3 +433,23 @@ def test_a_broken_witness_is_refused_by_the_checker(tmp_path: Path) -> None:
                         properties=["final", "termination"], reduction=False,
                         max_seconds=60, force=True)
         assert got["verdict"] == want, (name, got)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("robots", "meeting"), [
+    ("0,1 1,1 2,1", "0,0 2,2"),  # I32: a robot on the centre of M's rotation
+    ("0,0 1,1 2,2", "0,0 0,2 2,0 2,2"),  # I32, four meeting nodes
+    ("0,0 0,1 2,2", "0,0 2,2"),  # I22
+])
+def test_configurations_a_weaker_search_left_unknown_are_gathered(tmp_path: Path, robots: str,
+                                                                 meeting: str) -> None:
+    """Outside U, and left unknown (at 20 to 120 s) by a search with coarser livelock
+    clauses and no seed: gathered by a synthesised table that the checker verifies."""
+    run = cli("--world", "grid", "--robots", robots, "--meeting", meeting, "--scheduler",
+              "async", "--json", "--witness", "w.py", "--max-seconds", "240", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    c = Configuration(_nodes(robots), _nodes(meeting), initial=True)
+    got = run_check(c, algorithm=str(tmp_path / "w.py") + ":Synthesized", scheduler="async",
+                    properties=["final", "termination"], reduction=False, max_seconds=120,
+                    force=True)
+    assert got["verdict"] == "VERIFIED", got
