@@ -224,6 +224,9 @@ def test_mirrored_configurations_get_the_same_answer(robots: set, meeting: set, 
      "--together"),
     (["--world", "grid", "--box", "2x2", "--robots", "1", "--meeting", "1", "--select",
       "u"], "no configuration"),
+    (["--world", "grid", "--robots", "0,0 2,1", "--meeting", "1,1", "--seed", "no-such"],
+     "no-such"),
+    (["--world", "ring:6", "--robots", "2", "--seed", "paper"], "--seed"),
 ])
 def test_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list[str], words: str) -> None:
     run = cli(*args, cwd=tmp_path)
@@ -297,3 +300,156 @@ def test_three_meet_without_its_tie_rule_deadlocks() -> None:
                     scheduler="async", properties=["final", "termination"], reduction=False,
                     max_seconds=60, force=True)
     assert got["verdict"] == "VIOLATED"
+
+
+# -- the search: exact clauses from fair cycles, seeds as phases -----------------------------
+
+def _search(robots: str, meeting: str, seeds: list[Any] | None,
+            max_candidates: int) -> tuple[plane.SearchResult, plane.PlaneInstance,
+                                          plane.PlaneViews, Configuration]:
+    c = Configuration(_nodes(robots), _nodes(meeting), initial=True)
+    inst = plane.PlaneInstance([c], "async", "local-weak", "all")
+    views = plane.PlaneViews("local-weak", "all")
+    found = plane.search_algorithm([c], inst, views, max_seconds=300,
+                                   max_candidates=max_candidates, max_states=200_000,
+                                   seeds=seeds)
+    return found, inst, views, c
+
+
+@pytest.mark.parametrize(("robots", "meeting"), SEARCH_UNKNOWN[:1] + SEARCH_UNKNOWN[2:3])
+def test_a_configuration_the_old_search_left_unknown_is_settled(robots: str,
+                                                                meeting: str) -> None:
+    """With the nearest-meeting-node rule alone as its seed, the search used to give up on
+    these (more than 4,000 candidates): a fair cycle's clause named every view of every
+    configuration on its trace. Naming only the views the cycle's robots act on, and the
+    stays that make it fair, it settles them within a few hundred candidates, and the
+    checker verifies the witness."""
+    found, inst, views, c = _search(robots, meeting, [None], 400)
+    assert found.answer == "exists", found
+    got = run_check(c, algorithm=plane.TableAlgorithm(views, found.table, 10**6),
+                    scheduler="async", properties=["final", "termination"],
+                    reduction=False, max_seconds=60, force=True)
+    assert got["verdict"] == "VERIFIED", got
+
+
+def _cycles(monkeypatch: pytest.MonkeyPatch) -> tuple[plane.PlaneViews, Configuration,
+                                                     list[tuple[dict[int, int],
+                                                                dict[str, Any]]]]:
+    """The fair cycles the search meets on its way (each with the candidate table that has
+    it), recorded from its calls to :func:`plane.literals`."""
+    seen: list[tuple[dict[int, int], dict[str, Any]]] = []
+    real = plane.literals
+
+    def spy(views: plane.PlaneViews, trace: dict[str, Any], meeting: Any,
+            choice: dict[int, int] | None = None) -> Any:
+        if trace.get("cycle_start") is not None and choice is not None:
+            seen.append((dict(choice), copy.deepcopy(trace)))
+        return real(views, trace, meeting, choice)
+
+    monkeypatch.setattr(plane, "literals", spy)
+    found, _, views, c = _search("1,1 2,1", "0,0 0,2", [None], 400)
+    monkeypatch.setattr(plane, "literals", real)
+    assert found.answer == "exists" and seen
+    return views, c, seen
+
+
+def _replays(views: plane.PlaneViews, configs: list[Configuration], trace: dict[str, Any],
+             table: dict[int, int]) -> None:
+    """Every Look (every activated robot) of the trace takes a move that ``table`` gives."""
+    state = [{"node": v, "pending": None} for v in trace["initial"]["robots"]]
+    for j, step in enumerate(trace["steps"]):
+        if step["event"]["kind"] in ("look", "round"):
+            for i in step["event"]["robots"]:
+                node = tuple(state[i]["node"])
+                after = step["state"][i]
+                dest = tuple(after["pending"] or after["node"])
+                k, opts = views.occurrence(configs[j], node)
+                assert dest in opts[table[k]], (j, i, node, dest)
+        state = step["state"]
+
+
+def test_a_cycle_clause_excludes_only_tables_that_fail(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every table that keeps the options a fair cycle's clause names has that same cycle:
+    change every other view at random and the checker still finds a violation. The clause
+    names fewer views than every view of the trace's configurations (the old clause), and,
+    for a robot that never acts on the cycle, the stay that keeps the cycle fair."""
+    import random
+
+    views, c, seen = _cycles(monkeypatch)
+    rng = random.Random(1)
+    smaller = idle = 0
+    for table, trace in seen[:6]:
+        configs, used = plane.literals(views, trace, c.meeting_nodes, table)
+        assert used is not None
+        every = {views.occurrence(d, v)[0] for d in configs for v in d.occupied}
+        assert used <= every
+        smaller += used < every
+        cs = trace["cycle_start"]
+        if {i for step in trace["steps"][cs:] for i in step["event"]["robots"]} != {0, 1}:
+            idle += 1
+            assert any(views.options[k][table[k]] == (0, 0) for k in used)
+        for _ in range(3):
+            other = {k: o if k in used else rng.randrange(len(views.options[k]))
+                     for k, o in table.items()}
+            _replays(views, configs, trace, other)
+            got = run_check(c, algorithm=plane.TableAlgorithm(views, other, 10**6),
+                            scheduler="async", properties=["final", "termination"],
+                            reduction=False, max_seconds=60, force=True, margin=8)
+            assert got["verdict"] == "VIOLATED", (used, got)
+    assert smaller and idle
+
+
+def test_a_broken_seed_still_gives_a_verified_witness(tmp_path: Path) -> None:
+    """A seed is only the answer tried first: seeded with a deliberately broken algorithm
+    (``Careless`` ends on two meeting nodes from this configuration), the search still
+    answers with a table the checker verifies."""
+    robots, meeting = SEARCH_UNKNOWN[1]
+    seed = "docs/examples/meet_by_hand.py:Careless"
+    run = cli("--world", "grid", "--robots", robots, "--meeting", meeting, "--scheduler",
+              "async", "--seed", str(Path(seed).resolve()), "--json", "--witness", "w.py",
+              cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    report = json.loads(run.stdout)
+    assert report["answer"] == "exists"
+    assert report["rows"][0]["checker"]["verdict"] == "VERIFIED"
+
+
+def test_a_broken_witness_is_refused_by_the_checker(tmp_path: Path) -> None:
+    """The witness is an ordinary algorithm file, judged by the checker alone: make every
+    answer of its table "stay" and the checker finds the deadlock."""
+    robots, meeting = SEARCH_UNKNOWN[0]
+    run = cli("--world", "grid", "--robots", robots, "--meeting", meeting, "--scheduler",
+              "async", "--json", "--witness", "w.py", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    text = (tmp_path / "w.py").read_text()
+    head, table = text.split("TABLE = {", 1)
+    table, tail = table.split("}\n", 1)
+    stays = "".join(line.rsplit(":", 1)[0] + ": (0, 0),\n"
+                    for line in table.splitlines() if line.strip())
+    (tmp_path / "broken.py").write_text(head + "TABLE = {\n" + stays + "}\n" + tail)
+    c = Configuration(_nodes(robots), _nodes(meeting), initial=True)
+    for name, want in (("w.py", "VERIFIED"), ("broken.py", "VIOLATED")):
+        got = run_check(c, algorithm=str(tmp_path / name) + ":Synthesized", scheduler="async",
+                        properties=["final", "termination"], reduction=False,
+                        max_seconds=60, force=True)
+        assert got["verdict"] == want, (name, got)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("robots", "meeting"), [
+    ("0,1 1,1 2,1", "0,0 2,2"),  # I32: a robot on the centre of M's rotation
+    ("0,0 1,1 2,2", "0,0 0,2 2,0 2,2"),  # I32, four meeting nodes
+    ("0,0 0,1 2,2", "0,0 2,2"),  # I22
+])
+def test_configurations_a_weaker_search_left_unknown_are_gathered(tmp_path: Path, robots: str,
+                                                                 meeting: str) -> None:
+    """Outside U, and left unknown (at 20 to 120 s) by a search with coarser livelock
+    clauses and no seed: gathered by a synthesised table that the checker verifies."""
+    run = cli("--world", "grid", "--robots", robots, "--meeting", meeting, "--scheduler",
+              "async", "--json", "--witness", "w.py", "--max-seconds", "240", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    c = Configuration(_nodes(robots), _nodes(meeting), initial=True)
+    got = run_check(c, algorithm=str(tmp_path / "w.py") + ":Synthesized", scheduler="async",
+                    properties=["final", "termination"], reduction=False, max_seconds=120,
+                    force=True)
+    assert got["verdict"] == "VERIFIED", got

@@ -90,6 +90,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--together", action="store_true",
                    help="with --box --select outside-u: one algorithm for every selected "
                         "configuration at once")
+    p.add_argument("--seed", action="append", default=None, metavar="ALGORITHM",
+                   help="the paper's world: an algorithm (name or FILE.py:NAME, a witness of "
+                        "an earlier run) whose answers the search tries first, before the "
+                        "paper's and the nearest-meeting-node rule; may be repeated")
     p.add_argument("--rounds", type=bounded_int(0, 1000), default=12,
                    help="the paper's world: rounds of Theorem 1's adversary that a certificate "
                         "of none re-checks with the view code (default 12)")
@@ -112,8 +116,9 @@ def run(args: argparse.Namespace) -> int:
 
     if is_plane(args.world):
         return _plane(args)
-    if args.box is not None:
-        raise UsageError("--box goes with the paper's world (--world grid)")
+    if args.box is not None or args.seed:
+        raise UsageError(f"{'--box' if args.box is not None else '--seed'} goes with the "
+                         "paper's world (--world grid)")
     from gather_verify.synthesis.search import certificate_stats, synthesize
     from gather_verify.synthesis.views import Views, make_instance
 
@@ -409,6 +414,7 @@ def _plane(args: argparse.Namespace) -> int:
                          "or --select")
     if args.together:
         return _plane_together(args, inst)
+    seeds = _seeds(args)
     started = time.perf_counter()
     views = plane.PlaneViews(inst.detection, inst.frames)
     rows: list[dict[str, Any]] = []
@@ -432,7 +438,7 @@ def _plane(args: argparse.Namespace) -> int:
                 own = plane.PlaneViews(inst.detection, inst.frames)
                 found = plane.search_algorithm([c], inst, own, max_seconds=args.max_seconds,
                                                max_candidates=args.max_candidates,
-                                               max_states=args.max_states)
+                                               max_states=args.max_states, seeds=seeds)
                 from gather_verify.model.classes import classify_configuration
 
                 cl = classify_configuration(c)
@@ -460,7 +466,9 @@ def _plane(args: argparse.Namespace) -> int:
     answer = (answers.pop() if len(answers) == 1 else
               "unknown" if "unknown" in answers else "mixed")
     report: dict[str, Any] = {"answer": answer, **inst.describe(),
-                              "configurations": len(rows), "views": len(views.texts),
+                              "configurations": len(rows),
+                              # the views of the certificates, and of each search
+                              "views": len(views.texts) + sum(r.get("views", 0) for r in rows),
                               "answers": {a: sum(r["answer"] == a for r in rows)
                                           for a in ("exists", "none", "unknown")},
                               "certificate": None}
@@ -490,6 +498,15 @@ def _plane(args: argparse.Namespace) -> int:
         return EXIT_BUG
     return {"none": EXIT_VIOLATED, "exists": EXIT_OK, "mixed": EXIT_OK}.get(answer,
                                                                               EXIT_INCOMPLETE)
+
+
+def _seeds(args: argparse.Namespace) -> list[Any]:
+    """The search's seeds: those of ``--seed`` (loaded now, so a bad one is one line), then
+    the defaults."""
+    from gather_verify.algorithms import get_algorithm
+    from gather_verify.synthesis import plane
+
+    return [*(get_algorithm(spec) for spec in args.seed or ()), *plane.default_seeds()]
 
 
 def _print_plane(report: dict[str, Any]) -> None:
@@ -535,7 +552,7 @@ def _plane_together(args: argparse.Namespace, inst: Any) -> int:
     found = plane.search_algorithm(inst.configurations, inst, views,
                                    max_seconds=args.max_seconds,
                                    max_candidates=args.max_candidates,
-                                   max_states=args.max_states)
+                                   max_states=args.max_states, seeds=_seeds(args))
     report: dict[str, Any] = {"answer": found.answer, **inst.describe(), "together": True,
                               "configurations": len(inst.configurations),
                               "views": found.views, "candidates": found.candidates,

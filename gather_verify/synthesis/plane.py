@@ -27,6 +27,7 @@ import itertools
 import json
 import time
 from collections import Counter, deque
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from itertools import combinations
 from pathlib import Path
@@ -52,6 +53,9 @@ COVERED_SCHEDULERS = ("fsync", "ssync", "async")
 robot active) and an ASYNC sequence (every Look, then every Move), fair in each."""
 DEFAULT_ROUNDS = 8
 SELECTIONS = ("u", "outside-u", "all")
+SEED_ROUND = 32
+"""Candidates proposed with one seed's answers as the solver's phases before the next seed
+takes over (the rounds double once every seed has had its turn)."""
 CANDIDATE_SECONDS = 10.0
 """The least time one candidate's check gets before the search moves on (it gets a quarter
 of what is left when that is more)."""
@@ -487,14 +491,18 @@ def _text(robots: Any, meeting: Any) -> str:
 # -- exists: a table, proposed by a solver and judged by the ordinary checker --------------
 
 class TableAlgorithm:
-    """A candidate: per key, an option (its first answer label); other views have no rule.
-    A view whose robots and meeting nodes span more than ``span`` edges is out of the
-    region: no rule either (the search excludes the table; a heuristic, never a none)."""
+    """A candidate: per key, an option (its first answer label). A view the table does not
+    hold has no rule, unless ``extend`` is given: the view is then registered and takes the
+    option ``extend`` gives it, written into ``choice`` (one exploration then follows the
+    seed as far as it goes). A view whose robots and meeting nodes span more than ``span``
+    edges is out of the region: no rule (the search excludes the table; a heuristic, never a
+    none)."""
 
     name = "synthesized-candidate"
 
-    def __init__(self, views: PlaneViews, choice: dict[int, int], span: int):
-        self.views, self.choice, self.span = views, choice, span
+    def __init__(self, views: PlaneViews, choice: dict[int, int], span: int,
+                 extend: Callable[[int], int] | None = None):
+        self.views, self.choice, self.span, self.extend = views, choice, span, extend
 
     def decide(self, view: View) -> Node:
         views = self.views
@@ -505,6 +513,9 @@ class TableAlgorithm:
             raise Unhandled("region: the robots went too far from the meeting nodes")
         key, t = viewkey.canonical(views.group, viewkey.observe_plane(view, views.detection))
         k = views.index.get(viewkey.key_text(key))
+        if (k is None or k not in self.choice) and self.extend is not None:
+            k = views.occurrence(view._snapshot, view._node)[0]
+            self.choice[k] = self.extend(k)
         if k is None or k not in self.choice:
             raise Unhandled("a view the search has not met")
         label = views.options[k][self.choice[k]]
@@ -526,12 +537,20 @@ class SearchResult:
 
 def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
                      views: PlaneViews, *, max_seconds: float, max_candidates: int,
-                     max_states: int, margin: int = 2) -> SearchResult:
+                     max_states: int, margin: int = 2,
+                     seeds: list[Any] | None = None) -> SearchResult:
     """Counterexample-guided: the solver proposes a table over the views met so far, the
     ordinary checker (every reduction off, properties final and termination) judges it from
     each configuration in turn (the last one that failed first); a violation's trace gives
-    the clause "not these options on the views it relies on", a view with no rule is added
-    to the table. One table must gather from every configuration."""
+    the clause "not these options on the views it relies on". A view that the exploration
+    meets for the first time joins the table with the seed's answer, and the exploration
+    goes on. One table must gather from every configuration.
+
+    ``seeds`` (algorithms; None stands for the nearest-meeting-node rule) give the answer
+    the solver tries first on each view (:func:`preferred`), one seed at a time: the first
+    for :data:`SEED_ROUND` candidates, the next for as many, and round again with twice as
+    many. A seed is a phase, never a constraint: every clause holds whichever seed is on,
+    and the answer is judged by the checker alone. Default: :func:`default_seeds`."""
     from gather_verify.check import run_check
     from gather_verify.synthesis.search import solver_class
 
@@ -540,7 +559,10 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
     base: list[int] = []
     total = [0]
 
-    phases: list[int] = []
+    seeds = default_seeds() if seeds is None else seeds
+    best: list[list[int]] = [[] for _ in seeds]  # per seed, per view: the option tried first
+    on = [0, SEED_ROUND, 1]  # the seed in use, the candidate at which the next takes over,
+    # and how many turns have begun
 
     def register() -> None:
         while len(base) < len(views.texts):
@@ -551,9 +573,23 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
             solver.add_clause(xs)
             for a, b in combinations(xs, 2):
                 solver.add_clause([-a, -b])
-            best = preferred(views, j)
-            phases.extend(x if o == best else -x for o, x in enumerate(xs))
-        solver.set_phases(phases)
+        if candidates >= on[1]:
+            on[0] = (on[0] + 1) % len(seeds)
+            on[1] = candidates + SEED_ROUND * 2 ** (on[2] // len(seeds))
+            on[2] += 1
+        mine = best[on[0]]
+        while len(mine) < len(base):
+            mine.append(preferred(views, len(mine), seeds[on[0]]))
+
+        solver.set_phases([base[k] + o + 1 if o == mine[k] else -(base[k] + o + 1)
+                           for k in range(len(base)) for o in range(len(views.options[k]))])
+
+    def fresh(k: int) -> int:
+        """The option of a view met during an exploration that follows the seed."""
+        mine = best[on[0]]
+        while len(mine) <= k:
+            mine.append(preferred(views, len(mine), seeds[on[0]]))
+        return mine[k]
 
     spans = []
     for c in configurations:
@@ -594,7 +630,9 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
             c = configurations[idx]
             left = max_seconds - (time.perf_counter() - started)
             cap = min(left, max(CANDIDATE_SECONDS, left / 4))
-            report = run_check(c, algorithm=TableAlgorithm(views, choice, spans[idx]),
+            # a view met for the first time takes the seed's answer and the exploration goes
+            # on: one exploration settles a configuration the seed gathers from
+            report = run_check(c, algorithm=TableAlgorithm(views, choice, spans[idx], fresh),
                                scheduler=inst.scheduler, detection=inst.detection,
                                frames=inst.frames, properties=["final", "termination"],
                                reduction=False, max_states=max_states,
@@ -613,6 +651,7 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
             # one candidate took its share of the time: exclude this very table (a
             # heuristic, as for the region) and go on
             heuristic = True
+            register()
             solver.add_clause([-(base[k] + o + 1) for k, o in sorted(choice.items())])
             continue
         if report["verdict"] == "INCOMPLETE" and report.get("reason") == "time":
@@ -621,7 +660,7 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
             return result("unknown", f"the checker says {report['verdict']} "
                           f"({report.get('reason')}) of a candidate")
         before = len(views.texts)
-        configs, exact = literals(views, trace, c.meeting_nodes)
+        configs, exact = literals(views, trace, c.meeting_nodes, choice)
         used: set[int] = set()
         for d in configs:
             for v in d.occupied:
@@ -641,11 +680,30 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
         solver.add_clause(clause)
 
 
-def preferred(views: PlaneViews, k: int) -> int:
-    """The option the solver tries first for view ``k`` (a phase, not a constraint): stay on
-    a meeting node, else the option whose every move ends nearest a meeting node."""
+def default_seeds() -> list[Any]:
+    """The seeds of :func:`search_algorithm`: the paper's ``Gathering()`` (default reading),
+    which gathers from most configurations outside U, then the nearest-meeting-node rule."""
+    from gather_verify.algorithms import get_algorithm
+
+    return [get_algorithm("paper"), None]
+
+
+def preferred(views: PlaneViews, k: int, seed: Any = None) -> int:
+    """The option the solver tries first for view ``k`` (a phase, not a constraint): the
+    option whose move set is the ``seed`` algorithm's there, when a seed is given and has
+    one; else stay on a meeting node, else the option whose every move ends nearest a
+    meeting node."""
     c, node = views.first[k]
     _, opts = views.occurrence(c, node)
+    if seed is not None:
+        from gather_verify.algorithms.moves import move_set
+
+        try:
+            wanted = move_set(seed, c, node, views.detection, views.frame_ids)
+        except Exception:  # no rule there (or a crash): the seed has no say on this view
+            wanted = None
+        if wanted in opts:
+            return opts.index(wanted)
     if node in c.meeting_nodes:
         return next((o for o, d in enumerate(opts) if d == {node}), 0)
 
@@ -655,26 +713,50 @@ def preferred(views: PlaneViews, k: int) -> int:
     return min(range(len(opts)), key=lambda o: (far(opts[o]), o))
 
 
-def literals(views: PlaneViews, trace: dict[str, Any],
-             meeting: frozenset[Node]) -> tuple[list[Configuration], set[int] | None]:
-    """The configurations of a checker's trace, and for a path that ends in a deadlock or a
-    view with no rule the views whose chosen option it relies on: each activated robot's
-    view (the option that holds what it did) and, at a deadlock, every robot's. None for a
-    cycle (the clause then names every view of its configurations)."""
+def literals(views: PlaneViews, trace: dict[str, Any], meeting: frozenset[Node],
+             choice: dict[int, int] | None = None
+             ) -> tuple[list[Configuration], set[int] | None]:
+    """The configurations of a checker's trace, and the views whose chosen option the
+    trace relies on: each activated robot's view (the option that holds what it did); at a
+    deadlock, every robot's; on a fair cycle, for each robot that does not act on the
+    cycle, its view at one state of the cycle where it is idle and its option is to stay
+    (what makes the cycle fair for it, SEMANTICS.md §5). Any table with these options has
+    the same execution, so the clause "not all of these" excludes no table that gathers.
+    None when the trace is of another kind (the clause then names every view of its
+    configurations)."""
     configs = [Configuration([tuple(v) for v in trace["initial"]["robots"]], meeting)]
     configs += [Configuration([tuple(r["node"]) for r in step["state"]], meeting)
                 for step in trace["steps"]]
-    if trace.get("cycle_start") is not None or trace.get("property") not in ("final",
-                                                                           "defined"):
+    cs = trace.get("cycle_start")
+    kind = trace.get("property")
+    if not (kind in ("final", "defined") and cs is None
+            or kind == "termination" and cs is not None and choice is not None):
         return configs, None
     used: set[int] = set()
+    acted: set[int] = set()
     for j, step in enumerate(trace["steps"]):
         if step["event"]["kind"] in ("look", "round"):
             for i in step["event"]["robots"]:
                 used.add(views.occurrence(configs[j], _robot_node(trace, j, i))[0])
-    if trace.get("property") == "final":
+        if cs is not None and j >= cs:
+            acted.update(step["event"]["robots"])
+    if kind == "final":
         last = configs[-1]
         used.update(views.occurrence(last, v)[0] for v in last.occupied)
+    if cs is not None:
+        assert choice is not None
+        n = len(trace["initial"]["robots"])
+        for i in sorted(set(range(n)) - acted):
+            for j in range(cs, len(configs)):
+                state = trace["steps"][j - 1]["state"] if j else None
+                if state is not None and state[i]["pending"] is not None:
+                    continue
+                k = views.occurrence(configs[j], _robot_node(trace, j, i))[0]
+                if k in choice and views.options[k][choice[k]] == geometry.ORIGIN:
+                    used.add(k)
+                    break
+            else:  # no state says why the cycle is fair for robot i: fall back
+                return configs, None
     return configs, used
 
 
