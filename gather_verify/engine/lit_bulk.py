@@ -37,7 +37,7 @@ import time
 from collections.abc import Callable, Iterable, Sequence
 from functools import partial
 from itertools import islice
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -70,7 +70,7 @@ from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import Lights, check_detection
 from gather_verify.progress import PROGRESS
-from gather_verify.properties.facts import ConfigurationFacts
+from gather_verify.properties.facts import ConfigurationFacts, StateFacts
 from schedulers import Frontier, State, get_scheduler
 
 CHUNK = 1 << 13
@@ -85,7 +85,9 @@ def unsupported(initial: Configuration, scheduler: str, lights: Lights, *,
                 reduction: bool = True, symmetry: bool | None = None, frames: str = "all",
                 limits: Limits = NO_LIMITS, **_: object) -> str | None:
     """Why this engine cannot run a luminous search (one line), or None when it can."""
-    get_scheduler(scheduler)  # an unknown name is an error, not a fallback
+    sched = get_scheduler(scheduler)  # an unknown name is an error, not a fallback
+    if not hasattr(sched, "bulk_luminous"):
+        return f"the scheduler {sched.name} has no bulk face for lights (bulk_luminous)"
     if 5 * lights.colours > MAX_ACTIONS:
         return f"{lights.colours} colours: a robot has more than {MAX_ACTIONS} actions"
     symmetry = reduction if symmetry is None else symmetry
@@ -201,12 +203,12 @@ def explore_lit(
     compiled = kernels.enabled()
 
     start = lit_initial_state(initial.robots, colours)
-    checks = Checks(properties, LitRowFacts(facts(lit_configuration(start)), True))
+    checks = Checks(properties, StateFacts(facts(lit_configuration(start)), True))
     columns = ColumnChecks(checks, lambda row, idle=None: LitRowFacts(table.facts[row], idle),
                            lambda rows, idle: [LitRowFacts(table.facts[r], i) for r, i in
                                                zip(rows.tolist(), idle.tolist(), strict=True)])
-    init_rows, _ = table.locate(np.array([[enc.code(v, None) * k + c for v, _, c in start]],
-                                         dtype=np.int64))
+    init_rows, _ = table.locate(np.array([[enc.code(r[0], None) * k + r[2]  # type: ignore[misc]
+                                           for r in start]], dtype=np.int64))
     columns.states(0, init_rows, np.ones(1, dtype=bool), checks.on_discovery)
     on_chunk = checks.halting + checks.on_expansion
 
@@ -254,12 +256,14 @@ def explore_lit(
         elif chunk < CHUNK:
             chunk = min(CHUNK, 2 * chunk)
         src, weight = bulk.source, bulk.weight
-        robot, new, event = bulk.robot, bulk.code, bulk.event
-        single = event is None
+        robot, new = bulk.robot, bulk.code
+        single = bulk.event is None  # one change per event: change c is event c
+        event = np.arange(len(src)) if bulk.event is None else bulk.event
         outside = np.flatnonzero(new < 0)
         cut = len(src)
+        stop: Stop | str | None
         if len(outside):
-            cut = int(outside[0]) if single else int(event[outside[0]])
+            cut = int(event[outside[0]])
             stop_src, stop = int(src[cut]), Stop.REGION
             transitions += cut + 1
         else:
@@ -267,12 +271,10 @@ def explore_lit(
             stop = halt[1].name if halt is not None and halt[0] == limit_src else None
             transitions += cut
         src, weight = src[:cut], weight[:cut]
-        changes = cut if single else int(np.searchsorted(event, cut))
-        robot, new = robot[:changes], new[:changes]
-        if not single:
-            event = event[:changes]
-        succ, old, _ = successor_keys(keys, codes, src, robot, new, event, canon, reduced,
-                                      compiled)
+        changes = int(np.searchsorted(event, cut))
+        robot, new, event = robot[:changes], new[:changes], event[:changes]
+        succ, old, _ = successor_keys(keys, codes, src, robot, new, None if single else event,
+                                      canon, reduced, compiled)
         known = index.count
         ids, first = index.find_or_add(succ)
         fresh_src = src[first]
@@ -285,10 +287,8 @@ def explore_lit(
                 transitions -= cut - keep
                 cut = keep
                 src, weight, succ, ids = src[:cut], weight[:cut], succ[:cut], ids[:cut]
-                changes = cut if single else int(np.searchsorted(event, cut))
-                robot, new, old = robot[:changes], new[:changes], old[:changes]
-                if not single:
-                    event = event[:changes]
+                changes = int(np.searchsorted(event, cut))
+                robot, new, old, event = (a[:changes] for a in (robot, new, old, event))
                 m = int(np.searchsorted(fresh_src, stop_src, side="right"))
                 fresh_src = fresh_src[:m]
                 index.truncate(known + m)
@@ -304,11 +304,8 @@ def explore_lit(
             fresh = decode_keys(fresh_keys, enc.base, n)
             columns.states(known, table.locate(fresh)[0], np.all(fresh // k % 5 == 0, axis=1),
                            checks.on_discovery)
-        if single:
-            changed = new != old
-        else:
-            changed = np.zeros(cut, dtype=bool)
-            changed[event[new != old]] = True
+        changed = np.zeros(cut, dtype=bool)
+        changed[event[new != old]] = True
         changed_loops += int(np.count_nonzero((ids == sid + src) & changed))
         if graph:
             counts = np.bincount(src, minlength=expanded)[:expanded]
@@ -333,9 +330,12 @@ def explore_lit(
     return Exploration(
         initial=initial, algorithm=algo, scheduler_name=scheduler, detection=detection,
         frames=frames, anonymity=anonymity, symmetry=symmetry, encoding=enc,
-        keys=IntColumn(index.keys[:index.count]), parents=IntColumn(parents.array()),
-        offsets=IntColumn(offsets.array()), targets=IntColumn(targets.array()),
-        weights=IntColumn(weights.array()), changed_loops=changed_loops, states=index.count,
+        # the numpy columns read as the reference's list and arrays
+        keys=cast(Any, IntColumn(index.keys[:index.count])),
+        parents=cast(Any, IntColumn(parents.array())),
+        offsets=cast(Any, IntColumn(offsets.array())),
+        targets=cast(Any, IntColumn(targets.array())),
+        weights=cast(Any, IntColumn(weights.array())), changed_loops=changed_loops, states=index.count,
         transitions=transitions, stopped=stopped, violations=checks.violations,
         seconds=time.perf_counter() - started, peak_rss_mb=peak, facts=facts,
         vacuous=checks.vacuous, lights=lights, colours=tuple(colours or (0,) * n),

@@ -51,10 +51,10 @@ def explore(
     if lights is not None:  # luminous robots: the lit bulk engine, when it can
         if engine == "reference":
             return explore_reference(initial, algorithm, scheduler, **options)
-        why = lit_bulk.unsupported(initial, scheduler, **options)  # type: ignore[arg-type]
+        why = lit_bulk.unsupported(initial, scheduler, **options)
         if why is None:
             return lit_bulk.explore_lit(initial, algorithm, scheduler, graph=graph, memo=memo,
-                                        **options)  # type: ignore[arg-type]
+                                        **options)
         if engine == "fast":
             raise InvalidInput(f"the bulk engine cannot run this request ({why}): use "
                                "--engine auto or reference")
