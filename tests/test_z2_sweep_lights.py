@@ -111,8 +111,10 @@ BY_REFERENCE = partial(verify_lit_one, engine="reference")
 
 
 @pytest.mark.parametrize("options", [
-    {"algorithm": "beacon", "lights": "2", "initial_colours": "all"},
+    {"algorithm": "beacon", "lights": "2", "scheduler": "ssync"},
     {"algorithm": "broken-beacon", "lights": "2:external", "scheduler": "ssync"},
+    pytest.param({"algorithm": "beacon", "lights": "2", "initial_colours": "all"},
+                 marks=pytest.mark.slow),
     pytest.param({"algorithm": "bounce", "lights": "3", "scheduler": "fsync",
                   "initial_colours": "all"}, marks=pytest.mark.slow),
     pytest.param({"algorithm": "beacon", "lights": "2", "robots": 3, "meeting": 1,
