@@ -122,7 +122,8 @@ BY_REFERENCE = partial(verify_lit_one, engine="reference")
                   "scheduler": "centralized", "initial_colours": "all"},
                  marks=pytest.mark.slow),
     pytest.param({"algorithm": "broken-beacon", "lights": "2:internal", "robots": 3,
-                  "scheduler": "async", "reduction": False}, marks=pytest.mark.slow),
+                  "scheduler": "async", "reduction": False, "max_states": 3000},
+                 marks=pytest.mark.slow),
 ], ids=lambda o: "-".join(f"{v}" for v in o.values()))
 def test_the_bulk_engines_rows_are_the_references(options: dict, tmp_path: Path) -> None:
     """Every stored row (traces included) of a luminous sweep, by the bulk engine (the
