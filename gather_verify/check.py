@@ -321,9 +321,9 @@ def run_check(
     ``lights``: luminous robots (SEMANTICS.md §10), ``K``, ``K:external`` or ``K:internal``,
     with ``colours`` their initial colours (default 0), one per robot of
     ``configuration.robots`` (sorted: :func:`sorted_colours` reorders colours given as the
-    robots were written). The reference engine runs them (the
-    bulk engine encodes no colours: with ``engine="auto"`` the report's ``engine_fallback``
-    says so, ``engine="fast"`` is refused); ``no-ungatherable`` does not apply for K > 1 (U is
+    robots were written). The bulk engine runs them
+    (:mod:`~gather_verify.engine.lit_bulk`; the report's ``engine`` says which ran, and
+    ``engine_fallback`` why ``auto`` ran the reference); ``no-ungatherable`` does not apply for K > 1 (U is
     where oblivious robots cannot gather: robots on U's nodes with different colours are no
     longer symmetric, so entering U is no fault of a luminous algorithm in itself).
 
@@ -353,8 +353,6 @@ def run_check(
             for c in colours)):
         raise InvalidInput(f"initial colours {list(colours)}: give --lights, and one colour "
                            f"per robot in 0..{(light.colours if light else 1) - 1}")
-    if light is not None and engine == "fast":
-        raise InvalidInput("the bulk engine encodes no lights: use --engine auto or reference")
     lit: dict[str, Any] = {} if light is None else {
         "lights": light, "colours": None if colours is None else tuple(colours)}
     if light is not None and light.colours > 1 and "no-ungatherable" in wanted:
@@ -407,10 +405,8 @@ def run_check(
         "reduction": reduction,
         **({"not_applicable": not_applicable} if not_applicable else {}),
         **({} if light is None else {
-            "lights": str(light), "colours": list(colours or (0,) * n), "engine": "reference",
-            **({} if engine == "reference" else {
-                "engine_fallback": "the bulk engine encodes no lights: the reference engine "
-                                   "ran"})}),
+            "lights": str(light), "colours": list(colours or (0,) * n),
+            "engine": "reference" if engine == "reference" else "bulk"}),
     }
     if (cls.in_U or cls.name == "UNCLASSIFIED") and frames == "all" and not force:
         # the paper's U and partition are about disoriented robots (all 8 frames): with a
@@ -465,6 +461,10 @@ def run_check(
         if on_exploration is not None:
             on_exploration(e)
         report.update(states=e.states, transitions=e.transitions, peak_rss_mb=round(e.peak_rss_mb, 1))
+        if light is not None:  # which engine ran the last search, and why not the bulk one
+            report["engine"] = e.engine
+            if e.engine_fallback is not None:
+                report["engine_fallback"] = e.engine_fallback
         results = report["properties"]
         for name, trace in traces.items():
             # the trace's reason: it names the nodes of the concrete execution shown

@@ -22,7 +22,9 @@ from schedulers.base import (
     MoveSets,
     State,
     Successors,
+    allowed_actions,
     configuration_of,
+    luminous_order,
 )
 
 LOOK_ORDER = tuple(sorted(range(len(STEPS)), key=STEPS.__getitem__))
@@ -71,6 +73,42 @@ class Async:
             else:
                 yield (Event("move", (i,), ((i, node, pending),)),
                        robots[:i] + ((pending, None, colour),) + robots[i + 1:], extra)
+
+    def bulk_luminous(self, frontier: Frontier, budget: int, colours: int) -> Successors:
+        """:meth:`luminous` on Z² in bulk (codes and masks with ``colours`` colours, as
+        :class:`~schedulers.base.Frontier` says): per robot, an idle one's Looks (every action
+        but staying with its own colour, in order; pending step and colour set at once), a
+        busy one's Move (its colour kept; -1 when it leaves the region). One change per
+        event."""
+        codes, masks, neighbour = frontier
+        s, n = codes.shape
+        order = luminous_order(colours)
+        w = len(order)
+        if s * w * n > budget:
+            s = max(1, budget // (w * n))
+            codes, masks = codes[:s], masks[:s]
+        robot_code = codes // colours  # cell * 5 + d
+        colour = codes - robot_code * colours
+        idle = robot_code % 5 == 0
+        present = allowed_actions(masks, order)
+        present &= order[None, None, :] != 4 * colours + colour[:, :, None]  # stay, same light
+        present &= idle[:, :, None]
+        present[:, :, 0] |= ~idle  # a busy robot's one event: its Move
+        flat = np.flatnonzero(present)
+        at, j = np.divmod(flat, w)
+        src, robot = np.divmod(at, n)
+        rc = robot_code.reshape(-1)[at]
+        cell = rc // 5
+        step, c = np.divmod(order[j], colours)
+        new = (cell * 5 + np.where(step < 4, step + 1, 0)) * colours + c
+        move = np.flatnonzero(~idle.reshape(-1)[at])
+        if len(move):
+            dest = neighbour[cell[move], rc[move] - cell[move] * 5 - 1]
+            new[move] = np.where(dest >= 0, dest * 5 * colours + colour.reshape(-1)[at[move]],
+                                 -1)
+        weight = np.zeros(len(flat), dtype=np.int8)
+        weight[move] = 1
+        return Successors(s, src, weight, robot, new, None)
 
     def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
         """:meth:`successors` for many states at once, in the same order: one change per

@@ -67,6 +67,11 @@ class Frontier(NamedTuple):
     of state s as bits: bit k for ``STEPS[k]``, bit 4 for staying.
     ``neighbour[cell, k]`` is the cell one ``STEPS[k]`` away (-1: outside the
     region). A scheduler reads these and nothing else of the engine.
+
+    With K colours (luminous robots, §10; ``bulk_luminous``) a robot's code is
+    ``(cell * 5 + d) * K + colour`` and its mask has a bit per action, bit
+    ``k * K + c`` for ``STEPS[k]`` (k = 4: stay) with the new colour c
+    (:func:`luminous_order`).
     """
 
     codes: np.ndarray  # (S, n) int64
@@ -117,6 +122,12 @@ class Scheduler(Protocol):
         """:meth:`successors` of the leading states of ``frontier``, as many as fit in about
         ``budget`` events (at least one state when there is one; all of them is fine when
         they fit): the same events, in the same order."""
+        ...
+
+    def bulk_luminous(self, frontier: Frontier, budget: int, colours: int) -> Successors:
+        """:meth:`luminous` on Z² in bulk (``order`` the actions themselves, ``null``), for
+        the leading states of ``frontier`` as :meth:`bulk_successors` takes them; robots and
+        masks are luminous (:func:`luminous_order` gives the layout)."""
         ...
 
     def luminous(self, robots: tuple[LRobot, ...], extra: object, actions: Actions, *,
@@ -254,6 +265,73 @@ def numpy_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Succes
     return Successors(s, group // k, moved.sum(axis=1, dtype=np.int8 if n <= 127 else np.int16),
                       robot,
                       new.reshape(-1)[flat], event)
+
+
+def luminous_order(colours: int) -> np.ndarray:
+    """The action bits of a luminous robot on Z² in the order ``luminous`` tries its actions
+    (sorted (destination, colour) pairs: the order of the oblivious ``successors``, then
+    the colour): bit ``k * colours + c`` is ``STEPS[k]`` (k = 4: stay) with colour c."""
+    order = sorted(range(5), key=lambda k: STEPS[k] if k < 4 else (0, 0))
+    return np.array([k * colours + c for k in order for c in range(colours)], dtype=np.int64)
+
+
+def allowed_actions(masks: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """Per robot, which actions of ``order`` its mask holds: an ``(S, n, len(order))`` bool."""
+    return (masks.astype(np.int64)[:, :, None] >> order & 1).astype(bool)
+
+
+def bulk_luminous_rounds(frontier: Frontier, budget: int, subsets: np.ndarray,
+                         colours: int) -> Successors:
+    """:func:`numpy_rounds` for luminous robots (codes and masks as :class:`Frontier` says
+    with K colours): per state, per activated subset (rows of ``subsets``), every choice of
+    actions of the activated robots in the order of ``itertools.product`` over their sorted
+    actions; they move and set their colours at once (the rounds of ``luminous``, ``null``:
+    a round that changes nothing is a self-loop). A change is listed per robot whose code
+    changed (a move or a new colour); the weight counts the moves."""
+    codes, masks, neighbour = frontier
+    s, n = codes.shape
+    k = len(subsets)
+    order = luminous_order(colours)
+    w = len(order)
+    allowed = allowed_actions(masks, order)  # (S, n, W)
+    count = allowed.sum(axis=2)
+    width = np.where(subsets[None, :, :], count[:, None, :], 1)  # (S, k, n)
+    per = width.prod(axis=2)  # events per (state, subset)
+    if s:
+        total = np.cumsum(per.sum(axis=1))
+        s = min(len(total), max(1, int(np.searchsorted(total, budget, side="right"))))
+    width, per = width[:s].reshape(s * k, n), per[:s].reshape(-1)
+    # per (state, robot): the bit of its j-th action (allowed ones first, in order)
+    nth = order[np.argsort(~allowed[:s], axis=2, kind="stable")]  # (S, n, W)
+    step, colour = np.divmod(nth, colours)
+    cell = codes[:s] // (5 * colours)
+    go = step < 4
+    dest = neighbour[cell[:, :, None], np.where(go, step, 0)]
+    choice = np.empty((s, n, w + 1), dtype=np.int64)
+    choice[:, :, :w] = np.where(go, np.where(dest >= 0, dest * 5 * colours + colour, -1),
+                                cell[:, :, None] * 5 * colours + colour)
+    choice[:, :, w] = codes[:s]
+    moves = np.zeros((s, n, w + 1), dtype=bool)
+    moves[:, :, :w] = go
+    choice, moves = choice.reshape(-1), moves.reshape(-1)
+    slot = ((np.arange(s)[:, None] * n + np.arange(n)) * (w + 1))[:, None, :] + \
+        np.where(subsets, 0, w)[None, :, :]
+    slot = slot.reshape(s * k, n)
+    group = np.repeat(np.arange(s * k), per)  # the (state, subset) of each event
+    e = len(group)
+    rank = np.arange(e) - (np.cumsum(per) - per)[group]
+    new = np.empty((e, n), dtype=np.int64)
+    moved = np.empty((e, n), dtype=bool)
+    for i in range(n - 1, -1, -1):  # product: the last robot varies fastest
+        rank, digit = np.divmod(rank, width[group, i])
+        at = slot[group, i] + digit
+        new[:, i] = choice[at]
+        moved[:, i] = moves[at]
+    source = group // k
+    flat = np.flatnonzero((new != codes[source]).reshape(-1))
+    event, robot = np.divmod(flat, n)
+    return Successors(s, source, moved.sum(axis=1, dtype=np.int8 if n <= 127 else np.int16),
+                      robot, new.reshape(-1)[flat], event)
 
 
 def subsets_matrix(subsets: Iterable[Iterable[int]], n: int) -> np.ndarray:

@@ -18,6 +18,7 @@ from schedulers.base import (
     MoveSets,
     State,
     Successors,
+    bulk_luminous_rounds,
     bulk_rounds,
     configuration_of,
     round_event,
@@ -55,6 +56,9 @@ class SSync:
 
     def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
         return bulk_rounds(frontier, budget, _subsets(frontier.codes.shape[1]))
+
+    def bulk_luminous(self, frontier: Frontier, budget: int, colours: int) -> Successors:
+        return bulk_luminous_rounds(frontier, budget, _subsets(frontier.codes.shape[1]), colours)
 
     def luminous(self, robots: tuple[LRobot, ...], extra: object, actions: Actions, *,
                  order: ActionOrder = repr, null: bool = False

@@ -9,19 +9,29 @@ import json
 import subprocess
 import sys
 from collections import Counter
+from pathlib import Path
+from typing import Any
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import schedulers.async_
+import schedulers.base
+from gather_verify import kernels
 from gather_verify.check import run_check, sorted_colours
 from gather_verify.cli import main
+from gather_verify.engine import lit_bulk
+from gather_verify.engine.encoding import Limits
 from gather_verify.engine.explore import explore_reference
+from gather_verify.engine.search import explore
 from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import LightHidden, Lights, LuminousView, MultiplicityHidden
 from gather_verify.replay import NoLongerReproduces, replay
+from gather_verify.worlds.moves import parse_lights
 
 CLI = [sys.executable, "-m", "gather_verify"]
 BEACON = Configuration([(1, 1), (3, 2)], [(0, 0), (4, 0)], initial=True)
@@ -148,11 +158,20 @@ def test_beacon_without_its_light_is_refused(scheduler: str) -> None:
 
 def test_a_check_with_lights_says_which_engine_ran() -> None:
     report = run_check(BEACON, algorithm="beacon", scheduler="async", lights="2")
-    assert report["engine"] == "reference" and "no lights" in report["engine_fallback"]
+    assert report["engine"] == "bulk" and "engine_fallback" not in report
     assert report["lights"] == "2" and report["colours"] == [0, 0]
     assert "no-ungatherable" in report["not_applicable"]
-    with pytest.raises(InvalidInput, match="encodes no lights"):
-        run_check(BEACON, algorithm="beacon", scheduler="async", lights="2", engine="fast")
+    fast = run_check(BEACON, algorithm="beacon", scheduler="async", lights="2", engine="fast")
+    assert fast["engine"] == "bulk"
+    ref = run_check(BEACON, algorithm="beacon", scheduler="async", lights="2",
+                    engine="reference")
+    assert ref["engine"] == "reference" and "engine_fallback" not in ref
+    # 13 colours: 65 actions a robot, more than a mask holds; auto says why it fell back
+    many = run_check(BEACON, algorithm="beacon", scheduler="fsync", lights="13")
+    assert many["engine"] == "reference"
+    assert "more than 62 actions" in many["engine_fallback"]
+    with pytest.raises(InvalidInput, match="cannot run this request"):
+        run_check(BEACON, algorithm="beacon", scheduler="fsync", lights="13", engine="fast")
 
 
 # -- invariance under the grid's symmetries ---------------------------------------------------
@@ -246,7 +265,7 @@ def test_the_viewer_shows_each_robots_colour_and_the_lights_an_event_changed() -
     (("--lights", "2", "--colours", "0 2"), "initial colours"),
     (("--lights", "2", "--colours", "0"), "initial colours"),
     (("--colours", "0 1"), "give --lights"),
-    (("--lights", "2", "--engine", "bulk"), "encodes no lights"),
+    (("--lights", "13", "--engine", "bulk"), "more than 62 actions"),
     (("--lights", "2", "--scheduler", "round-robin"), "finite"),
 ])
 def test_bad_lights_on_the_paper_world_are_one_line(args: tuple[str, ...], words: str,
@@ -320,3 +339,157 @@ def test_a_luminous_livelock_is_found_and_replays(tmp_path) -> None:  # noqa: AN
         assert trace["cycle_start"] is not None
         assert all(not step["event"]["moves"] for step in trace["steps"])
         assert replay(trace).confirmed
+
+
+# -- the bulk engine with lights, field by field against the reference ------------------------
+
+LIT_CONFIGURATIONS = [
+    BEACON,
+    Configuration([(0, 0), (2, 1)], [(1, 2)], initial=True),  # one meeting node, I11
+    Configuration([(1, 0), (5, 3)], [(0, 0), (6, 0)], initial=True),
+    Configuration([(0, 0), (2, 0), (1, 2)], [(1, 1)], initial=True),  # three robots
+]
+LIT_ALGORITHMS = ["beacon", "broken-beacon", "bounce"]
+SCHEDULERS = ["fsync", "ssync", "async", "centralized"]
+EXPLORATION_FIELDS = ("states", "transitions", "stopped", "changed_loops", "vacuous")
+
+
+def exploration_fields(e: Any) -> dict[str, Any]:
+    """Every field of a search the reports and traces are built from."""
+    out = {f: getattr(e, f) for f in EXPLORATION_FIELDS}
+    for column in ("keys", "parents", "offsets", "targets", "weights"):
+        out[column] = list(getattr(e, column))
+    out["violations"] = {name: (v.state, v.reason, v.event, v.successor, v.detail)
+                         for name, v in e.violations.items()}
+    return out
+
+
+def lit_differences(c: Configuration, algorithm: str, scheduler: str, lights: str,
+                    reduction: bool, **limits: Any) -> list[str]:
+    """The fields in which the bulk search with lights differs from the reference's (none:
+    []), the searches and the reports of ``run_check`` (traces included) compared."""
+    light = parse_lights(lights)
+    lim = Limits(**{"margin": 1, "max_states": 40_000, **limits})
+    ref = explore(c, algorithm, scheduler, engine="reference", lights=light, reduction=reduction,
+                  limits=lim)
+    bulk = explore(c, algorithm, scheduler, engine="fast", lights=light, reduction=reduction,
+                   limits=lim)
+    assert (ref.engine, bulk.engine) == ("reference", "bulk")
+    a, b = exploration_fields(ref), exploration_fields(bulk)
+    out = [f"search {k}" for k in a if a[k] != b[k]]
+    kw = {"algorithm": algorithm, "scheduler": scheduler, "lights": lights,
+          "reduction": reduction, "force": True, "margin": 1, "max_states": 40_000}
+    r1, r2 = run_check(c, engine="reference", **kw), run_check(c, engine="fast", **kw)
+    assert (r1["engine"], r2["engine"]) == ("reference", "bulk")
+    out += [f"report {k}" for k in r1 if k not in NOT_COMPARED and r1[k] != r2.get(k)]
+    if r2["trace"] is not None:
+        assert replay(r2["trace"]).confirmed
+    return out
+
+
+@pytest.mark.parametrize("scheduler", SCHEDULERS)
+@pytest.mark.parametrize("algorithm", LIT_ALGORITHMS)
+@pytest.mark.parametrize("lights", ["2", "3", "2:external", "2:internal"])
+def test_the_bulk_engine_with_lights_is_the_reference(scheduler: str, algorithm: str,
+                                                      lights: str) -> None:
+    for reduction in (True, False):
+        assert lit_differences(BEACON, algorithm, scheduler, lights, reduction) == []
+
+
+@pytest.mark.parametrize("scheduler", SCHEDULERS)
+@pytest.mark.parametrize("kernels_on", [True, False])
+def test_the_bulk_engine_with_lights_on_its_numpy_path(scheduler: str, kernels_on: bool) -> None:
+    """The compiled successor keys and the numpy ones (``GATHER_VERIFY_KERNELS=numpy``)."""
+    kernels.use(kernels_on)
+    try:
+        for c in LIT_CONFIGURATIONS[1:3]:
+            for reduction in (True, False):
+                assert lit_differences(c, "beacon", scheduler, "2", reduction) == []
+    finally:
+        kernels.use(None)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scheduler", SCHEDULERS)
+@pytest.mark.parametrize("algorithm", [*LIT_ALGORITHMS, "go-to-target"])
+@pytest.mark.parametrize("lights", ["1", "2", "3", "2:external", "2:internal", "3:external",
+                                    "3:internal"])
+@pytest.mark.parametrize("c", LIT_CONFIGURATIONS[1:])
+def test_the_bulk_engine_with_lights_is_the_reference_everywhere(
+        scheduler: str, algorithm: str, lights: str, c: Configuration) -> None:
+    for reduction in (True, False):
+        assert lit_differences(c, algorithm, scheduler, lights, reduction) == []
+
+
+def test_the_bulk_engine_with_lights_stops_where_the_reference_stops() -> None:
+    """A state limit and a region too small (margin 0, no growth) cut both searches at the
+    same state and transition."""
+    for scheduler in ("ssync", "async"):
+        assert lit_differences(LIT_CONFIGURATIONS[3], "bounce", scheduler, "2", False,
+                               max_states=300) == []
+        assert lit_differences(LIT_CONFIGURATIONS[3], "bounce", scheduler, "2", True,
+                               margin=0) == []
+
+
+def test_the_initial_colours_and_a_blinking_livelock_are_the_same(tmp_path) -> None:  # noqa: ANN001
+    (tmp_path / "blink.py").write_text(BLINK)
+    one = Configuration([(0, 0)], [(0, 0)], initial=True)
+    for scheduler in SCHEDULERS:
+        kw = {"algorithm": f"{tmp_path}/blink.py:Blink", "scheduler": scheduler, "lights": "2"}
+        r1, r2 = run_check(one, engine="reference", **kw), run_check(one, **kw)
+        assert r2["engine"] == "bulk" and r2["property"] == "termination"
+        assert {k: v for k, v in r1.items() if k not in NOT_COMPARED} == \
+            {k: v for k, v in r2.items() if k not in NOT_COMPARED}
+        kw = {"algorithm": "beacon", "scheduler": scheduler, "lights": "2", "colours": [1, 0]}
+        r1, r2 = run_check(BEACON, engine="reference", **kw), run_check(BEACON, **kw)
+        assert {k: v for k, v in r1.items() if k not in NOT_COMPARED} == \
+            {k: v for k, v in r2.items() if k not in NOT_COMPARED}
+
+
+@pytest.mark.parametrize("path", sorted(Path("scenarios").glob("lights/*.scenario.json")),
+                         ids=lambda p: p.name)
+def test_every_lit_scenario_of_the_paper_world_is_the_same_on_both_engines(path: Path) -> None:
+    data = json.loads(path.read_text())
+    c = Configuration([tuple(v) for v in data["robots"]],
+                      [tuple(m) for m in data["meeting_nodes"]], initial=True)
+    colours = data.get("colours")
+    if colours is not None:
+        colours = sorted_colours([tuple(v) for v in data["robots"]], colours)
+    for expected in data["expect"]["verdicts"]:
+        kw = {"algorithm": expected["algorithm"], "scheduler": expected["scheduler"],
+              "lights": data["lights"], "colours": colours}
+        r1, r2 = run_check(c, engine="reference", **kw), run_check(c, **kw)
+        assert r2["engine"] == "bulk" and r2["verdict"] == expected["verdict"]
+        assert {k: v for k, v in r1.items() if k not in NOT_COMPARED} == \
+            {k: v for k, v in r2.items() if k not in NOT_COMPARED}
+
+
+def test_a_perturbed_colour_encoding_is_caught(monkeypatch) -> None:  # noqa: ANN001
+    """The comparison is not blind: configurations looked up without their colours (a
+    robot's actions read from another colour's row), or the actions tried in another order,
+    make the bulk engine differ from the reference."""
+    monkeypatch.setattr(lit_bulk.LitTable, "locate", _colour_blind_locate)
+    assert lit_differences(BEACON, "beacon", "async", "2", False)
+    monkeypatch.undo()
+    assert lit_differences(BEACON, "beacon", "async", "2", False) == []
+    for scheduler in ("async", "ssync"):  # bounce: a robot may step to any neighbour
+        assert lit_differences(BEACON, "bounce", scheduler, "2", False) == []
+    monkeypatch.setattr(schedulers.base, "luminous_order", _destinations_reversed)
+    monkeypatch.setattr(schedulers.async_, "luminous_order", _destinations_reversed)
+    for scheduler in ("async", "ssync"):
+        assert lit_differences(BEACON, "bounce", scheduler, "2", False)
+
+
+_LOCATE = lit_bulk.LitTable.locate
+
+
+def _colour_blind_locate(self: lit_bulk.LitTable, codes: np.ndarray
+                         ) -> tuple[np.ndarray, np.ndarray]:
+    return _LOCATE(self, codes - codes % self.colours)  # every robot seen with colour 0
+
+
+_ORDER = schedulers.base.luminous_order
+
+
+def _destinations_reversed(colours: int) -> np.ndarray:
+    return _ORDER(colours).reshape(5, colours)[::-1].reshape(-1)

@@ -6,8 +6,10 @@ sweep's, ``broken-beacon`` is caught, and bad input is one line."""
 
 from __future__ import annotations
 
+from functools import partial
 from itertools import product
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -16,6 +18,7 @@ from gather_verify.cli import main
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.sweeps.census import enumerate_configurations
+from gather_verify.sweeps.lit_census import verify_lit_one
 from gather_verify.sweeps.store import Store
 from gather_verify.sweeps.sweep import LIT_FALLBACK, SweepSettings, run_sweep
 
@@ -23,12 +26,13 @@ SMALL = {"robots": 2, "meeting": 2, "box": (3, 3), "scheduler": "async"}
 """``--robots 2 --meeting 2 --box 3x3 --scheduler async``."""
 
 
-def sweep_rows(tmp_path: Path, **options) -> tuple[dict, list[dict]]:  # noqa: ANN003
+def sweep_rows(tmp_path: Path, verify: Any = None,
+               **options: Any) -> tuple[dict, list[dict]]:
     """The summary and the stored rows of one sweep (one worker, this process)."""
     s = SweepSettings(**{**SMALL, **options})
     tmp_path.mkdir(parents=True, exist_ok=True)
     db = str(tmp_path / "results.sqlite")
-    summary = run_sweep(s, db, workers=1, progress=False)
+    summary = run_sweep(s, db, workers=1, progress=False, verify=verify)
     store = Store(db)
     try:
         return summary, store.results(store.sweep_id(s.key()))
@@ -100,6 +104,36 @@ def test_lights_one_rows_are_the_oblivious_sweeps(n: int, m: int, scheduler: str
     for a, b in zip(lit, plain, strict=True):
         assert {k: v for k, v in a.items() if k != "seconds"} == \
                {k: v for k, v in b.items() if k != "seconds"}
+
+
+BY_REFERENCE = partial(verify_lit_one, engine="reference")
+"""A luminous sweep's rows, each checked by the reference engine."""
+
+
+@pytest.mark.parametrize("options", [
+    {"algorithm": "beacon", "lights": "2", "scheduler": "ssync"},
+    {"algorithm": "broken-beacon", "lights": "2:external", "scheduler": "ssync"},
+    pytest.param({"algorithm": "beacon", "lights": "2", "initial_colours": "all"},
+                 marks=pytest.mark.slow),
+    pytest.param({"algorithm": "bounce", "lights": "3", "scheduler": "fsync",
+                  "initial_colours": "all", "max_states": 3000},  # bounce never gathers
+                 marks=pytest.mark.slow),
+    pytest.param({"algorithm": "beacon", "lights": "2", "robots": 3, "meeting": 1,
+                  "scheduler": "centralized", "initial_colours": "all"},
+                 marks=pytest.mark.slow),
+    pytest.param({"algorithm": "broken-beacon", "lights": "2:internal", "robots": 3,
+                  "scheduler": "async", "reduction": False, "max_states": 3000},
+                 marks=pytest.mark.slow),
+], ids=lambda o: "-".join(f"{v}" for v in o.values()))
+def test_the_bulk_engines_rows_are_the_references(options: dict, tmp_path: Path) -> None:
+    """Every stored row (traces included) of a luminous sweep, by the bulk engine (the
+    default) and by the reference, field by field but the time."""
+    summary, bulk = sweep_rows(tmp_path / "bulk", **options)
+    _, ref = sweep_rows(tmp_path / "ref", verify=BY_REFERENCE, **options)
+    assert summary["engine_fallback"] == LIT_FALLBACK and len(bulk) == len(ref) > 0
+    for a, b in zip(bulk, ref, strict=True):
+        assert {k: v for k, v in a.items() if k != "seconds"} == \
+               {k: v for k, v in b.items() if k != "seconds"}, a["key"]
 
 
 def test_beacon_verified_and_its_broken_twin_violated(tmp_path: Path) -> None:

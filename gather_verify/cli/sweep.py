@@ -42,7 +42,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="on a finite world: robots see only the nodes within this many hops")
     p.add_argument("--lights", default=None, metavar="K[:external|internal]",
                    help="luminous robots with K colours, all starting at 0 (on Z² each "
-                        "configuration is checked on its own, by the reference engine)")
+                        "configuration is checked on its own, by the bulk engine)")
     p.add_argument("--initial-colours", choices=("all",), default=None,
                    help="with --lights: every initial colouring of the robots up to the "
                         "configuration's symmetries, not only all 0")
@@ -198,7 +198,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _lights(args: argparse.Namespace) -> None:
     """Luminous robots on the paper's world: checked one configuration and colouring at a
-    time by the reference engine (the union engine encodes no lights)."""
+    time by the bulk engine (the union engine encodes no lights)."""
     from gather_verify.sweeps.lit_census import check_colourings
     from gather_verify.worlds.moves import parse_lights
 

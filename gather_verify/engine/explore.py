@@ -131,6 +131,10 @@ class Exploration:
     """The robots' lights (§10); None: oblivious robots. With lights a state's robots are
     ``(node, pending, colour)`` and :attr:`facts` takes sorted ``(node, colour)`` pairs."""
     colours: tuple[int, ...] | None = None  # the initial colours (with lights)
+    engine: str = "reference"
+    """Which engine ran the search: ``reference`` or ``bulk``."""
+    engine_fallback: str | None = None
+    """Why the bulk engine did not run it, when it was asked to if it could (``auto``)."""
 
     @property
     def n(self) -> int:
@@ -279,6 +283,13 @@ def luminous_facts_cache(algorithm: Algorithm, initial: Configuration, detection
     return facts
 
 
+def refuse_stateful(sched: object) -> None:
+    """A scheduler that keeps its own state (round-robin) has no luminous search on Z²."""
+    if getattr(sched, "stateful", False):
+        raise InvalidInput(f"{getattr(sched, 'name', sched)} keeps a scheduler state: it runs "
+                           "on finite worlds (--world ring:N, grid:WxH, torus:WxH, graph:FILE)")
+
+
 def explore_reference(
     initial: Configuration,
     algorithm: str | Algorithm,
@@ -333,9 +344,7 @@ def explore_reference(
         def events(state: State, here: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
             return sched.successors(state, ms)
     else:
-        if getattr(sched, "stateful", False):
-            raise InvalidInput(f"{sched.name} keeps a scheduler state: it runs on finite "
-                               "worlds (--world ring:N, grid:WxH, torus:WxH, graph:FILE)")
+        refuse_stateful(sched)
         enc = LuminousEncoding(box, group, anonymity, lights.colours)
         facts = luminous_facts_cache(algo, initial, detection, frame_elements, lights)
         conf = lit_configuration

@@ -334,7 +334,7 @@ def explore_fast(
         weights=IntColumn(weights.array()), changed_loops=changed_loops, states=index.count,
         transitions=transitions, stopped=stopped, violations=checks.violations,
         seconds=time.perf_counter() - started, peak_rss_mb=peak, facts=facts,
-        vacuous=checks.vacuous)
+        vacuous=checks.vacuous, engine="bulk")
 
 
 def _step(enc: Encoding, sched: Any, facts: Any, n: int, K: np.ndarray, src: np.ndarray,

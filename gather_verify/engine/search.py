@@ -13,8 +13,10 @@ caller (no import cycle).
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from gather_verify.algorithms import Algorithm
-from gather_verify.engine import fast_explore
+from gather_verify.engine import fast_explore, lit_bulk
 from gather_verify.engine.explore import Exploration, explore_reference
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
@@ -36,20 +38,29 @@ def explore(
     """Every state reachable from ``initial``: the bulk engine when it supports the request
     (``engine="auto"``, the default), else the reference BFS; both give the same result.
 
-    ``engine="fast"`` insists on the bulk engine (InvalidInput if it cannot run this request,
-as with ``lights``: the bulk engine encodes no colours, ``auto`` runs the reference),
-    ``engine="reference"`` runs :func:`explore_reference`. ``graph=False`` lets the bulk
+    ``engine="fast"`` insists on the bulk engine (InvalidInput if it cannot run this
+    request), ``engine="reference"`` runs :func:`explore_reference`. With ``lights`` the bulk
+    engine is :func:`~gather_verify.engine.lit_bulk.explore_lit`; when ``auto`` falls back to
+    the reference, the result's ``engine_fallback`` says why. ``graph=False`` lets the bulk
     engine keep no edges (only states and safety witnesses; see :mod:`fast_explore`);
     ``memo=True`` lets it share configuration facts with the other searches of this
     process (sweeps). Other keyword arguments are those of :func:`explore_reference`.
     """
     if engine not in ENGINES:
         raise InvalidInput(f"unknown engine {engine!r}: use one of {', '.join(ENGINES)}")
-    if options.get("lights") is not None:  # the bulk engine encodes no colours
+    lights = options.get("lights")
+    if lights is not None:  # luminous robots: the lit bulk engine, when it can
+        if engine == "reference":
+            return explore_reference(initial, algorithm, scheduler, **options)
+        why = lit_bulk.unsupported(initial, scheduler, **options)
+        if why is None:
+            return lit_bulk.explore_lit(initial, algorithm, scheduler, graph=graph, memo=memo,
+                                        **options)
         if engine == "fast":
-            raise InvalidInput("the fast engine encodes no lights: use engine='auto' or "
-                               "'reference'")
-        return explore_reference(initial, algorithm, scheduler, **options)
+            raise InvalidInput(f"the bulk engine cannot run this request ({why}): use "
+                               "--engine auto or reference")
+        return replace(explore_reference(initial, algorithm, scheduler, **options),
+                       engine_fallback=why)
     if engine != "reference":
         keys = ("reduction", "anonymity", "symmetry", "frames", "limits")
         if fast_explore.supports(initial, scheduler, **{k: options[k] for k in keys if k in options}):

@@ -8,7 +8,7 @@ robots' frame group that maps its robots and meeting nodes onto themselves) are 
 represented by its least member (colours listed as the sorted robots, compared as tuples).
 Such a pair has the same verdict: the automorphism maps every execution of one onto an
 execution of the other. The union engine encodes no colours: each item is checked on its own
-by the reference engine (:func:`gather_verify.check.run_check`).
+(:func:`gather_verify.check.run_check`), by the bulk engine where it can run it.
 
 >>> from gather_verify.model.configuration import Configuration
 >>> line = Configuration([(0, 0), (2, 0)], [(1, 0)])  # a mirror swaps its two robots
@@ -82,9 +82,11 @@ def lit_configurations(c: Configuration, key: str, colours: int, frames: str, ev
             yield LitConfiguration(c, lit, f"{key}|{' '.join(map(str, lit))}", True)
 
 
-def verify_lit_one(settings: Any, index: int, lit: LitConfiguration) -> dict[str, Any]:
-    """Classify and check one configuration with its initial colours, by the reference
-    engine; the row the store keeps (robots as ``[node, colour]`` with ``every``)."""
+def verify_lit_one(settings: Any, index: int, lit: LitConfiguration,
+                   engine: str = "auto") -> dict[str, Any]:
+    """Classify and check one configuration with its initial colours (``engine`` as
+    ``run_check`` takes it: the bulk engine where it can); the row the store keeps (robots
+    as ``[node, colour]`` with ``every``)."""
     from gather_verify.check import run_check
     from gather_verify.sweeps.store import check_row
 
@@ -97,7 +99,7 @@ def verify_lit_one(settings: Any, index: int, lit: LitConfiguration) -> dict[str
         max_states=settings.max_states, max_seconds=settings.max_seconds,
         move_bound_c=settings.move_bound_c, max_memory_mb=settings.max_memory_mb,
         keep_growing=settings.keep_growing, force=settings.force,
-        lights=settings.lights, colours=list(lit.colours), engine="reference")
+        lights=settings.lights, colours=list(lit.colours), engine=engine)
     robots = [[list(r), colour] if lit.every else list(r)
               for r, colour in zip(c.robots, lit.colours, strict=True)]
     return check_row(report, lit.key, index, robots, c, time.perf_counter() - started)

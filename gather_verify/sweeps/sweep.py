@@ -223,7 +223,7 @@ def run_sweep(
 
 
 LIT_FALLBACK = ("the union engine encodes no lights: each configuration and initial colouring "
-                "was checked on its own, by the reference engine")
+                "was checked on its own, by the bulk engine")
 """What a luminous sweep of the paper's world says of its engine (summary ``engine_fallback``)."""
 
 

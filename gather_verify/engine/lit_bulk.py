@@ -1,0 +1,354 @@
+"""The bulk search of luminous robots on the paper's world (SEMANTICS.md §4, §10): what
+:func:`~gather_verify.engine.explore.explore_reference` finds with ``lights``, on numpy
+arrays, as :mod:`~gather_verify.engine.fast_explore` does for oblivious robots.
+
+It explores exactly the reference's states, with the same ids in the same order, the same
+parents, edges, witnesses and traces. A state is its reference key
+(:class:`~gather_verify.engine.encoding.LuminousEncoding`: robot codes
+``(cell * 5 + d) * K + colour``, sorted and minimised over ``Aut(M)`` when the reductions
+are on; the symmetries move nodes and pending steps together, never colours, so the
+canonical form acts on each robot's (node, pending, colour) as one). What it shares with
+the oblivious bulk engine: the hash index of keys, the canonical keys of code rows
+(:class:`~gather_verify.engine.canonical_keys.Canon`), the successor keys
+(:func:`~gather_verify.engine.bulk_step.successor_keys`, compiled when the kernels run)
+and the column checks of the properties. What is its own:
+
+- :class:`LitTable`, the luminous configurations met (the sorted (node, colour) pairs), each
+  with the reference's own :class:`~gather_verify.properties.facts.ConfigurationFacts` (the
+  same facts object, so every property reads what it reads in the reference) and each
+  robot's actions as a bit set (:func:`schedulers.base.luminous_order`);
+- the scheduler's ``bulk_luminous``: the events of ``luminous`` in bulk (a Look sets the
+  pending step and the colour at once; a colour change while staying is an event; a round
+  that changes nothing is a self-loop, as on Z² without lights).
+
+>>> from gather_verify.engine.explore import explore_reference
+>>> from gather_verify.model.configuration import Configuration
+>>> from gather_verify.model.view import Lights
+>>> c = Configuration([(1, 1), (3, 2)], [(0, 0), (4, 0)], initial=True)
+>>> e = explore_lit(c, "beacon", "async", lights=Lights(2), reduction=False)
+>>> r = explore_reference(c, "beacon", "async", lights=Lights(2), reduction=False)
+>>> (e.states, e.transitions) == (r.states, r.transitions) and list(e.keys) == r.keys
+True
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable, Sequence
+from functools import partial
+from itertools import islice
+from typing import Any, cast
+
+import numpy as np
+
+from gather_verify import kernels
+from gather_verify.algorithms import Algorithm, get_algorithm
+from gather_verify.algorithms.moves import frames_for
+from gather_verify.engine.bulk_step import cell_ranks, successor_codes, successor_keys
+from gather_verify.engine.canonical_keys import Canon, decode_keys
+from gather_verify.engine.checks import Checks, ColumnChecks, symmetric
+from gather_verify.engine.columns import Growing, IntColumn
+from gather_verify.engine.encoding import (
+    NO_LIMITS,
+    Limits,
+    LuminousEncoding,
+    Stop,
+    region_box,
+    symmetry_group,
+)
+from gather_verify.engine.explore import (
+    Exploration,
+    lit_configuration,
+    lit_initial_state,
+    luminous_events,
+    luminous_facts_cache,
+    refuse_stateful,
+    rss_mb,
+)
+from gather_verify.engine.facts_table import BIT
+from gather_verify.engine.key_index import KeyIndex
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.view import Lights, check_detection
+from gather_verify.progress import PROGRESS
+from gather_verify.properties.facts import ConfigurationFacts, StateFacts
+from schedulers import Frontier, State, get_scheduler
+
+CHUNK = 1 << 13
+"""States expanded per bulk step (fewer when their events are many)."""
+EVENTS = 1 << 19
+MAX_IDS = 2**31 - 2
+MAX_ACTIONS = 62
+"""A robot's actions (5 per colour) are the bits of one ``int64`` mask."""
+
+
+def unsupported(initial: Configuration, scheduler: str, lights: Lights, *,
+                reduction: bool = True, symmetry: bool | None = None, frames: str = "all",
+                limits: Limits = NO_LIMITS, **_: object) -> str | None:
+    """Why this engine cannot run a luminous search (one line), or None when it can."""
+    sched = get_scheduler(scheduler)  # an unknown name is an error, not a fallback
+    if not hasattr(sched, "bulk_luminous"):
+        return f"the scheduler {sched.name} has no bulk face for lights (bulk_luminous)"
+    if 5 * lights.colours > MAX_ACTIONS:
+        return f"{lights.colours} colours: a robot has more than {MAX_ACTIONS} actions"
+    symmetry = reduction if symmetry is None else symmetry
+    group = symmetry_group(initial, frames) if symmetry else []
+    x0, y0, x1, y1 = region_box(initial, limits.margin, group)
+    if ((x1 - x0 + 1) * (y1 - y0 + 1) * 5 * lights.colours) ** initial.n >= 2**63:
+        return "a state does not fit 63 bits"
+    return None
+
+
+class LitRowFacts:
+    """A configuration's :class:`ConfigurationFacts` as the column checks read them: with
+    ``idle`` given, a state's facts, and ``read_idle`` tells whether a predicate read it."""
+
+    __slots__ = ("facts", "_idle", "read_idle")
+
+    def __init__(self, facts: ConfigurationFacts, idle: bool | None = None):
+        self.facts, self._idle, self.read_idle = facts, idle, False
+
+    @property
+    def idle(self) -> bool:
+        if self._idle is None:
+            raise AttributeError("idle: the facts of a configuration, not of a state")
+        self.read_idle = True
+        return self._idle
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.facts, name)
+
+
+class LitTable:
+    """Per luminous configuration (sorted ``cell * K + colour``, packed), a row: its facts
+    (the reference's, from ``facts``) and, per sorted robot, its actions as a bit set
+    (bit ``k * K + c``: ``STEPS[k]``, k = 4 staying, with colour c); ``flags[row]`` is 1
+    when the algorithm gives no actions there (no rule, or a crash)."""
+
+    def __init__(self, enc: LuminousEncoding, n: int,
+                 facts: Callable[[Any], ConfigurationFacts]):
+        self.enc, self.n, self.colours, self.facts_of = enc, n, enc.colours, facts
+        self.index = KeyIndex(bits=10, capacity=1024)
+        self.weights = np.array([(enc.cells * enc.colours) ** j for j in range(n)],
+                                dtype=np.int64)
+        self.masks = np.zeros((1024, n), dtype=np.int64)
+        self.flags = np.zeros(1024, dtype=np.int8)
+        self.facts: list[ConfigurationFacts] = []
+
+    def locate(self, codes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Each state's row (robot codes per row; new configurations' facts computed) and,
+        per robot, the position of its (cell, colour) among the sorted ones."""
+        k = self.colours
+        lit = codes // (5 * k) * k + codes % k
+        srt = np.sort(lit, axis=1)
+        ids, first = self.index.find_or_add((srt @ self.weights).astype(np.uint64))
+        if len(first):
+            self._add(srt[first])
+        return ids, cell_ranks(lit, srt)
+
+    def _add(self, srt: np.ndarray) -> None:
+        start = len(self.facts)
+        if start + len(srt) > len(self.masks):
+            size = max(start + len(srt), 2 * len(self.masks))
+            self.masks = np.resize(self.masks, (size, self.n))
+            self.flags = np.resize(self.flags, size)
+        k, node = self.colours, self.enc.node
+        for row, cells in enumerate(srt.tolist(), start):
+            robots = tuple((node(c // k), c % k) for c in cells)
+            f = self.facts_of(robots)
+            self.facts.append(f)
+            acts = f.actions
+            self.flags[row] = acts is None
+            self.masks[row] = [0] * self.n if acts is None else [
+                sum(1 << ((BIT[d[0] - v[0], d[1] - v[1]].bit_length() - 1) * k + c2)
+                    for d, c2 in acts[v, c]) for v, c in robots]
+
+
+def explore_lit(
+    initial: Configuration,
+    algorithm: str | Algorithm,
+    scheduler: str,
+    *,
+    lights: Lights,
+    colours: Sequence[int] | None = None,
+    detection: str = "local-weak",
+    frames: str = "all",
+    reduction: bool = True,
+    anonymity: bool | None = None,
+    symmetry: bool | None = None,
+    properties: Iterable[str] | None = None,
+    limits: Limits = NO_LIMITS,
+    graph: bool = True,
+    settle: bool = False,
+    memo: bool = False,
+) -> Exploration:
+    """:func:`explore_reference` with ``lights``, in bulk: the same result (``graph=False``
+    keeps no edges, as :func:`~gather_verify.engine.fast_explore.explore_fast`; ``memo`` is
+    accepted and unused: the facts are kept per search, as the reference keeps them)."""
+    started = time.perf_counter()
+    algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
+    sched = get_scheduler(scheduler)
+    refuse_stateful(sched)
+    check_detection(detection)
+    frame_elements = frames_for(frames)
+    anonymity = reduction if anonymity is None else anonymity
+    symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
+    group = symmetry_group(initial, frames) if symmetry else []
+    enc = LuminousEncoding(region_box(initial, limits.margin, group), group, anonymity,
+                           lights.colours)
+    n, k = initial.n, lights.colours
+    facts = luminous_facts_cache(algo, initial, detection, frame_elements, lights)
+    table = LitTable(enc, n, facts)
+    canon = Canon(enc, n)
+    reduced = bool(group or anonymity)
+    compiled = kernels.enabled()
+
+    start = lit_initial_state(initial.robots, colours)
+    checks = Checks(properties, StateFacts(facts(lit_configuration(start)), True))
+    columns = ColumnChecks(checks, lambda row, idle=None: LitRowFacts(table.facts[row], idle),
+                           lambda rows, idle: [LitRowFacts(table.facts[r], i) for r, i in
+                                               zip(rows.tolist(), idle.tolist(), strict=True)])
+    init_rows, _ = table.locate(np.array([[enc.code(r[0], None) * k + r[2]  # type: ignore[misc]
+                                           for r in start]], dtype=np.int64))
+    columns.states(0, init_rows, np.ones(1, dtype=bool), checks.on_discovery)
+    on_chunk = checks.halting + checks.on_expansion
+
+    max_states = min(limits.max_states, MAX_IDS)
+    index = KeyIndex()
+    index.find_or_add(np.array([enc.key(start)], dtype=np.uint64))
+    parents = Growing(np.int32)
+    parents.extend(np.array([-1], dtype=np.int32))
+    offsets, targets = Growing(np.int64), Growing(np.int32)
+    weight_type = np.int8 if n <= 127 else np.int16
+    weights = Growing(weight_type)
+    transitions = changed_loops = 0
+    stopped: Stop | str | None = None
+    peak = rss_mb()
+    sid, chunk = 0, CHUNK
+    PROGRESS.states = 1
+    while sid < index.count and stopped is None:
+        if time.perf_counter() - started > limits.max_seconds:
+            stopped = Stop.TIME
+            break
+        peak = max(peak, rss_mb())
+        if peak > limits.max_memory_mb:
+            stopped = Stop.MEMORY
+            break
+        hi = min(index.count, sid + chunk)
+        keys = index.keys[sid:hi].copy()
+        codes = decode_keys(keys, enc.base, n)
+        rows, rank = table.locate(codes)
+        idle = np.all(codes // k % 5 == 0, axis=1)
+        limit_src = len(keys)
+        failing = columns.failures(on_chunk, rows, idle, gate=len(checks.halting))
+        halt = columns.first_failure(checks.halting, failing[:, :len(checks.halting)])
+        if halt is not None:
+            limit_src = halt[0]
+        assert not table.flags[rows[:limit_src]].any(), \
+            "a state without actions needs a halting property"
+        masks = table.masks[rows[:, None], rank]
+        bulk = sched.bulk_luminous(Frontier(codes[:limit_src], masks[:limit_src], enc.neighbour),
+                                   EVENTS, k)
+        if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
+            hi = sid + bulk.states
+            keys, codes, rows = keys[:bulk.states], codes[:bulk.states], rows[:bulk.states]
+            limit_src = bulk.states
+            chunk = max(1, bulk.states)
+        elif chunk < CHUNK:
+            chunk = min(CHUNK, 2 * chunk)
+        src, weight = bulk.source, bulk.weight
+        robot, new = bulk.robot, bulk.code
+        single = bulk.event is None  # one change per event: change c is event c
+        event = np.arange(len(src)) if bulk.event is None else bulk.event
+        outside = np.flatnonzero(new < 0)
+        cut = len(src)
+        stop: Stop | str | None
+        if len(outside):
+            cut = int(event[outside[0]])
+            stop_src, stop = int(src[cut]), Stop.REGION
+            transitions += cut + 1
+        else:
+            stop_src = limit_src
+            stop = halt[1].name if halt is not None and halt[0] == limit_src else None
+            transitions += cut
+        src, weight = src[:cut], weight[:cut]
+        changes = int(np.searchsorted(event, cut))
+        robot, new, event = robot[:changes], new[:changes], event[:changes]
+        succ, old, _ = successor_keys(keys, codes, src, robot, new, None if single else event,
+                                      canon, reduced, compiled)
+        known = index.count
+        ids, first = index.find_or_add(succ)
+        fresh_src = src[first]
+        if index.count > max_states:  # after the first source whose expansion passes it
+            after = known + np.searchsorted(fresh_src, np.arange(stop_src), side="right")
+            over = np.flatnonzero(after > max_states)
+            if len(over):
+                stop_src, stop = int(over[0]), Stop.STATES
+                keep = int(np.searchsorted(src, stop_src, side="right"))
+                transitions -= cut - keep
+                cut = keep
+                src, weight, succ, ids = src[:cut], weight[:cut], succ[:cut], ids[:cut]
+                changes = int(np.searchsorted(event, cut))
+                robot, new, old, event = (a[:changes] for a in (robot, new, old, event))
+                m = int(np.searchsorted(fresh_src, stop_src, side="right"))
+                fresh_src = fresh_src[:m]
+                index.truncate(known + m)
+        fresh_keys = index.keys[known:index.count]
+        expanded = stop_src + (stop in (Stop.REGION, Stop.STATES))
+        columns.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
+                       rows, idle)
+        if checks.open(checks.on_transition) and cut:
+            after_rows, _ = table.locate(successor_codes(codes, src, robot, new, event))
+            columns.transitions(sid, src, rows[src], after_rows,
+                                partial(_step, enc, sched, facts, n, keys, src))
+        if checks.open(checks.on_discovery) and len(fresh_keys):
+            fresh = decode_keys(fresh_keys, enc.base, n)
+            columns.states(known, table.locate(fresh)[0], np.all(fresh // k % 5 == 0, axis=1),
+                           checks.on_discovery)
+        changed = np.zeros(cut, dtype=bool)
+        changed[event[new != old]] = True
+        changed_loops += int(np.count_nonzero((ids == sid + src) & changed))
+        if graph:
+            counts = np.bincount(src, minlength=expanded)[:expanded]
+            offsets.extend(targets.size + np.cumsum(counts) - counts)
+            targets.extend(ids.astype(np.int32))
+            weights.extend(weight.astype(weight_type))
+        parents.extend((sid + fresh_src).astype(np.int32))
+        if halt is not None and stop == halt[1].name and halt[0] == stop_src:
+            columns.record_halt(sid + stop_src, int(rows[stop_src]), bool(idle[stop_src]),
+                                halt[1])
+        if stop is not None:
+            stopped = stop
+            break
+        sid = hi
+        PROGRESS.states = index.count
+        if settle and checks.settled():
+            stopped = Stop.SETTLED
+            break
+    if graph:
+        offsets.extend(np.array([targets.size], dtype=np.int64))
+    peak = max(peak, rss_mb())
+    return Exploration(
+        initial=initial, algorithm=algo, scheduler_name=scheduler, detection=detection,
+        frames=frames, anonymity=anonymity, symmetry=symmetry, encoding=enc,
+        # the numpy columns read as the reference's list and arrays
+        keys=cast(Any, IntColumn(index.keys[:index.count])),
+        parents=cast(Any, IntColumn(parents.array())),
+        offsets=cast(Any, IntColumn(offsets.array())),
+        targets=cast(Any, IntColumn(targets.array())),
+        weights=cast(Any, IntColumn(weights.array())), changed_loops=changed_loops, states=index.count,
+        transitions=transitions, stopped=stopped, violations=checks.violations,
+        seconds=time.perf_counter() - started, peak_rss_mb=peak, facts=facts,
+        vacuous=checks.vacuous, lights=lights, colours=tuple(colours or (0,) * n),
+        engine="bulk")
+
+
+def _step(enc: LuminousEncoding, sched: Any, facts: Callable[[Any], ConfigurationFacts],
+          n: int, keys: np.ndarray, src: np.ndarray, i: int) -> tuple[Any, State]:
+    """The event and successor of the ``i``-th transition of a bulk step, asked of the
+    scheduler's ``luminous`` on its decoded source state: its ``k``-th event, k its rank
+    among its state's events (the bulk events come in the same order)."""
+    state = enc.decode(int(keys[src[i]]), n)
+    rank = i - int(np.searchsorted(src, src[i]))
+    return next(islice(luminous_events(sched, state, facts(lit_configuration(state))), rank,
+                       None))
+
