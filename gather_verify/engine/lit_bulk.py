@@ -71,7 +71,7 @@ from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import Lights, check_detection
 from gather_verify.progress import PROGRESS
 from gather_verify.properties.facts import ConfigurationFacts, StateFacts
-from schedulers import Frontier, State, get_scheduler
+from schedulers import Frontier, Scheduler, State, as_scheduler
 
 CHUNK = 1 << 13
 """States expanded per bulk step (fewer when their events are many)."""
@@ -81,11 +81,11 @@ MAX_ACTIONS = 62
 """A robot's actions (5 per colour) are the bits of one ``int64`` mask."""
 
 
-def unsupported(initial: Configuration, scheduler: str, lights: Lights, *,
+def unsupported(initial: Configuration, scheduler: str | Scheduler, lights: Lights, *,
                 reduction: bool = True, symmetry: bool | None = None, frames: str = "all",
                 limits: Limits = NO_LIMITS, **_: object) -> str | None:
     """Why this engine cannot run a luminous search (one line), or None when it can."""
-    sched = get_scheduler(scheduler)  # an unknown name is an error, not a fallback
+    sched = as_scheduler(scheduler)  # an unknown name is an error, not a fallback
     if not hasattr(sched, "bulk_luminous"):
         return f"the scheduler {sched.name} has no bulk face for lights (bulk_luminous)"
     if 5 * lights.colours > MAX_ACTIONS:
@@ -166,7 +166,7 @@ class LitTable:
 def explore_lit(
     initial: Configuration,
     algorithm: str | Algorithm,
-    scheduler: str,
+    scheduler: str | Scheduler,
     *,
     lights: Lights,
     colours: Sequence[int] | None = None,
@@ -186,7 +186,7 @@ def explore_lit(
     accepted and unused: the facts are kept per search, as the reference keeps them)."""
     started = time.perf_counter()
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
-    sched = get_scheduler(scheduler)
+    sched = as_scheduler(scheduler)
     refuse_stateful(sched)
     check_detection(detection)
     frame_elements = frames_for(frames)
@@ -328,7 +328,8 @@ def explore_lit(
         offsets.extend(np.array([targets.size], dtype=np.int64))
     peak = max(peak, rss_mb())
     return Exploration(
-        initial=initial, algorithm=algo, scheduler_name=scheduler, detection=detection,
+        initial=initial, algorithm=algo, scheduler_name=scheduler if isinstance(
+            scheduler, str) else sched.name, detection=detection,
         frames=frames, anonymity=anonymity, symmetry=symmetry, encoding=enc,
         # the numpy columns read as the reference's list and arrays
         keys=cast(Any, IntColumn(index.keys[:index.count])),
