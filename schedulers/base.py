@@ -222,6 +222,26 @@ def bulk_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Success
     return Successors(s, source, weight, robot, code, event)
 
 
+def _products(slot: np.ndarray, per: np.ndarray, width: np.ndarray, choice: np.ndarray,
+              moves: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The events of rounds, one per product of the activated robots' choices (the last
+    robot varies fastest): per event its (state, subset) row, the robots' new codes and
+    which robots move. ``slot[row, i]``: where robot i's choices start in the flat
+    ``choice``/``moves`` tables; ``width[row, i]``: how many it has; ``per[row]``: their
+    product."""
+    group = np.repeat(np.arange(len(per)), per)  # the (state, subset) of each event
+    n = slot.shape[1]
+    rank = np.arange(len(group)) - (np.cumsum(per) - per)[group]  # rank in its group
+    new = np.empty((len(group), n), dtype=np.int64)
+    moved = np.empty((len(group), n), dtype=bool)
+    for i in range(n - 1, -1, -1):
+        rank, digit = np.divmod(rank, width[group, i])
+        at = slot[group, i] + digit
+        new[:, i] = choice[at]
+        moved[:, i] = moves[at]
+    return group, new, moved
+
+
 def numpy_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Successors:
     """:func:`bulk_rounds` in numpy: the reference the compiled kernel is tested against."""
     codes, masks, neighbour = frontier
@@ -249,17 +269,7 @@ def numpy_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Succes
     # per (state, subset) and robot: where its choices start in those flat tables
     slot = ((np.arange(s)[:, None] * n + np.arange(n)) * 6)[:, None, :] + \
         np.where(subsets, 0, 5)[None, :, :]
-    slot = slot.reshape(s * k, n)
-    group = np.repeat(np.arange(s * k), per)  # the (state, subset) of each event
-    e = len(group)
-    rank = np.arange(e) - (np.cumsum(per) - per)[group]  # the event's rank in its group
-    new = np.empty((e, n), dtype=np.int64)
-    moved = np.empty((e, n), dtype=bool)
-    for i in range(n - 1, -1, -1):  # product: the last robot varies fastest
-        rank, digit = np.divmod(rank, width[group, i])
-        at = slot[group, i] + digit
-        new[:, i] = choice[at]
-        moved[:, i] = moves[at]
+    group, new, moved = _products(slot.reshape(s * k, n), per, width, choice, moves)
     flat = np.flatnonzero(moved.reshape(-1))
     event, robot = np.divmod(flat, n)
     return Successors(s, group // k, moved.sum(axis=1, dtype=np.int8 if n <= 127 else np.int16),
@@ -316,17 +326,7 @@ def bulk_luminous_rounds(frontier: Frontier, budget: int, subsets: np.ndarray,
     choice, moves = choice.reshape(-1), moves.reshape(-1)
     slot = ((np.arange(s)[:, None] * n + np.arange(n)) * (w + 1))[:, None, :] + \
         np.where(subsets, 0, w)[None, :, :]
-    slot = slot.reshape(s * k, n)
-    group = np.repeat(np.arange(s * k), per)  # the (state, subset) of each event
-    e = len(group)
-    rank = np.arange(e) - (np.cumsum(per) - per)[group]
-    new = np.empty((e, n), dtype=np.int64)
-    moved = np.empty((e, n), dtype=bool)
-    for i in range(n - 1, -1, -1):  # product: the last robot varies fastest
-        rank, digit = np.divmod(rank, width[group, i])
-        at = slot[group, i] + digit
-        new[:, i] = choice[at]
-        moved[:, i] = moves[at]
+    group, new, moved = _products(slot.reshape(s * k, n), per, width, choice, moves)
     source = group // k
     flat = np.flatnonzero((new != codes[source]).reshape(-1))
     event, robot = np.divmod(flat, n)
