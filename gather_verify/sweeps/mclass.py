@@ -37,6 +37,7 @@ from gather_verify.model import geometry
 from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import Automorphism
+from gather_verify.sweeps.store import row
 from gather_verify.watchdog import Overtime, allowance, deadline
 
 ENGINES = ("union", "per-config")
@@ -234,27 +235,17 @@ def _decide_union(settings: Any, algo: Algorithm, wanted: list[str],
                 out.fall_back([(index, c)], "no witness path in the union graph")
                 continue
             trace["cause"] = cause_of(algo, trace)
-        rows.append({
-            "key": configuration_key(c),
-            "index": index,
-            "robots": [list(r) for r in c.robots],
-            "meeting_nodes": sorted(list(m) for m in c.meeting_nodes),
-            "class": cls.name,
-            "verdict": "VIOLATED" if failing else "VERIFIED",
-            "property": failing[0] if failing else None,
-            "reason": trace["reason"] if trace else None,
-            "states": count,
-            "transitions": int(u.transitions[j]),
-            "max_moves": max_moves,
-            "D": D,
-            "n": n,
-            "ratio": None if max_moves is None or not D * n else max_moves / (D * n),
-            "trace": trace,
-            "seconds": share + time.perf_counter() - t0,
+        rows.append(row(
+            key=configuration_key(c), index=index, robots=[list(r) for r in c.robots],
+            meeting_nodes=sorted(list(m) for m in c.meeting_nodes), class_=cls.name,
+            verdict="VIOLATED" if failing else "VERIFIED",
+            property=failing[0] if failing else None,
+            reason=trace["reason"] if trace else None,
+            states=count, transitions=int(u.transitions[j]), max_moves=max_moves, D=D, n=n,
+            ratio=None if max_moves is None or not D * n else max_moves / (D * n),
+            trace=trace, seconds=share + time.perf_counter() - t0,
             # every failing property, as the check lists them (acyclic: termination holds)
-            "failing": failing + over,
-            "cause": None if trace is None else trace["cause"],
-        })
+            failing=failing + over, cause=None if trace is None else trace["cause"]))
     return u.states
 
 
