@@ -222,6 +222,21 @@ def bulk_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Success
     return Successors(s, source, weight, robot, code, event)
 
 
+def _widths(count: np.ndarray, subsets: np.ndarray, budget: int
+            ) -> tuple[int, np.ndarray, np.ndarray]:
+    """How many states of a chunk one step of rounds expands (at least one; as many as keep
+    the events within ``budget``), and per (state, subset) row: each robot's number of
+    choices (1 when not activated) and their product. ``count``: (S, n) choices per robot."""
+    s, n = count.shape
+    k = len(subsets)
+    width = np.where(subsets[None, :, :], count[:, None, :], 1)  # (S, k, n)
+    per = width.prod(axis=2)  # events per (state, subset)
+    if s:
+        total = np.cumsum(per.sum(axis=1))
+        s = min(len(total), max(1, int(np.searchsorted(total, budget, side="right"))))
+    return s, width[:s].reshape(s * k, n), per[:s].reshape(-1)
+
+
 def _products(slot: np.ndarray, per: np.ndarray, width: np.ndarray, choice: np.ndarray,
               moves: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The events of rounds, one per product of the activated robots' choices (the last
@@ -248,12 +263,7 @@ def numpy_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Succes
     s, n = codes.shape
     k = len(subsets)
     count = _COUNT[masks]  # (S, n) choices per robot
-    width = np.where(subsets[None, :, :], count[:, None, :], 1)  # (S, k, n)
-    per = width.prod(axis=2)  # events per (state, subset)
-    if s:
-        total = np.cumsum(per.sum(axis=1))
-        s = min(len(total), max(1, int(np.searchsorted(total, budget, side="right"))))
-    width, per = width[:s].reshape(s * k, n), per[:s].reshape(-1)
+    s, width, per = _widths(count, subsets, budget)
     # per (state, robot): its new code for its j-th choice (j < 5), or when not activated
     # (j = 5); and whether that choice moves it
     nth = _NTH[masks[:s]]  # (S, n, 5): step index of the j-th choice (4: stay)
@@ -305,12 +315,7 @@ def bulk_luminous_rounds(frontier: Frontier, budget: int, subsets: np.ndarray,
     w = len(order)
     allowed = allowed_actions(masks, order)  # (S, n, W)
     count = allowed.sum(axis=2)
-    width = np.where(subsets[None, :, :], count[:, None, :], 1)  # (S, k, n)
-    per = width.prod(axis=2)  # events per (state, subset)
-    if s:
-        total = np.cumsum(per.sum(axis=1))
-        s = min(len(total), max(1, int(np.searchsorted(total, budget, side="right"))))
-    width, per = width[:s].reshape(s * k, n), per[:s].reshape(-1)
+    s, width, per = _widths(count, subsets, budget)
     # per (state, robot): the bit of its j-th action (allowed ones first, in order)
     nth = order[np.argsort(~allowed[:s], axis=2, kind="stable")]  # (S, n, W)
     step, colour = np.divmod(nth, colours)
