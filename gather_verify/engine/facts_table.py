@@ -417,7 +417,24 @@ class FactsTable:
         return int(self.target[row])
 
 
-class RowFacts:
+class ReadsIdle:
+    """State facts that note whether a predicate read ``idle`` (``read_idle``; if not, its
+    answer holds for both values); a class using it sets ``_idle`` (None: the facts of a
+    configuration, not of a state) and ``read_idle``."""
+
+    __slots__ = ()
+    _idle: bool | None
+    read_idle: bool
+
+    @property
+    def idle(self) -> bool:
+        if self._idle is None:
+            raise AttributeError("idle: the facts of a configuration, not of a state")
+        self.read_idle = True
+        return self._idle
+
+
+class RowFacts(ReadsIdle):
     """The :class:`~gather_verify.properties.facts.Facts` of one row of a :class:`FactsTable`,
     read from the table (class and target computed on first use); with ``idle`` given, also
     a state's facts (:class:`~gather_verify.properties.facts.StateFacts`), and ``read_idle``
@@ -444,13 +461,6 @@ class RowFacts:
         """The state facts of many (row, idle) pairs, their flags read in one go."""
         return [RowFacts(table, r, initial, i, f) for r, i, f in
                 zip(rows.tolist(), idle.tolist(), table.flags[rows].tolist(), strict=True)]
-
-    @property
-    def idle(self) -> bool:
-        if self._idle is None:
-            raise AttributeError("idle: the facts of a configuration, not of a state")
-        self.read_idle = True
-        return self._idle
 
     @property
     def configuration(self) -> Configuration:

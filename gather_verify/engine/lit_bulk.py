@@ -65,7 +65,7 @@ from gather_verify.engine.explore import (
     refuse_stateful,
     rss_mb,
 )
-from gather_verify.engine.facts_table import BIT
+from gather_verify.engine.facts_table import BIT, ReadsIdle
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import Lights, check_detection
@@ -98,7 +98,7 @@ def unsupported(initial: Configuration, scheduler: str | Scheduler, lights: Ligh
     return None
 
 
-class LitRowFacts:
+class LitRowFacts(ReadsIdle):
     """A configuration's :class:`ConfigurationFacts` as the column checks read them: with
     ``idle`` given, a state's facts, and ``read_idle`` tells whether a predicate read it."""
 
@@ -106,13 +106,6 @@ class LitRowFacts:
 
     def __init__(self, facts: ConfigurationFacts, idle: bool | None = None):
         self.facts, self._idle, self.read_idle = facts, idle, False
-
-    @property
-    def idle(self) -> bool:
-        if self._idle is None:
-            raise AttributeError("idle: the facts of a configuration, not of a state")
-        self.read_idle = True
-        return self._idle
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self.facts, name)
