@@ -25,7 +25,12 @@ process and is timed *whole* (interpreter start, imports, search), as SPIN's
   states/s whole process (the check with its properties) and of the search alone, beside
   SPIN's whole run and ``./pan`` alone;
 - ``sweep`` (optional): configurations/s of the paper's algorithm, n=3, m=3,
-  4 x 4, ASYNC, one worker, over the first ``sweep_limit`` configurations.
+  4 x 4, ASYNC, one worker, over the first ``sweep_limit`` configurations;
+- ``schedulers`` (optional): the ``explore`` measurement under other schedulers (SSYNC,
+  FSYNC: rounds) beside ASYNC, on the bench instance and its 3- and 4-robot prefixes
+  (``quick``: the quick instance and its 2-robot prefix), the runs interleaved: transitions
+  per second whole process, per CPU second of the whole process and per CPU second of the
+  search alone, and each one's ratio to ASYNC's.
 
 Memory per state is measured from a baseline taken once the compiled kernels are loaded
 (:func:`gather_verify.kernels.warm`: numba and the compiled code are a fixed cost, not a
@@ -53,8 +58,9 @@ RING_QUICK = ("ring:9", [0, 3, 5], 7)  # SEMANTICS.md §9's test data: 225 state
 SPIN_DIR = Path(__file__).resolve().parent.parent / "bench" / "spin"
 
 
-def _child(kind: str, robots: list, meeting: list, max_seconds: float) -> dict[str, Any]:
-    """One measurement, inside the child process."""
+def _child(kind: str, robots: list, meeting: list, max_seconds: float,
+           scheduler: str = "async") -> dict[str, Any]:
+    """One measurement, inside the child process (``scheduler``: ``explore``'s only)."""
     import resource
 
     from gather_verify import kernels
@@ -66,11 +72,14 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float) -> dict[s
     kernels.warm()  # a fixed cost (numba and the compiled code), not a per-state one
     before = rss_mb()
     if kind == "explore":
-        e = explore(c, "go-to-target", "async", reduction=False, properties=[], graph=False,
+        cpu = time.process_time()
+        e = explore(c, "go-to-target", scheduler, reduction=False, properties=[], graph=False,
                     limits=Limits(max_seconds=max_seconds))
+        cpu = time.process_time() - cpu
         peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-        return {"states": e.states, "transitions": e.transitions, "complete": e.stopped is None,
-                "search_seconds": e.seconds,
+        return {"scheduler": scheduler, "states": e.states, "transitions": e.transitions,
+                "complete": e.stopped is None, "search_seconds": e.seconds,
+                "search_cpu_seconds": cpu,
                 "bytes_per_state": max(peak - before, 0.0) * 2**20 / e.states}
     from gather_verify.check import run_check
 
@@ -109,13 +118,15 @@ def _ring_child(world: str, robots: list, meeting: int, max_seconds: float) -> d
             "bytes_per_state": max(peak - before, 0.0) * 2**20 / r["states"]}
 
 
-def _run_child(kind: str, instance: tuple, max_seconds: float) -> dict[str, Any]:
+def _run_child(kind: str, instance: tuple, max_seconds: float,
+               scheduler: str = "async") -> dict[str, Any]:
     """One measurement in a fresh process, timed whole; ``instance`` is ``(robots, meeting)``
     on Z², ``(world, robots, meeting)`` for ``ring``."""
     started, cpu = time.perf_counter(), _children_cpu()
     out = subprocess.run(
         [sys.executable, "-m", "gather_verify.bench", kind, json.dumps(list(instance)),
-         str(max_seconds)], capture_output=True, text=True, check=True)
+         str(max_seconds)] + ([scheduler] if scheduler != "async" else []),
+        capture_output=True, text=True, check=True)
     result = json.loads(out.stdout)
     result["seconds"] = time.perf_counter() - started
     result["cpu_user_seconds"], result["cpu_system_seconds"] = _since(cpu)
@@ -184,9 +195,37 @@ def sweep_rate(limit: int) -> dict[str, Any]:
     return {"configurations": limit, "seconds": seconds, "per_second": limit / seconds}
 
 
+def schedulers_bench(schedulers: list[str], quick: bool = False, max_seconds: float = 3600.0
+                     ) -> list[dict[str, Any]]:
+    """The ``schedulers`` rows: per prefix of the bench instance (3, 4 and 5 robots; quick:
+    2 and 3), ``explore`` under ASYNC and under each of ``schedulers``, one fresh process
+    each, in that order; each row gives transitions per second (whole process, per CPU second
+    of the whole process, per CPU second of the search) and its ratios to ASYNC's."""
+    robots, meeting = QUICK if quick else FULL
+    rows: list[dict[str, Any]] = []
+    for k in range(len(robots) - 1, len(robots) + 1) if quick else (3, 4, 5):
+        instance = (robots[:k], meeting)
+        base: dict[str, float] = {}
+        for name in ["async", *schedulers]:
+            r = _run_child("explore", instance, max_seconds, name)
+            cpu = r["cpu_user_seconds"] + r["cpu_system_seconds"]
+            rates = {"whole": r["transitions"] / r["seconds"],
+                     "whole_cpu": r["transitions"] / max(cpu, 1e-9),
+                     "search_cpu": r["transitions"] / max(r["search_cpu_seconds"], 1e-9)}
+            if name == "async":
+                base = rates
+            rows.append({"robots": k, **r, "transitions_per_second": rates,
+                         "ratio_to_async": {key: rates[key] / base[key] for key in rates}})
+    return rows
+
+
 def bench(quick: bool = False, max_seconds: float = 3600.0, run_spin: bool = True,
-          sweep_limit: int = 0) -> dict[str, Any]:
-    """Every measurement, as one JSON-able dict (see the module docstring)."""
+          sweep_limit: int = 0, schedulers: list[str] | None = None,
+          schedulers_only: bool = False) -> dict[str, Any]:
+    """Every measurement, as one JSON-able dict (see the module docstring); with
+    ``schedulers_only``, only the ``schedulers`` rows."""
+    if schedulers_only:
+        return {"schedulers": schedulers_bench(schedulers or [], quick, max_seconds)}
     instance = QUICK if quick else FULL
     ours = _run_child("explore", instance, max_seconds)
     ours["states_per_second"] = ours["states"] / ours["seconds"]
@@ -212,6 +251,8 @@ def bench(quick: bool = False, max_seconds: float = 3600.0, run_spin: bool = Tru
     out["ring"] = ring_bench(quick, max_seconds, run_spin)
     if sweep_limit:
         out["sweep"] = sweep_rate(sweep_limit)
+    if schedulers:
+        out["schedulers"] = schedulers_bench(schedulers, quick, max_seconds)
     return out
 
 
@@ -250,6 +291,9 @@ def num(x: Any, fmt: str = ",.0f") -> str:
 
 def format_bench(r: dict[str, Any], write: Any = print) -> None:
     """The side-by-side table."""
+    if "explore" not in r:  # the schedulers' rows only
+        format_schedulers(r["schedulers"], write)
+        return
     i, e, v, s = r["instance"], r["explore"], r["verdict"], r["spin"]
     write(f"instance {i['name']}: {i['algorithm']}, {i['scheduler']}, robots "
           + " ".join(f"{x},{y}" for x, y in i["robots"]) + ", meeting "
@@ -291,6 +335,28 @@ def format_bench(r: dict[str, Any], write: Any = print) -> None:
         w = r["sweep"]
         write(f"sweep paper n=3 m=3 4x4 async, first {w['configurations']} configurations, "
               f"1 worker: {w['seconds']:.1f} s, {w['per_second']:.1f} configurations/s")
+    if r.get("schedulers"):
+        format_schedulers(r["schedulers"], write)
+
+
+def format_schedulers(rows: list[dict[str, Any]], write: Any = print) -> None:
+    """The ``schedulers`` rows: transitions per second beside ASYNC's."""
+    write("explore (go-to-target, reductions off, no properties) under each scheduler; "
+          "transitions/s and ratio to ASYNC:")
+    write(f"{'robots':>6} {'scheduler':>11} {'states':>11} {'transitions':>12} "
+          f"{'whole s':>8} {'CPU s':>6} {'search CPU':>10} {'/s whole':>10} {'/CPU s':>10} "
+          f"{'/search CPU s':>13} {'ratios: whole, CPU, search':>26}")
+    for x in rows:
+        t, q = x["transitions_per_second"], x["ratio_to_async"]
+        cpu = x["cpu_user_seconds"] + x["cpu_system_seconds"]
+        ratios = "" if x["scheduler"] == "async" else \
+            f"{q['whole']:.2f} {q['whole_cpu']:.2f} {q['search_cpu']:.2f}"
+        write(f"{x['robots']:>6} {x['scheduler']:>11} {x['states']:>11,} {x['transitions']:>12,} "
+              f"{x['seconds']:>8.2f} {cpu:>6.2f} {x['search_cpu_seconds']:>10.2f} "
+              f"{t['whole']:>10,.0f} {t['whole_cpu']:>10,.0f} {t['search_cpu']:>13,.0f} "
+              f"{ratios:>26}")
+        if not x["complete"]:
+            write("  (stopped at --max-seconds: INCOMPLETE, rates are partial)")
 
 
 def format_ring(g: dict[str, Any], write: Any = print) -> None:
@@ -330,5 +396,5 @@ if __name__ == "__main__":  # the child of _run_child
     args = json.loads(sys.argv[2])
     if sys.argv[1] == "ring":
         print(json.dumps(_ring_child(*args, float(sys.argv[3]))))
-    else:
-        print(json.dumps(_child(sys.argv[1], *args, float(sys.argv[3]))))
+    else:  # an optional fourth argument: explore's scheduler
+        print(json.dumps(_child(sys.argv[1], *args, float(sys.argv[3]), *sys.argv[4:5])))
