@@ -131,13 +131,21 @@ class Checks:
 class ColumnChecks:
     """:class:`Checks` over the bulk engine's columns: ``facts(row)`` gives the facts of a
     row of its facts table (computed lazily, attribute by attribute), ``facts(row, idle)``
-    those of a state, with an attribute ``read_idle`` (whether a predicate read ``idle``)."""
+    those of a state, with an attribute ``read_idle`` (whether a predicate read ``idle``)
+    and, when ``shared`` is given, ``read_row`` (whether it read a fact of its own row
+    rather than one its ``shared`` code fixes)."""
 
     def __init__(self, checks: Checks, facts: Callable[..., Any],
-                 many: Callable[[np.ndarray, np.ndarray], list[Any]]):
+                 many: Callable[[np.ndarray, np.ndarray], list[Any]],
+                 shared: Callable[[np.ndarray], np.ndarray] | None = None):
         self.checks = checks
         self.facts = facts
         self.many = many  # (rows, idle) -> the state facts of each pair, in one go
+        self.shared = shared
+        """Optional: per row, a code such that rows of one code have the same facts but those
+        a predicate can only read through an attribute that sets the facts' ``read_row``
+        (:meth:`failures` then evaluates a predicate once per code and idle flag, for every
+        row of the code, when it read nothing of its row)."""
         self.verdicts: dict[tuple[str, ...], np.ndarray] = {}  # [row * 2 + idle, j]: -1, 0, 1
         self.values: dict[str, tuple[np.ndarray, dict[Any, int], list[Any]]] = {}
         self.pairs: dict[str, dict[tuple[int, int], bool]] = {}
@@ -163,32 +171,77 @@ class ColumnChecks:
         got = np.take(table, key, axis=0)  # (much faster than table[key] on rows)
         if len(got) and got.min() < 0:
             todo = np.unique(key[(got < 0).any(axis=1)])
-            lines = table[todo].tolist()
+            verdicts = table[todo]
+            one = np.ones(len(todo), dtype=bool) if self.shared is None \
+                else self._share(props, todo, verdicts, gate)
+            rest = todo[one]
+            lines = verdicts[one].tolist()
             spread: list[tuple[int, int, bool]] = []  # (key, j, verdict) for the other idle value
-            done = dict(zip(todo.tolist(), lines, strict=True))
-            for (k, line), s in zip(done.items(), self.many(todo >> 1, (todo & 1).astype(bool)),
+            done = dict(zip(rest.tolist(), lines, strict=True))
+            for (k, line), s in zip(done.items(), self.many(rest >> 1, (rest & 1).astype(bool)),
                                     strict=True):
-                for j, p in enumerate(props):
-                    if j == gate and gate and 0 in line[:gate]:
-                        line[gate:] = [1] * (len(props) - gate)  # halting: nothing else checked
-                        break
-                    if line[j] >= 0:
-                        continue  # settled with the other idle value (its predicate did not read it)
-                    s.read_idle = False
-                    ok = bool(p.holds(s))  # type: ignore[misc]
-                    line[j] = ok
-                    if not s.read_idle:  # the answer does not depend on idle
-                        twin = done.get(k ^ 1)
-                        if twin is not None:
-                            twin[j] = ok
-                        else:
-                            spread.append((k ^ 1, j, ok))
-            table[todo] = lines
+                self._evaluate(props, gate, line, s, k, done, spread)
+            if lines:
+                verdicts[one] = lines
+            table[todo] = verdicts
             if spread:
                 ks, js, oks = zip(*spread, strict=True)
                 table[list(ks), list(js)] = oks
             got = np.take(table, key, axis=0)
         return got == 0
+
+    def _evaluate(self, props: list[Property], gate: int, line: list[int], s: Any,
+                  k: int | None = None, done: dict[int, list[int]] | None = None,
+                  spread: list[tuple[int, int, bool]] | None = None) -> list[bool]:
+        """The verdicts of ``props`` left open (-1) in ``line`` on the facts ``s`` of key ``k``
+        (row * 2 + idle), in order; a halting property failing (among the first ``gate``)
+        settles the others as holding (not evaluated, as in the reference engine). A verdict
+        that did not read ``idle`` is also the other idle value's (``done``, else ``spread``).
+        Returns per property whether its verdict read nothing of the row (with ``shared``)."""
+        free = [False] * len(props)
+        sharing = self.shared is not None
+        for j, p in enumerate(props):
+            if j == gate and gate and 0 in line[:gate]:
+                line[gate:] = [1] * (len(props) - gate)  # halting: nothing else checked
+                free[gate:] = [all(free[:gate])] * (len(props) - gate)
+                break
+            if line[j] >= 0:
+                continue  # settled with the other idle value (its predicate did not read it)
+            s.read_idle = False
+            if sharing:
+                s.read_row = False
+            ok = bool(p.holds(s))  # type: ignore[misc]
+            line[j] = ok
+            free[j] = sharing and not s.read_row
+            if k is not None and not s.read_idle:  # the answer does not depend on idle
+                twin = None if done is None else done.get(k ^ 1)
+                if twin is not None:
+                    twin[j] = ok
+                elif spread is not None:
+                    spread.append((k ^ 1, j, ok))
+        return free
+
+    def _share(self, props: list[Property], todo: np.ndarray, verdicts: np.ndarray,
+               gate: int) -> np.ndarray:
+        """The verdicts of the keys ``todo`` (rows of ``verdicts``, filled in) evaluated once
+        per ``shared`` code and idle flag, on the first key of each: a verdict whose predicate
+        read nothing of that key's row is every key's of its group. Returns which keys still
+        have verdicts to evaluate one by one."""
+        assert self.shared is not None
+        code = self.shared(todo >> 1).astype(np.int64) * 2 + (todo & 1)
+        _, first, group = np.unique(code, return_index=True, return_inverse=True)
+        reps = todo[first]
+        values = verdicts[first]
+        free = np.zeros(values.shape, dtype=bool)
+        for g, s in enumerate(self.many(reps >> 1, (reps & 1).astype(bool))):
+            line = values[g].tolist()
+            free[g] = self._evaluate(props, gate, line, s)
+            values[g] = line
+        verdicts[first] = values
+        copy = free[group]
+        verdicts[copy] = values[group][copy]
+        one: np.ndarray = (verdicts < 0).any(axis=1)
+        return one
 
     def first_failure(self, props: list[Property], failures: np.ndarray
                       ) -> tuple[int, Property] | None:

@@ -146,6 +146,7 @@ class FactsTable:
         # masks of a representative, seen from the configuration that ``a`` maps onto it
         self.perm = np.array([STEP_PERM[geometry.inverse(a.g)] for a in group], dtype=np.uint8)
         self.orbit: dict[int, int] = {}
+        self.mask_of: dict[tuple[Node, frozenset[Node]], int] = {}  # (node, move set) -> mask
         self.omasks = np.zeros((1024, n), dtype=np.uint8)
         self.oflags = np.zeros((1024, 3), dtype=np.int8)
         # per orbit, the canonical form of its representative when one was computed (what
@@ -203,12 +204,16 @@ class FactsTable:
         pick = np.arange(m)
         okeys, ocells = packed[best, pick], srt[best, pick]
         orows = np.empty(m, dtype=np.int64)
-        get = self.orbit.get
+        orbit = self.orbit
+        new = []  # the first configuration of each orbit met here for the first time
         for i, k in enumerate(okeys.tolist()):
-            r = get(k)
+            r = orbit.get(k)
             if r is None:
-                r = self._orbit_facts(k, ocells[i])
+                r = orbit[k] = len(orbit)
+                new.append(i)
             orows[i] = r
+        if new:
+            self._orbit_facts(ocells[new])
         # robot j of the configuration sits on the rank[j]-th cell of the representative
         rank = np.argmax(image[best, pick][:, :, None] == ocells[:, None, :], axis=2)
         self.masks[rows] = self.perm[best[:, None], self.omasks[orows[:, None], rank]]
@@ -217,22 +222,23 @@ class FactsTable:
         self.row_image[rows] = best
         return rows
 
-    def _orbit_facts(self, key: int, cells: np.ndarray) -> int:
-        r = len(self.orbit)
-        if r == len(self.omasks):
+    def _orbit_facts(self, cells: np.ndarray) -> None:
+        """The facts of new orbits (numbered next, in order), from their representatives'
+        sorted cells in the group-closed box."""
+        first = len(self.oforms)
+        while first + len(cells) > len(self.omasks):
             self.omasks = np.concatenate([self.omasks, np.zeros_like(self.omasks)])
             self.oflags = np.concatenate([self.oflags, np.zeros_like(self.oflags)])
-        self.orbit[key] = r
         x0, y0, h = self.box
-        robots = tuple((x0 + c // h, y0 + c % h) for c in cells.tolist())
-        if self.memo is None:
-            masks, flags, form = self._facts(robots)
-        else:
-            masks, flags, form = self._remembered_facts(robots)
-        self.omasks[r] = masks
-        self.oflags[r] = flags
-        self.oforms.append(form)
-        return r
+        facts = self._facts if self.memo is None else self._remembered_facts
+        masks, flags = [], []
+        for xs, ys in zip((x0 + cells // h).tolist(), (y0 + cells % h).tolist(), strict=True):
+            m, f, form = facts(tuple(zip(xs, ys, strict=True)))
+            masks.append(m)
+            flags.append(f)
+            self.oforms.append(form)
+        self.omasks[first:first + len(cells)] = masks
+        self.oflags[first:first + len(cells)] = flags
 
     def _facts(self, robots: tuple[Node, ...]
                ) -> tuple[list[int], tuple[int, int, int], CanonicalForm | None]:
@@ -261,9 +267,17 @@ class FactsTable:
         form = c.__dict__.get("canonical_form")
         if undefined:
             return [0] * len(robots), (undefined, 0, 0), form
-        masks = [sum(BIT[x - vx, y - vy] for x, y in ms[vx, vy]) for vx, vy in robots]
-        return masks, (0, all(s == {v} for v, s in ms.items()),
-                       len(c.counts) == 1 and robots[0] in self.meeting), form
+        mask_of, by_node = self.mask_of, {}
+        for v, s in ms.items():  # each occupied node once; each (node, move set) computed once
+            m = mask_of.get((v, s)) if type(s) is frozenset else None
+            if m is None:
+                m = sum(BIT[x - v[0], y - v[1]] for x, y in s)
+                if type(s) is frozenset:
+                    mask_of[v, s] = m
+            by_node[v] = m
+        return [by_node[v] for v in robots], (0, all(m == 16 for m in by_node.values()),
+                                              robots[0] == robots[-1] and robots[0] in self.meeting
+                                              ), form
 
     def _remembered_facts(self, robots: tuple[Node, ...]
                           ) -> tuple[list[int], tuple[int, int, int], CanonicalForm | None]:
@@ -326,6 +340,13 @@ class FactsTable:
         except AlgorithmCrash as crash:
             return crash
         raise AssertionError("the orbit crashes, so does every member")  # pragma: no cover
+
+    def flag_codes(self, rows: np.ndarray) -> np.ndarray:
+        """Per row, its ``flags`` as one small integer: rows of one code agree on whether the
+        algorithm has a rule or crashed, whether they are stuck and gathered (every fact of
+        :class:`RowFacts` that does not set its ``read_row``)."""
+        f = self.flags[rows].astype(np.int64)
+        return f[:, 0] * 4 + f[:, 1] * 2 + f[:, 2]
 
     def need_in_u(self, rows: np.ndarray) -> np.ndarray:
         for r in np.unique(rows[self.in_u[rows] < 0]).tolist():
@@ -440,7 +461,7 @@ class RowFacts(ReadsIdle):
     a state's facts (:class:`~gather_verify.properties.facts.StateFacts`), and ``read_idle``
     tells whether a predicate read it (if not, its answer holds for both values)."""
 
-    __slots__ = ("table", "row", "initial", "_flags", "_idle", "read_idle")
+    __slots__ = ("table", "row", "initial", "_flags", "_idle", "read_idle", "read_row")
 
     def __init__(self, table: FactsTable, row: int, initial: Configuration,
                  idle: bool | None = None, flags: Sequence[int] | None = None):
@@ -448,6 +469,9 @@ class RowFacts(ReadsIdle):
         self._flags = flags  # read from the table on first use
         self._idle = idle
         self.read_idle = False
+        self.read_row = False
+        """Whether a fact beyond the row's flags was read (:meth:`FactsTable.flag_codes`:
+        the rows of one code agree on every other fact read)."""
 
     @property
     def flags(self) -> Sequence[int]:
@@ -464,12 +488,14 @@ class RowFacts(ReadsIdle):
 
     @property
     def configuration(self) -> Configuration:
+        self.read_row = True
         return self.table.configuration(self.row)
 
     @property
     def move_sets(self) -> dict[Node, frozenset[Node]] | None:
         if self.flags[0]:
             return None
+        self.read_row = True
         out = {}
         for cell, mask in zip(self.table.cells[self.row].tolist(),
                               self.table.masks[self.row].tolist(), strict=True):
@@ -481,13 +507,17 @@ class RowFacts(ReadsIdle):
     def unhandled(self) -> str | None:
         if not self.flags[0]:
             return None
+        self.read_row = True
         got = self.table.reason(self.row)
         assert got is not None or self.flags[0] == 2, "the orbit is unhandled, so is every member"
         return got
 
     @property
     def crash(self) -> AlgorithmCrash | None:
-        return self.table.crash_of(self.row) if self.flags[0] == 2 else None
+        if self.flags[0] != 2:
+            return None
+        self.read_row = True
+        return self.table.crash_of(self.row)
 
     @property
     def stuck(self) -> bool:
@@ -499,9 +529,11 @@ class RowFacts(ReadsIdle):
 
     @property
     def in_U(self) -> bool:
+        self.read_row = True
         return self.table.in_u_of(self.row)
 
     @property
     def target(self) -> Node | None:
+        self.read_row = True
         t = self.table.target_id_of(self.row)
         return None if t < 0 else self.table.target_nodes[t]

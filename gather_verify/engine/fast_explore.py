@@ -160,7 +160,8 @@ def explore_fast(
     init_row = table.rows(ck, srt)
     checks = Checks(properties, RowFacts(table, int(init_row[0]), initial, True))
     columns = ColumnChecks(checks, lambda row, idle=None: RowFacts(table, row, initial, idle),
-                           lambda rows, idle: RowFacts.many(table, initial, rows, idle))
+                           lambda rows, idle: RowFacts.many(table, initial, rows, idle),
+                           table.flag_codes)
     columns.states(0, init_row, np.ones(1, dtype=bool), checks.on_discovery)
     on_chunk = checks.halting + checks.on_expansion
 

@@ -14,7 +14,6 @@ configuration has its robots on distinct nodes.
 from __future__ import annotations
 
 import numbers
-from collections import Counter
 from collections.abc import Iterable
 from functools import cached_property
 
@@ -125,8 +124,12 @@ class Configuration:
 
     @cached_property
     def counts(self) -> dict[Node, int]:
-        """Robots per occupied node."""
-        return dict(Counter(self.robots))
+        """Robots per occupied node (in the order of the robots: as ``dict(Counter(robots))``,
+        without a Counter, which costs a search about 2 us per configuration)."""
+        out: dict[Node, int] = {}
+        for v in self.robots:
+            out[v] = out.get(v, 0) + 1
+        return out
 
     @cached_property
     def occupied(self) -> frozenset[Node]:
