@@ -240,8 +240,7 @@ class ColumnChecks:
         verdicts[first] = values
         copy = free[group]
         verdicts[copy] = values[group][copy]
-        one: np.ndarray = (verdicts < 0).any(axis=1)
-        return one
+        return np.asarray((verdicts < 0).any(axis=1))
 
     def first_failure(self, props: list[Property], failures: np.ndarray
                       ) -> tuple[int, Property] | None:
