@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from gather_verify.algorithms import Algorithm, AlgorithmCrash, Unhandled, target_of
-from gather_verify.algorithms.moves import move_sets
+from gather_verify.algorithms.moves import move_set, move_sets
 from gather_verify.engine.encoding import Encoding
 from gather_verify.engine.explore import rss_mb
 from gather_verify.engine.key_index import KeyIndex
@@ -143,6 +143,14 @@ class FactsTable:
         self.images = np.array([[(a(enc.node(c))[0] - x0) * h + a(enc.node(c))[1] - y0
                                  for c in range(enc.cells)] for a in group], dtype=np.int64)
         self.cpowers = np.array([(w * h) ** j for j in range(n)], dtype=np.int64)
+        # an algorithm whose answers depend on the robot's node only (its ``answers_by_node``
+        # hook, go-to-target's): each node's move mask once, per cell of the box above
+        hook = getattr(algorithm, "answers_by_node", None)
+        self.by_node = hook is not None and bool(hook())
+        self.node_mask = np.zeros(w * h, dtype=np.uint8)
+        self.node_flag = np.full(w * h, -1, dtype=np.int8)  # -1: not asked yet; 1, 2: as flags
+        self.box_meeting = np.array([(x0 + c // h, y0 + c % h) in meeting for c in range(w * h)],
+                                    dtype=bool)
         # masks of a representative, seen from the configuration that ``a`` maps onto it
         self.perm = np.array([STEP_PERM[geometry.inverse(a.g)] for a in group], dtype=np.uint8)
         self.orbit: dict[int, int] = {}
@@ -229,6 +237,9 @@ class FactsTable:
         while first + len(cells) > len(self.omasks):
             self.omasks = np.concatenate([self.omasks, np.zeros_like(self.omasks)])
             self.oflags = np.concatenate([self.oflags, np.zeros_like(self.oflags)])
+        if self.by_node:
+            self._node_orbit_facts(cells, first)
+            return
         x0, y0, h = self.box
         facts = self._facts if self.memo is None else self._remembered_facts
         masks, flags = [], []
@@ -239,6 +250,63 @@ class FactsTable:
             self.oforms.append(form)
         self.omasks[first:first + len(cells)] = masks
         self.oflags[first:first + len(cells)] = flags
+
+    def _node_orbit_facts(self, cells: np.ndarray, first: int) -> None:
+        """:meth:`_orbit_facts` for an algorithm that answers by node: the move set of each
+        node asked once (:meth:`_node_facts`, in the first configuration met that holds it),
+        the masks and flags in bulk, as :meth:`_facts` defines them (the first robot in order
+        whose node has no rule or crashes decides the flag, as ``move_sets`` asks the nodes
+        in order), and the algorithm's ``target`` asked per configuration (a crash there is
+        the configuration's)."""
+        x0, y0, h = self.box
+        k = len(cells)
+        fresh = np.unique(cells[self.node_flag[cells] < 0])
+        if len(fresh):
+            holder = np.argmax((cells[:, :, None] == fresh).any(axis=1), axis=0)
+            for c, i in zip(fresh.tolist(), holder.tolist(), strict=True):
+                robots = tuple((x0 + v // h, y0 + v % h) for v in cells[i].tolist())
+                self._node_facts(c, Configuration.trusted(robots, self.meeting))
+        flag = self.node_flag[cells]
+        undefined = flag[np.arange(k), np.argmax(flag != 0, axis=1)].astype(np.int8)
+        forms: list[CanonicalForm | None] = [None] * k
+        if getattr(self.algorithm, "target", None) is not None or self.memo is not None:
+            for i in np.flatnonzero(undefined != 2).tolist():
+                robots = tuple((x0 + v // h, y0 + v % h) for v in cells[i].tolist())
+                c = Configuration.trusted(robots, self.meeting)
+                try:  # whether it crashes (and the value, for a sweep's memo of targets)
+                    t = target_of(self.algorithm, c)
+                except Unhandled:
+                    t = None
+                except AlgorithmCrash:
+                    undefined[i] = 2
+                    continue
+                if self.keep_targets:
+                    self._remember_target((robots, self.meeting), t)
+                forms[i] = c.__dict__.get("canonical_form")
+        defined = undefined == 0
+        masks = np.where(defined[:, None], self.node_mask[cells], 0)
+        self.omasks[first:first + k] = masks
+        self.oflags[first:first + k, 0] = undefined
+        self.oflags[first:first + k, 1] = defined & (masks == 16).all(axis=1)
+        self.oflags[first:first + k, 2] = defined & (cells[:, 0] == cells[:, -1]) & \
+            self.box_meeting[cells[:, 0]]
+        self.oforms.extend(forms)
+
+    def _node_facts(self, cell: int, c: Configuration) -> None:
+        """The move mask (or flag: 1 no rule, 2 crash) of the node of box cell ``cell``, asked
+        of the algorithm's ``decide`` in ``c``, a configuration that holds that node."""
+        x0, y0, h = self.box
+        v = (x0 + cell // h, y0 + cell % h)
+        try:
+            s = move_set(self.algorithm, c, v, self.detection, self.frames)
+        except Unhandled:
+            self.node_flag[cell] = 1
+            return
+        except AlgorithmCrash:
+            self.node_flag[cell] = 2
+            return
+        self.node_mask[cell] = sum(BIT[x - v[0], y - v[1]] for x, y in s)
+        self.node_flag[cell] = 0
 
     def _facts(self, robots: tuple[Node, ...]
                ) -> tuple[list[int], tuple[int, int, int], CanonicalForm | None]:
