@@ -93,3 +93,30 @@ def test_spin_ring_model_states_equal_ours(world, robots, meeting):
     theirs = json.loads(out.stdout)
     assert theirs["validated"]
     assert (theirs["states"], theirs["edges"]) == _ours(world, robots, meeting)
+
+
+def test_bench_schedulers_rows_quick():
+    """``--scheduler`` runs the search under each round scheduler beside ASYNC on the quick
+    instance and its 2-robot prefix: the state counts of SEMANTICS.md §4, and ratios."""
+    out = subprocess.run([sys.executable, "-m", "gather_verify", "bench", "--quick", "--scheduler",
+                          "ssync", "--scheduler", "fsync", "--schedulers-only", "--json"],
+                         capture_output=True, text=True, check=True).stdout
+    rows = json.loads(out)["schedulers"]
+    got = {(r["robots"], r["scheduler"]): r for r in rows}
+    assert [(r["robots"], r["scheduler"]) for r in rows] == [
+        (2, "async"), (2, "ssync"), (2, "fsync"), (3, "async"), (3, "ssync"), (3, "fsync")]
+    assert [got[3, s]["states"] for s in ("async", "ssync", "fsync")] == [2184, 216, 18]
+    assert got[3, "async"]["transitions"] == 7032
+    assert got[3, "ssync"]["ratio_to_async"]["search_cpu"] > 0
+    assert set(got[3, "async"]["ratio_to_async"].values()) == {1.0}
+    text = subprocess.run([sys.executable, "-m", "gather_verify", "bench", "--quick",
+                           "--scheduler", "ssync", "--schedulers-only"],
+                          capture_output=True, text=True, check=True).stdout
+    assert "ratios: whole, CPU, search" in text and "ssync" in text
+
+
+def test_bench_schedulers_only_needs_a_scheduler():
+    out = subprocess.run([sys.executable, "-m", "gather_verify", "bench", "--schedulers-only"],
+                         capture_output=True, text=True)
+    assert out.returncode == 2 and "--schedulers-only needs --scheduler" in out.stderr
+    assert "Traceback" not in out.stderr

@@ -10,12 +10,15 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gather_verify.algorithms import get_algorithm
+from gather_verify.algorithms import Unhandled, get_algorithm
+from gather_verify.algorithms.go_to_target import GoToTarget
 from gather_verify.algorithms.moves import move_sets
 from gather_verify.check import run_check
 from gather_verify.engine.explore import Limits, explore_reference
 from gather_verify.engine.fast_explore import explore_fast, supports
 from gather_verify.model.configuration import Configuration
+from gather_verify.properties.base import Property
+from gather_verify.properties.registry import register, unregister
 from gather_verify.scenario import load_scenario
 from gather_verify.sweeps.census import enumerate_configurations
 from schedulers import SCHEDULERS, initial_state, plane_schedulers
@@ -255,3 +258,115 @@ def test_grid_instance_counts():
     c = Configuration([(0, 0), (5, 1), (1, 5), (6, 6), (3, 0)], [(3, 3)], initial=True)
     e = explore_fast(c, "go-to-target", "async", reduction=False, properties=[], graph=False)
     assert (e.states, e.transitions, e.stopped) == (4_939_200, 27_377_280, None)
+
+
+class NodeRules(GoToTarget):
+    """go-to-target that answers by its node (the ``answers_by_node`` hook on) and has no rule
+    where its meeting node lies ``unhandled_at`` steps away (L1: the same in every frame) and
+    crashes where it lies ``crash_at`` steps away; with ``target_crash`` its target crashes
+    once a robot is on the meeting node. The bulk engine asks each node once; the reference
+    asks every configuration."""
+
+    name = "node-rules"
+
+    def __init__(self, unhandled_at: int = -1, crash_at: int = -1, target_crash: bool = False):
+        self.unhandled_at, self.crash_at, self.target_crash = unhandled_at, crash_at, target_crash
+
+    def answers_by_node(self) -> bool:
+        return True
+
+    def decide(self, view):
+        ((x, y),) = view.meeting_nodes
+        if abs(x) + abs(y) == self.crash_at:
+            raise ZeroDivisionError("a bug at this distance")
+        if abs(x) + abs(y) == self.unhandled_at:
+            raise Unhandled("no rule at this distance")
+        return super().decide(view)
+
+    def target(self, configuration):
+        if self.target_crash and configuration.meeting_nodes & set(configuration.robots):
+            raise KeyError("a bug in target")
+        return super().target(configuration)
+
+
+@pytest.mark.parametrize("scheduler", ALL)
+@pytest.mark.parametrize("frames", ["all", "chirality"])
+@pytest.mark.parametrize("rules, fails", [
+    (dict(unhandled_at=1), "defined"), (dict(crash_at=2), "crash"), ({}, None),
+    (dict(target_crash=True), "crash"),
+    # the initial configuration's first robot (0, 0) has no rule, (1, 4) would crash: as
+    # move_sets asks the nodes in order, no rule
+    (dict(unhandled_at=4, crash_at=3), "defined")])
+def test_answers_by_node_are_the_per_configuration_answers(rules, fails, frames, scheduler):
+    """The facts table of an algorithm that answers by node (masks from each node's move set,
+    flags in bulk, the target per configuration) gives the reference engine's exploration,
+    witnesses included: no rule, a crash in decide, a crash in target, none, and a node
+    without a rule before a node that crashes."""
+    algorithm = NodeRules(**rules)
+    assert algorithm.answers_by_node() and get_algorithm("go-to-target").answers_by_node()
+    for reduction in (False, True):
+        e = same(YARD, algorithm, scheduler, reduction=reduction, frames=frames)
+        assert set(e.violations) == ({fails} if fails else set())
+
+
+def test_answers_by_node_asks_each_node_once(monkeypatch):
+    """go-to-target's move sets come from one ``decide`` per node and frame, not per
+    configuration (the per-configuration path asks ``move_sets`` per orbit)."""
+    from gather_verify.engine import facts_table
+
+    asked: list[tuple[int, int]] = []
+    real = facts_table.move_set
+    monkeypatch.setattr(facts_table, "move_set",
+                        lambda algorithm, c, v, *rest: asked.append(v) or real(algorithm, c, v, *rest))
+    monkeypatch.setattr(facts_table, "move_sets", None)  # the per-configuration path is not taken
+    e = explore_fast(YARD, "go-to-target", "ssync", reduction=False)
+    assert e.states == YARD_STATES["ssync"]
+    assert len(asked) == len(set(asked)) > 0
+
+
+FLAGS_ONLY = Property("test-never-gathered", "state", holds=lambda s: not s.gathered,
+                      message="gathered", symmetric=True)
+"""A state property that reads a flag of the facts table's rows only (shared per flags)."""
+ROW_READER = Property("test-off-the-meeting-node", "state",
+                      holds=lambda s: not (s.configuration.meeting_nodes
+                                           & set(s.configuration.robots)) or s.stuck,
+                      message="a robot on the meeting node", symmetric=True)
+"""A state property that reads the configuration (evaluated per row)."""
+
+
+@pytest.mark.parametrize("scheduler", ALL)
+def test_state_properties_shared_per_flags_only_when_they_read_no_row(scheduler, monkeypatch):
+    """A state property that reads only the rows' flags is evaluated once per (flags, idle)
+    in the bulk engine; one that reads a row's configuration, per row: both give the
+    reference engine's witnesses (a robot first on the meeting node, then gathered)."""
+    calls = []
+    counted = Property("test-never-gathered", "state",
+                       holds=lambda s: calls.append(1) or FLAGS_ONLY.holds(s),
+                       message="gathered", symmetric=True)
+    for p in (counted, ROW_READER):
+        register(p)
+    try:
+        names = [counted.name, ROW_READER.name]
+        c = Configuration([(0, 0), (3, 1), (1, 3)], [(2, 2)], initial=True)
+        for reduction in (False, True):
+            e = same(c, "go-to-target", scheduler, reduction=reduction, properties=names)
+            assert set(e.violations) == set(names)
+        calls.clear()
+        explore_fast(c, "go-to-target", scheduler, reduction=False, properties=names)
+        assert 0 < len(calls) <= 2 * 12  # per (flags, idle): at most 12 flag values
+    finally:
+        for p in (counted, ROW_READER):
+            unregister(p.name)
+
+
+@pytest.mark.parametrize("scheduler", ["ssync", "fsync"])
+@pytest.mark.parametrize("frames", ["all", "chirality"])
+def test_rounds_of_many_robots(scheduler, frames):
+    """Six robots: 63 activated subsets a state under SSYNC; the states limit stops both
+    engines at the same state, with the reductions on and off."""
+    c = Configuration([(0, 0), (2, 0), (4, 1), (0, 3), (3, 4), (1, 4)], [(2, 2)], initial=True)
+    assert supports(c, scheduler, reduction=False)
+    for reduction in (False, True):
+        e = same(c, "go-to-target", scheduler, reduction=reduction, frames=frames,
+                 limits=Limits(max_states=1500))
+        assert e.stopped is not None or scheduler == "fsync"

@@ -247,6 +247,23 @@ def test_compiled_rounds_are_the_numpy_rounds(case) -> None:
         assert a.dtype == b.dtype and a.tolist() == b.tolist(), field
 
 
+@settings(max_examples=15, deadline=None)
+@given(st.integers(6, 8), st.integers(1, 4), st.integers(1, 20000), st.data())
+def test_compiled_rounds_of_many_subsets(n, s, budget, data) -> None:
+    """SSYNC with 6 to 8 robots: 63 to 255 activated subsets a state (masks of up to two
+    choices, a step outside the region among them): the compiled step is the numpy one."""
+    cells = 12
+    codes = data.draw(arrays(np.int64, (s, n), elements=st.integers(0, cells - 1))) * 5
+    masks = data.draw(arrays(np.uint8, (s, n), elements=st.sampled_from([16, 1, 17, 6, 24])))
+    neighbour = data.draw(arrays(np.int64, (cells, 4), elements=st.integers(-1, cells - 1)))
+    frontier = Frontier(codes, masks, neighbour)
+    fast, ref = both(lambda: get_scheduler("ssync").bulk_successors(frontier, budget))
+    assert fast.states == ref.states >= 1
+    for field in ("source", "weight", "robot", "code", "event"):
+        a, b = getattr(fast, field), getattr(ref, field)
+        assert a.dtype == b.dtype and a.tolist() == b.tolist(), field
+
+
 @settings(max_examples=80, deadline=None)
 @given(round_frontiers(), st.booleans(), st.integers(0, 3), st.randoms(use_true_random=False))
 def test_compiled_event_keys_are_the_numpy_keys(case, anonymity, images, rnd) -> None:

@@ -138,12 +138,13 @@ class GoToTarget:
         return out
 
     def answers_by_node(self) -> bool:
-        """On a finite world, whether :meth:`decide` reads nothing but the robot's own node,
-        the graph and the meeting nodes (no robot, no multiplicity, no light), so that a
-        robot's actions are a function of its node and colour (the optional hook of
-        :meth:`~gather_verify.worlds.moves.WorldMoves.table`, the finite worlds' twin of
-        :meth:`move_sets`). False for a subclass that answers otherwise (the broken
-        variants) and in a copy of this module (the mutants)."""
+        """Whether :meth:`decide` reads nothing but the robot's own node, the graph and the
+        meeting nodes (no robot, no multiplicity, no light), so that a robot's actions are a
+        function of its node and colour (the optional hook of
+        :meth:`~gather_verify.worlds.moves.WorldMoves.table` on a finite world, and of the
+        bulk engine's facts table on Z², which then asks each node once). False for a
+        subclass that answers otherwise (the broken variants) and in a copy of this module
+        (the mutants)."""
         return type(self).decide is GoToTarget.decide and __name__ == _HOME
 
     @commutes_with_translations
