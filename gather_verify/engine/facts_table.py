@@ -270,8 +270,10 @@ class FactsTable:
         undefined = flag[np.arange(k), np.argmax(flag != 0, axis=1)].astype(np.int8)
         forms: list[CanonicalForm | None] = [None] * k
         if getattr(self.algorithm, "target", None) is not None or self.memo is not None:
-            for i in np.flatnonzero(undefined != 2).tolist():
-                robots = tuple((x0 + v // h, y0 + v % h) for v in cells[i].tolist())
+            asked = np.flatnonzero(undefined != 2)
+            xs, ys = (x0 + cells[asked] // h).tolist(), (y0 + cells[asked] % h).tolist()
+            for i, x, y in zip(asked.tolist(), xs, ys, strict=True):
+                robots = tuple(zip(x, y, strict=True))
                 c = Configuration.trusted(robots, self.meeting)
                 try:  # whether it crashes (and the value, for a sweep's memo of targets)
                     t = target_of(self.algorithm, c)
