@@ -1,8 +1,8 @@
 """gather-verify: exhaustive verification of gathering over meeting nodes on the infinite grid.
 
-The pipeline, one module per concept: configuration -> symmetry -> strings ->
-classes; view -> algorithm -> move sets -> scheduler -> explorer -> properties
--> verdict and trace.
+The pipeline, one module per concept: configuration -> symmetry (the paper's
+strings -> classes: :mod:`gather_verify.paper`); view -> algorithm -> move sets ->
+scheduler -> explorer -> properties -> verdict and trace.
 
 The public surface is small and lazy (PEP 562): ``import gather_verify`` loads
 nothing else, and each name below imports its module on first use, so every
