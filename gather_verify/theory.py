@@ -74,9 +74,11 @@ _loaded: list[str] = []
 def fact(name: str, *, values: Iterable[Any] = (),
          never: Callable[[Sequence[Any], Iterable[Any]], bool] | None = None,
          symmetric_only: bool = False) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
-    """Decorator: register the function as the fact ``name`` (a name is registered once)."""
+    """Decorator: register the function as the fact ``name`` (a name is registered once; the
+    same function again, as a reload of its module registers it, replaces it)."""
     def register(of: Callable[..., Any]) -> Callable[..., Any]:
-        if name in _FACTS:
+        known = _FACTS.get(name)
+        if known is not None and _where(known.of) != _where(of):
             raise ValueError(f"the fact {name!r} is registered already")
         _FACTS[name] = Fact(name, of, tuple(values), never, symmetric_only)
         return of
@@ -86,17 +88,23 @@ def fact(name: str, *, values: Iterable[Any] = (),
 def precondition(summary: str) -> Callable[[Callable[..., str | None]], Callable[..., str | None]]:
     """Decorator: register the function as a precondition (checked in registration order)."""
     def register(why_not: Callable[..., str | None]) -> Callable[..., str | None]:
+        _PRECONDITIONS[:] = [p for p in _PRECONDITIONS if _where(p.why_not) != _where(why_not)]
         _PRECONDITIONS.append(Precondition(summary, why_not))
         return why_not
     return register
+
+
+def _where(function: Callable[..., Any]) -> tuple[str, str]:
+    """Where a function is defined: the same after a reload of its module."""
+    return getattr(function, "__module__", ""), getattr(function, "__qualname__", "")
 
 
 def _load() -> None:
     """Import the built-in theories once (their imports register their facts)."""
     for module in THEORIES:
         if module not in _loaded:
-            _loaded.append(module)
             importlib.import_module(module)
+            _loaded.append(module)
 
 
 def get_fact(name: str) -> Fact:

@@ -69,3 +69,14 @@ def test_both_engines_read_in_u_from_the_registry(monkeypatch, engine) -> None:
     r = run_check(YARD, algorithm="go-to-target", scheduler="fsync", engine=engine,
                   properties=["no-ungatherable"], reduction=False)
     assert r["verdict"] == "VERIFIED"
+
+
+def test_a_reload_of_the_paper_registers_it_again_once() -> None:
+    import importlib
+
+    import gather_verify.paper
+
+    count = len(theory.preconditions())
+    importlib.reload(gather_verify.paper)
+    assert len(theory.preconditions()) == count
+    assert theory.get_fact("in_U").of(IN_U) is True
