@@ -1,8 +1,8 @@
 """gather-verify: exhaustive verification of gathering over meeting nodes on the infinite grid.
 
-The pipeline, one module per concept: configuration -> symmetry -> strings ->
-classes; view -> algorithm -> move sets -> scheduler -> explorer -> properties
--> verdict and trace.
+The pipeline, one module per concept: configuration -> symmetry (the paper's
+strings -> classes: :mod:`gather_verify.paper`); view -> algorithm -> move sets ->
+scheduler -> explorer -> properties -> verdict and trace.
 
 The public surface is small and lazy (PEP 562): ``import gather_verify`` loads
 nothing else, and each name below imports its module on first use, so every
@@ -36,10 +36,10 @@ from typing import Any
 _PUBLIC: dict[str, str] = {
     # the model
     "Configuration": "gather_verify.model.configuration",
-    "CLASS_NAMES": "gather_verify.model.classes",
-    "Classification": "gather_verify.model.classes",
-    "classify": "gather_verify.model.classes",
-    "classify_configuration": "gather_verify.model.classes",
+    "CLASS_NAMES": "gather_verify.paper.classes",
+    "Classification": "gather_verify.paper.classes",
+    "classify": "gather_verify.paper.classes",
+    "classify_configuration": "gather_verify.paper.classes",
     # algorithms
     "Algorithm": "gather_verify.algorithms",
     "Unhandled": "gather_verify.algorithms",
@@ -56,7 +56,7 @@ _PUBLIC: dict[str, str] = {
     "CheckReport": "gather_verify.check",
     "PropertyResult": "gather_verify.check",
     "load_trace": "gather_verify.trace",
-    "check_impossibility": "gather_verify.impossibility",
+    "check_impossibility": "gather_verify.paper.impossibility",
     # inputs and sweeps
     "Scenario": "gather_verify.scenario",
     "load_scenario": "gather_verify.scenario",

@@ -29,6 +29,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+from gather_verify import theory
 from gather_verify.algorithms.base import Algorithm, phase_of
 from gather_verify.engine.checks import Violation
 from gather_verify.engine.explore import (
@@ -42,7 +43,6 @@ from gather_verify.engine.region import PLANE
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.engine.search import explore
 from gather_verify.errors import InvalidInput
-from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.view import Lights
@@ -389,10 +389,11 @@ def run_check(
         raise InvalidInput(f"unknown limit(s): {', '.join(sorted(limits))}")
     first_margin = lim.margin
     PROGRESS.doing = "classifying the configuration"
-    cls = classify_configuration(configuration)
+    class_name = theory.get_fact("class").of(configuration)
+    why_not = None if force else theory.not_applicable(configuration, frames)
     n, D = configuration.n, configuration.D
     report: dict[str, Any] = {
-        "class": cls.name, "verdict": None, "property": None, "reason": None, "states": 0,
+        "class": class_name, "verdict": None, "property": None, "reason": None, "states": 0,
         "transitions": 0, "max_moves": None, "max_moves_infinite": False, "D": D, "n": n,
         "ratio": None, "bound": move_bound_c * D * n, "seconds": 0.0, "trace": None,
         "cause": None,
@@ -408,11 +409,8 @@ def run_check(
             "lights": str(light), "colours": list(colours or (0,) * n),
             "engine": "reference" if engine == "reference" else "bulk"}),
     }
-    if (cls.in_U or cls.name == "UNCLASSIFIED") and frames == "all" and not force:
-        # the paper's U and partition are about disoriented robots (all 8 frames): with a
-        # common compass or chirality such a configuration is checked like any other
-        report.update(verdict=NOT_APPLICABLE, reason=f"initial configuration is {cls.name}: "
-                      "use the impossibility checks (or --force)",
+    if why_not is not None:  # a precondition of the paper's theory (gather_verify.theory)
+        report.update(verdict=NOT_APPLICABLE, reason=why_not,
                       seconds=time.perf_counter() - started)
         return report
     sched = get_scheduler(scheduler)  # resolved once: the engines take the objects

@@ -194,16 +194,17 @@ def _check_colours(data: dict[str, Any], n: int, where: str) -> None:
 def _parse_expect(
     expect: dict[str, Any], where: str, data: dict[str, Any]
 ) -> tuple[str | None, tuple[Expectation, ...]]:
-    from gather_verify.model.classes import CLASS_NAMES
+    from gather_verify.theory import get_fact
 
+    class_names = get_fact("class").values
     known = {"class", "verdicts"}
     for key in expect:
         if key not in known:
             raise ScenarioError(f"{where}: unknown field 'expect.{key}' (known: class, verdicts)")
     expected_class = expect.get("class")
     if expected_class is not None and not isinstance(expected_class, str):
-        raise ScenarioError(f"{where}: 'expect.class' must be a string, one of {', '.join(CLASS_NAMES)}")
-    if expected_class is not None and expected_class not in CLASS_NAMES:
+        raise ScenarioError(f"{where}: 'expect.class' must be a string, one of {', '.join(class_names)}")
+    if expected_class is not None and expected_class not in class_names:
         raise ScenarioError(f"{where}: unknown class {expected_class!r} in 'expect.class'")
     verdicts = expect.get("verdicts", [])
     if not isinstance(verdicts, list):

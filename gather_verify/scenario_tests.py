@@ -158,12 +158,14 @@ def reproduce_command(scenario: Scenario, expectation: Expectation) -> str:
 
 
 def _run_class(case: Case) -> Outcome:
-    from gather_verify.model.classes import classify_configuration
+    from gather_verify.theory import get_fact
 
-    found = classify_configuration(case.scenario.configuration)
-    if found.name == case.scenario.expected_class:
+    c = case.scenario.configuration
+    found = get_fact("class").of(c)
+    if found == case.scenario.expected_class:
         return Outcome(case.name, True)
-    return Outcome(case.name, False, f"{case.scenario.path}: class {found.name} ({found.reason}), "
+    reason = get_fact("class_reason").of(c)
+    return Outcome(case.name, False, f"{case.scenario.path}: class {found} ({reason}), "
                    f"expected {case.scenario.expected_class}", "class")
 
 

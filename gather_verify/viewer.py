@@ -97,15 +97,15 @@ def _state_info(algorithm: Any, trace: dict[str, Any], robots: list[tuple[int, i
     from gather_verify.algorithms import AlgorithmCrash, AlgorithmError, Unhandled, target_of
     from gather_verify.algorithms.base import phase_of
     from gather_verify.algorithms.moves import frames_for, move_sets
-    from gather_verify.model.classes import classify_configuration
+    from gather_verify.theory import get_fact
 
     meeting = frozenset(tuple(m) for m in trace["initial"]["meeting_nodes"])
     conf = Configuration.trusted(tuple(sorted(robots)), meeting)
     out: dict[str, Any] = {"class": None, "in_U": None, "target": None, "phase": None,
                            "guard": None, "moves": None, "unhandled": None}
     try:
-        cls = classify_configuration(conf)
-        out["class"], out["in_U"] = cls.name, bool(cls.in_U)
+        out["class"] = get_fact("class").of(conf)
+        out["in_U"] = bool(get_fact("in_U").of(conf))
     except Exception as error:  # a picture must not fail on a configuration it cannot classify
         out["class"] = f"? ({error})"
     if algorithm is None:

@@ -11,8 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from gather_verify.model import geometry
-from gather_verify.model.classes import CLASS_NAMES, classify_configuration
 from gather_verify.model.configuration import Configuration
+from gather_verify.paper.classes import CLASS_NAMES, classify_configuration
 from gather_verify.sweeps.census import (
     canonical,
     canonical_key,

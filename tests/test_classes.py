@@ -7,16 +7,16 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gather_verify.impossibility import theorem1_automorphism
 from gather_verify.model import geometry
-from gather_verify.model.classes import (
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.symmetry import configuration_automorphisms, meeting_automorphisms
+from gather_verify.paper.classes import (
     CLASS_NAMES,
     classify,
     classify_configuration,
     describe_views,
 )
-from gather_verify.model.configuration import Configuration
-from gather_verify.model.symmetry import configuration_automorphisms, meeting_automorphisms
+from gather_verify.paper.impossibility import theorem1_automorphism
 from gather_verify.scenario import load_scenario
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -8,7 +8,7 @@ import sys
 import pytest
 
 from gather_verify.cli import main
-from gather_verify.model.classes import CLASS_NAMES
+from gather_verify.paper.classes import CLASS_NAMES
 
 STRING2 = "001001400004000000000000404000400401000000100"
 

@@ -31,7 +31,7 @@ def test_an_internal_error_says_it_is_a_bug_prints_the_traceback_and_exits_70(
     def broken(*args, **kwargs):
         raise ValueError("an invariant of ours does not hold")
 
-    monkeypatch.setattr(check_module, "classify_configuration", broken)
+    monkeypatch.setattr(check_module.theory, "not_applicable", broken)
     assert main(YARD) == 70
     err = capsys.readouterr().err
     assert "Traceback (most recent call last)" in err
@@ -122,8 +122,8 @@ def test_every_exception_of_the_package_derives_from_the_one_root() -> None:
 def test_the_root_keeps_the_builtin_bases_callers_catch() -> None:
     from gather_verify.algorithms.moves import HiddenRead
     from gather_verify.errors import GatherVerifyError
-    from gather_verify.impossibility import AdversaryError
     from gather_verify.model.view import MultiplicityHidden
+    from gather_verify.paper.impossibility import AdversaryError
     from gather_verify.worlds.view import LightHidden
 
     assert issubclass(InvalidInput, ValueError)

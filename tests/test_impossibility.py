@@ -18,16 +18,16 @@ from gather_verify.algorithms.moves import move_set
 from gather_verify.algorithms.random_equivariant import RandomEquivariant
 from gather_verify.cli import main
 from gather_verify.cli.impossibility import algorithms_for
-from gather_verify.impossibility import (
+from gather_verify.model import geometry
+from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import ORIGIN, Node
+from gather_verify.model.view import View
+from gather_verify.paper.impossibility import (
     AdversaryError,
     check_impossibility,
     in_v_prime,
     symmetry_defect,
 )
-from gather_verify.model import geometry
-from gather_verify.model.configuration import Configuration
-from gather_verify.model.geometry import ORIGIN, Node
-from gather_verify.model.view import View
 from gather_verify.scenario import load_scenario
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -248,7 +248,7 @@ def census_U(explore: str, steps: int, max_states: int,
     ``beyond_u``: on every UNCLASSIFIED one that meets Theorem 1's hypothesis instead."""
     from collections import Counter
 
-    from gather_verify.model.classes import classify_configuration
+    from gather_verify.paper.classes import classify_configuration
     from gather_verify.sweeps.census import enumerate_configurations
 
     start, classes, stats = time.perf_counter(), Counter(), Counter()

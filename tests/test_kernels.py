@@ -180,9 +180,8 @@ def test_switching_the_kernels_off_runs_the_reference(monkeypatch) -> None:
 def test_never_in_u_is_exact_on_a_whole_box(n, m) -> None:
     """Where every symmetry of M fixes a meeting node, no configuration is in U (the shortcut
     of FactsTable.in_u_of), with multiplicities too; and the shortcut does not claim more."""
-    from gather_verify.engine.facts_table import never_in_u
-    from gather_verify.model.classes import classify_configuration
     from gather_verify.model.symmetry import meeting_automorphisms
+    from gather_verify.paper.classes import classify_configuration, never_in_u
 
     claimed = 0
     for c in enumerate_configurations(n, m, 3, 3):

@@ -104,7 +104,7 @@ def test_an_unknown_mutant_is_one_line_exit_2(capsys: pytest.CaptureFixture[str]
 
 
 def test_the_paper_keeps_no_function_that_exists_only_as_a_mutation_site() -> None:
-    from gather_verify.algorithms import paper
+    from gather_verify.paper import algorithm as paper
 
     assert not hasattr(paper, "_canonical_view")
 

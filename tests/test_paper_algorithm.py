@@ -1,4 +1,4 @@
-"""The paper's Gathering() (gather_verify.algorithms.paper): targets, guards and moves per phase."""
+"""The paper's Gathering() (gather_verify.paper.algorithm): targets, guards and moves per phase."""
 
 from __future__ import annotations
 
@@ -6,11 +6,11 @@ import pytest
 
 from gather_verify.algorithms import Unhandled, get_algorithm
 from gather_verify.algorithms.moves import move_set, move_sets
-from gather_verify.algorithms.paper import PaperAlgorithm, analyse, ordering_O_second
-from gather_verify.model import strings
 from gather_verify.model.canonical import canonical
-from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
+from gather_verify.paper import strings
+from gather_verify.paper.algorithm import PaperAlgorithm, analyse, ordering_O_second
+from gather_verify.paper.classes import classify_configuration
 from gather_verify.scenario import load_scenario
 
 PAPER = PaperAlgorithm()

@@ -12,9 +12,9 @@ from hypothesis import strategies as st
 
 from gather_verify.algorithms import Unhandled
 from gather_verify.algorithms.moves import frames_for, move_set, move_sets
-from gather_verify.algorithms.paper import READINGS, PaperAlgorithm
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import DETECTION_MODELS
+from gather_verify.paper.algorithm import READINGS, PaperAlgorithm
 from gather_verify.sweeps.census import enumerate_configurations
 
 
@@ -83,8 +83,8 @@ def test_a_wrong_planned_move_set_is_caught():
 
 @given(nodes, nodes)
 def test_closer_steps_are_the_neighbours_nearer_the_target(v, target):
-    from gather_verify.algorithms.paper import closer_steps
     from gather_verify.model import geometry
+    from gather_verify.paper.algorithm import closer_steps
 
     d = geometry.manhattan(v, target)
     expected = {u for u in geometry.neighbours(v) if geometry.manhattan(u, target) < d} or {v}

@@ -11,11 +11,11 @@ from pathlib import Path
 import pytest
 
 from gather_verify.algorithms.base import Unhandled
-from gather_verify.algorithms.paper import DEFAULTS, READINGS, Reading, analyse
 from gather_verify.check import run_check
 from gather_verify.cli import main
 from gather_verify.model.configuration import Configuration
-from gather_verify.readings import (
+from gather_verify.paper.algorithm import DEFAULTS, READINGS, Reading, analyse
+from gather_verify.paper.readings import (
     check_readings,
     covering,
     m_type,
@@ -148,7 +148,7 @@ def _covering_failures(snapshots: list[Configuration]) -> list[tuple]:
 
 
 def test_options_not_read_on_an_M_do_not_change_any_plan():
-    """The covering claim of :mod:`gather_verify.readings`: for every snapshot, changing an
+    """The covering claim of :mod:`gather_verify.paper.readings`: for every snapshot, changing an
     option its M type does not read leaves the plan (or the Unhandled reason) equal."""
     snapshots = _snapshots()
     assert {m_type(c) for c in snapshots} == {"I1-ordered", "I13", "reflection", "rotation"}
@@ -157,7 +157,7 @@ def test_options_not_read_on_an_M_do_not_change_any_plan():
 
 def test_the_covering_claim_would_catch_an_option_read_where_it_is_said_not_to_be(monkeypatch):
     """Broken on purpose: claim that rotational M do not read ``metric``."""
-    from gather_verify import readings
+    from gather_verify.paper import readings
 
     monkeypatch.setitem(readings._READ, "rotation", tuple(
         o for o in readings._READ["rotation"] if o != "metric"))
@@ -361,7 +361,7 @@ def test_every_unhandled_of_paper_starts_with_its_own_rule_label():
     import ast
     import inspect
 
-    from gather_verify.algorithms import paper
+    from gather_verify.paper import algorithm as paper
 
     labels = []
     for node in ast.walk(ast.parse(inspect.getsource(paper))):

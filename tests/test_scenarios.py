@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from gather_verify.model.classes import classify_configuration
+from gather_verify.paper.classes import classify_configuration
 from gather_verify.scenario import load_scenario
 from gather_verify.scenario_tests import run_expectation
 

@@ -11,10 +11,10 @@ from pathlib import Path
 import pytest
 
 from gather_verify.algorithms import REGISTRY, get_algorithm
-from gather_verify.model import strings
-from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import manhattan
+from gather_verify.paper import strings
+from gather_verify.paper.classes import classify_configuration
 from gather_verify.simulate import simulate
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -5,9 +5,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gather_verify.model import geometry, strings
-from gather_verify.model.classes import classify_configuration
+from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
+from gather_verify.paper import strings
+from gather_verify.paper.classes import classify_configuration
 from gather_verify.scenario import load_scenario
 
 STRING2 = "001001400004000000000000404000400401000000100"

@@ -1,7 +1,7 @@
 """Mutation testing of the verifier: deliberate bugs in the paper's algorithm and in go-to-target.
 
 Test tooling, not part of the installed package: it patches the *source* of
-``gather_verify/algorithms/paper.py`` and ``go_to_target.py`` and reads the
+``gather_verify/paper/algorithm.py`` and ``go_to_target.py`` and reads the
 scenario set ``scenarios/mutants/`` of a source checkout. Run it from the
 repository's root::
 
@@ -12,7 +12,7 @@ repository's root::
     python -m tools.mutants cli check --robots "0,0 1,1" --meeting "2,2" \
         --algorithm mutant-gtt-stops-one-short   # any gather-verify command, mutants known
 
-A *mutant* is a real code mutation: the source of ``algorithms/paper.py`` or
+A *mutant* is a real code mutation: the source of ``paper/algorithm.py`` or
 ``algorithms/go_to_target.py`` with one decision changed (a snippet replaced
 by another, each snippet found exactly once, so a mutation cannot silently
 miss its site when the algorithm is edited), loaded as a private copy of the
@@ -48,7 +48,6 @@ from typing import Any
 
 from gather_verify.algorithms import Algorithm, register
 from gather_verify.algorithms import go_to_target as _go_to_target
-from gather_verify.algorithms import paper as _paper
 from gather_verify.check import run_check
 from gather_verify.cli.common import (
     EXIT_OK,
@@ -58,6 +57,7 @@ from gather_verify.cli.common import (
     without_timings,
 )
 from gather_verify.errors import InvalidInput
+from gather_verify.paper import algorithm as _paper
 from gather_verify.properties import ORDER
 from gather_verify.scenario import load_scenario
 

@@ -20,6 +20,7 @@ gather_verify.errors.InvalidInput: unknown algorithm 'nope': use one of ...
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable
 
 from gather_verify.algorithms.base import (
@@ -43,19 +44,25 @@ from gather_verify.algorithms.loading import (
     split_external,
 )
 from gather_verify.algorithms.nearest_centre import NearestCentre
-from gather_verify.algorithms.paper import PaperAlgorithm
 from gather_verify.algorithms.random_equivariant import RandomEquivariant
 from gather_verify.algorithms.ring_exploration import RingExplore
 from gather_verify.algorithms.ring_gathering import RingGather
 from gather_verify.errors import InvalidInput
 from gather_verify.recent import most_recent
 
+
+def paper_algorithm(**options: str) -> Algorithm:
+    """The paper's ``Gathering()`` (:class:`gather_verify.paper.algorithm.PaperAlgorithm`),
+    imported on first use: the paper's theory is a package of its own, above this layer."""
+    return importlib.import_module("gather_verify.paper.algorithm").PaperAlgorithm(**options)
+
+
 REGISTRY: dict[str, Callable[..., Algorithm]] = {
     "beacon": Beacon,
     "bounce": Bounce,
     "go-to-target": GoToTarget,
     "nearest-centre": NearestCentre,
-    "paper": PaperAlgorithm,
+    "paper": paper_algorithm,
     "random": RandomEquivariant,
     "ring-inchworm": RingInchworm,
     "ring-explore": RingExplore,

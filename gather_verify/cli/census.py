@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from gather_verify.cli.common import bounded_int, parse_box, print_json
-from gather_verify.model.classes import CLASS_NAMES, UNGATHERABLE
+from gather_verify.paper.classes import CLASS_NAMES, UNGATHERABLE
 from gather_verify.sweeps.census import MAX_SIDE, census
 
 HELP = "count the configurations of a WxH box (up to translation and D4) per class"

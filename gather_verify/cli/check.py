@@ -159,10 +159,10 @@ def run(args: argparse.Namespace) -> int:
             tuple(v) for v in scenario.raw["robots"]]
         colours = sorted_colours(written, colours)
     explored: list[Exploration] = []
-    if args.readings:  # every reading (gather_verify.readings), the first one reported in full
+    if args.readings:  # every reading (gather_verify.paper.readings), the first one reported in full
         from functools import partial
 
-        from gather_verify.readings import check_readings
+        from gather_verify.paper.readings import check_readings
 
         run_check = partial(check_readings, readings=args.readings)
     try:
@@ -227,7 +227,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"expectation of {args.scenario}: "
                   + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
     if args.readings:
-        from gather_verify.readings import ROBUSTNESS_EXIT, format_readings
+        from gather_verify.paper.readings import ROBUSTNESS_EXIT, format_readings
 
         if not args.json:
             format_readings(report)

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 
 from gather_verify.cli.common import add_configuration_arguments, load_configuration, print_json
-from gather_verify.model.classes import classify_configuration, describe_views
 from gather_verify.model.configuration import Configuration
+from gather_verify.paper.classes import classify_configuration, describe_views
 
 HELP = "classify an initial configuration (I11 ... I42 or UNCLASSIFIED) with its symmetry and corners"
 

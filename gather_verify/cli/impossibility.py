@@ -69,7 +69,7 @@ def algorithms_for(k: int, seed: int, paper: bool = True) -> tuple[list, str]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from gather_verify.impossibility import check_impossibility
+    from gather_verify.paper.impossibility import check_impossibility
 
     if args.beyond_u:
         print("warning: --beyond-u is deprecated and changes nothing (U follows §3.2, so no "

@@ -53,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
 
         for path in write_regressions(args.db, args.regressions, algorithm=only):
             print(f"wrote {path}", file=sys.stderr)
-    from gather_verify.readings import format_robustness, stored_robustness
+    from gather_verify.paper.readings import format_robustness, stored_robustness
 
     robust = stored_robustness(args.db, only)  # sweeps run with --readings: class x robustness
     curve = None

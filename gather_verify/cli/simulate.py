@@ -30,8 +30,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from gather_verify.algorithms import get_algorithm
-    from gather_verify.model.classes import classify_configuration
     from gather_verify.model.geometry import bounding_box
+    from gather_verify.paper.classes import classify_configuration
     from gather_verify.render import ascii_grid
     from gather_verify.simulate import simulate
     from schedulers.base import configuration_of

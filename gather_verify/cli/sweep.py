@@ -280,12 +280,12 @@ def _worlds(args: argparse.Namespace) -> int:
 
 def _readings(args: argparse.Namespace, settings: list) -> int:
     """``sweep --readings``: every reading into the store, then the class x robustness table."""
-    from gather_verify.readings import format_robustness, readings_sweep
+    from gather_verify.paper.readings import format_robustness, readings_sweep
 
     if args.junit:
         raise InvalidInput("--junit is not available with --readings")
     try:
-        from gather_verify.readings import M_TYPES
+        from gather_verify.paper.readings import M_TYPES
 
         types = M_TYPES if args.readings_types is None else [
             t.strip() for t in args.readings_types.split(",")]

@@ -439,7 +439,7 @@ def _plane(args: argparse.Namespace) -> int:
                 found = plane.search_algorithm([c], inst, own, max_seconds=args.max_seconds,
                                                max_candidates=args.max_candidates,
                                                max_states=args.max_states, seeds=seeds)
-                from gather_verify.model.classes import classify_configuration
+                from gather_verify.paper.classes import classify_configuration
 
                 cl = classify_configuration(c)
                 row.update(answer=found.answer, limit=found.limit, candidates=found.candidates,

@@ -15,7 +15,7 @@ whole sweep of a process (:func:`make_room` empties the memos when memory runs s
 from __future__ import annotations
 
 import gc
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -27,11 +27,11 @@ from gather_verify.engine.explore import rss_mb
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model import geometry
 from gather_verify.model.canonical import CanonicalForm, canonical_form, moved_form
-from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, Node
 from gather_verify.model.symmetry import Automorphism
 from gather_verify.recent import most_recent
+from gather_verify.theory import get_fact
 
 FactsMemo = dict
 """Facts of configurations up to translation and the frames, shared by the checks of a
@@ -81,15 +81,6 @@ BIT = {(0, 0): 16} | {step: 1 << k for k, step in enumerate(STEPS)}
 """The mask bit of each destination, relative to the robot."""
 
 
-def never_in_u(aut_m: Sequence[Automorphism], meeting: Iterable[Node]) -> bool:
-    """Whether no configuration over these meeting nodes is in U: U needs a symmetry of C
-    (an element of Aut(M)) whose axis or centre holds no meeting node
-    (:func:`~gather_verify.model.classes.in_U_of`), and here every element of Aut(M) but the
-    identity fixes a meeting node (its axis or centre holds one)."""
-    meeting = list(meeting)
-    return all(any(a.fixes(m) for m in meeting) for a in aut_m[1:])
-
-
 class FactsTable:
     """Per configuration (sorted robot cells, packed), the facts as small integers.
 
@@ -116,7 +107,9 @@ class FactsTable:
         self.detection, self.frames = detection, tuple(frames)
         self.meeting_form = canonical_form((), meeting, self.frames)
         self.aut_m = list(group)  # Aut(M), identity first
-        self.never_in_u = never_in_u(self.aut_m, meeting)
+        self.in_u_fact = get_fact("in_U")  # the paper's (gather_verify.theory)
+        never = self.in_u_fact.never
+        self.never_in_u = never is not None and never(self.aut_m, meeting)
         assert not self.aut_m or self.aut_m[0].g == geometry.IDENTITY and self.aut_m[0].t == (0, 0)
         self.index = KeyIndex(bits=10, capacity=1024)  # configuration key -> row
         self.nodes = [enc.node(c) for c in range(enc.cells)]  # the node of each cell
@@ -424,9 +417,10 @@ class FactsTable:
         return self.in_u[rows] == 1
 
     def _settle_asymmetric(self) -> None:
-        """The first test of :meth:`in_u_of`, in bulk on every row not settled yet: rows
-        whose occupied nodes no element of Aut(M) but the identity maps onto themselves are
-        not in U (they get ``in_u`` 0); the others are left to :meth:`in_u_of`."""
+        """The first test of :meth:`in_u_of` (the fact ``in_U`` is ``symmetric_only``), in
+        bulk on every row not settled yet: rows whose occupied nodes no element of Aut(M)
+        but the identity maps onto themselves are not in U (they get ``in_u`` 0); the others
+        are left to :meth:`in_u_of`."""
         rows = np.flatnonzero(self.in_u[:self.size] == -2)
         cells = self.cells[rows].astype(np.int64)
         x = self.enc.x0 + cells // self.enc.height
@@ -445,18 +439,20 @@ class FactsTable:
         known = int(self.in_u[row])
         if known < 0 and self.never_in_u:
             self.in_u[row] = known = 0
-        if known == -2 and self.compiled:
+        if known == -2 and self.compiled and self.in_u_fact.symmetric_only:
             self._settle_asymmetric()
             known = int(self.in_u[row])
         if known >= 0:
             return known == 1
-        # In U needs Aut(C) non-trivial, and Aut(C) is inside Aut(M): when no element of
-        # Aut(M) but the identity maps the occupied nodes onto themselves, C is not in U.
+        # The fact is symmetric_only (in U needs Aut(C) non-trivial), and Aut(C) is inside
+        # Aut(M): when no element of Aut(M) but the identity maps the occupied nodes onto
+        # themselves, C is not in U.
         aut = self.aut_m
         c = self.configuration(row)
         occupied = set(c.robots)
-        if any(all(a(v) in occupied for v in occupied) for a in aut[1:]):
-            self.in_u[row] = classify_configuration(c, aut_m_all=aut).in_U
+        if not self.in_u_fact.symmetric_only or any(
+                all(a(v) in occupied for v in occupied) for a in aut[1:]):
+            self.in_u[row] = self.in_u_fact.of(c, aut_m_all=aut)
         else:
             self.in_u[row] = 0
         return bool(self.in_u[row] == 1)

@@ -1,1 +1,1 @@
-"""The model layer: geometry, configurations, canonical forms, symmetry, the paper's strings, classes, and what a robot sees."""
+"""The model layer: geometry, configurations, canonical forms, symmetry, and what a robot sees (the paper's strings and classes: :mod:`gather_verify.paper`)."""

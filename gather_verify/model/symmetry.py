@@ -16,6 +16,7 @@ Centres and axes are kept in doubled coordinates so half-integers stay exact.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from functools import lru_cache
@@ -247,3 +248,22 @@ def configuration_automorphisms(
 
 def is_symmetric(labelled: Labelled) -> bool:
     return len(automorphisms(labelled)) > 1
+
+
+def symmetry_defect(phi: Automorphism, c: Configuration) -> str | None:
+    """Why ``c`` breaks the invariant of Theorem 1's adversary under ``phi`` (None when it
+    holds): ``phi`` maps the meeting nodes and the robots (with their multiplicities) onto
+    themselves, and the robots on each node ``phi`` fixes (``V'``) are a multiple of its
+    order ``k``. The synthesis' certificates check it too, hence here."""
+    if {phi(m) for m in c.meeting_nodes} != c.meeting_nodes:
+        return "phi does not map the meeting nodes onto themselves"
+    image = Counter(phi(r) for r in c.robots)
+    if image != Counter(c.counts):
+        moved = sorted(v for v in set(image) | set(c.counts) if image[v] != c.counts.get(v, 0))
+        return ("phi does not map the robots onto themselves (counts differ at "
+                f"{[list(v) for v in moved]})")
+    k = phi.order
+    for w, count in sorted(c.counts.items()):
+        if phi(w) == w and count % k:
+            return f"{count} robots on {list(w)} in V' (not a multiple of k = {k})"
+    return None

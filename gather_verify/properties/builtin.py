@@ -70,11 +70,11 @@ FINAL = Property(
 
 
 def _confirm_no_ungatherable(prop: Property, run: Run) -> tuple[bool, str]:
-    from gather_verify.model.classes import classify_configuration
+    from gather_verify.theory import get_fact
 
     ok, _ = fails_at_end(prop, run)
-    first, end = (classify_configuration(run.state_facts(k).configuration) for k in (0, -1))
-    return ok, f"{first.name} -> {end.name}"
+    first, end = (get_fact("class").of(run.state_facts(k).configuration) for k in (0, -1))
+    return ok, f"{first} -> {end}"
 
 
 def _initially_in_u(s: StateFacts) -> str | None:

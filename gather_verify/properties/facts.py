@@ -23,10 +23,10 @@ from typing import Any, Protocol
 
 from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, Unhandled, target_of
 from gather_verify.algorithms.moves import Action, LitRobots, luminous_table, move_sets
-from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.view import Lights
+from gather_verify.theory import get_fact
 
 
 class Facts(Protocol):
@@ -45,7 +45,7 @@ class Facts(Protocol):
     @property
     def gathered(self) -> bool: ...  # every robot on one meeting node
     @property
-    def in_U(self) -> bool: ...  # SEMANTICS.md §2
+    def in_U(self) -> bool: ...  # SEMANTICS.md §2: the paper's fact (gather_verify.theory)
     @property
     def target(self) -> Node | None: ...  # the algorithm's target meeting node, if it has one
     @property
@@ -97,7 +97,7 @@ def configuration_facts(algorithm: Algorithm, configuration: Configuration,
     stuck = ms is not None and all(s == {v} for v, s in ms.items())
     gathered = len(configuration.counts) == 1 and robots[0] in configuration.meeting_nodes
     return ConfigurationFacts(configuration, initial, ms, unhandled, stuck, gathered,
-                              classify_configuration(configuration).in_U, target, crash)
+                              get_fact("in_U").of(configuration), target, crash)
 
 
 def luminous_facts(algorithm: Algorithm, robots: LitRobots, initial: Configuration,
@@ -131,7 +131,7 @@ def luminous_facts(algorithm: Algorithm, robots: LitRobots, initial: Configurati
     gathered = len(configuration.counts) == 1 and \
         configuration.robots[0] in configuration.meeting_nodes
     return ConfigurationFacts(configuration, initial, ms, unhandled, stuck, gathered,
-                              classify_configuration(configuration).in_U, target, crash,
+                              get_fact("in_U").of(configuration), target, crash,
                               actions)
 
 

@@ -39,10 +39,10 @@ import numpy as np
 from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.canonical import Key, canonical_form
-from gather_verify.model.classes import CLASS_NAMES, classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
+from gather_verify.theory import get_fact
 
 MAX_SIDE = 8
 """Largest box side: an ``S x S`` frame must fit one 64-bit mask."""
@@ -261,7 +261,7 @@ def enumerate_configurations(n: int, m: int, w: int, h: int,
 
 @dataclass(frozen=True)
 class Census:
-    """Counts per class (in ``CLASS_NAMES`` order, zeros included) of a box's configurations."""
+    """Counts per class (in the order of the fact ``class``'s values, zeros included) of a box's configurations."""
 
     n: int
     m: int
@@ -288,7 +288,8 @@ def census(n: int, m: int, w: int, h: int, *, keep: bool = True,
     ``keep=False`` drops the representatives (only the counts are kept).
     """
     n, m, w, h = validate_census_arguments(n, m, w, h)
-    counts = dict.fromkeys(CLASS_NAMES, 0)
+    class_of = get_fact("class")  # the paper's classes (gather_verify.theory)
+    counts = dict.fromkeys(class_of.values, 0)
     reps: list[Configuration] = []
     names: list[str] = []
     aut_m_cache: dict[frozenset[Node], list[Automorphism]] = {}
@@ -296,7 +297,7 @@ def census(n: int, m: int, w: int, h: int, *, keep: bool = True,
         aut_m = aut_m_cache.get(c.meeting_nodes)
         if aut_m is None:
             aut_m = aut_m_cache[c.meeting_nodes] = meeting_automorphisms(c)
-        name = classify_configuration(c, aut_m_all=aut_m).name
+        name = class_of.of(c, aut_m_all=aut_m)
         counts[name] += 1
         if keep:
             reps.append(c)

@@ -34,10 +34,10 @@ from gather_verify.engine.facts_table import make_room
 from gather_verify.engine.region import PLANE
 from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.model import geometry
-from gather_verify.model.classes import classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import Automorphism
 from gather_verify.sweeps.store import row
+from gather_verify.theory import failing, get_fact
 from gather_verify.watchdog import Overtime, allowance, deadline
 
 ENGINES = ("union", "per-config")
@@ -129,10 +129,10 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     memory = memory_budget_mb() if settings.max_memory_mb is None else settings.max_memory_mb
     todo: list[tuple[int, Configuration, Any, Configuration, Automorphism]] = []
     for index, c in members:
-        cls = classify_configuration(c)
-        if (cls.in_U or cls.name == "UNCLASSIFIED") and settings.frames == "all":
-            # NOT-APPLICABLE (or --force): decided on its own
-            out.fall_back([(index, c)], "in U or unclassified: the impossibility checks apply")
+        cls = get_fact("class").of(c)
+        unmet = failing(c, settings.frames)  # a precondition of the paper's (gather_verify.theory)
+        if unmet is not None:  # NOT-APPLICABLE (or --force): decided on its own
+            out.fall_back([(index, c)], unmet[0].summary)
         else:
             iso = union.shape_isometry(c, settings.frames)
             todo.append((index, c, cls, union.normalise(c, iso), Automorphism(*iso).inverse()))
@@ -237,7 +237,7 @@ def _decide_union(settings: Any, algo: Algorithm, wanted: list[str],
             trace["cause"] = cause_of(algo, trace)
         rows.append(row(
             key=configuration_key(c), index=index, robots=[list(r) for r in c.robots],
-            meeting_nodes=sorted(list(m) for m in c.meeting_nodes), class_=cls.name,
+            meeting_nodes=sorted(list(m) for m in c.meeting_nodes), class_=cls,
             verdict="VIOLATED" if failing else "VERIFIED",
             property=failing[0] if failing else None,
             reason=trace["reason"] if trace else None,

@@ -295,10 +295,10 @@ def _code_tag(batch: Batch) -> str:
 
 def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
                 plot: str | None, batch: Batch | None = None) -> str:
-    from gather_verify.model.classes import CLASS_NAMES
     from gather_verify.properties import ORDER
     from gather_verify.render import thumbnail_svg
     from gather_verify.scenario import VERDICTS
+    from gather_verify.theory import get_fact
     from gather_verify.viewer import write_viewer
 
     rows = [dict(r, robots_n=s.get("robots"), meeting_m=s.get("meeting"))
@@ -320,7 +320,7 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
     columns = [("VERIFIED", "")] + [("VIOLATED", p) for p in props] + \
               ([("VIOLATED", "")] if any(k[1:] == ("VIOLATED", "") for k in cells) else []) + \
               [(v, "") for v in VERDICTS if v not in ("VERIFIED", "VIOLATED")]
-    classes = [c for c in CLASS_NAMES if any(k[0] == c for k in cells)]
+    classes = [c for c in get_fact("class").values if any(k[0] == c for k in cells)]
     classes += sorted({k[0] for k in cells} - set(classes))
     head = ("<tr><th rowspan=2>class</th><th rowspan=2>configurations</th><th rowspan=2>VERIFIED</th>"
             + (f"<th colspan={len(props)} class='bad'>VIOLATED, by failing property</th>" if props else "")

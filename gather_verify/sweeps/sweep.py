@@ -133,7 +133,7 @@ def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[st
 
 Verify = Callable[[SweepSettings, int, Configuration], dict[str, Any]]
 """What decides one configuration into one row: :func:`verify_one`, or another row maker of
-the same shape (the readings' robustness, :func:`gather_verify.readings.verify_readings_one`)."""
+the same shape (the readings' robustness, :func:`gather_verify.paper.readings.verify_readings_one`)."""
 
 
 def verify_chunk(settings: SweepSettings, chunk: Sequence[tuple[int, Configuration]],
@@ -189,7 +189,7 @@ def run_sweep(
     one store; return the summary over all of them (see :func:`summarise`). Rows are
     keyed by the settings and the algorithm's fingerprint, so an edited algorithm is
     checked again; ``fresh`` drops the stored rows of these settings first. ``where``
-    keeps only some configurations (the readings of :mod:`gather_verify.readings`; the
+    keeps only some configurations (the readings of :mod:`gather_verify.paper.readings`; the
     settings of such a sweep must say which, so the store does not mislead).
 
     ``engine="union"`` decides a meeting-node class at a time from one state graph
@@ -616,9 +616,9 @@ def summarise_totals(groups: Iterable[tuple[Any, ...]], slowest: list[dict[str, 
     rows. ``causes``: per failing property (the one each configuration names first), its
     count per cause; a row with none (stored before causes, or a finite world's) counts under
     :data:`~gather_verify.sweeps.store.CAUSE_UNKNOWN`."""
-    from gather_verify.model.classes import CLASS_NAMES
+    from gather_verify.theory import get_fact
 
-    classes = dict.fromkeys(CLASS_NAMES, 0)
+    classes = dict.fromkeys(get_fact("class").values, 0)
     verdicts: dict[str, dict[str, int]] = {}
     failing: dict[str, dict[str, int]] = {}
     every: dict[str, dict[str, int]] = {}
@@ -664,9 +664,9 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
     computed = summary.get("computed")
     write(f"{summary['total']} configurations" + ("" if computed is None else
           f" ({computed} computed now, {summary['total'] - computed} reused from the database)"))
-    from gather_verify.model.classes import CLASS_NAMES
+    from gather_verify.theory import get_fact
 
-    worlds = any(k and name not in CLASS_NAMES for name, k in summary["classes"].items())
+    worlds = any(k and name not in get_fact("class").values for name, k in summary["classes"].items())
     header = f"{'world' if worlds else 'class':<13}{'count':>7}" + "".join(f"{v:>16}" for v in VERDICTS) + f"{'max ratio':>11}"
     write(header)
     write("-" * len(header))

@@ -35,16 +35,19 @@ from typing import Any
 
 from gather_verify.algorithms.base import Unhandled
 from gather_verify.errors import InvalidInput
-from gather_verify.impossibility import symmetry_defect
 from gather_verify.model import geometry
 from gather_verify.model.canonical import canonical_form
-from gather_verify.model.classes import CLASS_NAMES, classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
-from gather_verify.model.symmetry import Automorphism, configuration_automorphisms
+from gather_verify.model.symmetry import (
+    Automorphism,
+    configuration_automorphisms,
+    symmetry_defect,
+)
 from gather_verify.model.view import FRAME_SETS, View, check_detection
 from gather_verify.synthesis import viewkey
 from gather_verify.synthesis.certificate import CertificateError
+from gather_verify.theory import get_fact
 
 FORMAT = "gather-verify-plane-certificate/1"
 TASK = "gathering-on-meeting-nodes"
@@ -269,11 +272,10 @@ def theorem1_entry(c: Configuration, phi: Automorphism, views: PlaneViews,
                    rounds: int) -> dict[str, Any]:
     """One configuration's part of a certificate of none."""
     closure = adversary_closure(c, phi, views, rounds)
-    classification = classify_configuration(c)
     return {
         "robots": [list(v) for v in c.robots],
         "meeting_nodes": [list(v) for v in sorted(c.meeting_nodes)],
-        "class": classification.name, "in_U": classification.in_U,
+        "class": get_fact("class").of(c), "in_U": get_fact("in_U").of(c),
         "phi": {"g": phi.g, "t": list(phi.t), "describe": phi.describe(), "k": phi.order},
         "rounds": rounds, "states": closure.states, "radius": closure.radius,
         "digest": closure.digest,
@@ -329,9 +331,8 @@ def box_configurations(width: int, height: int, robots: range, meeting: range,
                         continue
                     keys.add(key)
                     c = Configuration(list(rs), list(ms), initial=True)
-                    cl = classify_configuration(c)
-                    if (select == "all" or (select == "u") == cl.in_U) and (
-                            not classes or cl.name in classes):
+                    if (select == "all" or (select == "u") == get_fact("in_U").of(c)) and (
+                            not classes or get_fact("class").of(c) in classes):
                         out.append(c)
     return out
 
@@ -372,10 +373,11 @@ def make_instance(robots: str, meeting: str, scheduler: str, task: str | None,
         rs = parse_range(robots, "--robots", width * height)
         ms = parse_range(meeting, "--meeting", width * height)
         names = tuple(x.strip() for x in (classes or "").split(",") if x.strip())
-        unknown = [x for x in names if x not in CLASS_NAMES]
+        class_names = get_fact("class").values
+        unknown = [x for x in names if x not in class_names]
         if unknown:
             raise InvalidInput(f"--classes {unknown[0]!r}: use the paper's classes "
-                               f"({', '.join(CLASS_NAMES)})")
+                               f"({', '.join(class_names)})")
         configs = box_configurations(width, height, rs, ms, select, names)
         return PlaneInstance(configs, scheduler, detection, frames,
                              {"width": width, "height": height, "robots": [rs[0], rs[-1]],

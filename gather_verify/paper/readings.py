@@ -2,7 +2,7 @@
 
 SEMANTICS.md §8: a counterexample is a fault of the paper only when it fails
 under every defensible reading of the passages it goes through. Each reading is
-an option of ``paper`` (:data:`gather_verify.algorithms.paper.READINGS`,
+an option of ``paper`` (:data:`gather_verify.paper.algorithm.READINGS`,
 ``docs/interpretations.md``); ``--readings all`` on ``check`` and ``sweep`` runs
 the configuration under every combination of them that can act on it, and the
 verdicts give its *robustness*:
@@ -15,7 +15,7 @@ verdicts give its *robustness*:
   UNCLASSIFIED (no reading applies the algorithm).
 
 The covering set. ``M`` never changes during a run, and which options
-:func:`gather_verify.algorithms.paper.analyse` can read depends on ``M`` alone
+:func:`gather_verify.paper.algorithm.analyse` can read depends on ``M`` alone
 (:func:`relevant_options`): ``alpha`` only when ``M`` is asymmetric or has a single
 reflection with a meeting node on ``L`` (I11, I12: the orderings ``O`` and ``O'``);
 none when a meeting node is on the centre ``c`` (I13); otherwise every option but
@@ -29,7 +29,7 @@ product, never one at a time, because they interact: finding F9 disappears only 
 
 ``check --readings`` and ``sweep --readings`` run fewer (:func:`check_readings`, the
 dynamic covering; a sweep runs it per configuration, :func:`verify_readings_one`): the
-plans read every option through a recording :class:`~gather_verify.algorithms.paper.Reading`,
+plans read every option through a recording :class:`~gather_verify.paper.algorithm.Reading`,
 so after a run the instance knows every option its plans consulted; a reading that agrees
 with the run on those options computes the same plan on every snapshot the run planned,
 hence explores the same graph in the same order to the same verdict, and the run stands
@@ -57,10 +57,10 @@ from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 from gather_verify.algorithms import parse_name
-from gather_verify.algorithms.paper import READINGS, PaperAlgorithm
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import meeting_automorphisms
+from gather_verify.paper.algorithm import READINGS, PaperAlgorithm
 
 ROBUSTNESS = ("ROBUST-VIOLATED", "READING-DEPENDENT", "ROBUST-VERIFIED", "INCOMPLETE",
               "NOT-APPLICABLE")
@@ -190,7 +190,7 @@ def check_readings(configuration: Configuration, readings: str, *, algorithm: st
     ``robustness`` and ``readings_not_read`` (options the plans of this ``M`` never read).
 
     ``dynamic`` (the default): a run stands for every reading that agrees with it on the
-    options its plans consulted (:class:`~gather_verify.algorithms.paper.Reading`): those
+    options its plans consulted (:class:`~gather_verify.paper.algorithm.Reading`): those
     readings compute the same plan on every snapshot the run planned, so they explore
     the same graph, in the same order, and reach the same verdict. The next run is the
     first reading no run stands for yet. ``dynamic=False`` runs every reading."""
@@ -390,7 +390,7 @@ def format_robustness(table: dict[str, dict[str, int]], write: Callable[[str], A
                       switches: dict[str, dict[str, dict[str, int]]] | None = None) -> None:
     """The class x robustness table as text, then the single switches of the
     READING-DEPENDENT configurations (:func:`switch_table`) when given."""
-    from gather_verify.model.classes import CLASS_NAMES
+    from gather_verify.paper.classes import CLASS_NAMES
 
     columns = [c for c in (*ROBUSTNESS, "DEFAULT-ONLY", "PARTIAL")
                if c in ROBUSTNESS[:3] or any(c in by for by in table.values())]

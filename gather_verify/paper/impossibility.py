@@ -59,7 +59,7 @@ from __future__ import annotations
 
 import itertools
 import random
-from collections import Counter, deque
+from collections import deque
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -68,10 +68,14 @@ from gather_verify.algorithms.base import Algorithm, Unhandled
 from gather_verify.algorithms.moves import move_set
 from gather_verify.errors import GatherVerifyError, InvalidInput
 from gather_verify.model import geometry
-from gather_verify.model.classes import Classification, classify_configuration
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
-from gather_verify.model.symmetry import Automorphism, configuration_automorphisms
+from gather_verify.model.symmetry import (
+    Automorphism,
+    configuration_automorphisms,
+    symmetry_defect,
+)
+from gather_verify.paper.classes import Classification, classify_configuration
 
 TRACE_FORMAT = "impossibility-trace/1"
 EXPLORE_MODES = ("all", "random")
@@ -138,22 +142,6 @@ def power(phi: Automorphism, j: int, v: Node) -> Node:
     for _ in range(j):
         v = phi(v)
     return v
-
-
-def symmetry_defect(phi: Automorphism, c: Configuration) -> str | None:
-    """Why ``c`` breaks the theorem's invariant under ``phi`` (None when it holds)."""
-    if {phi(m) for m in c.meeting_nodes} != c.meeting_nodes:
-        return "phi does not map the meeting nodes onto themselves"
-    image = Counter(phi(r) for r in c.robots)
-    if image != Counter(c.counts):
-        moved = sorted(v for v in set(image) | set(c.counts) if image[v] != c.counts.get(v, 0))
-        return ("phi does not map the robots onto themselves (counts differ at "
-                f"{[list(v) for v in moved]})")
-    k = phi.order
-    for w, count in sorted(c.counts.items()):
-        if in_v_prime(phi, w) and count % k:
-            return f"{count} robots on {list(w)} in V' (not a multiple of k = {k})"
-    return None
 
 
 # -- the adversary ----------------------------------------------------------------------

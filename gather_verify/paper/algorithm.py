@@ -109,7 +109,7 @@ from functools import lru_cache
 
 from gather_verify.algorithms.base import Unhandled, commutes_with_translations
 from gather_verify.errors import InvalidInput
-from gather_verify.model import geometry, strings
+from gather_verify.model import geometry
 from gather_verify.model.canonical import Key
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import ORIGIN, STEPS, Node, manhattan
@@ -119,6 +119,7 @@ from gather_verify.model.symmetry import (
     meeting_automorphisms,
 )
 from gather_verify.model.view import View
+from gather_verify.paper import strings
 
 READINGS: dict[str, tuple[str, ...]] = {
     "alpha": ("mer", "mer_f"),
@@ -137,7 +138,7 @@ READINGS: dict[str, tuple[str, ...]] = {
 DEFAULTS: dict[str, str] = {option: values[0] for option, values in READINGS.items()}
 """The default reading: every option at its first value."""
 
-_HOME = "gather_verify.algorithms.paper"
+_HOME = "gather_verify.paper.algorithm"
 """This module's name (a copy under another name asks ``decide`` view by view)."""
 CACHE_SIZE = 1 << 17
 """Plans remembered per algorithm instance, one per canonical form of a snapshot."""
@@ -165,7 +166,7 @@ class Reading(Mapping[str, str]):
     ``analyse`` reads every option through this mapping, and only where a rule needs it, so
     ``consulted`` is every option a plan depended on: two readings equal on the options
     consulted over all the plans of a run give the same plans, hence the same run
-    (:mod:`gather_verify.readings`, the dynamic covering).
+    (:mod:`gather_verify.paper.readings`, the dynamic covering).
 
     >>> r = Reading({**DEFAULTS, "finalize": "n1"})
     >>> r["finalize"], sorted(r.consulted)

@@ -33,7 +33,6 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
-from gather_verify.model import strings
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.symmetry import (
@@ -41,6 +40,7 @@ from gather_verify.model.symmetry import (
     configuration_automorphisms,
     meeting_automorphisms,
 )
+from gather_verify.paper import strings
 
 CLASS_NAMES = ("I11", "I12", "I13", "I21", "I22", "I31", "I32", "I41", "I42", "UNCLASSIFIED")
 UNGATHERABLE = frozenset({"I41", "I42"})
@@ -143,6 +143,31 @@ def classify_configuration(
         )
     return Classification(name, f"{where}: {why}", rotation, aut_c, meeting_on, robots_on,
                           in_U_of(c, aut_c))
+
+
+_LAST: tuple[Configuration | None, Classification | None] = (None, None)
+
+
+def classification(c: Configuration, aut_m_all: Sequence[Automorphism] | None = None
+                   ) -> Classification:
+    """:func:`classify_configuration`, remembered for the last configuration object asked:
+    check asks for the class and the precondition (:mod:`gather_verify.paper`) of one."""
+    global _LAST
+    last, known = _LAST
+    if last is c and known is not None:
+        return known
+    got = classify_configuration(c, aut_m_all=aut_m_all)
+    _LAST = (c, got)
+    return got
+
+
+def never_in_u(aut_m: Sequence[Automorphism], meeting: Iterable[Node]) -> bool:
+    """Whether no configuration over these meeting nodes is in U: U needs a symmetry of C
+    (an element of Aut(M)) whose axis or centre holds no meeting node (:func:`in_U_of`),
+    and here every element of Aut(M) but the identity fixes a meeting node (its axis or
+    centre holds one)."""
+    meeting = list(meeting)
+    return all(any(a.fixes(m) for m in meeting) for a in aut_m[1:])
 
 
 def classify(robots: Iterable[Node], meeting_nodes: Iterable[Node]) -> Classification:

@@ -1,0 +1,138 @@
+"""The registry of a paper's theory: what the generic layers ask of it, without importing it.
+
+A paper's package (the one built in: :mod:`gather_verify.paper`) registers, when it is
+imported:
+
+- its *facts* of a configuration (:func:`fact`): the paper's are ``class`` (I11 ... I42,
+  UNCLASSIFIED) and ``in_U``, which the facts table, the properties, the ``class`` column
+  of check and of the sweeps, the census and the viewer read;
+- its *precondition* (:func:`precondition`): why ``check`` answers NOT-APPLICABLE for an
+  initial configuration (the paper's: in U or UNCLASSIFIED, for disoriented robots).
+
+The generic layers look them up here (:func:`get_fact`, :func:`not_applicable`); the first
+lookup imports the packages named in :data:`THEORIES`, so nothing depends on import order.
+``lint-imports`` forbids the generic layers to import ``gather_verify.paper``
+(``pyproject.toml``).
+
+>>> from gather_verify.model.configuration import Configuration
+>>> c = Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)], initial=True)
+>>> get_fact("class").of(c), get_fact("in_U").of(c)
+('UNCLASSIFIED', True)
+>>> not_applicable(c, "all")
+'initial configuration is UNCLASSIFIED: use the impossibility checks (or --force)'
+>>> not_applicable(c, "compass") is None  # U is about robots with no common orientation
+True
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from gather_verify.model.configuration import Configuration
+
+THEORIES = ("gather_verify.paper",)
+"""The packages whose import registers the built-in theory (a new paper: one more name)."""
+
+
+@dataclass(frozen=True)
+class Fact:
+    """A fact of a configuration that a paper defines."""
+
+    name: str
+    of: Callable[..., Any]
+    """``of(configuration, aut_m_all=None)``: the value (``aut_m_all``: ``Aut(M)``, identity
+    first, when the caller has it already)."""
+    values: tuple[Any, ...] = ()
+    """The values it takes, in report order (empty: not listed)."""
+    never: Callable[[Sequence[Any], Iterable[Any]], bool] | None = None
+    """``never(aut_m_all, meeting_nodes)``: True when the fact is false on every configuration
+    over these meeting nodes (a bulk engine then asks ``of`` nothing)."""
+    symmetric_only: bool = False
+    """True only on configurations with a symmetry (an element of ``Aut(M)`` but the identity
+    maps the robots onto themselves): a bulk engine settles the others to False in bulk."""
+
+
+@dataclass(frozen=True)
+class Precondition:
+    """What an initial configuration must satisfy for a paper's properties to apply."""
+
+    summary: str
+    """What a sweep counts the configurations that fail it under."""
+    why_not: Callable[[Configuration, str], str | None]
+    """``why_not(configuration, frames)``: why it does not apply (None: it applies)."""
+
+
+_FACTS: dict[str, Fact] = {}
+_PRECONDITIONS: list[Precondition] = []
+_loaded: list[str] = []
+
+
+def fact(name: str, *, values: Iterable[Any] = (),
+         never: Callable[[Sequence[Any], Iterable[Any]], bool] | None = None,
+         symmetric_only: bool = False) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """Decorator: register the function as the fact ``name`` (a name is registered once; the
+    same function again, as a reload of its module registers it, replaces it)."""
+    def register(of: Callable[..., Any]) -> Callable[..., Any]:
+        known = _FACTS.get(name)
+        if known is not None and _where(known.of) != _where(of):
+            raise ValueError(f"the fact {name!r} is registered already")
+        _FACTS[name] = Fact(name, of, tuple(values), never, symmetric_only)
+        return of
+    return register
+
+
+def precondition(summary: str) -> Callable[[Callable[..., str | None]], Callable[..., str | None]]:
+    """Decorator: register the function as a precondition (checked in registration order)."""
+    def register(why_not: Callable[..., str | None]) -> Callable[..., str | None]:
+        _PRECONDITIONS[:] = [p for p in _PRECONDITIONS if _where(p.why_not) != _where(why_not)]
+        _PRECONDITIONS.append(Precondition(summary, why_not))
+        return why_not
+    return register
+
+
+def _where(function: Callable[..., Any]) -> tuple[str, str]:
+    """Where a function is defined: the same after a reload of its module."""
+    return getattr(function, "__module__", ""), getattr(function, "__qualname__", "")
+
+
+def _load() -> None:
+    """Import the built-in theories once (their imports register their facts)."""
+    for module in THEORIES:
+        if module not in _loaded:
+            importlib.import_module(module)
+            _loaded.append(module)
+
+
+def get_fact(name: str) -> Fact:
+    """The registered fact ``name`` (KeyError, naming the registered ones, when none is)."""
+    _load()
+    got = _FACTS.get(name)
+    if got is None:
+        raise KeyError(f"no theory registers the fact {name!r} (registered: {', '.join(_FACTS)})")
+    return got
+
+
+def preconditions() -> list[Precondition]:
+    """Every registered precondition, in registration order."""
+    _load()
+    return list(_PRECONDITIONS)
+
+
+def failing(configuration: Configuration, frames: str) -> tuple[Precondition, str] | None:
+    """The first registered precondition that fails on ``configuration`` under ``frames``,
+    with why; None when every one holds."""
+    for p in preconditions():
+        why = p.why_not(configuration, frames)
+        if why is not None:
+            return p, why
+    return None
+
+
+def not_applicable(configuration: Configuration, frames: str) -> str | None:
+    """Why check answers NOT-APPLICABLE for ``configuration`` (:func:`failing`), or None."""
+    got = failing(configuration, frames)
+    return None if got is None else got[1]
