@@ -77,8 +77,6 @@ class Frontier(NamedTuple):
     codes: np.ndarray  # (S, n) int64
     masks: np.ndarray  # (S, n) uint8
     neighbour: np.ndarray  # (cells, 4) int64
-    extra: np.ndarray | None = None
-    """(S,) int64: a ``stateful`` scheduler's own state per state (its ``state_index``)."""
 
 
 class Successors(NamedTuple):
@@ -109,8 +107,8 @@ class Scheduler(Protocol):
 
     Two optional class attributes say what else may run it (absent: False): ``stateful``, it
     keeps a state of its own (``starts``, ``state_index``, ``state_of``, ``state_count``,
-    ``relabel``; its ``luminous`` takes and gives that state, its bulk faces read
-    :attr:`Frontier.extra` and fill :attr:`Successors.extra`), and ``union``, a sweep of the
+    ``relabel``; its ``luminous`` takes and gives that state, its bulk faces take it per
+    state as ``extra=`` and fill :attr:`Successors.extra`), and ``union``, a sweep of the
     paper's world may explore all the configurations of one meeting-node set in one shared
     state graph under it (:mod:`gather_verify.engine.union`): its events from a state depend
     on that state alone and its ``bulk_successors`` gives them all, in ``successors``' order.

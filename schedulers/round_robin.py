@@ -95,17 +95,21 @@ class RoundRobin:
             event, succ = round_event((i,), robots, (action,))
             yield event, succ, after
 
-    def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
+    def bulk_successors(self, frontier: Frontier, budget: int, *,
+                        extra: np.ndarray | None = None) -> Successors:
         """:func:`~schedulers.base.oblivious_events` in bulk: per state, the robot whose turn
-        it is (from :attr:`Frontier.extra`), each of its choices in sorted order."""
-        return self._bulk(frontier, budget, None)
+        it is (``extra``: each state's :meth:`state_index`), each of its choices in sorted
+        order; :attr:`Successors.extra` the state after each event."""
+        return self._bulk(frontier, budget, None, extra)
 
-    def bulk_luminous(self, frontier: Frontier, budget: int, colours: int) -> Successors:
+    def bulk_luminous(self, frontier: Frontier, budget: int, colours: int, *,
+                      extra: np.ndarray | None = None) -> Successors:
         """:meth:`luminous` on Z² in bulk (``order`` the actions themselves)."""
-        return self._bulk(frontier, budget, colours)
+        return self._bulk(frontier, budget, colours, extra)
 
-    def _bulk(self, frontier: Frontier, budget: int, colours: int | None) -> Successors:
-        codes, masks, neighbour, extra = frontier
+    def _bulk(self, frontier: Frontier, budget: int, colours: int | None,
+              extra: np.ndarray | None) -> Successors:
+        codes, masks, neighbour = frontier
         assert extra is not None, "round-robin's bulk faces read each state's turn"
         total, n = codes.shape
         place, turn = np.divmod(extra[:total], n)

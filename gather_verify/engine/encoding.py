@@ -214,6 +214,10 @@ class Turns:
         """The scheduler's state of a stored key."""
         return self.sched.state_of(key // self.scale, self.n)
 
+    def of_keys(self, keys: np.ndarray) -> np.ndarray:
+        """The scheduler's ``state_index`` of each stored key (``uint64``), as ``int64``."""
+        return (keys // np.uint64(self.scale)).astype(np.int64)
+
     def fits(self) -> bool:
         """Whether every key fits 63 bits (the bulk engines' keys)."""
         return self.scale * self.count < 2**63

@@ -223,10 +223,10 @@ def explore_fast(
         # robot i's move mask: the mask of its cell's position in the sorted row
         masks = move_masks(table, rows, rank, flat=compiled)
         frontier = enc.frontier(codes[:limit_src], masks[:limit_src])
-        if turns is not None:  # the scheduler's own state of each state
-            frontier = frontier._replace(extra=(K[:limit_src] // np.uint64(turns.scale)).astype(
-                np.int64))
-        bulk = sched.bulk_successors(frontier, EVENTS)
+        if turns is None:
+            bulk = sched.bulk_successors(frontier, EVENTS)
+        else:  # with the scheduler's own state of each state
+            bulk = sched.bulk_successors(frontier, EVENTS, extra=turns.of_keys(K[:limit_src]))
         if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
             hi = sid + bulk.states
             K, codes, cells, rows = K[:bulk.states], codes[:bulk.states], cells[:bulk.states], \

@@ -250,10 +250,11 @@ def explore_lit(
         assert not table.flags[rows[:limit_src]].any(), \
             "a state without actions needs a halting property"
         masks = table.masks[rows[:, None], rank]
-        extra = None if turns is None else \
-            (keys[:limit_src] // np.uint64(turns.scale)).astype(np.int64)
-        bulk = sched.bulk_luminous(Frontier(codes[:limit_src], masks[:limit_src], enc.neighbour,
-                                            extra), EVENTS, k)
+        frontier = Frontier(codes[:limit_src], masks[:limit_src], enc.neighbour)
+        if turns is None:
+            bulk = sched.bulk_luminous(frontier, EVENTS, k)
+        else:  # with the scheduler's own state of each state
+            bulk = sched.bulk_luminous(frontier, EVENTS, k, extra=turns.of_keys(keys[:limit_src]))
         if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
             hi = sid + bulk.states
             keys, codes, rows = keys[:bulk.states], codes[:bulk.states], rows[:bulk.states]

@@ -45,7 +45,7 @@ def real_edges(e: Exploration, sid: int) -> Iterable[tuple[int, int]]:
                 state = e.state(sid)
             if not e.changed_loops:
                 continue
-            if all(succ == state or e.encoding.key(succ) != e.keys[sid]
+            if all(succ == state or e.key_of(succ) != e.keys[sid]
                    for _, succ in e.concrete_successors(state)):
                 continue
         yield t, e.weights[k]
@@ -367,7 +367,7 @@ def _id(e: Exploration, state: object) -> int:
     if index is None:
         index = {k: i for i, k in enumerate(e.keys)}
         e._index = index  # type: ignore[attr-defined]
-    return index.get(e.encoding.key(state), -1)  # type: ignore[arg-type]
+    return index.get(e.key_of(state), -1)  # type: ignore[arg-type]
 
 
 def walk(e: Exploration, inside: set[int], start: int, goal: int) -> list[int]:
