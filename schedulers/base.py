@@ -184,7 +184,7 @@ def oblivious_events(sched: Any, state: State, extra: object, move_sets: MoveSet
 
     robots = tuple((v, p, 0) for v, p in state)
     for event, succ, after in sched.luminous(robots, extra, actions, order=_natural, null=True):
-        yield event, tuple((v, p) for v, p, _ in succ), after  # type: ignore[misc]
+        yield event, tuple((v, p) for v, p, _ in succ), after
 
 
 def _natural(action: object) -> object:

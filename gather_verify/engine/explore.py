@@ -168,7 +168,7 @@ class Exploration:
         start fixed (``round-robin:order=2 0 1``), so the trace shows it and replays it."""
         if self.turns is None:
             return self.scheduler_name
-        return self.turns.sched.pinned(start.extra)  # type: ignore[attr-defined, no-any-return]
+        return self.turns.sched.pinned(start.extra)  # type: ignore[attr-defined]
 
     def successors(self, sid: int) -> range:
         return range(self.offsets[sid], self.offsets[sid + 1])
@@ -245,7 +245,7 @@ class Exploration:
         return initial_state(self.initial.robots)
 
 
-class TurnState(tuple):  # type: ignore[type-arg]
+class TurnState(tuple[Any, ...]):
     """A concrete state of the robots with a ``stateful`` scheduler's own state, ``extra``
     (round-robin's order and turn): a :data:`State` to every reader of robots, and two are
     equal only when their schedulers' states are too (a cycle must return to the same turn)."""
@@ -257,7 +257,7 @@ class TurnState(tuple):  # type: ignore[type-arg]
         self.extra = extra
         return self
 
-    def __getnewargs__(self) -> tuple[Any, ...]:  # type: ignore[override]
+    def __getnewargs__(self) -> tuple[Any, ...]:
         return tuple(self), self.extra
 
     def __eq__(self, other: object) -> bool:
@@ -305,7 +305,7 @@ def luminous_steps(sched: object, state: State, facts: ConfigurationFacts, extra
         v, _, c = state[i]  # type: ignore[misc]
         return acts[v, c]
 
-    return sched.luminous(state, extra, actions,  # type: ignore[attr-defined, no-any-return]
+    return sched.luminous(state, extra, actions,  # type: ignore[attr-defined]
                           order=_natural, null=True)
 
 
@@ -413,7 +413,7 @@ def explore_reference(
 
         def events(state: State, here: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
             if turns is not None:
-                return oblivious_events(sched, state, state.extra, ms)  # type: ignore[attr-defined]
+                return oblivious_events(sched, state, state.extra, ms)  # type: ignore[attr-defined, return-value]
             return sched.successors(state, ms)
     else:
         enc = LuminousEncoding(box, group, anonymity and not stateful, lights.colours)
@@ -485,7 +485,7 @@ def explore_reference(
                 key = enc.key(succ)
             else:
                 succ = TurnState(succ, step[2])  # type: ignore[misc]
-                key = turns.key(enc, succ, succ.extra)  # type: ignore[attr-defined]
+                key = turns.key(enc, succ, succ.extra)
             did = visited.get(key)
             if did is None:
                 did = len(keys)

@@ -45,7 +45,7 @@ import time
 from collections.abc import Iterable
 from functools import partial
 from itertools import islice
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -226,7 +226,8 @@ def explore_fast(
         if turns is None:
             bulk = sched.bulk_successors(frontier, EVENTS)
         else:  # with the scheduler's own state of each state
-            bulk = sched.bulk_successors(frontier, EVENTS, extra=turns.of_keys(K[:limit_src]))
+            bulk = cast(Any, sched).bulk_successors(frontier, EVENTS,
+                                                    extra=turns.of_keys(K[:limit_src]))
         if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
             hi = sid + bulk.states
             K, codes, cells, rows = K[:bulk.states], codes[:bulk.states], cells[:bulk.states], \

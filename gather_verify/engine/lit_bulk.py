@@ -58,18 +58,18 @@ from gather_verify.engine.encoding import (
 )
 from gather_verify.engine.explore import (
     Exploration,
+    TurnState,
     lit_configuration,
     lit_initial_state,
     luminous_events,
-    TurnState,
     luminous_facts_cache,
     luminous_steps,
     rss_mb,
     seed_states,
     turns_of,
 )
-from gather_verify.engine.fast_explore import with_turns
 from gather_verify.engine.facts_table import BIT, ReadsIdle
+from gather_verify.engine.fast_explore import with_turns
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import Lights, check_detection
@@ -254,7 +254,8 @@ def explore_lit(
         if turns is None:
             bulk = sched.bulk_luminous(frontier, EVENTS, k)
         else:  # with the scheduler's own state of each state
-            bulk = sched.bulk_luminous(frontier, EVENTS, k, extra=turns.of_keys(keys[:limit_src]))
+            bulk = cast(Any, sched).bulk_luminous(frontier, EVENTS, k,
+                                                  extra=turns.of_keys(keys[:limit_src]))
         if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
             hi = sid + bulk.states
             keys, codes, rows = keys[:bulk.states], codes[:bulk.states], rows[:bulk.states]
