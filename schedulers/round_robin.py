@@ -7,7 +7,7 @@ search (``starts``), or only the one given as ``round-robin:order=2 0 1``. An ac
 moves the turn on even when the robot stays, so it is always a transition. Every engine
 runs it, on every world: they keep its state as an integer (``state_index``), ask it how
 identical robots are relabelled (``relabel``), and take its events from ``luminous`` (one
-state) or its bulk faces (many, :attr:`~schedulers.base.Frontier.extra`).
+state) or its bulk faces (many, each state's own as ``extra=``).
 """
 
 from __future__ import annotations
