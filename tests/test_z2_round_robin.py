@@ -226,3 +226,31 @@ def test_an_isometric_image_has_the_same_counts_and_verdict(
         (b["states"], b["transitions"], b["verdict"])
     assert json.dumps(a["properties"], sort_keys=True) == json.dumps(b["properties"],
                                                                      sort_keys=True)
+
+
+WANDER = Configuration([(0, 0), (0, 1)], [(1, 1), (1, 2)], initial=True)
+"""broken-wander walks east: at margin 2 it already meets a configuration in U."""
+
+
+@pytest.mark.parametrize("engine", ["fast", "reference"])
+def test_the_region_grows_with_the_order_and_turn(engine: str) -> None:
+    """A search stopped by the region runs again in a larger one: with keep_growing the
+    larger search (keys over a larger box, the order and turn above them) reports the same
+    trace, and more states."""
+    kw: dict[str, Any] = {"algorithm": "broken-wander", "scheduler": "round-robin",
+                          "engine": engine, "max_states": 20_000, "max_seconds": 300,
+                          "properties": ["no-ungatherable"]}
+    first = run_check(WANDER, **kw)
+    grown = run_check(WANDER, keep_growing=True, **kw)
+    assert first["limits"]["margin"] == 2 < grown["limits"]["margin"]
+    assert first["verdict"] == grown["verdict"] == "VIOLATED"
+    assert first["trace"] == grown["trace"] and replay(first["trace"]).confirmed
+    assert first["states"] < grown["states"]
+
+
+def test_a_lone_wanderer_grows_the_region_to_the_last_margin() -> None:
+    c = Configuration([(0, 0)], [(0, 1)], initial=True)
+    r = run_check(c, algorithm="broken-wander", scheduler="round-robin", max_states=100_000,
+                  max_seconds=300)
+    assert (r["verdict"], r["property"]) == ("VIOLATED", "move-bound")
+    assert r["limits"]["margin"] == 32 and replay(r["trace"]).confirmed
