@@ -24,7 +24,7 @@ from gather_verify.engine.lit_bulk import explore_lit
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import Lights
-from gather_verify.replay import NoLongerReproduces, replay
+from gather_verify.replay import replay
 
 YARDSTICK = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
 """SEMANTICS.md §4's yardstick configuration (go-to-target)."""
@@ -254,3 +254,16 @@ def test_a_lone_wanderer_grows_the_region_to_the_last_margin() -> None:
                   max_seconds=300)
     assert (r["verdict"], r["property"]) == ("VIOLATED", "move-bound")
     assert r["limits"]["margin"] == 32 and replay(r["trace"]).confirmed
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_simulated_run_activates_the_robots_in_one_cyclic_order(seed: int) -> None:
+    from gather_verify.algorithms import get_algorithm
+    from gather_verify.simulate import simulate
+
+    run = simulate(YARDSTICK, get_algorithm("go-to-target"), "round-robin", seed=seed)
+    assert run.outcome == "gathered"
+    active = [e.robots[0] for e in run.events]
+    order = active[:YARDSTICK.n]
+    assert sorted(order) == list(range(YARDSTICK.n))
+    assert active == [order[k % YARDSTICK.n] for k in range(len(active))]

@@ -447,7 +447,7 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
         seeds = [(robots, lights)]
     first_keys = np.array([plan.pack([(v, None, c) for v, c in zip(nodes, lit, strict=True)],
                                      sum(1 << v for v in set(nodes)) if visits else 0,
-                                     sched.state_index(starts[r], n) if plan.rr else 0)
+                                     plan.sched.state_index(starts[r], n) if plan.rr else 0)
                            for nodes, lit in seeds for r in range(len(starts))],
                           dtype=np.int64)
     index = KeyIndex()
