@@ -240,6 +240,8 @@ class Exploration:
 
     @property
     def initial_state(self) -> State:
+        if self.starts is not None:  # a stateful scheduler's first start
+            return self.starts[0]
         if self.lights is not None:
             return lit_initial_state(self.initial.robots, self.colours)
         return initial_state(self.initial.robots)
