@@ -63,7 +63,7 @@ class RoundRobin:
         """Its state ``(order, turn)`` as an integer below :meth:`state_count`: the order's
         place among :meth:`starts` times ``n``, plus the turn."""
         order, turn = extra  # type: ignore[misc]
-        return _places(self._orders(n))[order] * n + turn
+        return _places(self.order, n)[order] * n + turn
 
     def state_of(self, index: int, n: int) -> object:
         """The state :meth:`state_index` gave ``index``."""
@@ -113,7 +113,7 @@ class RoundRobin:
         assert extra is not None, "round-robin's bulk faces read each state's turn"
         total, n = codes.shape
         place, turn = np.divmod(extra[:total], n)
-        active = _table(self._orders(n))[place, turn]
+        active = _table(self.order, n)[place, turn]
         mask = masks[np.arange(total), active].astype(np.int64)
         if colours is None:
             count = _COUNT[mask]
@@ -152,12 +152,16 @@ def _every_order(n: int) -> tuple[tuple[int, ...], ...]:
 
 
 @cache
-def _table(orders: tuple[tuple[int, ...], ...]) -> np.ndarray:
-    return np.array(orders, dtype=np.int64).reshape(len(orders), -1)
+def _table(given: tuple[int, ...] | None, n: int) -> np.ndarray:
+    """The orders (the one ``given``, else every one) as rows: row k is start k's."""
+    orders = (given,) if given is not None else _every_order(n)
+    return np.array(orders, dtype=np.int64).reshape(len(orders), n)
 
 
 @cache
-def _places(orders: tuple[tuple[int, ...], ...]) -> dict[tuple[int, ...], int]:
+def _places(given: tuple[int, ...] | None, n: int) -> dict[tuple[int, ...], int]:
+    """Each order's place among the starts (the one ``given``, else every order)."""
+    orders = (given,) if given is not None else _every_order(n)
     return {order: k for k, order in enumerate(orders)}
 
 
