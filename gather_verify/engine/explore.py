@@ -38,6 +38,7 @@ import time
 from array import array
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm
@@ -350,6 +351,10 @@ def luminous_facts_cache(algorithm: Algorithm, initial: Configuration, detection
     return facts
 
 
+def _turn_key(turns: Turns, enc: Encoding, state: Any) -> int:
+    return turns.key(enc, state, state.extra)
+
+
 def turns_of(sched: object, n: int, anonymity: bool, base: int) -> Turns | None:
     """The scheduler's own state in the keys (:class:`Turns`), or None when it keeps none."""
     return Turns(sched, n, anonymity, base) if getattr(sched, "stateful", False) else None
@@ -415,7 +420,8 @@ def explore_reference(
 
         def events(state: State, here: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
             if turns is not None:
-                return oblivious_events(sched, state, state.extra, ms)  # type: ignore[attr-defined, return-value]
+                return ((e, TurnState(s, a)) for e, s, a in oblivious_events(
+                    sched, state, state.extra, ms))  # type: ignore[attr-defined]
             return sched.successors(state, ms)
     else:
         enc = LuminousEncoding(box, group, anonymity and not stateful, lights.colours)
@@ -425,16 +431,19 @@ def explore_reference(
 
         def events(state: State, here: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
             if turns is not None:
-                return luminous_steps(sched, state, here, state.extra)  # type: ignore[return-value, attr-defined]
+                return ((e, TurnState(s, a)) for e, s, a in luminous_steps(
+                    sched, state, here, state.extra))  # type: ignore[attr-defined]
             return luminous_events(sched, state, here)
     turns = turns_of(sched, initial.n, anonymity, enc.base)
     checks = Checks(properties, StateFacts(facts(conf(start)), True))
 
+    key_of: Callable[[Any], int] = enc.key if turns is None else \
+        partial(_turn_key, turns, enc)
     keys: list[int] = []
     visited: dict[int, int] = {}
     seeds = []
     for seed in seed_states(start, turns):
-        key = enc.key(seed) if turns is None else turns.key(enc, seed, seed.extra)  # type: ignore[attr-defined]
+        key = key_of(seed)
         if visited.setdefault(key, len(keys)) == len(keys):
             keys.append(key)
             seeds.append(seed)
@@ -468,8 +477,7 @@ def explore_reference(
         assert here.move_sets is not None, "a state without move sets needs a halting property"
         checks.state(sid, seen, checks.on_expansion)
         offsets.append(len(targets))
-        for k, step in enumerate(events(state, here), 1):
-            event, succ = step[0], step[1]
+        for k, (event, succ) in enumerate(events(state, here), 1):
             transitions += 1
             if k & 1023 == 0 and (len(keys) > limits.max_states or
                                   time.perf_counter() - started > limits.max_seconds):
@@ -483,11 +491,7 @@ def explore_reference(
             if checks.on_transition:
                 checks.transition(sid, here, lambda: facts(conf(succ)),  # noqa: B023
                                   (event, succ))
-            if turns is None:
-                key = enc.key(succ)
-            else:
-                succ = TurnState(succ, step[2])  # type: ignore[misc]
-                key = turns.key(enc, succ, succ.extra)
+            key = key_of(succ)
             did = visited.get(key)
             if did is None:
                 did = len(keys)
