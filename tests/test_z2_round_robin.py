@@ -232,7 +232,7 @@ WANDER = Configuration([(0, 0), (0, 1)], [(1, 1), (1, 2)], initial=True)
 """broken-wander walks east: at margin 2 it already meets a configuration in U."""
 
 
-@pytest.mark.parametrize("engine", ["fast", "reference"])
+@pytest.mark.parametrize("engine", ["fast", pytest.param("reference", marks=pytest.mark.slow)])
 def test_the_region_grows_with_the_order_and_turn(engine: str) -> None:
     """A search stopped by the region runs again in a larger one: with keep_growing the
     larger search (keys over a larger box, the order and turn above them) reports the same
