@@ -156,9 +156,7 @@ class Exploration:
 
     def key_of(self, state: State) -> int:
         """The stored key of a concrete state (a :class:`TurnState` with :attr:`turns`)."""
-        if self.turns is not None:
-            return self.turns.key(self.encoding, state, state.extra)  # type: ignore[attr-defined]
-        return self.encoding.key(state)
+        return state_key(self.encoding, self.turns)(state)
 
     def start_of(self, sid: int) -> State:
         """The concrete initial state a path from seed ``sid`` starts in."""
@@ -355,6 +353,12 @@ def _turn_key(turns: Turns, enc: Encoding, state: Any) -> int:
     return turns.key(enc, state, state.extra)
 
 
+def state_key(enc: Encoding, turns: Turns | None) -> Callable[[Any], int]:
+    """The stored key of a concrete state: ``enc.key``, or with a ``stateful`` scheduler
+    that of a :class:`TurnState` (its state above the robots' digits)."""
+    return enc.key if turns is None else partial(_turn_key, turns, enc)
+
+
 def turns_of(sched: object, n: int, anonymity: bool, base: int) -> Turns | None:
     """The scheduler's own state in the keys (:class:`Turns`), or None when it keeps none."""
     return Turns(sched, n, anonymity, base) if getattr(sched, "stateful", False) else None
@@ -437,8 +441,7 @@ def explore_reference(
     turns = turns_of(sched, initial.n, anonymity, enc.base)
     checks = Checks(properties, StateFacts(facts(conf(start)), True))
 
-    key_of: Callable[[Any], int] = enc.key if turns is None else \
-        partial(_turn_key, turns, enc)
+    key_of = state_key(enc, turns)
     keys: list[int] = []
     visited: dict[int, int] = {}
     seeds = []

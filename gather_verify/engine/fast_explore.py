@@ -76,6 +76,7 @@ from gather_verify.engine.explore import (
     facts_cache,
     rss_mb,
     seed_states,
+    state_key,
     turns_of,
 )
 from gather_verify.engine.facts_table import FactsTable, RowFacts, facts_memo, make_room
@@ -147,12 +148,10 @@ def explore_fast(
     anonymity = reduction if anonymity is None else anonymity
     symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
     group = symmetry_group(initial, frames) if symmetry else []
-    turns = turns_of(sched, initial.n, anonymity, 1)
-    enc = Encoding(region_box(initial, limits.margin, group), group,
-                   anonymity and turns is None)
+    stateful = getattr(sched, "stateful", False)  # its state above the robots' digits
+    enc = Encoding(region_box(initial, limits.margin, group), group, anonymity and not stateful)
     n = initial.n
-    if turns is not None:  # its state above the robots' digits (``encoding.Turns``)
-        turns = turns_of(sched, n, anonymity, enc.base)
+    turns = turns_of(sched, n, anonymity, enc.base)
     facts = facts_cache(algo, initial, detection, frame_elements)
     if memo:
         make_room(limits.max_memory_mb)
@@ -165,8 +164,7 @@ def explore_fast(
     reduced = bool(group or anonymity)  # successor keys through Canon
 
     seeds = seed_states(initial_state(initial.robots), turns)
-    start_keys = np.array([enc.key(s) if turns is None else turns.key(enc, s, s.extra)  # type: ignore[attr-defined]
-                           for s in seeds], dtype=np.uint64)
+    start_keys = np.array(list(map(state_key(enc, turns), seeds)), dtype=np.uint64)
     init_cells = np.array([[enc.code(v, None) // 5 for v in initial.robots]], dtype=np.int64)
     srt, ck = table.config_keys(init_cells)
     init_row = table.rows(ck, srt)

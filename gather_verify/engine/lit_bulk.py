@@ -66,6 +66,7 @@ from gather_verify.engine.explore import (
     luminous_steps,
     rss_mb,
     seed_states,
+    state_key,
     turns_of,
 )
 from gather_verify.engine.facts_table import BIT, ReadsIdle
@@ -215,9 +216,8 @@ def explore_lit(
     max_states = min(limits.max_states, MAX_IDS)
     index = KeyIndex()
     seeds = seed_states(start, turns)
-    _, first_seeds = index.find_or_add(np.array(
-        [enc.key(s) if turns is None else turns.key(enc, s, s.extra)  # type: ignore[attr-defined]
-         for s in seeds], dtype=np.uint64))
+    _, first_seeds = index.find_or_add(np.array(list(map(state_key(enc, turns), seeds)),
+                                                dtype=np.uint64))
     seeds = [seeds[i] for i in first_seeds.tolist()]
     parents = Growing(np.int32)
     parents.extend(np.full(len(seeds), -1, dtype=np.int32))
