@@ -105,10 +105,11 @@ def _trace(e: Exploration, prop: str, reason: str, ids: Sequence[int],
     cycle_start = None
     if cycle is not None:
         cycle_start = len(steps)
-        start = steps[-1][1] if steps else e.initial_state
+        start = steps[-1][1] if steps else e.start_of(ids[0])
         steps += e.concretise(cycle, start=start)
-    return _lit(e, build_trace(e.initial, e.algorithm.name, e.scheduler_name, e.detection,
-                               e.frames, steps, prop, reason, cycle_start, **detail))
+    return _lit(e, build_trace(e.initial, e.algorithm.name, e.scheduler_from(e.start_of(ids[0])),
+                               e.detection, e.frames, steps, prop, reason, cycle_start,
+                               **detail))
 
 
 def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
@@ -116,12 +117,14 @@ def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
     concrete transition out of the witness state's concrete member that fails (None when
     none does: a ``value`` that is not equivariant, the caller re-checks without reductions)."""
     prop = get_property(v.property)
-    steps = e.concretise(e.path_to(v.state))
-    state = steps[-1][1] if steps else e.initial_state
+    ids = e.path_to(v.state)
+    steps = e.concretise(ids)
+    state = steps[-1][1] if steps else e.start_of(ids[0])
+    scheduler = e.scheduler_from(e.start_of(ids[0]))
     here = e.facts_of(state)
     if prop.kind == "state":  # the reason, on the concrete state shown
         seen = StateFacts(here, all(r[1] is None for r in state))
-        return _lit(e, build_trace(e.initial, e.algorithm.name, e.scheduler_name, e.detection,
+        return _lit(e, build_trace(e.initial, e.algorithm.name, scheduler, e.detection,
                                    e.frames, steps, v.property, prop.message_for(seen), None,
                                    **prop.detail_for(seen)))
     assert prop.value is not None and prop.holds is not None
@@ -131,7 +134,7 @@ def _safety_trace(e: Exploration, v: Violation) -> dict[str, Any] | None:
         if not prop.holds(before, after):
             steps.append((event, succ))
             return _lit(e, build_trace(
-                e.initial, e.algorithm.name, e.scheduler_name, e.detection, e.frames, steps,
+                e.initial, e.algorithm.name, scheduler, e.detection, e.frames, steps,
                 v.property, prop.message_for(before, after), None,
                 **prop.detail_for(before, after)))
     return None
@@ -176,7 +179,7 @@ def _drift(e: Exploration, bound: float) -> dict[str, Any] | None:
         runs.append((walk.path, walk.weights))
     for ids, weights in runs:
         steps = e.concretise(ids, weights=weights)
-        states = [e.initial_state, *(state for _, state in steps)]
+        states = [e.start_of(ids[0]), *(state for _, state in steps)]
         found = find_drift(states, [event for event, _ in steps], move_sets)
         if found is not None:
             return found
@@ -483,7 +486,8 @@ def run_check(
             PROGRESS.doing = "measuring the longest run (move-bound)"
             longest = longest_path(e)
             lifted = e
-            if longest.max_moves is None and (e.anonymity or e.symmetry):
+            cycles = longest.max_moves is None or longest.cyclic
+            if cycles and (e.anonymity or e.symmetry):
                 PROGRESS.doing = "exploring without reductions (to check the cycles)"
                 lifted = explore(configuration, algo, sched, engine=engine,
                                  detection=detection, frames=frames, reduction=False,
@@ -495,8 +499,8 @@ def run_check(
                 report["ratio"] = longest.max_moves / (D * n) if D * n else None
             elif not lifted.stopped:
                 report["max_moves_infinite"] = True
-            if longest.max_moves is not None or not lifted.stopped:
-                graph = GraphFacts(e, longest, None if longest.max_moves is not None else lifted,
+            if (longest.max_moves is not None and not longest.cyclic) or not lifted.stopped:
+                graph = GraphFacts(e, longest, lifted if cycles else None,
                                    D, n, move_bound_c)
                 for prop in on_graph:
                     assert prop.decide is not None

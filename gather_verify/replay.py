@@ -32,6 +32,38 @@ from gather_verify.properties.registry import get_property
 from gather_verify.trace import initial_of, load_trace, steps_of
 from gather_verify.worlds.moves import parse_lights
 from schedulers import State, configuration_of, get_scheduler, initial_state
+from schedulers.base import oblivious_events
+
+
+class _Turns:
+    """A ``stateful`` scheduler's own state along a replay (round-robin's order and turn; a
+    trace from a search names the order it started in, ``round-robin:order=2 0 1``): every
+    start it may have had, kept while the trace is consistent with it, as on finite worlds
+    (:mod:`gather_verify.world_replay`). The replayed states carry it
+    (:class:`~gather_verify.engine.explore.TurnState`), so a cycle must return to its turn."""
+
+    def __init__(self, scheduler: Any, n: int):
+        self.runs: list[list[object]] = [[x] for x in scheduler.starts(n)]
+
+    def follow(self, k: int, event: Any, state: Any, events: Any) -> None:
+        """Keep the runs in which ``events(extra)`` (event, successor, extra after) offers
+        ``event`` reaching ``state``; InvalidInput (one line) when none does."""
+        kept = [[*run, after] for run in self.runs for ev, succ, after in events(run[-1])
+                if ev == event and succ == state]
+        if not kept:
+            raise InvalidInput(f"trace step {k}: event {event.to_json()} is not allowed from the "
+                               "previous state, or does not reach the recorded state")
+        self.runs = kept
+
+    def offered(self, k: int, events: Any) -> set[Any]:
+        """The events the algorithm offers at step ``k`` in the runs kept so far."""
+        return {ev for run in self.runs for ev, _, _ in events(run[k - 1])}
+
+    def states(self, states: list[Any]) -> list[Any]:
+        """The replayed states with the first kept run's scheduler state."""
+        from gather_verify.engine.explore import TurnState
+
+        return [TurnState(s, x) for s, x in zip(states, self.runs[0], strict=True)]
 
 
 class NoLongerReproduces(InvalidInput):
@@ -74,7 +106,22 @@ def replay(trace: dict[str, Any]) -> Replayed:
 
     states = [initial_state(initial.robots)]
     steps = steps_of(trace)
+    turns = _Turns(scheduler, initial.n) if getattr(scheduler, "stateful", False) else None
     for k, (event, state) in enumerate(steps, 1):
+        if turns is not None:
+            before = states[-1]
+            turns.follow(k, event, state,
+                         lambda x: oblivious_events(scheduler, before, x, anything))  # noqa: B023
+            try:
+                offers = turns.offered(k, lambda x: oblivious_events(scheduler, before, x, ms))  # noqa: B023
+            except (Unhandled, AlgorithmCrash) as error:
+                raise NoLongerReproduces(f"trace step {k}: the algorithm does not decide the "
+                                         f"previous state any more ({error})") from None
+            if event not in offers:
+                raise NoLongerReproduces(f"trace step {k}: the algorithm no longer allows event "
+                                         f"{event.to_json()}")
+            states.append(state)
+            continue
         possible = dict(scheduler.successors(states[-1], anything))
         if event not in possible:
             raise InvalidInput(f"trace step {k}: event {event.to_json()} is not allowed from the "
@@ -94,6 +141,8 @@ def replay(trace: dict[str, Any]) -> Replayed:
         prop = get_property(trace["property"])
     except InvalidInput as error:
         raise InvalidInput(f"bad trace: {error}") from None
+    if turns is not None:
+        states = turns.states(states)
     run = Run(trace, states, steps,
               lambda state: configuration_facts(algorithm, conf(state), initial, detection, frames),
               ms)
@@ -109,8 +158,6 @@ def _replay_lights(trace: dict[str, Any]) -> Replayed:
     light = parse_lights(trace["lights"])
     algorithm = get_algorithm(trace["algorithm"])
     scheduler = get_scheduler(trace["scheduler"])
-    if getattr(scheduler, "stateful", False):
-        raise InvalidInput(f"bad trace: {scheduler.name} does not run on Z²")
     frames = frames_for(trace["frames"])
     detection = trace["detection"]
     initial = initial_of(trace)
@@ -145,10 +192,25 @@ def _replay_lights(trace: dict[str, Any]) -> Replayed:
     states: list[Any] = [tuple((v, None, c) for v, c in zip(initial.robots, colours,
                                                                 strict=True))]
     steps = steps_of(trace)
+    turns = _Turns(scheduler, initial.n) if getattr(scheduler, "stateful", False) else None
     for k, (event, state) in enumerate(steps, 1):
         if any(len(r) != 3 for r in state):
             raise InvalidInput(f"trace step {k}: a state of a trace with lights gives every "
                                "robot its 'colour'")
+        if turns is not None:
+            before = states[-1]
+            turns.follow(k, event, state, lambda x: scheduler.luminous(  # noqa: B023
+                before, x, anything(before), order=natural, null=True))  # noqa: B023
+            actions, why = offered(before)
+            if actions is None:
+                raise NoLongerReproduces(f"trace step {k}: the algorithm does not decide the "
+                                         f"previous state any more ({why})")
+            if event not in turns.offered(k, lambda x: scheduler.luminous(  # noqa: B023
+                    before, x, actions, order=natural, null=True)):  # noqa: B023
+                raise NoLongerReproduces(f"trace step {k}: the algorithm no longer allows event "
+                                         f"{event.to_json()}")
+            states.append(state)
+            continue
         possible = {ev: succ for ev, succ, _ in scheduler.luminous(
             states[-1], None, anything(states[-1]), order=natural, null=True)}
         if event not in possible:
@@ -179,6 +241,8 @@ def _replay_lights(trace: dict[str, Any]) -> Replayed:
         raise InvalidInput("with lights a robot's move set depends on its colour: read "
                            "run.facts(state).actions, per (node, colour)")
 
+    if turns is not None:
+        states = turns.states(states)
     run = Run(trace, states, steps, facts, no_move_sets, stays)
     confirmed, message = prop.confirmed(run)
     return Replayed(confirmed, message, len(steps))

@@ -34,7 +34,7 @@ from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.view import check_detection
 from schedulers import Event, State, get_scheduler, initial_state
-from schedulers.base import configuration_of
+from schedulers.base import configuration_of, oblivious_events
 
 OUTCOMES = ("gathered", "deadlock", "unhandled", "max-steps")
 
@@ -114,6 +114,9 @@ def simulate(
     n = len(state)
     patience = 2 * n
     since = [0] * n
+    # a scheduler with a state of its own (round-robin's order and turn) starts in one of its
+    # starts, drawn as the adversary's other choices are
+    extra = rng.choice(sched.starts(n)) if getattr(sched, "stateful", False) else None  # type: ignore[attr-defined]
     try:
         for _ in range(max_steps + 1):
             options = sets(configuration_of(state))
@@ -124,7 +127,11 @@ def simulate(
                 return run
             if run.steps == max_steps:
                 return run
-            successors = list(sched.successors(state, sets))
+            successors: list[tuple[Event, State, object]]
+            if extra is None:
+                successors = [(e, s, None) for e, s in sched.successors(state, sets)]
+            else:
+                successors = list(oblivious_events(sched, state, extra, sets))
             overdue = sorted((i for i in range(n) if since[i] >= patience),
                              key=lambda i: -since[i])
             for i in overdue:
@@ -133,7 +140,7 @@ def simulate(
                     successors = serving
                     break
                 since[i] = 0  # a null activation: the robot looks and stays
-            event, state = rng.choice(successors)
+            event, state, extra = rng.choice(successors)
             for i in range(n):
                 since[i] = 0 if i in event.robots else since[i] + 1
             run.events.append(event)

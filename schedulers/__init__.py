@@ -43,7 +43,8 @@ scheduler is one module implementing :class:`Scheduler` and one line here."""
 
 
 def plane_schedulers() -> tuple[str, ...]:
-    """The schedulers the Z² engines run: those that keep no state of their own."""
+    """The schedulers that keep no state of their own (the Z² engines run them through
+    ``successors``; a ``stateful`` one, round-robin, through its state)."""
     return tuple(name for name, cls in SCHEDULERS.items() if not getattr(cls, "stateful", False))
 
 

@@ -98,13 +98,17 @@ class Successors(NamedTuple):
     robot: np.ndarray  # (C,) int64
     code: np.ndarray  # (C,) int64
     event: np.ndarray | None  # (C,) int64, or None: C == E and event[c] == c
+    extra: np.ndarray | None = None
+    """(E,) int64: a ``stateful`` scheduler's own state after each event (``state_index``)."""
 
 
 class Scheduler(Protocol):
     """An adversary: the events it may choose in a state, one state at a time and in bulk.
 
     Two optional class attributes say what else may run it (absent: False): ``stateful``, it
-    keeps a state of its own (the Z² engines do not run it), and ``union``, a sweep of the
+    keeps a state of its own (``starts``, ``state_index``, ``state_of``, ``state_count``,
+    ``relabel``; its ``luminous`` takes and gives that state, its bulk faces take it per
+    state as ``extra=`` and fill :attr:`Successors.extra`), and ``union``, a sweep of the
     paper's world may explore all the configurations of one meeting-node set in one shared
     state graph under it (:mod:`gather_verify.engine.union`): its events from a state depend
     on that state alone and its ``bulk_successors`` gives them all, in ``successors``' order.
@@ -167,6 +171,24 @@ def round_event(active: Sequence[int], robots: tuple[LRobot, ...],
         if c != old:
             lights.append((i, old, c))
     return Event("round", tuple(active), tuple(moves), tuple(lights)), tuple(new)
+
+
+def oblivious_events(sched: Any, state: State, extra: object, move_sets: MoveSets
+                     ) -> Iterator[tuple[Event, State, object]]:
+    """The events of a ``stateful`` scheduler on Z² without lights, from its own ``luminous``
+    (one colour, the actions in the order of ``successors``), with its state after each."""
+    options = move_sets(configuration_of(state))
+
+    def actions(i: int) -> frozenset[Action]:
+        return frozenset((d, 0) for d in options[state[i][0]])
+
+    robots = tuple((v, p, 0) for v, p in state)
+    for event, succ, after in sched.luminous(robots, extra, actions, order=_natural, null=True):
+        yield event, tuple((v, p) for v, p, _ in succ), after
+
+
+def _natural(action: object) -> object:
+    return action
 
 
 def initial_state(robots: Iterable[Node]) -> State:

@@ -213,10 +213,11 @@ def test_bad_lights_and_adversaries_are_one_line(args: tuple[str, ...], words: s
     assert len(run.stderr.strip().splitlines()) == 1
 
 
-def test_round_robin_on_the_plane_is_one_line() -> None:
+def test_a_round_robin_order_naming_an_unknown_robot_on_the_plane_is_one_line() -> None:
     run = cli("check", "--robots", "0,0 3,1", "--meeting", "2,2", "--algorithm",
-              "go-to-target", "--scheduler", "round-robin")
-    assert run.returncode == 2 and "finite worlds" in run.stderr
+              "go-to-target", "--scheduler", "round-robin:order=0 5")
+    assert run.returncode == 2 and "each of the robots 0..1" in run.stderr
+    assert len(run.stderr.strip().splitlines()) == 1
 
 
 def test_a_scenario_colour_outside_the_lights_is_one_line(tmp_path) -> None:  # noqa: ANN001

@@ -266,7 +266,7 @@ def test_the_viewer_shows_each_robots_colour_and_the_lights_an_event_changed() -
     (("--lights", "2", "--colours", "0"), "initial colours"),
     (("--colours", "0 1"), "give --lights"),
     (("--lights", "13", "--engine", "bulk"), "more than 62 actions"),
-    (("--lights", "2", "--scheduler", "round-robin"), "finite"),
+    (("--lights", "2", "--scheduler", "round-robin:order=1 2"), "each of the robots"),
 ])
 def test_bad_lights_on_the_paper_world_are_one_line(args: tuple[str, ...], words: str,
                                                     capsys) -> None:  # noqa: ANN001

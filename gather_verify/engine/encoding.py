@@ -179,6 +179,50 @@ class Encoding:
         return Frontier(codes, masks, self.neighbour)
 
 
+class Turns:
+    """A ``stateful`` scheduler's own state (round-robin's order and turn) in a Z² key: the
+    robots' key (an :class:`Encoding` built without anonymity: the robots keep their places)
+    plus ``base ** n`` times the scheduler's ``state_index``.
+
+    The reductions act on that state too, so they stay sound (SEMANTICS.md §4):
+
+    - anonymity: identical robots are relabelled by the scheduler's ``relabel`` (round-robin:
+      so that its order is the first it may fix), and the robots listed in that labelling;
+      the same robot then acts at each turn, so the state has the same future. Relabelling
+      is the only freedom: sorting the robots would forget whose turn comes when;
+    - symmetry: an element of ``Aut(M)`` in the frame group moves every robot's node and
+      pending step and leaves the scheduler's state alone (its order names robots, not
+      nodes), as it does without one.
+    """
+
+    def __init__(self, sched: Any, n: int, anonymity: bool, base: int):
+        self.sched, self.n, self.anonymity = sched, n, anonymity
+        self.scale = base ** n
+        self.count = sched.state_count(n)
+
+    def starts(self) -> list[object]:
+        return list(self.sched.starts(self.n))
+
+    def key(self, enc: Encoding, state: State, extra: object) -> int:
+        """The stored key of ``state`` with the scheduler in ``extra``."""
+        if self.anonymity:
+            perm, extra = self.sched.relabel(extra, self.n)
+            state = tuple(state[i] for i in perm)
+        return enc.key(state) + self.scale * self.sched.state_index(extra, self.n)
+
+    def extra(self, key: int) -> object:
+        """The scheduler's state of a stored key."""
+        return self.sched.state_of(key // self.scale, self.n)
+
+    def of_keys(self, keys: np.ndarray) -> np.ndarray:
+        """The scheduler's ``state_index`` of each stored key (``uint64``), as ``int64``."""
+        return (keys // np.uint64(self.scale)).astype(np.int64)
+
+    def fits(self) -> bool:
+        """Whether every key fits 63 bits (the bulk engines' keys)."""
+        return self.scale * self.count < 2**63
+
+
 class LuminousEncoding(Encoding):
     """:class:`Encoding` with each robot's light (§10): a robot's code is
     ``(cell * 5 + d) * K + colour`` over K colours, and a state's robots are

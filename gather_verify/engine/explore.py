@@ -38,6 +38,7 @@ import time
 from array import array
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm
@@ -54,10 +55,10 @@ from gather_verify.engine.encoding import (
     Limits,
     LuminousEncoding,
     Stop,
+    Turns,
     symmetry_group,
 )
 from gather_verify.engine.region import region_box
-from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.view import Lights, check_detection
@@ -77,6 +78,7 @@ from schedulers import (
     get_scheduler,
     initial_state,
 )
+from schedulers.base import oblivious_events
 
 __all__ = ["DEFAULT_MARGIN", "DEFAULT_MAX_MEMORY_MB", "DEFAULT_MAX_SECONDS", "DEFAULT_MAX_STATES",
            "STEP_INDEX", "ConfigurationFacts", "Encoding", "Exploration",
@@ -135,13 +137,37 @@ class Exploration:
     """Which engine ran the search: ``reference`` or ``bulk``."""
     engine_fallback: str | None = None
     """Why the bulk engine did not run it, when it was asked to if it could (``auto``)."""
+    turns: Turns | None = None
+    """A ``stateful`` scheduler's own state in the keys (round-robin's order and turn); None
+    for the others. Its states are then :class:`TurnState` s."""
+    starts: list[State] | None = None
+    """With :attr:`turns`: the concrete initial state of each seed id (one per start of the
+    scheduler that the reductions did not merge), in id order."""
 
     @property
     def n(self) -> int:
         return self.initial.n
 
     def state(self, sid: int) -> State:
-        return self.encoding.decode(self.keys[sid], self.n)
+        state = self.encoding.decode(self.keys[sid], self.n)
+        if self.turns is not None:
+            return TurnState(state, self.turns.extra(int(self.keys[sid])))
+        return state
+
+    def key_of(self, state: State) -> int:
+        """The stored key of a concrete state (a :class:`TurnState` with :attr:`turns`)."""
+        return state_key(self.encoding, self.turns)(state)
+
+    def start_of(self, sid: int) -> State:
+        """The concrete initial state a path from seed ``sid`` starts in."""
+        return self.initial_state if self.starts is None else self.starts[sid]
+
+    def scheduler_from(self, start: State) -> str:
+        """The scheduler's name as a trace from ``start`` gives it: with :attr:`turns`, its
+        start fixed (``round-robin:order=2 0 1``), so the trace shows it and replays it."""
+        if self.turns is None:
+            return self.scheduler_name
+        return self.turns.sched.pinned(start.extra)  # type: ignore[attr-defined]
 
     def successors(self, sid: int) -> range:
         return range(self.offsets[sid], self.offsets[sid + 1])
@@ -166,18 +192,24 @@ class Exploration:
 
     def concrete_successors(self, state: State) -> list[tuple[Event, State]]:
         """Every (event, successor) of a concrete state, from the scheduler."""
+        sched = get_scheduler(self.scheduler_name)
+        extra = getattr(state, "extra", None)
         if self.lights is not None:
             facts = self.facts_of(state)
             if facts.actions is None:
                 raise Unhandled(facts.unhandled or "unhandled")
-            return list(luminous_events(get_scheduler(self.scheduler_name), state, facts))
+            if self.turns is None:
+                return list(luminous_events(sched, state, facts))
+            return [(e, TurnState(s, a)) for e, s, a in luminous_steps(sched, state, facts, extra)]
 
         def ms(robots: tuple[Node, ...]) -> dict[Node, frozenset[Node]]:
             facts = self.facts(robots)
             if facts.move_sets is None:
                 raise Unhandled(facts.unhandled or "unhandled")
             return facts.move_sets
-        return list(get_scheduler(self.scheduler_name).successors(state, ms))
+        if self.turns is None:
+            return list(sched.successors(state, ms))
+        return [(e, TurnState(s, a)) for e, s, a in oblivious_events(sched, state, extra, ms)]
 
     def path_to(self, sid: int) -> list[int]:
         """Ids from the initial state to ``sid`` along BFS parents (a shortest path)."""
@@ -191,12 +223,12 @@ class Exploration:
         """Concrete events and states following a path of stored ids (``ids[0]`` is the start);
         with ``weights``, each event also makes that many moves (two events of a reduced
         graph may reach one class with different moves)."""
-        state = self.initial_state if start is None else start
+        state = self.start_of(ids[0]) if start is None else start
         steps = []
         for k, nxt in enumerate(ids[1:]):
             want = self.keys[nxt]
             for event, succ in self.concrete_successors(state):
-                if self.encoding.key(succ) == want and (
+                if self.key_of(succ) == want and (
                         weights is None or event.distance == weights[k]):
                     steps.append((event, succ))
                     state = succ
@@ -207,9 +239,37 @@ class Exploration:
 
     @property
     def initial_state(self) -> State:
+        if self.starts is not None:  # a stateful scheduler's first start
+            return self.starts[0]
         if self.lights is not None:
             return lit_initial_state(self.initial.robots, self.colours)
         return initial_state(self.initial.robots)
+
+
+class TurnState(tuple[Any, ...]):
+    """A concrete state of the robots with a ``stateful`` scheduler's own state, ``extra``
+    (round-robin's order and turn): a :data:`State` to every reader of robots, and two are
+    equal only when their schedulers' states are too (a cycle must return to the same turn)."""
+
+    extra: object
+
+    def __new__(cls, robots: Iterable[Any], extra: object) -> TurnState:
+        self = super().__new__(cls, robots)
+        self.extra = extra
+        return self
+
+    def __getnewargs__(self) -> tuple[Any, ...]:
+        return tuple(self), self.extra
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, tuple) and tuple(self) == tuple(other) and \
+            getattr(other, "extra", None) == self.extra
+
+    def __ne__(self, other: object) -> bool:
+        return not self == other
+
+    def __hash__(self) -> int:
+        return hash((tuple(self), self.extra))
 
 
 def lit_configuration(state: State) -> tuple[tuple[Node, int], ...]:
@@ -232,6 +292,13 @@ def luminous_events(sched: object, state: State,
     """The scheduler's events from a luminous Z² state, in the order of the oblivious
     ``successors`` (actions by destination, then colour; a round where every activated robot
     stays is a self-loop transition, as on Z² without lights, §4)."""
+    for event, succ, _ in luminous_steps(sched, state, facts, None):
+        yield event, succ
+
+
+def luminous_steps(sched: object, state: State, facts: ConfigurationFacts, extra: object
+                   ) -> Iterable[tuple[Event, State, object]]:
+    """:func:`luminous_events` with the scheduler's own state (``extra``) before and after."""
     acts = facts.actions
     assert acts is not None
 
@@ -239,9 +306,8 @@ def luminous_events(sched: object, state: State,
         v, _, c = state[i]  # type: ignore[misc]
         return acts[v, c]
 
-    for event, succ, _ in sched.luminous(state, None, actions,  # type: ignore[attr-defined]
-                                         order=_natural, null=True):
-        yield event, succ
+    return sched.luminous(state, extra, actions,  # type: ignore[attr-defined]
+                          order=_natural, null=True)
 
 
 def weight_code(n: int) -> str:
@@ -283,11 +349,25 @@ def luminous_facts_cache(algorithm: Algorithm, initial: Configuration, detection
     return facts
 
 
-def refuse_stateful(sched: object) -> None:
-    """A scheduler that keeps its own state (round-robin) has no luminous search on Z²."""
-    if getattr(sched, "stateful", False):
-        raise InvalidInput(f"{getattr(sched, 'name', sched)} keeps a scheduler state: it runs "
-                           "on finite worlds (--world ring:N, grid:WxH, torus:WxH, graph:FILE)")
+def _turn_key(turns: Turns, enc: Encoding, state: Any) -> int:
+    return turns.key(enc, state, state.extra)
+
+
+def state_key(enc: Encoding, turns: Turns | None) -> Callable[[Any], int]:
+    """The stored key of a concrete state: ``enc.key``, or with a ``stateful`` scheduler
+    that of a :class:`TurnState` (its state above the robots' digits)."""
+    return enc.key if turns is None else partial(_turn_key, turns, enc)
+
+
+def turns_of(sched: object, n: int, anonymity: bool, base: int) -> Turns | None:
+    """The scheduler's own state in the keys (:class:`Turns`), or None when it keeps none."""
+    return Turns(sched, n, anonymity, base) if getattr(sched, "stateful", False) else None
+
+
+def seed_states(start: State, turns: Turns | None) -> list[State]:
+    """The concrete initial states of a search: ``start``, with each start of a ``stateful``
+    scheduler."""
+    return [start] if turns is None else [TurnState(start, x) for x in turns.starts()]
 
 
 def explore_reference(
@@ -329,8 +409,9 @@ def explore_reference(
     symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
     group = symmetry_group(initial, frames) if symmetry else []
     box = region_box(initial, limits.margin, group)
+    stateful = getattr(sched, "stateful", False)
     if lights is None:
-        enc = Encoding(box, group, anonymity)
+        enc = Encoding(box, group, anonymity and not stateful)
         facts: Callable[[Any], ConfigurationFacts] = facts_cache(algo, initial, detection,
                                                                  frame_elements)
         conf: Callable[[State], Any] = configuration_of
@@ -342,21 +423,34 @@ def explore_reference(
             return got
 
         def events(state: State, here: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
+            if turns is not None:
+                return ((e, TurnState(s, a)) for e, s, a in oblivious_events(
+                    sched, state, state.extra, ms))  # type: ignore[attr-defined]
             return sched.successors(state, ms)
     else:
-        refuse_stateful(sched)
-        enc = LuminousEncoding(box, group, anonymity, lights.colours)
+        enc = LuminousEncoding(box, group, anonymity and not stateful, lights.colours)
         facts = luminous_facts_cache(algo, initial, detection, frame_elements, lights)
         conf = lit_configuration
         start = lit_initial_state(initial.robots, colours)
 
         def events(state: State, here: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
+            if turns is not None:
+                return ((e, TurnState(s, a)) for e, s, a in luminous_steps(
+                    sched, state, here, state.extra))  # type: ignore[attr-defined]
             return luminous_events(sched, state, here)
+    turns = turns_of(sched, initial.n, anonymity, enc.base)
     checks = Checks(properties, StateFacts(facts(conf(start)), True))
 
-    keys = [enc.key(start)]
-    visited = {keys[0]: 0}
-    parents, offsets, targets = array("q", [-1]), array("q"), array("l")
+    key_of = state_key(enc, turns)
+    keys: list[int] = []
+    visited: dict[int, int] = {}
+    seeds = []
+    for seed in seed_states(start, turns):
+        key = key_of(seed)
+        if visited.setdefault(key, len(keys)) == len(keys):
+            keys.append(key)
+            seeds.append(seed)
+    parents, offsets, targets = array("q", [-1] * len(keys)), array("q"), array("l")
     weights = array(weight_code(initial.n))
     checks.state(0, StateFacts(facts(conf(start)), True), checks.on_discovery)
     transitions = changed_loops = 0
@@ -375,6 +469,8 @@ def explore_reference(
                 stopped = Stop.MEMORY
                 break
         state = enc.decode(keys[sid], n)
+        if turns is not None:
+            state = TurnState(state, turns.extra(keys[sid]))
         here = facts(conf(state))
         seen = StateFacts(here, all(r[1] is None for r in state))
         halted = checks.halt(sid, seen)
@@ -398,7 +494,7 @@ def explore_reference(
             if checks.on_transition:
                 checks.transition(sid, here, lambda: facts(conf(succ)),  # noqa: B023
                                   (event, succ))
-            key = enc.key(succ)
+            key = key_of(succ)
             did = visited.get(key)
             if did is None:
                 did = len(keys)
@@ -433,4 +529,5 @@ def explore_reference(
         changed_loops=changed_loops, states=len(keys), transitions=transitions, stopped=stopped,
         violations=checks.violations, seconds=time.perf_counter() - started, peak_rss_mb=peak,
         facts=facts, vacuous=checks.vacuous, lights=lights,
-        colours=None if lights is None else tuple(colours or (0,) * n))
+        colours=None if lights is None else tuple(colours or (0,) * n), turns=turns,
+        starts=None if turns is None else seeds)

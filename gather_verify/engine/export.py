@@ -77,7 +77,7 @@ def to_networkx(e: Exploration) -> nx.DiGraph:
         stored = sorted(int(e.targets[j]) for j in e.successors(sid))
         found = []
         for event, succ in e.concrete_successors(e.state(sid)):
-            did = ids.get(e.encoding.key(succ))
+            did = ids.get(e.key_of(succ))
             if did is None:  # beyond a limit: the search never stored it
                 continue
             found.append(did)

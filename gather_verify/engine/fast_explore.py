@@ -45,7 +45,7 @@ import time
 from collections.abc import Iterable
 from functools import partial
 from itertools import islice
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -72,8 +72,12 @@ from gather_verify.engine.encoding import (
 )
 from gather_verify.engine.explore import (
     Exploration,
+    TurnState,
     facts_cache,
     rss_mb,
+    seed_states,
+    state_key,
+    turns_of,
 )
 from gather_verify.engine.facts_table import FactsTable, RowFacts, facts_memo, make_room
 from gather_verify.engine.key_index import KeyIndex
@@ -83,6 +87,7 @@ from gather_verify.model.symmetry import meeting_automorphisms
 from gather_verify.model.view import check_detection
 from gather_verify.progress import PROGRESS
 from schedulers import Scheduler, State, as_scheduler, initial_state
+from schedulers.base import oblivious_events
 
 CHUNK = 1 << 14
 """States expanded per bulk step: bounds the transient arrays (a few MB)."""
@@ -97,12 +102,14 @@ def supports(initial: Configuration, scheduler: str | Scheduler, reduction: bool
              limits: Limits = NO_LIMITS) -> bool:
     """Whether the bulk path can run this request (else use the reference path): every
     registered scheduler has the bulk interface; the key must fit 63 bits and the ids 31."""
-    as_scheduler(scheduler)  # an unknown name is an error, not a fallback
+    sched = as_scheduler(scheduler)  # an unknown name is an error, not a fallback
     symmetry = reduction if symmetry is None else symmetry
     group = symmetry_group(initial, frames) if symmetry else []
     x0, y0, x1, y1 = region_box(initial, limits.margin, group)
     base = (x1 - x0 + 1) * (y1 - y0 + 1) * 5
-    return base ** initial.n < 2**63 and min(limits.max_states, MAX_IDS) >= 1
+    turns = turns_of(sched, initial.n, False, base)
+    fits = base ** initial.n < 2**63 if turns is None else turns.fits()
+    return fits and min(limits.max_states, MAX_IDS) >= 1
 
 
 def explore_fast(
@@ -141,8 +148,10 @@ def explore_fast(
     anonymity = reduction if anonymity is None else anonymity
     symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
     group = symmetry_group(initial, frames) if symmetry else []
-    enc = Encoding(region_box(initial, limits.margin, group), group, anonymity)
+    stateful = getattr(sched, "stateful", False)  # its state above the robots' digits
+    enc = Encoding(region_box(initial, limits.margin, group), group, anonymity and not stateful)
     n = initial.n
+    turns = turns_of(sched, n, anonymity, enc.base)
     facts = facts_cache(algo, initial, detection, frame_elements)
     if memo:
         make_room(limits.max_memory_mb)
@@ -154,7 +163,8 @@ def explore_fast(
     base = enc.base
     reduced = bool(group or anonymity)  # successor keys through Canon
 
-    start_key = enc.key(initial_state(initial.robots))
+    seeds = seed_states(initial_state(initial.robots), turns)
+    start_keys = np.array(list(map(state_key(enc, turns), seeds)), dtype=np.uint64)
     init_cells = np.array([[enc.code(v, None) // 5 for v in initial.robots]], dtype=np.int64)
     srt, ck = table.config_keys(init_cells)
     init_row = table.rows(ck, srt)
@@ -169,9 +179,10 @@ def explore_fast(
     # columns reserved up front: untouched pages cost no memory, and nothing is copied
     reserve = min(max_states + max(CHUNK * 8 * n, EVENTS) + 1, 1 << 27)
     index = KeyIndex(capacity=reserve)
-    index.find_or_add(np.array([start_key], dtype=np.uint64))
+    _, first_seeds = index.find_or_add(start_keys)
+    seeds = [seeds[i] for i in first_seeds.tolist()]
     parents = Growing(np.int32, reserve)
-    parents.extend(np.array([-1], dtype=np.int32))
+    parents.extend(np.full(len(seeds), -1, dtype=np.int32))
     # the graph's columns reserved too (untouched pages cost nothing): no copy as they grow,
     # so no transient second copy of the graph
     edges = min(8 * reserve, 1 << 28) if graph else 1 << 16
@@ -210,7 +221,12 @@ def explore_fast(
             "a state without move sets needs a halting property"
         # robot i's move mask: the mask of its cell's position in the sorted row
         masks = move_masks(table, rows, rank, flat=compiled)
-        bulk = sched.bulk_successors(enc.frontier(codes[:limit_src], masks[:limit_src]), EVENTS)
+        frontier = enc.frontier(codes[:limit_src], masks[:limit_src])
+        if turns is None:
+            bulk = sched.bulk_successors(frontier, EVENTS)
+        else:  # with the scheduler's own state of each state
+            bulk = cast(Any, sched).bulk_successors(frontier, EVENTS,
+                                                    extra=turns.of_keys(K[:limit_src]))
         if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
             hi = sid + bulk.states
             K, codes, cells, rows = K[:bulk.states], codes[:bulk.states], cells[:bulk.states], \
@@ -240,6 +256,8 @@ def explore_fast(
             event = event[:changes]
         succ, old, succ_codes = successor_keys(K, codes, src, robot, new, event, canon, reduced,
                                                compiled)
+        if turns is not None:
+            succ = with_turns(succ, bulk.extra, turns)
         # new states get the next ids in order of first occurrence: the BFS order
         known = index.count
         ids, first = index.find_or_add(succ)
@@ -287,7 +305,8 @@ def explore_fast(
                 s2, k2 = table.config_keys(succ_cells)
                 after = table.rows(k2, s2)
             columns.transitions(sid, src, rows[src], after,
-                                partial(_step, enc, sched, facts, n, K, src, succ_codes))
+                                partial(_step, enc, sched, facts, n, K, src, succ_codes,
+                                        turns=turns))
         if open_discovery:
             fresh = decode_keys(fresh_keys, base, n)
             if after is not None and single and pair_rows is not None:
@@ -335,11 +354,20 @@ def explore_fast(
         weights=IntColumn(weights.array()), changed_loops=changed_loops, states=index.count,
         transitions=transitions, stopped=stopped, violations=checks.violations,
         seconds=time.perf_counter() - started, peak_rss_mb=peak, facts=facts,
-        vacuous=checks.vacuous, engine="bulk")
+        vacuous=checks.vacuous, engine="bulk", turns=turns,
+        starts=None if turns is None else seeds)
+
+
+def with_turns(succ: np.ndarray, extra: np.ndarray | None, turns: Any) -> np.ndarray:
+    """Successor keys with the scheduler's state after each event (``extra``, from its bulk
+    face) above the robots' digits (:class:`~gather_verify.engine.encoding.Turns`)."""
+    assert extra is not None, "a stateful scheduler's bulk face gives its state after each event"
+    scale = np.uint64(turns.scale)
+    return succ % scale + scale * extra[:len(succ)].astype(np.uint64)
 
 
 def _step(enc: Encoding, sched: Any, facts: Any, n: int, K: np.ndarray, src: np.ndarray,
-          succ_codes: np.ndarray | None, i: int) -> tuple[Any, State]:
+          succ_codes: np.ndarray | None, i: int, turns: Any = None) -> tuple[Any, State]:
     """The event and successor of the ``i``-th transition of a bulk step (from state
     ``K[src[i]]``), asked of the scheduler's concrete ``successors``: its ``k``-th event, k
     its rank among its state's events (the bulk events come in the same order);
@@ -353,7 +381,12 @@ def _step(enc: Encoding, sched: Any, facts: Any, n: int, K: np.ndarray, src: np.
         assert got is not None  # the state was expanded
         return got
 
-    event, succ = next(islice(sched.successors(state, ms), k, None))
+    if turns is not None:
+        extra = turns.extra(int(K[src[i]]))
+        event, succ, after = next(islice(oblivious_events(sched, state, extra, ms), k, None))
+        succ = TurnState(succ, after)
+    else:
+        event, succ = next(islice(sched.successors(state, ms), k, None))
     if codes is not None:  # pragma: no branch - the two faces of the scheduler agree
         assert [enc.code(v, p) for v, p in succ] == codes.tolist()
     return event, succ

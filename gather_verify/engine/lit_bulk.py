@@ -58,14 +58,19 @@ from gather_verify.engine.encoding import (
 )
 from gather_verify.engine.explore import (
     Exploration,
+    TurnState,
     lit_configuration,
     lit_initial_state,
     luminous_events,
     luminous_facts_cache,
-    refuse_stateful,
+    luminous_steps,
     rss_mb,
+    seed_states,
+    state_key,
+    turns_of,
 )
 from gather_verify.engine.facts_table import BIT, ReadsIdle
+from gather_verify.engine.fast_explore import with_turns
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import Lights, check_detection
@@ -93,7 +98,9 @@ def unsupported(initial: Configuration, scheduler: str | Scheduler, lights: Ligh
     symmetry = reduction if symmetry is None else symmetry
     group = symmetry_group(initial, frames) if symmetry else []
     x0, y0, x1, y1 = region_box(initial, limits.margin, group)
-    if ((x1 - x0 + 1) * (y1 - y0 + 1) * 5 * lights.colours) ** initial.n >= 2**63:
+    base = (x1 - x0 + 1) * (y1 - y0 + 1) * 5 * lights.colours
+    turns = turns_of(sched, initial.n, False, base)
+    if not (base ** initial.n < 2**63 if turns is None else turns.fits()):
         return "a state does not fit 63 bits"
     return None
 
@@ -180,15 +187,16 @@ def explore_lit(
     started = time.perf_counter()
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
     sched = as_scheduler(scheduler)
-    refuse_stateful(sched)
     check_detection(detection)
     frame_elements = frames_for(frames)
     anonymity = reduction if anonymity is None else anonymity
     symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
     group = symmetry_group(initial, frames) if symmetry else []
-    enc = LuminousEncoding(region_box(initial, limits.margin, group), group, anonymity,
-                           lights.colours)
+    stateful = getattr(sched, "stateful", False)
+    enc = LuminousEncoding(region_box(initial, limits.margin, group), group,
+                           anonymity and not stateful, lights.colours)
     n, k = initial.n, lights.colours
+    turns = turns_of(sched, n, anonymity, enc.base)
     facts = luminous_facts_cache(algo, initial, detection, frame_elements, lights)
     table = LitTable(enc, n, facts)
     canon = Canon(enc, n)
@@ -207,9 +215,12 @@ def explore_lit(
 
     max_states = min(limits.max_states, MAX_IDS)
     index = KeyIndex()
-    index.find_or_add(np.array([enc.key(start)], dtype=np.uint64))
+    seeds = seed_states(start, turns)
+    _, first_seeds = index.find_or_add(np.array(list(map(state_key(enc, turns), seeds)),
+                                                dtype=np.uint64))
+    seeds = [seeds[i] for i in first_seeds.tolist()]
     parents = Growing(np.int32)
-    parents.extend(np.array([-1], dtype=np.int32))
+    parents.extend(np.full(len(seeds), -1, dtype=np.int32))
     offsets, targets = Growing(np.int64), Growing(np.int32)
     weight_type = np.int8 if n <= 127 else np.int16
     weights = Growing(weight_type)
@@ -239,8 +250,12 @@ def explore_lit(
         assert not table.flags[rows[:limit_src]].any(), \
             "a state without actions needs a halting property"
         masks = table.masks[rows[:, None], rank]
-        bulk = sched.bulk_luminous(Frontier(codes[:limit_src], masks[:limit_src], enc.neighbour),
-                                   EVENTS, k)
+        frontier = Frontier(codes[:limit_src], masks[:limit_src], enc.neighbour)
+        if turns is None:
+            bulk = sched.bulk_luminous(frontier, EVENTS, k)
+        else:  # with the scheduler's own state of each state
+            bulk = cast(Any, sched).bulk_luminous(frontier, EVENTS, k,
+                                                  extra=turns.of_keys(keys[:limit_src]))
         if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
             hi = sid + bulk.states
             keys, codes, rows = keys[:bulk.states], codes[:bulk.states], rows[:bulk.states]
@@ -268,6 +283,8 @@ def explore_lit(
         robot, new, event = robot[:changes], new[:changes], event[:changes]
         succ, old, _ = successor_keys(keys, codes, src, robot, new, None if single else event,
                                       canon, reduced, compiled)
+        if turns is not None:
+            succ = with_turns(succ, bulk.extra, turns)
         known = index.count
         ids, first = index.find_or_add(succ)
         fresh_src = src[first]
@@ -292,7 +309,7 @@ def explore_lit(
         if checks.open(checks.on_transition) and cut:
             after_rows, _ = table.locate(successor_codes(codes, src, robot, new, event))
             columns.transitions(sid, src, rows[src], after_rows,
-                                partial(_step, enc, sched, facts, n, keys, src))
+                                partial(_step, enc, sched, facts, n, keys, src, turns=turns))
         if checks.open(checks.on_discovery) and len(fresh_keys):
             fresh = decode_keys(fresh_keys, enc.base, n)
             columns.states(known, table.locate(fresh)[0], np.all(fresh // k % 5 == 0, axis=1),
@@ -333,16 +350,22 @@ def explore_lit(
         transitions=transitions, stopped=stopped, violations=checks.violations,
         seconds=time.perf_counter() - started, peak_rss_mb=peak, facts=facts,
         vacuous=checks.vacuous, lights=lights, colours=tuple(colours or (0,) * n),
-        engine="bulk")
+        engine="bulk", turns=turns, starts=None if turns is None else seeds)
 
 
 def _step(enc: LuminousEncoding, sched: Any, facts: Callable[[Any], ConfigurationFacts],
-          n: int, keys: np.ndarray, src: np.ndarray, i: int) -> tuple[Any, State]:
+          n: int, keys: np.ndarray, src: np.ndarray, i: int, turns: Any = None
+          ) -> tuple[Any, State]:
     """The event and successor of the ``i``-th transition of a bulk step, asked of the
     scheduler's ``luminous`` on its decoded source state: its ``k``-th event, k its rank
     among its state's events (the bulk events come in the same order)."""
     state = enc.decode(int(keys[src[i]]), n)
     rank = i - int(np.searchsorted(src, src[i]))
+    if turns is not None:
+        event, succ, after = next(islice(luminous_steps(
+            sched, state, facts(lit_configuration(state)), turns.extra(int(keys[src[i]]))),
+            rank, None))
+        return event, TurnState(succ, after)
     return next(islice(luminous_events(sched, state, facts(lit_configuration(state))), rank,
                        None))
 

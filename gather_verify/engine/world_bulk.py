@@ -154,8 +154,10 @@ class _Plan:
         self.vb = 1 << size if visits else 1
         self.pw = np.array([self.radix ** i for i in range(n + 1)], dtype=np.int64)
         self.cfg_base = size * colours
-        self.starts = starts
-        self.rr = isinstance(sched, RoundRobin)
+        self.starts, self.sched = starts, sched
+        # a scheduler that keeps its own state (round-robin): the kernel reads whose turn it
+        # is off its ``state_index``, a start's place times n plus the turn
+        self.rr = bool(getattr(sched, "stateful", False))
         self.rr_orders = np.array([list(order) for order, _ in starts] if self.rr else [[0] * n],
                                   dtype=np.int64).reshape(-1, n)
         if isinstance(sched, FSync):
@@ -184,8 +186,7 @@ class _Plan:
             robots.append((v, None if slot == 0 else self.adjacency[v][slot - 1], c))
         extra, visited = divmod(key, self.vb)
         if self.rr:
-            order, turn = divmod(extra, self.n)
-            return tuple(robots), visited, (self.starts[order][0], turn)
+            return tuple(robots), visited, self.sched.state_of(extra, self.n)
         return tuple(robots), visited, None
 
     def mask(self, v: int, actions: frozenset[tuple[int, int]]) -> int:
@@ -446,7 +447,7 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
         seeds = [(robots, lights)]
     first_keys = np.array([plan.pack([(v, None, c) for v, c in zip(nodes, lit, strict=True)],
                                      sum(1 << v for v in set(nodes)) if visits else 0,
-                                     r * n if plan.rr else 0)
+                                     plan.sched.state_index(starts[r], n) if plan.rr else 0)
                            for nodes, lit in seeds for r in range(len(starts))],
                           dtype=np.int64)
     index = KeyIndex()

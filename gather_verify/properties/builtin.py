@@ -159,13 +159,14 @@ MOVE_BOUND = Property(
 
 
 def _decide_termination(g: GraphFacts) -> Outcome:
-    if g.longest.max_moves is not None:
+    if g.longest.max_moves is not None and not g.longest.cyclic:
         return Outcome({"holds": True, "reason": "the reachable graph is acyclic"})
     lifted = g.lifted
     assert lifted is not None
     live = livelock(lifted)
     if live is None:
-        return Outcome({"holds": True, "reason": "every cycle is unfair"})
+        return Outcome({"holds": True, "reason": "every cycle is unfair" + (
+            " or goes round a final state" if g.longest.cyclic else "")})
     reason = ("livelock: a fair execution stays forever in a component of "
               f"{len(live.component)} states without reaching a final state")
     return Outcome({"holds": False, "reason": reason},

@@ -20,7 +20,7 @@ from array import array
 from collections import deque
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     import networkx as nx
@@ -45,7 +45,7 @@ def real_edges(e: Exploration, sid: int) -> Iterable[tuple[int, int]]:
                 state = e.state(sid)
             if not e.changed_loops:
                 continue
-            if all(succ == state or e.encoding.key(succ) != e.keys[sid]
+            if all(succ == state or e.key_of(succ) != e.keys[sid]
                    for _, succ in e.concrete_successors(state)):
                 continue
         yield t, e.weights[k]
@@ -57,6 +57,9 @@ class LongestPath:
 
     max_moves: int | None
     path: list[int]  # ids of a worst-case execution (acyclic case)
+    cyclic: bool = False
+    """The graph has cycles that make no move (a ``stateful`` scheduler's turn going round
+    robots that stay): ``max_moves`` is still the bound, but a cycle is there to check."""
 
 
 def longest_path(e: Exploration) -> LongestPath:
@@ -64,6 +67,8 @@ def longest_path(e: Exploration) -> LongestPath:
     order (networkx on small graphs, Kahn's algorithm on large ones; the numpy columns of the
     bulk engine a round at a time), then the best total per state in reverse order, keeping
     the first best successor in edge order (so every order gives the same path)."""
+    if getattr(e, "turns", None) is not None:
+        return _longest_path_condensed(e)
     if hasattr(e.targets, "array") and not e.changed_loops:
         from gather_verify import kernels
 
@@ -85,6 +90,44 @@ def longest_path(e: Exploration) -> LongestPath:
     while choice[path[-1]] >= 0:
         path.append(choice[path[-1]])
     return LongestPath(best[0], path)
+
+
+def _longest_path_condensed(e: Exploration) -> LongestPath:
+    """:func:`longest_path` of a search whose scheduler keeps its own state (round-robin): its
+    turn goes round robots that stay, a cycle that makes no move. Moves are unbounded only
+    when a cycle makes one; else every state of a strongly connected component has the same
+    best total (its members reach each other for free), read off the components in reverse
+    topological order, and the path walks inside a component to its best way out."""
+    import networkx as nx
+
+    succs = [list(real_edges(e, s)) for s in range(e.states)]
+    g = digraph(succs)
+    comps = [sorted(c) for c in nx.strongly_connected_components(g)]
+    comp_of = [0] * e.states
+    for k, c in enumerate(comps):
+        for v in c:
+            comp_of[v] = k
+    if any(w and comp_of[s] == comp_of[t] for s, out in enumerate(succs) for t, w in out):
+        return LongestPath(None, [], True)
+    cyclic = any(len(c) > 1 for c in comps)
+    order = list(nx.topological_sort(nx.condensation(g, [set(c) for c in comps])))
+    best = [0] * len(comps)
+    exit_: list[tuple[int, int] | None] = [None] * len(comps)
+    for k in reversed(order):
+        for s in comps[k]:
+            for t, w in succs[s]:
+                kt = comp_of[t]
+                if kt != k and (w + best[kt] > best[k] or exit_[k] is None and
+                                w + best[kt] == best[k]):
+                    best[k], exit_[k] = w + best[kt], (s, t)
+    seeds = range(len(e.starts)) if e.starts else range(1)  # each start of the scheduler
+    here = max(seeds, key=lambda sid: (best[comp_of[sid]], -sid))
+    path = [here]
+    while (way := exit_[comp_of[here]]) is not None:
+        u, t = way
+        path += walk(e, set(comps[comp_of[here]]), here, u)[1:] + [t]
+        here = t
+    return LongestPath(best[comp_of[path[0]]], path, cyclic)
 
 
 def digraph(succs: Sequence[Sequence[int | tuple[int, int]]]) -> nx.DiGraph:
@@ -324,7 +367,7 @@ def _id(e: Exploration, state: object) -> int:
     if index is None:
         index = {k: i for i, k in enumerate(e.keys)}
         e._index = index  # type: ignore[attr-defined]
-    return index.get(e.encoding.key(state), -1)  # type: ignore[arg-type]
+    return index.get(e.key_of(state), -1)  # type: ignore[arg-type]
 
 
 def walk(e: Exploration, inside: set[int], start: int, goal: int) -> list[int]:
@@ -351,6 +394,8 @@ def livelock(e: Exploration) -> Livelock | None:
     if e.anonymity or e.symmetry:
         raise ValueError("fairness needs the graph without reductions")
     for comp in strongly_connected(e):
+        if any(_final(e, e.state(u)) for u in comp):
+            continue  # a run in it has reached a final state (a turn going round, §4)
         witnesses = fair_witnesses(e, comp)
         if witnesses is None:
             continue
@@ -369,6 +414,12 @@ def livelock(e: Exploration) -> Livelock | None:
             cycle += [nxt, *walk(e, inside, nxt, entry)[1:]]
         return Livelock(comp, cycle)
     return None
+
+
+def _final(e: Exploration, state: Any) -> bool:
+    """No robot can move and none has a pending move: what termination waits for. Such a
+    state has self-loops only, but for a ``stateful`` scheduler's turn going round."""
+    return bool(e.facts_of(state).stuck and all(r[1] is None for r in state))
 
 
 def any_cycle(e: Exploration) -> list[int] | None:
