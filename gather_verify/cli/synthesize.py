@@ -448,11 +448,16 @@ def _plane(args: argparse.Namespace) -> int:
                 if found.answer == "exists":
                     path = args.witness if len(inst.configurations) == 1 else f"{stem}-{i}.py"
                     spec = plane.write_witness(path, inst, c, own, found.table)
-                    checked = plane.check_witness(spec, inst, c, args.max_seconds)
+                    # the witness's check is part of the configuration's budget
+                    checked = plane.check_witness(
+                        spec, inst, c, args.max_seconds - (time.perf_counter() - t0))
                     row.update(witness=spec, table=len(found.table),
                                checker={"verdict": checked["verdict"],
                                         "states": checked["states"], "reductions": "off"})
-                    if checked["verdict"] != "VERIFIED" and problem is None:
+                    if plane.out_of_time(checked):
+                        row.update(answer="unknown", limit="max-seconds (during the checker's "
+                                   "run on the witness)")
+                    elif checked["verdict"] != "VERIFIED" and problem is None:
                         problem = (f"the ordinary checker says {checked['verdict']} of the "
                                    f"witness {spec} ({checked.get('reason')}): this is a bug of "
                                    "gather-verify's synthesis, please report it")
@@ -561,11 +566,16 @@ def _plane_together(args: argparse.Namespace, inst: Any) -> int:
     if found.answer == "exists":
         spec = plane.write_witness(args.witness, inst, inst.configurations[0], views,
                                    found.table)
-        verdicts = [plane.check_witness(spec, inst, c, args.max_seconds)["verdict"]
-                    for c in inst.configurations]
+        checks = [plane.check_witness(spec, inst, c,
+                                      args.max_seconds - (time.perf_counter() - started))
+                  for c in inst.configurations]  # within the one budget
+        verdicts = [r["verdict"] for r in checks]
         report.update(witness=spec, table=len(found.table),
                       checker={"verdicts": sorted(set(verdicts)), "reductions": "off"})
-        if set(verdicts) != {"VERIFIED"}:
+        if any(plane.out_of_time(r) for r in checks):
+            report.update(answer="unknown", limit="max-seconds (during the checker's run on "
+                          "the witness)")
+        elif set(verdicts) != {"VERIFIED"}:
             problem = (f"the ordinary checker says {sorted(set(verdicts))} of the witness "
                        f"{spec}: this is a bug of gather-verify's synthesis, please report it")
     report["seconds"] = time.perf_counter() - started
@@ -574,18 +584,18 @@ def _plane_together(args: argparse.Namespace, inst: Any) -> int:
                                                  if k != "seconds"})
     else:
         box = report["box"]
-        print(f"{found.answer}  grid (Z²)  one algorithm for {len(inst.configurations)} "
+        print(f"{report['answer']}  grid (Z²)  one algorithm for {len(inst.configurations)} "
               f"configuration(s) of the {box['width']}x{box['height']} box outside U  "
               f"task {report['task']} / {report['scheduler']}")
         print(f"views {found.views}  candidates {found.candidates}  "
               f"{report['seconds']:.2f}s")
-        if found.answer == "exists":
+        if report["answer"] == "exists":
             print(f"witness: --algorithm {report['witness']} ({report['table']} views); "
                   f"checker, every reduction off, from each configuration: "
                   f"{', '.join(report['checker']['verdicts'])}")
         else:
-            print(f"the search stopped: {found.limit}")
+            print(f"the search stopped: {report['limit']}")
     if problem is not None:
         print(f"internal error: {problem}", file=sys.stderr)
         return EXIT_BUG
-    return EXIT_OK if found.answer == "exists" else EXIT_INCOMPLETE
+    return EXIT_OK if report["answer"] == "exists" else EXIT_INCOMPLETE
