@@ -623,10 +623,10 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
                 if sat is None:
                     return result("unknown", f"{TIME_LIMIT} (during the SAT solver's call)")
                 if not sat:
-                    return result("unknown", "region (every table left is excluded; the clauses that "
-                                  "exclude tables leaving the region or taking too long are "
-                                  "heuristics, so this is no none)" if heuristic else
-                                  "search exhausted without a certificate")
+                    return result("unknown", "region (every table left is excluded; the "
+                                  "clauses that exclude tables leaving the region or taking "
+                                  "too long are heuristics, so this is no none)" if heuristic
+                                  else "search exhausted without a certificate")
                 model = solver.get_model() or []
                 choice = {k: o for k, first in enumerate(base)
                           for o in range(len(views.options[k])) if model[first + o] > 0}
@@ -636,9 +636,11 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
                     c = configurations[idx]
                     left = max_seconds - (time.perf_counter() - started)
                     cap = min(left, max(CANDIDATE_SECONDS, left / 4))
-                    # a view met for the first time takes the seed's answer and the exploration goes
-                    # on: one exploration settles a configuration the seed gathers from
-                    report = run_check(c, algorithm=TableAlgorithm(views, choice, spans[idx], fresh),
+                    # a view met for the first time takes the seed's answer and the
+                    # exploration goes on: one exploration settles a configuration the seed
+                    # gathers from
+                    table = TableAlgorithm(views, choice, spans[idx], fresh)
+                    report = run_check(c, algorithm=table,
                                        scheduler=inst.scheduler, detection=inst.detection,
                                        frames=inst.frames, properties=["final", "termination"],
                                        reduction=False, max_states=max_states,
