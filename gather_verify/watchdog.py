@@ -173,9 +173,12 @@ class _Watched:
 
 
 _WATCHED = _Watched()
-_COUNTING = frozenset((_Watched.__enter__.__code__, _Watched.__exit__.__code__))
+_COUNTING = frozenset((_Watched.__enter__.__code__, _Watched.__exit__.__code__,
+                       deadline.__wrapped__.__code__))  # type: ignore[attr-defined]
 """Where the alarm never raises: an exception between the count's change and the block's
-start or end would leave the count wrong (the block checks the deadline itself)."""
+start or end would leave the count wrong (the block checks the deadline itself), and one in
+:func:`deadline`'s own code would leave an alarm armed or not put back (a block of the
+verifier's code watched as a whole, as a synthesis search, nests deadlines in it)."""
 
 
 def watched() -> _Watched:

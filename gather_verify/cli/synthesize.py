@@ -266,26 +266,25 @@ def _minimum(args: argparse.Namespace) -> int:
     """``--minimum``: per world and scheduler, synthesize for k = A, A+1, ... robots (every
     initial configuration of k) up to the first ``exists``; each answer is a row of the
     results store keyed by the settings and gather-verify's own fingerprint, so a rerun
-    resumes and an edited verifier computes again."""
+    resumes and an edited verifier computes again. On the paper's world (``--world grid``)
+    the configurations of k robots are those of ``--box`` (:func:`_plane_least`)."""
     from pathlib import Path
 
     from gather_verify.fingerprint import own_digest
     from gather_verify.sweeps.store import Store
-    from gather_verify.synthesis.certificate import write_certificate
-    from gather_verify.synthesis.search import certificate_stats, synthesize
-    from gather_verify.synthesis.views import Views, make_instance
-    from gather_verify.synthesis.witness import check_witness, write_witness
-    from gather_verify.worlds import world_specs
+    from gather_verify.worlds import is_plane
     from schedulers import get_scheduler
 
     counts = _counts(args.robots)
-    worlds = world_specs(args.world)
     schedulers = [x.strip() for x in args.scheduler.split(",") if x.strip()]
     for name in schedulers:
         get_scheduler(name)
-    for world in worlds:  # bad input fails before any work
-        make_instance(world, str(min(counts[0], 3)), args.meeting, schedulers[0], args.task,
-                      args.multiplicity, args.frames, args.visibility, args.lights)
+    solve: Any
+    if is_plane(args.world):
+        worlds, solve, more = _plane_least(args, schedulers)
+    else:
+        worlds, solve = _finite_least(args, counts, schedulers), _finite_one
+        more = {}
     out = Path(args.out) if args.out else Path(args.db).resolve().parent / "synthesis"
     out.mkdir(parents=True, exist_ok=True)
     store = Store(args.db)
@@ -301,7 +300,7 @@ def _minimum(args: argparse.Namespace) -> int:
                     "visibility": args.visibility, "lights": args.lights,
                     "meeting": args.meeting, "max_seconds": args.max_seconds,
                     "max_candidates": args.max_candidates, "max_states": args.max_states,
-                    "gather_verify": own_digest(),
+                    "gather_verify": own_digest(), **more,
                 }
                 sweep = store.sweep_id(settings)
                 stored = {r["key"]: r for r in store.results(sweep)}
@@ -311,38 +310,19 @@ def _minimum(args: argparse.Namespace) -> int:
                     key = f"k={k}"
                     row = stored.get(key)
                     if row is None:
-                        try:
-                            inst = make_instance(world, str(k), args.meeting, sched, args.task,
-                                                 args.multiplicity, args.frames,
-                                                 args.visibility, args.lights)
-                        except InvalidInput:  # more robots than nodes
-                            break
-                        views = Views(inst)
                         started = time.perf_counter()
-                        res = synthesize(inst, max_seconds=args.max_seconds,
-                                         max_candidates=args.max_candidates,
-                                         max_states=args.max_states, max_tree=args.max_tree,
-                                         views=views)
-                        stem = out / f"{world.replace(':', '-').replace('/', '_')}-{sched}-k{k}"
-                        files: dict[str, str] = {}
-                        if res.answer == "exists":
-                            spec = write_witness(f"{stem}.py", inst, views, res.table)
-                            verdicts = {r["verdict"] for r in
-                                        check_witness(spec, inst, args.max_seconds)}
-                            if verdicts != {"VERIFIED"}:
-                                print(f"internal error: the checker says {sorted(verdicts)} of "
-                                      f"the witness {spec}: this is a bug of gather-verify's "
-                                      "synthesis, please report it", file=sys.stderr)
-                                return EXIT_BUG
-                            files["witness"] = spec
-                        elif res.answer == "none":
-                            write_certificate(f"{stem}.cert.json", inst, views,
-                                              res.counterexamples, res.literals, res.tree,
-                                              certificate_stats(res))
-                            files["certificate"] = f"{stem}.cert.json"
-                        row = {"key": key, "index": k, "class": inst.world.name,
-                               "verdict": res.answer, "reason": res.limit, "n": k,
-                               "states": res.states, "transitions": res.candidates,
+                        stem = out / (world.replace(':', '-').replace('/', '_').replace(' ', '-')
+                                      + f"-{sched}-k{k}")
+                        got = solve(args, world, sched, k, str(stem))
+                        if got is None:  # more robots than nodes
+                            break
+                        if isinstance(got, str):
+                            print(f"internal error: {got}", file=sys.stderr)
+                            return EXIT_BUG
+                        answer, limit, states, candidates, files = got
+                        row = {"key": key, "index": k, "class": world,
+                               "verdict": answer, "reason": limit, "n": k,
+                               "states": states, "transitions": candidates,
                                "trace": files, "seconds": time.perf_counter() - started}
                         store.add(sweep, [dict(row)])  # (the store encodes its copy)
                     rows_out.append({"world": world, "scheduler": sched, "robots": k,
@@ -371,12 +351,141 @@ def _minimum(args: argparse.Namespace) -> int:
               f"{args.multiplicity}  frames {args.frames}"
               + ("" if args.visibility is None else f"  visibility {args.visibility}")
               + ("" if args.lights is None else f"  lights {args.lights}")
+              + ("" if args.box is None else f"  meeting {args.meeting}  select {args.select}"
+                 + (f"  classes {args.classes}" if args.classes else ""))
               + f"  (robots {counts[0]}-{counts[-1]}; ?: some count below is unknown)")
         width = max(len(w) for w in worlds)
         print(" " * width + "  " + "  ".join(f"{sc:>11}" for sc in schedulers))
         for w in worlds:
             print(f"{w:<{width}}  " + "  ".join(f"{table[w, sc]:>11}" for sc in schedulers))
     return EXIT_INCOMPLETE if unknown else EXIT_OK
+
+
+def _finite_least(args: argparse.Namespace, counts: range, schedulers: list[str]) -> list[str]:
+    """The finite worlds of ``--minimum`` (a size, or a range of rings), each checked now so
+    that bad input fails before any work."""
+    from gather_verify.synthesis.views import make_instance
+    from gather_verify.worlds import world_specs
+
+    worlds = world_specs(args.world)
+    for world in worlds:
+        make_instance(world, str(min(counts[0], 3)), args.meeting, schedulers[0], args.task,
+                      args.multiplicity, args.frames, args.visibility, args.lights)
+    return worlds
+
+
+Answer = tuple[str, str | None, int, int, dict[str, Any]]
+"""One count's answer for ``--minimum``: answer, limit, states, candidates, files."""
+
+
+def _finite_one(args: argparse.Namespace, world: str, sched: str, k: int,
+                stem: str) -> Answer | str | None:
+    """``synthesize`` for every initial configuration of ``k`` robots on a finite world
+    (None: more robots than nodes; a string: a fault of ours, to report)."""
+    from gather_verify.synthesis.certificate import write_certificate
+    from gather_verify.synthesis.search import certificate_stats, synthesize
+    from gather_verify.synthesis.views import Views, make_instance
+    from gather_verify.synthesis.witness import check_witness, write_witness
+
+    try:
+        inst = make_instance(world, str(k), args.meeting, sched, args.task, args.multiplicity,
+                             args.frames, args.visibility, args.lights)
+    except InvalidInput:  # more robots than nodes
+        return None
+    views = Views(inst)
+    res = synthesize(inst, max_seconds=args.max_seconds, max_candidates=args.max_candidates,
+                     max_states=args.max_states, max_tree=args.max_tree, views=views)
+    files: dict[str, str] = {}
+    if res.answer == "exists":
+        spec = write_witness(f"{stem}.py", inst, views, res.table)
+        verdicts = {r["verdict"] for r in check_witness(spec, inst, args.max_seconds)}
+        if verdicts != {"VERIFIED"}:
+            return (f"the checker says {sorted(verdicts)} of the witness {spec}: this is a bug "
+                    "of gather-verify's synthesis, please report it")
+        files["witness"] = spec
+    elif res.answer == "none":
+        write_certificate(f"{stem}.cert.json", inst, views, res.counterexamples, res.literals,
+                          res.tree, certificate_stats(res))
+        files["certificate"] = f"{stem}.cert.json"
+    return res.answer, res.limit, res.states, res.candidates, files
+
+
+def _plane_least(args: argparse.Namespace, schedulers: list[str]
+                 ) -> tuple[list[str], Any, dict[str, Any]]:
+    """``--minimum`` on the paper's world: the initial configurations of k robots are those
+    of ``--box`` (with ``--meeting``, ``--select`` and ``--classes``); without a box they
+    are infinitely many, and synthesis on Z² has no lights. Returns the row's name, the
+    solver of one count and the settings that key the stored rows."""
+    from gather_verify.synthesis import plane
+
+    if args.box is None:
+        raise UsageError("--minimum on the paper's world needs --box WxH: the initial "
+                         "configurations of k robots on Z² are infinitely many")
+    if args.lights is not None or args.visibility is not None or args.colours is not None:
+        raise UsageError("--minimum on the paper's world counts robots: synthesis there has no "
+                         "lights and no limited visibility (drop --lights, --colours, "
+                         "--visibility)")
+    width, height = plane.parse_box(args.box)
+    for sched in schedulers:  # bad input fails before any work
+        plane.make_instance("1", args.meeting, sched, args.task, args.multiplicity,
+                            args.frames, args.box, args.select, args.classes)
+    more = {"box": f"{width}x{height}", "select": args.select, "classes": args.classes,
+            "rounds": args.rounds, "seeds": args.seed}
+    return [f"grid {width}x{height}"], _plane_one, more
+
+
+def _plane_one(args: argparse.Namespace, world: str, sched: str, k: int,
+               stem: str) -> Answer | str | None:
+    """Does one algorithm gather from every selected configuration of ``k`` robots of the
+    box? none, with Theorem 1's certificate of one of them (no algorithm gathers from it);
+    else the search for one table (as ``--together``), exists with the witness the checker
+    verifies from each; else unknown. None: more robots than nodes; a string: a fault of
+    ours, to report."""
+    from gather_verify.synthesis import plane
+
+    started = time.perf_counter()
+    try:
+        inst = plane.make_instance(str(k), args.meeting, sched, args.task, args.multiplicity,
+                                   args.frames, args.box, args.select, args.classes)
+    except InvalidInput:  # more robots than nodes
+        return None
+    if not inst.configurations:
+        return "empty", "no configuration of the box is selected", 0, 0, {}
+    views = plane.PlaneViews(inst.detection, inst.frames)
+    for c in inst.configurations:
+        phi = plane.theorem1_phi(c, inst.frames)
+        if phi is not None:
+            path = f"{stem}.cert.json"
+            entry = plane.theorem1_entry(c, phi, views, args.rounds)
+            plane.write_certificate(path, plane.PlaneInstance([], sched, inst.detection,
+                                                              inst.frames), [entry])
+            try:
+                plane.verify_certificate(path)
+            except plane.CertificateError as error:
+                return (f"the certificate {path} just written does not re-check ({error}): "
+                        "this is a bug of gather-verify's synthesis, please report it")
+            return ("none", None, entry["states"], 0,
+                    {"certificate": path, "configurations": len(inst.configurations)})
+    found = plane.search_algorithm(inst.configurations, inst, views,
+                                   max_seconds=args.max_seconds,
+                                   max_candidates=args.max_candidates,
+                                   max_states=args.max_states, seeds=_seeds(args))
+    files: dict[str, Any] = {"configurations": len(inst.configurations)}
+    if found.answer != "exists":
+        return found.answer, found.limit, 0, found.candidates, files
+    spec = plane.write_witness(f"{stem}.py", inst, inst.configurations[0], views, found.table)
+    for c in inst.configurations:  # within the count's budget, as the search
+        checked = plane.check_witness(spec, inst, c,
+                                      args.max_seconds - (time.perf_counter() - started))
+        if plane.out_of_time(checked):
+            return ("unknown", "max-seconds (during the checker's run on the witness)", 0,
+                    found.candidates, files)
+        if checked["verdict"] != "VERIFIED":
+            return (f"the checker says {checked['verdict']} of the witness {spec} from robots "
+                    f"{[list(v) for v in c.robots]}: this is a bug of gather-verify's "
+                    "synthesis, please report it")
+    files["witness"] = spec
+    return "exists", None, 0, found.candidates, files
 
 
 # -- the paper's world ---------------------------------------------------------------------
@@ -448,11 +557,16 @@ def _plane(args: argparse.Namespace) -> int:
                 if found.answer == "exists":
                     path = args.witness if len(inst.configurations) == 1 else f"{stem}-{i}.py"
                     spec = plane.write_witness(path, inst, c, own, found.table)
-                    checked = plane.check_witness(spec, inst, c, args.max_seconds)
+                    # the witness's check is part of the configuration's budget
+                    checked = plane.check_witness(
+                        spec, inst, c, args.max_seconds - (time.perf_counter() - t0))
                     row.update(witness=spec, table=len(found.table),
                                checker={"verdict": checked["verdict"],
                                         "states": checked["states"], "reductions": "off"})
-                    if checked["verdict"] != "VERIFIED" and problem is None:
+                    if plane.out_of_time(checked):
+                        row.update(answer="unknown", limit="max-seconds (during the checker's "
+                                   "run on the witness)")
+                    elif checked["verdict"] != "VERIFIED" and problem is None:
                         problem = (f"the ordinary checker says {checked['verdict']} of the "
                                    f"witness {spec} ({checked.get('reason')}): this is a bug of "
                                    "gather-verify's synthesis, please report it")
@@ -561,11 +675,16 @@ def _plane_together(args: argparse.Namespace, inst: Any) -> int:
     if found.answer == "exists":
         spec = plane.write_witness(args.witness, inst, inst.configurations[0], views,
                                    found.table)
-        verdicts = [plane.check_witness(spec, inst, c, args.max_seconds)["verdict"]
-                    for c in inst.configurations]
+        checks = [plane.check_witness(spec, inst, c,
+                                      args.max_seconds - (time.perf_counter() - started))
+                  for c in inst.configurations]  # within the one budget
+        verdicts = [r["verdict"] for r in checks]
         report.update(witness=spec, table=len(found.table),
                       checker={"verdicts": sorted(set(verdicts)), "reductions": "off"})
-        if set(verdicts) != {"VERIFIED"}:
+        if any(plane.out_of_time(r) for r in checks):
+            report.update(answer="unknown", limit="max-seconds (during the checker's run on "
+                          "the witness)")
+        elif set(verdicts) != {"VERIFIED"}:
             problem = (f"the ordinary checker says {sorted(set(verdicts))} of the witness "
                        f"{spec}: this is a bug of gather-verify's synthesis, please report it")
     report["seconds"] = time.perf_counter() - started
@@ -574,18 +693,18 @@ def _plane_together(args: argparse.Namespace, inst: Any) -> int:
                                                  if k != "seconds"})
     else:
         box = report["box"]
-        print(f"{found.answer}  grid (Z²)  one algorithm for {len(inst.configurations)} "
+        print(f"{report['answer']}  grid (Z²)  one algorithm for {len(inst.configurations)} "
               f"configuration(s) of the {box['width']}x{box['height']} box outside U  "
               f"task {report['task']} / {report['scheduler']}")
         print(f"views {found.views}  candidates {found.candidates}  "
               f"{report['seconds']:.2f}s")
-        if found.answer == "exists":
+        if report["answer"] == "exists":
             print(f"witness: --algorithm {report['witness']} ({report['table']} views); "
                   f"checker, every reduction off, from each configuration: "
                   f"{', '.join(report['checker']['verdicts'])}")
         else:
-            print(f"the search stopped: {found.limit}")
+            print(f"the search stopped: {report['limit']}")
     if problem is not None:
         print(f"internal error: {problem}", file=sys.stderr)
         return EXIT_BUG
-    return EXIT_OK if found.answer == "exists" else EXIT_INCOMPLETE
+    return EXIT_OK if report["answer"] == "exists" else EXIT_INCOMPLETE

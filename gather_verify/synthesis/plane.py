@@ -554,7 +554,8 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
     many. A seed is a phase, never a constraint: every clause holds whichever seed is on,
     and the answer is judged by the checker alone. Default: :func:`default_seeds`."""
     from gather_verify.check import run_check
-    from gather_verify.synthesis.search import solver_class
+    from gather_verify.synthesis.search import TIME_LIMIT, budget, solve_within, solver_class
+    from gather_verify.watchdog import Overtime
 
     started = time.perf_counter()
     solver = solver_class()(name="cadical153")
@@ -608,79 +609,88 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
         return SearchResult(answer, candidates, len(views.texts),
                             time.perf_counter() - started, limit, **more)
 
-    for c in configurations:
-        for v in sorted(c.occupied):
-            views.occurrence(c, v)
-    while True:
-        left = max_seconds - (time.perf_counter() - started)
-        if left <= 0:
-            return result("unknown", "max-seconds")
-        if candidates >= max_candidates:
-            return result("unknown", "max-candidates")
-        register()
-        if not solver.solve():
-            return result("unknown", "region (every table left is excluded; the clauses that "
-                          "exclude tables leaving the region or taking too long are "
-                          "heuristics, so this is no none)" if heuristic else
-                          "search exhausted without a certificate")
-        model = solver.get_model() or []
-        choice = {k: o for k, first in enumerate(base)
-                  for o in range(len(views.options[k])) if model[first + o] > 0}
-        candidates += 1
-        failed = None
-        for idx in order:
-            c = configurations[idx]
-            left = max_seconds - (time.perf_counter() - started)
-            cap = min(left, max(CANDIDATE_SECONDS, left / 4))
-            # a view met for the first time takes the seed's answer and the exploration goes
-            # on: one exploration settles a configuration the seed gathers from
-            report = run_check(c, algorithm=TableAlgorithm(views, choice, spans[idx], fresh),
-                               scheduler=inst.scheduler, detection=inst.detection,
-                               frames=inst.frames, properties=["final", "termination"],
-                               reduction=False, max_states=max_states,
-                               max_seconds=max(cap, 0.001), margin=spans[idx] + 1,
-                               force=True)
-            if report["verdict"] != "VERIFIED":
-                failed = idx
-                break
-        if failed is None:
-            return result("exists", table=choice)
-        order.remove(failed)
-        order.insert(0, failed)
-        c = configurations[failed]
-        trace = report.get("trace")
-        if report["verdict"] == "INCOMPLETE" and not trace and cap < left:
-            # one candidate took its share of the time: exclude this very table (a
-            # heuristic, as for the region) and go on
-            heuristic = True
-            register()
-            solver.add_clause([-(base[k] + o + 1) for k, o in sorted(choice.items())])
-            continue
-        if report["verdict"] == "INCOMPLETE" and report.get("reason") == "time":
-            return result("unknown", "max-seconds (during a candidate's check)")
-        if report["verdict"] != "VIOLATED" or not trace:
-            return result("unknown", f"the checker says {report['verdict']} "
-                          f"({report.get('reason')}) of a candidate")
-        before = len(views.texts)
-        configs, exact = literals(views, trace, c.meeting_nodes, choice)
-        used: set[int] = set()
-        for d in configs:
-            for v in d.occupied:
-                used.add(views.occurrence(d, v)[0])
-        reason = str(report.get("reason", ""))
-        if report.get("property") == "defined" and "region" not in reason:
-            if len(views.texts) == before:
-                return result("unknown", f"the checker found no rule for a view it cannot "
-                              f"name ({reason})")
-            continue  # a new view: the table grows
-        heuristic = heuristic or report.get("property") == "defined"
-        register()
-        clause = [-(base[k] + choice[k] + 1) for k in sorted(exact if exact is not None
-                                                               else used) if k in choice]
-        if not clause:
-            return result("unknown", "a violation that no view of the table causes")
-        solver.add_clause(clause)
+    try:
+        with budget(max_seconds):
+            for c in configurations:
+                for v in sorted(c.occupied):
+                    views.occurrence(c, v)
+            while True:
+                left = max_seconds - (time.perf_counter() - started)
+                if left <= 0:
+                    return result("unknown", TIME_LIMIT)
+                if candidates >= max_candidates:
+                    return result("unknown", "max-candidates")
+                register()
+                sat = solve_within(solver, started + max_seconds)
+                if sat is None:
+                    return result("unknown", f"{TIME_LIMIT} (during the SAT solver's call)")
+                if not sat:
+                    return result("unknown", "region (every table left is excluded; the "
+                                  "clauses that exclude tables leaving the region or taking "
+                                  "too long are heuristics, so this is no none)" if heuristic
+                                  else "search exhausted without a certificate")
+                model = solver.get_model() or []
+                choice = {k: o for k, first in enumerate(base)
+                          for o in range(len(views.options[k])) if model[first + o] > 0}
+                candidates += 1
+                failed = None
+                for idx in order:
+                    c = configurations[idx]
+                    left = max_seconds - (time.perf_counter() - started)
+                    cap = min(left, max(CANDIDATE_SECONDS, left / 4))
+                    # a view met for the first time takes the seed's answer and the
+                    # exploration goes on: one exploration settles a configuration the seed
+                    # gathers from
+                    table = TableAlgorithm(views, choice, spans[idx], fresh)
+                    report = run_check(c, algorithm=table,
+                                       scheduler=inst.scheduler, detection=inst.detection,
+                                       frames=inst.frames, properties=["final", "termination"],
+                                       reduction=False, max_states=max_states,
+                                       max_seconds=max(cap, 0.001), margin=spans[idx] + 1,
+                                       force=True)
+                    if report["verdict"] != "VERIFIED":
+                        failed = idx
+                        break
+                if failed is None:
+                    return result("exists", table=choice)
+                order.remove(failed)
+                order.insert(0, failed)
+                c = configurations[failed]
+                trace = report.get("trace")
+                if report["verdict"] == "INCOMPLETE" and not trace and cap < left:
+                    # one candidate took its share of the time: exclude this very table (a
+                    # heuristic, as for the region) and go on
+                    heuristic = True
+                    register()
+                    solver.add_clause([-(base[k] + o + 1) for k, o in sorted(choice.items())])
+                    continue
+                if report["verdict"] == "INCOMPLETE" and report.get("reason") == "time":
+                    return result("unknown", "max-seconds (during a candidate's check)")
+                if report["verdict"] != "VIOLATED" or not trace:
+                    return result("unknown", f"the checker says {report['verdict']} "
+                                  f"({report.get('reason')}) of a candidate")
+                before = len(views.texts)
+                configs, exact = literals(views, trace, c.meeting_nodes, choice)
+                used: set[int] = set()
+                for d in configs:
+                    for v in d.occupied:
+                        used.add(views.occurrence(d, v)[0])
+                reason = str(report.get("reason", ""))
+                if report.get("property") == "defined" and "region" not in reason:
+                    if len(views.texts) == before:
+                        return result("unknown", f"the checker found no rule for a view it cannot "
+                                      f"name ({reason})")
+                    continue  # a new view: the table grows
+                heuristic = heuristic or report.get("property") == "defined"
+                register()
+                clause = [-(base[k] + choice[k] + 1) for k in sorted(exact if exact is not None
+                                                                       else used) if k in choice]
+                if not clause:
+                    return result("unknown", "a violation that no view of the table causes")
+                solver.add_clause(clause)
 
+    except Overtime:  # the views may be half filled: the caller drops them with the answer
+        return result("unknown", f"{TIME_LIMIT} (cut by the watchdog)")
 
 def default_seeds() -> list[Any]:
     """The seeds of :func:`search_algorithm`: the paper's ``Gathering()`` (default reading),
@@ -826,9 +836,26 @@ def write_witness(path: str, inst: PlaneInstance, c: Configuration, views: Plane
 
 def check_witness(spec: str, inst: PlaneInstance, c: Configuration,
                   max_seconds: float) -> dict[str, Any]:
-    """The ordinary checker on the witness file, every reduction off (final, termination)."""
+    """The ordinary checker on the witness file, every reduction off (final, termination),
+    within ``max_seconds`` (:func:`~gather_verify.synthesis.search.budget`: past it, the
+    verdict is INCOMPLETE with reason ``time``)."""
     from gather_verify.check import run_check
+    from gather_verify.synthesis.search import budget
+    from gather_verify.watchdog import Overtime
 
-    return run_check(c, algorithm=spec, scheduler=inst.scheduler, detection=inst.detection,
-                     frames=inst.frames, properties=["final", "termination"],
-                     reduction=False, max_seconds=max_seconds, force=True)
+    if max_seconds <= 0:
+        return {"verdict": "INCOMPLETE", "reason": "time", "states": 0}
+    try:
+        with budget(max_seconds):
+            return run_check(c, algorithm=spec, scheduler=inst.scheduler,
+                             detection=inst.detection, frames=inst.frames,
+                             properties=["final", "termination"], reduction=False,
+                             max_seconds=max_seconds, force=True)
+    except Overtime:
+        return {"verdict": "INCOMPLETE", "reason": "time", "states": 0}
+
+
+def out_of_time(checked: dict[str, Any]) -> bool:
+    """Whether the checker's verdict on a witness is INCOMPLETE for lack of time (the
+    answer is then unknown, not a fault of the witness)."""
+    return checked["verdict"] == "INCOMPLETE" and str(checked.get("reason")).startswith("time")

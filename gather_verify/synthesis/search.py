@@ -21,12 +21,18 @@ naming it; a truncated search never answers ``none``.
 
 The solver is CaDiCaL through python-sat (``pip install 'gather-verify[synth]'``): an
 incremental CDCL solver, so the clauses it learns survive from one candidate to the next.
+
+The time budget holds everywhere (:func:`budget`): CaDiCaL ignores ``interrupt()``, so each
+call runs in slices of :data:`SAT_SLICE` conflicts with the clock read between them
+(:func:`solve_within`), and the watchdog's alarm ends whatever else runs past the budget
+(an exploration's graph analyses, clause building, the certificate's tree) with ``unknown``.
 """
 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -47,11 +53,44 @@ from gather_verify.synthesis.certificate import (
 from gather_verify.synthesis.views import Instance, Views
 from gather_verify.tasks import Context, Finding
 from gather_verify.tasks.base import components, fair
+from gather_verify.watchdog import Overtime, deadline, watched
 
 DEFAULT_MAX_SECONDS = 600.0
 DEFAULT_MAX_CANDIDATES = 1_000_000
 DEFAULT_MAX_STATES = 2_000_000
 DEFAULT_MAX_TREE = 2_000_000
+SAT_SLICE = 10_000
+"""Conflicts of one slice of a SAT call: the clock is read between slices (CaDiCaL, as
+python-sat ships it, ignores ``interrupt()``). A call that ends within its first slice is
+the same call as one without a limit."""
+CUT_GRACE = 1.0
+"""Seconds past the budget at which the watchdog's alarm cuts the search (its own clock
+checks end it first, at the budget)."""
+TIME_LIMIT = "max-seconds"
+
+
+def solve_within(solver: Any, until: float) -> bool | None:
+    """``solver.solve()``, in slices of :data:`SAT_SLICE` conflicts until ``until`` (a
+    ``time.perf_counter()`` value) has passed: True (a model), False (unsatisfiable), or
+    None (the time ran out first)."""
+    while True:
+        solver.conf_budget(SAT_SLICE)
+        got = solver.solve_limited()
+        if got is not None:
+            return bool(got)
+        if time.perf_counter() >= until:
+            return None
+
+
+@contextmanager
+def budget(seconds: float) -> Iterator[None]:
+    """The block is cut by :class:`~gather_verify.watchdog.Overtime` once ``seconds`` plus
+    :data:`CUT_GRACE` have passed, wherever it is (not only in the user's code): the
+    caller catches it and answers ``unknown`` (max-seconds). Objects the block was filling
+    may be left half done, so the caller drops them. Where no alarm can be armed (off the
+    main thread, Windows), only the clock checks hold the budget."""
+    with deadline(seconds + CUT_GRACE), watched():
+        yield
 
 
 @dataclass
@@ -114,57 +153,68 @@ def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
         return Result(answer, len(views.texts), candidates, time.perf_counter() - started,
                       limit, counterexamples=cexs, literals=clauses, states=explored, **more)
 
-    while True:
-        if time.perf_counter() - started > max_seconds:
-            return result("unknown", "max-seconds")
-        if candidates >= max_candidates:
-            return result("unknown", "max-candidates")
-        register(len(views.texts) - 1)
-        if not solver.solve():
-            try:
-                tree = build_tree(clauses, [len(o) for o in views.options], max_tree)
-            except TreeTooLarge:
-                return result("unknown", "max-tree (the certificate outgrew it)")
-            return result("none", tree=tree)
-        model = solver.get_model() or []
-        choice: dict[int, int] = {}
-        for k, first in enumerate(base):
-            for o in range(len(views.options[k])):
-                if model[first + o] > 0:
-                    choice[k] = o
-        candidates += 1
-        failed = None
-        reached: set[int] = set()
-        for idx in order:
-            left = max_seconds - (time.perf_counter() - started)
-            s, findings = explore(inst, views, choice, idx, reached,
-                                  Limits(max_states=max_states, max_seconds=max(left, 0.001)))
-            explored += s.states
-            if s.stopped is not None:
-                limit = {"time": "max-seconds", "states": "max-states",
-                         "memory": "memory"}.get(s.stopped, s.stopped)
-                return result("unknown", limit)
-            if findings:
-                failed = (idx, s, findings)
-                break
-        if failed is None:
-            return result("exists", table={k: choice.get(k, 0) for k in sorted(reached)})
-        idx, s, findings = failed
-        order.remove(idx)
-        order.insert(0, idx)
-        known = {frozenset(c.items()) for c in clauses[-len(findings) * 4:]}
-        for finding in findings:
-            cex = counterexample(inst, views, choice, idx, s, finding)
-            lits = replay(views, cex).literals  # the clause is what the replay shows
-            register(len(views.texts) - 1)
-            if not all(choice.get(k, 0) == o for k, o in lits.items()):  # pragma: no cover
-                raise AssertionError("a counterexample that the candidate does not have")
-            if frozenset(lits.items()) in known:
-                continue
-            known.add(frozenset(lits.items()))
-            cexs.append(cex)
-            clauses.append(lits)
-            solver.add_clause([-(base[k] + o + 1) for k, o in sorted(lits.items())])
+    try:
+        with budget(max_seconds):
+            while True:
+                if time.perf_counter() - started > max_seconds:
+                    return result("unknown", "max-seconds")
+                if candidates >= max_candidates:
+                    return result("unknown", "max-candidates")
+                register(len(views.texts) - 1)
+                sat = solve_within(solver, started + max_seconds)
+                if sat is None:
+                    return result("unknown", f"{TIME_LIMIT} (during the SAT solver's call)")
+                if not sat:
+                    try:
+                        tree = build_tree(clauses, [len(o) for o in views.options], max_tree)
+                    except TreeTooLarge:
+                        return result("unknown", "max-tree (the certificate outgrew it)")
+                    return result("none", tree=tree)
+                model = solver.get_model() or []
+                choice: dict[int, int] = {}
+                for k, first in enumerate(base):
+                    for o in range(len(views.options[k])):
+                        if model[first + o] > 0:
+                            choice[k] = o
+                candidates += 1
+                failed = None
+                reached: set[int] = set()
+                for idx in order:
+                    left = max_seconds - (time.perf_counter() - started)
+                    s, findings = explore(inst, views, choice, idx, reached,
+                                          Limits(max_states=max_states,
+                                                 max_seconds=max(left, 0.001)))
+                    explored += s.states
+                    if s.stopped is not None:
+                        limit = {"time": "max-seconds", "states": "max-states",
+                                 "memory": "memory"}.get(s.stopped, s.stopped)
+                        return result("unknown", limit)
+                    if findings:
+                        failed = (idx, s, findings)
+                        break
+                if failed is None:
+                    return result("exists",
+                                  table={k: choice.get(k, 0) for k in sorted(reached)})
+                idx, s, findings = failed
+                order.remove(idx)
+                order.insert(0, idx)
+                known = {frozenset(c.items()) for c in clauses[-len(findings) * 4:]}
+                for finding in findings:
+                    cex = counterexample(inst, views, choice, idx, s, finding)
+                    lits = replay(views, cex).literals  # the clause is what the replay shows
+                    register(len(views.texts) - 1)
+                    if not all(choice.get(k, 0) == o
+                               for k, o in lits.items()):  # pragma: no cover
+                        raise AssertionError("a counterexample that the candidate does not "
+                                             "have")
+                    if frozenset(lits.items()) in known:
+                        continue
+                    known.add(frozenset(lits.items()))
+                    cexs.append(cex)
+                    clauses.append(lits)
+                    solver.add_clause([-(base[k] + o + 1) for k, o in sorted(lits.items())])
+    except Overtime:
+        return result("unknown", f"{TIME_LIMIT} (cut by the watchdog)")
 
 
 def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
