@@ -394,8 +394,9 @@ def livelock(e: Exploration) -> Livelock | None:
     if e.anonymity or e.symmetry:
         raise ValueError("fairness needs the graph without reductions")
     for comp in strongly_connected(e):
-        if any(_final(e, e.state(u)) for u in comp):
-            continue  # a run in it has reached a final state (a turn going round, §4)
+        if e.turns is not None and any(_final(e, e.state(u)) for u in comp):
+            continue  # a run in it has reached a final state (a turn going round, §4); without
+            # a scheduler state a final state has self-loops only, never a component of its own
         witnesses = fair_witnesses(e, comp)
         if witnesses is None:
             continue
