@@ -41,6 +41,10 @@ class Async:
     kinds = ("look", "move")
     union = True
 
+    def activations(self, n: int) -> None:
+        """None: one robot's Look or Move per event, not rounds."""
+        return None
+
     def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
         options = None
         for i, (node, pending) in enumerate(state):

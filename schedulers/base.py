@@ -128,6 +128,13 @@ class Scheduler(Protocol):
         they fit): the same events, in the same order."""
         ...
 
+    def activations(self, n: int) -> np.ndarray | None:
+        """The robots a round activates, a boolean ``(k, n)`` matrix of the rounds' subsets in
+        event order; None when its events are ASYNC's one Look or Move of one robot. The
+        finite worlds' bulk engine reads it (a stateful scheduler's row is its turn's robot,
+        one per row)."""
+        ...
+
     def bulk_luminous(self, frontier: Frontier, budget: int, colours: int) -> Successors:
         """:meth:`luminous` on Z² in bulk (``order`` the actions themselves, ``null``), for
         the leading states of ``frontier`` as :meth:`bulk_successors` takes them; robots and

@@ -44,6 +44,9 @@ class Centralized:
                 yield (Event("round", (i,), moves),
                        state[:i] + ((d, None),) + state[i + 1:])
 
+    def activations(self, n: int) -> np.ndarray:
+        return _singletons(n)
+
     def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
         return bulk_rounds(frontier, budget, _singletons(frontier.codes.shape[1]))
 

@@ -42,6 +42,9 @@ class FSync:
             moves = tuple((i, state[i][0], d) for i, d in enumerate(choice) if d != state[i][0])
             yield Event("round", robots, moves), tuple((d, None) for d in choice)
 
+    def activations(self, n: int) -> np.ndarray:
+        return _everyone(n)
+
     def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
         return bulk_rounds(frontier, budget, _everyone(frontier.codes.shape[1]))
 

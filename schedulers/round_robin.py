@@ -31,6 +31,7 @@ from schedulers.base import (
     allowed_actions,
     luminous_order,
     round_event,
+    subsets_matrix,
 )
 
 
@@ -54,6 +55,10 @@ class RoundRobin:
                                    f"name each of the robots 0..{n - 1} once")
             return (self.order,)
         return _every_order(n)
+
+    def activations(self, n: int) -> np.ndarray:
+        """One robot per round: the one whose turn it is (its own state says which)."""
+        return subsets_matrix([(i,) for i in range(n)], n)
 
     def state_count(self, n: int) -> int:
         """How many states of its own it may be in with ``n`` robots (orders times turns)."""

@@ -54,6 +54,9 @@ class SSync:
                               for i, d in zip(active, choice, strict=True) if d != state[i][0])
                 yield Event("round", active, moves), tuple((v, None) for v in nodes)
 
+    def activations(self, n: int) -> np.ndarray:
+        return _subsets(n)
+
     def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
         return bulk_rounds(frontier, budget, _subsets(frontier.codes.shape[1]))
 

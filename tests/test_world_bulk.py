@@ -483,3 +483,25 @@ def test_go_to_target_answers_by_node_are_its_answers(world_name: str, tmp_path:
             for c in range(light.colours):
                 seen = tuple(sorted((v, c) for v in robots))
                 assert fast.table(seen) == plain.table(seen)
+
+
+def test_the_engine_asks_the_scheduler_which_robots_its_rounds_activate() -> None:
+    """The bulk engine reads a scheduler's ``activations``, never its class: a scheduler of
+    the user's with SSYNC's rounds under a name of its own runs on it and agrees with the
+    reference field by field; one that declares no rounds is refused with the reason."""
+    from schedulers.ssync import SSync
+
+    class Mine(SSync):
+        name = "mine"
+
+    w = get_world("ring:6")
+    ref, bulk = searches(w, (0, 1, 3), (), Chaotic(salt=4), Mine())  # type: ignore[arg-type]
+    assert_same(ref, bulk)
+    assert bulk.states > 1 and bulk.transitions > bulk.states
+
+    class Silent:
+        name = "silent"
+        kinds = ("round",)
+
+    why = world_bulk.unsupported(w, 3, Silent(), 1)  # type: ignore[arg-type]
+    assert why == "the scheduler silent does not say which robots its rounds activate"

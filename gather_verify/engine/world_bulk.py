@@ -40,7 +40,6 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterator, Sequence
-from itertools import combinations
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -58,9 +57,7 @@ from gather_verify.engine.world_search import (
     WorldState,
     canonicaliser,
 )
-from schedulers import Async, Event, FSync, Scheduler, SSync, as_scheduler
-from schedulers.centralized import Centralized
-from schedulers.round_robin import RoundRobin
+from schedulers import Event, Scheduler, as_scheduler
 
 if TYPE_CHECKING:
     from gather_verify.worlds.base import World
@@ -75,10 +72,6 @@ MAX_CHUNK = 1 << 16
 EVENTS = 1 << 20
 """About how many events a bulk step may make before the next step takes fewer states."""
 KEY_LIMIT = 1 << 63
-_SCHEDULERS = {Async: "async", FSync: "rounds", SSync: "rounds", Centralized: "rounds",
-               RoundRobin: "rounds"}
-"""The schedulers this engine runs, exactly these classes (a new scheduler runs on the
-reference until it has a kernel here)."""
 
 
 Why = tuple[str, str, dict[str, object]]
@@ -92,8 +85,8 @@ def unsupported(world: World, n: int, scheduler: str | Scheduler, colours: int, 
     if not kernels.enabled():
         return "the compiled kernels are off (numba missing, or GATHER_VERIFY_KERNELS=numpy)"
     sched = as_scheduler(scheduler)
-    if type(sched) not in _SCHEDULERS:
-        return f"no bulk kernel for the scheduler {sched.name}"
+    if not hasattr(sched, "activations"):  # a scheduler of the user's that declares none
+        return f"the scheduler {sched.name} does not say which robots its rounds activate"
     stateful = getattr(sched, "stateful", False)
     if stateful and (anonymity or len(_group(symmetries, meeting)) > 1):
         return "reductions with a scheduler that keeps its own state"
@@ -160,14 +153,10 @@ class _Plan:
         self.rr = bool(getattr(sched, "stateful", False))
         self.rr_orders = np.array([list(order) for order, _ in starts] if self.rr else [[0] * n],
                                   dtype=np.int64).reshape(-1, n)
-        if isinstance(sched, FSync):
-            subsets: list[tuple[int, ...]] = [tuple(range(n))]
-        elif isinstance(sched, SSync):
-            subsets = [a for k in range(1, n + 1) for a in combinations(range(n), k)]
-        else:  # centralized (round-robin reads its own turn)
-            subsets = [(i,) for i in range(n)]
-        self.subsets = np.array([[i in a for i in range(n)] for a in subsets],
-                                dtype=np.bool_).reshape(len(subsets), n)
+        # the rounds' subsets (ASYNC: one robot at a time; round-robin reads its own turn)
+        active = sched.activations(n)
+        self.subsets = np.eye(n, dtype=np.bool_) if active is None else \
+            np.ascontiguousarray(active, dtype=np.bool_).reshape(-1, n)
 
     def pack(self, robots: Sequence[tuple[int, int | None, int]], visited: int,
              extra: int) -> int:
@@ -430,7 +419,7 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
         raise ValueError(f"the bulk engine cannot run this search: {why}")
     starts = getattr(sched, "starts", lambda _n: [None])(n)
     plan = _Plan(world, n, k_colours, visits, sched, starts)
-    rounds = _SCHEDULERS[type(sched)] == "rounds"
+    rounds = sched.activations(n) is not None
     group = _group(symmetries, meeting)
     reduce = anonymity or len(group) > 1
     perms = np.array(group if len(group) > 1 else [list(range(world.size))],
