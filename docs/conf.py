@@ -14,6 +14,7 @@ the docstrings use are resolved as a reader would (``_ext/gv_refs.py``).
 from __future__ import annotations
 
 import importlib.util
+import shutil
 import sys
 from pathlib import Path
 
@@ -50,6 +51,9 @@ myst_enable_extensions = ["colon_fence"]
 nitpicky = True
 
 autosummary_generate = True
+# autosummary writes a page per module and never deletes one: start from none, so that a
+# module that moved or was removed leaves no stale page (a warning, so a failed build)
+shutil.rmtree(DOCS / "reference" / "_generated", ignore_errors=True)
 autodoc_default_options = {
     "members": True,
     "undoc-members": True,
