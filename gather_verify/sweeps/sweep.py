@@ -389,21 +389,24 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
     done: queue.SimpleQueue = queue.SimpleQueue()
     with multiprocessing.get_context("fork").Pool(workers, initializer=_pool_worker,
                                                   initargs=(os.getpid(),)) as pool:
+        # the workers as the pool started them, before any task: they live as long as the
+        # pool, so one that is gone, or replaced by a new one, was killed
+        started = {p.pid for p in pool._pool}  # noqa: SLF001 - to notice a lost one
+
         def submit(fn: Callable[..., Done], task: Task) -> None:
             pool.apply_async(fn, (task,), callback=done.put, error_callback=done.put)
 
         for task in tasks:
             submit(run, task)
         waiting = len(tasks)
-        workers_seen = {p.pid for p in pool._pool}  # noqa: SLF001 - to notice a lost one
         while waiting:
             try:
                 got = done.get(timeout=1.0)  # (a timeout, so Ctrl-C is heard at once)
             except queue.Empty:
-                # a worker lives as long as the pool: one that is gone was killed, and the
-                # task it held will never report; say so instead of waiting for ever
+                # a worker killed never reports the task it held (the pool may have started
+                # another in its place already): say so instead of waiting for ever
                 alive = {p.pid for p in pool._pool if p.exitcode is None}  # noqa: SLF001
-                if workers_seen - alive:
+                if alive != started:
                     raise InvalidInput(
                         "a worker process was lost (killed, perhaps by the system for lack "
                         "of memory); every finished row is kept: run the same command again "
