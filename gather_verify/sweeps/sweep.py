@@ -387,15 +387,19 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
     import queue
 
     done: queue.SimpleQueue = queue.SimpleQueue()
-    with multiprocessing.get_context("fork").Pool(workers, initializer=_pool_worker,
-                                                  initargs=(os.getpid(),)) as pool:
-        # the workers as the pool started them, before any task: they live as long as the
-        # pool, so one that is gone, or replaced by a new one, was killed
-        started = {p.pid for p in pool._pool}  # noqa: SLF001 - to notice a lost one
+    pool = multiprocessing.get_context("fork").Pool(workers, initializer=_pool_worker,
+                                                    initargs=(os.getpid(),))
+    # the workers as the pool started them, before any task: they live as long as the pool,
+    # so one that is gone, or replaced by a new one, was killed
+    started = {p.pid for p in pool._pool}  # noqa: SLF001 - to notice a lost one
 
-        def submit(fn: Callable[..., Done], task: Task) -> None:
-            pool.apply_async(fn, (task,), callback=done.put, error_callback=done.put)
+    def lost() -> bool:
+        return {p.pid for p in pool._pool if p.exitcode is None} != started  # noqa: SLF001
 
+    def submit(fn: Callable[..., Done], task: Task) -> None:
+        pool.apply_async(fn, (task,), callback=done.put, error_callback=done.put)
+
+    try:
         for task in tasks:
             submit(run, task)
         waiting = len(tasks)
@@ -405,8 +409,7 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
             except queue.Empty:
                 # a worker killed never reports the task it held (the pool may have started
                 # another in its place already): say so instead of waiting for ever
-                alive = {p.pid for p in pool._pool if p.exitcode is None}  # noqa: SLF001
-                if alive != started:
+                if lost():
                     raise InvalidInput(
                         "a worker process was lost (killed, perhaps by the system for lack "
                         "of memory); every finished row is kept: run the same command again "
@@ -420,6 +423,23 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
                 submit(_run_task, task)
             waiting += len(more)
             yield sweep, rows, why
+    finally:
+        if lost():
+            _abandon(pool)
+        pool.terminate()
+
+
+def _abandon(pool: Any) -> None:
+    """Stop a pool that lost a worker, without its own clean-up: that waits for the lock of
+    the task queue, which a worker killed while taking a task holds for ever (the sweep
+    would hang on its way out). Its threads are daemons; its workers are killed here."""
+    from multiprocessing.pool import TERMINATE
+
+    pool._worker_handler._state = TERMINATE  # noqa: SLF001 - no worker started in their place
+    for p in pool._pool:  # noqa: SLF001
+        if p.exitcode is None:
+            p.kill()
+    pool._terminate.cancel()  # noqa: SLF001 - the clean-up the pool would run on exit
 
 
 def _pool_worker(parent: int) -> None:
