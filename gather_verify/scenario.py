@@ -161,12 +161,12 @@ def parse_scenario(data: object, where: str) -> Scenario:
 def _world_nodes(data: dict[str, Any], where: str) -> tuple[tuple[int, ...], tuple[int, ...]]:
     """A finite world's robots and meeting nodes as node indices (robots on distinct nodes)."""
     from gather_verify.tasks import get_task
-    from gather_verify.worlds import get_world
+    from gather_verify.worlds import finite_world
 
     spec = data["world"]
     if spec.startswith("graph:") and not Path(spec[6:]).is_absolute():  # beside the scenario
         spec = "graph:" + str(Path(where).resolve().parent / spec[6:])
-    world = get_world(spec)
+    world = finite_world(spec)
     robots = tuple(world.node_from_json(v) for v in data["robots"])
     meeting = tuple(world.node_from_json(v) for v in data["meeting_nodes"])
     if len(set(robots)) < len(robots):

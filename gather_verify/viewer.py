@@ -266,10 +266,10 @@ def _pending_since(steps: list[dict[str, Any]], n: int) -> list[list[int | None]
 def is_world_trace(trace: Any) -> bool:
     """A trace written by a finite world's check: it names its world (a trace of Z² has a
     ``format`` tag instead, and a ``world`` of ``grid`` or none)."""
-    from gather_verify.worlds import is_plane
+    from gather_verify.worlds import FINITE, entry_of
 
     return isinstance(trace, dict) and "format" not in trace and isinstance(
-        trace.get("world"), str) and not is_plane(trace["world"])
+        trace.get("world"), str) and entry_of(trace["world"]) == FINITE
 
 
 def _bad(message: str) -> InvalidInput:
@@ -333,10 +333,10 @@ def world_drawing(trace: dict[str, Any]) -> dict[str, Any]:
     carried one, the drawing of the world it names."""
     if "drawing" in trace:
         return check_drawing(trace["drawing"])
-    from gather_verify.worlds import get_world
+    from gather_verify.worlds import finite_world
 
     try:
-        return check_drawing(get_world(trace["world"]).drawing())
+        return check_drawing(finite_world(trace["world"]).drawing())
     except InvalidInput as error:
         raise _bad(f"no drawing, and the world cannot be had ({error})") from None
 

@@ -31,7 +31,7 @@ from gather_verify.progress import PROGRESS
 from gather_verify.tasks import Context, Finding, Task, get_task
 from gather_verify.tasks.base import fair_walk
 from gather_verify.watchdog import Overtime, allowance, deadline
-from gather_verify.worlds import get_world
+from gather_verify.worlds import finite_world
 from gather_verify.worlds.base import World
 from gather_verify.worlds.moves import WorldMoves, parse_lights
 from schedulers import get_scheduler
@@ -71,7 +71,7 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
     started = time.perf_counter()
     if engine not in ENGINES:
         raise InvalidInput(f"unknown engine {engine!r}: use one of {', '.join(ENGINES)}")
-    w = get_world(world) if isinstance(world, str) else world
+    w = finite_world(world) if isinstance(world, str) else world
     r = w.parse_nodes(robots) if isinstance(robots, str) else list(robots)
     m = w.parse_nodes(meeting) if isinstance(meeting, str) else list(meeting)
     if not r:

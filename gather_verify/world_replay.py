@@ -41,7 +41,7 @@ from typing import Any, NoReturn
 from gather_verify.algorithms import AlgorithmCrash, Unhandled, get_algorithm
 from gather_verify.errors import InvalidInput, read_input
 from gather_verify.tasks import get_task
-from gather_verify.worlds import get_world
+from gather_verify.worlds import finite_world
 from gather_verify.worlds.base import World
 from gather_verify.worlds.moves import WorldMoves, parse_lights
 from schedulers import Event, get_scheduler
@@ -94,7 +94,7 @@ def world_of(spec: str, folder: Path | None) -> World:
         if not path.is_absolute() and (folder / path).is_file():
             spec = f"graph:{folder / path}"
     try:
-        return get_world(spec)
+        return finite_world(spec)
     except InvalidInput as error:
         _fail(f"its world: {error}")
 

@@ -123,15 +123,15 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.check import run_check
     from gather_verify.engine.export import graph_format, write_graph
     from gather_verify.render import render_trace
-    from gather_verify.worlds import is_plane
+    from gather_verify.worlds import FINITE, entry_of
 
-    if not is_plane(args.world):
+    if entry_of(args.world) == FINITE:
         return run_world(args)
     if args.scenario:
         from gather_verify.scenario import load_scenario
 
         scenario = load_scenario(args.scenario)
-        if scenario.world != "grid":
+        if entry_of(scenario.world) == FINITE:
             return run_world(args, scenario)
     if args.task not in (None, "gathering-on-meeting-nodes") or args.visibility is not None:
         raise UsageError("--task and --visibility need a finite world "
@@ -257,9 +257,9 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
     """``check --world W`` (or a scenario file with a ``world``): the finite-world search
     (:mod:`gather_verify.world_check`)."""
     from gather_verify.world_check import render_world_trace, run_world_check
-    from gather_verify.worlds import is_plane
+    from gather_verify.worlds import FINITE, entry_of
 
-    world = args.world if not is_plane(args.world) else scenario.raw["world"]
+    world = args.world if entry_of(args.world) == FINITE else scenario.raw["world"]
     for option in PLANE_ONLY:
         if getattr(args, option):
             raise UsageError(f"--{option.replace('_', '-')} is an option of the paper's world "

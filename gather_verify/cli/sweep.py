@@ -120,11 +120,11 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.model.view import check_detection
     from gather_verify.sweeps.census import validate_census_arguments
     from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
-    from gather_verify.worlds import is_plane
+    from gather_verify.worlds import FINITE, entry_of
     from schedulers import get_scheduler
 
     get_scheduler(args.scheduler)  # an unknown name fails before any work
-    if not is_plane(args.world):
+    if entry_of(args.world) == FINITE:
         return _worlds(args)
     if args.box is None or args.meeting is None:
         raise InvalidInput(f"--{'box' if args.box is None else 'meeting'} is required in the "
@@ -220,7 +220,7 @@ def _worlds(args: argparse.Namespace) -> int:
     from gather_verify.model.view import check_detection
     from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
     from gather_verify.tasks import get_task
-    from gather_verify.worlds import get_world, world_specs
+    from gather_verify.worlds import finite_world, world_specs
 
     if args.meeting is None:
         args.meeting = [0]
@@ -238,7 +238,7 @@ def _worlds(args: argparse.Namespace) -> int:
     specs = world_specs(args.world)
     if args.world.startswith("graph:"):  # the workers read the same file, wherever they run
         specs = ["graph:" + os.path.abspath(args.world.partition(":")[2])]
-    worlds = [get_world(spec) for spec in specs]  # a bad world fails before any work
+    worlds = [finite_world(spec) for spec in specs]  # a bad world fails before any work
     for w in worlds:
         w.symmetries(args.frames)
     if args.task is not None:

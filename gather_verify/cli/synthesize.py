@@ -112,9 +112,9 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("give --robots: nodes (\"0 2\") or a count (2)")
     if args.minimum:
         return _minimum(args)
-    from gather_verify.worlds import is_plane
+    from gather_verify.worlds import PLANE, entry_of
 
-    if is_plane(args.world):
+    if entry_of(args.world) == PLANE:
         return _plane(args)
     if args.box is not None or args.seed:
         raise UsageError(f"{'--box' if args.box is not None else '--seed'} goes with the "
@@ -272,7 +272,7 @@ def _minimum(args: argparse.Namespace) -> int:
 
     from gather_verify.fingerprint import own_digest
     from gather_verify.sweeps.store import Store
-    from gather_verify.worlds import is_plane
+    from gather_verify.worlds import PLANE, entry_of
     from schedulers import get_scheduler
 
     counts = _counts(args.robots)
@@ -280,7 +280,7 @@ def _minimum(args: argparse.Namespace) -> int:
     for name in schedulers:
         get_scheduler(name)
     solve: Any
-    if is_plane(args.world):
+    if entry_of(args.world) == PLANE:
         worlds, solve, more = _plane_least(args, schedulers)
     else:
         worlds, solve = _finite_least(args, counts, schedulers), _finite_one

@@ -291,10 +291,10 @@ def _census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
                 yield lit, lit.key
         return
     from gather_verify.sweeps.world_census import world_configurations, world_key
-    from gather_verify.worlds import get_world
+    from gather_verify.worlds import finite_world
     from gather_verify.worlds.moves import parse_lights
 
-    world = get_world(settings.world)
+    world = finite_world(settings.world)
     k = parse_lights(settings.lights).colours if settings.initial_colours == "all" else 1
     for c in world_configurations(world, settings.robots, settings.meeting, settings.frames, k):
         yield c, world_key(world, c)

@@ -7,8 +7,8 @@ robots' frames (:meth:`~gather_verify.worlds.base.World.symmetries`) maps one on
 other; the class is represented by its least image (sorted node indices), so the
 enumeration order is fixed.
 
->>> from gather_verify.worlds import get_world
->>> [c.robots for c in world_configurations(get_world("ring:6"), 2, 0, "all")]
+>>> from gather_verify.worlds import finite_world
+>>> [c.robots for c in world_configurations(finite_world("ring:6"), 2, 0, "all")]
 [(0, 1), (0, 2), (0, 3)]
 """
 
@@ -20,7 +20,7 @@ from itertools import combinations, product
 from typing import Any, NamedTuple
 
 from gather_verify.sweeps.store import report_row
-from gather_verify.worlds import get_world
+from gather_verify.worlds import finite_world
 from gather_verify.worlds.base import World
 
 
@@ -68,7 +68,7 @@ def verify_world_one(settings: Any, index: int, c: WorldConfiguration) -> dict[s
     from gather_verify.world_check import run_world_check
 
     started = time.perf_counter()
-    world = get_world(c.world)
+    world = finite_world(c.world)
     report = run_world_check(
         world, list(c.robots), list(c.meeting), settings.algorithm, settings.scheduler,
         task=settings.task, properties=list(settings.properties) or None,

@@ -40,7 +40,7 @@ import numpy as np
 from gather_verify.errors import InvalidInput
 from gather_verify.sweeps.store import row
 from gather_verify.sweeps.world_census import WorldConfiguration, verify_world_one, world_key
-from gather_verify.worlds import get_world
+from gather_verify.worlds import finite_world
 from gather_verify.worlds.base import World
 
 Item = tuple[int, WorldConfiguration]
@@ -63,7 +63,7 @@ def class_of(world: World, group: Sequence[Sequence[int]], c: WorldConfiguration
 def world_class_tasks(settings: Any, items: list[Item]) -> list[list[Item]]:
     """The configurations of a sweep grouped by their meeting-node class (one union search
     each), the largest first; in enumeration order within a class."""
-    world = get_world(settings.world)
+    world = finite_world(settings.world)
     try:
         group = world.symmetries(settings.frames)
     except InvalidInput:  # the frames do not apply here: each configuration says so itself
@@ -120,7 +120,7 @@ class _Union:
         from schedulers import get_scheduler
 
         self.settings, self.items = settings, items
-        w = self.world = get_world(settings.world)
+        w = self.world = finite_world(settings.world)
         group = w.symmetries(settings.frames)
         m0, _ = class_of(w, group, items[0][1])
         self.m0 = m0

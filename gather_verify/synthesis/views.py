@@ -28,7 +28,7 @@ from gather_verify.model.view import check_detection
 from gather_verify.synthesis import viewkey
 from gather_verify.tasks import Task, get_task
 from gather_verify.world_check import default_task
-from gather_verify.worlds import get_world, is_plane
+from gather_verify.worlds import FINITE, get_world
 from gather_verify.worlds.base import FrameMap, World
 from gather_verify.worlds.graph import FileGraph
 from gather_verify.worlds.grid import D4_FRAMES, GridFamily
@@ -85,10 +85,10 @@ def make_instance(world: str, robots: str, meeting: str, scheduler: str, task: s
                   colours: str | None = None) -> Instance:
     """The instance from command-line text; one line (:class:`InvalidInput`) for anything
     the synthesis cannot take."""
-    if is_plane(world):
+    w = get_world(world)
+    if not isinstance(w, World) or w.entry != FINITE:
         raise InvalidInput("synthesize runs on a finite world (--world ring:N, grid:WxH, "
                            "torus:WxH or graph:FILE); the paper's world Z² is not built yet")
-    w = get_world(world)
     check_detection(detection)
     sched = get_scheduler(scheduler)
     light = parse_lights(lights)

@@ -23,7 +23,7 @@ import statistics
 from collections import deque
 from collections.abc import Hashable, Iterable, Sequence
 from functools import cached_property
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, Protocol, runtime_checkable
 
 import networkx as nx
 
@@ -60,6 +60,74 @@ class Outline(NamedTuple):
     title: str
 
 
+FINITE, PLANE = "finite", "plane"
+"""The entries of check, sweep and synthesize a world names as its :attr:`AnyWorld.entry`:
+the finite-world search, or the Z² engines (with their region growth)."""
+
+
+@runtime_checkable
+class AnyFrame(Protocol):
+    """One presentation of a robot's view: what the robot reads for each node it sees."""
+
+    def label(self, u: Any) -> Label:
+        """The label node ``u`` (as the world writes it) carries in this frame."""
+        ...
+
+
+@runtime_checkable
+class AnyWorld(Protocol):
+    """What every world offers the edge (the commands, the pictures, the census), finite or
+    not: the commands ask the world, never its name, which entry runs it.
+
+    A node is whatever the world's own engines take (an index on a finite world, ``(x, y)``
+    on Z²): the world parses and prints it, stores it in JSON and reads it back.
+    """
+
+    name: str
+    """The spec that names the world (``grid``, ``ring:9``, ...)."""
+    kind: str
+    entry: str
+    """Which entry of check, sweep and synthesize runs the world: :data:`FINITE` or
+    :data:`PLANE`."""
+
+    def format_node(self, v: Any) -> str:
+        """A node as the command line and the traces write it."""
+        ...
+
+    def parse_node(self, text: str) -> Any:
+        """One node's text (one line, :class:`InvalidInput`, if it is none)."""
+        ...
+
+    def parse_nodes(self, text: str) -> list[Any]:
+        """Whitespace-separated nodes, as ``--robots`` and ``--meeting`` give them."""
+        ...
+
+    def node_to_json(self, v: Any) -> object:
+        """A node as a scenario or trace file stores it."""
+        ...
+
+    def node_from_json(self, value: object) -> Any:
+        """A node as a scenario or trace file stores it, read back."""
+        ...
+
+    def frames(self, v: Any, visibility: int | None, frames: str) -> Sequence[AnyFrame]:
+        """The frames of the view of a robot on ``v`` (§9), restricted by the frame set
+        (``all``, ``chirality``, ``compass``, §3)."""
+        ...
+
+    def canonical(self, robots: Iterable[Any], meeting: Iterable[Any],
+                  frames: str = "all") -> Hashable:
+        """One key per class of configurations under the symmetries of the world the
+        robots' frames move along (Aut(G) for ``all`` frames): two configurations have the
+        same key exactly when one such symmetry maps one onto the other."""
+        ...
+
+    def drawing(self) -> dict[str, Any] | None:
+        """The picture of the world as JSON (:meth:`World.drawing`), or None for a world the
+        pictures draw around a trace's own nodes (Z², which has no end)."""
+        ...
+
+
 FRAME_SETS = ("all", "chirality", "compass")
 MAX_AUTOMORPHISMS = 100_000
 """Aut(G) is enumerated; a graph with more automorphisms is refused (one line) rather than
@@ -75,6 +143,7 @@ class World:
 
     name: str
     kind: str
+    entry = FINITE
     labels: tuple[Label, ...]
     adjacency: tuple[tuple[int, ...], ...]
 
@@ -152,6 +221,20 @@ class World:
             return self.automorphisms
         return (tuple(range(self.size)),)
 
+    def canonical(self, robots: Iterable[int], meeting: Iterable[int],
+                  frames: str = "all") -> tuple[tuple[int, ...], tuple[int, ...]]:
+        """The least image (sorted node indices of the robots, a multiset, then of the
+        meeting nodes) of a configuration under :meth:`symmetries` (:class:`AnyWorld`).
+
+        >>> from gather_verify.worlds import get_world
+        >>> get_world("ring:6").canonical([3, 5], [4])
+        ((0, 2), (1,))
+        """
+        _check_frames(frames)
+        robots, meeting = tuple(robots), tuple(meeting)
+        return min((tuple(sorted(p[v] for v in robots)), tuple(sorted(p[v] for v in meeting)))
+                   for p in self.symmetries(frames))
+
     # -- how nodes are written ---------------------------------------------------------
     def label(self, v: int) -> Label:
         return self.labels[v]
@@ -203,9 +286,7 @@ class World:
         key = (v, visibility, frames)
         got = self._frames.get(key)
         if got is None:
-            if frames not in FRAME_SETS:
-                raise InvalidInput(f"unknown frames {frames!r}: use one of "
-                                   f"{', '.join(FRAME_SETS)}")
+            _check_frames(frames)
             got = [FrameMap(self, labels)
                    for labels in self.frame_labels(v, self.ball(v, visibility), frames)]
             self._frames[key] = got
@@ -294,6 +375,11 @@ class World:
         return f"<world {self.name}>"
 
 
+def _check_frames(frames: str) -> None:
+    if frames not in FRAME_SETS:
+        raise InvalidInput(f"unknown frames {frames!r}: use one of {', '.join(FRAME_SETS)}")
+
+
 def _dist(p: Point, q: Point) -> float:
     return ((p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2) ** 0.5
 
@@ -373,6 +459,10 @@ class FrameMap:
 
     def __init__(self, world: World, labels: Frame):
         self.world, self.labels = world, labels
+
+    def label(self, u: int) -> Label:
+        """The label node ``u`` carries in this frame (:class:`AnyFrame`)."""
+        return self.labels[u]
 
     @cached_property
     def inverse(self) -> dict[Label, int]:
