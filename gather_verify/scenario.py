@@ -115,11 +115,13 @@ def parse_scenario(data: object, where: str) -> Scenario:
     for key in ("robots", "meeting_nodes"):
         if key not in data:
             raise ScenarioError(f"{where}: missing field {key!r}")
-    world = data.get("world", "grid").strip()
+    from gather_verify.worlds import DEFAULT_WORLD, PLANE, entry_of
+
+    world = data.get("world", DEFAULT_WORLD).strip()
     nodes: tuple[tuple[int, ...], tuple[int, ...]] = ((), ())
     configuration = None
     try:
-        if world == "grid":
+        if entry_of(world) == PLANE:
             for key in ("task", "visibility"):
                 if key in data:
                     raise ScenarioError(f"{where}: {key!r} needs a finite 'world' (ring:N, "

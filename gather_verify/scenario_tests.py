@@ -50,7 +50,9 @@ def run_expectation(scenario: Scenario, expectation: Expectation) -> dict[str, A
     options = {k: v for k, v in expectation.options.items() if k in CHECK_OPTIONS}
     options.setdefault("multiplicity", scenario.multiplicity)
     options.setdefault("frames", scenario.frames)
-    if scenario.world != "grid":
+    from gather_verify.worlds import FINITE, entry_of
+
+    if entry_of(scenario.world) == FINITE:
         return _run_world_expectation(scenario, expectation, options)
     return run_check(
         scenario.configuration,

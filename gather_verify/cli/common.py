@@ -63,8 +63,10 @@ def add_configuration_arguments(parser: argparse.ArgumentParser) -> None:
 def load_configuration(args: argparse.Namespace) -> tuple[Configuration, Scenario | None]:
     """The initial configuration named on the command line (file, or points, or both:
     points override the file's)."""
+    from gather_verify.worlds import FINITE, entry_of
+
     scenario = load_scenario(args.scenario) if args.scenario else None
-    if scenario is not None and scenario.world != "grid":
+    if scenario is not None and entry_of(scenario.world) == FINITE:
         raise UsageError(f"{args.scenario} is a scenario of the finite world {scenario.world}: "
                          "use gather-verify check or test on it")
     if scenario is None and (args.robots is None or args.meeting is None):

@@ -171,10 +171,19 @@ def _lit(common: dict[str, Any]) -> bool:
     return common.get("initial_colours") == "all"
 
 
+def _on_plane(common: dict[str, Any]) -> bool:
+    """Whether the settings of a sweep name a world the Z² engines run (no world: the
+    default, the paper's)."""
+    from gather_verify.worlds import DEFAULT_WORLD, PLANE, entry_of
+
+    world = common.get("world", DEFAULT_WORLD)
+    return isinstance(world, str) and entry_of(world) == PLANE
+
+
 def _recheck(r: dict[str, Any], verdict: str, common: dict[str, Any]) -> str:
     """The command that checks one stored configuration again (and writes its viewer when it
     fails)."""
-    lit, plane = _lit(common), common.get("world", "grid") == "grid"
+    lit, plane = _lit(common), _on_plane(common)
     parts = ["gather-verify check"]
     if not plane:  # a finite world: a row's class is its world's name
         parts.append(f"--world {r['class']}")
@@ -248,7 +257,7 @@ def _settings_table(common: dict[str, Any], sweeps: list[tuple[dict[str, Any], l
     if "box" in shown and isinstance(shown["box"], list):
         shown["box"] = " × ".join(map(str, shown["box"]))
     if shown.get("properties") == []:
-        shown["properties"] = (f"all ({', '.join(PROPERTIES)})" if common.get("world", "grid") == "grid"
+        shown["properties"] = (f"all ({', '.join(PROPERTIES)})" if _on_plane(common)
                                else "all of the task's")
     if "reduction" in shown and isinstance(shown["reduction"], bool):
         shown["reduction"] = "on" if shown["reduction"] else "off"
@@ -269,7 +278,7 @@ def _settings_table(common: dict[str, Any], sweeps: list[tuple[dict[str, Any], l
                       for n in ns) + "</table>")
     return ("<div class='settings'><table class='kv'>" + "".join(rows) + "</table>"
             "<div><p class='note'>configurations (up to "
-            + ("translation and the 8 isometries" if common.get("world", "grid") == "grid" else
+            + ("translation and the 8 isometries" if _on_plane(common) else
                "the world's symmetries") + ")</p>"
             + grid + "</div></div>")
 
@@ -461,7 +470,7 @@ def write_html(db_path: str, out: str, svg_dir: str | None = None,
     for k, (batch, target) in enumerate(zip(groups, names, strict=False), 1):
         common, sweeps = batch.common, batch.sweeps
         plot = None
-        plane = common.get("world", "grid") == "grid"  # a finite world counts no moves
+        plane = _on_plane(common)  # a finite world counts no moves
         try:
             if plane:
                 folder.mkdir(parents=True, exist_ok=True)

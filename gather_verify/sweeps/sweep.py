@@ -65,6 +65,14 @@ class SweepSettings:
     initial_colours: str | None = None
     """``all``: every initial colouring of the robots (with lights), else all at 0."""
 
+    @property
+    def on_plane(self) -> bool:
+        """Whether the Z² engines run the sweep's world (its ``entry``): its configurations
+        are those of the box, else the world's own."""
+        from gather_verify.worlds import PLANE, entry_of
+
+        return entry_of(self.world) == PLANE
+
     def key(self) -> dict[str, Any]:
         """The identity of the sweep in the store (timing limits excluded only if
         they cannot change a verdict: they can, so they are included; the memory limit
@@ -78,7 +86,7 @@ class SweepSettings:
             del out["keep_growing"]  # its rows stay found under --keep-growing
         out["fingerprint"] = self.fingerprint()  # never stale
         del out["fingerprint_extra"]
-        if self.world == "grid":  # the paper's world: keys as every store before worlds
+        if self.on_plane:  # the paper's world: keys as every store before worlds
             for name in ("world", "task", "visibility"):
                 del out[name]
         else:
@@ -201,14 +209,14 @@ def run_sweep(
     if engine not in ENGINES:
         raise InvalidInput(f"unknown sweep engine {engine!r}: use one of {', '.join(ENGINES)}")
     batch = [settings] if isinstance(settings, SweepSettings) else list(settings)
-    lit = LIT_FALLBACK if any(one.world == "grid" and one.lights for one in batch) else None
+    lit = LIT_FALLBACK if any(one.on_plane and one.lights for one in batch) else None
     if lit and verify is None:  # the union engine encodes no colours
         from gather_verify.sweeps.lit_census import verify_lit_one
 
         verify = verify_lit_one
-    if verify is None and engine == "union" and all(one.world != "grid" for one in batch):
+    if verify is None and engine == "union" and not any(one.on_plane for one in batch):
         engine = WORLD_UNION  # finite worlds: one union search per meeting-node class
-    elif any(one.world != "grid" for one in batch):
+    elif not all(one.on_plane for one in batch):
         from gather_verify.sweeps.world_census import verify_world_one
 
         verify = verify or verify_world_one  # a finite world: one search per configuration
@@ -275,7 +283,7 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
 
 def _census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
     """The sweep's configurations in enumeration order, each with its stored key."""
-    if settings.world == "grid":
+    if settings.on_plane:
         from gather_verify.sweeps.census import enumerate_configurations
         from gather_verify.sweeps.lit_census import lit_configurations
         from gather_verify.worlds.moves import parse_lights
@@ -344,7 +352,7 @@ def _execute(
     local = dask is None and workers == 1
     if any(todo for _, _, todo in plan):  # forked workers inherit the compiled kernels
         warm_kernels({settings.scheduler for settings, _, _ in plan  # (none: finite worlds,
-                      if settings.world == "grid" and not settings.lights})  # lights)
+                      if settings.on_plane and not settings.lights})  # lights)
     tasks: list[Task] = []
     for settings, sweep, todo in plan:
         if engine == "union":  # a task is a meeting-node class, the largest first
@@ -477,7 +485,7 @@ def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
         from gather_verify.algorithms.loading import receive
 
         receive(sources)
-    if verify is verify_one and settings.world != "grid":  # handed off by a finite world's class
+    if verify is verify_one and not settings.on_plane:  # handed off by a finite world's class
         from gather_verify.sweeps.world_census import verify_world_one
 
         verify = verify_world_one
