@@ -11,8 +11,9 @@ limit. What changes is how:
   one of the node's neighbours: the table is as wide as the world's degree) and its
   colour; then the visited nodes and the round-robin scheduler's order and turn;
 - visited states live in the bulk engine's hash index (:class:`KeyIndex`) of their keys
-  (their least images under the reductions, when those are on); the stored state is the
-  first concrete successor met, as in the reference;
+  (their least images under the reductions, when those are on: under round-robin the
+  robots first relabelled as the scheduler says, from a table asked of it once); the stored
+  state is the first concrete successor met, as in the reference;
 - the algorithm is asked once per configuration (the robots' nodes and colours: the
   robots are oblivious, so pending moves play no part), through
   :meth:`~gather_verify.worlds.moves.WorldMoves.table`; each robot's answers become a bit

@@ -9,9 +9,11 @@ through the move sets and the automorphisms it is handed.
 
 Reductions, when asked for and sound (§4): anonymity (the state is the multiset of
 robots) and the world's symmetries under the robots' frames that fix the meeting
-nodes (:meth:`~gather_verify.worlds.base.World.symmetries`). A
-liveness part needs robot identities (§5, §11), so a task with one is searched
-unreduced; the report says so.
+nodes (:meth:`~gather_verify.worlds.base.World.symmetries`). Under a scheduler that
+keeps its own state (round-robin's order and turn) anonymity relabels the robots as the
+scheduler says rather than sorting them, and the symmetries leave that state alone
+(:func:`canonicaliser`). A liveness part needs robot identities (§5, §11), so a task with
+one is searched unreduced; the report says so.
 
 >>> from gather_verify.algorithms import get_algorithm
 >>> from gather_verify.worlds import get_world
