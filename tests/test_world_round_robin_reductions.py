@@ -157,13 +157,15 @@ def bounce(w: World) -> Moves:
     return moves
 
 
-def naive(n: int, start: Robots, moves: Moves, group: list[tuple[int, ...]]
-          ) -> tuple[int, int, int, int]:
+def naive(n: int, start: Robots, moves: Moves, group: list[tuple[int, ...]],
+          order: tuple[int, ...] | None = None) -> tuple[int, int, int, int]:
     """Unreduced states and transitions under round-robin by a plain BFS over (robots by
-    identity, order, turn) from every order; then the orbits of the reachable states under
-    relabellings of the robots (applied to the order too) times ``group`` (acting on nodes),
+    identity, order, turn) from every order (or the one given); then the orbits of the
+    reachable states under relabellings of the robots (applied to the order too: with one
+    order given, only those that keep it, the identity) times ``group`` (acting on nodes),
     and the transitions of one state per orbit."""
-    starts = [(start, order, 0) for order in itertools.permutations(range(n))]
+    orders = [order] if order is not None else list(itertools.permutations(range(n)))
+    starts = [(start, o, 0) for o in orders]
     seen = set(starts)
     queue = deque(starts)
     degree: dict[Any, int] = {}
@@ -178,7 +180,8 @@ def naive(n: int, start: Robots, moves: Moves, group: list[tuple[int, ...]]
             if nxt not in seen:
                 seen.add(nxt)
                 queue.append(nxt)
-    relabellings = list(itertools.permutations(range(n)))  # new robot k is old robot s[k]
+    relabellings = [s for s in itertools.permutations(range(n))  # new robot k: old s[k]
+                    if tuple(s.index(o) for o in orders[0]) in orders]
 
     def orbit_key(state: Any) -> Any:
         robots, order, turn = state
@@ -202,7 +205,8 @@ CASES = [("ring:5", (0, 1, 3), [2]), ("ring:6", (0, 2, 3), [0]), ("ring:7", (1, 
 node, the whole of Aut(G))."""
 
 
-def referee(world_name: str, robots: tuple[int, ...], meeting: list[int]) -> None:
+def referee(world_name: str, robots: tuple[int, ...], meeting: list[int],
+            order: tuple[int, ...] | None = None) -> None:
     """Both engines' counts, reductions on and off, against :func:`naive`: the unreduced
     counts are the reachable states and transitions, the reduced ones the orbit counts under
     anonymity times the automorphisms fixing the meeting nodes."""
@@ -217,11 +221,12 @@ def referee(world_name: str, robots: tuple[int, ...], meeting: list[int]) -> Non
         algorithm, moves, kw = "bounce", bounce(w), dict(
             task="gathering", properties=["gathered-when-final"], lights="2")
     states, transitions, orbits, reduced = naive(len(robots), tuple((v, 0) for v in robots),
-                                                 moves, group)
+                                                 moves, group, order)
+    scheduler = "round-robin" + ("" if order is None else ":order=" + " ".join(map(str, order)))
     for engine in ENGINES:
-        off = run_world_check(w, list(robots), meeting, algorithm, "round-robin",
+        off = run_world_check(w, list(robots), meeting, algorithm, scheduler,
                               engine=engine, reduction=False, **kw)
-        on = run_world_check(w, list(robots), meeting, algorithm, "round-robin",
+        on = run_world_check(w, list(robots), meeting, algorithm, scheduler,
                              engine=engine, reduction=True, **kw)
         assert off["stopped"] is None and on["stopped"] is None
         assert (off["states"], off["transitions"]) == (states, transitions), engine
@@ -233,6 +238,17 @@ def test_reduced_counts_are_the_orbits_of_a_plain_search(world_name: str,
                                                          robots: tuple[int, ...],
                                                          meeting: list[int]) -> None:
     referee(world_name, robots, meeting)
+
+
+@pytest.mark.parametrize(("world_name", "robots", "meeting", "order"), [
+    ("grid:3x3", (0, 4, 8), [2], (2, 0, 1)), ("torus:3x3", (1, 2, 3), [4], (1, 2, 0)),
+    ("ring:6", (0, 3), [], (1, 0))])
+def test_one_given_order_reduces_by_the_automorphisms_alone(
+        world_name: str, robots: tuple[int, ...], meeting: list[int],
+        order: tuple[int, ...]) -> None:
+    """With the order given, no relabelling keeps it but the identity: the reduced counts
+    are the orbits under the automorphisms fixing the meeting nodes."""
+    referee(world_name, robots, meeting, order)
 
 
 SOUND_RELABEL = RoundRobin.relabel
