@@ -96,12 +96,11 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
         raise InvalidInput(f"task {t.name} tracks visited nodes in the state: {w.name} has "
                            f"{w.size} nodes, at most 62 are supported")
     liveness = any(p in t.liveness for p in parts)
-    reduce = reduction and not liveness and not stateful
+    reduce = reduction and not liveness
     moves = WorldMoves(w, algo, frozenset(m), detection, frames, visibility, light)
     limits = Limits(max_states=max_states, max_seconds=max_seconds, max_memory_mb=max_memory_mb)
-    reductions = ("anonymity, the symmetries fixing the meeting nodes" if reduce else
-                  "off: liveness needs robot identities" if reduction and liveness else
-                  "off: the scheduler keeps robot identities" if reduction and stateful
+    reductions = (reductions_used(stateful) if reduce else
+                  "off: liveness needs robot identities" if reduction and liveness
                   else "off")  # (the search reduces exactly when ``reduce`` holds)
     PROGRESS.states = 0
     symmetries = w.symmetries(frames) if reduce else ()
@@ -198,6 +197,17 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
                            for name in names},
             "trace": None, "seconds": time.perf_counter() - started,
         }
+
+
+def reductions_used(stateful: bool) -> str:
+    """What a reduced search merges (the report's ``reductions``): anonymity, as the scheduler
+    relabels identical robots when it keeps a state of its own (round-robin: so that its
+    order is the first it may fix), and the symmetries fixing the meeting nodes, which move
+    the robots' nodes and leave that state alone."""
+    if stateful:
+        return ("anonymity (robots relabelled so that the scheduler's own state is its first "
+                "start), the symmetries fixing the meeting nodes (which leave that state alone)")
+    return "anonymity, the symmetries fixing the meeting nodes"
 
 
 def _parts(task: Task, properties: list[str] | None, world: World) -> list[str]:

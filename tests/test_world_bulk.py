@@ -221,7 +221,7 @@ def test_every_world_scenario_gives_the_same_report(path: Path) -> None:
         bulk.pop("seconds"), ref.pop("seconds"), bulk.pop("search_seconds"), ref.pop("search_seconds")
         assert json.dumps(bulk, sort_keys=True) == json.dumps(ref, sort_keys=True)
         w = get_world(world)
-        for reduce in (False, True) if scheduler != "round-robin" else (False,):
+        for reduce in (False, True):
             a, b = searches(w, tuple(robots), tuple(meeting), algorithm, scheduler,
                             task=scenario.task or "gathering", detection=scenario.multiplicity,
                             frames=scenario.frames, visibility=scenario.visibility,
@@ -249,11 +249,11 @@ def sweep_world(name: str, tmp_path: Path) -> World:
 @pytest.mark.parametrize("world_name", SWEEP_WORLDS)
 def test_sweep_go_to_target_every_configuration(world_name: str, scheduler: str,
                                                 tmp_path: Path) -> None:
-    """Every initial configuration of 2 and 3 robots, meeting node 0, reductions on (but
-    under round-robin) and off."""
+    """Every initial configuration of 2 and 3 robots, meeting node 0, reductions on and
+    off."""
     w = sweep_world(world_name, tmp_path)
     for robots in configurations(w, (2, 3)):
-        for reduce in (False, True) if scheduler != "round-robin" else (False,):
+        for reduce in (False, True):
             ref, bulk = searches(w, robots, (0,), "go-to-target", scheduler,
                                  task="gathering-on-meeting-nodes", reduce=reduce)
             assert_same(ref, bulk)
@@ -269,7 +269,7 @@ def test_sweep_an_algorithm_that_reads_everything(world_name: str, scheduler: st
     multiplicity detection."""
     w = sweep_world(world_name, tmp_path)
     for robots in configurations(w, (2, 3) if w.size <= 6 else (2,)):
-        for reduce in (False, True) if scheduler != "round-robin" else (False,):
+        for reduce in (False, True):
             ref, bulk = searches(w, robots, (), Chaotic(salt=sum(robots)), scheduler,
                                  reduce=reduce)
             assert_same(ref, bulk)
@@ -295,10 +295,9 @@ def test_sweep_with_lights(world_name: str, scheduler: str, tmp_path: Path) -> N
                                      colours=lit)
                 assert_same(ref, bulk)
                 assert_same_tasks(ref, bulk, w, 2, (), scheduler)
-            if scheduler != "round-robin":
-                ref, bulk = searches(w, robots, (), Chaotic(2), scheduler, lights="2",
-                                     colours=list(colours), reduce=True)
-                assert_same(ref, bulk)
+            ref, bulk = searches(w, robots, (), Chaotic(2), scheduler, lights="2",
+                                 colours=list(colours), reduce=True)
+            assert_same(ref, bulk)
 
 
 class Bounce3:
@@ -321,7 +320,7 @@ def test_sweep_exploration_with_the_visited_nodes(world_name: str, scheduler: st
     they move with the symmetries."""
     w = sweep_world(world_name, tmp_path)
     for robots in configurations(w, (1, 2)):
-        for reduce in (False, True) if scheduler != "round-robin" else (False,):
+        for reduce in (False, True):
             ref, bulk = searches(w, robots, (), Chaotic(salt=1), scheduler,
                                  task="exploration-with-stop", reduce=reduce)
             assert_same(ref, bulk)
@@ -428,7 +427,6 @@ def random_instance(world_name: str, data: st.DataObject, scheduler: str, reduce
     robots = tuple(data.draw(st.lists(st.integers(0, w.size - 1), min_size=n, max_size=n)))
     colours = data.draw(st.lists(st.integers(0, 1), min_size=n, max_size=n)) if luminous \
         else None
-    reduce = reduce and scheduler != "round-robin"
     ref, bulk = searches(w, robots, (), Chaotic(2 if luminous else 1, salt), scheduler,
                          detection=detection, visibility=visibility,
                          lights="2" if luminous else None, colours=colours, reduce=reduce,

@@ -11,8 +11,9 @@ limit. What changes is how:
   one of the node's neighbours: the table is as wide as the world's degree) and its
   colour; then the visited nodes and the round-robin scheduler's order and turn;
 - visited states live in the bulk engine's hash index (:class:`KeyIndex`) of their keys
-  (their least images under the reductions, when those are on); the stored state is the
-  first concrete successor met, as in the reference;
+  (their least images under the reductions, when those are on: under round-robin the
+  robots first relabelled as the scheduler says, from a table asked of it once); the stored
+  state is the first concrete successor met, as in the reference;
 - the algorithm is asked once per configuration (the robots' nodes and colours: the
   robots are oblivious, so pending moves play no part), through
   :meth:`~gather_verify.worlds.moves.WorldMoves.table`; each robot's answers become a bit
@@ -52,10 +53,12 @@ from gather_verify.engine.explore import rss_mb
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.engine.world_search import (
     Halt,
+    Relabel,
     SearchArrays,
     WorldSearch,
     WorldState,
     canonicaliser,
+    relabeller,
 )
 from schedulers import Event, Scheduler, as_scheduler
 
@@ -88,8 +91,6 @@ def unsupported(world: World, n: int, scheduler: str | Scheduler, colours: int, 
     if not hasattr(sched, "activations"):  # a scheduler of the user's that declares none
         return f"the scheduler {sched.name} does not say which robots its rounds activate"
     stateful = getattr(sched, "stateful", False)
-    if stateful and (anonymity or len(_group(symmetries, meeting)) > 1):
-        return "reductions with a scheduler that keeps its own state"
     if n < 1 or n > 62:
         return f"{n} robots (the bulk engine takes 1 to 62)"
     if (world.degree + 1) * colours > 63:
@@ -184,6 +185,34 @@ class _Plan:
         for a in actions:
             out |= 1 << bits[a]
         return out
+
+
+class _Relabelled:
+    """Anonymity on packed keys under a scheduler that keeps its own state
+    (:func:`~gather_verify.engine.world_search.relabeller`): each of its states' relabelling,
+    asked of the scheduler once, as a table (its ``state_index`` -> the robots' new order
+    and its state after), applied to a column of keys at a time."""
+
+    def __init__(self, plan: _Plan, relabel: Relabel):
+        n = plan.n
+        count = plan.sched.state_count(n)
+        self.perm = np.zeros((count, n), dtype=np.int64)
+        self.to = np.zeros(count, dtype=np.int64)
+        for i in range(count):
+            perm, after = relabel(plan.sched.state_of(i, n))
+            self.perm[i] = perm
+            self.to[i] = plan.sched.state_index(after, n)
+        self.plan = plan
+
+    def __call__(self, keys: np.ndarray) -> np.ndarray:
+        """Each key with its robots relabelled and the scheduler's state replaced."""
+        plan, n = self.plan, self.plan.n
+        pw = plan.pw
+        codes = keys[:, None] // pw[None, :n] % plan.radix
+        rest = keys // pw[n]
+        visited, extra = rest % plan.vb, rest // plan.vb
+        codes = np.take_along_axis(codes, self.perm[extra], axis=1)
+        return (codes * pw[None, :n]).sum(axis=1) + (visited + plan.vb * self.to[extra]) * pw[n]
 
 
 class _Configurations:
@@ -425,11 +454,18 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
     perms = np.array(group if len(group) > 1 else [list(range(world.size))],
                      dtype=np.int64).reshape(-1, world.size)
 
+    relabel = relabeller(sched, n) if anonymity else None
+    named = _Relabelled(plan, relabel) if relabel is not None else None
+
     def canon(keys: np.ndarray) -> np.ndarray:
         if not reduce:
             return keys
-        return kw.world_canon(keys, perms, anonymity, visits, n, world.size, plan.radix,
-                              plan.pend, plan.colours, plan.adj, plan.vb, plan.pw)
+        if named is not None:  # anonymity as the scheduler relabels: no sorting after it
+            keys = named(keys)
+            if len(group) <= 1:
+                return keys
+        return kw.world_canon(keys, perms, anonymity and named is None, visits, n, world.size,
+                              plan.radix, plan.pend, plan.colours, plan.adj, plan.vb, plan.pw)
 
     lights = tuple(colours) if colours is not None else (0,) * n
     if seeds is None:
@@ -538,6 +574,7 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
         final=_Column(arrays.final), stay=_Column(arrays.stay),  # type: ignore[arg-type]
         states=int(reps.size), transitions=transitions, stopped=stopped, halt=halt,
         reduced=anonymity or len(symmetries) > 1, seconds=time.perf_counter() - started,
-        canonical=canonicaliser(symmetries, meeting, anonymity, visits), engine="bulk",
+        canonical=canonicaliser(symmetries, meeting, anonymity, visits, relabel),
+        engine="bulk",
         arrays=arrays, seed_ids=seed_ids.reshape(len(seeds), len(starts)))
 

@@ -9,9 +9,11 @@ through the move sets and the automorphisms it is handed.
 
 Reductions, when asked for and sound (§4): anonymity (the state is the multiset of
 robots) and the world's symmetries under the robots' frames that fix the meeting
-nodes (:meth:`~gather_verify.worlds.base.World.symmetries`). A
-liveness part needs robot identities (§5, §11), so a task with one is searched
-unreduced; the report says so.
+nodes (:meth:`~gather_verify.worlds.base.World.symmetries`). Under a scheduler that
+keeps its own state (round-robin's order and turn) anonymity relabels the robots as the
+scheduler says rather than sorting them, and the symmetries leave that state alone
+(:func:`canonicaliser`). A liveness part needs robot identities (§5, §11), so a task with
+one is searched unreduced; the report says so.
 
 >>> from gather_verify.algorithms import get_algorithm
 >>> from gather_verify.worlds import get_world
@@ -116,26 +118,61 @@ class WorldSearch:
         return path[::-1]
 
 
+Relabel = Callable[[object], tuple[Sequence[int], object]]
+"""A ``stateful`` scheduler's state -> ``(perm, state)``: identical robots relabelled, new robot
+k being old robot ``perm[k]`` (its ``relabel`` with the number of robots given)."""
+
+
+def relabeller(sched: object, n: int) -> Relabel | None:
+    """How anonymity acts on a state of ``sched``: None for a scheduler that keeps no state of
+    its own (the robots are then sorted); else its ``relabel`` for ``n`` robots, which names
+    the robots so that its own state is the one it picks (round-robin: the order is the first
+    it may fix). Sorting them instead would forget whose turn comes when (SEMANTICS.md §4)."""
+    if not getattr(sched, "stateful", False):
+        return None
+    relabel = sched.relabel  # type: ignore[attr-defined]
+    return lambda extra: relabel(extra, n)
+
+
 def canonicaliser(automorphisms: Sequence[Sequence[int]], meeting: frozenset[int],
-                  anonymity: bool, visits: bool) -> Callable[[WorldState], WorldState]:
+                  anonymity: bool, visits: bool, relabel: Relabel | None = None
+                  ) -> Callable[[WorldState], WorldState]:
     """The key of a state under the reductions: its least image under the automorphisms
-    that fix the meeting nodes, robots sorted when anonymous."""
+    that fix the meeting nodes, robots sorted when anonymous.
+
+    With a scheduler that keeps its own state (``relabel``, :func:`relabeller`), anonymity
+    relabels the robots as the scheduler says instead of sorting them, and the
+    automorphisms move the robots' nodes and leave the scheduler's state alone (it names
+    robots, not nodes). The two commute, so the key is the least image over the whole group
+    and two states have one key exactly when they are in one orbit."""
     group = [p for p in automorphisms if frozenset(p[m] for m in meeting) == meeting]
     if len(group) <= 1 and not anonymity:
         return lambda state: state
+    sort = anonymity and relabel is None
+
+    def named(state: WorldState) -> WorldState:
+        """The state with its robots relabelled as the scheduler says (when it keeps one)."""
+        if not anonymity or relabel is None:
+            return state
+        robots, visited, extra = state
+        perm, extra = relabel(extra)
+        return tuple(robots[i] for i in perm), visited, extra
 
     def image(p: Sequence[int], state: WorldState) -> WorldState:
         robots, visited, extra = state
         moved = tuple((p[v], None if d is None else p[d], c) for v, d, c in robots)
-        if anonymity:
+        if sort:
             moved = tuple(sorted(moved, key=_order))
         if visits:
             visited = sum(1 << p[v] for v in range(len(p)) if visited >> v & 1)
         return moved, visited, extra
 
     if len(group) <= 1:
+        if not sort:
+            return named
         return lambda state: (tuple(sorted(state[0], key=_order)), state[1], state[2])
-    return lambda state: min((image(p, state) for p in group), key=_state_order)
+    return lambda state: min((image(p, s) for s in (named(state),) for p in group),
+                             key=_state_order)
 
 
 def _order(robot: tuple[int, int | None, int]) -> tuple[int, int, int]:
@@ -166,7 +203,8 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
     """
     started = time.perf_counter()
     sched = as_scheduler(scheduler)
-    canon = canonicaliser(symmetries, meeting, anonymity, visits)
+    canon = canonicaliser(symmetries, meeting, anonymity, visits,
+                          relabeller(sched, len(robots)))
     lights = tuple(colours) if colours is not None else (0,) * len(robots)
     start_robots = tuple((v, None, c) for v, c in zip(robots, lights, strict=True))
     seen0 = _visit_bits(robots) if visits else 0

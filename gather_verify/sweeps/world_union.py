@@ -133,9 +133,8 @@ class _Union:
         if task.needs_meeting and not m0 or task.visits and w.size > 62:
             raise InvalidInput("the task cannot run here")
         sched = get_scheduler(settings.scheduler)  # resolved once: the engine takes the object
-        stateful = getattr(sched, "stateful", False)
         liveness = any(p in task.liveness for p in parts)
-        reduce = settings.reduction and not liveness and not stateful
+        reduce = settings.reduction and not liveness  # as run_world_check reduces
         symmetries = w.symmetries(settings.frames) if reduce else ()
         algorithm = get_algorithm(settings.algorithm)
         moves = WorldMoves(w, algorithm, frozenset(m0), settings.detection, settings.frames,
