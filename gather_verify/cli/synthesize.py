@@ -496,19 +496,21 @@ def _colours_least(args: argparse.Namespace, colours: tuple[range, str],
     if some and (robots.isdigit() and " " not in robots):
         raise UsageError("--colours some goes with one configuration (--robots \"0 1\"), not "
                          "a count")
+    if args.colours is not None and not some:
+        try:
+            most = max((int(c, 10) for c in args.colours.split()), default=-1)
+        except ValueError:
+            most = -1  # make_instance says what is wrong
+        if most >= values[0]:
+            raise UsageError(f"--colours {args.colours.strip()!r} needs more colours than "
+                             f"{values[0]}: start --lights at {most + 1} or more, or ask "
+                             "--colours some")
     worlds = world_specs(args.world)
     for world in worlds:
         for k in values:
-            try:
-                inst = make_instance(world, robots, args.meeting, schedulers[0], args.task,
-                                     args.multiplicity, args.frames, args.visibility,
-                                     f"{k}{variant}", None if some else args.colours)
-            except InvalidInput as error:
-                if args.colours is not None and not some and "each in" in str(error):
-                    raise UsageError(f"--colours {args.colours.strip()!r} needs more colours "
-                                     f"than {k}: start --lights higher, or ask --colours "
-                                     "some") from None
-                raise
+            inst = make_instance(world, robots, args.meeting, schedulers[0], args.task,
+                                 args.multiplicity, args.frames, args.visibility,
+                                 f"{k}{variant}", None if some else args.colours)
     more = {"minimum": "colours", "robots": robots, "lights": f"K{variant}",
             "colours": args.colours.strip() if args.colours is not None else None,
             "n": len(inst.configurations[0][0])}
@@ -550,8 +552,8 @@ def _colours_one(args: argparse.Namespace, world: str, sched: str, k: int,
         answer, limit, s, c, files = got
         states, candidates = states + s, candidates + c
         if answer == "exists":
-            if some:
-                files["colours"] = colouring
+            if some:  # and the colourings before it, each none
+                files.update(colours=colouring, certificates=certificates)
             return "exists", None, states, candidates, files
         if answer == "none":
             certificates += files["certificates"]
