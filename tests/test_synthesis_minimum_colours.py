@@ -171,6 +171,9 @@ def test_rows_are_reused_only_when_the_fingerprint_matches(tmp_path: Path,
                     for a in MYOPIC], "--db", str(tmp_path / "min.sqlite"), "--json", *args)
     assert changed.returncode in (0, 3), changed.stderr
     assert len(calls) > 3
+    # each question's files keep their own names: the first run's are still its own
+    cert = first["rows"][0]["files"]["certificates"][0]
+    assert verify_certificate(cert)["instance"]["task"] == "exclusive-perpetual-exploration"
     done = len(calls)
     # gather-verify's own source changes: computed again
     monkeypatch.setattr(fingerprint, "own_digest", lambda: "an-edited-verifier")
@@ -237,6 +240,8 @@ def test_report_prints_the_stored_table(some: tuple[Path, dict[str, Any]]) -> No
     assert table["resource"] == "colours" and table["least"] == got["minimum"]
     assert [(r["colours"], r["answer"]) for r in table["rows"]] == [(1, "none"), (2, "exists")]
     assert json.loads(text)["sweeps"] == []
+    code, text = _report("--db", str(folder / "min.sqlite"), "--workers-curve", "1,2")
+    assert code == 0 and "no stored rows" in text  # its answers are no sweep's tasks
 
 
 def test_report_reads_an_older_store_of_the_least_robots(tmp_path: Path) -> None:

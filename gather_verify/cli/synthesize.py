@@ -348,8 +348,10 @@ def _minimum(args: argparse.Namespace) -> int:
                     row = stored.get(key)
                     if row is None:
                         started = time.perf_counter()
+                        # the sweep's id: another question's files never take these names
                         stem = out / (world.replace(':', '-').replace('/', '_').replace(' ', '-')
-                                      + f"-{sched}-" + (f"k{k}" if colours is None else f"K{k}"))
+                                      + f"-{sched}-" + (f"k{k}" if colours is None else f"K{k}")
+                                      + f"-s{sweep}")
                         got = solve(args, world, sched, k, str(stem))
                         if got is None:  # more robots than nodes
                             break
