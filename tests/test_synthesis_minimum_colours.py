@@ -57,7 +57,7 @@ def test_each_none_has_certificates_that_verify_and_the_witness_is_checked(
     assert verify_certificate(cert)["instance"]["colours"] == "0 0"
     assert [verify_certificate(c)["instance"]["colours"] for c in two["files"]["certificates"]
             ] == ["0 0"]
-    assert two["files"]["colours"] == "0 1"
+    assert two["files"]["initial_colours"] == "0 1"
     again = run_world_check("ring:5", [0, 1], [], two["files"]["witness"], "fsync",
                             task="exclusive-perpetual-exploration", detection="global-weak",
                             visibility=1, lights="2", colours=[0, 1], reduction=False)

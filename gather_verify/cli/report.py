@@ -13,7 +13,7 @@ HELP = "render the sweeps stored in a results database"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--db", required=True, help="results database written by 'sweep'")
+    p.add_argument("--db", required=True, help="results database written by 'sweep' or 'synthesize --minimum'")
     p.add_argument("--html", metavar="FILE", help="write an HTML report (with SVG traces)")
     p.add_argument("--plot", metavar="FILE", help="write a plot of max moves against D·n")
     p.add_argument("--regressions", metavar="DIR",

@@ -555,7 +555,7 @@ def _colours_one(args: argparse.Namespace, world: str, sched: str, k: int,
         states, candidates = states + s, candidates + c
         if answer == "exists":
             if some:  # and the colourings before it, each none
-                files.update(colours=colouring, certificates=certificates)
+                files.update(initial_colours=colouring, certificates=certificates)
             return "exists", None, states, candidates, files
         if answer == "none":
             certificates += files["certificates"]
