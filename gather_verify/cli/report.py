@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import Any
 
 from gather_verify.cli.common import print_json, without_timings
 from gather_verify.errors import InvalidInput
@@ -12,7 +13,7 @@ HELP = "render the sweeps stored in a results database"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--db", required=True, help="results database written by 'sweep'")
+    p.add_argument("--db", required=True, help="results database written by 'sweep' or 'synthesize --minimum'")
     p.add_argument("--html", metavar="FILE", help="write an HTML report (with SVG traces)")
     p.add_argument("--plot", metavar="FILE", help="write a plot of max moves against D·n")
     p.add_argument("--regressions", metavar="DIR",
@@ -30,8 +31,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from gather_verify.sweeps.minimum import COMMAND
     from gather_verify.sweeps.report import (
         code_text,
+        load_sweeps,
         settings_line,
         summaries,
         when,
@@ -43,7 +46,9 @@ def run(args: argparse.Namespace) -> int:
     only = args.algorithm
     if only is not None and not only.strip():
         raise InvalidInput("--algorithm is empty: name the algorithm whose sweeps to report")
-    found = summaries(args.db, only)
+    # the answers of synthesize --minimum are tables of their own (they name no algorithm)
+    found = [s for s in summaries(args.db, only) if s["settings"].get("command") != COMMAND]
+    least = [] if only is not None else stored_minimum(load_sweeps(args.db))
     if args.html:
         write_html(args.db, args.html, algorithm=only)
     if args.plot:
@@ -64,7 +69,9 @@ def run(args: argparse.Namespace) -> int:
         workers = parse_workers(args.workers_curve)
         store = Store(args.db, read_only=True)
         try:
-            seconds = task_seconds(store.seconds())
+            # the sweeps' tasks: synthesize --minimum's answers are no sweep's
+            skip = {i for i, settings in store.sweeps() if settings.get("command") == COMMAND}
+            seconds = task_seconds(r for r in store.seconds() if r["sweep"] not in skip)
         finally:
             store.close()
         curve = {"tasks": len(seconds), "seconds": round(sum(seconds), 3),
@@ -73,6 +80,8 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json({"sweeps": found if args.timings else without_timings(found),
                     **({"robustness": robust} if robust else {}),
+                    **({"minimum": [{k: v for k, v in t.items() if k != "cells"}
+                                    for t in least]} if least else {}),
                     **({"workers_curve": curve} if curve else {})})
         return 0
     for i, summary in enumerate(found):
@@ -85,7 +94,17 @@ def run(args: argparse.Namespace) -> int:
               + (f"rows written {written}" if written else "written before dates were kept"))
         format_summary(summary)
         print()
-    if not found:
+    for i, t in enumerate(least):
+        print(f"== synthesize --minimum {i + 1}: " + settings_line(t["settings"]))
+        print(f"{code_text(t['current'])}; least {t['resource']} with an algorithm "
+              f"({t['resource']} {t['low']}-{t['high']} stored; ?: some value below is unknown "
+              "or was not asked)")
+        from gather_verify.sweeps.minimum import format_table
+
+        for line in format_table(t["worlds"], t["schedulers"], t["cells"]):
+            print(line)
+        print()
+    if not found and not least:
         print(f"no sweep in {args.db}" + (f" of algorithm {only}" if only else ""))
     for group, tables in robust.items():
         print(f"== readings {group}: class x robustness")
@@ -107,4 +126,22 @@ def parse_workers(text: str) -> list[int]:
         out = []
     if not out or any(not 1 <= w <= 100_000 for w in out):
         raise InvalidInput(f"bad --workers-curve {text!r}: use worker counts like 1,2,4,8")
+    return out
+
+
+def stored_minimum(sweeps: list[tuple[dict[str, Any], list[dict[str, Any]]]]
+                   ) -> list[dict[str, Any]]:
+    """The tables of the ``synthesize --minimum`` sweeps
+    (:func:`~gather_verify.sweeps.minimum.stored_tables`), each with ``least`` (the cells as
+    JSON rows) and ``current``: whether gather-verify's source now is the one behind its rows
+    (its ``gather_verify`` fingerprint)."""
+    from gather_verify.fingerprint import own_digest
+    from gather_verify.sweeps.minimum import stored_tables
+
+    out = []
+    for t in stored_tables(sweeps):
+        t["current"] = t["settings"].get("gather_verify") == own_digest()
+        t["least"] = [{"world": w, "scheduler": sc, "least": t["cells"][w, sc]}
+                      for w in t["worlds"] for sc in t["schedulers"] if (w, sc) in t["cells"]]
+        out.append(t)
     return out

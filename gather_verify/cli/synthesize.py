@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
 import time
 from typing import Any
@@ -53,10 +54,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--visibility", type=bounded_int(-10**6, 10**6), default=None,
                    metavar="HOPS", help="robots see only the nodes within this many hops")
     p.add_argument("--lights", default=None, metavar="K[:internal]",
-                   help="luminous robots with K colours, all starting at 0")
+                   help="luminous robots with K colours, all starting at 0; with --minimum, "
+                        "a range A-B asks the least number of colours")
     p.add_argument("--colours", default=None, metavar="C ...",
                    help="with lights and one configuration: each robot's initial colour "
-                        "(default 0)")
+                        "(default 0); with --minimum --lights A-B, also 'some': from any "
+                        "initial colouring")
     p.add_argument("--witness", default="synthesized.py", metavar="FILE.py",
                    help="where exists writes the algorithm (default synthesized.py)")
     p.add_argument("--certificate", default="synthesized.cert.json", metavar="FILE",
@@ -72,8 +75,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="nodes of the certificate's decision tree")
     p.add_argument("--minimum", action="store_true",
                    help="the least number of robots with an algorithm: --robots A-B (counts), "
-                        "--world a size or a range of rings (ring:4-8), --scheduler a comma "
-                        "list; one row per answer in the results store (--db), resumed")
+                        "or of colours: --lights A-B; --world a size or a range of rings "
+                        "(ring:4-8), --scheduler a comma list; one row per answer in the "
+                        "results store (--db), resumed")
     p.add_argument("--db", default="gather-verify-results.sqlite",
                    help="with --minimum: the results database (as sweep's)")
     p.add_argument("--out", default=None, metavar="DIR",
@@ -262,28 +266,62 @@ def _counts(text: str) -> range:
     return range(a, b + 1)
 
 
+def _colour_range(text: str | None) -> tuple[range, str] | None:
+    """``--lights A-B`` (or ``A-B:internal``) with ``--minimum``: the numbers of colours to
+    ask, and the variant's suffix; None when ``--lights`` is not a range (the least number
+    of robots is asked)."""
+    if text is None:
+        return None
+    count, colon, variant = text.strip().partition(":")
+    low, dash, high = count.partition("-")
+    if not dash:
+        return None
+    try:
+        a, b = int(low, 10), int(high, 10)
+    except ValueError:
+        raise UsageError(f"--lights {text!r}: with --minimum, a number of colours or a range "
+                         "A-B (A-B:internal)") from None
+    if a < 1:
+        raise UsageError(f"--lights {text!r}: at least 1 colour (1 is no lights)")
+    if a > b:
+        raise UsageError(f"--lights {text!r}: the range of colours is empty (A <= B)")
+    if b > 64:
+        raise UsageError(f"--lights {text!r}: at most 64 colours")
+    return range(a, b + 1), colon + variant
+
+
 def _minimum(args: argparse.Namespace) -> int:
     """``--minimum``: per world and scheduler, synthesize for k = A, A+1, ... robots (every
-    initial configuration of k) up to the first ``exists``; each answer is a row of the
-    results store keyed by the settings and gather-verify's own fingerprint, so a rerun
-    resumes and an edited verifier computes again. On the paper's world (``--world grid``)
-    the configurations of k robots are those of ``--box`` (:func:`_plane_least`)."""
+    initial configuration of k), or with ``--lights A-B`` for K = A, A+1, ... colours (the
+    robots of ``--robots``), up to the first ``exists``; each answer is a row of the results
+    store keyed by the settings and gather-verify's own fingerprint, so a rerun resumes and
+    an edited verifier computes again. On the paper's world (``--world grid``) the
+    configurations of k robots are those of ``--box`` (:func:`_plane_least`)."""
     from pathlib import Path
 
     from gather_verify.fingerprint import own_digest
+    from gather_verify.sweeps.minimum import format_table, least_cell
     from gather_verify.sweeps.store import Store
     from gather_verify.worlds import PLANE, entry_of
     from schedulers import get_scheduler
 
-    counts = _counts(args.robots)
+    colours = _colour_range(args.lights)
+    values = _counts(args.robots) if colours is None else colours[0]
+    what = "robots" if colours is None else "colours"
     schedulers = [x.strip() for x in args.scheduler.split(",") if x.strip()]
     for name in schedulers:
         get_scheduler(name)
     solve: Any
     if entry_of(args.world) == PLANE:
+        if colours is not None:
+            raise UsageError("--minimum --lights A-B: the least number of colours is asked on "
+                             "the finite worlds only (synthesis on Z² has no lights)")
         worlds, solve, more = _plane_least(args, schedulers)
+    elif colours is not None:
+        worlds, solve, more = _colours_least(args, colours, schedulers)
+        robot_count = more.pop("n")
     else:
-        worlds, solve = _finite_least(args, counts, schedulers), _finite_one
+        worlds, solve = _finite_least(args, values, schedulers), _finite_one
         more = {}
     out = Path(args.out) if args.out else Path(args.db).resolve().parent / "synthesis"
     out.mkdir(parents=True, exist_ok=True)
@@ -304,15 +342,16 @@ def _minimum(args: argparse.Namespace) -> int:
                 }
                 sweep = store.sweep_id(settings)
                 stored = {r["key"]: r for r in store.results(sweep)}
-                cell: str | None = None
-                below: list[int] = []
-                for k in counts:
-                    key = f"k={k}"
+                answers: list[tuple[int, str]] = []
+                for k in values:
+                    key = f"k={k}" if colours is None else f"K={k}"
                     row = stored.get(key)
                     if row is None:
                         started = time.perf_counter()
+                        # the sweep's id: another question's files never take these names
                         stem = out / (world.replace(':', '-').replace('/', '_').replace(' ', '-')
-                                      + f"-{sched}-k{k}")
+                                      + f"-{sched}-" + (f"k{k}" if colours is None else f"K{k}")
+                                      + f"-s{sweep}")
                         got = solve(args, world, sched, k, str(stem))
                         if got is None:  # more robots than nodes
                             break
@@ -320,23 +359,21 @@ def _minimum(args: argparse.Namespace) -> int:
                             print(f"internal error: {got}", file=sys.stderr)
                             return EXIT_BUG
                         answer, limit, states, candidates, files = got
-                        row = {"key": key, "index": k, "class": world,
-                               "verdict": answer, "reason": limit, "n": k,
+                        # the world is the sweep's (its settings), not a class of the row
+                        row = {"key": key, "index": k, "class": None,
+                               "verdict": answer, "reason": limit,
+                               "n": k if colours is None else robot_count,
                                "states": states, "transitions": candidates,
                                "trace": files, "seconds": time.perf_counter() - started}
                         store.add(sweep, [dict(row)])  # (the store encodes its copy)
-                    rows_out.append({"world": world, "scheduler": sched, "robots": k,
+                    rows_out.append({"world": world, "scheduler": sched, what: k,
                                      "answer": row["verdict"], "limit": row["reason"],
                                      "files": row["trace"]})
+                    answers.append((k, row["verdict"]))
                     if row["verdict"] == "exists":
-                        cell = f"{k}" + ("?" if below else "")
                         break
-                    if row["verdict"] == "unknown":
-                        below.append(k)
-                if cell is None:
-                    cell = f">{counts[-1]}" + ("?" if below else "")
-                unknown = unknown or bool(below)
-                table[world, sched] = cell
+                table[world, sched] = least_cell(answers)
+                unknown = unknown or "?" in table[world, sched]
     except KeyboardInterrupt:
         print("interrupted; run the same command again (every answer stored is kept, and it "
               "resumes)", file=sys.stderr)
@@ -344,20 +381,22 @@ def _minimum(args: argparse.Namespace) -> int:
     finally:
         store.close()
     if args.json:
-        print_json({"minimum": [{"world": w, "scheduler": sc, "least": table[w, sc]}
+        print_json({"resource": what,
+                    "minimum": [{"world": w, "scheduler": sc, "least": table[w, sc]}
                                 for w in worlds for sc in schedulers], "rows": rows_out})
     else:
-        print(f"least robots with an algorithm  task {args.task or 'default'}  detection "
+        print(f"least {what} with an algorithm  task {args.task or 'default'}  detection "
               f"{args.multiplicity}  frames {args.frames}"
               + ("" if args.visibility is None else f"  visibility {args.visibility}")
-              + ("" if args.lights is None else f"  lights {args.lights}")
+              + ("" if args.lights is None or colours is not None else f"  lights {args.lights}")
+              + ("" if colours is None else f"  robots {args.robots.strip()}  initial colours "
+                 f"{more['colours'] or '0'}" + (f"  lights K{colours[1]}" if colours[1] else ""))
               + ("" if args.box is None else f"  meeting {args.meeting}  select {args.select}"
                  + (f"  classes {args.classes}" if args.classes else ""))
-              + f"  (robots {counts[0]}-{counts[-1]}; ?: some count below is unknown)")
-        width = max(len(w) for w in worlds)
-        print(" " * width + "  " + "  ".join(f"{sc:>11}" for sc in schedulers))
-        for w in worlds:
-            print(f"{w:<{width}}  " + "  ".join(f"{table[w, sc]:>11}" for sc in schedulers))
+              + f"  ({what} {values[0]}-{values[-1]}; ?: some "
+              + ("count" if colours is None else "number of colours") + " below is unknown)")
+        for line in format_table(worlds, schedulers, table):
+            print(line)
     return EXIT_INCOMPLETE if unknown else EXIT_OK
 
 
@@ -367,6 +406,9 @@ def _finite_least(args: argparse.Namespace, counts: range, schedulers: list[str]
     from gather_verify.synthesis.views import make_instance
     from gather_verify.worlds import world_specs
 
+    if args.colours is not None:
+        raise UsageError("--colours with --minimum over robots: every initial configuration of "
+                         "k robots starts at colour 0 (--colours goes with --lights A-B)")
     worlds = world_specs(args.world)
     for world in worlds:
         make_instance(world, str(min(counts[0], 3)), args.meeting, schedulers[0], args.task,
@@ -382,20 +424,39 @@ def _finite_one(args: argparse.Namespace, world: str, sched: str, k: int,
                 stem: str) -> Answer | str | None:
     """``synthesize`` for every initial configuration of ``k`` robots on a finite world
     (None: more robots than nodes; a string: a fault of ours, to report)."""
-    from gather_verify.synthesis.certificate import write_certificate
-    from gather_verify.synthesis.search import certificate_stats, synthesize
-    from gather_verify.synthesis.views import Views, make_instance
-    from gather_verify.synthesis.witness import check_witness, write_witness
+    from gather_verify.synthesis.views import make_instance
 
     try:
         inst = make_instance(world, str(k), args.meeting, sched, args.task, args.multiplicity,
                              args.frames, args.visibility, args.lights)
     except InvalidInput:  # more robots than nodes
         return None
+    got = _finite_search(args, inst, stem)
+    if isinstance(got, str):
+        return got
+    answer, limit, states, candidates, files = got
+    if answer == "none":  # one certificate, as it has always been named
+        files = {"certificate": files["certificates"][0]}
+    return answer, limit, states, candidates, files
+
+
+def _finite_search(args: argparse.Namespace, inst: Any, stem: str) -> Answer | str:
+    """One search of ``--minimum`` on a finite world: exists with the witness ``stem.py``
+    that the checker verifies, none with the certificate ``stem.cert.json`` that ``--verify``
+    accepts (both re-checked here), or unknown; a string: a fault of ours, to report."""
+    from gather_verify.synthesis.certificate import (
+        CertificateError,
+        verify_certificate,
+        write_certificate,
+    )
+    from gather_verify.synthesis.search import certificate_stats, synthesize
+    from gather_verify.synthesis.views import Views
+    from gather_verify.synthesis.witness import check_witness, write_witness
+
     views = Views(inst)
     res = synthesize(inst, max_seconds=args.max_seconds, max_candidates=args.max_candidates,
                      max_states=args.max_states, max_tree=args.max_tree, views=views)
-    files: dict[str, str] = {}
+    files: dict[str, Any] = {}
     if res.answer == "exists":
         spec = write_witness(f"{stem}.py", inst, views, res.table)
         verdicts = {r["verdict"] for r in check_witness(spec, inst, args.max_seconds)}
@@ -404,10 +465,105 @@ def _finite_one(args: argparse.Namespace, world: str, sched: str, k: int,
                     "of gather-verify's synthesis, please report it")
         files["witness"] = spec
     elif res.answer == "none":
-        write_certificate(f"{stem}.cert.json", inst, views, res.counterexamples, res.literals,
-                          res.tree, certificate_stats(res))
-        files["certificate"] = f"{stem}.cert.json"
+        path = f"{stem}.cert.json"
+        write_certificate(path, inst, views, res.counterexamples, res.literals, res.tree,
+                          certificate_stats(res))
+        try:
+            verify_certificate(path)
+        except CertificateError as error:
+            return (f"the certificate {path} just written does not re-check ({error}): this "
+                    "is a bug of gather-verify's synthesis, please report it")
+        files["certificates"] = [path]
     return res.answer, res.limit, res.states, res.candidates, files
+
+
+def _colours_least(args: argparse.Namespace, colours: tuple[range, str],
+                   schedulers: list[str]) -> tuple[list[str], Any, dict[str, Any]]:
+    """``--minimum --lights A-B`` on the finite worlds: the robots of ``--robots`` (one
+    configuration, or a count: every class of that many), their initial colours from
+    ``--colours`` (one colouring, all 0 by default, or ``some``: any colouring). Every
+    world and number of colours is checked now, so that bad input fails before any work.
+    Returns the worlds, the solver of one number of colours and the settings that key the
+    stored rows."""
+    from gather_verify.synthesis.views import make_instance
+    from gather_verify.worlds import world_specs
+
+    values, variant = colours
+    robots = args.robots.strip()
+    if re.fullmatch(r"\d+-\d+", robots):
+        raise UsageError(f"--robots {robots!r} with --lights {args.lights}: --minimum asks the "
+                         "least of one resource, robots (--robots A-B) or colours (--lights "
+                         "A-B), not both")
+    some = args.colours is not None and args.colours.strip() == "some"
+    if some and (robots.isdigit() and " " not in robots):
+        raise UsageError("--colours some goes with one configuration (--robots \"0 1\"), not "
+                         "a count")
+    if args.colours is not None and not some:
+        try:
+            most = max((int(c, 10) for c in args.colours.split()), default=-1)
+        except ValueError:
+            most = -1  # make_instance says what is wrong
+        if most >= values[0]:
+            raise UsageError(f"--colours {args.colours.strip()!r} needs more colours than "
+                             f"{values[0]}: start --lights at {most + 1} or more, or ask "
+                             "--colours some")
+    worlds = world_specs(args.world)
+    for world in worlds:
+        for k in values:
+            inst = make_instance(world, robots, args.meeting, schedulers[0], args.task,
+                                 args.multiplicity, args.frames, args.visibility,
+                                 f"{k}{variant}", None if some else args.colours)
+    more = {"minimum": "colours", "robots": robots, "lights": f"K{variant}",
+            "colours": args.colours.strip() if args.colours is not None else None,
+            "n": len(inst.configurations[0][0])}
+    return worlds, _colours_one, more
+
+
+def _colours_one(args: argparse.Namespace, world: str, sched: str, k: int,
+                 stem: str) -> Answer | str:
+    """Is there an algorithm with ``k`` colours for the robots of ``--robots``? With one
+    colouring (``--colours``, or all 0), the search's answer. With ``--colours some``, each
+    initial colouring in turn (all of them, none left out by a symmetry): exists as soon as
+    one has an algorithm (the witness is for that colouring), none when every one is none
+    (a certificate each), else unknown. A string: a fault of ours, to report."""
+    from itertools import product
+
+    from gather_verify.synthesis.views import make_instance
+
+    robots = args.robots.strip()
+    variant = args.lights.partition(":")[1] + args.lights.partition(":")[2]
+    lights = f"{k}{variant}"
+    some = args.colours is not None and args.colours.strip() == "some"
+    if some:
+        n = len(robots.split())
+        colourings: list[str | None] = [" ".join(map(str, c))
+                                        for c in product(range(k), repeat=n)]
+    else:
+        colourings = [args.colours]
+    certificates: list[str] = []
+    unknown: str | None = None
+    states = candidates = 0
+    for colouring in colourings:
+        inst = make_instance(world, robots, args.meeting, sched, args.task, args.multiplicity,
+                             args.frames, args.visibility, lights, colouring)
+        here = stem + ("" if not some or colouring is None else
+                       "-c" + "-".join(colouring.split()))
+        got = _finite_search(args, inst, here)
+        if isinstance(got, str):
+            return got
+        answer, limit, s, c, files = got
+        states, candidates = states + s, candidates + c
+        if answer == "exists":
+            if some:  # and the colourings before it, each none
+                files.update(initial_colours=colouring, certificates=certificates)
+            return "exists", None, states, candidates, files
+        if answer == "none":
+            certificates += files["certificates"]
+        elif unknown is None:
+            unknown = limit if not some else f"{limit} (initial colours {colouring})"
+    if unknown is not None:
+        return "unknown", unknown, states, candidates, {"certificates": certificates}
+    return "none", None, states, candidates, {"certificates": certificates}
 
 
 def _plane_least(args: argparse.Namespace, schedulers: list[str]

@@ -282,8 +282,9 @@ class Store:
         cursor = self.db.execute(
             'SELECT r.sweep, r."index", r.meeting_nodes, t.seconds FROM results r JOIN timings t '
             "ON t.sweep = r.sweep AND t.key = r.key")
-        return [{"sweep": sweep, "index": index, "meeting_nodes": json.loads(m), "seconds": sec}
-                for sweep, index, m, sec in cursor]
+        return [{"sweep": sweep, "index": index,
+                 "meeting_nodes": None if m is None else json.loads(m), "seconds": sec}
+                for sweep, index, m, sec in cursor]  # (synthesize --minimum's rows: NULL)
 
     def totals(self, sweep: int) -> list[tuple[Any, ...]]:
         """A sweep's rows counted for a summary, no row read: ``(class, verdict, property,
