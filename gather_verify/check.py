@@ -282,6 +282,20 @@ def _witnesses(e: Exploration, configuration: Configuration, algorithm: Algorith
     return traces
 
 
+def _leave_out(name: str, why: str, where: str, wanted: list[str],
+               properties: Sequence[str] | None, not_applicable: dict[str, str],
+               reason: str | None = None) -> None:
+    """Leave the property ``name`` out of ``wanted`` (when in it): it does not apply, because
+    ``why`` (``where``: under which option). Asked for by name (``properties``): InvalidInput;
+    else recorded in ``not_applicable`` with ``reason`` (by default ``why``)."""
+    if name not in wanted:
+        return
+    if properties:
+        raise InvalidInput(f"{name} does not apply{where}: {why}")
+    wanted.remove(name)
+    not_applicable[name] = why if reason is None else reason
+
+
 def run_check(
     configuration: Configuration,
     *,
@@ -326,9 +340,11 @@ def run_check(
     ``configuration.robots`` (sorted: :func:`sorted_colours` reorders colours given as the
     robots were written). The bulk engine runs them
     (:mod:`~gather_verify.engine.lit_bulk`; the report's ``engine`` says which ran, and
-    ``engine_fallback`` why ``auto`` ran the reference); ``no-ungatherable`` does not apply for K > 1 (U is
-    where oblivious robots cannot gather: robots on U's nodes with different colours are no
-    longer symmetric, so entering U is no fault of a luminous algorithm in itself).
+    ``engine_fallback`` why ``auto`` ran the reference).
+
+    A property outside the scope a paper registered for it (:func:`gather_verify.theory.scope`:
+    the frames, or oblivious robots only, with K > 1 colours) is left out, its reason under
+    ``not_applicable``, or refused (InvalidInput) when ``properties`` names it.
 
     On that last search, finished or not, ``move-bound`` fails as soon as its stored graph
     holds an execution with more than ``c * D * n`` moves (the one with the fewest events,
@@ -358,32 +374,24 @@ def run_check(
                            f"per robot in 0..{(light.colours if light else 1) - 1}")
     lit: dict[str, Any] = {} if light is None else {
         "lights": light, "colours": None if colours is None else tuple(colours)}
-    if light is not None and light.colours > 1 and "no-ungatherable" in wanted:
-        why = ("U (Theorem 1) is where oblivious robots cannot gather: robots on its nodes "
-               "with different colours are not symmetric, so a luminous algorithm may pass "
-               "through it")
-        if properties:
-            raise InvalidInput(f"no-ungatherable does not apply with --lights {light}: {why}")
-        wanted.remove("no-ungatherable")
-        not_applicable["no-ungatherable"] = why
+    scopes = {p: s for p in wanted if (s := theory.scope_of(p)) is not None}
+    if light is not None:  # a paper's property defined for oblivious robots only
+        for name, s in scopes.items():
+            if (why := s.with_colours(light.colours)) is not None:
+                _leave_out(name, why, f" with --lights {light}", wanted, properties,
+                           not_applicable)
     if not getattr(algo, "plane", True):
         raise InvalidInput(f"algorithm {algo.name!r} is written for finite worlds: give "
                            "--world ring:N (docs/worlds.md)")
     # an algorithm with no target has nothing to keep
-    if "target-invariance" in wanted and getattr(algo, "target", None) is None:
-        why = (f"the algorithm {algo.name!r} exposes no target(): there is no target "
-               "meeting node to keep")
-        if properties:
-            raise InvalidInput(f"target-invariance does not apply: {why}")
-        wanted.remove("target-invariance")
-        not_applicable["target-invariance"] = why
-    if frames != "all" and "no-ungatherable" in wanted:  # U is Theorem 1's, for disoriented
-        if properties:  # robots: a common compass or chirality may gather there
-            raise InvalidInput(f"no-ungatherable does not apply under --frames {frames}: U "
-                               "(Theorem 1) is for robots with no common orientation")
-        wanted.remove("no-ungatherable")
-        not_applicable["no-ungatherable"] = (f"U (Theorem 1) is for robots with no common "
-                                             f"orientation, not --frames {frames}")
+    if getattr(algo, "target", None) is None:
+        _leave_out("target-invariance", f"the algorithm {algo.name!r} exposes no target(): "
+                   "there is no target meeting node to keep", "", wanted, properties,
+                   not_applicable)
+    for name, s in scopes.items():  # a paper's property defined under some frames only
+        if (why := s.under_frames(frames)) is not None:
+            _leave_out(name, why, f" under --frames {frames}", wanted, properties,
+                       not_applicable, f"{why}, not --frames {frames}")
     fixed_margin = limits.pop("margin", None)
     lim = Limits(max_states=max_states, max_seconds=max_seconds,
                  max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),
