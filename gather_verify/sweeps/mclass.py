@@ -118,7 +118,8 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
     wanted = props.check_property_names(settings.properties or None)
     facts = {p: union.property_fact(p) for p in wanted}
     # a property outside the frames a paper gives it does not apply, as run_check says
-    wanted = [p for p in wanted if (s := scope_of(p)) is None or s.under_frames(settings.frames) is None]
+    wanted = [p for p in wanted
+              if (s := scope_of(p)) is None or s.under_frames(settings.frames) is None]
     undecided = [p for p in wanted if facts[p] is None]
     if undecided:  # a property of the user's: only its own search knows it
         return out.fall_back(members, f"property {undecided[0]} names no fact of the union graph")
