@@ -1,8 +1,9 @@
 """``run_check``: classify, explore, decide every requested property, build the trace; and
 ``check``, the Python API over it (defaults for every limit, a typed :class:`CheckReport`).
 
-The one entry point behind ``gather-verify check`` and the sweep; it returns
-the JSON-able report the CLI prints with ``--json``.
+The one entry point behind ``gather-verify check`` and the sweep; it builds a
+:class:`CheckReport` and returns it as the JSON-able dict the CLI prints with ``--json``
+(:meth:`CheckReport.to_json`); ``check`` returns the report itself.
 
 How reductions preserve each property: the search expands a concrete
 representative of each class and computes every fact on concrete states, so
@@ -27,7 +28,8 @@ import types
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
-from typing import Any
+from functools import wraps
+from typing import Any, ParamSpec
 
 from gather_verify import theory
 from gather_verify.algorithms.base import Algorithm, phase_of
@@ -282,7 +284,21 @@ def _witnesses(e: Exploration, configuration: Configuration, algorithm: Algorith
     return traces
 
 
-def run_check(
+def _leave_out(name: str, why: str, where: str, wanted: list[str],
+               properties: Sequence[str] | None, not_applicable: dict[str, str],
+               reason: str | None = None) -> None:
+    """Leave the property ``name`` out of ``wanted`` (when in it): it does not apply, because
+    ``why`` (``where``: under which option). Asked for by name (``properties``): InvalidInput;
+    else recorded in ``not_applicable`` with ``reason`` (by default ``why``)."""
+    if name not in wanted:
+        return
+    if properties:
+        raise InvalidInput(f"{name} does not apply{where}: {why}")
+    wanted.remove(name)
+    not_applicable[name] = why if reason is None else reason
+
+
+def _check_report(
     configuration: Configuration,
     *,
     algorithm: str | Algorithm,
@@ -303,8 +319,9 @@ def run_check(
     lights: str | None = None,
     colours: Sequence[int] | None = None,
     **limits: Any,
-) -> dict[str, Any]:
-    """Check ``algorithm`` from ``configuration``; the report as a JSON-able dict.
+) -> CheckReport:
+    """Check ``algorithm`` from ``configuration``; the report (:func:`run_check` returns it
+    as a JSON-able dict, :meth:`CheckReport.to_json`).
 
     Extra ``limits``: ``max_memory_mb`` and ``margin``. Without a ``margin`` the
     region grows by itself: a search stopped by the region that has found no violation
@@ -326,9 +343,11 @@ def run_check(
     ``configuration.robots`` (sorted: :func:`sorted_colours` reorders colours given as the
     robots were written). The bulk engine runs them
     (:mod:`~gather_verify.engine.lit_bulk`; the report's ``engine`` says which ran, and
-    ``engine_fallback`` why ``auto`` ran the reference); ``no-ungatherable`` does not apply for K > 1 (U is
-    where oblivious robots cannot gather: robots on U's nodes with different colours are no
-    longer symmetric, so entering U is no fault of a luminous algorithm in itself).
+    ``engine_fallback`` why ``auto`` ran the reference).
+
+    A property outside the scope a paper registered for it (:func:`gather_verify.theory.scope`:
+    the frames, or oblivious robots only, with K > 1 colours) is left out, its reason under
+    ``not_applicable``, or refused (InvalidInput) when ``properties`` names it.
 
     On that last search, finished or not, ``move-bound`` fails as soon as its stored graph
     holds an execution with more than ``c * D * n`` moves (the one with the fewest events,
@@ -358,32 +377,24 @@ def run_check(
                            f"per robot in 0..{(light.colours if light else 1) - 1}")
     lit: dict[str, Any] = {} if light is None else {
         "lights": light, "colours": None if colours is None else tuple(colours)}
-    if light is not None and light.colours > 1 and "no-ungatherable" in wanted:
-        why = ("U (Theorem 1) is where oblivious robots cannot gather: robots on its nodes "
-               "with different colours are not symmetric, so a luminous algorithm may pass "
-               "through it")
-        if properties:
-            raise InvalidInput(f"no-ungatherable does not apply with --lights {light}: {why}")
-        wanted.remove("no-ungatherable")
-        not_applicable["no-ungatherable"] = why
+    scopes = {p: s for p in wanted if (s := theory.scope_of(p)) is not None}
+    if light is not None:  # a paper's property defined for oblivious robots only
+        for name, s in scopes.items():
+            if (why := s.with_colours(light.colours)) is not None:
+                _leave_out(name, why, f" with --lights {light}", wanted, properties,
+                           not_applicable)
     if not getattr(algo, "plane", True):
         raise InvalidInput(f"algorithm {algo.name!r} is written for finite worlds: give "
                            "--world ring:N (docs/worlds.md)")
     # an algorithm with no target has nothing to keep
-    if "target-invariance" in wanted and getattr(algo, "target", None) is None:
-        why = (f"the algorithm {algo.name!r} exposes no target(): there is no target "
-               "meeting node to keep")
-        if properties:
-            raise InvalidInput(f"target-invariance does not apply: {why}")
-        wanted.remove("target-invariance")
-        not_applicable["target-invariance"] = why
-    if frames != "all" and "no-ungatherable" in wanted:  # U is Theorem 1's, for disoriented
-        if properties:  # robots: a common compass or chirality may gather there
-            raise InvalidInput(f"no-ungatherable does not apply under --frames {frames}: U "
-                               "(Theorem 1) is for robots with no common orientation")
-        wanted.remove("no-ungatherable")
-        not_applicable["no-ungatherable"] = (f"U (Theorem 1) is for robots with no common "
-                                             f"orientation, not --frames {frames}")
+    if getattr(algo, "target", None) is None:
+        _leave_out("target-invariance", f"the algorithm {algo.name!r} exposes no target(): "
+                   "there is no target meeting node to keep", "", wanted, properties,
+                   not_applicable)
+    for name, s in scopes.items():  # a paper's property defined under some frames only
+        if (why := s.under_frames(frames)) is not None:
+            _leave_out(name, why, f" under --frames {frames}", wanted, properties,
+                       not_applicable, f"{why}, not --frames {frames}")
     fixed_margin = limits.pop("margin", None)
     lim = Limits(max_states=max_states, max_seconds=max_seconds,
                  max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),
@@ -395,29 +406,24 @@ def run_check(
     class_name = theory.get_fact("class").of(configuration)
     why_not = None if force else theory.not_applicable(configuration, frames)
     n, D = configuration.n, configuration.D
-    report: dict[str, Any] = {
-        "class": class_name, "verdict": None, "property": None, "reason": None, "states": 0,
-        "transitions": 0, "max_moves": None, "max_moves_infinite": False, "D": D, "n": n,
-        "ratio": None, "bound": move_bound_c * D * n, "seconds": 0.0, "trace": None,
-        "cause": None,
-        "properties": {p: {"holds": None} for p in wanted},
-        "limits": {"max_states": max_states, "max_seconds": max_seconds,
-                   "max_memory_mb": lim.max_memory_mb, "margin": lim.margin,
-                   "margin_auto": fixed_margin is None, "keep_growing": keep_growing},
-        "algorithm": algorithm if isinstance(algorithm, str) else algorithm.name,
-        "scheduler": scheduler, "detection": detection, "frames": frames,
-        "reduction": reduction,
-        **({"not_applicable": not_applicable} if not_applicable else {}),
-        **({} if light is None else {
-            "lights": str(light), "colours": list(colours or (0,) * n),
-            "engine": "reference" if engine == "reference" else "bulk"}),
-    }
+    report = CheckReport(  # nothing decided yet: every return sets the verdict
+        verdict=INCOMPLETE, property=None, reason=None, class_=class_name, n=n, D=D, states=0,
+        transitions=0, max_moves=None, max_moves_infinite=False, ratio=None,
+        bound=move_bound_c * D * n, properties={p: PropertyResult(None) for p in wanted},
+        trace=None, algorithm=algorithm if isinstance(algorithm, str) else algorithm.name,
+        scheduler=scheduler, detection=detection, frames=frames, reduction=reduction,
+        limits={"max_states": max_states, "max_seconds": max_seconds,
+                "max_memory_mb": lim.max_memory_mb, "margin": lim.margin,
+                "margin_auto": fixed_margin is None, "keep_growing": keep_growing},
+        seconds=0.0, not_applicable=not_applicable or None,
+        lights=None if light is None else str(light),
+        colours=None if light is None else list(colours or (0,) * n),
+        engine=None if light is None else "reference" if engine == "reference" else "bulk")
     if why_not is not None:  # a precondition of the paper's theory (gather_verify.theory)
-        report.update(verdict=NOT_APPLICABLE, reason=why_not,
-                      seconds=time.perf_counter() - started)
-        return report
+        return replace(report, verdict=NOT_APPLICABLE, reason=why_not,
+                       seconds=time.perf_counter() - started)
     sched = get_scheduler(scheduler)  # resolved once: the engines take the objects
-    with _watchdog(report, wanted, started, max_seconds) as searched:
+    with _watchdog(max_seconds) as watch:
         # the edges are kept only for a graph property or the caller's use of the graph
         keep_graph = on_exploration is not None or any(
             get_property(p).kind == "graph" for p in wanted)
@@ -430,7 +436,7 @@ def run_check(
             e = explore(configuration, algo, sched, engine=engine, detection=detection,
                         frames=frames, reduction=reduction, properties=wanted, limits=lim,
                         memo=memo, graph=keep_graph, settle=not keep_going, **lit)
-            searched[:] = [e]
+            watch.searched[:] = [e]
             if keep_growing:
                 return e, None
             return e, _witnesses(e, configuration, algo, sched, engine, detection,
@@ -458,15 +464,14 @@ def run_check(
             traces = _witnesses(e, configuration, algo, sched, engine, detection, frames,
                                 lim, **lit)
         traces = _unfinished(e, traces)
-        report["limits"]["margin"] = lim.margin
+        report = replace(report, limits={**report.limits, "margin": lim.margin})
         if on_exploration is not None:
             on_exploration(e)
-        report.update(states=e.states, transitions=e.transitions, peak_rss_mb=round(e.peak_rss_mb, 1))
+        report = replace(report, states=e.states, transitions=e.transitions,
+                         peak_rss_mb=round(e.peak_rss_mb, 1))
         if light is not None:  # which engine ran the last search, and why not the bulk one
-            report["engine"] = e.engine
-            if e.engine_fallback is not None:
-                report["engine_fallback"] = e.engine_fallback
-        results = report["properties"]
+            report = replace(report, engine=e.engine, engine_fallback=e.engine_fallback)
+        results: dict[str, dict[str, Any]] = {p: {"holds": None} for p in wanted}
         for name, trace in traces.items():
             # the trace's reason: it names the nodes of the concrete execution shown
             results[name] = {"holds": False, "reason": trace["reason"]}
@@ -495,10 +500,10 @@ def run_check(
                 if lifted.stopped:
                     stopped = f"{lifted.stopped} (while lifting the reduced graph to check cycles)"
             if longest.max_moves is not None:
-                report["max_moves"] = longest.max_moves
-                report["ratio"] = longest.max_moves / (D * n) if D * n else None
+                report = replace(report, max_moves=longest.max_moves,
+                                 ratio=longest.max_moves / (D * n) if D * n else None)
             elif not lifted.stopped:
-                report["max_moves_infinite"] = True
+                report = replace(report, max_moves_infinite=True)
             if (longest.max_moves is not None and not longest.cyclic) or not lifted.stopped:
                 graph = GraphFacts(e, longest, lifted if cycles else None,
                                    D, n, move_bound_c)
@@ -535,8 +540,6 @@ def run_check(
                 results[prop.name]["reason"] = why
         drift = _drift(e, move_bound_c * D * n) if (
             e.stopped == "region" and keep_graph and light is None) else None
-        if drift is not None:
-            report["drift"] = drift
         for name, v in e.violations.items():  # always checked, so never requested: add them
             if get_property(name).pseudo:
                 results.setdefault(name, {"holds": False, "reason": v.reason})
@@ -546,47 +549,72 @@ def run_check(
             results[name]["cause"] = trace["cause"]
         failing = named_first([p.name for p in registered() if p.name in traces])
         verdict = combine(failing, stopped)
-        report["verdict"] = verdict
+        shown: dict[str, Any] | None = None  # the first failing property's trace
+        cause = reason = None
         if failing:
-            report["property"] = failing[0]
-            report["trace"] = traces[failing[0]]
+            shown = traces[failing[0]]
             if drift is not None:
-                report["trace"]["detail"]["drift"] = drift
-            report["reason"] = results[failing[0]]["reason"]
-            report["cause"] = report["trace"]["cause"]
+                shown["detail"]["drift"] = drift
+            reason, cause = results[failing[0]]["reason"], shown["cause"]
         elif verdict == INCOMPLETE:
-            report["reason"] = "drift" if drift is not None and stopped == "region" else stopped
-        report["seconds"] = time.perf_counter() - started
-        return report
-    return report  # stopped by the watchdog (INCOMPLETE, time)
+            reason = "drift" if drift is not None and stopped == "region" else stopped
+        return replace(report, verdict=verdict, property=failing[0] if failing else None,
+                       reason=reason, trace=shown, cause=cause, drift=drift,
+                       properties={p: PropertyResult.from_json(r) for p, r in results.items()},
+                       seconds=time.perf_counter() - started)
+    # stopped by the watchdog: INCOMPLETE, the states stored so far, no property decided
+    assert watch.overtime is not None
+    last = watch.searched[-1] if watch.searched else None
+    return replace(
+        report, verdict=INCOMPLETE, property=None, trace=None, cause=None, max_moves=None,
+        max_moves_infinite=False, ratio=None, drift=None,
+        reason=f"time (the watchdog stopped your code: still running {watch.overtime:g} s "
+               "into the check)",
+        states=max(PROGRESS.states, last.states if last else 0),
+        transitions=last.transitions if last else 0, peak_rss_mb=round(rss_mb(), 1),
+        properties={p: PropertyResult(None, "search stopped (time)") for p in wanted},
+        seconds=time.perf_counter() - started)
+
+
+P = ParamSpec("P")
+
+
+def _as_json(build: Callable[P, CheckReport]) -> Callable[P, dict[str, Any]]:
+    """``build`` answering its report as the JSON-able dict :meth:`CheckReport.to_json` writes."""
+    @wraps(build)
+    def as_json(*args: P.args, **kwargs: P.kwargs) -> dict[str, Any]:
+        return build(*args, **kwargs).to_json()
+    return as_json
+
+
+# the one entry point behind ``gather-verify check`` and the sweep: the report as a dict
+run_check = _as_json(_check_report)
+run_check.__name__ = run_check.__qualname__ = "run_check"
+
+
+@dataclass
+class _Watch:
+    """What :func:`_watchdog` saw: the last search that returned, and how many seconds into
+    the check the watchdog stopped the user's code (None: it did not)."""
+
+    searched: list[Exploration] = field(default_factory=list)
+    overtime: float | None = None
 
 
 @contextmanager
-def _watchdog(report: dict[str, Any], wanted: Sequence[str], started: float,
-              max_seconds: float) -> Iterator[list[Exploration]]:
+def _watchdog(max_seconds: float) -> Iterator[_Watch]:
     """The search and the decisions of :func:`run_check`, under a :func:`deadline` of
     its :func:`~gather_verify.watchdog.allowance` of ``max_seconds``: the engines read
     their clock first, and the alarm only stops the user's code that does not return
-    (:mod:`gather_verify.watchdog`). When it does, ``report`` becomes INCOMPLETE with reason
-    ``time``, the states stored so far, and no property decided; the block yields a list
-    that holds the last search that returned."""
-    searched: list[Exploration] = []
+    (:mod:`gather_verify.watchdog`). When it does, the block ends and the :class:`_Watch` it
+    yields says so (the caller's report becomes INCOMPLETE with reason ``time``)."""
+    watch = _Watch()
     PROGRESS.states = 0
     try:
         with deadline(allowance(max_seconds)):
-            yield searched
+            yield watch
     except Overtime as stopped:
-        last = searched[-1] if searched else None
-        report.update(
-            verdict=INCOMPLETE, property=None, trace=None, cause=None, max_moves=None,
-            max_moves_infinite=False, ratio=None,
-            reason=f"time (the watchdog stopped your code: still running {stopped.seconds:g} s "
-                   "into the check)",
-            states=max(PROGRESS.states, last.states if last else 0),
-            transitions=last.transitions if last else 0, peak_rss_mb=round(rss_mb(), 1),
-            properties={p: {"holds": None, "reason": "search stopped (time)"} for p in wanted},
-            seconds=time.perf_counter() - started)
-        report.pop("drift", None)
+        watch.overtime = stopped.seconds
 
 
 SETTLED = ("not looked for: the search stopped once every requested property had its "
@@ -686,13 +714,10 @@ class CheckReport:
             "scheduler": self.scheduler, "detection": self.detection, "frames": self.frames,
             "reduction": self.reduction,
         }
-        for key in ("not_applicable", "lights", "colours", "engine", "engine_fallback"):
+        for key in ("not_applicable", "lights", "colours", "engine", "peak_rss_mb",
+                    "engine_fallback", "drift"):  # in the order run_check adds them
             if getattr(self, key) is not None:
                 out[key] = getattr(self, key)
-        if self.peak_rss_mb is not None:
-            out["peak_rss_mb"] = self.peak_rss_mb
-        if self.drift is not None:
-            out["drift"] = self.drift
         return out
 
     @classmethod
@@ -745,13 +770,11 @@ def check(
     name = algorithm if isinstance(algorithm, str) else getattr(algorithm, "name", None)
     if not isinstance(name, str):
         raise InvalidInput("an algorithm object needs a name (a string attribute)")
-    report = run_check(configuration, algorithm=algorithm,
-                       scheduler=scheduler, detection=detection, frames=frames,
-                       properties=properties, reduction=reduction, max_states=max_states,
-                       max_seconds=max_seconds, move_bound_c=move_bound_c, force=force,
-                       keep_growing=keep_growing, **limits)
-    report["algorithm"] = name
-    return CheckReport.from_json(report)
+    return _check_report(configuration, algorithm=algorithm,
+                         scheduler=scheduler, detection=detection, frames=frames,
+                         properties=properties, reduction=reduction, max_states=max_states,
+                         max_seconds=max_seconds, move_bound_c=move_bound_c, force=force,
+                         keep_growing=keep_growing, **limits)
 
 
 class _CallableModule(types.ModuleType):

@@ -7,10 +7,16 @@ imported:
   UNCLASSIFIED) and ``in_U``, which the facts table, the properties, the ``class`` column
   of check and of the sweeps, the census and the viewer read;
 - its *precondition* (:func:`precondition`): why ``check`` answers NOT-APPLICABLE for an
-  initial configuration (the paper's: in U or UNCLASSIFIED, for disoriented robots).
+  initial configuration (the paper's: in U or UNCLASSIFIED, for disoriented robots), and
+  what the sweep table's legend says of those configurations;
+- the *scope* of a property whose meaning it defines (:func:`scope`): the frames and the
+  robots it applies to, and why not elsewhere (the paper's: ``no-ungatherable``, for
+  oblivious robots with no common orientation, as U is Theorem 1's); outside it check
+  leaves the property out with that reason.
 
-The generic layers look them up here (:func:`get_fact`, :func:`not_applicable`); the first
-lookup imports the packages named in :data:`THEORIES`, so nothing depends on import order.
+The generic layers look them up here (:func:`get_fact`, :func:`not_applicable`,
+:func:`scope_of`); the first lookup imports the packages named in :data:`THEORIES`, so
+nothing depends on import order.
 ``lint-imports`` forbids the generic layers to import ``gather_verify.paper``
 (``pyproject.toml``).
 
@@ -21,6 +27,10 @@ lookup imports the packages named in :data:`THEORIES`, so nothing depends on imp
 >>> not_applicable(c, "all")
 'initial configuration is UNCLASSIFIED: use the impossibility checks (or --force)'
 >>> not_applicable(c, "compass") is None  # U is about robots with no common orientation
+True
+>>> scope_of("no-ungatherable").under_frames("compass")
+'U (Theorem 1) is for robots with no common orientation'
+>>> scope_of("final") is None  # applies everywhere
 True
 """
 
@@ -64,10 +74,39 @@ class Precondition:
     """What a sweep counts the configurations that fail it under."""
     why_not: Callable[[Configuration, str], str | None]
     """``why_not(configuration, frames)``: why it does not apply (None: it applies)."""
+    legend: str = ""
+    """What the sweep table's legend says of the configurations that fail it (empty: nothing)."""
+
+
+@dataclass(frozen=True)
+class Scope:
+    """Where a property applies, as the paper that defines its meaning says: outside it,
+    check leaves the property out (``not_applicable``, with why) or refuses it when it is
+    asked for by name. A property with no registered scope applies everywhere."""
+
+    property: str
+    frames: tuple[str, ...] | None = None
+    """The frames it applies under (None: every one)."""
+    frames_why: str = ""
+    """Why it does not apply under the other frames."""
+    oblivious: bool = False
+    """True when it applies to oblivious robots only (no lights, or one colour)."""
+    lights_why: str = ""
+    """Why it does not apply to luminous robots with more than one colour."""
+
+    def under_frames(self, frames: str) -> str | None:
+        """Why it does not apply under ``frames`` (None: it does)."""
+        return None if self.frames is None or frames in self.frames else self.frames_why
+
+    def with_colours(self, colours: int) -> str | None:
+        """Why it does not apply to robots with lights of ``colours`` colours (None: it does;
+        one colour, seen by all, is the oblivious robot)."""
+        return self.lights_why if self.oblivious and colours > 1 else None
 
 
 _FACTS: dict[str, Fact] = {}
 _PRECONDITIONS: list[Precondition] = []
+_SCOPES: dict[str, Scope] = {}
 _loaded: list[str] = []
 
 
@@ -85,13 +124,30 @@ def fact(name: str, *, values: Iterable[Any] = (),
     return register
 
 
-def precondition(summary: str) -> Callable[[Callable[..., str | None]], Callable[..., str | None]]:
+def precondition(summary: str, *, legend: str = ""
+                 ) -> Callable[[Callable[..., str | None]], Callable[..., str | None]]:
     """Decorator: register the function as a precondition (checked in registration order)."""
     def register(why_not: Callable[..., str | None]) -> Callable[..., str | None]:
         _PRECONDITIONS[:] = [p for p in _PRECONDITIONS if _where(p.why_not) != _where(why_not)]
-        _PRECONDITIONS.append(Precondition(summary, why_not))
+        _PRECONDITIONS.append(Precondition(summary, why_not, legend))
         return why_not
     return register
+
+
+def scope(prop: str, *, frames: Iterable[str] | None = None, frames_why: str = "",
+          oblivious: bool = False, lights_why: str = "") -> Scope:
+    """Register where the property ``prop`` applies (:class:`Scope`; each restriction with
+    its reason). A property has one scope: the same again, as a reload of its module
+    registers it, is a no-op; another is a ValueError."""
+    if (frames is not None and not frames_why) or (oblivious and not lights_why):
+        raise ValueError(f"the scope of {prop!r}: say why it does not apply elsewhere")
+    new = Scope(prop, None if frames is None else tuple(frames), frames_why, oblivious,
+                lights_why)
+    known = _SCOPES.get(prop)
+    if known is not None and known != new:
+        raise ValueError(f"the scope of the property {prop!r} is registered already")
+    _SCOPES[prop] = new
+    return new
 
 
 def _where(function: Callable[..., Any]) -> tuple[str, str]:
@@ -114,6 +170,12 @@ def get_fact(name: str) -> Fact:
     if got is None:
         raise KeyError(f"no theory registers the fact {name!r} (registered: {', '.join(_FACTS)})")
     return got
+
+
+def scope_of(prop: str) -> Scope | None:
+    """The registered scope of the property ``prop`` (None: it applies everywhere)."""
+    _load()
+    return _SCOPES.get(prop)
 
 
 def preconditions() -> list[Precondition]:

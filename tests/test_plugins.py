@@ -319,6 +319,7 @@ def test_check_report_round_trips_run_check(algorithm: str, options: dict) -> No
 @pytest.mark.parametrize(("c", "algorithm", "options"), [
     (TWO, "broken-away", {"move_bound_c": 0.5}),  # move-bound's numbers, causes
     (TWO, "go-to-target", {"lights": "2", "colours": [1, 0]}),  # lights, not applicable
+    (TWO, "go-to-target", {"lights": "13"}),  # the engine that ran, and why not the bulk one
     (Configuration([(0, 0)], [(0, 1)], initial=True), "broken-wander",
      {"max_states": 100_000, "properties": ["final", "termination"]}),  # a drift, INCOMPLETE
     (TWO, "go-to-target", {"frames": "compass", "max_states": 40}),  # not applicable
@@ -331,6 +332,16 @@ def test_check_report_writes_run_checks_json_back_byte_for_byte(
     report's, text for text (what ``check --json`` prints)."""
     raw = run_check(c, algorithm=algorithm, scheduler="async", max_seconds=600, **options)
     assert json.dumps(gv.CheckReport.from_json(raw).to_json()) == json.dumps(raw)
+
+
+def test_check_answers_the_report_run_check_writes() -> None:
+    """``check`` and ``run_check`` build one typed report; ``run_check`` gives its JSON."""
+    typed = gv.check(TWO, algorithm="broken-away", scheduler="async", move_bound_c=0.5)
+    raw = run_check(TWO, algorithm="broken-away", scheduler="async", move_bound_c=0.5)
+    assert isinstance(typed, gv.CheckReport) and typed.failing == ["move-bound"]
+    timings = ("seconds", "peak_rss_mb")
+    assert json.dumps({**typed.to_json(), **dict.fromkeys(timings)}) == \
+        json.dumps({**raw, **dict.fromkeys(timings)})
 
 
 def test_check_report_fields_are_named_as_the_json_keys() -> None:

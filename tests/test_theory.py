@@ -11,6 +11,7 @@ import pytest
 
 from gather_verify import theory
 from gather_verify.check import run_check
+from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -80,3 +81,122 @@ def test_a_reload_of_the_paper_registers_it_again_once() -> None:
     importlib.reload(gather_verify.paper)
     assert len(theory.preconditions()) == count
     assert theory.get_fact("in_U").of(IN_U) is True
+
+
+# -- the scope of a paper's property, and the sweep table's legend ------------------------
+
+def test_the_paper_scopes_no_ungatherable_to_oblivious_disoriented_robots(monkeypatch) -> None:
+    """The paper's registration is what drops no-ungatherable under a compass: without it the
+    check would decide a property whose U means nothing there."""
+    r = run_check(YARD, algorithm="go-to-target", scheduler="fsync", frames="compass")
+    assert "no-ungatherable" not in r["properties"]
+    assert r["not_applicable"] == {"no-ungatherable": "U (Theorem 1) is for robots with no "
+                                   "common orientation, not --frames compass"}
+    with pytest.raises(InvalidInput, match="^no-ungatherable does not apply under --frames "
+                       "chirality: U \\(Theorem 1\\) is for robots with no common orientation$"):
+        run_check(YARD, algorithm="go-to-target", scheduler="fsync", frames="chirality",
+                  properties=["no-ungatherable"])
+    scope = theory.scope_of("no-ungatherable")
+    assert scope is not None and scope.with_colours(2) is not None and scope.with_colours(1) is None
+    monkeypatch.delitem(theory._SCOPES, "no-ungatherable")  # a paper that forgot it
+    r = run_check(YARD, algorithm="go-to-target", scheduler="fsync", frames="compass")
+    assert r["properties"]["no-ungatherable"] == {"holds": True} and "not_applicable" not in r
+
+
+@pytest.fixture
+def second_paper(monkeypatch):
+    """A second paper's property, ``stuck-free`` (``final`` under another name), that it
+    defines for robots with a common chirality or none (not a compass), and not for lights."""
+    from dataclasses import replace
+
+    from gather_verify.properties import registry
+    from gather_verify.properties.builtin import FINAL
+
+    theory.preconditions()  # the built-in theory first
+    monkeypatch.setattr(theory, "_SCOPES", dict(theory._SCOPES))
+    prop = registry.register(replace(FINAL, name="stuck-free"))
+    theory.scope("stuck-free", frames=("all", "chirality"), frames_why="a compass tells them apart",
+                 oblivious=True, lights_why="colours tell them apart")
+    yield prop
+    registry.unregister("stuck-free")
+
+
+def test_check_leaves_out_a_second_papers_property_where_it_says(second_paper) -> None:
+    r = run_check(YARD, algorithm="broken-stay", scheduler="fsync", frames="chirality")
+    assert r["properties"]["stuck-free"]["holds"] is False  # checked where it applies
+    r = run_check(YARD, algorithm="broken-stay", scheduler="fsync", frames="compass")
+    assert "stuck-free" not in r["properties"]
+    assert r["not_applicable"] == {
+        "no-ungatherable": "U (Theorem 1) is for robots with no common orientation, "
+                           "not --frames compass",
+        "stuck-free": "a compass tells them apart, not --frames compass"}
+    with pytest.raises(InvalidInput, match="^stuck-free does not apply under --frames compass: "
+                       "a compass tells them apart$"):
+        run_check(YARD, algorithm="broken-stay", scheduler="fsync", frames="compass",
+                  properties=["stuck-free"])
+    beacon = Configuration([(1, 1), (3, 2)], [(0, 0), (4, 0)], initial=True)
+    r = run_check(beacon, algorithm="beacon", scheduler="fsync", lights="2")
+    assert r["not_applicable"]["stuck-free"] == "colours tell them apart"
+    with pytest.raises(InvalidInput, match="^stuck-free does not apply with --lights 2: colours"):
+        run_check(beacon, algorithm="beacon", scheduler="fsync", lights="2",
+                  properties=["stuck-free"])
+    assert "stuck-free" in run_check(beacon, algorithm="beacon", scheduler="fsync",
+                                     lights="1")["properties"]
+
+
+def test_the_union_engine_leaves_it_out_as_check_does(second_paper) -> None:
+    """The sweep's union engine asks the same registry: its rows equal each configuration's
+    own check, and no row under a compass fails the property left out."""
+    from gather_verify.sweeps.census import enumerate_configurations
+    from gather_verify.sweeps.mclass import class_tasks, decide_class
+    from gather_verify.sweeps.sweep import SweepSettings, configuration_key, verify_one
+
+    for frames, fails in (("chirality", True), ("compass", False)):
+        s = SweepSettings(robots=2, meeting=1, box=(3, 3), algorithm="broken-stay",
+                          scheduler="async", frames=frames)
+        items = list(enumerate(enumerate_configurations(2, 1, 3, 3, frames)))
+        rows = [r for members in class_tasks(items, frames)
+                for r in decide_class(s, members, configuration_key).rows]
+        assert rows and any("final" in r["failing"] for r in rows)
+        assert any("stuck-free" in r["failing"] for r in rows) is fails
+        for r in rows:
+            own = verify_one(s, r["index"], items[r["index"]][1])
+            assert {**r, "seconds": 0} == {**own, "seconds": 0}
+
+
+def test_a_scope_is_registered_once_with_its_reasons(monkeypatch) -> None:
+    theory.preconditions()
+    monkeypatch.setattr(theory, "_SCOPES", dict(theory._SCOPES))
+    known = theory.scope_of("no-ungatherable")
+    assert known is not None
+    assert theory.scope("no-ungatherable", frames=known.frames, frames_why=known.frames_why,
+                        oblivious=True, lights_why=known.lights_why) == known  # a reload
+    with pytest.raises(ValueError, match="registered already"):
+        theory.scope("no-ungatherable", frames=("all",), frames_why="another reason")
+    with pytest.raises(ValueError, match="say why"):
+        theory.scope("x", frames=("all",))
+
+
+def test_the_sweep_tables_legend_is_the_preconditions(monkeypatch) -> None:
+    """The line under the sweep's class table names what each precondition's NOT-APPLICABLE
+    means, as its paper registered it; with none registered, only the ratio."""
+    from gather_verify.sweeps.sweep import format_summary
+
+    summary = {"total": 1, "classes": {"I13": 1}, "verdicts": {"I13": {"VERIFIED": 1}},
+               "max_ratio": {}, "failing_properties": {}, "slowest": []}
+
+    def legend() -> str:
+        lines: list[str] = []
+        format_summary(summary, lines.append)
+        return lines[4]
+
+    assert legend() == ("max ratio: the largest total moves / (D·n) of the class; "
+                        "NOT-APPLICABLE: in U or UNCLASSIFIED, where the impossibility checks "
+                        "apply (--force checks them)")
+    theory.preconditions()
+    monkeypatch.setattr(theory, "_PRECONDITIONS", [theory.Precondition(
+        "three robots", lambda c, frames: None, "NOT-APPLICABLE: three robots")])
+    assert legend() == ("max ratio: the largest total moves / (D·n) of the class; "
+                        "NOT-APPLICABLE: three robots")
+    monkeypatch.setattr(theory, "_PRECONDITIONS", [])
+    assert legend() == "max ratio: the largest total moves / (D·n) of the class"

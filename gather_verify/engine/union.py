@@ -115,9 +115,6 @@ DEFINED, FINAL, UNGATHERABLE, TARGET, TAINT, CYCLE, ASYMMETRIC = (1 << k for k i
 FACT_BITS = {"deadlock": FINAL, "in-u": UNGATHERABLE, "target-change": TARGET}
 """The state flag of each fact of :data:`~gather_verify.properties.base.UNION_FACTS` that a
 state or a transition has (the others, ``longest-path`` and ``acyclic``, are the graph's)."""
-ALL_FRAMES_ONLY = ("in-u",)
-"""Facts defined for robots with no common sense of direction only (U is Theorem 1's): a
-property that names one does not apply under other frames, as ``run_check`` says."""
 
 
 def property_fact(name: str) -> str | None:

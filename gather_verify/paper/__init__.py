@@ -8,9 +8,10 @@ Theorem 1's adversary, and what it registers for the generic layers.
 - :mod:`~gather_verify.paper.impossibility`: Theorem 1's adversary on U.
 
 Importing this package registers, in :mod:`gather_verify.theory`, the facts ``class`` and
-``in_U`` and the precondition of check (NOT-APPLICABLE in U or UNCLASSIFIED, for robots
-with no common orientation). The generic layers look them up there and never import this
-package (``lint-imports``).
+``in_U``, the precondition of check (NOT-APPLICABLE in U or UNCLASSIFIED, for robots
+with no common orientation) and the scope of ``no-ungatherable`` (U is Theorem 1's: for
+oblivious robots with no common orientation). The generic layers look them up there and
+never import this package (``lint-imports``).
 
 >>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
@@ -46,7 +47,9 @@ def in_u(c: Configuration, aut_m_all: Sequence[Automorphism] | None = None) -> b
     return classification(c, aut_m_all).in_U
 
 
-@theory.precondition("in U or unclassified: the impossibility checks apply")
+@theory.precondition("in U or unclassified: the impossibility checks apply",
+                     legend="NOT-APPLICABLE: in U or UNCLASSIFIED, where the impossibility "
+                            "checks apply (--force checks them)")
 def not_applicable(c: Configuration, frames: str) -> str | None:
     """Why check does not apply to ``c``: in U or UNCLASSIFIED, for robots with no common
     orientation (all 8 frames); with a common compass or chirality the paper's U and
@@ -57,3 +60,16 @@ def not_applicable(c: Configuration, frames: str) -> str | None:
     if cls.in_U or cls.name == "UNCLASSIFIED":
         return f"initial configuration is {cls.name}: use the impossibility checks (or --force)"
     return None
+
+
+NO_UNGATHERABLE_SCOPE = theory.scope(
+    "no-ungatherable",
+    frames=("all",),
+    frames_why="U (Theorem 1) is for robots with no common orientation",
+    oblivious=True,
+    lights_why="U (Theorem 1) is where oblivious robots cannot gather: robots on its nodes "
+               "with different colours are not symmetric, so a luminous algorithm may pass "
+               "through it")
+"""Where ``no-ungatherable`` applies: U is Theorem 1's, where robots with no common
+orientation and no lights cannot gather; a common compass or chirality may gather there,
+and so may robots whose colours break U's symmetry."""

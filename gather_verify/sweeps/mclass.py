@@ -37,7 +37,7 @@ from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import Automorphism
 from gather_verify.sweeps.store import row
-from gather_verify.theory import failing, get_fact
+from gather_verify.theory import failing, get_fact, scope_of
 from gather_verify.watchdog import Overtime, allowance, deadline
 
 ENGINES = ("union", "per-config")
@@ -117,8 +117,9 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
         return out.fall_back(members, why_not)
     wanted = props.check_property_names(settings.properties or None)
     facts = {p: union.property_fact(p) for p in wanted}
-    if settings.frames != "all":  # U is Theorem 1's: as run_check, not applicable
-        wanted = [p for p in wanted if facts[p] not in union.ALL_FRAMES_ONLY]
+    # a property outside the frames a paper gives it does not apply, as run_check says
+    wanted = [p for p in wanted
+              if (s := scope_of(p)) is None or s.under_frames(settings.frames) is None]
     undecided = [p for p in wanted if facts[p] is None]
     if undecided:  # a property of the user's: only its own search knows it
         return out.fall_back(members, f"property {undecided[0]} names no fact of the union graph")

@@ -695,7 +695,7 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
     computed = summary.get("computed")
     write(f"{summary['total']} configurations" + ("" if computed is None else
           f" ({computed} computed now, {summary['total'] - computed} reused from the database)"))
-    from gather_verify.theory import get_fact
+    from gather_verify.theory import get_fact, preconditions
 
     worlds = any(k and name not in get_fact("class").values for name, k in summary["classes"].items())
     header = f"{'world' if worlds else 'class':<13}{'count':>7}" + "".join(f"{v:>16}" for v in VERDICTS) + f"{'max ratio':>11}"
@@ -708,9 +708,9 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
         ratio = summary["max_ratio"].get(name)
         write(f"{name:<13}{count:>7}" + "".join(f"{by.get(v, 0):>16}" for v in VERDICTS)
               + (f"{ratio:>11.2f}" if ratio is not None else f"{'-':>11}"))
-    if not worlds:
-        write("max ratio: the largest total moves / (D·n) of the class; NOT-APPLICABLE: in U "
-              "or UNCLASSIFIED, where the impossibility checks apply (--force checks them)")
+    if not worlds:  # and what each precondition's NOT-APPLICABLE means (gather_verify.theory)
+        write("; ".join(["max ratio: the largest total moves / (D·n) of the class",
+                         *(p.legend for p in preconditions() if p.legend)]))
     if summary["failing_properties"]:
         write("")
         write("failing properties (the first of each configuration, whose trace is stored; "
