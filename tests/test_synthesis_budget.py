@@ -89,7 +89,11 @@ def test_a_long_sat_call_on_a_finite_world_is_stopped_within_the_budget(
     assert search.synthesize(inst, max_seconds=60, views=Views(inst)).answer == "exists"
     with_a_hard_formula(monkeypatch)
     got = search.synthesize(inst, max_seconds=1.0, views=Views(inst))
-    assert (got.answer, got.limit) == ("unknown", "max-seconds (during the SAT solver's call)")
+    # the solver's slice or the watchdog's alarm, whichever comes first on a loaded machine:
+    # either way the search stops at the budget and says unknown with the limit
+    assert got.answer == "unknown"
+    assert got.limit in ("max-seconds (during the SAT solver's call)",
+                         "max-seconds (cut by the watchdog)")
 
 
 def _endless(*args: Any, **kwargs: Any) -> dict[str, Any]:
