@@ -528,7 +528,8 @@ def most_moves(e: Exploration, bound: float) -> Walk | None:
         return None
     expanded = len(e.offsets) - 1
     best = [-1] * e.states  # the most moves of an entry of this state kept so far
-    seeds = list(range(len(e.starts) if getattr(e, "starts", None) else 1))
+    starts = getattr(e, "starts", None)
+    seeds = list(range(len(starts) if starts else 1))
     for sid in seeds:
         best[sid] = 0
     state, moves, parent, weight = list(seeds), [0] * len(seeds), [-1] * len(seeds), \
