@@ -26,8 +26,10 @@ What changes is how:
 - the graph (successor ids, edge weights) is kept only when asked for
   (``graph=True``, what ``move-bound`` and ``termination`` need).
 
-This module is the loop: the limits, the properties evaluated on each chunk, the
-graph's columns and the stop. The explorer knows neither the algorithm nor the scheduler (witness events are
+This module is the loop (:func:`bulk_search`): the limits, the properties evaluated on each
+chunk, the graph's columns and the stop, for oblivious robots (:class:`Oblivious`) and
+luminous ones (:mod:`~gather_verify.engine.lit_bulk`) alike, each through its
+:class:`Face`. The explorer knows neither the algorithm nor the scheduler (witness events are
 asked of the scheduler's ``successors``, by their rank among the state's events):
 only a key that does not fit 64 bits, or more states than an ``int32`` id holds,
 make :func:`supports` say no and the caller uses the reference path.
@@ -42,7 +44,8 @@ make :func:`supports` say no and the caller uses the reference path.
 from __future__ import annotations
 
 import time
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
 from functools import partial
 from itertools import islice
 from typing import Any, cast
@@ -159,9 +162,6 @@ def explore_fast(
                        meeting_automorphisms(initial),
                        facts_memo(algo, detection, frames) if memo else None,
                        targets=any(p.kind == "transition" for p in selected(properties)))
-    canon = Canon(enc, n)
-    base = enc.base
-    reduced = bool(group or anonymity)  # successor keys through Canon
 
     seeds = seed_states(initial_state(initial.robots), turns)
     start_keys = np.array(list(map(state_key(enc, turns), seeds)), dtype=np.uint64)
@@ -173,7 +173,6 @@ def explore_fast(
                            lambda rows, idle: RowFacts.many(table, initial, rows, idle),
                            table.flag_codes)
     columns.states(0, init_row, np.ones(1, dtype=bool), checks.on_discovery)
-    on_chunk = checks.halting + checks.on_expansion
 
     max_states = min(limits.max_states, MAX_IDS)
     # columns reserved up front: untouched pages cost no memory, and nothing is copied
@@ -181,22 +180,188 @@ def explore_fast(
     index = KeyIndex(capacity=reserve)
     _, first_seeds = index.find_or_add(start_keys)
     seeds = [seeds[i] for i in first_seeds.tolist()]
-    parents = Growing(np.int32, reserve)
-    parents.extend(np.full(len(seeds), -1, dtype=np.int32))
+    face = Oblivious(enc, n, sched, turns, facts, bool(group or anonymity), table)
     # the graph's columns reserved too (untouched pages cost nothing): no copy as they grow,
     # so no transient second copy of the graph
-    edges = min(8 * reserve, 1 << 28) if graph else 1 << 16
+    searched = bulk_search(face, checks, columns, index, len(seeds), limits=limits,
+                           started=started, graph=graph, settle=settle, reserve=reserve,
+                           edges=min(8 * reserve, 1 << 28))
+    return Exploration(
+        initial=initial, algorithm=algo, scheduler_name=scheduler if isinstance(
+            scheduler, str) else sched.name, detection=detection,
+        frames=frames, anonymity=anonymity, symmetry=symmetry, encoding=enc,
+        **searched.fields(), violations=checks.violations,
+        seconds=time.perf_counter() - started, facts=facts,
+        vacuous=checks.vacuous, engine="bulk", turns=turns,
+        starts=None if turns is None else seeds)
+
+
+class Face:
+    """What the oblivious and the luminous bulk searches do differently around the one loop,
+    :func:`bulk_search`: how a chunk of keys is decoded and its configurations looked up,
+    how the scheduler's bulk face is asked for their events, and how the configurations the
+    transitions and the new states reach are found. A robot's code is ``cell * 5 + d``
+    without lights, ``(cell * 5 + d) * K + colour`` with them (the colour one more digit)."""
+
+    chunk = CHUNK
+    """States expanded per bulk step (fewer when their events are many)."""
+
+    def __init__(self, enc: Encoding, n: int, sched: Scheduler, turns: Any, facts: Any,
+                 reduced: bool):
+        self.enc, self.n, self.sched, self.turns, self.facts = enc, n, sched, turns, facts
+        self.canon = Canon(enc, n)
+        self.reduced = reduced  # successor keys through Canon
+        self.compiled = kernels.enabled()
+
+    def decode(self, keys: np.ndarray) -> tuple[np.ndarray, ...]:
+        """The chunk's keys, robot codes, cells (or None), configuration rows, whether every
+        robot is idle, and each robot's rank among its configuration's sorted robots."""
+        raise NotImplementedError
+
+    def no_actions(self, rows: np.ndarray) -> np.ndarray:
+        """Per state, whether the algorithm gives its configuration no actions."""
+        raise NotImplementedError
+
+    def events(self, codes: np.ndarray, rows: np.ndarray, rank: np.ndarray,
+               extra: np.ndarray | None) -> Any:
+        """The scheduler's bulk events of the states (``extra``: its own state of each)."""
+        raise NotImplementedError
+
+    def pair_after(self, rows: np.ndarray, cells: np.ndarray | None, rank: np.ndarray,
+                   src: np.ndarray, robot: np.ndarray, old: np.ndarray,
+                   new: np.ndarray) -> np.ndarray | None:
+        """The configuration row each one-robot transition reaches, when kept per pair
+        (:class:`~gather_verify.engine.bulk_step.PairRows`); None when not."""
+        return None
+
+    def after_rows(self, codes: np.ndarray, cells: np.ndarray | None, src: np.ndarray,
+                   robot: np.ndarray, new: np.ndarray, event: np.ndarray | None,
+                   succ_codes: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
+        """The configuration row each transition reaches, and the successors' codes (when
+        computed)."""
+        raise NotImplementedError
+
+    def rows_of(self, codes: np.ndarray) -> np.ndarray:
+        """The configuration rows of states given by their robot codes."""
+        raise NotImplementedError
+
+    def idle(self, codes: np.ndarray) -> np.ndarray:
+        """Per state, whether every robot is idle (no pending step)."""
+        raise NotImplementedError
+
+    def witness(self, keys: np.ndarray, src: np.ndarray,
+                succ_codes: np.ndarray | None) -> Callable[[int], tuple[Any, State]]:
+        """The event and successor of the ``i``-th transition of a bulk step, concretely."""
+        raise NotImplementedError
+
+
+class Oblivious(Face):
+    """:class:`Face` of oblivious robots: a :class:`FactsTable` of move masks."""
+
+    def __init__(self, enc: Encoding, n: int, sched: Scheduler, turns: Any, facts: Any,
+                 reduced: bool, table: FactsTable):
+        super().__init__(enc, n, sched, turns, facts, reduced)
+        self.table = table
+        self.pairs = PairRows(table) if self.compiled else None
+
+    def decode(self, keys: np.ndarray) -> tuple[np.ndarray, ...]:
+        step = decode_chunk(keys, self.table, self.compiled)
+        return step.keys, step.codes, step.cells, step.rows, step.idle, step.rank
+
+    def no_actions(self, rows: np.ndarray) -> np.ndarray:
+        return self.table.flags[rows, 0]
+
+    def events(self, codes: np.ndarray, rows: np.ndarray, rank: np.ndarray,
+               extra: np.ndarray | None) -> Any:
+        # robot i's move mask: the mask of its cell's position in the sorted row
+        frontier = self.enc.frontier(codes, move_masks(self.table, rows, rank,
+                                                       flat=self.compiled))
+        if extra is None:
+            return self.sched.bulk_successors(frontier, EVENTS)
+        return cast(Any, self.sched).bulk_successors(frontier, EVENTS, extra=extra)
+
+    def pair_after(self, rows: np.ndarray, cells: np.ndarray | None, rank: np.ndarray,
+                   src: np.ndarray, robot: np.ndarray, old: np.ndarray,
+                   new: np.ndarray) -> np.ndarray | None:
+        if self.pairs is None:
+            return None
+        return self.pairs.after(rows, cells, rank, src, robot, old, new)
+
+    def after_rows(self, codes: np.ndarray, cells: np.ndarray | None, src: np.ndarray,
+                   robot: np.ndarray, new: np.ndarray, event: np.ndarray | None,
+                   succ_codes: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
+        if succ_codes is None and event is not None:  # the compiled keys left the codes out
+            succ_codes = successor_codes(codes, src, robot, new, event)
+        if succ_codes is None:  # one change per event, no reduction: event c is change c
+            assert cells is not None
+            succ_cells = cells[src].copy()
+            succ_cells[np.arange(len(src)), robot] = new // 5
+        else:
+            succ_cells = succ_codes // 5
+        return self.rows_of_cells(succ_cells), succ_codes
+
+    def rows_of_cells(self, cells: np.ndarray) -> np.ndarray:
+        srt, keys = self.table.config_keys(cells)
+        return self.table.rows(keys, srt)
+
+    def rows_of(self, codes: np.ndarray) -> np.ndarray:
+        return self.rows_of_cells(codes // 5)
+
+    def idle(self, codes: np.ndarray) -> np.ndarray:
+        return np.all(codes % 5 == 0, axis=1)
+
+    def witness(self, keys: np.ndarray, src: np.ndarray,
+                succ_codes: np.ndarray | None) -> Callable[[int], tuple[Any, State]]:
+        return partial(_step, self.enc, self.sched, self.facts, self.n, keys, src, succ_codes,
+                       turns=self.turns)
+
+
+@dataclass
+class Searched:
+    """What :func:`bulk_search` found: the stored states' columns and graph, and why it
+    stopped (the fields of an :class:`~gather_verify.engine.explore.Exploration`)."""
+
+    index: KeyIndex
+    parents: Growing
+    offsets: Growing
+    targets: Growing
+    weights: Growing
+    transitions: int
+    changed_loops: int
+    stopped: Stop | str | None
+    peak: float
+
+    def fields(self) -> dict[str, Any]:
+        return {"keys": IntColumn(self.index.keys[:self.index.count]),
+                "parents": IntColumn(self.parents.array()),
+                "offsets": IntColumn(self.offsets.array()),
+                "targets": IntColumn(self.targets.array()),
+                "weights": IntColumn(self.weights.array()), "changed_loops": self.changed_loops,
+                "states": self.index.count, "transitions": self.transitions,
+                "stopped": self.stopped, "peak_rss_mb": self.peak}
+
+
+def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyIndex, seeds: int,
+                *, limits: Limits, started: float, graph: bool, settle: bool,
+                reserve: int = 1 << 16, edges: int = 1 << 16) -> Searched:
+    """The breadth-first search of both bulk engines, a chunk of states at a time, from the
+    ``seeds`` first keys of ``index``: the limits, the properties evaluated on each chunk,
+    the graph's columns (``reserve`` states and ``edges`` transitions reserved up front) and
+    the stop; ``face`` does what oblivious and luminous robots do differently."""
+    enc, n, turns = face.enc, face.n, face.turns
+    max_states = min(limits.max_states, MAX_IDS)
+    parents = Growing(np.int32, reserve)
+    parents.extend(np.full(seeds, -1, dtype=np.int32))
     offsets = Growing(np.int32, reserve if graph else 1 << 16)  # int64 past 2**31 edges (widen)
-    targets = Growing(np.int32, edges)
+    targets = Growing(np.int32, edges if graph else 1 << 16)
     weight_type = np.int8 if n <= 127 else np.int16  # a weight is at most n edges
-    weights = Growing(weight_type, edges)
+    weights = Growing(weight_type, edges if graph else 1 << 16)
+    on_chunk = checks.halting + checks.on_expansion
     transitions = changed_loops = 0
     stopped: Stop | str | None = None
-    compiled = kernels.enabled()
-    pair_rows = PairRows(table) if compiled else None
     peak = rss_mb()
     sid = 0
-    chunk = CHUNK
+    chunk = face.chunk
     PROGRESS.states = 1
     while sid < index.count and stopped is None:
         if time.perf_counter() - started > limits.max_seconds:
@@ -207,9 +372,7 @@ def explore_fast(
             stopped = Stop.MEMORY
             break
         hi = min(index.count, sid + chunk)
-        step = decode_chunk(index.keys[sid:hi].copy(), table, compiled)
-        K, codes, cells, rows, idle, rank = (step.keys, step.codes, step.cells, step.rows,
-                                             step.idle, step.rank)
+        K, codes, cells, rows, idle, rank = face.decode(index.keys[sid:hi].copy())
         # the last source state to expand: a halting property stops before the state it fails in
         limit_src = len(K)
         # the halting and the expansion properties, evaluated together on the whole chunk
@@ -217,24 +380,19 @@ def explore_fast(
         halt = columns.first_failure(checks.halting, failing[:, :len(checks.halting)])
         if halt is not None:
             limit_src = halt[0]
-        assert not table.flags[rows[:limit_src], 0].any(), \
-            "a state without move sets needs a halting property"
-        # robot i's move mask: the mask of its cell's position in the sorted row
-        masks = move_masks(table, rows, rank, flat=compiled)
-        frontier = enc.frontier(codes[:limit_src], masks[:limit_src])
-        if turns is None:
-            bulk = sched.bulk_successors(frontier, EVENTS)
-        else:  # with the scheduler's own state of each state
-            bulk = cast(Any, sched).bulk_successors(frontier, EVENTS,
-                                                    extra=turns.of_keys(K[:limit_src]))
+        assert not face.no_actions(rows[:limit_src]).any(), \
+            "a state without actions needs a halting property"
+        bulk = face.events(codes[:limit_src], rows[:limit_src], rank[:limit_src],
+                           None if turns is None else turns.of_keys(K[:limit_src]))
         if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
             hi = sid + bulk.states
-            K, codes, cells, rows = K[:bulk.states], codes[:bulk.states], cells[:bulk.states], \
-                rows[:bulk.states]
+            K, codes, rows = K[:bulk.states], codes[:bulk.states], rows[:bulk.states]
+            if cells is not None:
+                cells = cells[:bulk.states]
             limit_src = bulk.states
             chunk = max(1, bulk.states)
-        elif chunk < CHUNK:
-            chunk = min(CHUNK, 2 * chunk)
+        elif chunk < face.chunk:
+            chunk = min(face.chunk, 2 * chunk)
         src, weight = bulk.source, bulk.weight
         robot, new, event = bulk.robot, bulk.code, bulk.event  # the changes
         single = event is None  # one change per event (event c is change c)
@@ -254,8 +412,8 @@ def explore_fast(
         robot, new = robot[:changes], new[:changes]
         if not single:
             event = event[:changes]
-        succ, old, succ_codes = successor_keys(K, codes, src, robot, new, event, canon, reduced,
-                                               compiled)
+        succ, old, succ_codes = successor_keys(K, codes, src, robot, new, event, face.canon,
+                                               face.reduced, face.compiled)
         if turns is not None:
             succ = with_turns(succ, bulk.extra, turns)
         # new states get the next ids in order of first occurrence: the BFS order
@@ -288,34 +446,19 @@ def explore_fast(
                        rows, idle)
         open_transition = checks.open(checks.on_transition) and cut
         open_discovery = checks.open(checks.on_discovery) and len(fresh_keys)
-        after = None
-        if single and pair_rows is not None and (open_transition or open_discovery):
+        paired = None
+        if single and (open_transition or open_discovery):
             # the configuration each transition reaches, once per (row, cell, destination)
-            after = pair_rows.after(rows, cells, rank, src, robot, old, new)
+            paired = face.pair_after(rows, cells, rank, src, robot, old, new)
         if open_transition:
-            if succ_codes is None and not single:  # the compiled keys left the codes out
-                succ_codes = successor_codes(codes, src, robot, new, event)
-            if after is None:
-                # the configuration each transition reaches, from the scheduler's changes
-                if succ_codes is None:  # one change per event, no reduction: event c is change c
-                    succ_cells = cells[src].copy()
-                    succ_cells[np.arange(cut), robot] = new // 5
-                else:
-                    succ_cells = succ_codes // 5
-                s2, k2 = table.config_keys(succ_cells)
-                after = table.rows(k2, s2)
-            columns.transitions(sid, src, rows[src], after,
-                                partial(_step, enc, sched, facts, n, K, src, succ_codes,
-                                        turns=turns))
+            after, succ_codes = (paired, succ_codes) if paired is not None else \
+                face.after_rows(codes, cells, src, robot, new, event, succ_codes)
+            columns.transitions(sid, src, rows[src], after, face.witness(K, src, succ_codes))
         if open_discovery:
-            fresh = decode_keys(fresh_keys, base, n)
-            if after is not None and single and pair_rows is not None:
-                fresh_rows = after[first[:len(fresh_keys)]]
-            else:
-                s3, k3 = table.config_keys(fresh // 5)
-                fresh_rows = table.rows(k3, s3)
-            columns.states(known, fresh_rows, np.all(fresh % 5 == 0, axis=1),
-                           checks.on_discovery)
+            fresh = decode_keys(fresh_keys, enc.base, n)
+            fresh_rows = face.rows_of(fresh) if paired is None else \
+                paired[first[:len(fresh_keys)]]
+            columns.states(known, fresh_rows, face.idle(fresh), checks.on_discovery)
         if single:
             changed = new != old
         else:
@@ -344,18 +487,8 @@ def explore_fast(
     if graph:
         offsets.extend(np.array([targets.size], dtype=np.int64))
     peak = max(peak, rss_mb())
-    keys = index.keys[:index.count]
-    return Exploration(
-        initial=initial, algorithm=algo, scheduler_name=scheduler if isinstance(
-            scheduler, str) else sched.name, detection=detection,
-        frames=frames, anonymity=anonymity, symmetry=symmetry, encoding=enc,
-        keys=IntColumn(keys), parents=IntColumn(parents.array()),
-        offsets=IntColumn(offsets.array()), targets=IntColumn(targets.array()),
-        weights=IntColumn(weights.array()), changed_loops=changed_loops, states=index.count,
-        transitions=transitions, stopped=stopped, violations=checks.violations,
-        seconds=time.perf_counter() - started, peak_rss_mb=peak, facts=facts,
-        vacuous=checks.vacuous, engine="bulk", turns=turns,
-        starts=None if turns is None else seeds)
+    return Searched(index, parents, offsets, targets, weights, transitions, changed_loops,
+                    stopped, peak)
 
 
 def with_turns(succ: np.ndarray, extra: np.ndarray | None, turns: Any) -> np.ndarray:
