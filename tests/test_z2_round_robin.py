@@ -20,7 +20,6 @@ from gather_verify.cli import main
 from gather_verify.engine.encoding import Limits
 from gather_verify.engine.explore import Exploration, explore_reference
 from gather_verify.engine.fast_explore import explore_fast
-from gather_verify.engine.lit_bulk import explore_lit
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import Lights
@@ -69,8 +68,8 @@ def test_the_lit_bulk_engine_is_the_reference(configuration: Configuration, algo
                                               scheduler: str, reduction: bool) -> None:
     ref = explore_reference(configuration, algorithm, scheduler, reduction=reduction,
                             limits=SMALL, lights=Lights(2))
-    bulk = explore_lit(configuration, algorithm, scheduler, reduction=reduction, limits=SMALL,
-                       lights=Lights(2))
+    bulk = explore_fast(configuration, algorithm, scheduler, reduction=reduction, limits=SMALL,
+                        lights=Lights(2))
     assert fields(bulk) == fields(ref)
 
 

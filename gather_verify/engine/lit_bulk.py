@@ -1,6 +1,7 @@
 """The bulk search of luminous robots on the paper's world (SEMANTICS.md §4, §10): what
 :func:`~gather_verify.engine.explore.explore_reference` finds with ``lights``, on numpy
-arrays, as :mod:`~gather_verify.engine.fast_explore` does for oblivious robots.
+arrays: :func:`~gather_verify.engine.fast_explore.explore_fast` with ``lights``, which
+takes its face and its setup from here.
 
 It explores exactly the reference's states, with the same ids in the same order, the same
 parents, edges, witnesses and traces. A state is its reference key
@@ -9,7 +10,7 @@ parents, edges, witnesses and traces. A state is its reference key
 are on; the symmetries move nodes and pending steps together, never colours, so the
 canonical form acts on each robot's (node, pending, colour) as one). What it shares with
 the oblivious bulk engine: the search loop itself
-(:func:`~gather_verify.engine.fast_explore.bulk_search`: the colour is one more digit of a
+(:func:`~gather_verify.engine.bulk_loop.bulk_search`: the colour is one more digit of a
 robot's code, and :class:`Luminous` is its face for lights), the hash index of keys, the
 canonical keys of code rows (:class:`~gather_verify.engine.canonical_keys.Canon`), the
 successor keys (:func:`~gather_verify.engine.bulk_step.successor_keys`, compiled when the
@@ -24,10 +25,11 @@ kernels run) and the column checks of the properties. What is its own:
   that changes nothing is a self-loop, as on Z² without lights).
 
 >>> from gather_verify.engine.explore import explore_reference
+>>> from gather_verify.engine.fast_explore import explore_fast
 >>> from gather_verify.model.configuration import Configuration
 >>> from gather_verify.model.view import Lights
 >>> c = Configuration([(1, 1), (3, 2)], [(0, 0), (4, 0)], initial=True)
->>> e = explore_lit(c, "beacon", "async", lights=Lights(2), reduction=False)
+>>> e = explore_fast(c, "beacon", "async", lights=Lights(2), reduction=False)
 >>> r = explore_reference(c, "beacon", "async", lights=Lights(2), reduction=False)
 >>> (e.states, e.transitions) == (r.states, r.transitions) and list(e.keys) == r.keys
 True
@@ -35,7 +37,6 @@ True
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Iterable, Sequence
 from functools import partial
 from itertools import islice
@@ -43,11 +44,10 @@ from typing import Any, cast
 
 import numpy as np
 
-from gather_verify.algorithms import Algorithm, get_algorithm
-from gather_verify.algorithms.moves import frames_for
+from gather_verify.engine.bulk_loop import Face
 from gather_verify.engine.bulk_step import cell_ranks, successor_codes
 from gather_verify.engine.canonical_keys import decode_keys
-from gather_verify.engine.checks import Checks, ColumnChecks, symmetric
+from gather_verify.engine.checks import Checks, ColumnChecks
 from gather_verify.engine.encoding import (
     NO_LIMITS,
     Limits,
@@ -56,22 +56,19 @@ from gather_verify.engine.encoding import (
     symmetry_group,
 )
 from gather_verify.engine.explore import (
-    Exploration,
+    Request,
     TurnState,
     lit_configuration,
     lit_initial_state,
     luminous_events,
     luminous_facts_cache,
     luminous_steps,
-    seed_states,
-    state_key,
     turns_of,
 )
 from gather_verify.engine.facts_table import BIT, ReadsIdle
-from gather_verify.engine.fast_explore import Face, bulk_search
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.configuration import Configuration
-from gather_verify.model.view import Lights, check_detection
+from gather_verify.model.view import Lights
 from gather_verify.properties.facts import ConfigurationFacts, StateFacts
 from schedulers import Scheduler, State, as_scheduler
 
@@ -160,43 +157,18 @@ class LitTable:
                     for d, c2 in acts[v, c]) for v, c in robots]
 
 
-def explore_lit(
-    initial: Configuration,
-    algorithm: str | Algorithm,
-    scheduler: str | Scheduler,
-    *,
-    lights: Lights,
-    colours: Sequence[int] | None = None,
-    detection: str = "local-weak",
-    frames: str = "all",
-    reduction: bool = True,
-    anonymity: bool | None = None,
-    symmetry: bool | None = None,
-    properties: Iterable[str] | None = None,
-    limits: Limits = NO_LIMITS,
-    graph: bool = True,
-    settle: bool = False,
-    memo: bool = False,
-) -> Exploration:
-    """:func:`explore_reference` with ``lights``, in bulk: the same result (``graph=False``
-    keeps no edges, as :func:`~gather_verify.engine.fast_explore.explore_fast`; ``memo`` is
-    accepted and unused: the facts are kept per search, as the reference keeps them)."""
-    started = time.perf_counter()
-    algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
-    sched = as_scheduler(scheduler)
-    check_detection(detection)
-    frame_elements = frames_for(frames)
-    anonymity = reduction if anonymity is None else anonymity
-    symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
-    group = symmetry_group(initial, frames) if symmetry else []
-    stateful = getattr(sched, "stateful", False)
-    enc = LuminousEncoding(region_box(initial, limits.margin, group), group,
-                           anonymity and not stateful, lights.colours)
+def luminous(initial: Configuration, req: Request, detection: str, lights: Lights,
+             colours: Sequence[int] | None, properties: Iterable[str] | None
+             ) -> tuple[Luminous, Checks, ColumnChecks, State]:
+    """The luminous side of :func:`~gather_verify.engine.fast_explore.explore_fast`'s setup:
+    its :class:`Luminous` face (the encoding with colours, the :class:`LitTable`), the
+    property checks on that table (the initial configuration's discovery checked), and the
+    initial state."""
+    enc = LuminousEncoding(req.box, req.group, req.relabel, lights.colours)
     n, k = initial.n, lights.colours
-    turns = turns_of(sched, n, anonymity, enc.base)
-    facts = luminous_facts_cache(algo, initial, detection, frame_elements, lights)
+    turns = turns_of(req.scheduler, n, req.anonymity, enc.base)
+    facts = luminous_facts_cache(req.algorithm, initial, detection, req.frame_elements, lights)
     table = LitTable(enc, n, facts)
-
     start = lit_initial_state(initial.robots, colours)
     checks = Checks(properties, StateFacts(facts(lit_configuration(start)), True))
     columns = ColumnChecks(checks, lambda row, idle=None: LitRowFacts(table.facts[row], idle),
@@ -205,28 +177,12 @@ def explore_lit(
     init_rows, _ = table.locate(np.array([[enc.code(r[0], None) * k + r[2]  # type: ignore[misc]
                                            for r in start]], dtype=np.int64))
     columns.states(0, init_rows, np.ones(1, dtype=bool), checks.on_discovery)
-
-    index = KeyIndex()
-    seeds = seed_states(start, turns)
-    _, first_seeds = index.find_or_add(np.array(list(map(state_key(enc, turns), seeds)),
-                                                dtype=np.uint64))
-    seeds = [seeds[i] for i in first_seeds.tolist()]
-    searched = bulk_search(Luminous(enc, n, sched, turns, facts, bool(group or anonymity),
-                                    table),
-                           checks, columns, index, len(seeds), limits=limits, started=started,
-                           graph=graph, settle=settle)
-    return Exploration(
-        initial=initial, algorithm=algo, scheduler_name=scheduler if isinstance(
-            scheduler, str) else sched.name, detection=detection,
-        frames=frames, anonymity=anonymity, symmetry=symmetry, encoding=enc,
-        **searched.fields(), violations=checks.violations,
-        seconds=time.perf_counter() - started, facts=facts,
-        vacuous=checks.vacuous, lights=lights, colours=tuple(colours or (0,) * n),
-        engine="bulk", turns=turns, starts=None if turns is None else seeds)
+    return Luminous(enc, n, req.scheduler, turns, facts, req.reduced, table), checks, columns, \
+        start
 
 
 class Luminous(Face):
-    """:class:`~gather_verify.engine.fast_explore.Face` of luminous robots: a robot's code
+    """:class:`~gather_verify.engine.bulk_loop.Face` of luminous robots: a robot's code
     has its colour as one more digit, and a :class:`LitTable` gives its actions."""
 
     chunk = CHUNK
