@@ -265,8 +265,9 @@ def _longest_path_compiled(e: Exploration) -> LongestPath:
 
 
 def has_cycle(e: Exploration) -> bool:
-    """Whether the graph (unchanged self-loops aside) has a cycle."""
-    return longest_path(e).max_moves is None
+    """Whether the graph (unchanged self-loops aside) has a cycle, one that moves or not."""
+    longest = longest_path(e)
+    return longest.max_moves is None or longest.cyclic
 
 
 def strongly_connected(e: Exploration) -> list[list[int]]:
