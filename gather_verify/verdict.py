@@ -31,9 +31,9 @@ def combine(violated: Sequence[str], stopped: str | None) -> str:
 def named_first(failing: Sequence[str]) -> list[str]:
     """``failing`` (in verdict order) with the property a check is named by first: the first
     in verdict order, except that a livelock is named ``termination``. Where termination fails
-    the reachable graph has a fair cycle, so move-bound fails too (a cycle with moves has no
-    bound): termination is what fails, move-bound is how the same cycle shows in the count of
-    moves. A run over the bound while termination is not decided (the search stopped, e.g. a
+    on a fair cycle that moves, move-bound fails too (a cycle with moves has no bound; one
+    that changes only colours leaves it bounded): termination is what fails, move-bound is
+    how the same cycle shows in the count of moves. A run over the bound while termination is not decided (the search stopped, e.g. a
     run that walks away) stays ``move-bound``: that is what its finite trace proves.
 
     >>> named_first(["move-bound", "termination"])

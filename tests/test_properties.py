@@ -414,3 +414,24 @@ def test_the_engines_name_no_property():
         text = (root / path).read_text(encoding="utf-8")
         for name in ORDER:
             assert f'"{name}"' not in text and f"'{name}'" not in text, (path, name)
+
+
+def test_the_unbounded_cycle_is_one_that_moves() -> None:
+    """A component whose first cycle changes only colours (0 -> 1 -> 0, no move) and whose
+    other cycle moves (1 -> 2 -> 1): the witness of unbounded moves goes through the move;
+    a component without a moving edge has none."""
+    from types import SimpleNamespace
+
+    def graph(edges: list[list[tuple[int, int]]]) -> SimpleNamespace:
+        off = [0]
+        for out in edges:
+            off.append(off[-1] + len(out))
+        return SimpleNamespace(states=len(edges), changed_loops=0,
+                               targets=[t for out in edges for t, _ in out],
+                               weights=[w for out in edges for _, w in out],
+                               successors=lambda s: range(off[s], off[s + 1]))
+
+    e = graph([[(1, 0)], [(0, 0), (2, 1)], [(1, 0)]])
+    assert graph_module.any_cycle(e) == [0, 1, 0]  # type: ignore[arg-type]
+    assert graph_module.moving_cycle(e) == [0, 1, 2, 1, 0]  # type: ignore[arg-type]
+    assert graph_module.moving_cycle(graph([[(1, 0)], [(0, 0)]])) is None  # type: ignore[arg-type]

@@ -493,3 +493,44 @@ _ORDER = schedulers.base.luminous_order
 
 def _destinations_reversed(colours: int) -> np.ndarray:
     return _ORDER(colours).reshape(5, colours)[::-1].reshape(-1)
+
+
+# -- move-bound: a cycle that changes only colours leaves the moves bounded --------------------
+
+FIXTURES = Path(__file__).resolve().parent / "fixtures"
+GATHER_BLINK = f"{FIXTURES / 'blink.py'}:Blink"
+GATHER_PACE = f"{FIXTURES / 'blink.py'}:Pace"
+GATHER = Configuration([(0, 0), (2, 1)], [(1, 1)], initial=True)
+"""Two robots 2 and 1 steps from the meeting node: 3 moves to gather."""
+
+
+@pytest.mark.parametrize("scheduler", [*SCHEDULERS, "round-robin"])
+def test_a_cycle_of_colours_leaves_the_moves_bounded(scheduler: str) -> None:
+    """Robots that gather and then blink for ever: every cycle changes only colours, so the
+    moves are bounded (3, the distances) on both engines, with and without the reductions,
+    while termination fails; a robot that steps off and back instead has no bound."""
+    for reduction in (True, False):
+        kw = {"scheduler": scheduler, "lights": "2", "reduction": reduction}
+        for engine in ("reference", "auto"):
+            r = run_check(GATHER, algorithm=GATHER_BLINK, engine=engine, **kw)
+            assert (r["max_moves"], r["max_moves_infinite"], r["property"]) == \
+                (3, False, "termination")
+            assert r["properties"]["move-bound"]["holds"] is True
+            r = run_check(GATHER, algorithm=GATHER_BLINK, engine=engine,
+                          properties=["move-bound"], **kw)
+            assert (r["verdict"], r["max_moves"], r["ratio"]) == ("VERIFIED", 3, 3 / (2 * 2))
+            r = run_check(GATHER, algorithm=GATHER_PACE, engine=engine,
+                          properties=["move-bound"], **kw)
+            assert (r["verdict"], r["max_moves_infinite"]) == ("VIOLATED", True)
+            assert replay(r["trace"]).confirmed
+
+
+def test_a_move_bound_cycle_that_changes_only_colours_is_not_confirmed() -> None:
+    """Replay confirms a move-bound cycle only when it moves: the blinking livelock's cycle,
+    relabelled as a move-bound witness, returns but makes no move."""
+    r = run_check(Configuration([(0, 0)], [(0, 0)], initial=True), algorithm=GATHER_BLINK,
+                  scheduler="async", lights="2")
+    trace = {**r["trace"], "property": "move-bound"}
+    assert r["property"] == "termination" and replay(r["trace"]).confirmed
+    again = replay(trace)
+    assert not again.confirmed and "makes no move" in again.message

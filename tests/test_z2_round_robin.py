@@ -20,7 +20,6 @@ from gather_verify.cli import main
 from gather_verify.engine.encoding import Limits
 from gather_verify.engine.explore import Exploration, explore_reference
 from gather_verify.engine.fast_explore import explore_fast
-from gather_verify.engine.lit_bulk import explore_lit
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import Lights
@@ -69,8 +68,8 @@ def test_the_lit_bulk_engine_is_the_reference(configuration: Configuration, algo
                                               scheduler: str, reduction: bool) -> None:
     ref = explore_reference(configuration, algorithm, scheduler, reduction=reduction,
                             limits=SMALL, lights=Lights(2))
-    bulk = explore_lit(configuration, algorithm, scheduler, reduction=reduction, limits=SMALL,
-                       lights=Lights(2))
+    bulk = explore_fast(configuration, algorithm, scheduler, reduction=reduction, limits=SMALL,
+                        lights=Lights(2))
     assert fields(bulk) == fields(ref)
 
 
@@ -267,3 +266,26 @@ def test_a_simulated_run_activates_the_robots_in_one_cyclic_order(seed: int) -> 
     order = active[:YARDSTICK.n]
     assert sorted(order) == list(range(YARDSTICK.n))
     assert active == [order[k % YARDSTICK.n] for k in range(len(active))]
+
+
+def test_the_walk_over_the_bound_starts_from_every_start() -> None:
+    """On an unfinished graph, the walk with the most moves (the move bound's witness and the
+    drift's run) is looked for from each start of the scheduler, as the finished graph's
+    longest run is: here the second start (id 1) has the worse run, 2 moves against 1."""
+    from types import SimpleNamespace
+
+    from gather_verify.properties.graph import most_moves
+
+    edges = [[(2, 1)], [(3, 1)], [], [(4, 1)], []]  # 0 -> 2; 1 -> 3 -> 4
+    off = [0]
+    for out in edges:
+        off.append(off[-1] + len(out))
+    e = SimpleNamespace(states=5, changed_loops=0, transitions=off[-1], offsets=off,
+                        targets=[t for out in edges for t, _ in out],
+                        weights=[w for out in edges for _, w in out], starts=["s0", "s1"],
+                        successors=lambda s: range(off[s], off[s + 1]))
+    over = most_moves(e, 1)  # type: ignore[arg-type]
+    assert over is not None and (over.path, over.weights, over.moves) == ([1, 3, 4], [1, 1], 2)
+    one = SimpleNamespace(**{**vars(e), "starts": None})  # one start: id 0's run only
+    walk = most_moves(one, 1)  # type: ignore[arg-type]
+    assert walk is not None and (walk.path, walk.moves) == ([0, 2], 1)

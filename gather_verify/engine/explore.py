@@ -61,6 +61,7 @@ from gather_verify.engine.encoding import (
 from gather_verify.engine.region import region_box
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
+from gather_verify.model.symmetry import Automorphism
 from gather_verify.model.view import Lights, check_detection
 from gather_verify.progress import PROGRESS
 from gather_verify.properties.facts import (
@@ -370,6 +371,50 @@ def seed_states(start: State, turns: Turns | None) -> list[State]:
     return [start] if turns is None else [TurnState(start, x) for x in turns.starts()]
 
 
+@dataclass(frozen=True)
+class Request:
+    """A search's request as every engine resolves it (:func:`resolve`, the engines' common
+    prologue): the algorithm and scheduler objects, the frames' elements, the reductions
+    asked for (``symmetry`` only when every requested property is symmetric), the usable
+    elements of ``Aut(M)``, the region's box, and whether the scheduler keeps a state of
+    its own (round-robin's order and turn)."""
+
+    algorithm: Algorithm
+    scheduler: Scheduler
+    frame_elements: tuple[int, ...]
+    anonymity: bool
+    symmetry: bool
+    group: list[Automorphism]
+    box: tuple[int, int, int, int]
+    stateful: bool
+
+    @property
+    def relabel(self) -> bool:
+        """Whether the encoding sorts identical robots (not under a stateful scheduler: there
+        its own state relabels them, :class:`~gather_verify.engine.encoding.Turns`)."""
+        return self.anonymity and not self.stateful
+
+    @property
+    def reduced(self) -> bool:
+        """Whether successor keys go through the canonical form."""
+        return bool(self.group or self.anonymity)
+
+
+def resolve(initial: Configuration, algorithm: str | Algorithm, scheduler: str | Scheduler, *,
+            detection: str, frames: str, reduction: bool, anonymity: bool | None,
+            symmetry: bool | None, properties: Iterable[str] | None, margin: int) -> Request:
+    """The :class:`Request` of a search (an unknown algorithm, scheduler or detection model
+    is an error here, before anything is searched)."""
+    algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
+    sched = as_scheduler(scheduler)
+    check_detection(detection)
+    anonymity = reduction if anonymity is None else anonymity
+    symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
+    group = symmetry_group(initial, frames) if symmetry else []
+    return Request(algo, sched, frames_for(frames), anonymity, symmetry, group,
+                   region_box(initial, margin, group), getattr(sched, "stateful", False))
+
+
 def explore_reference(
     initial: Configuration,
     algorithm: str | Algorithm,
@@ -401,17 +446,12 @@ def explore_reference(
     property) or when a limit is hit (``stopped`` names it).
     """
     started = time.perf_counter()
-    algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
-    sched = as_scheduler(scheduler)
-    check_detection(detection)
-    frame_elements = frames_for(frames)
-    anonymity = reduction if anonymity is None else anonymity
-    symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
-    group = symmetry_group(initial, frames) if symmetry else []
-    box = region_box(initial, limits.margin, group)
-    stateful = getattr(sched, "stateful", False)
+    req = resolve(initial, algorithm, scheduler, detection=detection, frames=frames,
+                  reduction=reduction, anonymity=anonymity, symmetry=symmetry,
+                  properties=properties, margin=limits.margin)
+    algo, sched, frame_elements = req.algorithm, req.scheduler, req.frame_elements
     if lights is None:
-        enc = Encoding(box, group, anonymity and not stateful)
+        enc = Encoding(req.box, req.group, req.relabel)
         facts: Callable[[Any], ConfigurationFacts] = facts_cache(algo, initial, detection,
                                                                  frame_elements)
         conf: Callable[[State], Any] = configuration_of
@@ -428,7 +468,7 @@ def explore_reference(
                     sched, state, state.extra, ms))  # type: ignore[attr-defined]
             return sched.successors(state, ms)
     else:
-        enc = LuminousEncoding(box, group, anonymity and not stateful, lights.colours)
+        enc = LuminousEncoding(req.box, req.group, req.relabel, lights.colours)
         facts = luminous_facts_cache(algo, initial, detection, frame_elements, lights)
         conf = lit_configuration
         start = lit_initial_state(initial.robots, colours)
@@ -438,7 +478,7 @@ def explore_reference(
                 return ((e, TurnState(s, a)) for e, s, a in luminous_steps(
                     sched, state, here, state.extra))  # type: ignore[attr-defined]
             return luminous_events(sched, state, here)
-    turns = turns_of(sched, initial.n, anonymity, enc.base)
+    turns = turns_of(sched, initial.n, req.anonymity, enc.base)
     checks = Checks(properties, StateFacts(facts(conf(start)), True))
 
     key_of = state_key(enc, turns)
@@ -524,7 +564,7 @@ def explore_reference(
     return Exploration(
         initial=initial, algorithm=algo,
         scheduler_name=scheduler if isinstance(scheduler, str) else sched.name, detection=detection,
-        frames=frames, anonymity=anonymity, symmetry=symmetry, encoding=enc, keys=keys,
+        frames=frames, anonymity=req.anonymity, symmetry=req.symmetry, encoding=enc, keys=keys,
         parents=parents, offsets=offsets, targets=targets, weights=weights,
         changed_loops=changed_loops, states=len(keys), transitions=transitions, stopped=stopped,
         violations=checks.violations, seconds=time.perf_counter() - started, peak_rss_mb=peak,

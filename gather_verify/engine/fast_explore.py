@@ -26,8 +26,11 @@ What changes is how:
 - the graph (successor ids, edge weights) is kept only when asked for
   (``graph=True``, what ``move-bound`` and ``termination`` need).
 
-This module is the loop: the limits, the properties evaluated on each chunk, the
-graph's columns and the stop. The explorer knows neither the algorithm nor the scheduler (witness events are
+This module sets the search up and runs the loop
+(:func:`~gather_verify.engine.bulk_loop.bulk_search`: the limits, the properties evaluated
+on each chunk, the graph's columns and the stop) for oblivious robots (:class:`Oblivious`)
+and luminous ones (``lights``, :mod:`~gather_verify.engine.lit_bulk`) alike, each through
+its :class:`~gather_verify.engine.bulk_loop.Face`. The explorer knows neither the algorithm nor the scheduler (witness events are
 asked of the scheduler's ``successors``, by their rank among the state's events):
 only a key that does not fit 64 bits, or more states than an ``int32`` id holds,
 make :func:`supports` say no and the caller uses the reference path.
@@ -42,50 +45,46 @@ make :func:`supports` say no and the caller uses the reference path.
 from __future__ import annotations
 
 import time
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Sequence
 from functools import partial
 from itertools import islice
 from typing import Any, cast
 
 import numpy as np
 
-from gather_verify import kernels
-from gather_verify.algorithms import Algorithm, get_algorithm
-from gather_verify.algorithms.moves import frames_for
+from gather_verify.algorithms import Algorithm
+from gather_verify.engine.bulk_loop import MAX_IDS, Face, bulk_search
 from gather_verify.engine.bulk_step import (
     PairRows,
     decode_chunk,
     move_masks,
     successor_codes,
-    successor_keys,
 )
-from gather_verify.engine.canonical_keys import Canon, decode_keys
-from gather_verify.engine.checks import Checks, ColumnChecks, selected, symmetric
-from gather_verify.engine.columns import Growing, IntColumn
+from gather_verify.engine.checks import Checks, ColumnChecks, selected
 from gather_verify.engine.encoding import (
     NO_LIMITS,
     Encoding,
     Limits,
-    Stop,
     region_box,
     symmetry_group,
 )
 from gather_verify.engine.explore import (
     Exploration,
+    Request,
     TurnState,
     facts_cache,
-    rss_mb,
+    resolve,
     seed_states,
     state_key,
     turns_of,
 )
 from gather_verify.engine.facts_table import FactsTable, RowFacts, facts_memo, make_room
 from gather_verify.engine.key_index import KeyIndex
+from gather_verify.engine.lit_bulk import luminous
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.symmetry import meeting_automorphisms
-from gather_verify.model.view import check_detection
-from gather_verify.progress import PROGRESS
+from gather_verify.model.view import Lights
 from schedulers import Scheduler, State, as_scheduler, initial_state
 from schedulers.base import oblivious_events
 
@@ -94,7 +93,6 @@ CHUNK = 1 << 14
 EVENTS = 1 << 19
 """About how many events a bulk step may generate: the scheduler takes fewer states than
 ``CHUNK`` when they have more events than this (FSYNC/SSYNC rounds: up to ``6**n`` per state)."""
-MAX_IDS = 2**31 - 2
 
 
 def supports(initial: Configuration, scheduler: str | Scheduler, reduction: bool = True,
@@ -127,6 +125,8 @@ def explore_fast(
     graph: bool = True,
     memo: bool = False,
     settle: bool = False,
+    lights: Lights | None = None,
+    colours: Sequence[int] | None = None,
 ) -> Exploration:
     """Breadth-first search in bulk; same result as the reference explorer.
 
@@ -138,33 +138,63 @@ def explore_fast(
     ``memo=True`` shares the facts of configurations with the other searches of this
     process for the same algorithm object (:func:`facts_memo`): what a sweep wants,
     where many searches meet the same configurations; a single large search gains
-    nothing from it.
+    nothing from it (with lights it is unused: the facts are kept per search, as the
+    reference keeps them).
+
+    ``lights``: luminous robots (§10; ``colours``: their initial colours, default 0), through
+    :mod:`~gather_verify.engine.lit_bulk` (ask its ``unsupported`` first).
     """
     started = time.perf_counter()
-    algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
-    sched = as_scheduler(scheduler)
-    check_detection(detection)
-    frame_elements = frames_for(frames)
-    anonymity = reduction if anonymity is None else anonymity
-    symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
-    group = symmetry_group(initial, frames) if symmetry else []
-    stateful = getattr(sched, "stateful", False)  # its state above the robots' digits
-    enc = Encoding(region_box(initial, limits.margin, group), group, anonymity and not stateful)
-    n = initial.n
-    turns = turns_of(sched, n, anonymity, enc.base)
-    facts = facts_cache(algo, initial, detection, frame_elements)
+    req = resolve(initial, algorithm, scheduler, detection=detection, frames=frames,
+                  reduction=reduction, anonymity=anonymity, symmetry=symmetry,
+                  properties=properties, margin=limits.margin)
+    if lights is None:
+        face, checks, columns, start = _oblivious(initial, req, detection, frames, properties,
+                                                  memo, limits)
+    else:
+        face, checks, columns, start = luminous(initial, req, detection, lights, colours,
+                                                properties)
+    n, turns = initial.n, face.turns
+    seeds = seed_states(start, turns)
+    max_states = min(limits.max_states, MAX_IDS)
+    # columns reserved up front: untouched pages cost no memory, and nothing is copied
+    reserve = min(max_states + max(CHUNK * 8 * n, EVENTS) + 1, 1 << 27)
+    index = KeyIndex(capacity=reserve)
+    _, first_seeds = index.find_or_add(np.array(list(map(state_key(face.enc, turns), seeds)),
+                                                dtype=np.uint64))
+    seeds = [seeds[i] for i in first_seeds.tolist()]
+    # the graph's columns reserved too (untouched pages cost nothing): no copy as they grow,
+    # so no transient second copy of the graph
+    searched = bulk_search(face, checks, columns, index, len(seeds), limits=limits,
+                           started=started, graph=graph, settle=settle, reserve=reserve,
+                           edges=min(8 * reserve, 1 << 28))
+    return Exploration(
+        initial=initial, algorithm=req.algorithm, scheduler_name=scheduler if isinstance(
+            scheduler, str) else req.scheduler.name, detection=detection,
+        frames=frames, anonymity=req.anonymity, symmetry=req.symmetry, encoding=face.enc,
+        **searched.fields(), violations=checks.violations,
+        seconds=time.perf_counter() - started, facts=face.facts,
+        vacuous=checks.vacuous, engine="bulk", turns=turns,
+        starts=None if turns is None else seeds, lights=lights,
+        colours=None if lights is None else tuple(colours or (0,) * n))
+
+
+def _oblivious(initial: Configuration, req: Request, detection: str, frames: str,
+               properties: Iterable[str] | None, memo: bool, limits: Limits
+               ) -> tuple[Oblivious, Checks, ColumnChecks, State]:
+    """The oblivious side of :func:`explore_fast`'s setup: its :class:`Oblivious` face (the
+    encoding, the configurations' :class:`FactsTable`), the property checks on that table
+    (the initial configuration's discovery checked), and the initial state."""
+    algo, n = req.algorithm, initial.n
+    enc = Encoding(req.box, req.group, req.relabel)
+    turns = turns_of(req.scheduler, n, req.anonymity, enc.base)
+    facts = facts_cache(algo, initial, detection, req.frame_elements)
     if memo:
         make_room(limits.max_memory_mb)
-    table = FactsTable(enc, n, algo, initial.meeting_nodes, detection, frame_elements,
+    table = FactsTable(enc, n, algo, initial.meeting_nodes, detection, req.frame_elements,
                        meeting_automorphisms(initial),
                        facts_memo(algo, detection, frames) if memo else None,
                        targets=any(p.kind == "transition" for p in selected(properties)))
-    canon = Canon(enc, n)
-    base = enc.base
-    reduced = bool(group or anonymity)  # successor keys through Canon
-
-    seeds = seed_states(initial_state(initial.robots), turns)
-    start_keys = np.array(list(map(state_key(enc, turns), seeds)), dtype=np.uint64)
     init_cells = np.array([[enc.code(v, None) // 5 for v in initial.robots]], dtype=np.int64)
     srt, ck = table.config_keys(init_cells)
     init_row = table.rows(ck, srt)
@@ -173,197 +203,72 @@ def explore_fast(
                            lambda rows, idle: RowFacts.many(table, initial, rows, idle),
                            table.flag_codes)
     columns.states(0, init_row, np.ones(1, dtype=bool), checks.on_discovery)
-    on_chunk = checks.halting + checks.on_expansion
+    return (Oblivious(enc, n, req.scheduler, turns, facts, req.reduced, table), checks, columns,
+            initial_state(initial.robots))
 
-    max_states = min(limits.max_states, MAX_IDS)
-    # columns reserved up front: untouched pages cost no memory, and nothing is copied
-    reserve = min(max_states + max(CHUNK * 8 * n, EVENTS) + 1, 1 << 27)
-    index = KeyIndex(capacity=reserve)
-    _, first_seeds = index.find_or_add(start_keys)
-    seeds = [seeds[i] for i in first_seeds.tolist()]
-    parents = Growing(np.int32, reserve)
-    parents.extend(np.full(len(seeds), -1, dtype=np.int32))
-    # the graph's columns reserved too (untouched pages cost nothing): no copy as they grow,
-    # so no transient second copy of the graph
-    edges = min(8 * reserve, 1 << 28) if graph else 1 << 16
-    offsets = Growing(np.int32, reserve if graph else 1 << 16)  # int64 past 2**31 edges (widen)
-    targets = Growing(np.int32, edges)
-    weight_type = np.int8 if n <= 127 else np.int16  # a weight is at most n edges
-    weights = Growing(weight_type, edges)
-    transitions = changed_loops = 0
-    stopped: Stop | str | None = None
-    compiled = kernels.enabled()
-    pair_rows = PairRows(table) if compiled else None
-    peak = rss_mb()
-    sid = 0
+
+class Oblivious(Face):
+    """:class:`~gather_verify.engine.bulk_loop.Face` of oblivious robots: a
+    :class:`FactsTable` of move masks."""
+
     chunk = CHUNK
-    PROGRESS.states = 1
-    while sid < index.count and stopped is None:
-        if time.perf_counter() - started > limits.max_seconds:
-            stopped = Stop.TIME
-            break
-        peak = max(peak, rss_mb())
-        if peak > limits.max_memory_mb:
-            stopped = Stop.MEMORY
-            break
-        hi = min(index.count, sid + chunk)
-        step = decode_chunk(index.keys[sid:hi].copy(), table, compiled)
-        K, codes, cells, rows, idle, rank = (step.keys, step.codes, step.cells, step.rows,
-                                             step.idle, step.rank)
-        # the last source state to expand: a halting property stops before the state it fails in
-        limit_src = len(K)
-        # the halting and the expansion properties, evaluated together on the whole chunk
-        failing = columns.failures(on_chunk, rows, idle, gate=len(checks.halting))
-        halt = columns.first_failure(checks.halting, failing[:, :len(checks.halting)])
-        if halt is not None:
-            limit_src = halt[0]
-        assert not table.flags[rows[:limit_src], 0].any(), \
-            "a state without move sets needs a halting property"
+
+    def __init__(self, enc: Encoding, n: int, sched: Scheduler, turns: Any, facts: Any,
+                 reduced: bool, table: FactsTable):
+        super().__init__(enc, n, sched, turns, facts, reduced)
+        self.table = table
+        self.pairs = PairRows(table) if self.compiled else None
+
+    def decode(self, keys: np.ndarray) -> tuple[np.ndarray, ...]:
+        step = decode_chunk(keys, self.table, self.compiled)
+        return step.keys, step.codes, step.cells, step.rows, step.idle, step.rank
+
+    def no_actions(self, rows: np.ndarray) -> np.ndarray:
+        return self.table.flags[rows, 0]
+
+    def events(self, codes: np.ndarray, rows: np.ndarray, rank: np.ndarray,
+               extra: np.ndarray | None) -> Any:
         # robot i's move mask: the mask of its cell's position in the sorted row
-        masks = move_masks(table, rows, rank, flat=compiled)
-        frontier = enc.frontier(codes[:limit_src], masks[:limit_src])
-        if turns is None:
-            bulk = sched.bulk_successors(frontier, EVENTS)
-        else:  # with the scheduler's own state of each state
-            bulk = cast(Any, sched).bulk_successors(frontier, EVENTS,
-                                                    extra=turns.of_keys(K[:limit_src]))
-        if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
-            hi = sid + bulk.states
-            K, codes, cells, rows = K[:bulk.states], codes[:bulk.states], cells[:bulk.states], \
-                rows[:bulk.states]
-            limit_src = bulk.states
-            chunk = max(1, bulk.states)
-        elif chunk < CHUNK:
-            chunk = min(CHUNK, 2 * chunk)
-        src, weight = bulk.source, bulk.weight
-        robot, new, event = bulk.robot, bulk.code, bulk.event  # the changes
-        single = event is None  # one change per event (event c is change c)
-        outside = np.flatnonzero(new < 0)
-        cut = len(src)
-        if len(outside):
-            cut = int(outside[0]) if single else int(event[outside[0]])
-            stop_src = int(src[cut])
-            stop = Stop.REGION
-            transitions += cut + 1
-        else:
-            stop_src = limit_src
-            stop = halt[1].name if halt is not None and halt[0] == limit_src else None
-            transitions += cut
-        src, weight = src[:cut], weight[:cut]
-        changes = cut if single else int(np.searchsorted(event, cut))
-        robot, new = robot[:changes], new[:changes]
-        if not single:
-            event = event[:changes]
-        succ, old, succ_codes = successor_keys(K, codes, src, robot, new, event, canon, reduced,
-                                               compiled)
-        if turns is not None:
-            succ = with_turns(succ, bulk.extra, turns)
-        # new states get the next ids in order of first occurrence: the BFS order
-        known = index.count
-        ids, first = index.find_or_add(succ)
-        fresh_src = src[first]
-        # the states limit: after the first source whose expansion passes it
-        if index.count > max_states:
-            after = known + np.searchsorted(fresh_src, np.arange(stop_src), side="right")
-            over = np.flatnonzero(after > max_states)
-            if len(over):
-                stop_src, stop = int(over[0]), Stop.STATES
-                keep = int(np.searchsorted(src, stop_src, side="right"))
-                transitions -= cut - keep
-                cut = keep
-                src, weight, succ, ids = src[:cut], weight[:cut], succ[:cut], ids[:cut]
-                if single:
-                    robot, new, old = robot[:cut], new[:cut], old[:cut]
-                else:
-                    changes = int(np.searchsorted(event, cut))
-                    robot, new, old, event = (a[:changes] for a in (robot, new, old, event))
-                if succ_codes is not None:
-                    succ_codes = succ_codes[:cut]
-                m = int(np.searchsorted(fresh_src, stop_src, side="right"))
-                fresh_src = fresh_src[:m]
-                index.truncate(known + m)
-        fresh_keys = index.keys[known:index.count]
-        expanded = stop_src + (stop in (Stop.REGION, Stop.STATES))
-        columns.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
-                       rows, idle)
-        open_transition = checks.open(checks.on_transition) and cut
-        open_discovery = checks.open(checks.on_discovery) and len(fresh_keys)
-        after = None
-        if single and pair_rows is not None and (open_transition or open_discovery):
-            # the configuration each transition reaches, once per (row, cell, destination)
-            after = pair_rows.after(rows, cells, rank, src, robot, old, new)
-        if open_transition:
-            if succ_codes is None and not single:  # the compiled keys left the codes out
-                succ_codes = successor_codes(codes, src, robot, new, event)
-            if after is None:
-                # the configuration each transition reaches, from the scheduler's changes
-                if succ_codes is None:  # one change per event, no reduction: event c is change c
-                    succ_cells = cells[src].copy()
-                    succ_cells[np.arange(cut), robot] = new // 5
-                else:
-                    succ_cells = succ_codes // 5
-                s2, k2 = table.config_keys(succ_cells)
-                after = table.rows(k2, s2)
-            columns.transitions(sid, src, rows[src], after,
-                                partial(_step, enc, sched, facts, n, K, src, succ_codes,
-                                        turns=turns))
-        if open_discovery:
-            fresh = decode_keys(fresh_keys, base, n)
-            if after is not None and single and pair_rows is not None:
-                fresh_rows = after[first[:len(fresh_keys)]]
-            else:
-                s3, k3 = table.config_keys(fresh // 5)
-                fresh_rows = table.rows(k3, s3)
-            columns.states(known, fresh_rows, np.all(fresh % 5 == 0, axis=1),
-                           checks.on_discovery)
-        if single:
-            changed = new != old
-        else:
-            changed = np.zeros(cut, dtype=bool)
-            changed[event[new != old]] = True
-        changed_loops += int(np.count_nonzero((ids == sid + src) & changed))
-        if graph:
-            counts = np.bincount(src, minlength=expanded)[:expanded]
-            starts = targets.size + np.cumsum(counts) - counts
-            if targets.size + len(ids) > MAX_IDS:
-                offsets.widen(np.int64)
-            offsets.extend(starts)
-            targets.extend(ids.astype(np.int32))
-            weights.extend(weight.astype(weight_type))
-        parents.extend((sid + fresh_src).astype(np.int32))
-        if halt is not None and stop == halt[1].name and halt[0] == stop_src:
-            columns.record_halt(sid + stop_src, int(rows[stop_src]), bool(idle[stop_src]), halt[1])
-        if stop is not None:
-            stopped = stop
-            break
-        sid = hi
-        PROGRESS.states = index.count  # read by a progress line (check --progress)
-        if settle and checks.settled():
-            stopped = Stop.SETTLED
-            break
-    if graph:
-        offsets.extend(np.array([targets.size], dtype=np.int64))
-    peak = max(peak, rss_mb())
-    keys = index.keys[:index.count]
-    return Exploration(
-        initial=initial, algorithm=algo, scheduler_name=scheduler if isinstance(
-            scheduler, str) else sched.name, detection=detection,
-        frames=frames, anonymity=anonymity, symmetry=symmetry, encoding=enc,
-        keys=IntColumn(keys), parents=IntColumn(parents.array()),
-        offsets=IntColumn(offsets.array()), targets=IntColumn(targets.array()),
-        weights=IntColumn(weights.array()), changed_loops=changed_loops, states=index.count,
-        transitions=transitions, stopped=stopped, violations=checks.violations,
-        seconds=time.perf_counter() - started, peak_rss_mb=peak, facts=facts,
-        vacuous=checks.vacuous, engine="bulk", turns=turns,
-        starts=None if turns is None else seeds)
+        frontier = self.enc.frontier(codes, move_masks(self.table, rows, rank,
+                                                       flat=self.compiled))
+        if extra is None:
+            return self.sched.bulk_successors(frontier, EVENTS)
+        return cast(Any, self.sched).bulk_successors(frontier, EVENTS, extra=extra)
 
+    def pair_after(self, rows: np.ndarray, cells: np.ndarray | None, rank: np.ndarray,
+                   src: np.ndarray, robot: np.ndarray, old: np.ndarray,
+                   new: np.ndarray) -> np.ndarray | None:
+        if self.pairs is None:
+            return None
+        return self.pairs.after(rows, cells, rank, src, robot, old, new)
 
-def with_turns(succ: np.ndarray, extra: np.ndarray | None, turns: Any) -> np.ndarray:
-    """Successor keys with the scheduler's state after each event (``extra``, from its bulk
-    face) above the robots' digits (:class:`~gather_verify.engine.encoding.Turns`)."""
-    assert extra is not None, "a stateful scheduler's bulk face gives its state after each event"
-    scale = np.uint64(turns.scale)
-    return succ % scale + scale * extra[:len(succ)].astype(np.uint64)
+    def after_rows(self, codes: np.ndarray, cells: np.ndarray | None, src: np.ndarray,
+                   robot: np.ndarray, new: np.ndarray, event: np.ndarray | None,
+                   succ_codes: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
+        if succ_codes is None and event is not None:  # the compiled keys left the codes out
+            succ_codes = successor_codes(codes, src, robot, new, event)
+        if succ_codes is None:  # one change per event, no reduction: event c is change c
+            assert cells is not None
+            succ_cells = cells[src].copy()
+            succ_cells[np.arange(len(src)), robot] = new // 5
+        else:
+            succ_cells = succ_codes // 5
+        return self.rows_of_cells(succ_cells), succ_codes
+
+    def rows_of_cells(self, cells: np.ndarray) -> np.ndarray:
+        srt, keys = self.table.config_keys(cells)
+        return self.table.rows(keys, srt)
+
+    def rows_of(self, codes: np.ndarray) -> np.ndarray:
+        return self.rows_of_cells(codes // 5)
+
+    def idle(self, codes: np.ndarray) -> np.ndarray:
+        return np.all(codes % 5 == 0, axis=1)
+
+    def witness(self, keys: np.ndarray, src: np.ndarray,
+                succ_codes: np.ndarray | None) -> Callable[[int], tuple[Any, State]]:
+        return partial(_step, self.enc, self.sched, self.facts, self.n, keys, src, succ_codes,
+                       turns=self.turns)
 
 
 def _step(enc: Encoding, sched: Any, facts: Any, n: int, K: np.ndarray, src: np.ndarray,

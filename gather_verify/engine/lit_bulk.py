@@ -1,6 +1,7 @@
 """The bulk search of luminous robots on the paper's world (SEMANTICS.md §4, §10): what
 :func:`~gather_verify.engine.explore.explore_reference` finds with ``lights``, on numpy
-arrays, as :mod:`~gather_verify.engine.fast_explore` does for oblivious robots.
+arrays: :func:`~gather_verify.engine.fast_explore.explore_fast` with ``lights``, which
+takes its face and its setup from here.
 
 It explores exactly the reference's states, with the same ids in the same order, the same
 parents, edges, witnesses and traces. A state is its reference key
@@ -8,10 +9,12 @@ parents, edges, witnesses and traces. A state is its reference key
 ``(cell * 5 + d) * K + colour``, sorted and minimised over ``Aut(M)`` when the reductions
 are on; the symmetries move nodes and pending steps together, never colours, so the
 canonical form acts on each robot's (node, pending, colour) as one). What it shares with
-the oblivious bulk engine: the hash index of keys, the canonical keys of code rows
-(:class:`~gather_verify.engine.canonical_keys.Canon`), the successor keys
-(:func:`~gather_verify.engine.bulk_step.successor_keys`, compiled when the kernels run)
-and the column checks of the properties. What is its own:
+the oblivious bulk engine: the search loop itself
+(:func:`~gather_verify.engine.bulk_loop.bulk_search`: the colour is one more digit of a
+robot's code, and :class:`Luminous` is its face for lights), the hash index of keys, the
+canonical keys of code rows (:class:`~gather_verify.engine.canonical_keys.Canon`), the
+successor keys (:func:`~gather_verify.engine.bulk_step.successor_keys`, compiled when the
+kernels run) and the column checks of the properties. What is its own:
 
 - :class:`LitTable`, the luminous configurations met (the sorted (node, colour) pairs), each
   with the reference's own :class:`~gather_verify.properties.facts.ConfigurationFacts` (the
@@ -22,10 +25,11 @@ and the column checks of the properties. What is its own:
   that changes nothing is a self-loop, as on Z² without lights).
 
 >>> from gather_verify.engine.explore import explore_reference
+>>> from gather_verify.engine.fast_explore import explore_fast
 >>> from gather_verify.model.configuration import Configuration
 >>> from gather_verify.model.view import Lights
 >>> c = Configuration([(1, 1), (3, 2)], [(0, 0), (4, 0)], initial=True)
->>> e = explore_lit(c, "beacon", "async", lights=Lights(2), reduction=False)
+>>> e = explore_fast(c, "beacon", "async", lights=Lights(2), reduction=False)
 >>> r = explore_reference(c, "beacon", "async", lights=Lights(2), reduction=False)
 >>> (e.states, e.transitions) == (r.states, r.transitions) and list(e.keys) == r.keys
 True
@@ -33,7 +37,6 @@ True
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Iterable, Sequence
 from functools import partial
 from itertools import islice
@@ -41,42 +44,33 @@ from typing import Any, cast
 
 import numpy as np
 
-from gather_verify import kernels
-from gather_verify.algorithms import Algorithm, get_algorithm
-from gather_verify.algorithms.moves import frames_for
-from gather_verify.engine.bulk_step import cell_ranks, successor_codes, successor_keys
-from gather_verify.engine.canonical_keys import Canon, decode_keys
-from gather_verify.engine.checks import Checks, ColumnChecks, symmetric
-from gather_verify.engine.columns import Growing, IntColumn
+from gather_verify.engine.bulk_loop import Face
+from gather_verify.engine.bulk_step import cell_ranks, successor_codes
+from gather_verify.engine.canonical_keys import decode_keys
+from gather_verify.engine.checks import Checks, ColumnChecks
 from gather_verify.engine.encoding import (
     NO_LIMITS,
     Limits,
     LuminousEncoding,
-    Stop,
     region_box,
     symmetry_group,
 )
 from gather_verify.engine.explore import (
-    Exploration,
+    Request,
     TurnState,
     lit_configuration,
     lit_initial_state,
     luminous_events,
     luminous_facts_cache,
     luminous_steps,
-    rss_mb,
-    seed_states,
-    state_key,
     turns_of,
 )
 from gather_verify.engine.facts_table import BIT, ReadsIdle
-from gather_verify.engine.fast_explore import with_turns
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.configuration import Configuration
-from gather_verify.model.view import Lights, check_detection
-from gather_verify.progress import PROGRESS
+from gather_verify.model.view import Lights
 from gather_verify.properties.facts import ConfigurationFacts, StateFacts
-from schedulers import Frontier, Scheduler, State, as_scheduler
+from schedulers import Scheduler, State, as_scheduler
 
 CHUNK = 1 << 13
 """States expanded per bulk step (fewer when their events are many)."""
@@ -163,46 +157,18 @@ class LitTable:
                     for d, c2 in acts[v, c]) for v, c in robots]
 
 
-def explore_lit(
-    initial: Configuration,
-    algorithm: str | Algorithm,
-    scheduler: str | Scheduler,
-    *,
-    lights: Lights,
-    colours: Sequence[int] | None = None,
-    detection: str = "local-weak",
-    frames: str = "all",
-    reduction: bool = True,
-    anonymity: bool | None = None,
-    symmetry: bool | None = None,
-    properties: Iterable[str] | None = None,
-    limits: Limits = NO_LIMITS,
-    graph: bool = True,
-    settle: bool = False,
-    memo: bool = False,
-) -> Exploration:
-    """:func:`explore_reference` with ``lights``, in bulk: the same result (``graph=False``
-    keeps no edges, as :func:`~gather_verify.engine.fast_explore.explore_fast`; ``memo`` is
-    accepted and unused: the facts are kept per search, as the reference keeps them)."""
-    started = time.perf_counter()
-    algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
-    sched = as_scheduler(scheduler)
-    check_detection(detection)
-    frame_elements = frames_for(frames)
-    anonymity = reduction if anonymity is None else anonymity
-    symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
-    group = symmetry_group(initial, frames) if symmetry else []
-    stateful = getattr(sched, "stateful", False)
-    enc = LuminousEncoding(region_box(initial, limits.margin, group), group,
-                           anonymity and not stateful, lights.colours)
+def luminous(initial: Configuration, req: Request, detection: str, lights: Lights,
+             colours: Sequence[int] | None, properties: Iterable[str] | None
+             ) -> tuple[Luminous, Checks, ColumnChecks, State]:
+    """The luminous side of :func:`~gather_verify.engine.fast_explore.explore_fast`'s setup:
+    its :class:`Luminous` face (the encoding with colours, the :class:`LitTable`), the
+    property checks on that table (the initial configuration's discovery checked), and the
+    initial state."""
+    enc = LuminousEncoding(req.box, req.group, req.relabel, lights.colours)
     n, k = initial.n, lights.colours
-    turns = turns_of(sched, n, anonymity, enc.base)
-    facts = luminous_facts_cache(algo, initial, detection, frame_elements, lights)
+    turns = turns_of(req.scheduler, n, req.anonymity, enc.base)
+    facts = luminous_facts_cache(req.algorithm, initial, detection, req.frame_elements, lights)
     table = LitTable(enc, n, facts)
-    canon = Canon(enc, n)
-    reduced = bool(group or anonymity)
-    compiled = kernels.enabled()
-
     start = lit_initial_state(initial.robots, colours)
     checks = Checks(properties, StateFacts(facts(lit_configuration(start)), True))
     columns = ColumnChecks(checks, lambda row, idle=None: LitRowFacts(table.facts[row], idle),
@@ -211,146 +177,52 @@ def explore_lit(
     init_rows, _ = table.locate(np.array([[enc.code(r[0], None) * k + r[2]  # type: ignore[misc]
                                            for r in start]], dtype=np.int64))
     columns.states(0, init_rows, np.ones(1, dtype=bool), checks.on_discovery)
-    on_chunk = checks.halting + checks.on_expansion
+    return Luminous(enc, n, req.scheduler, turns, facts, req.reduced, table), checks, columns, \
+        start
 
-    max_states = min(limits.max_states, MAX_IDS)
-    index = KeyIndex()
-    seeds = seed_states(start, turns)
-    _, first_seeds = index.find_or_add(np.array(list(map(state_key(enc, turns), seeds)),
-                                                dtype=np.uint64))
-    seeds = [seeds[i] for i in first_seeds.tolist()]
-    parents = Growing(np.int32)
-    parents.extend(np.full(len(seeds), -1, dtype=np.int32))
-    offsets, targets = Growing(np.int64), Growing(np.int32)
-    weight_type = np.int8 if n <= 127 else np.int16
-    weights = Growing(weight_type)
-    transitions = changed_loops = 0
-    stopped: Stop | str | None = None
-    peak = rss_mb()
-    sid, chunk = 0, CHUNK
-    PROGRESS.states = 1
-    while sid < index.count and stopped is None:
-        if time.perf_counter() - started > limits.max_seconds:
-            stopped = Stop.TIME
-            break
-        peak = max(peak, rss_mb())
-        if peak > limits.max_memory_mb:
-            stopped = Stop.MEMORY
-            break
-        hi = min(index.count, sid + chunk)
-        keys = index.keys[sid:hi].copy()
-        codes = decode_keys(keys, enc.base, n)
-        rows, rank = table.locate(codes)
-        idle = np.all(codes // k % 5 == 0, axis=1)
-        limit_src = len(keys)
-        failing = columns.failures(on_chunk, rows, idle, gate=len(checks.halting))
-        halt = columns.first_failure(checks.halting, failing[:, :len(checks.halting)])
-        if halt is not None:
-            limit_src = halt[0]
-        assert not table.flags[rows[:limit_src]].any(), \
-            "a state without actions needs a halting property"
-        masks = table.masks[rows[:, None], rank]
-        frontier = Frontier(codes[:limit_src], masks[:limit_src], enc.neighbour)
-        if turns is None:
-            bulk = sched.bulk_luminous(frontier, EVENTS, k)
-        else:  # with the scheduler's own state of each state
-            bulk = cast(Any, sched).bulk_luminous(frontier, EVENTS, k,
-                                                  extra=turns.of_keys(keys[:limit_src]))
-        if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
-            hi = sid + bulk.states
-            keys, codes, rows = keys[:bulk.states], codes[:bulk.states], rows[:bulk.states]
-            limit_src = bulk.states
-            chunk = max(1, bulk.states)
-        elif chunk < CHUNK:
-            chunk = min(CHUNK, 2 * chunk)
-        src, weight = bulk.source, bulk.weight
-        robot, new = bulk.robot, bulk.code
-        single = bulk.event is None  # one change per event: change c is event c
-        event = np.arange(len(src)) if bulk.event is None else bulk.event
-        outside = np.flatnonzero(new < 0)
-        cut = len(src)
-        stop: Stop | str | None
-        if len(outside):
-            cut = int(event[outside[0]])
-            stop_src, stop = int(src[cut]), Stop.REGION
-            transitions += cut + 1
-        else:
-            stop_src = limit_src
-            stop = halt[1].name if halt is not None and halt[0] == limit_src else None
-            transitions += cut
-        src, weight = src[:cut], weight[:cut]
-        changes = int(np.searchsorted(event, cut))
-        robot, new, event = robot[:changes], new[:changes], event[:changes]
-        succ, old, _ = successor_keys(keys, codes, src, robot, new, None if single else event,
-                                      canon, reduced, compiled)
-        if turns is not None:
-            succ = with_turns(succ, bulk.extra, turns)
-        known = index.count
-        ids, first = index.find_or_add(succ)
-        fresh_src = src[first]
-        if index.count > max_states:  # after the first source whose expansion passes it
-            after = known + np.searchsorted(fresh_src, np.arange(stop_src), side="right")
-            over = np.flatnonzero(after > max_states)
-            if len(over):
-                stop_src, stop = int(over[0]), Stop.STATES
-                keep = int(np.searchsorted(src, stop_src, side="right"))
-                transitions -= cut - keep
-                cut = keep
-                src, weight, succ, ids = src[:cut], weight[:cut], succ[:cut], ids[:cut]
-                changes = int(np.searchsorted(event, cut))
-                robot, new, old, event = (a[:changes] for a in (robot, new, old, event))
-                m = int(np.searchsorted(fresh_src, stop_src, side="right"))
-                fresh_src = fresh_src[:m]
-                index.truncate(known + m)
-        fresh_keys = index.keys[known:index.count]
-        expanded = stop_src + (stop in (Stop.REGION, Stop.STATES))
-        columns.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
-                       rows, idle)
-        if checks.open(checks.on_transition) and cut:
-            after_rows, _ = table.locate(successor_codes(codes, src, robot, new, event))
-            columns.transitions(sid, src, rows[src], after_rows,
-                                partial(_step, enc, sched, facts, n, keys, src, turns=turns))
-        if checks.open(checks.on_discovery) and len(fresh_keys):
-            fresh = decode_keys(fresh_keys, enc.base, n)
-            columns.states(known, table.locate(fresh)[0], np.all(fresh // k % 5 == 0, axis=1),
-                           checks.on_discovery)
-        changed = np.zeros(cut, dtype=bool)
-        changed[event[new != old]] = True
-        changed_loops += int(np.count_nonzero((ids == sid + src) & changed))
-        if graph:
-            counts = np.bincount(src, minlength=expanded)[:expanded]
-            offsets.extend(targets.size + np.cumsum(counts) - counts)
-            targets.extend(ids.astype(np.int32))
-            weights.extend(weight.astype(weight_type))
-        parents.extend((sid + fresh_src).astype(np.int32))
-        if halt is not None and stop == halt[1].name and halt[0] == stop_src:
-            columns.record_halt(sid + stop_src, int(rows[stop_src]), bool(idle[stop_src]),
-                                halt[1])
-        if stop is not None:
-            stopped = stop
-            break
-        sid = hi
-        PROGRESS.states = index.count
-        if settle and checks.settled():
-            stopped = Stop.SETTLED
-            break
-    if graph:
-        offsets.extend(np.array([targets.size], dtype=np.int64))
-    peak = max(peak, rss_mb())
-    return Exploration(
-        initial=initial, algorithm=algo, scheduler_name=scheduler if isinstance(
-            scheduler, str) else sched.name, detection=detection,
-        frames=frames, anonymity=anonymity, symmetry=symmetry, encoding=enc,
-        # the numpy columns read as the reference's list and arrays
-        keys=cast(Any, IntColumn(index.keys[:index.count])),
-        parents=cast(Any, IntColumn(parents.array())),
-        offsets=cast(Any, IntColumn(offsets.array())),
-        targets=cast(Any, IntColumn(targets.array())),
-        weights=cast(Any, IntColumn(weights.array())), changed_loops=changed_loops, states=index.count,
-        transitions=transitions, stopped=stopped, violations=checks.violations,
-        seconds=time.perf_counter() - started, peak_rss_mb=peak, facts=facts,
-        vacuous=checks.vacuous, lights=lights, colours=tuple(colours or (0,) * n),
-        engine="bulk", turns=turns, starts=None if turns is None else seeds)
+
+class Luminous(Face):
+    """:class:`~gather_verify.engine.bulk_loop.Face` of luminous robots: a robot's code
+    has its colour as one more digit, and a :class:`LitTable` gives its actions."""
+
+    chunk = CHUNK
+    enc: LuminousEncoding
+
+    def __init__(self, enc: LuminousEncoding, n: int, sched: Scheduler, turns: Any,
+                 facts: Callable[[Any], ConfigurationFacts], reduced: bool, table: LitTable):
+        super().__init__(enc, n, sched, turns, facts, reduced)
+        self.table, self.k = table, enc.colours
+
+    def decode(self, keys: np.ndarray) -> tuple[np.ndarray, ...]:
+        codes = decode_keys(keys, self.enc.base, self.n)
+        rows, rank = self.table.locate(codes)
+        return keys, codes, None, rows, self.idle(codes), rank  # type: ignore[return-value]
+
+    def no_actions(self, rows: np.ndarray) -> np.ndarray:
+        return self.table.flags[rows]
+
+    def events(self, codes: np.ndarray, rows: np.ndarray, rank: np.ndarray,
+               extra: np.ndarray | None) -> Any:
+        frontier = self.enc.frontier(codes, self.table.masks[rows[:, None], rank])
+        if extra is None:
+            return self.sched.bulk_luminous(frontier, EVENTS, self.k)
+        return cast(Any, self.sched).bulk_luminous(frontier, EVENTS, self.k, extra=extra)
+
+    def after_rows(self, codes: np.ndarray, cells: np.ndarray | None, src: np.ndarray,
+                   robot: np.ndarray, new: np.ndarray, event: np.ndarray | None,
+                   succ_codes: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
+        return self.rows_of(successor_codes(codes, src, robot, new, event)), succ_codes
+
+    def rows_of(self, codes: np.ndarray) -> np.ndarray:
+        return self.table.locate(codes)[0]
+
+    def idle(self, codes: np.ndarray) -> np.ndarray:
+        return np.all(codes // self.k % 5 == 0, axis=1)
+
+    def witness(self, keys: np.ndarray, src: np.ndarray,
+                succ_codes: np.ndarray | None) -> Callable[[int], tuple[Any, State]]:
+        return partial(_step, self.enc, self.sched, self.facts, self.n, keys, src,
+                       turns=self.turns)
 
 
 def _step(enc: LuminousEncoding, sched: Any, facts: Callable[[Any], ConfigurationFacts],

@@ -40,7 +40,8 @@ def explore(
 
     ``engine="fast"`` insists on the bulk engine (InvalidInput if it cannot run this
     request), ``engine="reference"`` runs :func:`explore_reference`. With ``lights`` the bulk
-    engine is :func:`~gather_verify.engine.lit_bulk.explore_lit`; when ``auto`` falls back to
+    engine is :func:`~gather_verify.engine.fast_explore.explore_fast` too (its face for lights
+    in :mod:`~gather_verify.engine.lit_bulk`); when ``auto`` falls back to
     the reference, the result's ``engine_fallback`` says why. ``graph=False`` lets the bulk
     engine keep no edges (only states and safety witnesses; see :mod:`fast_explore`);
     ``memo=True`` lets it share configuration facts with the other searches of this
@@ -54,8 +55,8 @@ def explore(
             return explore_reference(initial, algorithm, scheduler, **options)
         why = lit_bulk.unsupported(initial, scheduler, **options)
         if why is None:
-            return lit_bulk.explore_lit(initial, algorithm, scheduler, graph=graph, memo=memo,
-                                        **options)
+            return fast_explore.explore_fast(initial, algorithm, scheduler, graph=graph,
+                                             memo=memo, **options)
         if engine == "fast":
             raise InvalidInput(f"the bulk engine cannot run this request ({why}): use "
                                "--engine auto or reference")

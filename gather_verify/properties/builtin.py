@@ -11,7 +11,7 @@ from typing import Any
 from gather_verify.errors import InvalidInput
 from gather_verify.properties.base import Outcome, Property, Run, Witness, fails_at_end
 from gather_verify.properties.facts import StateFacts
-from gather_verify.properties.graph import GraphFacts, any_cycle, livelock
+from gather_verify.properties.graph import GraphFacts, livelock, moving_cycle
 
 # -- safety: state and transition properties, checked during the search ------------------
 
@@ -125,7 +125,7 @@ def _decide_move_bound(g: GraphFacts) -> Outcome:
                                                        None, detail))
     lifted = g.lifted
     assert lifted is not None
-    cycle = any_cycle(lifted)
+    cycle = moving_cycle(lifted)
     assert cycle is not None
     return Outcome({"holds": False, "max_moves": None, "reason": "a cycle with moves: no bound"},
                    Witness(lifted, lifted.path_to(cycle[0]),
@@ -135,11 +135,13 @@ def _decide_move_bound(g: GraphFacts) -> Outcome:
 def _confirm_move_bound(prop: Property, run: Run) -> tuple[bool, str]:
     states, steps = run.states, run.steps
     cs = run.trace.get("cycle_start")
-    if cs is not None:
-        ok, why = fair_cycle(run, cs)
+    if cs is not None:  # a cycle that changes only colours (or a turn) leaves the moves bounded
         moves = sum(ev.distance for ev, _ in steps[cs:])
-        ok = ok or (states[cs] == states[-1] and moves > 0)
-        return ok, (f"the cycle returns and makes {moves} moves per turn" if ok else why)
+        if states[cs] != states[-1] or cs == len(states) - 1:
+            return False, "the cycle does not return to its first state"
+        ok = moves > 0
+        return ok, (f"the cycle returns and makes {moves} moves per turn" if ok else
+                    "the cycle returns but makes no move: the moves stay bounded")
     detail = run.trace.get("detail", {})
     c, D, n = detail.get("c"), detail.get("D"), detail.get("n")
     if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in (c, D, n)):

@@ -73,13 +73,17 @@ def longest_path(e: Exploration) -> LongestPath:
         from gather_verify import kernels
 
         if kernels.enabled() and _whole(e):
-            return _longest_path_compiled(e)
-        return _longest_path_bulk(e)
+            longest = _longest_path_compiled(e)
+        else:
+            longest = _longest_path_bulk(e)
+        if longest.max_moves is None and still_cycles(e):
+            return _longest_path_condensed(e)
+        return longest
     n = e.states
     succs: list[list[tuple[int, int]]] = [list(real_edges(e, s)) for s in range(n)]
     order = _topological_order(succs)
     if order is None:
-        return LongestPath(None, [])
+        return _longest_path_condensed(e) if still_cycles(e) else LongestPath(None, [])
     best = [0] * n
     choice = [-1] * n
     for s in reversed(order):
@@ -92,12 +96,22 @@ def longest_path(e: Exploration) -> LongestPath:
     return LongestPath(best[0], path)
 
 
+def still_cycles(e: Exploration) -> bool:
+    """Whether ``e``'s graph may have a cycle that makes no move: a ``stateful`` scheduler's
+    turn going round robots that stay, or lights changing colours while the robots stay
+    (SEMANTICS.md §10). Without either, every change of a state but a move is a Look that
+    sets a pending move, undone only by that move: every cycle moves."""
+    lights = getattr(e, "lights", None)
+    return getattr(e, "turns", None) is not None or (lights is not None and lights.colours > 1)
+
+
 def _longest_path_condensed(e: Exploration) -> LongestPath:
-    """:func:`longest_path` of a search whose scheduler keeps its own state (round-robin): its
-    turn goes round robots that stay, a cycle that makes no move. Moves are unbounded only
-    when a cycle makes one; else every state of a strongly connected component has the same
-    best total (its members reach each other for free), read off the components in reverse
-    topological order, and the path walks inside a component to its best way out."""
+    """:func:`longest_path` of a graph with cycles that may make no move (:func:`still_cycles`:
+    round-robin's turn going round robots that stay, lights changing colours). Moves are
+    unbounded only when a cycle makes one; else every state of a strongly connected
+    component has the same best total (its members reach each other for free), read off the
+    components in reverse topological order, and the path walks inside a component to its
+    best way out."""
     import networkx as nx
 
     succs = [list(real_edges(e, s)) for s in range(e.states)]
@@ -109,7 +123,8 @@ def _longest_path_condensed(e: Exploration) -> LongestPath:
             comp_of[v] = k
     if any(w and comp_of[s] == comp_of[t] for s, out in enumerate(succs) for t, w in out):
         return LongestPath(None, [], True)
-    cyclic = any(len(c) > 1 for c in comps)
+    # a cycle: an edge inside a component (a self-loop of a changed state, too)
+    cyclic = any(comp_of[s] == comp_of[t] for s, out in enumerate(succs) for t, _ in out)
     order = list(nx.topological_sort(nx.condensation(g, [set(c) for c in comps])))
     best = [0] * len(comps)
     exit_: list[tuple[int, int] | None] = [None] * len(comps)
@@ -250,8 +265,9 @@ def _longest_path_compiled(e: Exploration) -> LongestPath:
 
 
 def has_cycle(e: Exploration) -> bool:
-    """Whether the graph (unchanged self-loops aside) has a cycle."""
-    return longest_path(e).max_moves is None
+    """Whether the graph (unchanged self-loops aside) has a cycle, one that moves or not."""
+    longest = longest_path(e)
+    return longest.max_moves is None or longest.cyclic
 
 
 def strongly_connected(e: Exploration) -> list[list[int]]:
@@ -433,6 +449,30 @@ def any_cycle(e: Exploration) -> list[int] | None:
     return None
 
 
+def moving_cycle(e: Exploration) -> list[int] | None:
+    """A cycle of ids (first = last, its component's first state) that makes a move, or None:
+    what makes the moves unbounded. The first component's :func:`any_cycle` when it moves
+    (every cycle does without :func:`still_cycles`), else through the first edge in id and
+    edge order that moves inside a component."""
+    for comp in strongly_connected(e):
+        inside = set(comp)
+        entry = min(comp)
+        nxt = next(t for t, _ in real_edges(e, entry) if t in inside)
+        cycle = [entry, *walk(e, inside, nxt, entry)] if nxt != entry else [entry, entry]
+        if _moves(e, cycle):
+            return cycle
+        for u in comp:
+            t = next((t for t, w in real_edges(e, u) if w and t in inside), None)
+            if t is not None:  # (t = u: a self-loop of a changed state, taken once)
+                return walk(e, inside, entry, u) + walk(e, inside, t, entry)
+    return None
+
+
+def _moves(e: Exploration, ids: Sequence[int]) -> bool:
+    """Whether some step of the walk ``ids`` can make a move (a moving edge between them)."""
+    return any(w for a, b in zip(ids[:-1], ids[1:], strict=True) for t, w in real_edges(e, a) if t == b)
+
+
 @dataclass
 class GraphFacts:
     """What a graph property reads once a search is complete: the explored graph, its longest
@@ -464,9 +504,10 @@ class Walk:
 
 
 def most_moves(e: Exploration, bound: float) -> Walk | None:
-    """The walk (from the initial state, over the stored edges, states may repeat) with the
+    """The walk (from an initial state, over the stored edges, states may repeat) with the
     fewest events among those whose total moves exceed ``bound``; when none does, the one
-    with the most moves, fewest events among those (None: no stored edge, or too many).
+    with the most moves, fewest events among those (None: no move stored, or too many
+    edges). A ``stateful`` scheduler's every start is an initial state (its seed ids).
 
     It works on an unfinished graph too: every stored edge is a transition the scheduler
     offers, so the walk is a real execution prefix, whatever the search did not reach.
@@ -474,7 +515,8 @@ def most_moves(e: Exploration, bound: float) -> Walk | None:
     only when it has strictly more moves than every entry of that state in an earlier or
     the same layer: an entry with fewer moves and no fewer events cannot lead to a shorter
     excess. Each state is kept at most ``bound + 1`` times, so the search ends. Ties go to
-    the lowest state id, then the first edge in edge order (so the walk is deterministic).
+    the lowest state id (so the first start), then the first edge in edge order (so the walk
+    is deterministic).
 
     >>> from gather_verify.engine.search import explore
     >>> from gather_verify.model.configuration import Configuration
@@ -487,10 +529,14 @@ def most_moves(e: Exploration, bound: float) -> Walk | None:
         return None
     expanded = len(e.offsets) - 1
     best = [-1] * e.states  # the most moves of an entry of this state kept so far
-    best[0] = 0
-    state, moves, parent, weight = [0], [0], [-1], [0]
+    starts = getattr(e, "starts", None)
+    seeds = list(range(len(starts) if starts else 1))
+    for sid in seeds:
+        best[sid] = 0
+    state, moves, parent, weight = list(seeds), [0] * len(seeds), [-1] * len(seeds), \
+        [0] * len(seeds)
     top = 0  # the entry with the most moves (the earliest on ties)
-    layer = [0]
+    layer = list(seeds)
     while layer:
         here: dict[int, int] = {}  # state -> its entry in the next layer
         for k in layer:
@@ -519,7 +565,7 @@ def most_moves(e: Exploration, bound: float) -> Walk | None:
                 top = j
             if moves[top] > bound:
                 break
-    if top == 0:
+    if moves[top] == 0:
         return None
     path, weights, k = [], [], top
     while k >= 0:
