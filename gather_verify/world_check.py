@@ -28,7 +28,7 @@ from gather_verify.engine.encoding import (
 from gather_verify.engine.world_search import WorldSearch, search
 from gather_verify.errors import InvalidInput
 from gather_verify.progress import PROGRESS
-from gather_verify.tasks import Context, Finding, Task, get_task
+from gather_verify.tasks import TASKS, Context, Finding, Task, get_task
 from gather_verify.tasks.base import fair_walk
 from gather_verify.watchdog import Overtime, allowance, deadline
 from gather_verify.worlds import finite_world
@@ -40,8 +40,17 @@ ENGINES = ("auto", "reference", "bulk")
 """``--engine`` on a finite world (:func:`run_world_check`)."""
 PSEUDO = ("crash", "defined")
 """Checked on every task: the algorithm must answer a move in every view it meets."""
-PAPER_ONLY = ("target-invariance", "no-ungatherable", "move-bound")
-"""The paper's own properties: they need Z² with meeting nodes (its classes, U, D)."""
+
+
+def plane_only() -> set[str]:
+    """The properties registered for the paper's world (Z²) that no task of a finite world
+    has as a part (the paper's ``target-invariance``, ``no-ungatherable`` and ``move-bound``,
+    and any other property registered for Z²): asked for on a finite world, one line, never
+    a vacuous pass."""
+    from gather_verify.properties.registry import names
+
+    parts = {part for name in TASKS for part in get_task(name).parts}
+    return set(names()) - parts - set(PSEUDO)
 
 
 def default_task(meeting: list[int]) -> str:
@@ -216,9 +225,9 @@ def _parts(task: Task, properties: list[str] | None, world: World) -> list[str]:
         return list(task.parts)
     out = []
     for name in properties:
-        if name in PAPER_ONLY:
-            raise InvalidInput(f"property {name} is the paper's own (Z² with meeting nodes): "
-                               f"{world.name} cannot support it")
+        if name not in task.parts and name in plane_only():
+            raise InvalidInput(f"property {name} is a property of the paper's world (Z² with "
+                               f"meeting nodes, --world grid): {world.name} cannot support it")
         if name in PSEUDO:
             continue
         if name not in task.parts:
