@@ -10,8 +10,9 @@ else the trace does not match itself, exit 2), the recorded state must be the on
 and the algorithm must still choose that action (else it no longer reproduces: exit 5,
 ``step-not-taken``). Under round-robin the scheduler follows the order the trace names
 (``round-robin:order=1 0 2``, as on Z²); a trace without one (written before traces named
-it) is followed from every order, and accepted when one of them produces it. The failure of the part is then re-established on the replayed states
-(else exit 5, ``property-holds``):
+it) is followed from every order, and accepted when one of them produces it. The failure
+of the part is then re-established on the replayed states (else exit 5,
+``property-holds``):
 
 - ``crash`` / ``defined``: the algorithm still raises / has no rule in the last state;
 - ``final``, ``gathered-when-final``: the last state is final (nothing pending, every robot's
