@@ -245,9 +245,13 @@ def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
     and the world's drawing (:meth:`~gather_verify.worlds.base.World.drawing`) so that a
     picture of the trace needs nothing but the trace. On a task that explores, each step
     names the nodes visited so far (from the state when the search carries them, else
-    counted along the trace)."""
+    counted along the trace). Under a scheduler that keeps its own state (round-robin) the
+    trace names the start its run began in (``round-robin:order=1 0 2``), as on Z², so that
+    replay follows that start alone: the path is stored concretely from that start, in the
+    robots' own identities (the relabelling of the reductions only makes keys)."""
     ids = s.path_to(finding.state)
     keys = [s.keys[i] for i in ids]
+    scheduler = scheduler_from(scheduler, keys[0][2])
     events: list[Any] = [None] + [_event_between(s, a, b) for a, b in zip(ids, ids[1:],
                                                                         strict=False)]
     cycle_start = None
@@ -287,6 +291,14 @@ def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
         **({"graph_digest": digest} if isinstance(digest := getattr(world, "digest", None), str)
            else {}),
     }
+
+
+def scheduler_from(scheduler: str, start: object) -> str:
+    """The scheduler's name as a trace whose run began in the scheduler's own state ``start``
+    gives it: its start fixed when it keeps one (round-robin's ``pinned`` order), else as
+    it is."""
+    pinned = getattr(get_scheduler(scheduler), "pinned", None)
+    return scheduler if start is None or pinned is None else str(pinned(start))
 
 
 def _event_between(s: WorldSearch, a: int, b: int) -> Any:

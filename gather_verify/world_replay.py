@@ -8,8 +8,11 @@ trace: every event must be one the scheduler offers from the state before when e
 robot does what the trace says (a node it can reach in one edge, a colour of the lights:
 else the trace does not match itself, exit 2), the recorded state must be the one reached,
 and the algorithm must still choose that action (else it no longer reproduces: exit 5,
-``step-not-taken``). The failure of the part is then re-established on the replayed states
-(else exit 5, ``property-holds``):
+``step-not-taken``). Under round-robin the scheduler follows the order the trace names
+(``round-robin:order=1 0 2``, as on Z²); a trace without one (written before traces named
+it) is followed from every order, and accepted when one of them produces it. The failure
+of the part is then re-established on the replayed states (else exit 5,
+``property-holds``):
 
 - ``crash`` / ``defined``: the algorithm still raises / has no rule in the last state;
 - ``final``, ``gathered-when-final``: the last state is final (nothing pending, every robot's
@@ -258,10 +261,14 @@ def replay_world(trace: dict[str, Any], folder: Path | None = None) -> WorldRepl
     except InvalidInput as error:
         _fail(str(error))
     n = len(t.robots)
-    # the scheduler's own state (round-robin's order and turn) is not in the trace: follow
-    # every start it may have had, keeping those the trace is consistent with
-    runs: list[list[object]] = [[extra] for extra in
-                                getattr(scheduler, "starts", lambda _n: [None])(n)]
+    # the scheduler's own state (round-robin's order and turn): a trace names the start its
+    # run began in (round-robin:order=1 0 2), then that start alone is followed; an older
+    # trace without it is followed from every start, keeping those it is consistent with
+    try:
+        runs: list[list[object]] = [[extra] for extra in
+                                    getattr(scheduler, "starts", lambda _n: [None])(n)]
+    except InvalidInput as error:
+        _fail(f"its scheduler: {error}")
     actions: list[list[frozenset[tuple[int, int]]]] = []
     for k, (event, after) in enumerate(zip(t.events, t.states[1:], strict=True), 1):
         before = t.states[k - 1]
@@ -281,7 +288,9 @@ def replay_world(trace: dict[str, Any], folder: Path | None = None) -> WorldRepl
                     break
         if not kept:
             _fail(f"step {k}: the event {_text(world, event)} is not allowed from the state "
-                  "before, or does not reach the recorded state")
+                  "before, or does not reach the recorded state"
+                  + (f" (under {raw['scheduler']}, the order the trace names)"
+                     if ":order=" in raw["scheduler"] else ""))
         runs = kept
         try:
             offered = moves.actions(before)

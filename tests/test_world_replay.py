@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from gather_verify import kernels
 from gather_verify.cli import main
 from gather_verify.errors import InvalidInput
 from gather_verify.world_check import run_world_check
@@ -273,3 +274,81 @@ def test_a_scenario_that_stores_a_world_trace_replays_it(tmp_path: Path,
     path.write_text(json.dumps(scenario))
     assert main(["test", str(path)]) == 1
     assert "no longer reproduces" in capsys.readouterr().out
+
+
+# -- round-robin: the trace names the order its run started in, as on Z² ------------------
+
+ROUND_ROBIN = {
+    # name: (world, robots, meeting, algorithm, options, the failing part); the reductions
+    # are on in the first two (safety parts only) and their runs start in an order other
+    # than the first, so the robots' identities and the order must agree
+    "ring-explore-stop": ("ring:6", [0, 1, 3], [5], "go-to-target",
+                          {"task": "exploration-with-stop", "properties": ["explored-when-final"]},
+                          "explored-when-final"),
+    "torus-collision": ("torus:3x3", [0, 4, 5], [], "bounce",
+                        {"task": "exclusive-perpetual-exploration", "properties": ["exclusivity"],
+                         "lights": "2"}, "exclusivity"),
+    "ring-livelock": ("ring:6", [0, 2, 3], [], "broken-ring-explore",
+                      {"task": "gathering", "frames": "chirality"}, "termination"),
+}
+RR_ENGINES = ["reference", pytest.param("bulk", marks=pytest.mark.skipif(
+    not kernels.available(), reason="numba is not installed"))]
+
+
+def round_robin_trace(name: str, engine: str, reduction: bool) -> dict:
+    world, robots, meeting, algorithm, options, part = ROUND_ROBIN[name]
+    r = run_world_check(world, robots, meeting, algorithm, "round-robin", engine=engine,
+                        reduction=reduction, **options)
+    assert r["verdict"] == "VIOLATED" and r["property"] == part, (r["verdict"], r["reason"])
+    assert r["engine"] == engine
+    return json.loads(json.dumps(r["trace"]))
+
+
+def order_of(trace: dict) -> list[int]:
+    name, _, order = trace["scheduler"].partition(":order=")
+    assert name == "round-robin" and order, trace["scheduler"]
+    return [int(i) for i in order.split()]
+
+
+@pytest.mark.parametrize("reduction", [True, False])
+@pytest.mark.parametrize("engine", RR_ENGINES)
+@pytest.mark.parametrize("name", sorted(ROUND_ROBIN))
+def test_a_round_robin_trace_names_its_order_and_replay_follows_it(tmp_path, capsys, name,
+                                                                   engine, reduction):
+    """The trace names the order (a permutation of its robots) and replays under it alone;
+    another order that puts another robot first is refused in one line (exit 2); the same
+    trace without its order, as traces were written before, still replays (every order)."""
+    trace = round_robin_trace(name, engine, reduction)
+    order = order_of(trace)
+    assert sorted(order) == list(range(len(trace["robots"])))
+    assert trace["steps"][1]["event"]["robots"] == [order[0]]  # order[0] acts first
+    code, out = replayed(tmp_path, trace, capsys)
+    assert code == 1 and out["confirmed"], out
+    other = order[1:] + order[:1]
+    moved = {**trace, "scheduler": "round-robin:order=" + " ".join(map(str, other))}
+    path = tmp_path / "moved.json"
+    path.write_text(json.dumps(moved))
+    assert main(["replay", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "step 1:" in err and moved["scheduler"] in err, err
+    old = {**trace, "scheduler": "round-robin"}
+    assert replay_world(old).confirmed
+
+
+def test_the_reductions_do_not_hide_the_order_a_run_started_in():
+    """With the reductions on, the failing run of these instances starts in an order other
+    than the first (the one anonymity relabels every start to): the trace still names it in
+    the robots' own identities, the same order as the unreduced search's trace."""
+    for name in ("ring-explore-stop", "torus-collision"):
+        on = round_robin_trace(name, "reference", True)
+        off = round_robin_trace(name, "reference", False)
+        assert order_of(on) != sorted(order_of(on)), name
+        assert on["scheduler"] == off["scheduler"] and on["steps"] == off["steps"], name
+
+
+def test_a_round_robin_order_for_other_robots_is_refused_in_one_line():
+    trace = round_robin_trace("ring-livelock", "reference", False)
+    trace["scheduler"] = "round-robin:order=1 0"
+    with pytest.raises(InvalidInput, match=r"^bad trace: its scheduler: round-robin order 1 0 "
+                                           r"must name each of the robots 0\.\.2 once$"):
+        replay_world(trace)
