@@ -11,7 +11,9 @@ import io
 import json
 import os
 import subprocess
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import pytest
 from hypothesis import given, settings
@@ -49,6 +51,20 @@ def one_line(run: subprocess.CompletedProcess[str]) -> str:
     assert len(lines) == 1, run.stderr
     assert "Traceback" not in run.stderr
     return lines[0]
+
+
+def rejected(certificate: dict[str, Any], tamper: Callable[[dict[str, Any]], None],
+             tmp_path: Path) -> Path:
+    """A copy of ``certificate`` broken by ``tamper``, written to a file that ``--verify``
+    must reject (exit 1, one line): its path."""
+    doc = copy.deepcopy(certificate)
+    tamper(doc)
+    path = tmp_path / "broken.json"
+    path.write_text(json.dumps(doc))
+    run = cli("--verify", str(path))
+    assert run.returncode == 1, (run.returncode, run.stderr)
+    assert one_line(run).startswith("certificate REJECTED")
+    return path
 
 
 # -- exists: the witness, checked by the ordinary checker -----------------------------------
@@ -218,13 +234,7 @@ def _break_configuration(doc: dict) -> None:
 @pytest.mark.parametrize("tamper", [_break_event, _break_move, _break_leaf, _break_branch,
                                     _break_scheduler, _break_property, _break_configuration])
 def test_a_broken_certificate_fails_verify(tmp_path: Path, certificate: dict, tamper) -> None:
-    doc = copy.deepcopy(certificate)
-    tamper(doc)
-    path = tmp_path / "broken.json"
-    path.write_text(json.dumps(doc))
-    run = cli("--verify", str(path))
-    assert run.returncode == 1, (run.returncode, run.stderr)
-    assert one_line(run).startswith("certificate REJECTED")
+    path = rejected(certificate, tamper, tmp_path)
     with pytest.raises(CertificateError):
         verify_certificate(str(path))
 
