@@ -39,6 +39,12 @@ SWEEP = ("sweep", "--robots", "2", "--meeting", "1", "--box", "2x2", "--algorith
     ((*SWEEP, "--readings-types", "garbage", "--db", "x.sqlite"), ("needs --readings",)),
     ((*SWEEP, "--dask", "foo", "--db", "x.sqlite"), ("--dask foo",)),
     ((*SWEEP, "--db", "/nonexistent-folder/x.sqlite"), ("folder does not exist",)),
+    # the only property asked for is outside its scope: refused, never VERIFIED with nothing
+    # checked (as check refuses it)
+    ((*SWEEP, "--frames", "compass", "--property", "no-ungatherable", "--db", "x.sqlite"),
+     ("no-ungatherable does not apply under --frames compass", "orientation")),
+    ((*SWEEP, "--lights", "2", "--property", "no-ungatherable", "--db", "x.sqlite"),
+     ("no-ungatherable does not apply with --lights 2",)),
 ])
 def test_silently_accepted_or_traceback_inputs_are_one_line(tmp_path, argv, words):
     one_line(cli(*argv, cwd=tmp_path), *words)

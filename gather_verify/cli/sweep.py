@@ -155,6 +155,7 @@ def run(args: argparse.Namespace) -> int:
         args.properties = [absolute_property(p) for p in args.properties]  # workers load the file
         with deadline(allowance(args.max_seconds_per_config)):
             check_property_names(args.properties)
+        _in_scope(args)
     settings = [SweepSettings(
         robots=n, meeting=m, box=args.box, algorithm=args.algorithm,
         scheduler=args.scheduler, detection=args.multiplicity, frames=args.frames,
@@ -194,6 +195,24 @@ def run(args: argparse.Namespace) -> int:
     if "VIOLATED" in verdicts:
         return 1
     return 3 if "INCOMPLETE" in verdicts else 0
+
+
+def _in_scope(args: argparse.Namespace) -> None:
+    """A property named with ``--property`` outside the scope its paper registered for it (the
+    frames, or oblivious robots only) is refused before any work, in check's words: the
+    sweep would otherwise leave it out of every configuration and call what is left
+    VERIFIED."""
+    from gather_verify.theory import scope_of
+    from gather_verify.worlds.moves import parse_lights
+
+    colours = 1 if args.lights is None else parse_lights(args.lights).colours
+    for name in args.properties:
+        if (scope := scope_of(name)) is None:
+            continue
+        if (why := scope.with_colours(colours)) is not None:
+            raise InvalidInput(f"{name} does not apply with --lights {args.lights}: {why}")
+        if (why := scope.under_frames(args.frames)) is not None:
+            raise InvalidInput(f"{name} does not apply under --frames {args.frames}: {why}")
 
 
 def _lights(args: argparse.Namespace) -> None:
