@@ -284,6 +284,14 @@ def _witnesses(e: Exploration, configuration: Configuration, algorithm: Algorith
     return traces
 
 
+def no_target(algo: Algorithm) -> str | None:
+    """Why ``target-invariance`` does not apply to ``algo`` (None: it does): an algorithm with
+    no ``target()`` has no target meeting node to keep."""
+    if getattr(algo, "target", None) is not None:
+        return None
+    return f"the algorithm {algo.name!r} exposes no target(): there is no target meeting node to keep"
+
+
 def _leave_out(name: str, why: str, where: str, wanted: list[str],
                properties: Sequence[str] | None, not_applicable: dict[str, str],
                reason: str | None = None) -> None:
@@ -387,10 +395,8 @@ def _check_report(
         raise InvalidInput(f"algorithm {algo.name!r} is written for finite worlds: give "
                            "--world ring:N (docs/worlds.md)")
     # an algorithm with no target has nothing to keep
-    if getattr(algo, "target", None) is None:
-        _leave_out("target-invariance", f"the algorithm {algo.name!r} exposes no target(): "
-                   "there is no target meeting node to keep", "", wanted, properties,
-                   not_applicable)
+    if (why := no_target(algo)) is not None:
+        _leave_out("target-invariance", why, "", wanted, properties, not_applicable)
     for name, s in scopes.items():  # a paper's property defined under some frames only
         if (why := s.under_frames(frames)) is not None:
             _leave_out(name, why, f" under --frames {frames}", wanted, properties,

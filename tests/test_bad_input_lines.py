@@ -50,6 +50,21 @@ def test_silently_accepted_or_traceback_inputs_are_one_line(tmp_path, argv, word
     one_line(cli(*argv, cwd=tmp_path), *words)
 
 
+def test_a_sweep_refuses_target_invariance_for_an_algorithm_with_no_target(tmp_path):
+    """As check does: left out of every configuration, the rest would read VERIFIED."""
+    (tmp_path / "stay.py").write_text(
+        "from gather_verify.algorithms.base import Algorithm\n\n\n"
+        "class Stay(Algorithm):\n    name = 'stay'\n\n"
+        "    def decide(self, view):\n        return (0, 0)\n")
+    argv = ("--robots", "2", "--meeting", "1", "--box", "2x2", "--algorithm", "stay.py:Stay",
+            "--property", "target-invariance")
+    one_line(cli("sweep", *argv, "--workers", "1", "--db", "x.sqlite", cwd=tmp_path),
+             "target-invariance does not apply", "no target()")
+    one_line(cli("check", "--robots", "0,0 0,1", "--meeting", "0,0", "--algorithm",
+                 "stay.py:Stay", "--property", "target-invariance", cwd=tmp_path),
+             "target-invariance does not apply", "no target()")
+
+
 def test_a_trace_that_is_not_utf8_and_a_partial_stored_trace(tmp_path):
     (tmp_path / "bad.json").write_bytes(b"\xff\xfe{")
     one_line(cli("replay", "bad.json", cwd=tmp_path), "not UTF-8")

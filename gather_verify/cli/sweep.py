@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from typing import TYPE_CHECKING
 
 from gather_verify.cli.common import (
     EXIT_INTERRUPTED,
@@ -18,6 +19,9 @@ from gather_verify.cli.common import (
 from gather_verify.errors import InvalidInput
 from gather_verify.watchdog import allowance, deadline
 from schedulers import SCHEDULERS
+
+if TYPE_CHECKING:
+    from gather_verify.algorithms import Algorithm
 
 HELP = "verify every configuration of a box (up to symmetry) and store the results"
 DEFAULT_DB = "gather-verify-results.sqlite"
@@ -141,7 +145,7 @@ def run(args: argparse.Namespace) -> int:
                            "readings run on)")
     args.algorithm = absolute_spec(args.algorithm)  # the workers load the same file
     with deadline(allowance(args.max_seconds_per_config)):  # an endless import ends (watchdog)
-        get_algorithm(args.algorithm)  # unknown names fail before any work
+        algorithm = get_algorithm(args.algorithm)  # unknown names fail before any work
     writable_outputs(junit=args.junit)
     check_detection(args.multiplicity)
     frames_for(args.frames)
@@ -155,7 +159,7 @@ def run(args: argparse.Namespace) -> int:
         args.properties = [absolute_property(p) for p in args.properties]  # workers load the file
         with deadline(allowance(args.max_seconds_per_config)):
             check_property_names(args.properties)
-        _in_scope(args)
+        _in_scope(args, algorithm)
     settings = [SweepSettings(
         robots=n, meeting=m, box=args.box, algorithm=args.algorithm,
         scheduler=args.scheduler, detection=args.multiplicity, frames=args.frames,
@@ -197,14 +201,18 @@ def run(args: argparse.Namespace) -> int:
     return 3 if "INCOMPLETE" in verdicts else 0
 
 
-def _in_scope(args: argparse.Namespace) -> None:
-    """A property named with ``--property`` outside the scope its paper registered for it (the
-    frames, or oblivious robots only) is refused before any work, in check's words: the
-    sweep would otherwise leave it out of every configuration and call what is left
-    VERIFIED."""
+def _in_scope(args: argparse.Namespace, algorithm: Algorithm) -> None:
+    """A property named with ``--property`` that does not apply (outside the scope its paper
+    registered for it, the frames or oblivious robots only; ``target-invariance`` for an
+    algorithm with no target) is refused before any work, in check's words: the sweep
+    would otherwise leave it out of every configuration and call what is left VERIFIED."""
+    from gather_verify.check import no_target
     from gather_verify.theory import scope_of
     from gather_verify.worlds.moves import parse_lights
 
+    if "target-invariance" in args.properties and (
+            why := no_target(algorithm)) is not None:
+        raise InvalidInput(f"target-invariance does not apply: {why}")
     colours = 1 if args.lights is None else parse_lights(args.lights).colours
     for name in args.properties:
         if (scope := scope_of(name)) is None:
