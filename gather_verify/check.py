@@ -292,6 +292,35 @@ def no_target(algo: Algorithm) -> str | None:
     return f"the algorithm {algo.name!r} exposes no target(): there is no target meeting node to keep"
 
 
+def inapplicable(wanted: Sequence[str], algo: Algorithm, frames: str, light: Lights | None
+                 ) -> list[tuple[str, str, str, str]]:
+    """The properties of ``wanted`` that do not apply here, in the order check leaves them
+    out: outside the scope a paper registered for them (oblivious robots only, some frames
+    only) or ``target-invariance`` for an algorithm with no target. Each as ``(name, why,
+    where, reason)``: ``where`` names the option, ``reason`` is what ``not_applicable``
+    records (a property met twice is left out at its first)."""
+    out = []
+    scopes = {p: s for p in wanted if (s := theory.scope_of(p)) is not None}
+    if light is not None:  # a paper's property defined for oblivious robots only
+        for name, s in scopes.items():
+            if (why := s.with_colours(light.colours)) is not None:
+                out.append((name, why, f" with --lights {light}", why))
+    if "target-invariance" in wanted and (why := no_target(algo)) is not None:
+        out.append(("target-invariance", why, "", why))
+    for name, s in scopes.items():  # a paper's property defined under some frames only
+        if (why := s.under_frames(frames)) is not None:
+            out.append((name, why, f" under --frames {frames}", f"{why}, not --frames {frames}"))
+    return out
+
+
+def refuse_inapplicable(named: Sequence[str], algo: Algorithm, frames: str,
+                        light: Lights | None) -> None:
+    """InvalidInput (one line, check's words) when a property asked for by name does not
+    apply (:func:`inapplicable`): left out, the rest would be called VERIFIED without it."""
+    for name, why, where, _ in inapplicable(named, algo, frames, light):
+        raise InvalidInput(f"{name} does not apply{where}: {why}")
+
+
 def _leave_out(name: str, why: str, where: str, wanted: list[str],
                properties: Sequence[str] | None, not_applicable: dict[str, str],
                reason: str | None = None) -> None:
@@ -385,22 +414,11 @@ def _check_report(
                            f"per robot in 0..{(light.colours if light else 1) - 1}")
     lit: dict[str, Any] = {} if light is None else {
         "lights": light, "colours": None if colours is None else tuple(colours)}
-    scopes = {p: s for p in wanted if (s := theory.scope_of(p)) is not None}
-    if light is not None:  # a paper's property defined for oblivious robots only
-        for name, s in scopes.items():
-            if (why := s.with_colours(light.colours)) is not None:
-                _leave_out(name, why, f" with --lights {light}", wanted, properties,
-                           not_applicable)
     if not getattr(algo, "plane", True):
         raise InvalidInput(f"algorithm {algo.name!r} is written for finite worlds: give "
                            "--world ring:N (docs/worlds.md)")
-    # an algorithm with no target has nothing to keep
-    if (why := no_target(algo)) is not None:
-        _leave_out("target-invariance", why, "", wanted, properties, not_applicable)
-    for name, s in scopes.items():  # a paper's property defined under some frames only
-        if (why := s.under_frames(frames)) is not None:
-            _leave_out(name, why, f" under --frames {frames}", wanted, properties,
-                       not_applicable, f"{why}, not --frames {frames}")
+    for name, why, where, reason in inapplicable(wanted, algo, frames, light):
+        _leave_out(name, why, where, wanted, properties, not_applicable, reason)
     fixed_margin = limits.pop("margin", None)
     lim = Limits(max_states=max_states, max_seconds=max_seconds,
                  max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from typing import TYPE_CHECKING
 
 from gather_verify.cli.common import (
     EXIT_INTERRUPTED,
@@ -19,9 +18,6 @@ from gather_verify.cli.common import (
 from gather_verify.errors import InvalidInput
 from gather_verify.watchdog import allowance, deadline
 from schedulers import SCHEDULERS
-
-if TYPE_CHECKING:
-    from gather_verify.algorithms import Algorithm
 
 HELP = "verify every configuration of a box (up to symmetry) and store the results"
 DEFAULT_DB = "gather-verify-results.sqlite"
@@ -159,7 +155,11 @@ def run(args: argparse.Namespace) -> int:
         args.properties = [absolute_property(p) for p in args.properties]  # workers load the file
         with deadline(allowance(args.max_seconds_per_config)):
             check_property_names(args.properties)
-        _in_scope(args, algorithm)
+        from gather_verify.check import refuse_inapplicable
+        from gather_verify.worlds.moves import parse_lights
+
+        refuse_inapplicable(args.properties, algorithm, args.frames,
+                            None if args.lights is None else parse_lights(args.lights))
     settings = [SweepSettings(
         robots=n, meeting=m, box=args.box, algorithm=args.algorithm,
         scheduler=args.scheduler, detection=args.multiplicity, frames=args.frames,
@@ -199,28 +199,6 @@ def run(args: argparse.Namespace) -> int:
     if "VIOLATED" in verdicts:
         return 1
     return 3 if "INCOMPLETE" in verdicts else 0
-
-
-def _in_scope(args: argparse.Namespace, algorithm: Algorithm) -> None:
-    """A property named with ``--property`` that does not apply (outside the scope its paper
-    registered for it, the frames or oblivious robots only; ``target-invariance`` for an
-    algorithm with no target) is refused before any work, in check's words: the sweep
-    would otherwise leave it out of every configuration and call what is left VERIFIED."""
-    from gather_verify.check import no_target
-    from gather_verify.theory import scope_of
-    from gather_verify.worlds.moves import parse_lights
-
-    if "target-invariance" in args.properties and (
-            why := no_target(algorithm)) is not None:
-        raise InvalidInput(f"target-invariance does not apply: {why}")
-    colours = 1 if args.lights is None else parse_lights(args.lights).colours
-    for name in args.properties:
-        if (scope := scope_of(name)) is None:
-            continue
-        if (why := scope.with_colours(colours)) is not None:
-            raise InvalidInput(f"{name} does not apply with --lights {args.lights}: {why}")
-        if (why := scope.under_frames(args.frames)) is not None:
-            raise InvalidInput(f"{name} does not apply under --frames {args.frames}: {why}")
 
 
 def _lights(args: argparse.Namespace) -> None:
