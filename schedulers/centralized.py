@@ -35,6 +35,7 @@ def _singletons(n: int) -> np.ndarray:
 class Centralized:
     name = "centralized"
     kinds = ("round",)
+    union = True
 
     def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
         options = move_sets(configuration_of(state))

@@ -287,8 +287,9 @@ def test_what_the_union_decides_is_asked_not_named(tmp_path: Path) -> None:
     assert summary["union_fallbacks"]["a cycle is reachable"] > 0
 
 
-ROUNDS = ("fsync", "ssync")
-"""The round schedulers, whose events move several robots at once."""
+ROUNDS = ("fsync", "ssync", "centralized")
+"""The round schedulers, whose events are whole Look-Compute-Move cycles (several robots at
+once, or one under centralized)."""
 
 
 @pytest.mark.parametrize("scheduler", ROUNDS)

@@ -55,7 +55,8 @@ moved back, its representative there, that representative's events in the
 scheduler's order). The target must commute with those isometries on every
 reachable configuration, as with ``Aut(M0)``, or the seed falls back.
 
-The scheduler is any that says ``union = True`` (ASYNC, FSYNC, SSYNC: :func:`unsupported`);
+The scheduler is any that says ``union = True`` (ASYNC, FSYNC, SSYNC, centralized:
+:func:`unsupported`);
 its ``bulk_successors`` makes the events, one change each (ASYNC's Looks and Moves) or a
 round that changes several robots at once (FSYNC, SSYNC), fewer states at a time when their
 events pass ``EVENTS``.
