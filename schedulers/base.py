@@ -88,7 +88,7 @@ class Successors(NamedTuple):
     Per event e: ``source[e]`` (its state's row, non-decreasing) and ``weight[e]``
     (edges traversed, :attr:`Event.distance`). Its successor is its source with
     some robots changed: per change c, robot ``robot[c]`` of event ``event[c]``
-    gets code ``code[c]`` (-1 when it leaves the region); changes are listed by
+    gets code ``code[c]`` (``OUTSIDE`` when it leaves the region); changes are listed by
     event, non-decreasing. ``event`` is None when there is exactly one change per
     event (change c belongs to event c: ASYNC's Looks and Moves), which saves the
     engine work; an event with no change is a self-loop.

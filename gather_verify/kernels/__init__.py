@@ -15,7 +15,9 @@ schedulers all use it: it sits at the bottom of the import layers, beside ``erro
 numba only when a kernel is first used (:mod:`.compiled`; the finite worlds' bulk search
 imports its own, :mod:`.world`, when it runs). Kernels are compiled on first
 use and cached on disk (``cache=True``: numba's cache beside the module, or under
-``NUMBA_CACHE_DIR``), so only the first process pays the compile.
+``NUMBA_CACHE_DIR``), so only the first process pays the compile. :mod:`.codes` holds the
+values the kernels share with the engines (the neighbour tables' ``OUTSIDE`` and
+``NO_EDGE``, the Z² code's slots per cell), without numba.
 """
 from __future__ import annotations
 
