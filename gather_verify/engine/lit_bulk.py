@@ -27,7 +27,6 @@ kernels run) and the column checks of the properties. What is its own:
 >>> from gather_verify.engine.explore import explore_reference
 >>> from gather_verify.engine.fast_explore import explore_fast
 >>> from gather_verify.model.configuration import Configuration
-from gather_verify.model.geometry import SLOTS
 >>> from gather_verify.model.view import Lights
 >>> c = Configuration([(1, 1), (3, 2)], [(0, 0), (4, 0)], initial=True)
 >>> e = explore_fast(c, "beacon", "async", lights=Lights(2), reduction=False)
