@@ -12,7 +12,8 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from gather_verify.model.geometry import STEPS
+from gather_verify.kernels.codes import OUTSIDE
+from gather_verify.model.geometry import DEGREE, SLOTS, STEPS
 from schedulers.base import (
     ActionOrder,
     Actions,
@@ -32,8 +33,9 @@ LOOK_ORDER = tuple(sorted(range(len(STEPS)), key=STEPS.__getitem__))
 _LOOK_ORDER = np.array(LOOK_ORDER, dtype=np.int64)
 _LOOK_STEP = np.array([k + 1 for k in LOOK_ORDER], dtype=np.int64)
 _EVENTS = np.array([sum(1 << 8 * slot for slot, k in enumerate(LOOK_ORDER) if m >> k & 1)
-                    for m in range(32)] + [1], dtype="<u4")
-"""A robot's events as four little-endian bytes: by move mask when idle, at 32 when moving."""
+                    for m in range(1 << SLOTS)] + [1], dtype="<u4")
+"""A robot's events as four little-endian bytes (one per Look: Z²'s ``DEGREE`` is 4): by move
+mask when idle, at ``1 << SLOTS`` when moving."""
 
 
 class Async:
@@ -82,7 +84,7 @@ class Async:
         """:meth:`luminous` on Z² in bulk (codes and masks with ``colours`` colours, as
         :class:`~schedulers.base.Frontier` says): per robot, an idle one's Looks (every action
         but staying with its own colour, in order; pending step and colour set at once), a
-        busy one's Move (its colour kept; -1 when it leaves the region). One change per
+        busy one's Move (its colour kept; ``OUTSIDE`` when it leaves the region). One change per
         event."""
         codes, masks, neighbour = frontier
         s, n = codes.shape
@@ -91,25 +93,25 @@ class Async:
         if s * w * n > budget:
             s = max(1, budget // (w * n))
             codes, masks = codes[:s], masks[:s]
-        robot_code = codes // colours  # cell * 5 + d
+        robot_code = codes // colours  # cell * SLOTS + d
         colour = codes - robot_code * colours
-        idle = robot_code % 5 == 0
+        idle = robot_code % SLOTS == 0
         present = allowed_actions(masks, order)
-        present &= order[None, None, :] != 4 * colours + colour[:, :, None]  # stay, same light
+        present &= order[None, None, :] != DEGREE * colours + colour[:, :, None]  # stay, same light
         present &= idle[:, :, None]
         present[:, :, 0] |= ~idle  # a busy robot's one event: its Move
         flat = np.flatnonzero(present)
         at, j = np.divmod(flat, w)
         src, robot = np.divmod(at, n)
         rc = robot_code.reshape(-1)[at]
-        cell = rc // 5
+        cell = rc // SLOTS
         step, c = np.divmod(order[j], colours)
-        new = (cell * 5 + np.where(step < 4, step + 1, 0)) * colours + c
+        new = (cell * SLOTS + np.where(step < DEGREE, step + 1, 0)) * colours + c
         move = np.flatnonzero(~idle.reshape(-1)[at])
         if len(move):
-            dest = neighbour[cell[move], rc[move] - cell[move] * 5 - 1]
-            new[move] = np.where(dest >= 0, dest * 5 * colours + colour.reshape(-1)[at[move]],
-                                 -1)
+            dest = neighbour[cell[move], rc[move] - cell[move] * SLOTS - 1]
+            new[move] = np.where(dest >= 0,
+                                 dest * SLOTS * colours + colour.reshape(-1)[at[move]], OUTSIDE)
         weight = np.zeros(len(flat), dtype=np.int8)
         weight[move] = 1
         return Successors(s, src, weight, robot, new, None)
@@ -117,11 +119,11 @@ class Async:
     def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
         """:meth:`successors` for many states at once, in the same order: one change per
         event (a Look sets the robot's pending step, a Move takes it to its destination,
-        -1 when that leaves the region)."""
+        ``OUTSIDE`` when that leaves the region)."""
         codes, masks, neighbour = frontier
         s, n = codes.shape
-        if s * 4 * n > budget:  # at most four Looks (or one Move) per robot
-            s = max(1, budget // (4 * n))
+        if s * DEGREE * n > budget:  # at most DEGREE Looks (or one Move) per robot
+            s = max(1, budget // (DEGREE * n))
             codes, masks = codes[:s], masks[:s]
         from gather_verify import kernels  # here: importing numba costs every command 0.25 s
 
@@ -130,22 +132,22 @@ class Async:
                 np.ascontiguousarray(codes, dtype=np.int64),
                 np.ascontiguousarray(masks, dtype=np.uint8), neighbour, _LOOK_ORDER)
             return Successors(len(codes), src, weight, robot, new, None)
-        idle = codes == codes // 5 * 5  # (floor division by a constant is the fast one)
+        idle = codes == codes // SLOTS * SLOTS  # (floor division by a constant: the fast one)
         # per robot, its events in order as four bytes (the Looks in LOOK_ORDER, or its one
         # Move in the first), then the events of the chunk in order where a byte is set
-        events = _EVENTS[np.where(idle, masks, 32)].view(np.bool_)
+        events = _EVENTS[np.where(idle, masks, 1 << SLOTS)].view(np.bool_)
         flat = np.flatnonzero(events)
         at = flat >> 2  # the robot's position in codes.reshape(-1)
         src = at // n
         robot = at - src * n
         code = codes.reshape(-1)[at]
-        new = code + _LOOK_STEP[flat & 3]  # a Look: cell * 5 + 1 + k (idle: code = cell * 5)
+        new = code + _LOOK_STEP[flat & 3]  # a Look: cell * SLOTS + 1 + k (idle: cell * SLOTS)
         move = np.flatnonzero(~idle.reshape(-1)[at])
         if len(move):
             c = code[move]
-            cell = c // 5
-            dest = neighbour[cell, c - cell * 5 - 1]
-            new[move] = np.where(dest >= 0, dest * 5, -1)
+            cell = c // SLOTS
+            dest = neighbour[cell, c - cell * SLOTS - 1]
+            new[move] = np.where(dest >= 0, dest * SLOTS, OUTSIDE)
         weight = np.zeros(len(flat), dtype=np.int8)
         weight[move] = 1
         return Successors(len(codes), src, weight, robot, new, None)

@@ -16,7 +16,8 @@ from typing import Any, NamedTuple, Protocol
 
 import numpy as np
 
-from gather_verify.model.geometry import STEPS, Node
+from gather_verify.kernels.codes import OUTSIDE
+from gather_verify.model.geometry import DEGREE, SLOTS, STEPS, Node
 
 Robot = tuple[Node, Node | None]
 """One robot: its node and its pending destination (None when idle)."""
@@ -61,22 +62,23 @@ class Event:
 class Frontier(NamedTuple):
     """Encoded states handed to :meth:`Scheduler.bulk_successors` by the engine.
 
-    ``codes[s, i]`` is robot i of state s as ``cell * 5 + d``: ``cell`` a node of
-    the engine's region, ``d`` 0 when idle, else 1 + the index in ``STEPS`` of
-    its pending step. ``masks[s, i]`` is robot i's move set in the configuration
-    of state s as bits: bit k for ``STEPS[k]``, bit 4 for staying.
-    ``neighbour[cell, k]`` is the cell one ``STEPS[k]`` away (-1: outside the
-    region). A scheduler reads these and nothing else of the engine.
+    ``codes[s, i]`` is robot i of state s as ``cell * SLOTS + d`` (``SLOTS`` = degree + 1):
+    ``cell`` a node of the engine's region, ``d`` 0 when idle, else 1 + the index in
+    ``STEPS`` of its pending step. ``masks[s, i]`` is robot i's move set in the
+    configuration of state s as bits: bit k for ``STEPS[k]``, bit ``DEGREE`` for staying.
+    ``neighbour[cell, k]`` is the cell one ``STEPS[k]`` away (``OUTSIDE``: outside the
+    region, a limit; Z² has no ``NO_EDGE``). A move there gets the new code ``OUTSIDE``.
+    A scheduler reads these and nothing else of the engine.
 
     With K colours (luminous robots, §10; ``bulk_luminous``) a robot's code is
-    ``(cell * 5 + d) * K + colour`` and its mask has a bit per action, bit
-    ``k * K + c`` for ``STEPS[k]`` (k = 4: stay) with the new colour c
+    ``(cell * SLOTS + d) * K + colour`` and its mask has a bit per action, bit
+    ``k * K + c`` for ``STEPS[k]`` (k = ``DEGREE``: stay) with the new colour c
     (:func:`luminous_order`).
     """
 
     codes: np.ndarray  # (S, n) int64
     masks: np.ndarray  # (S, n) uint8
-    neighbour: np.ndarray  # (cells, 4) int64
+    neighbour: np.ndarray  # (cells, DEGREE) int64
 
 
 class Successors(NamedTuple):
@@ -86,7 +88,7 @@ class Successors(NamedTuple):
     Per event e: ``source[e]`` (its state's row, non-decreasing) and ``weight[e]``
     (edges traversed, :attr:`Event.distance`). Its successor is its source with
     some robots changed: per change c, robot ``robot[c]`` of event ``event[c]``
-    gets code ``code[c]`` (-1 when it leaves the region); changes are listed by
+    gets code ``code[c]`` (``OUTSIDE`` when it leaves the region); changes are listed by
     event, non-decreasing. ``event`` is None when there is exactly one change per
     event (change c belongs to event c: ASYNC's Looks and Moves), which saves the
     engine work; an event with no change is a self-loop.
@@ -210,18 +212,18 @@ def configuration_of(state: State) -> tuple[Node, ...]:
 
 def _sorted_choices() -> tuple[tuple[int, ...], tuple[int, ...]]:
     """Per move mask, the allowed choices in the order of their sorted destinations
-    (as ``successors`` tries them), each as its step index (4: stay); and how many."""
-    order = sorted(range(5), key=lambda k: STEPS[k] if k < 4 else (0, 0))
+    (as ``successors`` tries them), each as its step index (``DEGREE``: stay); and how many."""
+    order = sorted(range(SLOTS), key=lambda k: STEPS[k] if k < DEGREE else (0, 0))
     table, count = [], []
-    for mask in range(32):
+    for mask in range(1 << SLOTS):
         allowed = [k for k in order if mask >> k & 1]
         count.append(len(allowed))
-        table.extend(allowed + [4] * (5 - len(allowed)))
+        table.extend(allowed + [DEGREE] * (SLOTS - len(allowed)))
     return tuple(table), tuple(count)
 
 
 _NTH, _COUNT = (np.array(t, dtype=np.int64) for t in _sorted_choices())
-_NTH = _NTH.reshape(32, 5)
+_NTH = _NTH.reshape(1 << SLOTS, SLOTS)
 
 
 def bulk_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Successors:
@@ -293,21 +295,22 @@ def numpy_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Succes
     k = len(subsets)
     count = _COUNT[masks]  # (S, n) choices per robot
     s, width, per = _widths(count, subsets, budget)
-    # per (state, robot): its new code for its j-th choice (j < 5), or when not activated
-    # (j = 5); and whether that choice moves it
-    nth = _NTH[masks[:s]]  # (S, n, 5): step index of the j-th choice (4: stay)
-    cell = codes[:s] // 5
-    go = nth < 4
+    # per (state, robot): its new code for its j-th choice (j < SLOTS), or when not
+    # activated (j = SLOTS); and whether that choice moves it
+    nth = _NTH[masks[:s]]  # (S, n, SLOTS): step index of the j-th choice (DEGREE: stay)
+    cell = codes[:s] // SLOTS
+    go = nth < DEGREE
     dest = neighbour[cell[:, :, None], np.where(go, nth, 0)]
-    choice = np.empty((s, n, 6), dtype=np.int64)
-    choice[:, :, :5] = np.where(go, np.where(dest >= 0, dest * 5, -1), cell[:, :, None] * 5)
-    choice[:, :, 5] = codes[:s]
-    moves = np.zeros((s, n, 6), dtype=bool)
-    moves[:, :, :5] = go
+    choice = np.empty((s, n, SLOTS + 1), dtype=np.int64)
+    choice[:, :, :SLOTS] = np.where(go, np.where(dest >= 0, dest * SLOTS, OUTSIDE),
+                                    cell[:, :, None] * SLOTS)
+    choice[:, :, SLOTS] = codes[:s]
+    moves = np.zeros((s, n, SLOTS + 1), dtype=bool)
+    moves[:, :, :SLOTS] = go
     choice, moves = choice.reshape(-1), moves.reshape(-1)
     # per (state, subset) and robot: where its choices start in those flat tables
-    slot = ((np.arange(s)[:, None] * n + np.arange(n)) * 6)[:, None, :] + \
-        np.where(subsets, 0, 5)[None, :, :]
+    slot = ((np.arange(s)[:, None] * n + np.arange(n)) * (SLOTS + 1))[:, None, :] + \
+        np.where(subsets, 0, SLOTS)[None, :, :]
     group, new, moved = _products(slot.reshape(s * k, n), per, width, choice, moves)
     flat = np.flatnonzero(moved.reshape(-1))
     event, robot = np.divmod(flat, n)
@@ -319,8 +322,9 @@ def numpy_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Succes
 def luminous_order(colours: int) -> np.ndarray:
     """The action bits of a luminous robot on Z² in the order ``luminous`` tries its actions
     (sorted (destination, colour) pairs: the order of the oblivious ``successors``, then
-    the colour): bit ``k * colours + c`` is ``STEPS[k]`` (k = 4: stay) with colour c."""
-    order = sorted(range(5), key=lambda k: STEPS[k] if k < 4 else (0, 0))
+    the colour): bit ``k * colours + c`` is ``STEPS[k]`` (k = ``DEGREE``: stay) with colour
+    c."""
+    order = sorted(range(SLOTS), key=lambda k: STEPS[k] if k < DEGREE else (0, 0))
     return np.array([k * colours + c for k in order for c in range(colours)], dtype=np.int64)
 
 
@@ -348,12 +352,13 @@ def bulk_luminous_rounds(frontier: Frontier, budget: int, subsets: np.ndarray,
     # per (state, robot): the bit of its j-th action (allowed ones first, in order)
     nth = order[np.argsort(~allowed[:s], axis=2, kind="stable")]  # (S, n, W)
     step, colour = np.divmod(nth, colours)
-    cell = codes[:s] // (5 * colours)
-    go = step < 4
+    cell = codes[:s] // (SLOTS * colours)
+    go = step < DEGREE
     dest = neighbour[cell[:, :, None], np.where(go, step, 0)]
     choice = np.empty((s, n, w + 1), dtype=np.int64)
-    choice[:, :, :w] = np.where(go, np.where(dest >= 0, dest * 5 * colours + colour, -1),
-                                cell[:, :, None] * 5 * colours + colour)
+    choice[:, :, :w] = np.where(go, np.where(dest >= 0, dest * SLOTS * colours + colour,
+                                             OUTSIDE),
+                                cell[:, :, None] * SLOTS * colours + colour)
     choice[:, :, w] = codes[:s]
     moves = np.zeros((s, n, w + 1), dtype=bool)
     moves[:, :, :w] = go

@@ -19,6 +19,8 @@ from itertools import permutations
 import numpy as np
 
 from gather_verify.errors import InvalidInput
+from gather_verify.kernels.codes import OUTSIDE
+from gather_verify.model.geometry import DEGREE, SLOTS
 from schedulers.base import (
     _COUNT,
     _NTH,
@@ -133,15 +135,16 @@ class RoundRobin:
         rank = np.arange(len(source)) - (ends - count)[source]
         robot = active[source]
         if colours is None:
-            step, colour, unit = _NTH[mask[source], rank], 0, 5
+            step, colour, unit = _NTH[mask[source], rank], 0, SLOTS
         else:
             nth = bits[np.argsort(~allowed[:s], axis=1, kind="stable")]
             step, colour = np.divmod(nth[source, rank], colours)
-            unit = 5 * colours
+            unit = SLOTS * colours
         cell = codes[source, robot] // unit
-        go = step < 4
+        go = step < DEGREE
         dest = neighbour[cell, np.where(go, step, 0)]
-        code = np.where(go, np.where(dest >= 0, dest * unit + colour, -1), cell * unit + colour)
+        code = np.where(go, np.where(dest >= 0, dest * unit + colour, OUTSIDE),
+                        cell * unit + colour)
         weight = go.astype(np.int8 if n <= 127 else np.int16)
         after = (place * n + (turn + 1) % n)[source]
         return Successors(s, source, weight, robot, code, None, after)

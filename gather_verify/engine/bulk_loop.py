@@ -9,7 +9,7 @@ What differs between the two kinds of robots is a :class:`Face`: how a chunk's k
 decoded and their configurations looked up, how the scheduler's bulk face is asked for
 their events, and how the configurations that transitions and new states reach are found.
 A luminous robot's code is an oblivious one's with its colour as one more digit,
-``(cell * 5 + d) * K + colour``, so everything else is the same code on both.
+``(cell * SLOTS + d) * K + colour``, so everything else is the same code on both.
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ from gather_verify.engine.columns import Growing, IntColumn
 from gather_verify.engine.encoding import Encoding, Limits, Stop
 from gather_verify.engine.explore import rss_mb
 from gather_verify.engine.key_index import KeyIndex
+from gather_verify.kernels.codes import OUTSIDE
 from gather_verify.progress import PROGRESS
 from schedulers import Scheduler, State
 
@@ -40,8 +41,8 @@ class Face:
     """What the oblivious and the luminous bulk searches do differently around the one loop,
     :func:`bulk_search`: how a chunk of keys is decoded and its configurations looked up,
     how the scheduler's bulk face is asked for their events, and how the configurations the
-    transitions and the new states reach are found. A robot's code is ``cell * 5 + d``
-    without lights, ``(cell * 5 + d) * K + colour`` with them (the colour one more digit)."""
+    transitions and the new states reach are found. A robot's code is ``cell * SLOTS + d``
+    without lights, ``(cell * SLOTS + d) * K + colour`` with them (the colour one more digit)."""
 
     chunk: int
     """States expanded per bulk step (fewer when their events are many)."""
@@ -175,7 +176,7 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
         src, weight = bulk.source, bulk.weight
         robot, new, event = bulk.robot, bulk.code, bulk.event  # the changes
         single = event is None  # one change per event (event c is change c)
-        outside = np.flatnonzero(new < 0)
+        outside = np.flatnonzero(new == OUTSIDE)  # a move out of the region: a limit
         cut = len(src)
         stop: Stop | str | None
         if len(outside):

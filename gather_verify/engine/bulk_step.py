@@ -29,6 +29,7 @@ from gather_verify.engine.canonical_keys import Canon, decode_keys
 from gather_verify.engine.columns import Growing
 from gather_verify.engine.facts_table import FactsTable
 from gather_verify.engine.key_index import KeyIndex
+from gather_verify.model.geometry import DEGREE, SLOTS
 
 
 @dataclass
@@ -36,8 +37,8 @@ class Chunk:
     """Stored states decoded, with their configurations' rows in a :class:`FactsTable`."""
 
     keys: np.ndarray  # (k,) uint64: the states' keys
-    codes: np.ndarray  # (k, n): robot codes ``cell * 5 + d``
-    cells: np.ndarray  # (k, n): ``codes // 5``
+    codes: np.ndarray  # (k, n): robot codes ``cell * SLOTS + d``
+    cells: np.ndarray  # (k, n): ``codes // SLOTS``
     sorted_cells: np.ndarray  # (k, n): each row's cells sorted (its configuration)
     rows: np.ndarray  # (k,): the configuration's row in the table
     idle: np.ndarray  # (k,) bool: every robot idle
@@ -52,9 +53,9 @@ def decode_chunk(keys: np.ndarray, table: FactsTable, compiled: bool) -> Chunk:
         codes, cells, srt, ck, idle, rank = kernels.decode_chunk(keys, base, n, table.weights)
     else:
         codes = decode_keys(keys, base, n)
-        cells = codes // 5
+        cells = codes // SLOTS
         srt, ck = table.config_keys(cells)
-        idle = np.all(codes % 5 == 0, axis=1)
+        idle = np.all(codes % SLOTS == 0, axis=1)
         rank = None
     rows = table.rows(ck, srt)
     if rank is None:
@@ -123,7 +124,7 @@ class PairRows:
 
     def __init__(self, table: FactsTable):
         self.table = table
-        self.succ = np.full((1024, table.n, 4), -1, dtype=np.int32)
+        self.succ = np.full((1024, table.n, DEGREE), -1, dtype=np.int32)
         self.neighbour = table.enc.neighbour
         self.index = KeyIndex(bits=12, capacity=1 << 12)
         self.rows = Growing(np.int64, 1 << 12)
@@ -144,7 +145,7 @@ class PairRows:
                                                  self.neighbour, self.succ)
         if len(miss):
             succ = cells[src[miss]].copy()
-            succ[np.arange(len(miss)), robot[miss]] = new[miss] // 5
+            succ[np.arange(len(miss)), robot[miss]] = new[miss] // SLOTS
             srt, k = self.table.config_keys(succ)
             got = self.table.rows(k, srt)
             out[miss] = got
@@ -163,7 +164,7 @@ class PairRows:
         if len(first):
             f = moved[first]
             succ = cells[src[f]].copy()
-            succ[np.arange(len(f)), robot[f]] = new[f] // 5
+            succ[np.arange(len(f)), robot[f]] = new[f] // SLOTS
             srt, k = self.table.config_keys(succ)
             self.rows.extend(self.table.rows(k, srt))
         out[moved] = self.rows.array()[ids]

@@ -1,8 +1,8 @@
 """Canonical keys of whole arrays of states: what :meth:`Encoding.key` computes for one.
 
-A bulk step produces successors as rows of robot codes (``cell * 5 + d``). Their
+A bulk step produces successors as rows of robot codes (``cell * SLOTS + d``). Their
 stored keys must be exactly the reference engine's (the same states, ids and traces):
-the codes packed in base ``5 * cells``, sorted when anonymity is on, and the least over
+the codes packed in base ``SLOTS * cells``, sorted when anonymity is on, and the least over
 the usable elements of ``Aut(M)`` when symmetry is on. :class:`Canon` computes them for
 a whole array with a handful of elementwise operations; :func:`decode_keys` is the way
 back from keys to codes.

@@ -1,10 +1,11 @@
 """The engine's state encoding: robots and states as integers over a box of the grid.
 
 SEMANTICS.md §4. Both engines store a state as one integer key and hand its
-robots to the schedulers as *codes* ``cell * 5 + d``: ``cell`` indexes a node
+robots to the schedulers as *codes* ``cell * (degree + 1) + d``
+(``geometry.SLOTS`` = degree + 1 = 5): ``cell`` indexes a node
 of the search region (a box, column-major), ``d`` is 0 when the robot is idle,
 else 1 + the index in ``geometry.STEPS`` of its pending unit step. A state
-packs its codes in base ``5 * cells``; with the reductions on, the codes are
+packs its codes in base ``SLOTS * cells``; with the reductions on, the codes are
 sorted (anonymity) and the key is the least over the usable elements of
 ``Aut(M)`` (symmetry). The group and the limits of a search are decided here
 too (its region, by :mod:`gather_verify.engine.region`), so the engines and the
@@ -24,9 +25,10 @@ import numpy as np
 from gather_verify.algorithms.moves import frames_for
 from gather_verify.engine.region import DEFAULT_MARGIN
 from gather_verify.engine.region import region_box as region_box  # its callers' old import
+from gather_verify.kernels.codes import OUTSIDE
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
-from gather_verify.model.geometry import STEPS, Node
+from gather_verify.model.geometry import SLOTS, STEPS, Node
 from gather_verify.model.symmetry import Automorphism, meeting_automorphisms
 from schedulers.base import Frontier, State
 
@@ -94,7 +96,9 @@ class Encoding:
         self.x0, self.y0, x1, y1 = box
         self.width, self.height = x1 - self.x0 + 1, y1 - self.y0 + 1
         self.cells = self.width * self.height
-        self.base = self.cells * 5
+        self.slots = SLOTS
+        """A code's slots per cell: degree + 1 (idle, or one pending step)."""
+        self.base = self.cells * SLOTS
         self.anonymity = anonymity
         self.tables = [self._table(a) for a in group if a.g != geometry.IDENTITY or a.t != (0, 0)]
 
@@ -106,10 +110,10 @@ class Encoding:
 
     def code(self, v: Node, pending: Node | None) -> int:
         cell = (v[0] - self.x0) * self.height + (v[1] - self.y0)
-        return cell * 5 + (0 if pending is None else STEP_INDEX[(pending[0] - v[0], pending[1] - v[1])])
+        return cell * SLOTS + (0 if pending is None else STEP_INDEX[(pending[0] - v[0], pending[1] - v[1])])
 
     def robot(self, code: int) -> tuple[Node, Node | None]:
-        cell, d = divmod(code, 5)
+        cell, d = divmod(code, SLOTS)
         v = self.node(cell)
         return v, (None if d == 0 else geometry.add(v, STEPS[d - 1]))
 
@@ -118,7 +122,7 @@ class Encoding:
         codes). A list, which the reference engine indexes fastest, up to
         :data:`LIST_TABLE_CODES` codes; an array beyond, to bound the memory."""
         code = np.arange(self.base, dtype=np.int64)
-        cell, d = np.divmod(code, 5)
+        cell, d = np.divmod(code, SLOTS)
         x, y = self.x0 + cell // self.height, self.y0 + cell % self.height
         ma, mb, mc, md = geometry.MATRICES[a.g]
         nx_, ny_ = ma * x + mb * y + a.t[0], mc * x + md * y + a.t[1]
@@ -128,7 +132,7 @@ class Encoding:
         direction = np.zeros(9 * 2, dtype=np.int64)  # image step -> its d (0: none)
         for k, (tx, ty) in enumerate(STEPS):
             direction[tx * 3 + ty] = k + 1
-        out = ((nx_ - self.x0) * self.height + (ny_ - self.y0)) * 5 + direction[turned]
+        out = ((nx_ - self.x0) * self.height + (ny_ - self.y0)) * SLOTS + direction[turned]
         return out.tolist() if self.base <= LIST_TABLE_CODES else out
 
     def pack(self, codes: Iterable[int]) -> int:
@@ -164,8 +168,10 @@ class Encoding:
 
     @cached_property
     def neighbour(self) -> np.ndarray:
-        """``neighbour[cell, k]``: the cell one ``STEPS[k]`` away (-1 outside the box)."""
-        out = np.full((self.cells, len(STEPS)), -1, dtype=np.int64)
+        """``neighbour[cell, k]``: the cell one ``STEPS[k]`` away, :data:`OUTSIDE
+        <gather_verify.kernels.codes.OUTSIDE>` when that node lies outside the box (a limit
+        of the search). Z² has every edge: the table never holds ``NO_EDGE``."""
+        out = np.full((self.cells, len(STEPS)), OUTSIDE, dtype=np.int64)
         for cell in range(self.cells):
             v = self.node(cell)
             for k, step in enumerate(STEPS):
@@ -225,7 +231,7 @@ class Turns:
 
 class LuminousEncoding(Encoding):
     """:class:`Encoding` with each robot's light (§10): a robot's code is
-    ``(cell * 5 + d) * K + colour`` over K colours, and a state's robots are
+    ``(cell * SLOTS + d) * K + colour`` over K colours, and a state's robots are
     ``(node, pending, colour)``. With K = 1 the codes, hence the keys, are those of
     :class:`Encoding`. The symmetries move nodes and pending steps, never colours.
 
@@ -239,7 +245,7 @@ class LuminousEncoding(Encoding):
                  anonymity: bool = True, colours: int = 1):
         super().__init__(box, group, anonymity)
         self.colours = colours
-        self.base = self.cells * 5 * colours
+        self.base = self.cells * SLOTS * colours
         if colours > 1:
             lit = np.arange(colours, dtype=np.int64)
             tables = [(np.asarray(t, dtype=np.int64)[:, None] * colours + lit).reshape(-1)

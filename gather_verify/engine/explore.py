@@ -2,9 +2,9 @@
 
 SEMANTICS.md §4-5. A state is, per robot, its node and its pending
 destination. States are stored as integers: each robot is a *code*
-``cell * 5 + direction`` (``cell`` indexes a node of the search region,
-``direction`` is 0 when idle, else 1 + the index of the pending unit step in
-``geometry.STEPS``), and a state packs its codes in base ``5 * cells``. The
+``cell * SLOTS + direction`` (``geometry.SLOTS`` = degree + 1; ``cell`` indexes a node
+of the search region, ``direction`` is 0 when idle, else 1 + the index of the pending
+unit step in ``geometry.STEPS``), and a state packs its codes in base ``SLOTS * cells``. The
 visited set maps these integers to dense ids; the graph is kept in CSR arrays
 (successor ids and edge weights per state, in id order), so the same layout
 can be moved to numpy for a bulk frontier.

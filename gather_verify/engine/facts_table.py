@@ -28,7 +28,7 @@ from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model import geometry
 from gather_verify.model.canonical import CanonicalForm, canonical_form, moved_form
 from gather_verify.model.configuration import Configuration
-from gather_verify.model.geometry import STEPS, Node
+from gather_verify.model.geometry import DEGREE, SLOTS, STEPS, Node
 from gather_verify.model.symmetry import Automorphism
 from gather_verify.recent import most_recent
 from gather_verify.theory import get_fact
@@ -70,14 +70,16 @@ def target_memo(algorithm: Algorithm) -> dict[tuple, Node | None]:
 
 
 def _step_perm(g: int) -> tuple[int, ...]:
-    """Move masks (bit k: ``STEPS[k]``, bit 4: stay) mapped by the D4 element ``g``."""
+    """Move masks (bit k: ``STEPS[k]``, bit ``DEGREE``: stay) mapped by the D4 element ``g``."""
     image = [STEPS.index(geometry.apply(g, step)) for step in STEPS]
-    return tuple((m & 16) | sum(1 << image[k] for k in range(4) if m >> k & 1)
-                 for m in range(32))
+    return tuple((m & STAY) | sum(1 << image[k] for k in range(DEGREE) if m >> k & 1)
+                 for m in range(1 << SLOTS))
 
 
+STAY = 1 << DEGREE
+"""The move mask's bit for staying (after one bit per step of ``STEPS``)."""
 STEP_PERM = tuple(_step_perm(g) for g in geometry.ALL)
-BIT = {(0, 0): 16} | {step: 1 << k for k, step in enumerate(STEPS)}
+BIT = {(0, 0): STAY} | {step: 1 << k for k, step in enumerate(STEPS)}
 """The mask bit of each destination, relative to the robot."""
 
 
@@ -85,7 +87,7 @@ class FactsTable:
     """Per configuration (sorted robot cells, packed), the facts as small integers.
 
     ``masks[row, j]``: bit ``k`` set when the robots on the ``j``-th sorted cell may
-    take ``STEPS[k]``; bit 4 when they may stay. ``in_u`` and ``target`` are
+    take ``STEPS[k]``; bit ``DEGREE`` when they may stay. ``in_u`` and ``target`` are
     computed only when asked for (-2 = not computed yet).
 
     Move sets are computed once per orbit of configurations under ``group`` (the
@@ -282,7 +284,7 @@ class FactsTable:
         masks = np.where(defined[:, None], self.node_mask[cells], 0)
         self.omasks[first:first + k] = masks
         self.oflags[first:first + k, 0] = undefined
-        self.oflags[first:first + k, 1] = defined & (masks == 16).all(axis=1)
+        self.oflags[first:first + k, 1] = defined & (masks == STAY).all(axis=1)
         self.oflags[first:first + k, 2] = defined & (cells[:, 0] == cells[:, -1]) & \
             self.box_meeting[cells[:, 0]]
         self.oforms.extend(forms)
@@ -338,7 +340,7 @@ class FactsTable:
                 if type(s) is frozenset:
                     mask_of[v, s] = m
             by_node[v] = m
-        return [by_node[v] for v in robots], (0, all(m == 16 for m in by_node.values()),
+        return [by_node[v] for v in robots], (0, all(m == STAY for m in by_node.values()),
                                               robots[0] == robots[-1] and robots[0] in self.meeting
                                               ), form
 

@@ -7,8 +7,8 @@ ids in the same order (so the same BFS parents, the same first witnesses and the
 same traces), and returns the same :class:`~gather_verify.engine.explore.Exploration`.
 What changes is how:
 
-- a state is one ``uint64``: the reference key (robot codes ``cell * 5 + d``
-  packed in base ``5 * cells``, sorted and minimised over ``Aut(M)`` when the
+- a state is one ``uint64``: the reference key (robot codes ``cell * SLOTS + d``
+  packed in base ``SLOTS * cells``, sorted and minimised over ``Aut(M)`` when the
   reductions are on; :mod:`~gather_verify.engine.canonical_keys`);
 - visited states live in an open-addressing hash table of ``int32`` ids over a
   ``uint64`` key column in id order (:mod:`~gather_verify.engine.key_index`);
@@ -82,7 +82,7 @@ from gather_verify.engine.facts_table import FactsTable, RowFacts, facts_memo, m
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.engine.lit_bulk import luminous
 from gather_verify.model.configuration import Configuration
-from gather_verify.model.geometry import Node
+from gather_verify.model.geometry import SLOTS, Node
 from gather_verify.model.symmetry import meeting_automorphisms
 from gather_verify.model.view import Lights
 from schedulers import Scheduler, State, as_scheduler, initial_state
@@ -104,7 +104,7 @@ def supports(initial: Configuration, scheduler: str | Scheduler, reduction: bool
     symmetry = reduction if symmetry is None else symmetry
     group = symmetry_group(initial, frames) if symmetry else []
     x0, y0, x1, y1 = region_box(initial, limits.margin, group)
-    base = (x1 - x0 + 1) * (y1 - y0 + 1) * 5
+    base = (x1 - x0 + 1) * (y1 - y0 + 1) * SLOTS
     turns = turns_of(sched, initial.n, False, base)
     fits = base ** initial.n < 2**63 if turns is None else turns.fits()
     return fits and min(limits.max_states, MAX_IDS) >= 1
@@ -195,7 +195,7 @@ def _oblivious(initial: Configuration, req: Request, detection: str, frames: str
                        meeting_automorphisms(initial),
                        facts_memo(algo, detection, frames) if memo else None,
                        targets=any(p.kind == "transition" for p in selected(properties)))
-    init_cells = np.array([[enc.code(v, None) // 5 for v in initial.robots]], dtype=np.int64)
+    init_cells = np.array([[enc.code(v, None) // SLOTS for v in initial.robots]], dtype=np.int64)
     srt, ck = table.config_keys(init_cells)
     init_row = table.rows(ck, srt)
     checks = Checks(properties, RowFacts(table, int(init_row[0]), initial, True))
@@ -250,9 +250,9 @@ class Oblivious(Face):
         if succ_codes is None:  # one change per event, no reduction: event c is change c
             assert cells is not None
             succ_cells = cells[src].copy()
-            succ_cells[np.arange(len(src)), robot] = new // 5
+            succ_cells[np.arange(len(src)), robot] = new // SLOTS
         else:
-            succ_cells = succ_codes // 5
+            succ_cells = succ_codes // SLOTS
         return self.rows_of_cells(succ_cells), succ_codes
 
     def rows_of_cells(self, cells: np.ndarray) -> np.ndarray:
@@ -260,10 +260,10 @@ class Oblivious(Face):
         return self.table.rows(keys, srt)
 
     def rows_of(self, codes: np.ndarray) -> np.ndarray:
-        return self.rows_of_cells(codes // 5)
+        return self.rows_of_cells(codes // SLOTS)
 
     def idle(self, codes: np.ndarray) -> np.ndarray:
-        return np.all(codes % 5 == 0, axis=1)
+        return np.all(codes % SLOTS == 0, axis=1)
 
     def witness(self, keys: np.ndarray, src: np.ndarray,
                 succ_codes: np.ndarray | None) -> Callable[[int], tuple[Any, State]]:

@@ -6,7 +6,7 @@ takes its face and its setup from here.
 It explores exactly the reference's states, with the same ids in the same order, the same
 parents, edges, witnesses and traces. A state is its reference key
 (:class:`~gather_verify.engine.encoding.LuminousEncoding`: robot codes
-``(cell * 5 + d) * K + colour``, sorted and minimised over ``Aut(M)`` when the reductions
+``(cell * SLOTS + d) * K + colour``, sorted and minimised over ``Aut(M)`` when the reductions
 are on; the symmetries move nodes and pending steps together, never colours, so the
 canonical form acts on each robot's (node, pending, colour) as one). What it shares with
 the oblivious bulk engine: the search loop itself
@@ -68,6 +68,7 @@ from gather_verify.engine.explore import (
 from gather_verify.engine.facts_table import BIT, ReadsIdle
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.configuration import Configuration
+from gather_verify.model.geometry import SLOTS
 from gather_verify.model.view import Lights
 from gather_verify.properties.facts import ConfigurationFacts, StateFacts
 from schedulers import Scheduler, State, as_scheduler
@@ -77,7 +78,7 @@ CHUNK = 1 << 13
 EVENTS = 1 << 19
 MAX_IDS = 2**31 - 2
 MAX_ACTIONS = 62
-"""A robot's actions (5 per colour) are the bits of one ``int64`` mask."""
+"""A robot's actions (``SLOTS`` = degree + 1 per colour) are the bits of one ``int64`` mask."""
 
 
 def unsupported(initial: Configuration, scheduler: str | Scheduler, lights: Lights, *,
@@ -87,12 +88,12 @@ def unsupported(initial: Configuration, scheduler: str | Scheduler, lights: Ligh
     sched = as_scheduler(scheduler)  # an unknown name is an error, not a fallback
     if not hasattr(sched, "bulk_luminous"):
         return f"the scheduler {sched.name} has no bulk face for lights (bulk_luminous)"
-    if 5 * lights.colours > MAX_ACTIONS:
+    if SLOTS * lights.colours > MAX_ACTIONS:
         return f"{lights.colours} colours: a robot has more than {MAX_ACTIONS} actions"
     symmetry = reduction if symmetry is None else symmetry
     group = symmetry_group(initial, frames) if symmetry else []
     x0, y0, x1, y1 = region_box(initial, limits.margin, group)
-    base = (x1 - x0 + 1) * (y1 - y0 + 1) * 5 * lights.colours
+    base = (x1 - x0 + 1) * (y1 - y0 + 1) * SLOTS * lights.colours
     turns = turns_of(sched, initial.n, False, base)
     if not (base ** initial.n < 2**63 if turns is None else turns.fits()):
         return "a state does not fit 63 bits"
@@ -115,7 +116,7 @@ class LitRowFacts(ReadsIdle):
 class LitTable:
     """Per luminous configuration (sorted ``cell * K + colour``, packed), a row: its facts
     (the reference's, from ``facts``) and, per sorted robot, its actions as a bit set
-    (bit ``k * K + c``: ``STEPS[k]``, k = 4 staying, with colour c); ``flags[row]`` is 1
+    (bit ``k * K + c``: ``STEPS[k]``, k = ``len(STEPS)`` staying, with colour c); ``flags[row]`` is 1
     when the algorithm gives no actions there (no rule, or a crash)."""
 
     def __init__(self, enc: LuminousEncoding, n: int,
@@ -132,7 +133,7 @@ class LitTable:
         """Each state's row (robot codes per row; new configurations' facts computed) and,
         per robot, the position of its (cell, colour) among the sorted ones."""
         k = self.colours
-        lit = codes // (5 * k) * k + codes % k
+        lit = codes // (SLOTS * k) * k + codes % k
         srt = np.sort(lit, axis=1)
         ids, first = self.index.find_or_add((srt @ self.weights).astype(np.uint64))
         if len(first):
@@ -217,7 +218,7 @@ class Luminous(Face):
         return self.table.locate(codes)[0]
 
     def idle(self, codes: np.ndarray) -> np.ndarray:
-        return np.all(codes // self.k % 5 == 0, axis=1)
+        return np.all(codes // self.k % SLOTS == 0, axis=1)
 
     def witness(self, keys: np.ndarray, src: np.ndarray,
                 succ_codes: np.ndarray | None) -> Callable[[int], tuple[Any, State]]:

@@ -92,10 +92,11 @@ from gather_verify.engine.explore import Encoding, symmetry_group
 from gather_verify.engine.facts_table import STEP_PERM, FactsTable, facts_memo
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.engine.region import PLANE
+from gather_verify.kernels.codes import OUTSIDE
 from gather_verify.model import geometry
 from gather_verify.model.canonical import canonical_form
 from gather_verify.model.configuration import Configuration
-from gather_verify.model.geometry import STEPS, Node
+from gather_verify.model.geometry import SLOTS, STEPS, Node
 from gather_verify.model.symmetry import Automorphism
 from gather_verify.properties import get_property
 from schedulers import get_scheduler, initial_state
@@ -380,7 +381,7 @@ def explore_union(
             if len(maybe):
                 if succ_codes is None:  # the compiled keys left the codes out
                     succ_codes = successor_codes(codes, src, robot, new, event)
-                s2, k2 = table.config_keys(succ_codes[maybe] // 5)
+                s2, k2 = table.config_keys(succ_codes[maybe] // SLOTS)
                 after = table.need_target(table.rows(k2, s2))
                 bad = (after >= 0) & (after != before[maybe])
                 f[src[maybe[bad]]] |= TARGET
@@ -438,16 +439,16 @@ class Oriented:
         meeting_h = frozenset(map(h, table.meeting))
         enc_h = Encoding(geometry.bounding_box(list(map(h, corners))),
                          symmetry_group(Configuration.trusted((), meeting_h), u.frames), True)
-        # codes (cell * 5 + pending step) mapped both ways
+        # codes (cell * SLOTS + pending step) mapped both ways
         dirs = [0] + [STEP_INDEX[geometry.apply(h.g, step)] for step in STEPS]
-        self.forward = np.empty(enc.cells * 5, dtype=np.int64)
-        self.back = np.empty(enc_h.cells * 5, dtype=np.int64)
+        self.forward = np.empty(enc.cells * SLOTS, dtype=np.int64)
+        self.back = np.empty(enc_h.cells * SLOTS, dtype=np.int64)
         for cell in range(enc.cells):
             x, y = h(enc.node(cell))
             hcell = (x - enc_h.x0) * enc_h.height + y - enc_h.y0
-            for d in range(5):
-                self.forward[cell * 5 + d] = hcell * 5 + dirs[d]
-                self.back[hcell * 5 + dirs[d]] = cell * 5 + d
+            for d in range(SLOTS):
+                self.forward[cell * SLOTS + d] = hcell * SLOTS + dirs[d]
+                self.back[hcell * SLOTS + dirs[d]] = cell * SLOTS + d
         self.perm = np.array(STEP_PERM[h.g], dtype=np.uint8)
         self.enc_h = enc_h
         self.canon, self.canon_h = Canon(enc, self.n), Canon(enc_h, self.n)
@@ -470,7 +471,7 @@ class Oriented:
         back = self.back
         rep_h = decode_keys(self.canon_h.keys(self.forward[decode_keys(
             u.keys[states], u.encoding.base, n)]), self.enc_h.base, n)
-        cells = back[rep_h] // 5  # the representative, in the union's coordinates
+        cells = back[rep_h] // SLOTS  # the representative, in the union's coordinates
         srt, ck = table.config_keys(cells)
         rows = table.rows(ck, srt)
         ok = np.flatnonzero(table.flags[rows, 0] == 0)
@@ -503,8 +504,8 @@ def _inside(src: np.ndarray, weight: np.ndarray, robot: np.ndarray, new: np.ndar
                                          np.ndarray | None]]:
     """The source states of the events (``src``, ``weight``; their changes ``robot``,
     ``new``, ``event`` as in :class:`schedulers.Successors`) that take a robot out of the
-    region (a code of -1), and the events without them, their changes renumbered."""
-    outside = new < 0
+    region (the code ``OUTSIDE``), and the events without them, their changes renumbered."""
+    outside = new == OUTSIDE
     if not outside.any():
         return src[:0], (src, weight, robot, new, event)
     bad = np.zeros(len(src), dtype=bool)

@@ -60,6 +60,7 @@ from gather_verify.engine.world_search import (
     canonicaliser,
     relabeller,
 )
+from gather_verify.kernels.codes import NO_EDGE
 from schedulers import Event, Scheduler, as_scheduler
 
 if TYPE_CHECKING:
@@ -120,7 +121,9 @@ class _Plan:
         self.adjacency = adjacency
         degree = max(1, world.degree)
         self.pend = world.degree + 1
-        self.adj = np.full((size, degree), -1, dtype=np.int64)
+        # node v's neighbours, NO_EDGE past its degree (no such edge: an illegal move; a
+        # finite world has no OUTSIDE, its search region is the whole world)
+        self.adj = np.full((size, degree), NO_EDGE, dtype=np.int64)
         for v, nbrs in enumerate(adjacency):
             self.adj[v, :len(nbrs)] = nbrs
         width = max((len(a) + 1) * colours for a in adjacency)

@@ -15,7 +15,9 @@ schedulers all use it: it sits at the bottom of the import layers, beside ``erro
 numba only when a kernel is first used (:mod:`.compiled`; the finite worlds' bulk search
 imports its own, :mod:`.world`, when it runs). Kernels are compiled on first
 use and cached on disk (``cache=True``: numba's cache beside the module, or under
-``NUMBA_CACHE_DIR``), so only the first process pays the compile.
+``NUMBA_CACHE_DIR``), so only the first process pays the compile. :mod:`.codes` holds the
+values the kernels share with the engines (the neighbour tables' ``OUTSIDE`` and
+``NO_EDGE``, the Z² code's slots per cell), without numba.
 """
 from __future__ import annotations
 
@@ -72,6 +74,7 @@ def warm() -> None:
         return
     import numpy as np
 
+    from gather_verify.kernels.codes import OUTSIDE, Z2_DEGREE, Z2_SLOTS
     from gather_verify.kernels.compiled import (
         async_successors,
         decode_chunk,
@@ -98,7 +101,7 @@ def warm() -> None:
     weights = np.array([1, 9], dtype=np.int64)
     codes, cells, srt, ck, idle, rank = decode_chunk(k, 45, 2, weights)
     masks = np.ones((1, 2), dtype=np.uint8)
-    neighbour = np.full((9, 4), -1, dtype=np.int64)
+    neighbour = np.full((9, Z2_DEGREE), OUTSIDE, dtype=np.int64)
     src, weight, robot, new = async_successors(codes, masks, neighbour,
                                                np.arange(4, dtype=np.int64))
     powers = np.array([1, 45], dtype=np.uint64)
@@ -110,11 +113,12 @@ def warm() -> None:
                              np.zeros((1, 45), dtype=np.int64), anonymity)
     pair_keys(ck, rank, src, robot, old, new, 18, 9)
     successor_rows(ck, rank, src, robot, old, new, neighbour,
-                   np.full((1, 2, 4), -1, dtype=np.int32))
+                   np.full((1, 2, Z2_DEGREE), -1, dtype=np.int32))
     subsets = np.ones((1, 2), dtype=np.bool_)
     count = np.ones(32, dtype=np.int64)
     s, e, c = round_counts(masks, subsets, count, 16)
-    round_events(codes, masks, neighbour, subsets, np.full((32, 5), 4, dtype=np.int64), count, s,
+    nth = np.full((1 << Z2_SLOTS, Z2_SLOTS), Z2_DEGREE, dtype=np.int64)
+    round_events(codes, masks, neighbour, subsets, nth, count, s,
                  np.empty(e, dtype=np.int64), np.empty(e, dtype=np.int8),
                  np.empty(c, dtype=np.int64), np.empty(c, dtype=np.int64),
                  np.empty(c, dtype=np.int64))

@@ -18,6 +18,10 @@ from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
+from gather_verify.kernels.codes import OUTSIDE
+from gather_verify.kernels.codes import Z2_DEGREE as DEGREE
+from gather_verify.kernels.codes import Z2_SLOTS as SLOTS
+
 _MUL = np.uint64(0x9E3779B97F4A7C15)
 _AHEAD = 32
 """How many keys ahead :func:`find_or_add` requests the memory it will read."""
@@ -106,18 +110,18 @@ def place(table, keys, lo, hi, shift):  # pragma: no cover - compiled
 
 @njit(cache=True, nogil=True)
 def async_successors(codes, masks, neighbour, look_order):  # pragma: no cover - compiled
-    """Every event of the states ``codes`` (robots ``cell * 5 + d``) in the order of
+    """Every event of the states ``codes`` (robots ``cell * SLOTS + d``) in the order of
     ``Async.successors``: per robot, its Looks (idle: one per step of its move mask, in
-    ``look_order``) or its Move (pending). Returns (source, weight, robot, new code; -1
-    when the Move leaves the region)."""
+    ``look_order``) or its Move (pending). Returns (source, weight, robot, new code;
+    ``OUTSIDE`` when the Move leaves the region)."""
     s_count, n = codes.shape
     total = 0
     for s in range(s_count):
         for i in range(n):
             c = codes[s, i]
-            if c % 5 == 0:
+            if c % SLOTS == 0:
                 m = masks[s, i]
-                for k in range(4):
+                for k in range(DEGREE):
                     total += (m >> k) & 1
             else:
                 total += 1
@@ -129,9 +133,9 @@ def async_successors(codes, masks, neighbour, look_order):  # pragma: no cover -
     for s in range(s_count):
         for i in range(n):
             c = codes[s, i]
-            if c % 5 == 0:
+            if c % SLOTS == 0:
                 m = masks[s, i]
-                for j in range(4):
+                for j in range(DEGREE):
                     k = look_order[j]
                     if (m >> k) & 1:
                         src[e] = s
@@ -139,11 +143,11 @@ def async_successors(codes, masks, neighbour, look_order):  # pragma: no cover -
                         new[e] = c + 1 + k
                         e += 1
             else:
-                cell = c // 5
-                dest = neighbour[cell, c - cell * 5 - 1]
+                cell = c // SLOTS
+                dest = neighbour[cell, c - cell * SLOTS - 1]
                 src[e] = s
                 robot[e] = i
-                new[e] = dest * 5 if dest >= 0 else -1
+                new[e] = dest * SLOTS if dest >= 0 else OUTSIDE
                 weight[e] = 1
                 e += 1
     return src, weight, robot, new
@@ -157,7 +161,7 @@ def round_counts(masks, subsets, count, budget):  # pragma: no cover - compiled
     whose events, counted from the first state, stay within ``budget`` (at least one); and
     their events and changes. An event activates the robots of one row of ``subsets`` (a
     boolean ``(k, n)`` matrix), each with one of its ``count[mask]`` choices; a change is an
-    activated robot whose choice is a step (every choice but staying, the last bit)."""
+    activated robot whose choice is a step (every choice but staying, bit ``DEGREE``)."""
     s_count, n = masks.shape
     k = subsets.shape[0]
     taken = 0
@@ -177,7 +181,7 @@ def round_counts(masks, subsets, count, budget):  # pragma: no cover - compiled
             for i in range(n):
                 if subsets[a, i]:
                     m = masks[s, i]
-                    ch += (count[m] - ((m >> 4) & 1)) * (per // count[m])
+                    ch += (count[m] - ((m >> DEGREE) & 1)) * (per // count[m])
         if s > 0 and events + ev > budget:
             break
         taken = s + 1
@@ -194,11 +198,11 @@ def round_events(codes, masks, neighbour, subsets, nth, count, states, src, weig
     of ``subsets``, every choice of the activated robots (robot j's choices in the order of
     ``nth[mask]``, the last robot varying fastest). Per event its source and weight (the
     robots that step); per change (the robots that step, in robot order) its event, robot and
-    new code (-1 when it leaves the region)."""
+    new code (``OUTSIDE`` when it leaves the region)."""
     n = codes.shape[1]
     k = subsets.shape[0]
-    choice = np.empty((n, 5), dtype=np.int64)  # robot i's new code for its j-th choice
-    step = np.empty((n, 5), dtype=np.bool_)  # whether that choice is a step
+    choice = np.empty((n, SLOTS), dtype=np.int64)  # robot i's new code for its j-th choice
+    step = np.empty((n, SLOTS), dtype=np.bool_)  # whether that choice is a step
     active = np.empty(n, dtype=np.int64)
     width = np.empty(n, dtype=np.int64)
     digit = np.empty(n, dtype=np.int64)
@@ -206,16 +210,16 @@ def round_events(codes, masks, neighbour, subsets, nth, count, states, src, weig
     c = 0
     for s in range(states):
         for i in range(n):
-            cell = codes[s, i] // 5
+            cell = codes[s, i] // SLOTS
             m = masks[s, i]
             for j in range(count[m]):
                 kk = nth[m, j]
-                if kk < 4:
+                if kk < DEGREE:
                     dest = neighbour[cell, kk]
-                    choice[i, j] = dest * 5 if dest >= 0 else -1
+                    choice[i, j] = dest * SLOTS if dest >= 0 else OUTSIDE
                     step[i, j] = True
                 else:
-                    choice[i, j] = cell * 5
+                    choice[i, j] = cell * SLOTS
                     step[i, j] = False
         for a in range(k):
             size = 0
@@ -457,9 +461,9 @@ def decode_chunk(keys, base, n, weights):  # pragma: no cover - compiled
             c = np.int64(rest - quot * b)
             rest = quot
             codes[s, j] = c
-            cell = c // 5
+            cell = c // SLOTS
             cells[s, j] = cell
-            if c - cell * 5 != 0:
+            if c - cell * SLOTS != 0:
                 all_idle = False
             # insertion into the sorted prefix
             k = j
@@ -566,8 +570,8 @@ def pair_keys(rows, rank, src, robot, old, new, stride, cells):  # pragma: no co
     keys = np.empty(m, dtype=np.uint64)
     k = 0
     for e in range(m):
-        c = new[e] // 5
-        if c != old[e] // 5:
+        c = new[e] // SLOTS
+        if c != old[e] // SLOTS:
             s = src[e]
             moved[k] = e
             keys[k] = np.uint64(rows[s] * stride + rank[s, robot[e]] * cells + c)
@@ -592,19 +596,19 @@ def successor_rows(rows, rank, src, robot, old, new, neighbour, succ):  # pragma
     for e in range(m):
         s = src[e]
         r = rows[s]
-        oc = old[e] // 5
-        nc = new[e] // 5
+        oc = old[e] // SLOTS
+        nc = new[e] // SLOTS
         if oc == nc:
             out[e] = r
             continue
         j = rank[s, robot[e]]
         k = -1
-        for d in range(4):
+        for d in range(DEGREE):
             if neighbour[oc, d] == nc:
                 k = d
                 break
         if k >= 0:
-            at = (r * n + j) * 4 + k
+            at = (r * n + j) * DEGREE + k
             v = flat[at]
             if v >= 0:
                 out[e] = v

@@ -11,6 +11,11 @@ Imported on first use only (it imports numba). A state is one ``int64``:
   the task explores, ``VB`` = 2**size then, else 1; ``extra`` the round-robin scheduler's
   ``order * n + turn``, else 0).
 
+The world's neighbour table ``adj[v, k]`` is node v's k-th sorted neighbour, and
+``kernels.codes.NO_EDGE`` past v's degree (no such edge: an illegal move). The kernels read
+it only at a slot a robot's pending move names, an edge v has; a finite world has no
+``OUTSIDE`` (the search region is the whole world).
+
 A robot's actions are a bit set: bit b of node v is ``(act_node[v, b], act_col[v, b])``,
 the bits in the order in which the schedulers try the actions (sorted by ``repr``), so
 events come out in the order of the reference search

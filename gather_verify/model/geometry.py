@@ -26,6 +26,12 @@ Node = tuple[int, int]
 ORIGIN: Node = (0, 0)
 STEPS: tuple[Node, ...] = ((1, 0), (0, 1), (-1, 0), (0, -1))
 """The four unit moves; with the origin, the only answers an algorithm may give."""
+DEGREE = len(STEPS)
+"""Every node of Z² has this many neighbours (no edge is missing)."""
+SLOTS = DEGREE + 1
+"""A robot's code's slots per cell in the engines' encoding (degree + 1): ``cell * SLOTS +
+d``, ``d`` = 0 idle, else 1 + the index of its pending step in :data:`STEPS`
+(``gather_verify.engine.encoding``; the compiled kernels' ``kernels.codes.Z2_SLOTS``)."""
 
 MATRICES: tuple[tuple[int, int, int, int], ...] = (
     (1, 0, 0, 1),  # identity
