@@ -344,6 +344,48 @@ def test_grid_keys_are_invariant_under_the_grid_symmetries() -> None:
         assert keys == sorted(views.texts[views.occurrence(seen0, v, 0)[0]] for v in robots)
 
 
+
+def test_a_new_world_says_how_its_frames_act_and_synthesis_needs_nothing_else() -> None:
+    """A world the synthesis has never heard of (a cycle that is no ``Ring``) keys its views
+    through its own :meth:`~gather_verify.worlds.base.World.frame_group`: the same answers
+    and view keys as ``ring:N``, and no line of the synthesis names it. A world that gives
+    no group is refused in one line."""
+    import dataclasses
+
+    from gather_verify.errors import InvalidInput
+    from gather_verify.worlds.base import World
+
+    class Necklace(World):
+        kind = "necklace"
+
+        def __init__(self, n: int):
+            self.n = n
+            super().__init__(f"necklace:{n}", range(n), ((v, (v + 1) % n) for v in range(n)))
+
+        def frame_labels(self, v, ball, frames):
+            directions = (1, -1) if frames == "all" else (1,)
+            return [{u: (s * (u - v)) % self.n for u in ball} for s in directions]
+
+        def frame_group(self, frames, visibility):
+            return ["ring", self.n, [1, -1] if frames == "all" else [1]]
+
+    for robots, scheduler in (("0 1 3", "fsync"), ("0 2", "ssync")):
+        ring = make_instance("ring:7", robots, "", scheduler, "gathering", "global-weak")
+        necklace = dataclasses.replace(ring, world=Necklace(7))
+        got = []
+        for inst in (ring, necklace):
+            views = Views(inst)
+            result = synthesize(inst, views=views, max_seconds=60)
+            got.append((result.answer, result.views, tuple(views.texts)))
+        assert got[0] == got[1] and got[0][0] in ("exists", "none")
+
+    class Blank(Necklace):
+        def frame_group(self, frames, visibility):
+            return World.frame_group(self, frames, visibility)
+
+    with pytest.raises(InvalidInput, match="does not know the frames of necklace:7"):
+        Views(dataclasses.replace(ring, world=Blank(7)))
+
 # -- a witness the checker rejects is our bug, said so -------------------------------------
 
 def test_a_witness_the_checker_rejects_is_reported_as_our_bug(tmp_path: Path, monkeypatch

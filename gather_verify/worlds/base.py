@@ -296,6 +296,14 @@ class World:
     def _frames(self) -> dict[tuple[int, int | None, str], list[FrameMap]]:
         return {}
 
+    def frame_group(self, frames: str, visibility: int | None) -> list[object]:
+        """The robots' frames as a group acting on view labels: the label maps that move one
+        presentation of a view to every other one (§9), for the synthesis to key views up to
+        isomorphism (:func:`gather_verify.synthesis.viewkey.build` reads it: ``["ring", N,
+        [signs]]``, ``["d4", [matrix, ...]]`` or ``["perm", [[[label, image], ...], ...]]``).
+        A world whose frames are no such group says so in one line."""
+        raise InvalidInput(f"synthesize does not know the frames of {self.name}")
+
     # -- drawing -----------------------------------------------------------------------
     # The pictures (the viewer, the SVG storyboard, the report) draw a world from
     # :meth:`drawing` alone and never ask which world it is: a world says where its nodes
