@@ -12,10 +12,13 @@ imported:
 - the *scope* of a property whose meaning it defines (:func:`scope`): the frames and the
   robots it applies to, and why not elsewhere (the paper's: ``no-ungatherable``, for
   oblivious robots with no common orientation, as U is Theorem 1's); outside it check
-  leaves the property out with that reason.
+  leaves the property out with that reason;
+- the *words* of such a property (:func:`words`): why it fails, why it holds without
+  checking, what it checks, in the paper's terms (the paper's: ``no-ungatherable``'s U and
+  its classes I41/I42), which the property, written once in the generic layer, says.
 
 The generic layers look them up here (:func:`get_fact`, :func:`not_applicable`,
-:func:`scope_of`); the first lookup imports the packages named in :data:`THEORIES`, so
+:func:`scope_of`, :func:`words_of`); the first lookup imports the packages named in :data:`THEORIES`, so
 nothing depends on import order.
 ``lint-imports`` forbids the generic layers to import ``gather_verify.paper``
 (``pyproject.toml``).
@@ -32,6 +35,8 @@ True
 'U (Theorem 1) is for robots with no common orientation'
 >>> scope_of("final") is None  # applies everywhere
 True
+>>> words_of("no-ungatherable").vacuous
+'initial configuration is in U'
 """
 
 from __future__ import annotations
@@ -104,9 +109,23 @@ class Scope:
         return self.lights_why if self.oblivious and colours > 1 else None
 
 
+@dataclass(frozen=True)
+class Words:
+    """What a paper says of a property whose meaning it defines, in its own terms."""
+
+    property: str
+    message: str
+    """Why the property fails (the violation's reason)."""
+    vacuous: str = ""
+    """Why it holds without checking, when the initial state says so."""
+    doc: str = ""
+    """What it checks, in one line."""
+
+
 _FACTS: dict[str, Fact] = {}
 _PRECONDITIONS: list[Precondition] = []
 _SCOPES: dict[str, Scope] = {}
+_WORDS: dict[str, Words] = {}
 _loaded: list[str] = []
 
 
@@ -150,6 +169,18 @@ def scope(prop: str, *, frames: Iterable[str] | None = None, frames_why: str = "
     return new
 
 
+def words(prop: str, *, message: str, vacuous: str = "", doc: str = "") -> Words:
+    """Register the paper's words for the property ``prop`` (:class:`Words`). A property has
+    one set of words: the same again, as a reload of its module registers them, is a no-op;
+    others are a ValueError."""
+    new = Words(prop, message, vacuous, doc)
+    known = _WORDS.get(prop)
+    if known is not None and known != new:
+        raise ValueError(f"the words of the property {prop!r} are registered already")
+    _WORDS[prop] = new
+    return new
+
+
 def _where(function: Callable[..., Any]) -> tuple[str, str]:
     """Where a function is defined: the same after a reload of its module."""
     return getattr(function, "__module__", ""), getattr(function, "__qualname__", "")
@@ -176,6 +207,17 @@ def scope_of(prop: str) -> Scope | None:
     """The registered scope of the property ``prop`` (None: it applies everywhere)."""
     _load()
     return _SCOPES.get(prop)
+
+
+def words_of(prop: str) -> Words:
+    """The registered words of the property ``prop`` (KeyError, naming the registered ones,
+    when no theory registers them)."""
+    _load()
+    got = _WORDS.get(prop)
+    if got is None:
+        raise KeyError(f"no theory registers the words of the property {prop!r} (registered: "
+                       f"{', '.join(_WORDS)})")
+    return got
 
 
 def preconditions() -> list[Precondition]:

@@ -25,12 +25,13 @@ from gather_verify.engine.encoding import (
     DEFAULT_MAX_STATES,
     Limits,
 )
-from gather_verify.engine.world_search import WorldSearch, search
+from gather_verify.engine.world_search import WorldSearch, WorldState, search
 from gather_verify.errors import InvalidInput
 from gather_verify.progress import PROGRESS
 from gather_verify.tasks import TASKS, Context, Finding, Task, get_task
 from gather_verify.tasks.base import fair_walk
 from gather_verify.watchdog import Overtime, allowance, deadline
+from gather_verify.world_replay import event_json, scheduler_after
 from gather_verify.worlds import finite_world
 from gather_verify.worlds.base import World
 from gather_verify.worlds.moves import WorldMoves, parse_lights
@@ -241,38 +242,35 @@ def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
              meeting: list[int], algorithm: str, scheduler: str, task: str, detection: str,
              frames: str, visibility: int | None, lights: str = "1") -> dict[str, Any]:
     """The counterexample as JSON: the shortest path to the failing state (then, for a
-    liveness part, the cycle the run can stay on), every state in the world's node names,
-    and the world's drawing (:meth:`~gather_verify.worlds.base.World.drawing`) so that a
-    picture of the trace needs nothing but the trace. On a task that explores, each step
-    names the nodes visited so far (from the state when the search carries them, else
-    counted along the trace). Under a scheduler that keeps its own state (round-robin) the
-    trace names the start its run began in (``round-robin:order=1 0 2``), as on Z², so that
-    replay follows that start alone: the path is stored concretely from that start, in the
-    robots' own identities (the relabelling of the reductions only makes keys)."""
+    liveness part, the cycle the run can stay on; for a transition part, the failing
+    event), every state in the world's node names, and the world's drawing
+    (:meth:`~gather_verify.worlds.base.World.drawing`) so that a picture of the trace needs
+    nothing but the trace. On a task that explores, each step names the nodes visited so far
+    (from the state when the search carries them, else counted along the trace). Under a
+    scheduler that keeps its own state (round-robin) the trace names the start its run began
+    in (``round-robin:order=1 0 2``), as on Z², so that replay follows that start alone.
+
+    Each state of the trace is the real successor of the one before (:func:`concrete_run`):
+    the search stores a class by the first member it met, and under the reductions the
+    target of the failing event can be stored as another member of its class."""
     ids = s.path_to(finding.state)
-    keys = [s.keys[i] for i in ids]
-    scheduler = scheduler_from(scheduler, keys[0][2])
-    events: list[Any] = [None] + [_event_between(s, a, b) for a, b in zip(ids, ids[1:],
-                                                                        strict=False)]
+    hops = [_edge_between(s, a, b) for a, b in zip(ids, ids[1:], strict=False)]
     cycle_start = None
     if finding.cycle is not None:  # a fair closed walk through the component (§5)
         walk = (fair_walk(s, finding.component, len(robots), finding.state)
                 if finding.component is not None else
-                [(a, next(k for k, (t, _, e) in enumerate(s.edges[a]) if t == b
-                          and _apply(s.keys[a], e) == s.keys[b][0]))
+                [_edge_between(s, a, b)
                  for a, b in zip(finding.cycle, finding.cycle[1:], strict=False)])
         if walk:
             cycle_start = len(ids) - 1
-        for a, k in walk:
-            target, _, event = s.edges[a][k]
-            keys.append(s.keys[target])
-            events.append(event)
+        hops += walk
     if finding.edge is not None:  # a transition part: the failing round itself
-        src, k = finding.edge
-        target, _, event = s.edges[src][k]
-        keys.append(s.keys[target])
-        events.append(event)
-    steps = [_step(world, event, key) for event, key in zip(events, keys, strict=True)]
+        hops.append(finding.edge)
+    sched = get_scheduler(scheduler)
+    run = concrete_run(s, sched, ids[0], hops, get_task(task).visits)
+    keys = [state for _, state in run]
+    scheduler = scheduler_from(scheduler, keys[0][2])
+    steps = [_step(world, event, key) for event, key in run]
     if get_task(task).explores and not any("visited" in step for step in steps):
         seen = 0
         for step, key in zip(steps, keys, strict=True):
@@ -293,6 +291,44 @@ def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
     }
 
 
+def concrete_run(s: WorldSearch, sched: Any, start: int, hops: list[tuple[int, int]],
+                 visits: bool) -> list[tuple[Any, WorldState]]:
+    """The run that follows ``hops`` (per step, a stored state's id and the index of an edge
+    of it) from the stored state ``start``, as ``(event, state)`` pairs (the first event
+    None): each state the event applied to the state before, the scheduler's own state
+    advanced by the scheduler, as on Z² (:meth:`~gather_verify.engine.explore.Exploration.concretise`).
+
+    A stored state is the first member of its class the search met, the successor of its
+    BFS parent's, so along BFS parents (and everywhere in an unreduced search) each real
+    state is the stored one. A hop's target need not be: under the reductions it may be
+    stored as another member of its class (an image by anonymity or Aut(G)); the run goes
+    on from the real one. A hop whose source is not its stored state is a bug of ours: its
+    events were read off the stored state."""
+    state: WorldState = s.keys[start]
+    run: list[tuple[Any, WorldState]] = [(None, state)]
+    for a, k in hops:
+        if state != s.keys[a]:  # pragma: no cover - the hops leave the stored states last
+            raise AssertionError(f"state {a} of the run is not its stored state")
+        target, _, event = s.edges[a][k]
+        state = successor(sched, state, event, visits)
+        if s.canonical(state) != s.canonical(s.keys[target]):  # pragma: no cover
+            raise AssertionError(f"edge {k} of state {a} does not reach the class of {target}")
+        run.append((event, state))
+    return run
+
+
+def successor(sched: Any, state: WorldState, event: Any, visits: bool) -> WorldState:
+    """The state ``event`` leads to from ``state``: the robots as the event moves them, the
+    nodes visited (when the search carries them) and the scheduler's own state after it."""
+    robots, visited, extra = state
+    after = _apply(state, event)
+    extra = next(iter(scheduler_after(sched, robots, extra, event, after)))
+    if visits:
+        for v, _, _ in after:
+            visited |= 1 << v
+    return after, visited, extra
+
+
 def scheduler_from(scheduler: str, start: object) -> str:
     """The scheduler's name as a trace whose run began in the scheduler's own state ``start``
     gives it: its start fixed when it keeps one (round-robin's ``pinned`` order), else as
@@ -301,12 +337,13 @@ def scheduler_from(scheduler: str, start: object) -> str:
     return scheduler if start is None or pinned is None else str(pinned(start))
 
 
-def _event_between(s: WorldSearch, a: int, b: int) -> Any:
-    """The event from state ``a`` to ``b`` (both as stored: along BFS parents and inside an
-    unreduced cycle, each stored state is the concrete successor of the one before)."""
-    for target, _, event in s.edges[a]:
+def _edge_between(s: WorldSearch, a: int, b: int) -> tuple[int, int]:
+    """The edge from state ``a`` to ``b`` as ``(a, its index)``, the one whose event takes the
+    stored ``a`` to the stored ``b`` (along BFS parents and inside an unreduced cycle, each
+    stored state is the concrete successor of the one before)."""
+    for k, (target, _, event) in enumerate(s.edges[a]):
         if target == b and _apply(s.keys[a], event) == s.keys[b][0]:
-            return event
+            return a, k
     raise AssertionError(f"no edge from state {a} to {b}")  # pragma: no cover
 
 
@@ -320,14 +357,6 @@ def _apply(state: Any, event: Any) -> tuple[tuple[int, int | None, int], ...]:
         else:
             robots[i] = (dst, None, robots[i][2])
     return tuple(robots)
-
-
-def event_json(world: World, event: Any) -> dict[str, Any]:
-    """An event as a trace writes it: nodes as the world writes them."""
-    name = world.node_to_json
-    return {"kind": event.kind, "robots": list(event.robots),
-            "moves": [[i, name(a), name(b)] for i, a, b in event.moves],
-            **({"lights": [list(x) for x in event.lights]} if event.lights else {})}
 
 
 def _step(world: World, event: Any, state: Any) -> dict[str, Any]:

@@ -222,12 +222,27 @@ def _event(raw: object, where: str, node: Callable[[object, str], int], n: int) 
                  tuple(lights))
 
 
-def _same(a: Event, b: Event) -> bool:
+def scheduler_after(sched: Any, before: Any, extra: object, event: Any, after: Any
+                    ) -> list[object]:
+    """The scheduler's own state after ``event`` (a list of one), when it offers ``event``
+    from the robots ``before`` (its own state ``extra``) and the event reaches ``after`` with
+    each acting robot doing what ``after`` shows it did; else an empty list."""
+    chosen = chosen_actions(event, after)
+    legal = {i: frozenset({chosen[i]}) if i in chosen else frozenset({(v, c)})
+             for i, (v, _, c) in enumerate(before)}
+    for got, succ, nxt in sched.luminous(before, extra, legal.__getitem__):
+        if same_event(got, event) and succ == after:
+            return [nxt]
+    return []
+
+
+def same_event(a: Any, b: Any) -> bool:
+    """One event: the same kind, robots, moves and colour changes."""
     return (a.kind, a.robots, sorted(a.moves), sorted(a.lights)) == \
         (b.kind, b.robots, sorted(b.moves), sorted(b.lights))
 
 
-def _chosen(event: Event, after: LRobots) -> dict[int, tuple[int, int]]:
+def chosen_actions(event: Any, after: Any) -> dict[int, tuple[int, int]]:
     """What each robot that computed in ``event`` chose, read from the state after it: its
     destination (its new node after a round, its pending one after a Look) and colour."""
     out: dict[int, tuple[int, int]] = {}
@@ -272,20 +287,14 @@ def replay_world(trace: dict[str, Any], folder: Path | None = None) -> WorldRepl
     actions: list[list[frozenset[tuple[int, int]]]] = []
     for k, (event, after) in enumerate(zip(t.events, t.states[1:], strict=True), 1):
         before = t.states[k - 1]
-        chosen = _chosen(event, after)
+        chosen = chosen_actions(event, after)
         for i, (d, _) in chosen.items():
             v = before[i][0]
             if d != v and d not in world.adjacency[v]:
                 _fail(f"step {k}: robot {i} cannot reach {world.format_node(d)} from "
                       f"{world.format_node(v)} in one edge")
-        legal = {i: frozenset({chosen[i]}) if i in chosen else frozenset({(v, c)})
-                 for i, (v, _, c) in enumerate(before)}
-        kept = []
-        for run in runs:
-            for got, succ, extra in scheduler.luminous(before, run[-1], legal.__getitem__):
-                if _same(got, event) and succ == after:
-                    kept.append([*run, extra])
-                    break
+        kept = [[*run, extra] for run in runs
+                for extra in scheduler_after(scheduler, before, run[-1], event, after)]
         if not kept:
             _fail(f"step {k}: the event {_text(world, event)} is not allowed from the state "
                   "before, or does not reach the recorded state"
@@ -425,7 +434,13 @@ def _action_text(world: World, action: tuple[int, int]) -> str:
     return world.format_node(d) + (f" with colour {c}" if c else "")
 
 
-def _text(world: World, event: Event) -> str:
-    from gather_verify.world_check import event_json
+def event_json(world: World, event: Any) -> dict[str, Any]:
+    """An event as a trace writes it: nodes as the world writes them."""
+    name = world.node_to_json
+    return {"kind": event.kind, "robots": list(event.robots),
+            "moves": [[i, name(a), name(b)] for i, a, b in event.moves],
+            **({"lights": [list(x) for x in event.lights]} if event.lights else {})}
 
+
+def _text(world: World, event: Event) -> str:
     return json.dumps(event_json(world, event))

@@ -344,6 +344,48 @@ def test_grid_keys_are_invariant_under_the_grid_symmetries() -> None:
         assert keys == sorted(views.texts[views.occurrence(seen0, v, 0)[0]] for v in robots)
 
 
+
+def test_a_new_world_says_how_its_frames_act_and_synthesis_needs_nothing_else() -> None:
+    """A world the synthesis has never heard of (a cycle that is no ``Ring``) keys its views
+    through its own :meth:`~gather_verify.worlds.base.World.frame_group`: the same answers
+    and view keys as ``ring:N``, and no line of the synthesis names it. A world that gives
+    no group is refused in one line."""
+    import dataclasses
+
+    from gather_verify.errors import InvalidInput
+    from gather_verify.worlds.base import World
+
+    class Necklace(World):
+        kind = "necklace"
+
+        def __init__(self, n: int):
+            self.n = n
+            super().__init__(f"necklace:{n}", range(n), ((v, (v + 1) % n) for v in range(n)))
+
+        def frame_labels(self, v, ball, frames):
+            directions = (1, -1) if frames == "all" else (1,)
+            return [{u: (s * (u - v)) % self.n for u in ball} for s in directions]
+
+        def frame_group(self, frames, visibility):
+            return ["ring", self.n, [1, -1] if frames == "all" else [1]]
+
+    for robots, scheduler in (("0 1 3", "fsync"), ("0 2", "ssync")):
+        ring = make_instance("ring:7", robots, "", scheduler, "gathering", "global-weak")
+        necklace = dataclasses.replace(ring, world=Necklace(7))
+        got = []
+        for inst in (ring, necklace):
+            views = Views(inst)
+            result = synthesize(inst, views=views, max_seconds=60)
+            got.append((result.answer, result.views, tuple(views.texts)))
+        assert got[0] == got[1] and got[0][0] in ("exists", "none")
+
+    class Blank(Necklace):
+        def frame_group(self, frames, visibility):
+            return World.frame_group(self, frames, visibility)
+
+    with pytest.raises(InvalidInput, match="does not know the frames of necklace:7"):
+        Views(dataclasses.replace(ring, world=Blank(7)))
+
 # -- a witness the checker rejects is our bug, said so -------------------------------------
 
 def test_a_witness_the_checker_rejects_is_reported_as_our_bug(tmp_path: Path, monkeypatch
@@ -421,3 +463,62 @@ def test_keys_and_move_sets_follow_the_symmetries(world: str, data, detection: s
         k2, acts2 = views.occurrence(moved, p[v], c)
         assert views.texts[k] == views.texts[k2]
         assert [frozenset((p[d], col) for d, col in a) for a in acts] == list(acts2)
+
+
+# -- round-robin: the safety search of terminating exploration is reduced --------------------
+
+ROUND_ROBIN_EXPLORATION = [
+    ("ring:4", "2", ["--frames", "chirality", "--lights", "2"]),  # exists
+    ("ring:5", "2", []),  # none
+    ("grid:2x3", "2", []),  # none
+]
+
+
+@pytest.mark.parametrize(("world", "robots", "more"), ROUND_ROBIN_EXPLORATION)
+def test_round_robin_exploration_reduces_and_answers_as_unreduced(tmp_path: Path, monkeypatch,
+                                                                 world: str, robots: str,
+                                                                 more: list[str]) -> None:
+    """Under round-robin the safety search of exploration-with-stop reduces, as the checker
+    does (robots relabelled with the order, symmetries moving nodes only): the answer is that
+    of the same synthesis with that search unreduced; a none certificate verifies, an exists
+    witness passes the checker with every reduction off."""
+    from gather_verify.synthesis import search as synthesis_search
+    from gather_verify.synthesis.certificate import write_certificate
+    from gather_verify.synthesis.search import certificate_stats
+    from gather_verify.synthesis.witness import check_witness, write_witness
+
+    real = synthesis_search.search
+    reduced: list[bool] = []
+
+    def recording(*args: Any, **kwargs: Any) -> Any:
+        s = real(*args, **kwargs)
+        if kwargs.get("visits"):
+            reduced.append(s.reduced)
+        return s
+
+    def unreduced(*args: Any, **kwargs: Any) -> Any:
+        return real(*args, **{**kwargs, "anonymity": False, "symmetries": ()})
+
+    got: list[str] = []
+    for wrapper in (recording, unreduced):
+        monkeypatch.setattr(synthesis_search, "search", wrapper)
+        inst = make_instance(world, robots, "", "round-robin", "exploration-with-stop",
+                             _opt(more, "--multiplicity", "local-weak"),
+                             _opt(more, "--frames", "all"),
+                             lights=_opt(more, "--lights", "1"))
+        views = Views(inst)
+        result = synthesize(inst, views=views, max_seconds=120)
+        assert result.answer in ("exists", "none"), result.limit
+        got.append(result.answer)
+        if wrapper is recording:
+            assert reduced and all(reduced)  # the reduced search ran, and reduced
+            if result.answer == "none":
+                cert = tmp_path / "c.json"
+                write_certificate(str(cert), inst, views, result.counterexamples,
+                                  result.literals, result.tree, certificate_stats(result))
+                assert verify_certificate(str(cert))["holds"]
+            else:
+                spec = write_witness(str(tmp_path / "w.py"), inst, views, result.table)
+                assert [r["verdict"] for r in check_witness(spec, inst, 60)] == \
+                    ["VERIFIED"] * len(inst.configurations)
+    assert got[0] == got[1]

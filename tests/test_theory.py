@@ -200,3 +200,31 @@ def test_the_sweep_tables_legend_is_the_preconditions(monkeypatch) -> None:
                         "NOT-APPLICABLE: three robots")
     monkeypatch.setattr(theory, "_PRECONDITIONS", [])
     assert legend() == "max ratio: the largest total moves / (D·n) of the class"
+
+
+WANDER = Configuration([(0, 2), (2, 2)], [(0, 0), (3, 0), (1, 1), (2, 1)], initial=True)
+"""broken-wander reaches U from here (no-ungatherable fails)."""
+
+
+def test_the_paper_s_words_for_no_ungatherable_are_registered_by_the_paper(monkeypatch) -> None:
+    """The reason a no-ungatherable violation gives, and why it holds from U, are the
+    paper's words, registered with it: the built-in property says what the registry holds
+    (another paper's words would be said instead), and names none of U's classes itself."""
+    words = theory.words_of("no-ungatherable")
+    assert words.message == "a configuration in U (I41/I42) is reached from one outside U"
+    r = run_check(WANDER, algorithm="broken-wander", scheduler="fsync")
+    assert (r["verdict"], r["property"], r["reason"]) == ("VIOLATED", "no-ungatherable",
+                                                          words.message)
+    r = run_check(IN_U, algorithm="go-to-target", scheduler="fsync", force=True)
+    assert r["properties"]["no-ungatherable"]["reason"] == words.vacuous == \
+        "initial configuration is in U"
+    monkeypatch.setitem(theory._WORDS, "no-ungatherable", theory.Words(
+        "no-ungatherable", "another paper's reason", "another paper's vacuity"))
+    r = run_check(WANDER, algorithm="broken-wander", scheduler="fsync")
+    assert r["reason"] == "another paper's reason"
+    builtin = (ROOT / "gather_verify/properties/builtin.py").read_text()
+    assert "I41" not in builtin and "I42" not in builtin
+    with pytest.raises(ValueError, match="registered already"):
+        theory.words("no-ungatherable", message="a third")
+    with pytest.raises(KeyError, match="no theory registers the words of the property 'nope'"):
+        theory.words_of("nope")

@@ -352,3 +352,79 @@ def test_a_round_robin_order_for_other_robots_is_refused_in_one_line():
     with pytest.raises(InvalidInput, match=r"^bad trace: its scheduler: round-robin order 1 0 "
                                            r"must name each of the robots 0\.\.2 once$"):
         replay_world(trace)
+
+
+SWAPS = {
+    # name: (world, robots, algorithm, scheduler, options): a round in which two robots swap
+    # nodes, with the reductions on; the class it reaches is stored as another member
+    "ring-swap-fsync": ("ring:6", "0 1", "broken-ring-gather", "fsync",
+                        {"detection": "global-weak"}),
+    "ring-swap-ssync": ("ring:6", "0 1 3", "broken-ring-gather", "ssync",
+                        {"detection": "global-weak"}),
+    "grid-crossing": ("grid:3x3", "0,0 1,0", "bounce", "ssync",
+                      {"lights": "2", "colours": [1, 1]}),
+    "torus-crossing": ("torus:3x3", "0,0 1,0 1,1", "bounce", "ssync",
+                       {"lights": "2", "colours": [1, 1, 0]}),
+}
+
+
+def _applied(before: list, step: dict) -> list:
+    """The robots of a trace's step as its event makes them from the step before."""
+    robots = [list(r) for r in before]
+    for i, src, dst in step["event"]["moves"]:
+        robots[i] = [src, dst] if step["event"]["kind"] == "look" else [dst, None]
+    return robots
+
+
+def _rounds_stored_elsewhere(name: str, engine: str) -> int:
+    """How many crossing rounds of the reduced search reach a class stored as a member other
+    than the round's own successor (so a trace that ended on the stored member would not be
+    the round's successor)."""
+    from gather_verify.algorithms import get_algorithm
+    from gather_verify.engine import world_bulk, world_search
+    from gather_verify.world_check import _apply
+    from gather_verify.worlds import finite_world
+    from gather_verify.worlds.moves import WorldMoves, parse_lights
+
+    world, robots, algorithm, scheduler, options = SWAPS[name]
+    w = finite_world(world)
+    moves = WorldMoves(w, get_algorithm(algorithm), frozenset(),
+                       options.get("detection", "local-weak"),
+                       lights=parse_lights(options.get("lights")))
+    kwargs = dict(colours=options.get("colours"), anonymity=True,
+                  symmetries=w.symmetries("all"))
+    s = (world_bulk.search(w, tuple(w.parse_nodes(robots)), moves, scheduler, **kwargs)
+         if engine == "bulk" else
+         world_search.search(w, tuple(w.parse_nodes(robots)), moves.actions, scheduler,
+                             **kwargs))
+    count = 0
+    for sid, out in enumerate(s.edges):
+        for target, _, event in out:
+            crossing = {(a, b) for _, a, b in event.moves}
+            if any((b, a) in crossing for a, b in crossing) and \
+                    _apply(s.keys[sid], event) != s.keys[target][0]:
+                count += 1
+    return count
+
+
+@pytest.mark.parametrize("engine", RR_ENGINES)
+@pytest.mark.parametrize("name", sorted(SWAPS))
+def test_a_reduced_transition_trace_ends_with_the_real_successor(name, engine):
+    """The failing round of a transition part (exclusivity: two robots cross one edge) may
+    reach a class the reduced search stored as another member (the swapped robots sorted
+    back, or an image by Aut(G)). The trace ends with the round's own successor, not the
+    stored member: every step is its event applied to the step before, and replay confirms
+    it (a trace ending on the stored member is refused: it does not match itself)."""
+    world, robots, algorithm, scheduler, options = SWAPS[name]
+    assert _rounds_stored_elsewhere(name, engine) > 0  # the case at stake, on this engine
+    r = run_world_check(world, robots, "", algorithm, scheduler, engine=engine,
+                        task="exclusive-perpetual-exploration", properties=["exclusivity"],
+                        **options)
+    assert r["verdict"] == "VIOLATED" and r["property"] == "exclusivity", r["reason"]
+    assert r["reductions"].startswith("anonymity") and r["engine"] == engine
+    trace = json.loads(json.dumps(r["trace"]))
+    steps = trace["steps"]
+    for before, step in zip(steps, steps[1:], strict=False):
+        assert step["robots"] == _applied(before["robots"], step), step
+    result = replay_world(trace)
+    assert result.confirmed and "cross" in result.message, result.message

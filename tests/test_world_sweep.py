@@ -41,6 +41,28 @@ def test_census_counts_the_orbits(world_name: str, frames: str) -> None:
                                                                             frames)
 
 
+
+@pytest.mark.parametrize("world_name", ["ring:6", "grid:3x3", "torus:3x3"])
+@pytest.mark.parametrize("frames", ["all", "chirality", "compass"])
+def test_census_with_colours_is_the_world_s_canonical_form(world_name: str, frames: str) -> None:
+    """With lights, the census keeps each class of (robots, colours, meeting nodes) by its
+    least member under the world's own canonical form (``World.canonical`` with the colours):
+    each kept configuration is its canonical form, every configuration's canonical form is
+    kept, and the colours never move with the symmetries."""
+    w = get_world(world_name)
+    kept = {(c.robots, c.colours, c.meeting)
+            for c in world_configurations(w, 2, 1, frames, colours=2)}
+    for robots in itertools.combinations(range(w.size), 2):
+        for meeting in itertools.combinations(range(w.size), 1):
+            for lit in itertools.product(range(2), repeat=2):
+                least, least_meeting = w.canonical(robots, meeting, frames, colours=lit)
+                nodes = tuple(v for v, _ in least)
+                assert (nodes, tuple(c for _, c in least), least_meeting) in kept
+                assert sorted(lit) == sorted(c for _, c in least)
+    assert all(w.canonical(r, m, frames, colours=c) == (tuple(zip(r, c, strict=True)), m)
+               for r, c, m in kept)
+
+
 @pytest.mark.parametrize("frames", ["all", "chirality", "compass"])
 def test_each_class_verdict_is_every_members_verdict(tmp_path, frames: str) -> None:  # noqa: ANN001
     """A direction-reading algorithm on rings: a sweep row stands for every member of its class."""

@@ -9,8 +9,9 @@ Theorem 1's adversary, and what it registers for the generic layers.
 
 Importing this package registers, in :mod:`gather_verify.theory`, the facts ``class`` and
 ``in_U``, the precondition of check (NOT-APPLICABLE in U or UNCLASSIFIED, for robots
-with no common orientation) and the scope of ``no-ungatherable`` (U is Theorem 1's: for
-oblivious robots with no common orientation). The generic layers look them up there and
+with no common orientation), the scope of ``no-ungatherable`` (U is Theorem 1's: for
+oblivious robots with no common orientation) and its words (U and its classes I41/I42).
+The generic layers look them up there and
 never import this package (``lint-imports``).
 
 >>> from gather_verify.model.configuration import Configuration
@@ -73,3 +74,11 @@ NO_UNGATHERABLE_SCOPE = theory.scope(
 """Where ``no-ungatherable`` applies: U is Theorem 1's, where robots with no common
 orientation and no lights cannot gather; a common compass or chirality may gather there,
 and so may robots whose colours break U's symmetry."""
+
+NO_UNGATHERABLE_WORDS = theory.words(
+    "no-ungatherable",
+    message="a configuration in U (I41/I42) is reached from one outside U",
+    vacuous="initial configuration is in U",
+    doc="from an initial configuration outside U, no reachable configuration is in U")
+"""What ``no-ungatherable`` says, in the paper's terms: U (§3.2), which holds the classes
+I41 and I42, is where Theorem 1 makes gathering impossible."""

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from gather_verify import theory
 from gather_verify.errors import InvalidInput
 from gather_verify.properties.base import Outcome, Property, Run, Witness, fails_at_end
 from gather_verify.properties.facts import StateFacts
@@ -70,24 +71,26 @@ FINAL = Property(
 
 
 def _confirm_no_ungatherable(prop: Property, run: Run) -> tuple[bool, str]:
-    from gather_verify.theory import get_fact
-
     ok, _ = fails_at_end(prop, run)
-    first, end = (get_fact("class").of(run.state_facts(k).configuration) for k in (0, -1))
+    first, end = (theory.get_fact("class").of(run.state_facts(k).configuration)
+                  for k in (0, -1))
     return ok, f"{first} -> {end}"
 
 
 def _initially_in_u(s: StateFacts) -> str | None:
-    return "initial configuration is in U" if s.in_U else None
+    return theory.words_of("no-ungatherable").vacuous if s.in_U else None
 
 
 NO_UNGATHERABLE = Property(
     "no-ungatherable", "state",
     holds=lambda s: not s.in_U,
-    message="a configuration in U (I41/I42) is reached from one outside U",
+    message=lambda s: theory.words_of("no-ungatherable").message,
     vacuous=_initially_in_u, confirm=_confirm_no_ungatherable, when="discovery",
     symmetric=True, union="in-u",
-    doc="from an initial configuration outside U, no reachable configuration is in U")
+    doc="from an initial configuration outside the registered fact in_U, no reachable one is "
+        "in it (the paper's words: gather_verify.theory.words_of)")
+"""The fact ``in_U`` and the words (:func:`gather_verify.theory.words_of`) are the paper's,
+registered by its package: this layer names neither U's classes nor its reasons."""
 
 
 def _confirm_target(prop: Property, run: Run) -> tuple[bool, str]:

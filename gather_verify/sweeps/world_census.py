@@ -41,14 +41,11 @@ def world_configurations(world: World, k: int, m: int, frames: str, colours: int
     lexicographic order."""
     if k > world.size:
         return
-    group = world.symmetries(frames)
     for robots in combinations(range(world.size), k):
         for meeting in combinations(range(world.size), m):
             for lit in product(range(colours), repeat=k):
                 me = (tuple(zip(robots, lit, strict=True)), meeting)
-                least = min((tuple(sorted((p[v], c) for v, c in me[0])),
-                             tuple(sorted(p[v] for v in meeting))) for p in group)
-                if least == me:
+                if world.canonical(robots, meeting, frames, colours=lit) == me:
                     yield WorldConfiguration(world.name, robots, meeting,
                                              lit if colours > 1 else ())
 

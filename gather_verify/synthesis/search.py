@@ -234,11 +234,13 @@ def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
     w = inst.world
     ctx = Context(len(robots), w.size, inst.meeting, inst.scheduler,
                   tuple(w.format_node(v) for v in range(w.size)))
-    stateful = getattr(_scheduler(inst), "stateful", False)
     if inst.task.visits:
         # the safety part first, on the reduced states (sound for safety, §4: a BFS parent's
         # stored state is the concrete predecessor, so the path is a concrete run), stopping
-        # at the first final state that has not seen every node
+        # at the first final state that has not seen every node. Under round-robin too: the
+        # search relabels identical robots as the scheduler says (its order made the first
+        # start) and the symmetries leave its order and turn alone, as the checker reduces;
+        # the path then runs from that first start, a real start the counterexample names
         if TERMINATION_FIRST:
             s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits)
             if not s.complete:
@@ -248,9 +250,8 @@ def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
                 return s, loops
         found: list[Halt] = []
         s = search(w, robots, actions, inst.scheduler, colours=colours, visits=True,
-                   limits=limits, watch=watcher(inst, found), anonymity=not stateful,
-                   symmetries=() if stateful else w.symmetries(inst.frames),
-                   meeting=inst.meeting)
+                   limits=limits, watch=watcher(inst, found), anonymity=True,
+                   symmetries=w.symmetries(inst.frames), meeting=inst.meeting)
         if not found:
             if not s.complete or TERMINATION_FIRST:
                 return s, []

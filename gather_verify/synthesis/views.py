@@ -23,17 +23,13 @@ from itertools import combinations
 from typing import Any
 
 from gather_verify.errors import InvalidInput
-from gather_verify.model import geometry
 from gather_verify.model.view import check_detection
 from gather_verify.synthesis import viewkey
 from gather_verify.tasks import Task, get_task
 from gather_verify.world_check import default_task
 from gather_verify.worlds import FINITE, get_world
 from gather_verify.worlds.base import FrameMap, World
-from gather_verify.worlds.graph import FileGraph
-from gather_verify.worlds.grid import D4_FRAMES, GridFamily
 from gather_verify.worlds.moves import parse_lights
-from gather_verify.worlds.ring import Ring
 from gather_verify.worlds.view import Lights, WorldView
 from schedulers import get_scheduler
 
@@ -75,7 +71,8 @@ class Instance:
             if not self.robots_text.isdigit() else None,
             "configurations": [{"robots": [w.node_to_json(v) for v in r], "colours": list(c)}
                                for r, c in self.configurations],
-            **({"graph_sha256": w.digest} if isinstance(w, FileGraph) else {}),
+            **({"graph_sha256": digest} if isinstance(digest := getattr(w, "digest", None), str)
+               else {}),
         }
 
 
@@ -152,29 +149,6 @@ def classes(world: World, k: int, meeting: frozenset[int], frames: str) -> list[
     return out
 
 
-def group_description(world: World, frames: str, visibility: int | None) -> list[object]:
-    """The label maps that move one presentation of a view to every other one (§9's frames
-    as a group acting on the labels), as :func:`viewkey.build` reads them."""
-    if isinstance(world, Ring):
-        return ["ring", world.n, [1, -1] if frames == "all" else [1]]
-    if isinstance(world, GridFamily):
-        return ["d4", [list(geometry.MATRICES[g]) for g in D4_FRAMES[frames]]]
-    if isinstance(world, FileGraph):
-        if frames == "chirality":
-            world.symmetries(frames)  # one line: a graph file has no orientation
-        if frames == "compass":
-            return ["perm", [[[w, w] for w in world.labels]]]
-        if visibility is not None and any(len(world.ball(v, visibility)) < world.size
-                                          for v in range(world.size)):
-            raise InvalidInput(f"{world.name} with --visibility {visibility}: a myopic view of a "
-                               "graph file is presented in the file's own node ids, so views "
-                               "are not up to isomorphism; synthesize takes the whole view "
-                               "there (or --frames compass)")
-        return ["perm", [[[world.labels[u], world.labels[p[u]]] for u in range(world.size)]
-                         for p in world.automorphisms]]
-    raise InvalidInput(f"synthesize does not know the frames of {world.name}")
-
-
 class Views:
     """The views the robots meet, found as the search goes: their keys (``texts``, index =
     key id), their options, and per occurrence each option's actions."""
@@ -182,7 +156,7 @@ class Views:
     def __init__(self, inst: Instance):
         self.inst = inst
         self.world = inst.world
-        self.group = viewkey.build(group_description(inst.world, inst.frames, inst.visibility))
+        self.group = viewkey.build(inst.world.frame_group(inst.frames, inst.visibility))
         self.texts: list[str] = []
         self.index: dict[str, int] = {}
         self.options: list[list[Answer]] = []

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from gather_verify.synthesis import viewkey
-from gather_verify.synthesis.views import Instance, Views, group_description
+from gather_verify.synthesis.views import Instance, Views
 
 NAME = "Synthesized"
 
@@ -79,7 +79,7 @@ def write_witness(path: str, inst: Instance, views: Views, table: dict[int, int]
     text = TEMPLATE.format(
         instance=json.dumps(inst.describe(), sort_keys=True),
         count=len(table), filename=Path(path).name, name=NAME, viewkey=viewkey_source(),
-        group=group_description(inst.world, inst.frames, inst.visibility),
+        group=inst.world.frame_group(inst.frames, inst.visibility),
         detection=inst.detection, colours=inst.lights.colours, variant=inst.lights.variant,
         table="".join(rows))
     Path(path).write_text(text, encoding="utf-8")

@@ -221,19 +221,40 @@ class World:
             return self.automorphisms
         return (tuple(range(self.size)),)
 
-    def canonical(self, robots: Iterable[int], meeting: Iterable[int],
-                  frames: str = "all") -> tuple[tuple[int, ...], tuple[int, ...]]:
+    def canonical(self, robots: Iterable[int], meeting: Iterable[int], frames: str = "all",
+                  colours: Iterable[int] | None = None) -> tuple[tuple[Any, ...], tuple[int, ...]]:
         """The least image (sorted node indices of the robots, a multiset, then of the
-        meeting nodes) of a configuration under :meth:`symmetries` (:class:`AnyWorld`).
+        meeting nodes) of a configuration under :meth:`symmetries` (:class:`AnyWorld`). With
+        the robots' initial ``colours`` (one per robot), the robots are sorted ``(node,
+        colour)`` pairs: the symmetries move nodes, never colours.
 
         >>> from gather_verify.worlds import get_world
         >>> get_world("ring:6").canonical([3, 5], [4])
         ((0, 2), (1,))
+        >>> get_world("ring:6").canonical([3, 5], [4], colours=[1, 0])
+        (((0, 0), (2, 1)), (1,))
         """
-        _check_frames(frames)
-        robots, meeting = tuple(robots), tuple(meeting)
-        return min((tuple(sorted(p[v] for v in robots)), tuple(sorted(p[v] for v in meeting)))
-                   for p in self.symmetries(frames))
+        meeting = tuple(meeting)
+        group = self._symmetries(frames)
+        if colours is None:
+            nodes = tuple(robots)
+            return min((tuple(sorted(p[v] for v in nodes)), tuple(sorted(p[v] for v in meeting)))
+                       for p in group)
+        lit = tuple(zip(robots, colours, strict=True))
+        return min((tuple(sorted((p[v], c) for v, c in lit)), tuple(sorted(p[v] for v in meeting)))
+                   for p in group)
+
+    def _symmetries(self, frames: str) -> tuple[tuple[int, ...], ...]:
+        """:meth:`symmetries`, asked once per frame set (a census asks per configuration)."""
+        got = self._symmetries_of.get(frames)
+        if got is None:
+            _check_frames(frames)
+            got = self._symmetries_of[frames] = self.symmetries(frames)
+        return got
+
+    @cached_property
+    def _symmetries_of(self) -> dict[str, tuple[tuple[int, ...], ...]]:
+        return {}
 
     # -- how nodes are written ---------------------------------------------------------
     def label(self, v: int) -> Label:
@@ -295,6 +316,14 @@ class World:
     @cached_property
     def _frames(self) -> dict[tuple[int, int | None, str], list[FrameMap]]:
         return {}
+
+    def frame_group(self, frames: str, visibility: int | None) -> list[object]:
+        """The robots' frames as a group acting on view labels: the label maps that move one
+        presentation of a view to every other one (§9), for the synthesis to key views up to
+        isomorphism (:func:`gather_verify.synthesis.viewkey.build` reads it: ``["ring", N,
+        [signs]]``, ``["d4", [matrix, ...]]`` or ``["perm", [[[label, image], ...], ...]]``).
+        A world whose frames are no such group says so in one line."""
+        raise InvalidInput(f"synthesize does not know the frames of {self.name}")
 
     # -- drawing -----------------------------------------------------------------------
     # The pictures (the viewer, the SVG storyboard, the report) draw a world from

@@ -86,6 +86,23 @@ class FileGraph(World):
         order = sorted(ball)
         return [{u: self.labels[p[i]] for i, u in enumerate(order)} for p in local]
 
+    def frame_group(self, frames: str, visibility: int | None) -> list[object]:
+        """The file's labels moved by each automorphism (the identity alone with a compass).
+        A myopic view is presented in the file's own ids, not up to isomorphism: refused in
+        one line unless every ball is the whole graph."""
+        if frames == "chirality":
+            self.symmetries(frames)  # one line: a graph file has no orientation
+        if frames == "compass":
+            return ["perm", [[[w, w] for w in self.labels]]]
+        if visibility is not None and any(len(self.ball(v, visibility)) < self.size
+                                          for v in range(self.size)):
+            raise InvalidInput(f"{self.name} with --visibility {visibility}: a myopic view of a "
+                               "graph file is presented in the file's own node ids, so views "
+                               "are not up to isomorphism; synthesize takes the whole view "
+                               "there (or --frames compass)")
+        return ["perm", [[[self.labels[u], self.labels[p[u]]] for u in range(self.size)]
+                         for p in self.automorphisms]]
+
 
 @cache
 def _automorphisms(digest: str, adjacency: tuple[tuple[int, ...], ...],

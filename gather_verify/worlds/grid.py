@@ -64,6 +64,10 @@ class GridFamily(World):
                         for u in ball for x, y in (self.offset(u, v),)})
         return out
 
+    def frame_group(self, frames: str, visibility: int | None) -> list[object]:
+        """The elements of D4 the frame set holds, as matrices on ``(x, y)`` labels."""
+        return ["d4", [list(geometry.MATRICES[g]) for g in D4_FRAMES[frames]]]
+
     def layout(self) -> dict[int, Point]:
         """Each node at its coordinates."""
         return {v: (float(x), float(y)) for v, (x, y) in enumerate(self.labels)}

@@ -52,6 +52,10 @@ class Ring(World):
         directions = (1, -1) if frames == "all" else (1,)
         return [{u: (s * (u - v)) % self.n for u in ball} for s in directions]
 
+    def frame_group(self, frames: str, visibility: int | None) -> list[object]:
+        """The two directions (one with a compass or chirality): label ``u`` -> ``±u`` mod N."""
+        return ["ring", self.n, [1, -1] if frames == "all" else [1]]
+
     def layout(self) -> dict[int, Point]:
         """A circle, node 0 at the top, clockwise."""
         return {v: _on_circle(v / self.n) for v in range(self.n)}
