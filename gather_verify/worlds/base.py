@@ -23,11 +23,12 @@ import statistics
 from collections import deque
 from collections.abc import Hashable, Iterable, Sequence
 from functools import cached_property
-from typing import Any, NamedTuple, Protocol, runtime_checkable
-
-import networkx as nx
+from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, runtime_checkable
 
 from gather_verify.errors import InvalidInput
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 Label = Hashable
 """A node as the world writes it and as a view presents it (an int on a ring, ``(x, y)`` on
@@ -201,6 +202,8 @@ class World:
     @cached_property
     def graph(self) -> nx.Graph:
         """The world as a networkx graph on node indices (for layouts and isomorphisms)."""
+        import networkx as nx  # here: importing networkx costs a run that never asks 0.2 s
+
         g = nx.Graph()
         g.add_nodes_from(range(self.size))
         g.add_edges_from((a, b) for a, nbrs in enumerate(self.adjacency) for b in nbrs if a < b)
@@ -304,6 +307,8 @@ class World:
     def layout(self) -> dict[int, Point]:
         """Where to draw each node (y up), the same on every run: by default a spring layout
         with a fixed seed (a circle past 500 nodes, where the spring layout needs scipy)."""
+        import networkx as nx
+
         if self.size >= 500:
             pos = nx.circular_layout(self.graph)
         else:
@@ -434,6 +439,7 @@ def enumerate_automorphisms(graph: nx.Graph, name: str,
     """The automorphisms of ``graph`` (nodes ``0 .. k-1`` or any ints), as permutations over
     ``sorted(graph)`` positions' node ids, the identity first; with ``fixed``, only those
     that fix that node. Refused past :data:`MAX_AUTOMORPHISMS`."""
+    import networkx as nx
     from networkx.algorithms.isomorphism import GraphMatcher
 
     g = graph.copy()
@@ -470,6 +476,8 @@ class FrameMap:
 
     @cached_property
     def graph(self) -> nx.Graph:
+        import networkx as nx
+
         g = nx.Graph()
         g.add_nodes_from(self.labels.values())
         g.add_edges_from((self.labels[u], self.labels[w]) for u in self.labels
@@ -478,6 +486,8 @@ class FrameMap:
 
     @cached_property
     def distances(self) -> dict[Label, dict[Label, int]]:
+        import networkx as nx
+
         return dict(nx.all_pairs_shortest_path_length(self.graph))
 
     @cached_property
