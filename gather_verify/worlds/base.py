@@ -173,17 +173,7 @@ class World:
 
     def _bfs(self, source: int, limit: int | None = None) -> dict[int, int]:
         """Graph distance from ``source`` to every node within ``limit`` hops."""
-        seen = {source: 0}
-        queue = deque([source])
-        while queue:
-            u = queue.popleft()
-            if limit is not None and seen[u] == limit:
-                continue
-            for w in self.adjacency[u]:
-                if w not in seen:
-                    seen[w] = seen[u] + 1
-                    queue.append(w)
-        return seen
+        return hops(self.adjacency, source, limit)
 
     @cached_property
     def _distances(self) -> tuple[dict[int, int], ...]:
@@ -434,6 +424,22 @@ def _round(value: float) -> float:
     return 0.0 if out == 0 else out  # never -0.0
 
 
+def hops(adjacency: Any, source: Any, limit: int | None = None) -> dict[Any, int]:
+    """Breadth-first search: the distance from ``source`` to every node within ``limit``
+    hops, over ``adjacency[node]`` (the node's neighbours)."""
+    seen = {source: 0}
+    queue = deque([source])
+    while queue:
+        u = queue.popleft()
+        if limit is not None and seen[u] == limit:
+            continue
+        for w in adjacency[u]:
+            if w not in seen:
+                seen[w] = seen[u] + 1
+                queue.append(w)
+    return seen
+
+
 def enumerate_automorphisms(graph: nx.Graph, name: str,
                             fixed: int | None = None) -> tuple[tuple[int, ...], ...]:
     """The automorphisms of ``graph`` (nodes ``0 .. k-1`` or any ints), as permutations over
@@ -485,21 +491,23 @@ class FrameMap:
         return nx.freeze(g)
 
     @cached_property
-    def distances(self) -> dict[Label, dict[Label, int]]:
-        import networkx as nx
-
-        return dict(nx.all_pairs_shortest_path_length(self.graph))
+    def _adjacent(self) -> dict[Label, tuple[Label, ...]]:
+        """Each label's neighbours in the frame's graph (the labelled nodes next to it),
+        sorted: :attr:`graph`'s adjacency, without building it (networkx is imported only
+        by what asks for the graph itself)."""
+        labels: dict[int, Any] = self.labels  # a world's labels compare with each other
+        adjacency = self.world.adjacency
+        return {labels[u]: tuple(sorted(labels[w] for w in adjacency[u] if w in labels))
+                for u in labels}
 
     @cached_property
-    def _neighbours(self) -> dict[Label, tuple[Label, ...]]:
-        return {}
+    def distances(self) -> dict[Label, dict[Label, int]]:
+        """Hops between two labels inside the frame's graph (only those reachable)."""
+        return {label: hops(self._adjacent, label) for label in self._adjacent}
 
     def neighbours(self, label: Label) -> tuple[Label, ...]:
-        """The neighbours of ``label`` in the frame's graph, sorted (computed once)."""
-        got = self._neighbours.get(label)
-        if got is None:
-            got = self._neighbours[label] = tuple(sorted(self.graph[label]))
-        return got
+        """The neighbours of ``label`` in the frame's graph, sorted."""
+        return self._adjacent[label]
 
     @cached_property
     def _shown(self) -> dict[frozenset[int], frozenset[Label]]:
