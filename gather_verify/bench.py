@@ -35,9 +35,10 @@ process and is timed *whole* (interpreter start, imports, search), as SPIN's
 Memory per state is measured from a baseline taken once the compiled kernels the run uses
 are loaded (:func:`gather_verify.kernels.warm` of :data:`RUN_KERNELS`: numba and the compiled
 code are a fixed cost, not a per-state one). A child exits as soon as its JSON is written,
-without the interpreter's teardown (a C program's exit, as SPIN's ``./pan``). Every row also gives the CPU seconds (user, system) of its whole process tree, which
-depend less on the machine's load than the wall-clock seconds. Timings depend on the
-machine's load: compare runs made back to back.
+without the interpreter's teardown (a C program's exit, as SPIN's ``./pan``). Every row
+also gives the CPU seconds (user, system) of its whole process tree, which depend less on
+the machine's load than the wall-clock seconds. Timings depend on the machine's load:
+compare runs made back to back.
 """
 
 from __future__ import annotations

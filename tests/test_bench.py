@@ -155,9 +155,12 @@ def test_each_bench_child_loads_no_kernel_after_its_baseline():
 
 
 def test_warm_loads_the_named_kernels_and_their_inputs_makers():
-    code = ("import json\nfrom gather_verify import kernels\nfrom gather_verify.kernels import compiled\n"
+    code = ("import json\n"
+            "from gather_verify import kernels\n"
+            "from gather_verify.kernels import compiled\n"
             "kernels.warm(['pair_keys'])\n"
-            "print(json.dumps(sorted(k for k in kernels.KERNELS if getattr(compiled, k).signatures)))")
+            "print(json.dumps(sorted(k for k in kernels.KERNELS\n"
+            "                        if getattr(compiled, k).signatures)))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout
     from gather_verify import kernels

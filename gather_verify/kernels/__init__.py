@@ -78,7 +78,8 @@ def warm(names: Iterable[str] = KERNELS) -> None:
     wanted = set(names)
     unknown = wanted - set(KERNELS)
     if unknown:
-        raise ValueError(f"no kernel named {', '.join(sorted(unknown))} (known: {', '.join(KERNELS)})")
+        raise ValueError(f"no kernel named {', '.join(sorted(unknown))} "
+                         f"(known: {', '.join(KERNELS)})")
     import numpy as np
 
     from gather_verify.kernels import compiled as k
