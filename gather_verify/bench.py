@@ -32,11 +32,13 @@ process and is timed *whole* (interpreter start, imports, search), as SPIN's
   per second whole process, per CPU second of the whole process and per CPU second of the
   search alone, and each one's ratio to ASYNC's.
 
-Memory per state is measured from a baseline taken once the compiled kernels are loaded
-(:func:`gather_verify.kernels.warm`: numba and the compiled code are a fixed cost, not a
-per-state one). Every row also gives the CPU seconds (user, system) of its whole process tree, which
-depend less on the machine's load than the wall-clock seconds. Timings depend on the
-machine's load: compare runs made back to back.
+Memory per state is measured from a baseline taken once the compiled kernels the run uses
+are loaded (:func:`gather_verify.kernels.warm` of :data:`RUN_KERNELS`: numba and the compiled
+code are a fixed cost, not a per-state one). A child exits as soon as its JSON is written,
+without the interpreter's teardown (a C program's exit, as SPIN's ``./pan``). Every row
+also gives the CPU seconds (user, system) of its whole process tree, which depend less on
+the machine's load than the wall-clock seconds. Timings depend on the machine's load:
+compare runs made back to back.
 """
 
 from __future__ import annotations
@@ -56,6 +58,18 @@ QUICK = ([(0, 0), (3, 1), (1, 4)], [(2, 2)])
 RING = ("ring:14", [5, 6, 7, 8, 9], 0)
 RING_QUICK = ("ring:9", [0, 3, 5], 7)  # SEMANTICS.md §9's test data: 225 states, 560 transitions
 SPIN_DIR = Path(__file__).resolve().parent.parent / "bench" / "spin"
+RUN_KERNELS = {
+    "explore": ("find_or_add", "place", "decode_chunk", "async_successors", "successor_keys"),
+    "rounds": ("find_or_add", "place", "decode_chunk", "round_counts", "round_events",
+               "event_keys"),
+    "verdict": ("find_or_add", "place", "decode_chunk", "async_successors", "successor_rows",
+                "longest_path"),
+    "full": ("find_or_add", "place", "decode_chunk", "async_successors", "successor_keys",
+             "successor_rows", "longest_path"),
+}
+"""The compiled kernels each Z² measurement runs (``rounds``: ``explore`` under FSYNC, SSYNC
+or centralized), loaded before its memory baseline; the others are never loaded
+(``tests/test_bench.py`` checks that a run loads none outside its list)."""
 
 
 def _child(kind: str, robots: list, meeting: list, max_seconds: float,
@@ -69,7 +83,8 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float,
     from gather_verify.model.configuration import Configuration
 
     c = Configuration([tuple(r) for r in robots], [tuple(m) for m in meeting], initial=True)
-    kernels.warm()  # a fixed cost (numba and the compiled code), not a per-state one
+    # a fixed cost (numba and the compiled code), not a per-state one
+    kernels.warm(RUN_KERNELS["rounds" if kind == "explore" and scheduler != "async" else kind])
     before = rss_mb()
     if kind == "explore":
         cpu = time.process_time()
@@ -395,6 +410,11 @@ def format_ring(g: dict[str, Any], write: Any = print) -> None:
 if __name__ == "__main__":  # the child of _run_child
     args = json.loads(sys.argv[2])
     if sys.argv[1] == "ring":
-        print(json.dumps(_ring_child(*args, float(sys.argv[3]))))
+        result = _ring_child(*args, float(sys.argv[3]))
     else:  # an optional fourth argument: explore's scheduler
-        print(json.dumps(_child(sys.argv[1], *args, float(sys.argv[3]), *sys.argv[4:5])))
+        result = _child(sys.argv[1], *args, float(sys.argv[3]), *sys.argv[4:5])
+    print(json.dumps(result), flush=True)
+    # The measurement is out: leave without the interpreter's teardown (freeing the search's
+    # objects one by one: up to 0.4 s of a ring run), as a C program's exit does.
+    sys.stderr.flush()
+    os._exit(0)

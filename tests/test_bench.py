@@ -120,3 +120,52 @@ def test_bench_schedulers_only_needs_a_scheduler():
                          capture_output=True, text=True)
     assert out.returncode == 2 and "--schedulers-only needs --scheduler" in out.stderr
     assert "Traceback" not in out.stderr
+
+
+LOADED = """
+import json, sys
+from gather_verify import bench, kernels
+from gather_verify.kernels import compiled
+kind, scheduler = sys.argv[1], sys.argv[2]
+def loaded():
+    return sorted(k for k in kernels.KERNELS if getattr(compiled, k).signatures)
+kernels.warm(bench.RUN_KERNELS["rounds" if scheduler != "async" else kind])
+print(json.dumps(loaded()))
+robots, meeting = bench.QUICK
+bench._child(kind, robots, meeting, 600.0, scheduler)
+print(json.dumps(loaded()))
+"""
+
+
+def test_each_bench_child_loads_no_kernel_after_its_baseline():
+    """A measurement's memory baseline is taken once :data:`bench.RUN_KERNELS` of its kind
+    are loaded: its run loads no other kernel (that load would count per state). One fresh
+    process per kind, run side by side."""
+    runs = {(kind, scheduler): subprocess.Popen([sys.executable, "-c", LOADED, kind, scheduler],
+                                                stdout=subprocess.PIPE, text=True)
+            for kind, scheduler in [("explore", "async"), ("explore", "ssync"),
+                                    ("verdict", "async"), ("full", "async")]}
+    for (kind, scheduler), process in runs.items():
+        out, _ = process.communicate()
+        assert process.returncode == 0
+        warmed, after = map(json.loads, out.splitlines())
+        if not after:
+            pytest.skip("the compiled kernels are off (numba missing, or GATHER_VERIFY_KERNELS)")
+        assert after == warmed, (kind, scheduler, sorted(set(after) - set(warmed)))
+
+
+def test_warm_loads_the_named_kernels_and_their_inputs_makers():
+    code = ("import json\n"
+            "from gather_verify import kernels\n"
+            "from gather_verify.kernels import compiled\n"
+            "kernels.warm(['pair_keys'])\n"
+            "print(json.dumps(sorted(k for k in kernels.KERNELS\n"
+            "                        if getattr(compiled, k).signatures)))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout
+    from gather_verify import kernels
+
+    if kernels.enabled():
+        assert json.loads(out) == ["async_successors", "decode_chunk", "pair_keys"]
+    with pytest.raises(ValueError, match="no kernel named nope"):
+        kernels.warm(["nope"])

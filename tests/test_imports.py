@@ -112,3 +112,36 @@ def test_schedulers_import_only_the_model_layer() -> None:
             if m.startswith("gather_verify")}
     assert ours and all(m.startswith(("gather_verify.model", "gather_verify.errors",
                                       "gather_verify.kernels")) for m in ours), ours
+
+
+NOT_NEEDED = """
+import json, sys
+heavy = ("networkx", "scipy", "matplotlib", "hypothesis", "gather_verify.synthesis",
+         "gather_verify.sweeps.sweep")
+if sys.argv[1] == "ring":
+    from gather_verify.world_check import run_world_check
+    r = run_world_check("ring:9", [0, 3, 5], [7], "go-to-target", "async", reduction=False)
+    heavy += ("gather_verify.paper", "sqlite3")
+elif sys.argv[1] == "grid":
+    from gather_verify.check import run_check
+    from gather_verify.model.configuration import Configuration
+    c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
+    r = run_check(c, algorithm="go-to-target", scheduler="async", reduction=False)
+else:  # the command line, on the ring
+    from gather_verify.cli import main
+    assert main(["check", "--world", "ring:9", "--robots", "0 3 5", "--meeting", "7",
+                 "--algorithm", "go-to-target", "--scheduler", "async", "--json"]) == 0
+    r = {"verdict": "VERIFIED"}
+print(json.dumps([r["verdict"], sorted(m for m in heavy if m in sys.modules)]))
+"""
+
+
+@pytest.mark.parametrize("run", ["ring", "grid", "cli-ring"])
+def test_a_check_imports_nothing_it_does_not_use(run: str) -> None:
+    """Checking go-to-target on a ring or on Z² (the bench's runs, and a user's first check)
+    imports no networkx (a world's view builds its graph only when asked for it), no plotting
+    or test library, no synthesis or sweep; the ring's check no paper package and no sqlite.
+    Each import is a fixed cost of every process (networkx alone: 0.2 s)."""
+    out = subprocess.run([sys.executable, "-c", NOT_NEEDED, run], cwd=ROOT, capture_output=True,
+                         text=True, check=True).stdout.splitlines()[-1]
+    assert json.loads(out) == ["VERIFIED", []]

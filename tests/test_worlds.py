@@ -8,6 +8,7 @@ import json
 import subprocess
 import sys
 from collections import Counter
+from pathlib import Path
 
 import networkx as nx
 import pytest
@@ -367,3 +368,19 @@ def test_reductions_keep_the_verdicts_of_a_direction_reading_algorithm(frames: s
                                       properties=["exclusivity"])
             assert reduced["verdict"] == full["verdict"]
             assert reduced["reductions"] != "off" and reduced["states"] <= full["states"]
+
+
+PETERSEN = Path(__file__).resolve().parent.parent / "scenarios" / "worlds" / "petersen.graphml"
+
+
+@pytest.mark.parametrize("world_name", ["ring:7", "grid:3x4", "torus:3x4", f"graph:{PETERSEN}"])
+def test_a_frames_distances_and_neighbours_are_its_graphs(world_name: str) -> None:
+    """A frame answers ``distance`` and ``neighbours`` without building its networkx graph:
+    the same as networkx on that graph, in every frame, with and without a visibility."""
+    w = get_world(world_name)
+    for v in range(w.size):
+        for visibility in (None, 1, 2):
+            for frame in w.frames(v, visibility, "all"):
+                g = frame.graph
+                assert frame.distances == dict(nx.all_pairs_shortest_path_length(g))
+                assert all(frame.neighbours(label) == tuple(sorted(g[label])) for label in g)

@@ -92,7 +92,8 @@ class GoToTarget:
     name = "go-to-target"
 
     def decide(self, view: View) -> Node:
-        if type(view) is not View and hasattr(view, "graph"):
+        # a world's view: asked of its class (the view's own graph is built when asked for)
+        if type(view) is not View and hasattr(type(view), "graph"):
             return _on_graph(view)
         meeting = view.meeting_nodes
         target: Node | None

@@ -29,13 +29,15 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-
-import networkx as nx
+from typing import TYPE_CHECKING
 
 from gather_verify.engine.explore import Exploration
 from gather_verify.errors import InvalidInput
 from gather_verify.model.geometry import Node
 from schedulers import Event
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 FORMATS = {".graphml": "GraphML", ".dot": "DOT", ".gv": "DOT"}
 
@@ -60,6 +62,8 @@ def to_networkx(e: Exploration) -> nx.DiGraph:
     if len(e.offsets) == 0 and e.states:
         raise InvalidInput("this exploration kept no edges (graph=False): explore again with "
                            "graph=True to export its graph")
+    import networkx as nx  # here: check imports this module, and writes a graph only when asked
+
     g = nx.DiGraph(
         algorithm=e.algorithm.name, scheduler=e.scheduler_name, detection=e.detection,
         frames=e.frames, meeting=" ".join(_node(m) for m in sorted(e.initial.meeting_nodes)),
@@ -134,6 +138,8 @@ def write_graph(e: Exploration, path: str | Path) -> nx.DiGraph:
     kind = graph_format(path)
     g = to_networkx(e)
     if kind == "GraphML":
+        import networkx as nx
+
         nx.write_graphml(g, path)
     else:
         Path(path).write_text(dot(g), encoding="utf-8")

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+from collections.abc import Iterable
 from typing import Any
 
 ENV = "GATHER_VERIFY_KERNELS"
@@ -67,62 +68,71 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-def warm() -> None:
-    """Load (or compile) every kernel now, on tiny inputs of the engine's types: a caller
-    measuring memory per state takes its baseline after this fixed cost."""
+def warm(names: Iterable[str] = KERNELS) -> None:
+    """Load (or compile) the kernels ``names`` now (default: every one), on tiny inputs of the
+    engine's types: a caller measuring memory per state takes its baseline after this fixed
+    cost. The first kernel costs most (numba's typing and LLVM set up, about 0.2 s); each
+    other one a few milliseconds, so a caller names only those its run uses. The kernels
+    that make the tiny inputs of the named ones (``find_or_add``, ``decode_chunk``,
+    ``async_successors``, ``round_counts``) are loaded with them."""
     if not enabled():
         return
+    wanted = set(names)
+    unknown = wanted - set(KERNELS)
+    if unknown:
+        raise ValueError(f"no kernel named {', '.join(sorted(unknown))} "
+                         f"(known: {', '.join(KERNELS)})")
     import numpy as np
 
+    from gather_verify.kernels import compiled as k
     from gather_verify.kernels.codes import OUTSIDE, Z2_DEGREE, Z2_SLOTS
-    from gather_verify.kernels.compiled import (
-        async_successors,
-        decode_chunk,
-        event_canonical_keys,
-        event_keys,
-        find_or_add,
-        longest_path,
-        pair_keys,
-        place,
-        round_counts,
-        round_events,
-        successor_keys,
-        successor_rows,
-        tarjan_csr,
-    )
 
     table = np.zeros(16, dtype=np.int32)
     keys = np.empty(16, dtype=np.uint64)
-    ids, first = np.empty(2, dtype=np.int64), np.empty(2, dtype=np.int64)
-    q = np.array([3, 3], dtype=np.uint64)
-    count, _ = find_or_add(table, keys, 0, np.uint64(60), q, ids, first)
-    place(np.zeros(16, dtype=np.int32), keys, 0, count, np.uint64(60))
-    k = np.array([7], dtype=np.uint64)
+    if wanted & {"find_or_add", "place"}:
+        ids, first = np.empty(2, dtype=np.int64), np.empty(2, dtype=np.int64)
+        q = np.array([3, 3], dtype=np.uint64)
+        count, _ = k.find_or_add(table, keys, 0, np.uint64(60), q, ids, first)
+        if "place" in wanted:
+            k.place(np.zeros(16, dtype=np.int32), keys, 0, count, np.uint64(60))
+    k7 = np.array([7], dtype=np.uint64)
     weights = np.array([1, 9], dtype=np.int64)
-    codes, cells, srt, ck, idle, rank = decode_chunk(k, 45, 2, weights)
     masks = np.ones((1, 2), dtype=np.uint8)
     neighbour = np.full((9, Z2_DEGREE), OUTSIDE, dtype=np.int64)
-    src, weight, robot, new = async_successors(codes, masks, neighbour,
-                                               np.arange(4, dtype=np.int64))
     powers = np.array([1, 45], dtype=np.uint64)
-    succ, old = successor_keys(k, codes, src, robot, new, powers)
-    event = np.arange(len(robot), dtype=np.int64)
-    event_keys(k, codes, src, robot, new, event, powers)
-    for anonymity in (False, True):
-        event_canonical_keys(codes, src, robot, new, event, powers,
-                             np.zeros((1, 45), dtype=np.int64), anonymity)
-    pair_keys(ck, rank, src, robot, old, new, 18, 9)
-    successor_rows(ck, rank, src, robot, old, new, neighbour,
-                   np.full((1, 2, Z2_DEGREE), -1, dtype=np.int32))
-    subsets = np.ones((1, 2), dtype=np.bool_)
-    count = np.ones(32, dtype=np.int64)
-    s, e, c = round_counts(masks, subsets, count, 16)
-    nth = np.full((1 << Z2_SLOTS, Z2_SLOTS), Z2_DEGREE, dtype=np.int64)
-    round_events(codes, masks, neighbour, subsets, nth, count, s,
-                 np.empty(e, dtype=np.int64), np.empty(e, dtype=np.int8),
-                 np.empty(c, dtype=np.int64), np.empty(c, dtype=np.int64),
-                 np.empty(c, dtype=np.int64))
+    if wanted - {"find_or_add", "place", "longest_path", "tarjan_csr"}:
+        codes, cells, srt, ck, idle, rank = k.decode_chunk(k7, 45, 2, weights)
+    if wanted & {"async_successors", "successor_keys", "event_keys", "event_canonical_keys",
+                 "pair_keys", "successor_rows"}:
+        src, weight, robot, new = k.async_successors(codes, masks, neighbour,
+                                                     np.arange(4, dtype=np.int64))
+        old = codes[src, robot]  # as successor_keys returns it
+        if "successor_keys" in wanted:
+            k.successor_keys(k7, codes, src, robot, new, powers)
+        event = np.arange(len(robot), dtype=np.int64)
+        if "event_keys" in wanted:
+            k.event_keys(k7, codes, src, robot, new, event, powers)
+        if "event_canonical_keys" in wanted:
+            for anonymity in (False, True):
+                k.event_canonical_keys(codes, src, robot, new, event, powers,
+                                       np.zeros((1, 45), dtype=np.int64), anonymity)
+        if "pair_keys" in wanted:
+            k.pair_keys(ck, rank, src, robot, old, new, 18, 9)
+        if "successor_rows" in wanted:
+            k.successor_rows(ck, rank, src, robot, old, new, neighbour,
+                             np.full((1, 2, Z2_DEGREE), -1, dtype=np.int32))
+    if wanted & {"round_counts", "round_events"}:
+        subsets = np.ones((1, 2), dtype=np.bool_)
+        count = np.ones(32, dtype=np.int64)
+        s, e, c = k.round_counts(masks, subsets, count, 16)
+        if "round_events" in wanted:
+            k.round_events(codes, masks, neighbour, subsets, np.full((1 << Z2_SLOTS, Z2_SLOTS), Z2_DEGREE, dtype=np.int64),
+                           count, s, np.empty(e, dtype=np.int64), np.empty(e, dtype=np.int8),
+                           np.empty(c, dtype=np.int64), np.empty(c, dtype=np.int64),
+                           np.empty(c, dtype=np.int64))
     off = np.array([0, 1, 1], dtype=np.int32)
     tgt = np.array([1], dtype=np.int32)
-    longest_path(off, tgt, np.zeros(1, dtype=np.int8))
-    tarjan_csr(off, tgt, True)
+    if "longest_path" in wanted:
+        k.longest_path(off, tgt, np.zeros(1, dtype=np.int8))
+    if "tarjan_csr" in wanted:
+        k.tarjan_csr(off, tgt, True)

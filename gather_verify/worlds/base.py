@@ -23,11 +23,12 @@ import statistics
 from collections import deque
 from collections.abc import Hashable, Iterable, Sequence
 from functools import cached_property
-from typing import Any, NamedTuple, Protocol, runtime_checkable
-
-import networkx as nx
+from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, runtime_checkable
 
 from gather_verify.errors import InvalidInput
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 Label = Hashable
 """A node as the world writes it and as a view presents it (an int on a ring, ``(x, y)`` on
@@ -172,17 +173,7 @@ class World:
 
     def _bfs(self, source: int, limit: int | None = None) -> dict[int, int]:
         """Graph distance from ``source`` to every node within ``limit`` hops."""
-        seen = {source: 0}
-        queue = deque([source])
-        while queue:
-            u = queue.popleft()
-            if limit is not None and seen[u] == limit:
-                continue
-            for w in self.adjacency[u]:
-                if w not in seen:
-                    seen[w] = seen[u] + 1
-                    queue.append(w)
-        return seen
+        return hops(self.adjacency, source, limit)
 
     @cached_property
     def _distances(self) -> tuple[dict[int, int], ...]:
@@ -201,6 +192,8 @@ class World:
     @cached_property
     def graph(self) -> nx.Graph:
         """The world as a networkx graph on node indices (for layouts and isomorphisms)."""
+        import networkx as nx  # here: importing networkx costs a run that never asks 0.2 s
+
         g = nx.Graph()
         g.add_nodes_from(range(self.size))
         g.add_edges_from((a, b) for a, nbrs in enumerate(self.adjacency) for b in nbrs if a < b)
@@ -333,6 +326,8 @@ class World:
     def layout(self) -> dict[int, Point]:
         """Where to draw each node (y up), the same on every run: by default a spring layout
         with a fixed seed (a circle past 500 nodes, where the spring layout needs scipy)."""
+        import networkx as nx
+
         if self.size >= 500:
             pos = nx.circular_layout(self.graph)
         else:
@@ -458,11 +453,28 @@ def _round(value: float) -> float:
     return 0.0 if out == 0 else out  # never -0.0
 
 
+def hops(adjacency: Any, source: Any, limit: int | None = None) -> dict[Any, int]:
+    """Breadth-first search: the distance from ``source`` to every node within ``limit``
+    hops, over ``adjacency[node]`` (the node's neighbours)."""
+    seen = {source: 0}
+    queue = deque([source])
+    while queue:
+        u = queue.popleft()
+        if limit is not None and seen[u] == limit:
+            continue
+        for w in adjacency[u]:
+            if w not in seen:
+                seen[w] = seen[u] + 1
+                queue.append(w)
+    return seen
+
+
 def enumerate_automorphisms(graph: nx.Graph, name: str,
                             fixed: int | None = None) -> tuple[tuple[int, ...], ...]:
     """The automorphisms of ``graph`` (nodes ``0 .. k-1`` or any ints), as permutations over
     ``sorted(graph)`` positions' node ids, the identity first; with ``fixed``, only those
     that fix that node. Refused past :data:`MAX_AUTOMORPHISMS`."""
+    import networkx as nx
     from networkx.algorithms.isomorphism import GraphMatcher
 
     g = graph.copy()
@@ -499,6 +511,8 @@ class FrameMap:
 
     @cached_property
     def graph(self) -> nx.Graph:
+        import networkx as nx
+
         g = nx.Graph()
         g.add_nodes_from(self.labels.values())
         g.add_edges_from((self.labels[u], self.labels[w]) for u in self.labels
@@ -506,19 +520,23 @@ class FrameMap:
         return nx.freeze(g)
 
     @cached_property
-    def distances(self) -> dict[Label, dict[Label, int]]:
-        return dict(nx.all_pairs_shortest_path_length(self.graph))
+    def _adjacent(self) -> dict[Label, tuple[Label, ...]]:
+        """Each label's neighbours in the frame's graph (the labelled nodes next to it),
+        sorted: :attr:`graph`'s adjacency, without building it (networkx is imported only
+        by what asks for the graph itself)."""
+        labels: dict[int, Any] = self.labels  # a world's labels compare with each other
+        adjacency = self.world.adjacency
+        return {labels[u]: tuple(sorted(labels[w] for w in adjacency[u] if w in labels))
+                for u in labels}
 
     @cached_property
-    def _neighbours(self) -> dict[Label, tuple[Label, ...]]:
-        return {}
+    def distances(self) -> dict[Label, dict[Label, int]]:
+        """Hops between two labels inside the frame's graph (only those reachable)."""
+        return {label: hops(self._adjacent, label) for label in self._adjacent}
 
     def neighbours(self, label: Label) -> tuple[Label, ...]:
-        """The neighbours of ``label`` in the frame's graph, sorted (computed once)."""
-        got = self._neighbours.get(label)
-        if got is None:
-            got = self._neighbours[label] = tuple(sorted(self.graph[label]))
-        return got
+        """The neighbours of ``label`` in the frame's graph, sorted."""
+        return self._adjacent[label]
 
     @cached_property
     def _shown(self) -> dict[frozenset[int], frozenset[Label]]:

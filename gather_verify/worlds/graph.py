@@ -13,18 +13,22 @@ from __future__ import annotations
 import hashlib
 from functools import cache
 from pathlib import Path
-
-import networkx as nx
+from typing import TYPE_CHECKING
 
 from gather_verify.errors import InvalidInput, read_input
 from gather_verify.worlds.base import Frame, Label, World, enumerate_automorphisms
 
-READERS = {".graphml": nx.parse_graphml, ".gml": nx.parse_gml}
+if TYPE_CHECKING:
+    import networkx as nx
 
 
 def _parse(text: str, suffix: str) -> nx.Graph:
-    if suffix in READERS:
-        return READERS[suffix](text)
+    import networkx as nx  # here: every world imports this module, only graph:FILE reads
+
+    if suffix == ".graphml":
+        return nx.parse_graphml(text)
+    if suffix == ".gml":
+        return nx.parse_gml(text)
     lines = text.splitlines()
     if suffix == ".adjlist":
         return nx.parse_adjlist(lines)
@@ -107,6 +111,8 @@ class FileGraph(World):
 @cache
 def _automorphisms(digest: str, adjacency: tuple[tuple[int, ...], ...],
                    name: str) -> tuple[tuple[int, ...], ...]:
+    import networkx as nx
+
     g = nx.Graph()
     g.add_nodes_from(range(len(adjacency)))
     g.add_edges_from((a, b) for a, nbrs in enumerate(adjacency) for b in nbrs)

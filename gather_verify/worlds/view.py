@@ -19,11 +19,13 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Mapping
-
-import networkx as nx
+from typing import TYPE_CHECKING
 
 from gather_verify.model.view import LightHidden, Lights, MultiplicityHidden
 from gather_verify.worlds.base import FrameMap, Label, World
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 __all__ = ["LightHidden", "Lights", "WorldView"]
 
