@@ -461,6 +461,14 @@ class _Edges(Sequence[list[tuple[int, int, Event]]]):
             yield self[sid]
 
 
+def _stored(index: KeyIndex, reps: Growing | None, lo: int, hi: int) -> np.ndarray:
+    """The stored states ``lo .. hi - 1`` (as far as there are): the index's keys when they
+    are the states themselves (``reps`` None: unreduced), else ``reps``."""
+    if reps is None:
+        return index.keys[lo:min(hi, index.count)].view(np.int64)
+    return reps.data[lo:min(hi, reps.size)]
+
+
 def _join(parts: list[np.ndarray], dtype: Any) -> np.ndarray:
     """The chunks of a column joined into one array, each chunk let go once copied (so the
     peak is the column and one chunk, not the column twice)."""
@@ -538,13 +546,6 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
     if reps is not None:
         reps.extend(first_keys[first])
 
-    def stored(lo: int = 0, hi: int | None = None) -> np.ndarray:
-        """The stored states ``lo .. hi - 1`` (all of them by default)."""
-        if reps is None:
-            return index.keys[lo:index.count if hi is None else min(hi, index.count)].view(
-                np.int64)
-        return reps.data[lo:reps.size if hi is None else min(hi, reps.size)]
-
     # the other columns are only appended to: kept as chunks, joined once at the end
     parents: list[np.ndarray] = [np.full(len(first), -1, dtype=np.int32)]
     configs = (_Nodes if moves.by_node else _Configurations)(plan, moves)
@@ -567,7 +568,7 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
             stopped = Stop.MEMORY
             break
         lo = expanded
-        keys = stored(lo, lo + chunk)
+        keys = _stored(index, reps, lo, lo + chunk)
         ends: np.ndarray | None = None
         cross = None
         if not rounds and isinstance(configs, _Nodes):  # ASYNC by node: one compiled pass
@@ -627,7 +628,7 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
             stopped = kind
             break
         chunk = max(1, chunk // 2) if e_end > EVENTS else min(MAX_CHUNK, chunk * 2)
-    all_reps = stored()
+    all_reps = _stored(index, reps, 0, index.count)
     del index  # its table; its key column lives on as the stored states when unreduced
 
     def nodes_of() -> np.ndarray:

@@ -15,6 +15,9 @@ A robot's actions are a bit set: bit b of node v is ``(act_node[v, b], act_col[v
 the bits in the order in which the schedulers try the actions (sorted by ``repr``), so
 events come out in the order of the reference search
 (:mod:`gather_verify.engine.world_search`).
+
+The helpers with a leading underscore (one state's decoding, facts and ASYNC events) are
+inlined into the kernels that share them.
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _decode(key, n, radix, rc_node, rc_slot, rc_col, nodes, slots, cols):  # pragma: no cover
     """One state key into its robots' nodes, slots and colours (rows of length ``n``, read
     through the robot code tables); returns the rest (visited and extra)."""
@@ -97,7 +100,7 @@ def world_nodes(keys, n, radix, pend, colours):  # pragma: no cover - compiled
     return nodes, rest_out
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _facts(nodes, slots, cols, masks, stay_bit):  # pragma: no cover - compiled
     """One state's final (every robot idle, its actions exactly staying with its colour)
     and mask of idle robots whose actions hold staying with their colour."""
@@ -129,7 +132,7 @@ def world_facts(nodes, slots, cols, masks, stay_bit):  # pragma: no cover - comp
     return final, stay
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _async_count(nodes, slots, cols, masks, act_node, act_col):  # pragma: no cover - compiled
     """How many events ASYNC has in one state (:func:`_async_events`)."""
     width = act_node.shape[1]
@@ -147,7 +150,7 @@ def _async_count(nodes, slots, cols, masks, act_node, act_col):  # pragma: no co
     return total
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _async_events(s, key, seen, nodes, slots, cols, masks, adj, act_node, act_col, act_slot,
                   pw, visits, pend, colours, src, succ, rmask, e):  # pragma: no cover
     """ASYNC's events of state ``s`` (key ``key``, visited ``seen``, its robots' rows),

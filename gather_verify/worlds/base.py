@@ -451,6 +451,21 @@ def enumerate_automorphisms(graph: nx.Graph, name: str,
     return tuple(out)
 
 
+class _DistanceRows(dict[Label, dict[Label, int]]):
+    """Rows of graph distances, one breadth-first search per row, when the row is first
+    read (a node outside the graph: ``KeyError``, as a full table's)."""
+
+    def __init__(self, graph: nx.Graph):
+        super().__init__()
+        self.graph = graph
+
+    def __missing__(self, a: Label) -> dict[Label, int]:
+        if a not in self.graph:
+            raise KeyError(a)
+        row = self[a] = dict(nx.single_source_shortest_path_length(self.graph, a))
+        return row
+
+
 class FrameMap:
     """One frame of the view from one node: ``labels`` (node index -> label in the frame)
     and what follows from it, computed once (a world caches its frames)."""
@@ -478,7 +493,9 @@ class FrameMap:
 
     @cached_property
     def distances(self) -> dict[Label, dict[Label, int]]:
-        return dict(nx.all_pairs_shortest_path_length(self.graph))
+        """Per visible node, its distances to the others in the frame's graph: each row
+        computed when first read (an algorithm reads few: go-to-target its own node's)."""
+        return _DistanceRows(self.graph)
 
     @cached_property
     def _neighbours(self) -> dict[Label, tuple[Label, ...]]:
