@@ -480,7 +480,29 @@ def _join(parts: list[np.ndarray], dtype: Any) -> np.ndarray:
         out[at:at + len(part)] = part
         at += len(part)
         del part
+    _trim()
     return out
+
+
+def _trim() -> None:
+    """Hand the pages freed inside the C heap back to the system (glibc's ``malloc_trim``,
+    where there is one): the chunks of a column are freed there, not unmapped."""
+    if _LIBC is not None:
+        _LIBC.malloc_trim(0)
+
+
+def _libc() -> Any:
+    import ctypes
+    import ctypes.util
+
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
+        return libc if hasattr(libc, "malloc_trim") else None
+    except OSError:  # pragma: no cover - no C library to load
+        return None
+
+
+_LIBC = _libc()
 
 
 def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: str | Scheduler, *,
