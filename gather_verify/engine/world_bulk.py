@@ -39,6 +39,7 @@ scheduler it does not know); the caller then runs the reference.
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any
@@ -487,22 +488,21 @@ def _join(parts: list[np.ndarray], dtype: Any) -> np.ndarray:
 def _trim() -> None:
     """Hand the pages freed inside the C heap back to the system (glibc's ``malloc_trim``,
     where there is one): the chunks of a column are freed there, not unmapped."""
-    if _LIBC is not None:
-        _LIBC.malloc_trim(0)
+    libc = _libc()
+    if libc is not None:
+        libc.malloc_trim(0)
 
 
+@functools.cache
 def _libc() -> Any:
+    """The C library when it is glibc (loaded on first use, not at import)."""
     import ctypes
-    import ctypes.util
 
     try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
-        return libc if hasattr(libc, "malloc_trim") else None
-    except OSError:  # pragma: no cover - no C library to load
+        libc = ctypes.CDLL("libc.so.6")
+    except OSError:  # pragma: no cover - not glibc
         return None
-
-
-_LIBC = _libc()
+    return libc if hasattr(libc, "malloc_trim") else None
 
 
 def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: str | Scheduler, *,
