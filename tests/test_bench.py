@@ -25,7 +25,8 @@ def test_bench_quick_prints_every_field():
     for field in ("states/s, whole process", "bytes per stored state", "SPIN (",
                   "time to verdict, reductions on", "verdict VERIFIED", "2,184", "7,032",
                   "ring instance ring:9", "SPIN (stored (ring-quick.json))",
-                  "states/s, search only", "the same space as SPIN's", "225", "560"):
+                  "states/s, search only", "seconds, start-up", "the same space as SPIN's",
+                  "225", "560"):
         assert field in out, out
 
 
@@ -70,6 +71,9 @@ def test_ring_bench_quick_json_without_spin():
     assert r["spin"]["source"] == "stored (ring-quick.json)"
     assert r["same_space"] is True
     assert r["ratio_states_per_second"] > 0 and r["ratio_search_states_per_second"] > 0
+    assert r["ratio_without_startup"] > 0
+    assert 0 < r["ours"]["check_seconds"] < r["ours"]["seconds"]
+    assert r["ours"]["startup_seconds"] > r["ours"]["warm_seconds"] > 0
     json.dumps(r)
 
 

@@ -379,6 +379,15 @@ def test_state_limits_stop_at_the_same_state(scheduler: str) -> None:
             assert_same(a, b)
 
 
+def test_state_limits_stop_at_the_same_state_by_node() -> None:
+    """The same with an algorithm that answers by node (ASYNC's one-pass kernel)."""
+    w = get_world("ring:9")
+    ref, _ = searches(w, (0, 3, 5), (7,), "go-to-target", "async")
+    for limit in (1, 2, 7, 50, ref.states - 1, ref.states):
+        a, b = searches(w, (0, 3, 5), (7,), "go-to-target", "async", max_states=limit)
+        assert_same(a, b)
+
+
 def test_a_crash_report_and_its_trace_are_the_same() -> None:
     for engine in ("reference", "bulk"):
         report = run_world_check("ring:6", "0 2", "4", "broken-crash", "async", engine=engine)

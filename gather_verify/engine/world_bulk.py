@@ -39,6 +39,7 @@ scheduler it does not know); the caller then runs the reference.
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any
@@ -301,46 +302,84 @@ class _Configurations:
 
 class _Nodes:
     """:class:`_Configurations` for an algorithm whose answers depend on the robot's node
-    only (``WorldMoves.by_node``, go-to-target): each (node, colour)'s bit set, once."""
+    only (``WorldMoves.by_node``, go-to-target): each (node, colour)'s bit set, asked once
+    (``known``: 0 not asked yet, 1 answered, 2 no answer)."""
 
     def __init__(self, plan: _Plan, moves: WorldMoves):
         self.plan, self.moves = plan, moves
         self.masks = np.zeros(plan.size * plan.colours, dtype=np.int64)
-        self.known = np.zeros(plan.size * plan.colours, dtype=np.bool_)
-        self.halted = np.zeros(plan.size * plan.colours, dtype=np.bool_)
+        self.known = np.zeros(plan.size * plan.colours, dtype=np.int8)
+
+    def learn(self, nodes: list[int], cols: list[int]) -> None:
+        """Ask the algorithm for the pairs of one configuration that are not asked yet, in
+        its robots' order (a pair it gives no answer for is marked 2)."""
+        seen = tuple(sorted(zip(nodes, cols, strict=True)))
+        for v, c in zip(nodes, cols, strict=True):
+            pair = v * self.plan.colours + c
+            if self.known[pair]:
+                continue
+            try:
+                actions = self.moves.table_of(seen, v, c)
+            except (AlgorithmCrash, Unhandled):
+                self.known[pair] = 2
+                continue
+            self.masks[pair] = self.plan.mask(v, actions)
+            self.known[pair] = 1
+
+    def why(self, nodes: list[int], cols: list[int]) -> Why:
+        """The reference's own error for a configuration with a pair that has no answer:
+        its configuration's table, asked as the reference asks."""
+        seen = tuple(sorted(zip(nodes, cols, strict=True)))
+        try:
+            self.moves.table(seen)
+        except AlgorithmCrash as error:
+            return "crash", error.reason, error.detail()
+        except Unhandled as error:
+            return "defined", f"the algorithm has no rule here: {error}", {}
+        raise AssertionError(f"the algorithm answered {seen} after failing on it")  # pragma: no cover
 
     def chunk(self, nodes: np.ndarray, cols: np.ndarray, ckey: np.ndarray, pos: np.ndarray
               ) -> tuple[np.ndarray, int, Why | None]:
         pairs = nodes * self.plan.colours + cols
-        fresh = ~self.known[pairs]
-        if fresh.any():
-            for s, i in zip(*np.nonzero(fresh), strict=True):
-                pair = int(pairs[s, i])
-                if self.known[pair]:
-                    continue
-                self.known[pair] = True
-                v, c = divmod(pair, self.plan.colours)
-                seen = tuple(sorted(zip(nodes[s].tolist(), cols[s].tolist(), strict=True)))
-                try:
-                    actions = self.moves.table_of(seen, v, c)
-                except (AlgorithmCrash, Unhandled):
-                    self.halted[pair] = True
-                    continue
-                self.masks[pair] = self.plan.mask(v, actions)
-        bad = self.halted[pairs].any(axis=1)
+        for s in np.flatnonzero((self.known[pairs] == 0).any(axis=1)).tolist():
+            self.learn(nodes[s].tolist(), cols[s].tolist())
+        bad = (self.known[pairs] == 2).any(axis=1)
         if not bad.any():
             return self.masks[pairs], len(pairs), None
         cut = int(np.argmax(bad))
-        # the reference's own error: its configuration's table, asked as the reference asks
-        seen = tuple(sorted(zip(nodes[cut].tolist(), cols[cut].tolist(), strict=True)))
-        try:
-            self.moves.table(seen)
-        except AlgorithmCrash as error:
-            return self.masks[pairs[:cut]], cut, ("crash", error.reason, error.detail())
-        except Unhandled as error:
-            return self.masks[pairs[:cut]], cut, (
-                "defined", f"the algorithm has no rule here: {error}", {})
-        raise AssertionError(f"the algorithm answered {seen} after failing on it")  # pragma: no cover
+        return self.masks[pairs[:cut]], cut, self.why(nodes[cut].tolist(), cols[cut].tolist())
+
+    def expand(self, keys: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                                np.ndarray, np.ndarray, int, Why | None]:
+        """ASYNC on a chunk of states in one compiled pass
+        (:func:`~gather_verify.kernels.world.world_async_by_node`), asking the algorithm for
+        the pairs it meets first on the way: per event its state, its successor and its
+        robots' mask; per state its events' end, final and stay; the states expanded (up to
+        the first whose configuration has no answer) and why they stop there (or None)."""
+        from gather_verify.kernels import world as kw
+
+        plan = self.plan
+        parts: list[tuple[np.ndarray, ...]] = []
+        done, events, why = 0, 0, None
+        while True:
+            cut, src, succ, rmask, ends, fin, sty = kw.world_async_by_node(
+                keys[done:], plan.n, plan.radix, plan.rc_node, plan.rc_slot, plan.rc_col,
+                self.masks, self.known, plan.adj, plan.act_node, plan.act_col, plan.act_slot,
+                plan.stay_bit, plan.pw, plan.visits, plan.pend, plan.colours, plan.vb)
+            parts.append((src + done, succ, rmask, ends + events, fin, sty))
+            done, events = done + cut, events + len(src)
+            if done == len(keys):
+                break
+            robots = plan.unpack(int(keys[done]))[0]
+            nodes, cols = [v for v, _, _ in robots], [c for _, _, c in robots]
+            self.learn(nodes, cols)
+            if (self.known[[v * plan.colours + c for v, c in zip(nodes, cols, strict=True)]]
+                    == 2).any():
+                why = self.why(nodes, cols)
+                break
+        src, succ, rmask, ends, fin, sty = (parts[0] if len(parts) == 1 else [
+            np.concatenate(column) for column in zip(*parts, strict=True)])
+        return src, succ, rmask, ends, fin, sty, done, why
 
     def actions(self, robots: Sequence[tuple[int, int | None, int]]
                 ) -> list[frozenset[tuple[int, int]]]:
@@ -426,6 +465,49 @@ class _Edges(Sequence[list[tuple[int, int, Event]]]):
             yield self[sid]
 
 
+def _stored(index: KeyIndex, reps: Growing | None, lo: int, hi: int) -> np.ndarray:
+    """The stored states ``lo .. hi - 1`` (as far as there are): the index's keys when they
+    are the states themselves (``reps`` None: unreduced), else ``reps``."""
+    if reps is None:
+        return index.keys[lo:min(hi, index.count)].view(np.int64)
+    return reps.data[lo:min(hi, reps.size)]
+
+
+def _join(parts: list[np.ndarray], dtype: Any) -> np.ndarray:
+    """The chunks of a column joined into one array, each chunk let go once copied (so the
+    peak is the column and one chunk, not the column twice)."""
+    out = np.empty(sum(len(p) for p in parts), dtype=dtype)
+    at = 0
+    parts.reverse()
+    while parts:
+        part = parts.pop()
+        out[at:at + len(part)] = part
+        at += len(part)
+        del part
+    _trim()
+    return out
+
+
+def _trim() -> None:
+    """Hand the pages freed inside the C heap back to the system (glibc's ``malloc_trim``,
+    where there is one): the chunks of a column are freed there, not unmapped."""
+    libc = _libc()
+    if libc is not None:
+        libc.malloc_trim(0)
+
+
+@functools.cache
+def _libc() -> Any:
+    """The C library when it is glibc (loaded on first use, not at import)."""
+    import ctypes
+
+    try:
+        libc = ctypes.CDLL("libc.so.6")
+    except OSError:  # pragma: no cover - not glibc
+        return None
+    return libc if hasattr(libc, "malloc_trim") else None
+
+
 def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: str | Scheduler, *,
            colours: Sequence[int] | None = None, visits: bool = False,
            anonymity: bool = False, symmetries: Sequence[Sequence[int]] = (),
@@ -483,10 +565,14 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
     # robots' masks as the smallest unsigned type that holds them (and int64 past 32)
     mask_type = next((t for t, bits in ((np.uint8, 8), (np.uint16, 16), (np.uint32, 32))
                       if n <= bits), np.int64)
-    reps = Growing(np.int64, 1 << 20)  # read back a chunk at a time
-    reps.extend(first_keys[first])
+    # unreduced, a state's key is the state itself: the index's key column is the stored
+    # states, read back a chunk at a time (else the stored states are a column of their own)
+    reps = None if not reduce else Growing(np.int64, 1 << 20)
+    if reps is not None:
+        reps.extend(first_keys[first])
+
     # the other columns are only appended to: kept as chunks, joined once at the end
-    parents: list[np.ndarray] = [np.full(len(first), -1, dtype=np.int64)]
+    parents: list[np.ndarray] = [np.full(len(first), -1, dtype=np.int32)]
     configs = (_Nodes if moves.by_node else _Configurations)(plan, moves)
     offsets: list[np.ndarray] = [np.zeros(1, dtype=np.int64)]
     targets: list[np.ndarray] = []
@@ -499,7 +585,7 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
     halt: Halt | None = None
     expanded = 0
     chunk = CHUNK
-    while expanded < reps.size:
+    while expanded < (index.count if reps is None else reps.size):
         if time.perf_counter() - started > limits.max_seconds:
             stopped = Stop.TIME
             break
@@ -507,29 +593,36 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
             stopped = Stop.MEMORY
             break
         lo = expanded
-        keys = reps.data[lo:min(reps.size, lo + chunk)]
-        nodes, slots, cols, rest, ckey, pos = kw.world_decode(
-            keys, n, plan.radix, plan.rc_node, plan.rc_slot, plan.rc_col, plan.colours,
-            plan.cfg_base)
-        masks, cut, why_halt = configs.chunk(nodes, cols, ckey, pos)
-        whole = len(keys)
-        if cut < whole:
-            keys, nodes, slots, cols, rest = (a[:cut] for a in (keys, nodes, slots, cols, rest))
-        fin, sty = kw.world_facts(nodes, slots, cols, masks, plan.stay_bit)
-        vis = rest % plan.vb
-        if rounds:
-            src, succ, rmask, cross = kw.world_rounds(
-                keys, nodes, slots, cols, vis, rest // plan.vb, masks, plan.subsets, plan.rr,
-                plan.rr_orders, plan.act_node, plan.act_col, plan.pw, visits, plan.pend,
-                plan.colours, plan.vb)
+        keys = _stored(index, reps, lo, lo + chunk)
+        ends: np.ndarray | None = None
+        cross = None
+        if not rounds and isinstance(configs, _Nodes):  # ASYNC by node: one compiled pass
+            src, succ, rmask, ends, fin, sty, cut, why_halt = configs.expand(keys)
         else:
-            src, succ, rmask = kw.world_async(
-                keys, nodes, slots, cols, plan.adj, vis, masks, plan.act_node, plan.act_col,
-                plan.act_slot, plan.pw, visits, plan.pend, plan.colours)
-            cross = None
+            nodes, slots, cols, rest, ckey, pos = kw.world_decode(
+                keys, n, plan.radix, plan.rc_node, plan.rc_slot, plan.rc_col, plan.colours,
+                plan.cfg_base)
+            masks, cut, why_halt = configs.chunk(nodes, cols, ckey, pos)
+            if cut < len(keys):
+                keys, nodes, slots, cols, rest = (a[:cut] for a in (keys, nodes, slots, cols,
+                                                                    rest))
+            fin, sty = kw.world_facts(nodes, slots, cols, masks, plan.stay_bit)
+            vis = rest % plan.vb
+            if rounds:
+                src, succ, rmask, cross = kw.world_rounds(
+                    keys, nodes, slots, cols, vis, rest // plan.vb, masks, plan.subsets,
+                    plan.rr, plan.rr_orders, plan.act_node, plan.act_col, plan.pw, visits,
+                    plan.pend, plan.colours, plan.vb)
+            else:
+                src, succ, rmask = kw.world_async(
+                    keys, nodes, slots, cols, plan.adj, vis, masks, plan.act_node,
+                    plan.act_col, plan.act_slot, plan.pw, visits, plan.pend, plan.colours)
+            del nodes, slots, cols, rest, ckey, pos, masks
+        del keys
         before = index.count
         ids, first = index.find_or_add(canon(succ).view(np.uint64))
-        ends = np.searchsorted(src, np.arange(cut), side="right")  # per state: its events' end
+        if ends is None:  # per state: its events' end
+            ends = np.searchsorted(src, np.arange(cut), side="right")
         if cut and before + len(first) > limits.max_states:
             # the reference stops after the first state whose expansion passes the limit
             grown = before + np.searchsorted(first, ends, side="left")
@@ -539,15 +632,17 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
             ends = ends[:cut]
             index.truncate(int(grown[k]))
         e_end = int(ends[-1]) if cut else 0
-        reps.extend(succ[first])
-        parents.append(lo + src[first])
+        if reps is not None:
+            reps.extend(succ[first])
+        parents.append((lo + src[first]).astype(np.int32))
         offsets.append(transitions + ends)
         targets.append(ids[:e_end].astype(np.int32))
         rmasks.append(rmask[:e_end].astype(mask_type))
         if cross is not None:
             crossing.append(cross[:e_end])
         final.append(fin[:cut])
-        stay.append(sty[:cut])
+        stay.append(sty[:cut].astype(mask_type))
+        del src, succ, rmask, ids, first, fin, sty, cross
         transitions += e_end
         expanded = lo + cut
         if stopped is not None:
@@ -558,24 +653,22 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
             stopped = kind
             break
         chunk = max(1, chunk // 2) if e_end > EVENTS else min(MAX_CHUNK, chunk * 2)
-    all_reps = reps.array()
-
-    def join(parts: list[np.ndarray], dtype: Any) -> np.ndarray:
-        return np.concatenate(parts) if parts else np.zeros(0, dtype=dtype)
+    all_reps = _stored(index, reps, 0, index.count)
+    del index  # its table; its key column lives on as the stored states when unreduced
 
     def nodes_of() -> np.ndarray:
         return kw.world_nodes(all_reps, n, plan.radix, plan.pend, plan.colours)[0]
 
-    arrays = SearchArrays(join(offsets, np.int64), join(targets, np.int32),
-                          join(rmasks, mask_type),
-                          join(crossing, np.bool_) if rounds else None,
-                          join(final, np.bool_), join(stay, np.int64), nodes_of)
+    arrays = SearchArrays(_join(offsets, np.int64), _join(targets, np.int32),
+                          _join(rmasks, mask_type),
+                          _join(crossing, np.bool_) if rounds else None,
+                          _join(final, np.bool_), _join(stay, mask_type), nodes_of)
     keys_col = _Keys(all_reps, plan)
     return WorldSearch(
-        keys=keys_col, parents=_Column(join(parents, np.int64)),  # type: ignore[arg-type]
+        keys=keys_col, parents=_Column(_join(parents, np.int32)),  # type: ignore[arg-type]
         edges=_Edges(arrays, keys_col, sched, configs.actions),  # type: ignore[arg-type]
         final=_Column(arrays.final), stay=_Column(arrays.stay),  # type: ignore[arg-type]
-        states=int(reps.size), transitions=transitions, stopped=stopped, halt=halt,
+        states=len(all_reps), transitions=transitions, stopped=stopped, halt=halt,
         reduced=anonymity or len(symmetries) > 1, seconds=time.perf_counter() - started,
         canonical=canonicaliser(symmetries, meeting, anonymity, visits, relabel),
         engine="bulk",

@@ -20,12 +20,30 @@ A robot's actions are a bit set: bit b of node v is ``(act_node[v, b], act_col[v
 the bits in the order in which the schedulers try the actions (sorted by ``repr``), so
 events come out in the order of the reference search
 (:mod:`gather_verify.engine.world_search`).
+
+The helpers with a leading underscore (one state's decoding, facts and ASYNC events) are
+inlined into the kernels that share them.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _decode(key, n, radix, rc_node, rc_slot, rc_col, nodes, slots, cols):  # pragma: no cover
+    """One state key into its robots' nodes, slots and colours (rows of length ``n``, read
+    through the robot code tables); returns the rest (visited and extra)."""
+    rest = key
+    for i in range(n):
+        q = rest // radix
+        rc = rest - q * radix
+        rest = q
+        nodes[i] = rc_node[rc]
+        slots[i] = rc_slot[rc]
+        cols[i] = rc_col[rc]
+    return rest
 
 
 @njit(cache=True, nogil=True)
@@ -45,24 +63,16 @@ def world_decode(keys, n, radix, rc_node, rc_slot, rc_col, colours,
     srt = np.empty(n, dtype=np.int64)
     elem = np.empty(n, dtype=np.int64)
     for s in range(s_count):
-        rest = keys[s]
+        rest_out[s] = _decode(keys[s], n, radix, rc_node, rc_slot, rc_col, nodes[s], slots[s],
+                              cols[s])
         for i in range(n):
-            q = rest // radix
-            rc = rest - q * radix
-            rest = q
-            v = rc_node[rc]
-            c = rc_col[rc]
-            nodes[s, i] = v
-            slots[s, i] = rc_slot[rc]
-            cols[s, i] = c
-            e = v * colours + c
+            e = nodes[s, i] * colours + cols[s, i]
             elem[i] = e
             k = i
             while k > 0 and srt[k - 1] > e:
                 srt[k] = srt[k - 1]
                 k -= 1
             srt[k] = e
-        rest_out[s] = rest
         key = 0
         w = 1
         for j in range(n):
@@ -95,94 +105,182 @@ def world_nodes(keys, n, radix, pend, colours):  # pragma: no cover - compiled
     return nodes, rest_out
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _facts(nodes, slots, cols, masks, stay_bit):  # pragma: no cover - compiled
+    """One state's final (every robot idle, its actions exactly staying with its colour)
+    and mask of idle robots whose actions hold staying with their colour."""
+    one = np.int64(1)
+    f = True
+    st = np.int64(0)
+    for i in range(len(nodes)):
+        b = stay_bit[nodes[i], cols[i]]
+        m = masks[i]
+        if slots[i] != 0:
+            f = False
+        else:
+            if m != (one << b):
+                f = False
+            if (m >> b) & 1:
+                st |= one << i
+    return f, st
+
+
 @njit(cache=True, nogil=True)
 def world_facts(nodes, slots, cols, masks, stay_bit):  # pragma: no cover - compiled
     """Per state: final (every robot idle, its actions exactly staying with its colour) and
     the mask of idle robots whose actions hold staying with their colour."""
-    s_count, n = nodes.shape
+    s_count = nodes.shape[0]
     final = np.empty(s_count, dtype=np.bool_)
     stay = np.zeros(s_count, dtype=np.int64)
-    one = np.int64(1)
     for s in range(s_count):
-        f = True
-        st = np.int64(0)
-        for i in range(n):
-            b = stay_bit[nodes[s, i], cols[s, i]]
-            m = masks[s, i]
-            if slots[s, i] != 0:
-                f = False
-            else:
-                if m != (one << b):
-                    f = False
-                if (m >> b) & 1:
-                    st |= one << i
-        final[s] = f
-        stay[s] = st
+        final[s], stay[s] = _facts(nodes[s], slots[s], cols[s], masks[s], stay_bit)
     return final, stay
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _async_count(nodes, slots, cols, masks, act_node, act_col):  # pragma: no cover - compiled
+    """How many events ASYNC has in one state (:func:`_async_events`)."""
+    width = act_node.shape[1]
+    total = 0
+    for i in range(len(nodes)):
+        if slots[i] == 0:
+            v = nodes[i]
+            c = cols[i]
+            m = masks[i]
+            for b in range(width):
+                if (m >> b) & 1 and not (act_node[v, b] == v and act_col[v, b] == c):
+                    total += 1
+        else:
+            total += 1
+    return total
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _async_events(s, key, seen, nodes, slots, cols, masks, adj, act_node, act_col, act_slot,
+                  pw, visits, pend, colours, src, succ, rmask, e):  # pragma: no cover
+    """ASYNC's events of state ``s`` (key ``key``, visited ``seen``, its robots' rows),
+    written from event ``e`` on, in the order of ``Async.luminous``: per robot, its Looks
+    (idle: per action bit, but staying with its colour) or its Move (pending). Returns the
+    next event's place."""
+    n = len(nodes)
+    width = act_node.shape[1]
+    one = np.int64(1)
+    for i in range(n):
+        v = nodes[i]
+        c = cols[i]
+        old = (v * pend + slots[i]) * colours + c
+        if slots[i] == 0:
+            m = masks[i]
+            look = seen
+            if visits:
+                for j in range(n):
+                    look |= one << nodes[j]
+            for b in range(width):
+                if (m >> b) & 1 == 0:
+                    continue
+                d = act_node[v, b]
+                c2 = act_col[v, b]
+                if d == v and c2 == c:
+                    continue
+                new = (v * pend + act_slot[v, b]) * colours + c2
+                src[e] = s
+                succ[e] = key + (new - old) * pw[i] + (look - seen) * pw[n]
+                rmask[e] = one << i
+                e += 1
+        else:
+            d = adj[v, slots[i] - 1]
+            new = d * pend * colours + c
+            moved = seen
+            if visits:
+                for j in range(n):
+                    moved |= one << (d if j == i else nodes[j])
+            src[e] = s
+            succ[e] = key + (new - old) * pw[i] + (moved - seen) * pw[n]
+            rmask[e] = one << i
+            e += 1
+    return e
 
 
 @njit(cache=True, nogil=True)
 def world_async(keys, nodes, slots, cols, adj, vis, masks, act_node, act_col, act_slot, pw,
                 visits, pend, colours):  # pragma: no cover - compiled
-    """ASYNC's events of each state, in the order of ``Async.luminous``: per robot, its Looks
-    (idle: per action bit, but staying with its colour) or its Move (pending). Returns per
-    event its state (row), its successor's key and its robots' mask."""
-    s_count, n = nodes.shape
-    width = act_node.shape[1]
-    one = np.int64(1)
+    """ASYNC's events of each state (:func:`_async_events`). Returns per event its state
+    (row), its successor's key and its robots' mask."""
+    s_count = nodes.shape[0]
     total = 0
     for s in range(s_count):
-        for i in range(n):
-            if slots[s, i] == 0:
-                v = nodes[s, i]
-                c = cols[s, i]
-                m = masks[s, i]
-                for b in range(width):
-                    if (m >> b) & 1 and not (act_node[v, b] == v and act_col[v, b] == c):
-                        total += 1
-            else:
-                total += 1
+        total += _async_count(nodes[s], slots[s], cols[s], masks[s], act_node, act_col)
     src = np.empty(total, dtype=np.int64)
     succ = np.empty(total, dtype=np.int64)
     rmask = np.empty(total, dtype=np.int64)
     e = 0
     for s in range(s_count):
-        key = keys[s]
-        seen = vis[s]
-        for i in range(n):
-            v = nodes[s, i]
-            c = cols[s, i]
-            old = (v * pend + slots[s, i]) * colours + c
-            if slots[s, i] == 0:
-                m = masks[s, i]
-                look = seen
-                if visits:
-                    for j in range(n):
-                        look |= one << nodes[s, j]
-                for b in range(width):
-                    if (m >> b) & 1 == 0:
-                        continue
-                    d = act_node[v, b]
-                    c2 = act_col[v, b]
-                    if d == v and c2 == c:
-                        continue
-                    new = (v * pend + act_slot[v, b]) * colours + c2
-                    src[e] = s
-                    succ[e] = key + (new - old) * pw[i] + (look - seen) * pw[n]
-                    rmask[e] = one << i
-                    e += 1
-            else:
-                d = adj[v, slots[s, i] - 1]
-                new = d * pend * colours + c
-                moved = seen
-                if visits:
-                    for j in range(n):
-                        moved |= one << (d if j == i else nodes[s, j])
-                src[e] = s
-                succ[e] = key + (new - old) * pw[i] + (moved - seen) * pw[n]
-                rmask[e] = one << i
-                e += 1
+        e = _async_events(s, keys[s], vis[s], nodes[s], slots[s], cols[s], masks[s], adj,
+                          act_node, act_col, act_slot, pw, visits, pend, colours, src, succ,
+                          rmask, e)
     return src, succ, rmask
+
+
+@njit(cache=True, nogil=True)
+def world_async_by_node(keys, n, radix, rc_node, rc_slot, rc_col, pair_mask, known, adj,
+                        act_node, act_col, act_slot, stay_bit, pw, visits, pend, colours,
+                        vb):  # pragma: no cover - compiled
+    """:func:`world_decode`, the robots' bit sets, :func:`world_facts` and
+    :func:`world_async` in one pass, for an algorithm that answers by (node, colour) alone:
+    robot i's bit set is ``pair_mask[node * K + colour]``, asked of the algorithm already
+    when ``known`` of its pair is 1 (0: not yet; 2: it has no answer there). Expands the
+    states up to the first one with a pair not known as answered (``cut``; ``len(keys)``:
+    none). Returns ``cut``; per event (of the states before it) its state, its successor's
+    key and its robots' mask; per state its events' end, final and stay."""
+    s_count = len(keys)
+    nodes = np.empty(n, dtype=np.int64)
+    slots = np.empty(n, dtype=np.int64)
+    cols = np.empty(n, dtype=np.int64)
+    masks = np.empty(n, dtype=np.int64)
+    codes = np.empty((s_count, n), dtype=np.int64)  # the first pass's robot codes
+    rests = np.empty(s_count, dtype=np.int64)  # (the second pass divides nothing)
+    total = 0
+    cut = s_count
+    for s in range(s_count):
+        rest = keys[s]
+        ok = True
+        for i in range(n):
+            q = rest // radix
+            rc = rest - q * radix
+            rest = q
+            codes[s, i] = rc
+            nodes[i] = rc_node[rc]
+            slots[i] = rc_slot[rc]
+            cols[i] = rc_col[rc]
+            pair = nodes[i] * colours + cols[i]
+            if known[pair] != 1:
+                ok = False
+                break
+            masks[i] = pair_mask[pair]
+        if not ok:
+            cut = s
+            break
+        rests[s] = rest
+        total += _async_count(nodes, slots, cols, masks, act_node, act_col)
+    src = np.empty(total, dtype=np.int64)
+    succ = np.empty(total, dtype=np.int64)
+    rmask = np.empty(total, dtype=np.int64)
+    ends = np.empty(cut, dtype=np.int64)
+    final = np.empty(cut, dtype=np.bool_)
+    stay = np.empty(cut, dtype=np.int64)
+    e = 0
+    for s in range(cut):
+        for i in range(n):
+            rc = codes[s, i]
+            nodes[i] = rc_node[rc]
+            slots[i] = rc_slot[rc]
+            cols[i] = rc_col[rc]
+            masks[i] = pair_mask[nodes[i] * colours + cols[i]]
+        final[s], stay[s] = _facts(nodes, slots, cols, masks, stay_bit)
+        e = _async_events(s, keys[s], rests[s] % vb, nodes, slots, cols, masks, adj, act_node,
+                          act_col, act_slot, pw, visits, pend, colours, src, succ, rmask, e)
+        ends[s] = e
+    return cut, src, succ, rmask, ends, final, stay
 
 
 @njit(cache=True, nogil=True)
@@ -395,21 +493,26 @@ def world_canon(keys, group, anonymity, visits, n, size, radix, pend, colours, a
 # -- the tasks' tests on a search's arrays -----------------------------------------------
 
 @njit(cache=True, nogil=True)
-def scc_labels(offsets, targets, inside):  # pragma: no cover - compiled
+def _scc(offsets, targets, inside, robots, stay, final, pick, skip_final, single_states,
+         full):  # pragma: no cover - compiled
     """Tarjan's strongly connected components of the expanded states (``len(offsets) - 1``)
-    that are ``inside``, over the edges between them: a label per state (-1 outside), and
-    how many components."""
+    that are ``inside``, over the edges between them, iteratively: a label per state (-1
+    outside), how many components, and with ``pick`` the label of the fair component whose
+    least state is least (-1: none; see :func:`fair_component`), each component tested as it
+    is closed. Per state 4-byte index, low link and label (state ids fit 31 bits)."""
     total = len(offsets) - 1
-    index = np.full(total, -1, dtype=np.int64)
-    low = np.zeros(total, dtype=np.int64)
+    index = np.full(total, -1, dtype=np.int32)
+    low = np.empty(total, dtype=np.int32)
     on_stack = np.zeros(total, dtype=np.bool_)
-    stack = np.empty(total, dtype=np.int64)
-    work_v = np.empty(total, dtype=np.int64)
+    stack = np.empty(total, dtype=np.int32)
+    work_v = np.empty(total, dtype=np.int32)
     work_k = np.empty(total, dtype=np.int64)
-    labels = np.full(total, -1, dtype=np.int64)
+    labels = np.full(total, -1, dtype=np.int32)
     sp = 0
     counter = 0
     ncomp = 0
+    best = -1
+    best_least = total
     for root in range(total):
         if index[root] >= 0 or not inside[root]:
             continue
@@ -450,6 +553,7 @@ def scc_labels(offsets, targets, inside):  # pragma: no cover - compiled
             if recurse:
                 continue
             if low[v] == index[v]:
+                top = sp
                 while True:
                     sp -= 1
                     w = stack[sp]
@@ -457,50 +561,53 @@ def scc_labels(offsets, targets, inside):  # pragma: no cover - compiled
                     labels[w] = ncomp
                     if w == v:
                         break
+                if pick and (top - sp > 1 or single_states):  # its members: stack[sp:top]
+                    least = total
+                    has_final = False
+                    covered = np.int64(0)
+                    for j in range(sp, top):
+                        u = stack[j]
+                        least = min(least, u)
+                        has_final = has_final or final[u]
+                        covered |= stay[u]
+                        for e in range(offsets[u], offsets[u + 1]):
+                            t = targets[e]
+                            if t < total and labels[t] == ncomp:
+                                covered |= robots[e]
+                    if covered == full and not (skip_final and has_final) and least < best_least:
+                        best = ncomp
+                        best_least = least
                 ncomp += 1
             wp -= 1
             if wp >= 0:
                 u = work_v[wp]
                 if low[v] < low[u]:
                     low[u] = low[v]
+    return labels, ncomp, best
+
+
+@njit(cache=True, nogil=True)
+def scc_labels(offsets, targets, inside):  # pragma: no cover - compiled
+    """Tarjan's strongly connected components of the expanded states (``len(offsets) - 1``)
+    that are ``inside``, over the edges between them: a label per state (int32, -1 outside),
+    and how many components."""
+    none = np.zeros(0, dtype=np.int64)
+    labels, ncomp, _ = _scc(offsets, targets, inside, none, none, np.zeros(0, dtype=np.bool_),
+                            False, False, False, 0)
     return labels, ncomp
 
 
 @njit(cache=True, nogil=True)
-def fair_pick(offsets, targets, robots, stay, final, labels, ncomp, skip_final,
-              single_states, full):  # pragma: no cover - compiled
+def fair_component(offsets, targets, robots, stay, final, inside, skip_final, single_states,
+                   full):  # pragma: no cover - compiled
     """The fair component (SEMANTICS §5: every robot has an event on an edge inside it or
-    may stay idle in one of its states) whose least state is least; components of one state
-    only when ``single_states``, none holding a final state when ``skip_final``. Returns its
-    label (-1: none)."""
-    total = len(offsets) - 1
-    size = np.zeros(ncomp, dtype=np.int64)
-    least = np.full(ncomp, total, dtype=np.int64)
-    has_final = np.zeros(ncomp, dtype=np.bool_)
-    covered = np.zeros(ncomp, dtype=np.int64)
-    for v in range(total):
-        lab = labels[v]
-        if lab < 0:
-            continue
-        size[lab] += 1
-        if v < least[lab]:
-            least[lab] = v
-        if final[v]:
-            has_final[lab] = True
-        covered[lab] |= stay[v]
-        for k in range(offsets[v], offsets[v + 1]):
-            w = targets[k]
-            if w < total and labels[w] == lab:
-                covered[lab] |= robots[k]
-    best = -1
-    for lab in range(ncomp):
-        if size[lab] == 1 and not single_states:
-            continue
-        if skip_final and has_final[lab]:
-            continue
-        if covered[lab] == full and (best < 0 or least[lab] < least[best]):
-            best = lab
-    return best
+    may stay idle in one of its states) of the states ``inside`` whose least state is least;
+    components of one state only when ``single_states``, none holding a final state when
+    ``skip_final``. Returns the components' labels (:func:`scc_labels`) and its label
+    (-1: none)."""
+    labels, _, best = _scc(offsets, targets, inside, robots, stay, final, True, skip_final,
+                           single_states, full)
+    return labels, best
 
 
 @njit(cache=True, nogil=True)

@@ -186,9 +186,8 @@ def livelock_arrays(a: SearchArrays, ctx: Context, name: str, what: str,
         mask = np.ascontiguousarray(inside[:total], dtype=np.bool_)
     else:
         mask = np.fromiter((bool(inside(v)) for v in range(total)), dtype=np.bool_, count=total)
-    labels, count = kw.scc_labels(a.offsets, a.targets, mask)
-    best = kw.fair_pick(a.offsets, a.targets, a.robots, a.stay, a.final, labels, count,
-                        inside is None, single_states, (1 << ctx.n) - 1)
+    labels, best = kw.fair_component(a.offsets, a.targets, a.robots, a.stay, a.final, mask,
+                                     inside is None, single_states, (1 << ctx.n) - 1)
     if best < 0:
         return None
     member = labels == best

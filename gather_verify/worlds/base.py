@@ -492,6 +492,22 @@ def enumerate_automorphisms(graph: nx.Graph, name: str,
     return tuple(out)
 
 
+class _DistanceRows(dict[Label, dict[Label, int]]):
+    """Rows of graph distances over ``adjacency`` (label -> its neighbours), one
+    breadth-first search per row, when the row is first read (a label outside the graph:
+    ``KeyError``, as a full table's)."""
+
+    def __init__(self, adjacency: dict[Label, tuple[Label, ...]]):
+        super().__init__()
+        self.adjacency = adjacency
+
+    def __missing__(self, a: Label) -> dict[Label, int]:
+        if a not in self.adjacency:
+            raise KeyError(a)
+        row = self[a] = hops(self.adjacency, a)
+        return row
+
+
 class FrameMap:
     """One frame of the view from one node: ``labels`` (node index -> label in the frame)
     and what follows from it, computed once (a world caches its frames)."""
@@ -531,8 +547,10 @@ class FrameMap:
 
     @cached_property
     def distances(self) -> dict[Label, dict[Label, int]]:
-        """Hops between two labels inside the frame's graph (only those reachable)."""
-        return {label: hops(self._adjacent, label) for label in self._adjacent}
+        """Per visible node, the hops to the others inside the frame's graph (only those
+        reachable): each row computed when first read (an algorithm reads few: go-to-target
+        its own node's)."""
+        return _DistanceRows(self._adjacent)
 
     def neighbours(self, label: Label) -> tuple[Label, ...]:
         """The neighbours of ``label`` in the frame's graph, sorted."""
