@@ -5,7 +5,8 @@ the same result: the hash index of visited keys (``KeyIndex.find_or_add`` of
 :mod:`gather_verify.engine.key_index`), the per-chunk arithmetic (decoding states,
 successor keys, the keys of (configuration, move) pairs), the bulk steps of the ASYNC
 and the round schedulers (FSYNC, SSYNC, centralized),
-the longest path over the kept graph (``move-bound``) and Tarjan's strongly connected
+the longest path over the kept graph (``move-bound``), the breadth-first parents
+read off it, and Tarjan's strongly connected
 components (``termination``). The numpy and Python code stays the tested reference: set
 ``GATHER_VERIFY_KERNELS=numpy`` (or call :func:`use` with False) to run it instead; the tests
 compare the two paths field by field.
@@ -26,7 +27,8 @@ from typing import Any
 ENV = "GATHER_VERIFY_KERNELS"
 """Environment variable: ``numpy`` (or ``0``) selects the numpy/Python reference path (the
 same switch as the union engine's, :mod:`gather_verify.engine.union_kernels`)."""
-KERNELS = ("find_or_add", "place", "async_successors", "longest_path", "tarjan_csr",
+KERNELS = ("find_or_add", "place", "async_successors", "longest_path", "first_sources",
+           "tarjan_csr",
            "decode_chunk", "successor_keys", "event_keys", "event_canonical_keys",
            "pair_keys", "successor_rows", "round_counts", "round_events")
 """The compiled functions (in :mod:`gather_verify.kernels.compiled`, imported on first use)."""
@@ -78,6 +80,7 @@ def warm() -> None:
         event_canonical_keys,
         event_keys,
         find_or_add,
+        first_sources,
         longest_path,
         pair_keys,
         place,
@@ -120,5 +123,7 @@ def warm() -> None:
                  np.empty(c, dtype=np.int64))
     off = np.array([0, 1, 1], dtype=np.int32)
     tgt = np.array([1], dtype=np.int32)
-    longest_path(off, tgt, np.zeros(1, dtype=np.int8))
+    longest_path(off, tgt, np.zeros(1, dtype=np.int8), False)
+    longest_path(off, tgt, np.zeros(1, dtype=np.uint8), True)  # one bit per edge
+    first_sources(off, tgt, 1, 2)
     tarjan_csr(off, tgt, True)

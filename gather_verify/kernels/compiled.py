@@ -258,13 +258,23 @@ def round_events(codes, masks, neighbour, subsets, nth, count, states, src, weig
 
 # -- graph analyses over the kept CSR graph ----------------------------------------------
 
+@njit(cache=True, nogil=True, inline="always")
+def _weight(weights, j, bits):  # pragma: no cover - compiled
+    """The weight of edge ``j``: a byte per edge, or with ``bits`` one bit per edge (bit
+    ``j % 8`` of byte ``j // 8``, the layout of ``np.packbits(..., bitorder="little")``)."""
+    if bits:
+        return np.int64((weights[j >> 3] >> (j & 7)) & 1)
+    return np.int64(weights[j])
+
+
 @njit(cache=True, nogil=True)
-def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
+def longest_path(offsets, targets, weights, bits=False):  # pragma: no cover - compiled
     """The best total weight from every state over the graph (self-loops left out), by an
     iterative depth-first search from state 0 (every state is reachable from it), each edge
     read once: a finished successor's total is taken when its edge is read (or when it
     finishes, for the edge that led to it); -1 as the first value when a cycle exists.
-    ``best`` is int32: a move count.
+    ``best`` is int32: a move count. ``weights``: a byte per edge, or with ``bits`` one bit
+    per edge (packed, :func:`_weight`).
 
     When every edge leads to a larger id (breadth-first ids often are a topological order:
     every edge goes one level down), one sweep in decreasing id order, reading the edges in
@@ -285,7 +295,7 @@ def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
             for j in range(offsets[v], offsets[v + 1]):
                 t = targets[j]
                 if t != v:
-                    val = weights[j] + best[t]
+                    val = _weight(weights, j, bits) + best[t]
                     if val > run:
                         run = val
             best[v] = run
@@ -331,7 +341,7 @@ def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
                     best[t] = -2
                     pushed = True
                     break
-                val = weights[k - 1] + bt
+                val = _weight(weights, k - 1, bits) + bt
                 if val > run:
                     run = val
             if pushed:
@@ -339,10 +349,25 @@ def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
             best[v] = run
             depth -= 1
             if depth >= 0:  # the edge that led to v is the one before the parent's position
-                val = weights[edge[depth] - 1] + run
+                val = _weight(weights, edge[depth] - 1, bits) + run
                 if val > top[depth]:
                     top[depth] = val
     return best
+
+
+@njit(cache=True, nogil=True)
+def first_sources(offsets, targets, seeds, states):  # pragma: no cover - compiled
+    """Per state, the first state in id and edge order with an edge to it (-1 for the
+    ``seeds`` first ids, and for a state no edge reaches): the breadth-first parents, which
+    a search that keeps its edges need not store (a state is discovered by its first
+    incoming edge, :func:`gather_verify.engine.columns.first_sources`)."""
+    parents = np.full(states, -1, dtype=np.int32)
+    for v in range(len(offsets) - 1):
+        for j in range(offsets[v], offsets[v + 1]):
+            t = targets[j]
+            if t >= seeds and parents[t] < 0:
+                parents[t] = v
+    return parents
 
 
 @njit(cache=True, nogil=True)

@@ -244,11 +244,11 @@ def _longest_path_compiled(e: Exploration) -> LongestPath:
     import numpy as np
 
     from gather_verify import kernels
-
     off = e.offsets.array[:e.states + 1]  # type: ignore[attr-defined]
     tgt = e.targets.array  # type: ignore[attr-defined]
-    w = e.weights.array  # type: ignore[attr-defined]
-    best = kernels.longest_path(off, tgt, w)
+    bits = hasattr(e.weights, "bits")  # one bit per edge (engine.columns.BitColumn): no copy
+    w = e.weights.bits if bits else e.weights.array  # type: ignore[attr-defined]
+    best = kernels.longest_path(off, tgt, w, bits)
     if best[0] < 0:
         return LongestPath(None, [])
     path = [0]
@@ -256,7 +256,7 @@ def _longest_path_compiled(e: Exploration) -> LongestPath:
         s = path[-1]
         lo, hi = int(off[s]), int(off[s + 1])
         ts = tgt[lo:hi]
-        vals = w[lo:hi].astype(np.int64) + best[ts]
+        vals = np.asarray(e.weights[lo:hi], dtype=np.int64) + best[ts]
         ok = np.flatnonzero((ts != s) & (vals == best[s]))
         if not len(ok):  # no successor but itself: the path ends
             break
