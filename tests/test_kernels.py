@@ -19,7 +19,7 @@ from gather_verify import kernels
 from gather_verify.check import run_check
 from gather_verify.engine.bulk_step import successor_keys
 from gather_verify.engine.canonical_keys import Canon
-from gather_verify.engine.columns import GrowingBits, first_sources
+from gather_verify.engine.columns import GrowingBits, GrowingIds, first_sources
 from gather_verify.engine.fast_explore import explore_fast
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.configuration import Configuration
@@ -345,3 +345,35 @@ def test_longest_path_kernel_reads_bits_as_bytes(seed: int) -> None:
     zero = np.zeros_like(column.bits)  # a column whose bits were lost reads as no move
     assert kernels.longest_path(offsets, acyclic, zero, True).max() == 0 < \
         kernels.longest_path(offsets, acyclic, column.bits, True).max()
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_target_ids_three_bytes_each(seed: int) -> None:
+    # ids kept three bytes each while below 2**24, widened in place to four past it; the
+    # kernels read the packed column as they read int32 ids
+    rng = np.random.default_rng(seed)
+    ids = GrowingIds(8)
+    values: list[int] = []
+    for _ in range(30):
+        part = rng.integers(0, 1 << 24, rng.integers(0, 40))
+        ids.extend(part, 1 << 24)
+        values += part.tolist()
+    column = ids.column()
+    assert column.packed and len(column.raw) == 3 * len(values)
+    assert list(column) == column.array.tolist() == values == column[:]
+    assert [column[i] for i in range(-3, 0)] == values[-3:]
+    offsets, targets = random_graph(seed)
+    packed = GrowingIds()
+    packed.extend(targets.astype(np.int64), 60)
+    raw = packed.column().raw
+    for a, b in ((targets, False), (raw, True)):
+        assert first_sources(offsets, packed.column() if b else a, 1, 60).tolist() == \
+            first_sources(offsets, targets, 1, 60).tolist()
+    assert kernels.longest_path(offsets, raw, np.ones(len(targets), np.int8), False, True)[0] \
+        == kernels.longest_path(offsets, targets, np.ones(len(targets), np.int8))[0]
+    one, two = kernels.tarjan_csr(offsets, raw, True, True), kernels.tarjan_csr(offsets, targets, True)
+    assert one[0].tolist() == two[0].tolist() and one[1].tolist() == two[1].tolist()
+    big = rng.integers(1 << 24, 1 << 30, 50)  # past 2**24: four bytes each from now on
+    ids.extend(big, 1 << 30)
+    column = ids.column()
+    assert not column.packed and list(column) == values + big.tolist()

@@ -28,6 +28,7 @@ from gather_verify.engine.checks import Checks, ColumnChecks
 from gather_verify.engine.columns import (
     Growing,
     GrowingBits,
+    GrowingIds,
     IntColumn,
     LazyColumn,
     first_sources,
@@ -111,7 +112,7 @@ class Searched:
     index: KeyIndex
     parents: Growing | None
     offsets: np.ndarray
-    targets: Growing
+    targets: GrowingIds
     weights: Growing | GrowingBits
     seeds: int
     transitions: int
@@ -120,13 +121,13 @@ class Searched:
     peak: float
 
     def fields(self) -> dict[str, Any]:
-        count, offsets, targets = self.index.count, self.offsets, self.targets.array()
+        count, offsets, targets = self.index.count, self.offsets, self.targets.column()
         parents = IntColumn(self.parents.array()) if self.parents is not None else \
             LazyColumn(lambda: first_sources(offsets, targets, self.seeds, count))
         weights = self.weights.column() if isinstance(self.weights, GrowingBits) else \
             IntColumn(self.weights.array())
         return {"keys": IntColumn(self.index.keys[:count]), "parents": parents,
-                "offsets": IntColumn(offsets), "targets": IntColumn(targets),
+                "offsets": IntColumn(offsets), "targets": targets,
                 "weights": weights, "changed_loops": self.changed_loops,
                 "states": count, "transitions": self.transitions,
                 "stopped": self.stopped, "peak_rss_mb": self.peak}
@@ -140,9 +141,9 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
     the graph's columns (``reserve`` states and ``edges`` transitions reserved up front) and
     the stop; ``face`` does what oblivious and luminous robots do differently.
 
-    With the graph kept, what a state costs is mostly its edges: each is its target's
-    ``int32`` id and its weight, one bit while every weight is 0 or 1 (ASYNC: a Look or a
-    one-edge Move), else a byte; each expanded state's out-degree is a byte (wider when one
+    With the graph kept, what a state costs is mostly its edges: each is its target's id,
+    three bytes while the ids fit (below ``2**24``), else four, and its weight, one bit while
+    every weight is 0 or 1 (ASYNC: a Look or a one-edge Move), else a byte; each expanded state's out-degree is a byte (wider when one
     is larger), the offsets are summed from them once the search is over and the hash
     table freed; no parents are stored (the edges give them, :func:`first_sources`)."""
     enc, n, turns = face.enc, face.n, face.turns
@@ -151,7 +152,7 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
     if parents is not None:
         parents.extend(np.full(seeds, -1, dtype=np.int32))
     degrees = Growing(np.uint8, reserve if graph else 1 << 16)
-    targets = Growing(np.int32, edges if graph else 1 << 16)
+    targets = GrowingIds(edges if graph else 1 << 16)
     weight_type = np.int8 if n <= 127 else np.int16  # a weight is at most n edges
     weights: Growing | GrowingBits = GrowingBits(edges if graph else 1 << 16)
     on_chunk = checks.halting + checks.on_expansion
@@ -269,7 +270,7 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
             if len(counts) and counts.max() > np.iinfo(degrees.data.dtype).max:
                 degrees.widen(np.int64)
             degrees.extend(counts)
-            targets.extend(ids.astype(np.int32))
+            targets.extend(ids, index.count)
             if isinstance(weights, GrowingBits) and len(weight) and weight.max() > 1:
                 wide = Growing(weight_type, len(weights.data.data) * 8)  # a weight over 1
                 wide.extend(weights.array().astype(weight_type))

@@ -138,6 +138,99 @@ class GrowingBits:
         return self.column().array
 
 
+ID_BYTES = 3
+"""Bytes of a target id while every id fits them (:class:`GrowingIds`)."""
+
+
+def _unpack_ids(raw: np.ndarray) -> np.ndarray:
+    """``int32`` ids from their three little-endian bytes each."""
+    out = np.zeros((len(raw) // ID_BYTES, 4), dtype=np.uint8)
+    out[:, :ID_BYTES] = raw.reshape(-1, ID_BYTES)
+    return out.view("<i4").ravel()
+
+
+class IdColumn(Sequence[int]):
+    """A read-only column of the edges' target ids: three bytes each (``packed``, least
+    significant first) while every id is below ``2**24``, else ``int32``; :attr:`raw` is what
+    the compiled kernels read (with their ``packed`` flag), :attr:`array` an ``int32`` array
+    (a copy when packed, for the numpy code)."""
+
+    __slots__ = ("data", "size", "packed")
+
+    def __init__(self, data: np.ndarray, size: int, packed: bool):
+        self.data, self.size, self.packed = data, size, packed
+
+    @property
+    def raw(self) -> np.ndarray:
+        return self.data[:ID_BYTES * self.size] if self.packed else \
+            self.data[:4 * self.size].view("<i4")
+
+    @property
+    def array(self) -> np.ndarray:
+        return _unpack_ids(self.raw) if self.packed else self.raw
+
+    def __len__(self) -> int:
+        return self.size
+
+    def _range(self, start: int, stop: int) -> np.ndarray:
+        if not self.packed:
+            return self.raw[start:stop]
+        return _unpack_ids(self.data[ID_BYTES * start:ID_BYTES * max(start, stop)])
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, slice):
+            start, stop, step = i.indices(self.size)
+            return self._range(start, stop)[::step].tolist() if step > 0 else \
+                [self[k] for k in range(start, stop, step)]
+        if i < 0:
+            i += self.size
+        if not 0 <= i < self.size:
+            raise IndexError(i)
+        if self.packed:  # (read state by state in the Python code: no array made)
+            return int.from_bytes(self.data[ID_BYTES * i:ID_BYTES * i + ID_BYTES].tobytes(),
+                                  "little")
+        return int(self.raw[i])
+
+    def __iter__(self) -> Iterator[int]:
+        for start in range(0, self.size, 1 << 16):
+            yield from self._range(start, min(self.size, start + (1 << 16))).tolist()
+
+
+class GrowingIds:
+    """An append-only column of target ids (:class:`IdColumn`'s layout): three bytes each
+    while they fit, then four, widened in place (from the last id back, each moving to a
+    higher address: no second copy of the edges)."""
+
+    def __init__(self, capacity: int = 1 << 16):
+        self.data = Growing(np.uint8, 4 * capacity)  # room for int32 ids (untouched: free)
+        self.size = 0
+        self.packed = True
+
+    def extend(self, ids: np.ndarray, below: int) -> None:
+        """Append ``ids`` (each below ``below``)."""
+        if self.packed and below > 1 << (8 * ID_BYTES):
+            self._widen()
+        if self.packed:
+            raw = ids.astype("<u4").view(np.uint8).reshape(-1, 4)[:, :ID_BYTES]
+            self.data.extend(raw.reshape(-1))
+        else:
+            self.data.extend(ids.astype("<i4").view(np.uint8))
+        self.size += len(ids)
+
+    def _widen(self) -> None:
+        size, data = self.size, self.data
+        data.extend(np.zeros((4 - ID_BYTES) * size, dtype=np.uint8))  # room for 4 bytes each
+        wide = data.data[:4 * size].view("<i4")
+        step = 1 << 20
+        for hi in range(size, 0, -step):  # the last ids first: nothing unread is overwritten
+            lo = max(0, hi - step)
+            wide[lo:hi] = _unpack_ids(data.data[ID_BYTES * lo:ID_BYTES * hi])
+        self.packed = False
+
+    def column(self) -> IdColumn:
+        return IdColumn(self.data.array(), self.size, self.packed)
+
+
 class LazyColumn(IntColumn):
     """An :class:`IntColumn` computed on first use (``make()``), then kept."""
 
@@ -154,8 +247,8 @@ class LazyColumn(IntColumn):
         return self._array
 
 
-def first_sources(offsets: np.ndarray, targets: np.ndarray, seeds: int, states: int
-                  ) -> np.ndarray:
+def first_sources(offsets: np.ndarray, targets: np.ndarray | IdColumn, seeds: int,
+                  states: int) -> np.ndarray:
     """Per state (``int32``), the first state in id and edge order with an edge to it; -1 for
     the ``seeds`` first ids and a state no edge reaches. A breadth-first search gives a state
     its id at its first occurrence among the successors it generates, in id and edge order,
@@ -168,7 +261,11 @@ def first_sources(offsets: np.ndarray, targets: np.ndarray, seeds: int, states: 
     from gather_verify import kernels
 
     if kernels.enabled():
+        if isinstance(targets, IdColumn):
+            return kernels.first_sources(offsets, targets.raw, seeds, states, targets.packed)
         return kernels.first_sources(offsets, targets, seeds, states)
+    if isinstance(targets, IdColumn):
+        targets = targets.array
     parents = np.full(states, -1, dtype=np.int32)
     step = 1 << 16
     for lo in range(0, len(offsets) - 1, step):  # in slices of states: small temporaries

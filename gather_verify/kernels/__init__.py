@@ -123,7 +123,9 @@ def warm() -> None:
                  np.empty(c, dtype=np.int64))
     off = np.array([0, 1, 1], dtype=np.int32)
     tgt = np.array([1], dtype=np.int32)
-    longest_path(off, tgt, np.zeros(1, dtype=np.int8), False)
-    longest_path(off, tgt, np.zeros(1, dtype=np.uint8), True)  # one bit per edge
-    first_sources(off, tgt, 1, 2)
-    tarjan_csr(off, tgt, True)
+    packed = np.array([1, 0, 0], dtype=np.uint8)  # target ids three bytes each
+    for t, p in ((tgt, False), (packed, True)):
+        longest_path(off, t, np.zeros(1, dtype=np.int8), False, p)
+        longest_path(off, t, np.zeros(1, dtype=np.uint8), True, p)  # one bit per edge
+        first_sources(off, t, 1, 2, p)
+        tarjan_csr(off, t, True, p)
