@@ -36,11 +36,12 @@ process and is timed *whole* (interpreter start, imports, search), as SPIN's
 
 Memory per state is measured from a baseline taken once the compiled kernels the run uses
 are loaded (:func:`gather_verify.kernels.warm` of :data:`RUN_KERNELS`: numba and the compiled
-code are a fixed cost, not a per-state one). A child exits as soon as its JSON is written,
-without the interpreter's teardown (a C program's exit, as SPIN's ``./pan``). Every row
-also gives the CPU seconds (user, system) of its whole process tree, which depend less on
-the machine's load than the wall-clock seconds. Timings depend on the machine's load:
-compare runs made back to back.
+code are a fixed cost, not a per-state one) and, for ``verdict`` and ``full``, the check's
+modules imported (the same). A child exits as soon as its JSON is written, without the
+interpreter's teardown (a C program's exit, as SPIN's ``./pan``). Every row also gives the
+CPU seconds (user, system) of its whole process tree, which depend less on the machine's
+load than the wall-clock seconds. Timings depend on the machine's load: compare runs made
+back to back.
 """
 
 from __future__ import annotations
@@ -85,6 +86,8 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float,
     from gather_verify.model.configuration import Configuration
 
     c = Configuration([tuple(r) for r in robots], [tuple(m) for m in meeting], initial=True)
+    if kind != "explore":  # the check's modules: a fixed cost too, not a per-state one
+        from gather_verify.check import run_check
     # a fixed cost (numba and the compiled code), not a per-state one
     kernels.warm(RUN_KERNELS["rounds" if kind == "explore" and scheduler != "async" else kind])
     before = rss_mb()
@@ -98,8 +101,6 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float,
                 "complete": e.stopped is None, "search_seconds": e.seconds,
                 "search_cpu_seconds": cpu,
                 "bytes_per_state": max(peak - before, 0.0) * 2**20 / e.states}
-    from gather_verify.check import run_check
-
     if kind == "full":
         r = run_check(c, algorithm="go-to-target", scheduler="async", reduction=False,
                       max_states=30_000_000, max_seconds=max_seconds)

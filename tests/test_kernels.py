@@ -19,6 +19,7 @@ from gather_verify import kernels
 from gather_verify.check import run_check
 from gather_verify.engine.bulk_step import successor_keys
 from gather_verify.engine.canonical_keys import Canon
+from gather_verify.engine.columns import GrowingBits, GrowingIds, first_sources
 from gather_verify.engine.fast_explore import explore_fast
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.configuration import Configuration
@@ -293,3 +294,86 @@ def test_compiled_event_keys_are_the_numpy_keys(case, anonymity, images, rnd) ->
     assert none is None and ref_codes is not None
     assert fast.tolist() == ref.tolist() == canon.keys(ref_codes).tolist()
     assert old.tolist() == ref_old.tolist()
+
+
+def random_graph(seed: int, states: int = 60, edges: int = 200) -> tuple[np.ndarray, np.ndarray]:
+    """A CSR graph over ``states`` ids (every state expanded), random targets."""
+    rng = np.random.default_rng(seed)
+    degrees = rng.multinomial(edges, np.ones(states) / states)
+    offsets = np.zeros(states + 1, dtype=np.int32)
+    np.cumsum(degrees, out=offsets[1:])
+    return offsets, rng.integers(0, states, edges).astype(np.int32)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_parents_read_off_the_edges(seed: int) -> None:
+    # the compiled first_sources and its numpy reference: per state, the first (id, edge)
+    # with an edge to it; -1 for the seeds and for states no edge reaches
+    offsets, targets = random_graph(seed)
+    seeds = seed % 3 + 1
+    compiled = first_sources(offsets, targets, seeds, 60)
+    kernels.use(False)
+    try:
+        plain = first_sources(offsets, targets, seeds, 60)
+    finally:
+        kernels.use(None)
+    expected = [-1] * 60
+    for s in range(60):
+        for t in targets[offsets[s]:offsets[s + 1]].tolist():
+            if t >= seeds and expected[t] < 0:
+                expected[t] = s
+    assert compiled.tolist() == plain.tolist() == expected
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_longest_path_kernel_reads_bits_as_bytes(seed: int) -> None:
+    # weights packed a bit each (what a search keeps while they are all 0 or 1) give the
+    # same totals as a byte each, on an acyclic graph (edges to larger ids) and a cyclic one
+    offsets, targets = random_graph(seed)
+    src = np.repeat(np.arange(60), np.diff(offsets))
+    weights = np.random.default_rng(seed).integers(0, 2, len(targets)).astype(np.int8)
+    bits = GrowingBits(4)
+    for part in np.array_split(weights, 7):  # appended in chunks of any length
+        bits.extend(part)
+    column = bits.column()
+    assert list(column) == weights.tolist() == column.array.tolist()
+    assert column[3:50] == weights[3:50].tolist() and column[-1] == weights[-1]
+    for tgt in (np.maximum(targets, src + 1).clip(max=59).astype(np.int32), targets):
+        one = kernels.longest_path(offsets, tgt, weights, False)
+        assert one.tolist() == kernels.longest_path(offsets, tgt, column.bits, True).tolist()
+    acyclic = np.maximum(targets, src + 1).clip(max=59).astype(np.int32)
+    zero = np.zeros_like(column.bits)  # a column whose bits were lost reads as no move
+    assert kernels.longest_path(offsets, acyclic, zero, True).max() == 0 < \
+        kernels.longest_path(offsets, acyclic, column.bits, True).max()
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_target_ids_three_bytes_each(seed: int) -> None:
+    # ids kept three bytes each while below 2**24, widened in place to four past it; the
+    # kernels read the packed column as they read int32 ids
+    rng = np.random.default_rng(seed)
+    ids = GrowingIds(8)
+    values: list[int] = []
+    for _ in range(30):
+        part = rng.integers(0, 1 << 24, rng.integers(0, 40))
+        ids.extend(part, 1 << 24)
+        values += part.tolist()
+    column = ids.column()
+    assert column.packed and len(column.raw) == 3 * len(values)
+    assert list(column) == column.array.tolist() == values == column[:]
+    assert [column[i] for i in range(-3, 0)] == values[-3:]
+    offsets, targets = random_graph(seed)
+    packed = GrowingIds()
+    packed.extend(targets.astype(np.int64), 60)
+    raw = packed.column().raw
+    for a, b in ((targets, False), (raw, True)):
+        assert first_sources(offsets, packed.column() if b else a, 1, 60).tolist() == \
+            first_sources(offsets, targets, 1, 60).tolist()
+    assert kernels.longest_path(offsets, raw, np.ones(len(targets), np.int8), False, True)[0] \
+        == kernels.longest_path(offsets, targets, np.ones(len(targets), np.int8))[0]
+    one, two = kernels.tarjan_csr(offsets, raw, True, True), kernels.tarjan_csr(offsets, targets, True)
+    assert one[0].tolist() == two[0].tolist() and one[1].tolist() == two[1].tolist()
+    big = rng.integers(1 << 24, 1 << 30, 50)  # past 2**24: four bytes each from now on
+    ids.extend(big, 1 << 30)
+    column = ids.column()
+    assert not column.packed and list(column) == values + big.tolist()

@@ -25,7 +25,14 @@ from gather_verify import kernels
 from gather_verify.engine.bulk_step import successor_keys
 from gather_verify.engine.canonical_keys import Canon, decode_keys
 from gather_verify.engine.checks import Checks, ColumnChecks
-from gather_verify.engine.columns import Growing, IntColumn
+from gather_verify.engine.columns import (
+    Growing,
+    GrowingBits,
+    GrowingIds,
+    IntColumn,
+    LazyColumn,
+    first_sources,
+)
 from gather_verify.engine.encoding import Encoding, Limits, Stop
 from gather_verify.engine.explore import rss_mb
 from gather_verify.engine.key_index import KeyIndex
@@ -99,25 +106,31 @@ class Face:
 @dataclass
 class Searched:
     """What :func:`bulk_search` found: the stored states' columns and graph, and why it
-    stopped (the fields of an :class:`~gather_verify.engine.explore.Exploration`)."""
+    stopped (the fields of an :class:`~gather_verify.engine.explore.Exploration`). With the
+    graph kept, ``parents`` is None: they are read off the edges when first asked for
+    (:func:`~gather_verify.engine.columns.first_sources`)."""
 
     index: KeyIndex
-    parents: Growing
-    offsets: Growing
-    targets: Growing
-    weights: Growing
+    parents: Growing | None
+    offsets: np.ndarray
+    targets: GrowingIds
+    weights: Growing | GrowingBits
+    seeds: int
     transitions: int
     changed_loops: int
     stopped: Stop | str | None
     peak: float
 
     def fields(self) -> dict[str, Any]:
-        return {"keys": IntColumn(self.index.keys[:self.index.count]),
-                "parents": IntColumn(self.parents.array()),
-                "offsets": IntColumn(self.offsets.array()),
-                "targets": IntColumn(self.targets.array()),
-                "weights": IntColumn(self.weights.array()), "changed_loops": self.changed_loops,
-                "states": self.index.count, "transitions": self.transitions,
+        count, offsets, targets = self.index.count, self.offsets, self.targets.column()
+        parents = IntColumn(self.parents.array()) if self.parents is not None else \
+            LazyColumn(lambda: first_sources(offsets, targets, self.seeds, count))
+        weights = self.weights.column() if isinstance(self.weights, GrowingBits) else \
+            IntColumn(self.weights.array())
+        return {"keys": IntColumn(self.index.keys[:count]), "parents": parents,
+                "offsets": IntColumn(offsets), "targets": targets,
+                "weights": weights, "changed_loops": self.changed_loops,
+                "states": count, "transitions": self.transitions,
                 "stopped": self.stopped, "peak_rss_mb": self.peak}
 
 
@@ -127,15 +140,22 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
     """The breadth-first search of both bulk engines, a chunk of states at a time, from the
     ``seeds`` first keys of ``index``: the limits, the properties evaluated on each chunk,
     the graph's columns (``reserve`` states and ``edges`` transitions reserved up front) and
-    the stop; ``face`` does what oblivious and luminous robots do differently."""
+    the stop; ``face`` does what oblivious and luminous robots do differently.
+
+    With the graph kept, what a state costs is mostly its edges: each is its target's id,
+    three bytes while the ids fit (below ``2**24``), else four, and its weight, one bit while
+    every weight is 0 or 1 (ASYNC: a Look or a one-edge Move), else a byte; each expanded state's out-degree is a byte (wider when one
+    is larger), the offsets are summed from them once the search is over and the hash
+    table freed; no parents are stored (the edges give them, :func:`first_sources`)."""
     enc, n, turns = face.enc, face.n, face.turns
     max_states = min(limits.max_states, MAX_IDS)
-    parents = Growing(np.int32, reserve)
-    parents.extend(np.full(seeds, -1, dtype=np.int32))
-    offsets = Growing(np.int32, reserve if graph else 1 << 16)  # int64 past 2**31 edges (widen)
-    targets = Growing(np.int32, edges if graph else 1 << 16)
+    parents = None if graph else Growing(np.int32, reserve)
+    if parents is not None:
+        parents.extend(np.full(seeds, -1, dtype=np.int32))
+    degrees = Growing(np.uint8, reserve if graph else 1 << 16)
+    targets = GrowingIds(edges if graph else 1 << 16)
     weight_type = np.int8 if n <= 127 else np.int16  # a weight is at most n edges
-    weights = Growing(weight_type, edges if graph else 1 << 16)
+    weights: Growing | GrowingBits = GrowingBits(edges if graph else 1 << 16)
     on_chunk = checks.halting + checks.on_expansion
     transitions = changed_loops = 0
     stopped: Stop | str | None = None
@@ -248,13 +268,18 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
         changed_loops += int(np.count_nonzero((ids == sid + src) & changed))
         if graph:
             counts = np.bincount(src, minlength=expanded)[:expanded]
-            starts = targets.size + np.cumsum(counts) - counts
-            if targets.size + len(ids) > MAX_IDS:
-                offsets.widen(np.int64)
-            offsets.extend(starts)
-            targets.extend(ids.astype(np.int32))
-            weights.extend(weight.astype(weight_type))
-        parents.extend((sid + fresh_src).astype(np.int32))
+            if len(counts) and counts.max() > np.iinfo(degrees.data.dtype).max:
+                degrees.widen(np.int64)
+            degrees.extend(counts)
+            targets.extend(ids, index.count)
+            if isinstance(weights, GrowingBits) and len(weight) and weight.max() > 1:
+                wide = Growing(weight_type, len(weights.data.data) * 8)  # a weight over 1
+                wide.extend(weights.array().astype(weight_type))
+                weights = wide
+            weights.extend(weight.astype(weight_type) if isinstance(weights, Growing) else weight)
+        else:
+            assert parents is not None
+            parents.extend((sid + fresh_src).astype(np.int32))
         if halt is not None and stop == halt[1].name and halt[0] == stop_src:
             columns.record_halt(sid + stop_src, int(rows[stop_src]), bool(idle[stop_src]), halt[1])
         if stop is not None:
@@ -265,11 +290,16 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
         if settle and checks.settled():
             stopped = Stop.SETTLED
             break
-    if graph:
-        offsets.extend(np.array([targets.size], dtype=np.int64))
     peak = max(peak, rss_mb())
-    return Searched(index, parents, offsets, targets, weights, transitions, changed_loops,
-                    stopped, peak)
+    index.drop_table()  # the search is over: its hash table goes before the offsets come
+    offsets = np.empty(0, dtype=np.int32)
+    if graph:
+        offsets = np.zeros(degrees.size + 1, dtype=np.int32 if targets.size <= MAX_IDS
+                           else np.int64)
+        np.cumsum(degrees.array(), dtype=offsets.dtype, out=offsets[1:])
+    del degrees
+    return Searched(index, parents, offsets, targets, weights, seeds, transitions,
+                    changed_loops, stopped, peak)
 
 
 def with_turns(succ: np.ndarray, extra: np.ndarray | None, turns: Any) -> np.ndarray:

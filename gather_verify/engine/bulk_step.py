@@ -93,14 +93,15 @@ def successor_keys(keys: np.ndarray, codes: np.ndarray, src: np.ndarray, robot: 
     """The stored key of each successor (event ``e`` from state ``src[e]`` of the chunk;
     ``event`` as in :func:`successor_codes`), the old code of each changed robot, and the
     successors' codes when they were computed (numpy path: under a reduction, or several
-    changes per event; compiled path: under a reduction with one change per event)."""
+    changes per event; the compiled path computes none)."""
     single = event is None
-    if compiled and not (single and reduced):
-        if single:
+    if compiled:
+        if reduced:  # (one change per event: change c is event c)
+            succ, old = kernels.event_canonical_keys(
+                codes, src, robot, new, np.arange(len(src)) if single else event, canon.powers,
+                canon.table_rows, canon.anonymity)
+        elif single:
             succ, old = kernels.successor_keys(keys, codes, src, robot, new, canon.powers)
-        elif reduced:
-            succ, old = kernels.event_canonical_keys(codes, src, robot, new, event, canon.powers,
-                                                     canon.table_rows, canon.anonymity)
         else:
             succ, old = kernels.event_keys(keys, codes, src, robot, new, event, canon.powers)
         return succ, old, None

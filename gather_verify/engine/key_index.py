@@ -93,6 +93,12 @@ class KeyIndex:
                 bits += 1
             self._rebuild(bits)
 
+    def drop_table(self) -> None:
+        """Free the hash table (the keys stay): a finished search needs only its keys. The
+        table is rebuilt when next used."""
+        self._alloc(3)  # eight slots: a group of tags
+        self.stale = True
+
     def truncate(self, count: int) -> None:
         """Forget the keys from id ``count`` on (the table is rebuilt when next used)."""
         if count < self.count:

@@ -5,7 +5,8 @@ the same result: the hash index of visited keys (``KeyIndex.find_or_add`` of
 :mod:`gather_verify.engine.key_index`), the per-chunk arithmetic (decoding states,
 successor keys, the keys of (configuration, move) pairs), the bulk steps of the ASYNC
 and the round schedulers (FSYNC, SSYNC, centralized),
-the longest path over the kept graph (``move-bound``) and Tarjan's strongly connected
+the longest path over the kept graph (``move-bound``), the breadth-first parents
+read off it, and Tarjan's strongly connected
 components (``termination``). The numpy and Python code stays the tested reference: set
 ``GATHER_VERIFY_KERNELS=numpy`` (or call :func:`use` with False) to run it instead; the tests
 compare the two paths field by field.
@@ -29,7 +30,8 @@ from typing import Any
 ENV = "GATHER_VERIFY_KERNELS"
 """Environment variable: ``numpy`` (or ``0``) selects the numpy/Python reference path (the
 same switch as the union engine's, :mod:`gather_verify.engine.union_kernels`)."""
-KERNELS = ("find_or_add", "place", "async_successors", "longest_path", "tarjan_csr",
+KERNELS = ("find_or_add", "place", "async_successors", "longest_path", "first_sources",
+           "tarjan_csr",
            "decode_chunk", "successor_keys", "event_keys", "event_canonical_keys",
            "pair_keys", "successor_rows", "round_counts", "round_events")
 """The compiled functions (in :mod:`gather_verify.kernels.compiled`, imported on first use)."""
@@ -132,7 +134,12 @@ def warm(names: Iterable[str] = KERNELS) -> None:
                            np.empty(c, dtype=np.int64))
     off = np.array([0, 1, 1], dtype=np.int32)
     tgt = np.array([1], dtype=np.int32)
-    if "longest_path" in wanted:
-        k.longest_path(off, tgt, np.zeros(1, dtype=np.int8))
-    if "tarjan_csr" in wanted:
-        k.tarjan_csr(off, tgt, True)
+    packed = np.array([1, 0, 0], dtype=np.uint8)  # target ids three bytes each
+    for t, p in ((tgt, False), (packed, True)):
+        if "longest_path" in wanted:
+            k.longest_path(off, t, np.zeros(1, dtype=np.int8), False, p)
+            k.longest_path(off, t, np.zeros(1, dtype=np.uint8), True, p)  # one bit per edge
+        if "first_sources" in wanted:
+            k.first_sources(off, t, 1, 2, p)
+        if "tarjan_csr" in wanted:
+            k.tarjan_csr(off, t, True, p)

@@ -262,13 +262,34 @@ def round_events(codes, masks, neighbour, subsets, nth, count, states, src, weig
 
 # -- graph analyses over the kept CSR graph ----------------------------------------------
 
+@njit(cache=True, nogil=True, inline="always")
+def _weight(weights, j, bits):  # pragma: no cover - compiled
+    """The weight of edge ``j``: a byte per edge, or with ``bits`` one bit per edge (bit
+    ``j % 8`` of byte ``j // 8``, the layout of ``np.packbits(..., bitorder="little")``)."""
+    if bits:
+        return np.int64((weights[j >> 3] >> (j & 7)) & 1)
+    return np.int64(weights[j])
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _target(targets, j, packed):  # pragma: no cover - compiled
+    """The target of edge ``j``: an ``int32`` per edge, or with ``packed`` three bytes per
+    edge, least significant first (ids below ``2**24``: ``engine.columns.IdColumn``)."""
+    if packed:
+        k = 3 * j
+        return np.int64(targets[k]) | np.int64(targets[k + 1]) << 8 | \
+            np.int64(targets[k + 2]) << 16
+    return np.int64(targets[j])
+
+
 @njit(cache=True, nogil=True)
-def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
+def longest_path(offsets, targets, weights, bits=False, packed=False):  # pragma: no cover
     """The best total weight from every state over the graph (self-loops left out), by an
     iterative depth-first search from state 0 (every state is reachable from it), each edge
     read once: a finished successor's total is taken when its edge is read (or when it
     finishes, for the edge that led to it); -1 as the first value when a cycle exists.
-    ``best`` is int32: a move count.
+    ``best`` is int32: a move count. ``weights``: a byte per edge, or with ``bits`` one bit
+    per edge (:func:`_weight`); ``targets``: with ``packed``, three bytes each (:func:`_target`).
 
     When every edge leads to a larger id (breadth-first ids often are a topological order:
     every edge goes one level down), one sweep in decreasing id order, reading the edges in
@@ -277,7 +298,7 @@ def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
     forward = True
     for v in range(n):
         for j in range(offsets[v], offsets[v + 1]):
-            if targets[j] < v:
+            if _target(targets, j, packed) < v:
                 forward = False
                 break
         if not forward:
@@ -287,9 +308,9 @@ def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
         for v in range(n - 1, -1, -1):
             run = 0
             for j in range(offsets[v], offsets[v + 1]):
-                t = targets[j]
+                t = _target(targets, j, packed)
                 if t != v:
-                    val = weights[j] + best[t]
+                    val = _weight(weights, j, bits) + best[t]
                     if val > run:
                         run = val
             best[v] = run
@@ -313,7 +334,7 @@ def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
             run = top[depth]
             pushed = False
             while k < end:
-                t = targets[k]
+                t = _target(targets, k, packed)
                 k += 1
                 if t == v:
                     continue
@@ -335,7 +356,7 @@ def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
                     best[t] = -2
                     pushed = True
                     break
-                val = weights[k - 1] + bt
+                val = _weight(weights, k - 1, bits) + bt
                 if val > run:
                     run = val
             if pushed:
@@ -343,19 +364,36 @@ def longest_path(offsets, targets, weights):  # pragma: no cover - compiled
             best[v] = run
             depth -= 1
             if depth >= 0:  # the edge that led to v is the one before the parent's position
-                val = weights[edge[depth] - 1] + run
+                val = _weight(weights, edge[depth] - 1, bits) + run
                 if val > top[depth]:
                     top[depth] = val
     return best
 
 
 @njit(cache=True, nogil=True)
-def tarjan_csr(offsets, targets, skip_loops):  # pragma: no cover - compiled
+def first_sources(offsets, targets, seeds, states, packed=False):  # pragma: no cover
+    """Per state, the first state in id and edge order with an edge to it (-1 for the
+    ``seeds`` first ids, and for a state no edge reaches): the breadth-first parents, which
+    a search that keeps its edges need not store (a state is discovered by its first
+    incoming edge, :func:`gather_verify.engine.columns.first_sources`); ``packed``: as
+    :func:`longest_path`'s."""
+    parents = np.full(states, -1, dtype=np.int32)
+    for v in range(len(offsets) - 1):
+        for j in range(offsets[v], offsets[v + 1]):
+            t = _target(targets, j, packed)
+            if t >= seeds and parents[t] < 0:
+                parents[t] = v
+    return parents
+
+
+@njit(cache=True, nogil=True)
+def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover - compiled
     """Tarjan's strongly connected components over a CSR graph, iteratively, roots in id
     order and edges in CSR order (the order of :func:`gather_verify.properties.graph.tarjan`).
     Self-loops are left out when ``skip_loops``. Returns (members, starts): the components
     with an edge between distinct states (or a self-loop kept), each unsorted, in the order
-    found; component c is ``members[starts[c]:starts[c + 1]]``."""
+    found; component c is ``members[starts[c]:starts[c + 1]]``. ``packed``: as
+    :func:`longest_path`'s."""
     n = len(offsets) - 1
     index = np.full(n, -1, dtype=np.int32)
     low = np.zeros(n, dtype=np.int32)
@@ -386,7 +424,7 @@ def tarjan_csr(offsets, targets, skip_loops):  # pragma: no cover - compiled
             end = offsets[v + 1]
             recurse = False
             while k < end:
-                w = targets[k]
+                w = _target(targets, k, packed)
                 k += 1
                 if skip_loops and w == v:
                     continue
@@ -420,7 +458,7 @@ def tarjan_csr(offsets, targets, skip_loops):  # pragma: no cover - compiled
                 keep = mcount - begin > 1
                 if not keep and not skip_loops:
                     for j in range(offsets[v], offsets[v + 1]):
-                        if targets[j] == v:
+                        if _target(targets, j, packed) == v:
                             keep = True
                             break
                 if keep:

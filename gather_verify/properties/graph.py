@@ -69,7 +69,7 @@ def longest_path(e: Exploration) -> LongestPath:
     the first best successor in edge order (so every order gives the same path)."""
     if getattr(e, "turns", None) is not None:
         return _longest_path_condensed(e)
-    if hasattr(e.targets, "array") and not e.changed_loops:
+    if _columns(e) and not e.changed_loops:
         from gather_verify import kernels
 
         if kernels.enabled() and _whole(e):
@@ -244,24 +244,37 @@ def _longest_path_compiled(e: Exploration) -> LongestPath:
     import numpy as np
 
     from gather_verify import kernels
-
     off = e.offsets.array[:e.states + 1]  # type: ignore[attr-defined]
-    tgt = e.targets.array  # type: ignore[attr-defined]
-    w = e.weights.array  # type: ignore[attr-defined]
-    best = kernels.longest_path(off, tgt, w)
+    tgt, packed = _raw_targets(e)
+    bits = hasattr(e.weights, "bits")  # one bit per edge (engine.columns.BitColumn): no copy
+    w = e.weights.bits if bits else e.weights.array  # type: ignore[attr-defined]
+    best = kernels.longest_path(off, tgt, w, bits, packed)
     if best[0] < 0:
         return LongestPath(None, [])
     path = [0]
     while True:
         s = path[-1]
         lo, hi = int(off[s]), int(off[s + 1])
-        ts = tgt[lo:hi]
-        vals = w[lo:hi].astype(np.int64) + best[ts]
+        ts = np.asarray(e.targets[lo:hi], dtype=np.int64)
+        vals = np.asarray(e.weights[lo:hi], dtype=np.int64) + best[ts]
         ok = np.flatnonzero((ts != s) & (vals == best[s]))
         if not len(ok):  # no successor but itself: the path ends
             break
         path.append(int(ts[ok[0]]))
     return LongestPath(int(best[0]), path)
+
+
+def _columns(e: Exploration) -> bool:
+    """Whether ``e``'s graph is the bulk engine's numpy columns (asked of the column's type:
+    a packed column makes its ``array`` when read)."""
+    return hasattr(type(e.targets), "array")
+
+
+def _raw_targets(e: Exploration) -> tuple[Any, bool]:
+    """The bulk engine's target ids as the compiled kernels read them, and whether they are
+    packed three bytes each (``engine.columns.IdColumn``: no copy)."""
+    packed = bool(getattr(e.targets, "packed", False))
+    return (e.targets.raw if packed else e.targets.array), packed  # type: ignore[attr-defined]
 
 
 def has_cycle(e: Exploration) -> bool:
@@ -273,14 +286,15 @@ def has_cycle(e: Exploration) -> bool:
 def strongly_connected(e: Exploration) -> list[list[int]]:
     """Components with an edge between distinct states, each sorted, in the order Tarjan's
     algorithm finds them from state 0 (networkx on small graphs)."""
-    if hasattr(e.targets, "array") and not e.changed_loops:
+    if _columns(e) and not e.changed_loops:
         from gather_verify import kernels
 
         if kernels.enabled() and _whole(e):  # every self-loop is unchanged: none is an edge
             import numpy as np
 
+            tgt, packed = _raw_targets(e)
             members, starts = kernels.tarjan_csr(e.offsets.array[:e.states + 1],  # type: ignore[attr-defined]
-                                                 e.targets.array, True)
+                                                 tgt, True, packed)
             return [np.sort(members[a:b]).tolist() for a, b in zip(starts[:-1], starts[1:], strict=True)]
     succs = [[t for t, _ in real_edges(e, s)] for s in range(e.states)]
     if e.states <= NX_MAX_STATES:
