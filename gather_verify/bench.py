@@ -65,8 +65,8 @@ RUN_KERNELS = {
     "explore": ("find_or_add", "place", "decode_chunk", "async_successors", "successor_keys"),
     "rounds": ("find_or_add", "place", "decode_chunk", "round_counts", "round_events",
                "event_keys"),
-    "verdict": ("find_or_add", "place", "decode_chunk", "async_successors", "successor_rows",
-                "longest_path"),
+    "verdict": ("find_or_add", "place", "decode_chunk", "async_successors",
+                "event_canonical_keys", "successor_rows", "longest_path"),
     "full": ("find_or_add", "place", "decode_chunk", "async_successors", "successor_keys",
              "successor_rows", "longest_path"),
 }
