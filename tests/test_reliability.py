@@ -267,7 +267,9 @@ def test_ctrl_c_during_check() -> None:
 
 def test_ctrl_c_during_sweep_keeps_results_and_resumes(tmp_path: Path) -> None:
     db = tmp_path / "sweep.sqlite"
-    argv = ["sweep", "--robots", "3", "--meeting", "2", "--box", "4x4", "--algorithm",
+    # one meeting node: 588 rows, seconds of work to interrupt (two meeting nodes: 5254 rows,
+    # a minute of CPU for the resume, and nothing more checked)
+    argv = ["sweep", "--robots", "3", "--meeting", "1", "--box", "4x4", "--algorithm",
             "go-to-target", "--scheduler", "async", "--workers", "2", "--db", str(db), "--json",
             "--engine", "per-config"]  # rows a few at a time (union: this box is one class)
 

@@ -120,7 +120,7 @@ def test_handed_off_checks_store_the_same_rows(tmp_path: Path, monkeypatch: pyte
 def test_sigkill_then_resume_equals_clean_run(tmp_path: Path) -> None:
     """Kill a running sweep with SIGKILL once some rows are committed; the resumed
     store ends with exactly the rows of an uninterrupted run."""
-    argv = ["--robots", "3", "--meeting", "1", "--box", "4x4", "--algorithm", "go-to-target",
+    argv = ["--robots", "3", "--meeting", "1", "--box", "4x3", "--algorithm", "go-to-target",
             "--scheduler", "async", "--workers", "1", "--json",
             "--engine", "per-config"]  # rows committed a few at a time (union: a class at a time)
     killed = tmp_path / "killed.sqlite"

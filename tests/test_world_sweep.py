@@ -10,6 +10,7 @@ import sys
 
 import pytest
 
+from gather_verify.cli import main
 from gather_verify.sweeps.world_census import world_configurations
 from gather_verify.world_check import run_world_check
 from gather_verify.worlds import get_world
@@ -64,15 +65,14 @@ def test_census_with_colours_is_the_world_s_canonical_form(world_name: str, fram
 
 
 @pytest.mark.parametrize("frames", ["all", "chirality", "compass"])
-def test_each_class_verdict_is_every_members_verdict(tmp_path, frames: str) -> None:  # noqa: ANN001
+def test_each_class_verdict_is_every_members_verdict(tmp_path, frames: str, capsys) -> None:  # noqa: ANN001
     """A direction-reading algorithm on rings: a sweep row stands for every member of its class."""
     db = tmp_path / "r.sqlite"
-    run = subprocess.run([*CLI, "sweep", "--world", "ring:5-6", "--robots", "2-3", "--meeting",
-                          "0", "--algorithm", "broken-ring-explore", "--scheduler", "ssync",
-                          "--task", "exclusive-perpetual-exploration", "--frames", frames,
-                          "--db", str(db), "--workers", "1", "--json"],
-                         capture_output=True, text=True, timeout=300)
-    assert run.returncode in (0, 1), run.stderr
+    code = main(["sweep", "--world", "ring:5-6", "--robots", "2-3", "--meeting",
+                 "0", "--algorithm", "broken-ring-explore", "--scheduler", "ssync",
+                 "--task", "exclusive-perpetual-exploration", "--frames", frames,
+                 "--db", str(db), "--workers", "1", "--json"])
+    assert code in (0, 1), capsys.readouterr().err
     from gather_verify.sweeps.store import Store
 
     store = Store(db, read_only=True)
@@ -112,24 +112,25 @@ def test_a_world_sweep_resumes_and_reports_each_size(tmp_path) -> None:  # noqa:
     (("--world", "ring:6", "--task", "juggling"), "unknown task"),
     (("--world", "grid", "--box", "3x3", "--task", "gathering"), "finite world"),
 ])
-def test_bad_world_sweeps_are_one_line(args: tuple[str, ...], words: str, tmp_path) -> None:  # noqa: ANN001
-    run = subprocess.run([*CLI, "sweep", "--robots", "2", "--meeting", "1", *args, "--db",
-                          str(tmp_path / "x.sqlite")], capture_output=True, text=True,
-                         timeout=120)
-    assert run.returncode == 2 and words in run.stderr, run.stderr
-    assert len(run.stderr.strip().splitlines()) == 1
+def test_bad_world_sweeps_are_one_line(args: tuple[str, ...], words: str, tmp_path, capsys) -> None:  # noqa: ANN001
+    """In-process (main returns the exit code); the command's own process is run by
+    test_a_world_sweep_resumes_and_reports_each_size."""
+    code = main(["sweep", "--robots", "2", "--meeting", "1", *args, "--db",
+                 str(tmp_path / "x.sqlite")])
+    err = capsys.readouterr().err
+    assert code == 2 and words in err, err
+    assert len(err.strip().splitlines()) == 1
 
 
-def test_a_gathering_sweep_needs_no_meeting_nodes_and_names_no_causes(tmp_path) -> None:  # noqa: ANN001
+def test_a_gathering_sweep_needs_no_meeting_nodes_and_names_no_causes(tmp_path, capsys) -> None:  # noqa: ANN001
     """On a finite world ``--meeting`` defaults to 0; a finite world's rows record no rule, so
     the summary shows no causes rather than calling every row "not recorded"."""
-    run = subprocess.run([*CLI, "sweep", "--world", "ring:5", "--robots", "2", "--task",
-                          "gathering", "--algorithm", "go-to-target", "--scheduler", "fsync",
-                          "--db", str(tmp_path / "g.sqlite"), "--workers", "1"],
-                         capture_output=True, text=True, timeout=300)
-    assert run.returncode == 1, run.stderr  # two robots do not gather on a ring
-    assert "VIOLATED" in run.stdout and "by cause" not in run.stdout, run.stdout
-    paper = subprocess.run([*CLI, "sweep", "--robots", "2", "--box", "3x3", "--db",
-                            str(tmp_path / "p.sqlite")], capture_output=True, text=True,
-                           timeout=120)
-    assert paper.returncode == 2 and "--meeting is required" in paper.stderr, paper.stderr
+    code = main(["sweep", "--world", "ring:5", "--robots", "2", "--task",
+                 "gathering", "--algorithm", "go-to-target", "--scheduler", "fsync",
+                 "--db", str(tmp_path / "g.sqlite"), "--workers", "1"])
+    run = capsys.readouterr()
+    assert code == 1, run.err  # two robots do not gather on a ring
+    assert "VIOLATED" in run.out and "by cause" not in run.out, run.out
+    code = main(["sweep", "--robots", "2", "--box", "3x3", "--db", str(tmp_path / "p.sqlite")])
+    err = capsys.readouterr().err
+    assert code == 2 and "--meeting is required" in err, err
