@@ -248,11 +248,11 @@ def test_what_the_union_decides_is_asked_not_named(tmp_path: Path) -> None:
 
     items = list(enumerate(enumerate_configurations(2, 1, 3, 3)))
     s = SweepSettings(robots=2, meeting=1, box=(3, 3), algorithm="broken-stay",
-                      scheduler="centralized", max_memory_mb=8000)
+                      scheduler="round-robin", max_memory_mb=8000)
     for members in class_tasks(items):
         d = decide_class(s, members, configuration_key)
         assert d.rows == [] and set(d.reasons.values()) == {
-            "the union engine does not run the centralized scheduler"}
+            "the union engine does not run the round-robin scheduler"}
     with pytest.raises(InvalidInput, match="union must be one of"):
         Property("x", "state", holds=lambda f: True, union="cycles")
     silent = Property("my-final", "state", holds=FINAL.holds, message="deadlock", symmetric=True)

@@ -21,7 +21,7 @@ from __future__ import annotations
 import copy
 import statistics
 from collections import deque
-from collections.abc import Hashable, Iterable, Sequence
+from collections.abc import Hashable, Iterable, Iterator, Mapping, Sequence
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, runtime_checkable
 
@@ -492,20 +492,28 @@ def enumerate_automorphisms(graph: nx.Graph, name: str,
     return tuple(out)
 
 
-class _DistanceRows(dict[Label, dict[Label, int]]):
+class _DistanceRows(Mapping[Label, dict[Label, int]]):
     """Rows of graph distances over ``adjacency`` (label -> its neighbours), one
-    breadth-first search per row, when the row is first read (a label outside the graph:
-    ``KeyError``, as a full table's)."""
+    breadth-first search per row, when the row is first read; a mapping over every label,
+    as a full table would be (a label outside the graph: ``KeyError``)."""
 
     def __init__(self, adjacency: dict[Label, tuple[Label, ...]]):
-        super().__init__()
         self.adjacency = adjacency
+        self.rows: dict[Label, dict[Label, int]] = {}
 
-    def __missing__(self, a: Label) -> dict[Label, int]:
-        if a not in self.adjacency:
-            raise KeyError(a)
-        row = self[a] = hops(self.adjacency, a)
+    def __getitem__(self, a: Label) -> dict[Label, int]:
+        row = self.rows.get(a)
+        if row is None:
+            if a not in self.adjacency:
+                raise KeyError(a)
+            row = self.rows[a] = hops(self.adjacency, a)
         return row
+
+    def __iter__(self) -> Iterator[Label]:
+        return iter(self.adjacency)
+
+    def __len__(self) -> int:
+        return len(self.adjacency)
 
 
 class FrameMap:
@@ -546,7 +554,7 @@ class FrameMap:
                 for u in labels}
 
     @cached_property
-    def distances(self) -> dict[Label, dict[Label, int]]:
+    def distances(self) -> Mapping[Label, dict[Label, int]]:
         """Per visible node, the hops to the others inside the frame's graph (only those
         reachable): each row computed when first read (an algorithm reads few: go-to-target
         its own node's)."""
