@@ -144,9 +144,10 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
 
     With the graph kept, what a state costs is mostly its edges: each is its target's id,
     three bytes while the ids fit (below ``2**24``), else four, and its weight, one bit while
-    every weight is 0 or 1 (ASYNC: a Look or a one-edge Move), else a byte; each expanded state's out-degree is a byte (wider when one
-    is larger), the offsets are summed from them once the search is over and the hash
-    table freed; no parents are stored (the edges give them, :func:`first_sources`)."""
+    every weight is 0 or 1 (ASYNC: a Look or a one-edge Move), else a byte; each expanded
+    state's out-degree is a byte (wider when one is larger), the offsets are summed from
+    them once the search is over and the hash table freed; no parents are stored (the
+    edges give them, :func:`first_sources`)."""
     enc, n, turns = face.enc, face.n, face.turns
     max_states = min(limits.max_states, MAX_IDS)
     parents = None if graph else Growing(np.int32, reserve)
