@@ -126,7 +126,7 @@ def _ring_child(world: str, robots: list, meeting: int, max_seconds: float) -> d
     :func:`gather_verify.kernels.warm` for the Z² rows); its seconds are ``warm_seconds``."""
     import resource
 
-    from gather_verify.engine.explore import rss_mb
+    from gather_verify.engine.encoding import rss_mb
     from gather_verify.world_check import run_world_check
 
     warm = time.perf_counter()

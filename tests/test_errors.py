@@ -59,7 +59,7 @@ def test_ctrl_c_wrapped_by_c_code_is_an_interrupt(monkeypatch, capsys):
         except KeyboardInterrupt as error:
             raise SystemError("<function _numba_unpickle> returned a result with an exception set") from error
 
-    monkeypatch.setattr(cli, "build_parser", lambda: _parser_running(interrupted_inside_c))
+    monkeypatch.setattr(cli, "build_parser", lambda *_: _parser_running(interrupted_inside_c))
     assert cli.main(["anything"]) == 130
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("interrupted")

@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import importlib.util
 import os
-import sqlite3
 import sys
 import traceback
 from collections.abc import Sequence
@@ -45,30 +45,43 @@ class _Parser(argparse.ArgumentParser):
         raise UsageError(f"{self.prog}: {message}")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The parser of every command, or, given ``command``, of that one alone: the command
+    line imports only the module of the command it runs (a check does not pay for the
+    synthesis, the sweeps or the paper's tables). Every other command's module must still be
+    there, found without importing it."""
     parser = _Parser(prog="gather-verify", description=__doc__.splitlines()[0], allow_abbrev=False)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name in COMMANDS:
+        if command is not None and name != command:
+            if importlib.util.find_spec(f"gather_verify.cli.{name}") is None:
+                raise _missing(name)
+            continue
         try:
             module = importlib.import_module(f"gather_verify.cli.{name}")
         except ModuleNotFoundError as error:
             if error.name != f"gather_verify.cli.{name}":
                 raise  # a module the command imports: its own message says which
-            # never skipped: a command that vanishes from --help would hide a broken install
-            raise ImportError(
-                f"the command module gather_verify.cli.{name} is missing: a bug of "
-                "gather-verify (a broken install, or a command listed with no module)",
-                name=error.name) from error
+            raise _missing(name) from error
         p = sub.add_parser(name, help=module.HELP, description=module.HELP, allow_abbrev=False)
         module.add_arguments(p)
         p.set_defaults(_run=module.run)
     return parser
 
 
+def _missing(name: str) -> ImportError:
+    """A listed command with no module: never skipped, since a command that vanishes from
+    --help would hide a broken install."""
+    return ImportError(f"the command module gather_verify.cli.{name} is missing: a bug of "
+                       "gather-verify (a broken install, or a command listed with no module)",
+                       name=f"gather_verify.cli.{name}")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the console script; returns the exit code."""
+    argv = sys.argv[1:] if argv is None else list(argv)
     try:
-        args = build_parser().parse_args(argv)
+        args = build_parser(argv[0] if argv and argv[0] in COMMANDS else None).parse_args(argv)
         if not getattr(args, "_run", None):
             build_parser().print_help(sys.stderr)
             return EXIT_USAGE
@@ -82,11 +95,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as error:  # unreadable input or unwritable output file
         print(f"error: {error}", file=sys.stderr)
         return EXIT_USAGE
-    except sqlite3.DatabaseError as error:  # read-only, damaged, or a full disk
-        print(f"error: the results database failed: {error} (every row stored before is "
-              "kept, and the same command resumes once the database is writable and whole)",
-              file=sys.stderr)
-        return EXIT_USAGE
     except AlgorithmCrash as crash:  # outside a search (simulate, impossibility ...)
         print("crash: " + "\n  at ".join([str(crash), *crash.frames]), file=sys.stderr)
         return EXIT_VIOLATED
@@ -99,6 +107,13 @@ def main(argv: Sequence[str] | None = None) -> int:
               "limit's watchdog); nothing was decided", file=sys.stderr)
         return EXIT_INCOMPLETE
     except Exception as error:  # anything else is ours
+        sqlite3 = sys.modules.get("sqlite3")  # imported by the commands that keep results
+        if sqlite3 is not None and isinstance(error, sqlite3.DatabaseError):
+            # read-only, damaged, or a full disk
+            print(f"error: the results database failed: {error} (every row stored before is "
+                  "kept, and the same command resumes once the database is writable and whole)",
+                  file=sys.stderr)
+            return EXIT_USAGE
         if _interrupted(error):  # Ctrl-C inside C code (numba loading its kernels) comes wrapped
             print("interrupted; run the same command again (a sweep keeps every row it stored and "
               "resumes)", file=sys.stderr)

@@ -7,9 +7,8 @@ import argparse
 import json
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from gather_verify.check import drift_line
 from gather_verify.cli.common import (
     EXIT_INTERRUPTED,
     EXIT_OK,
@@ -24,16 +23,18 @@ from gather_verify.cli.common import (
     without_timings,
     writable_outputs,
 )
-from gather_verify.engine.explore import (
+from gather_verify.engine.encoding import (
     DEFAULT_MAX_MEMORY_MB,
     DEFAULT_MAX_SECONDS,
     DEFAULT_MAX_STATES,
-    Exploration,
 )
 from gather_verify.engine.region import PLANE
 from gather_verify.progress import Reporter, default_every
 from gather_verify.scenario import Scenario
 from schedulers import SCHEDULERS
+
+if TYPE_CHECKING:
+    from gather_verify.engine.explore import Exploration
 
 HELP = ("verify an algorithm from one initial configuration against every adversary; on a "
         "scenario with an expectation for the algorithm and scheduler, exit 0 when it is met")
@@ -120,9 +121,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from gather_verify.check import run_check
-    from gather_verify.engine.export import graph_format, write_graph
-    from gather_verify.render import render_trace
     from gather_verify.worlds import FINITE, entry_of
 
     if entry_of(args.world) == FINITE:
@@ -133,6 +131,11 @@ def run(args: argparse.Namespace) -> int:
         scenario = load_scenario(args.scenario)
         if entry_of(scenario.world) == FINITE:
             return run_world(args, scenario)
+    # the paper's world (Z²): its engines, imported here, not by a finite world's check
+    from gather_verify.check import drift_line, run_check
+    from gather_verify.engine.export import graph_format, write_graph
+    from gather_verify.render import render_trace
+
     if args.task not in (None, "gathering-on-meeting-nodes") or args.visibility is not None:
         raise UsageError("--task and --visibility need a finite world "
                          "(--world ring:N, grid:WxH, torus:WxH or graph:FILE); on Z² the task "
@@ -328,9 +331,11 @@ def _expectation(scenario: Scenario | None, algorithm: str, scheduler: str,
                  report: dict[str, Any]) -> dict[str, Any] | None:
     """Whether ``report`` meets the scenario's expectation for this algorithm and scheduler
     (and its expected class); None when the scenario has none."""
+    if scenario is None:
+        return None
     from gather_verify.scenario_tests import expectation_for, expectation_mismatch
 
-    expectation = scenario and expectation_for(scenario, algorithm, scheduler)
+    expectation = expectation_for(scenario, algorithm, scheduler)
     if not expectation:
         return None
     why = expectation_mismatch(expectation, report)

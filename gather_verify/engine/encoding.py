@@ -14,6 +14,8 @@ schedulers share one encoding.
 
 from __future__ import annotations
 
+import os
+import resource
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
@@ -65,6 +67,21 @@ class Stop(StrEnum):
     REGION = "region"  # a successor left the search region (a margin too small)
     SETTLED = "settled"  # every requested property had its counterexample (``settle``)
     WATCH = "watch"  # the finite worlds' search: its ``watch`` asked it to stop
+
+
+_STATM: list[int] = []  # this process's id and its open /proc/self/statm
+
+
+def rss_mb() -> float:
+    """Resident set size of this process now, in MiB (``/proc``, else the peak), for
+    :attr:`Limits.max_memory_mb`. The file stays open (a search asks once per chunk); a
+    forked child opens its own."""
+    try:
+        if not _STATM or _STATM[0] != os.getpid():
+            _STATM[:] = [os.getpid(), os.open("/proc/self/statm", os.O_RDONLY)]
+        return int(os.pread(_STATM[1], 64, 0).split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+    except (OSError, ValueError, IndexError):
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
 def symmetry_group(initial: Configuration, frames: str) -> list[Automorphism]:

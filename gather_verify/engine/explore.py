@@ -32,8 +32,6 @@ concrete state, and only the successor's key is canonicalised.
 
 from __future__ import annotations
 
-import os
-import resource
 import time
 from array import array
 from collections.abc import Callable, Iterable, Sequence
@@ -56,6 +54,7 @@ from gather_verify.engine.encoding import (
     LuminousEncoding,
     Stop,
     Turns,
+    rss_mb,
     symmetry_group,
 )
 from gather_verify.engine.region import region_box
@@ -87,20 +86,6 @@ __all__ = ["DEFAULT_MARGIN", "DEFAULT_MAX_MEMORY_MB", "DEFAULT_MAX_SECONDS", "DE
            "rss_mb", "symmetry_group"]
 """(``Encoding``, ``Limits``, the defaults, ``region_box`` and ``symmetry_group`` live in
 :mod:`gather_verify.engine.encoding`; they are re-exported here for existing callers.)"""
-
-
-_STATM: list[int] = []  # this process's id and its open /proc/self/statm
-
-
-def rss_mb() -> float:
-    """Resident set size of this process now, in MiB (``/proc``, else the peak). The file
-    stays open (a search asks once per chunk); a forked child opens its own."""
-    try:
-        if not _STATM or _STATM[0] != os.getpid():
-            _STATM[:] = [os.getpid(), os.open("/proc/self/statm", os.O_RDONLY)]
-        return int(os.pread(_STATM[1], 64, 0).split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
-    except (OSError, ValueError, IndexError):
-        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
 @dataclass

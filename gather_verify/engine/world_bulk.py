@@ -49,8 +49,7 @@ import numpy as np
 from gather_verify import kernels
 from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
 from gather_verify.engine.columns import Growing
-from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop
-from gather_verify.engine.explore import rss_mb
+from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop, rss_mb
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.engine.world_search import (
     Halt,

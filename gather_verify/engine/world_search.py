@@ -35,8 +35,7 @@ from functools import cached_property
 import numpy as np
 
 from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
-from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop
-from gather_verify.engine.explore import rss_mb
+from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop, rss_mb
 from gather_verify.progress import PROGRESS
 from schedulers import Event, Scheduler, as_scheduler
 

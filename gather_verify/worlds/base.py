@@ -19,7 +19,6 @@ schedulers never ask which world they run.
 from __future__ import annotations
 
 import copy
-import statistics
 from collections import deque
 from collections.abc import Hashable, Iterable, Iterator, Mapping, Sequence
 from functools import cached_property
@@ -362,6 +361,8 @@ class World:
 
     @cached_property
     def _drawing(self) -> dict[str, Any]:
+        import statistics  # a picture's only need (random, fractions, decimal: not a check's)
+
         pos = self.layout()
         edges = self.drawn_edges()
         lengths = [_dist(pos[e.a], pos[e.b]) for e in edges if not e.wraps]
