@@ -31,7 +31,6 @@ from gather_verify.progress import PROGRESS
 from gather_verify.tasks import TASKS, Context, Finding, Task, get_task
 from gather_verify.tasks.base import fair_walk
 from gather_verify.watchdog import Overtime, allowance, deadline
-from gather_verify.world_replay import event_json, scheduler_after
 from gather_verify.worlds import finite_world
 from gather_verify.worlds.base import World
 from gather_verify.worlds.moves import WorldMoves, parse_lights
@@ -320,6 +319,8 @@ def concrete_run(s: WorldSearch, sched: Any, start: int, hops: list[tuple[int, i
 def successor(sched: Any, state: WorldState, event: Any, visits: bool) -> WorldState:
     """The state ``event`` leads to from ``state``: the robots as the event moves them, the
     nodes visited (when the search carries them) and the scheduler's own state after it."""
+    from gather_verify.world_replay import scheduler_after  # a trace's need, not a search's
+
     robots, visited, extra = state
     after = _apply(state, event)
     extra = next(iter(scheduler_after(sched, robots, extra, event, after)))
@@ -360,6 +361,8 @@ def _apply(state: Any, event: Any) -> tuple[tuple[int, int | None, int], ...]:
 
 
 def _step(world: World, event: Any, state: Any) -> dict[str, Any]:
+    from gather_verify.world_replay import event_json
+
     name = world.node_to_json
     out: dict[str, Any] = {
         "event": None if event is None else event_json(world, event),

@@ -121,7 +121,7 @@ heavy = ("networkx", "scipy", "matplotlib", "hypothesis", "gather_verify.synthes
 # a finite world's check: none of the paper's world (Z²) engine, properties or tables
 finite = ("gather_verify.paper", "sqlite3", "gather_verify.check", "gather_verify.engine.explore",
           "gather_verify.engine.checks", "gather_verify.properties", "gather_verify.render",
-          "gather_verify.scenario_tests", "statistics")
+          "gather_verify.scenario_tests", "statistics", "gather_verify.world_replay")
 if sys.argv[1] == "ring":
     from gather_verify.world_check import run_world_check
     r = run_world_check("ring:9", [0, 3, 5], [7], "go-to-target", "async", reduction=False)
@@ -137,7 +137,7 @@ else:  # the command line, on the ring
                  "--algorithm", "go-to-target", "--scheduler", "async", "--json"]) == 0
     r = {"verdict": "VERIFIED"}
     # and the command line imports the module of the command it runs, no other
-    heavy += finite + tuple(f"gather_verify.cli.{name}" for name in
+    heavy += finite + ("gather_verify.scenario",) + tuple(f"gather_verify.cli.{name}" for name in
                             ("classify", "census", "simulate", "replay", "sweep", "report",
                              "impossibility", "bench", "test", "synthesize"))
 print(json.dumps([r["verdict"], sorted(m for m in heavy if m in sys.modules)]))

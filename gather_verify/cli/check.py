@@ -30,11 +30,11 @@ from gather_verify.engine.encoding import (
 )
 from gather_verify.engine.region import PLANE
 from gather_verify.progress import Reporter, default_every
-from gather_verify.scenario import Scenario
 from schedulers import SCHEDULERS
 
 if TYPE_CHECKING:
     from gather_verify.engine.explore import Exploration
+    from gather_verify.scenario import Scenario
 
 HELP = ("verify an algorithm from one initial configuration against every adversary; on a "
         "scenario with an expectation for the algorithm and scheduler, exit 0 when it is met")

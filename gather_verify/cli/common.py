@@ -6,12 +6,14 @@ import argparse
 import json
 import os
 import sys
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import parse_nodes
-from gather_verify.scenario import Scenario, load_scenario
+
+if TYPE_CHECKING:
+    from gather_verify.scenario import Scenario
 
 EXIT_OK, EXIT_VIOLATED, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_NOT_APPLICABLE = 0, 1, 2, 3, 4
 EXIT_NO_LONGER_REPRODUCES = 5
@@ -63,6 +65,7 @@ def add_configuration_arguments(parser: argparse.ArgumentParser) -> None:
 def load_configuration(args: argparse.Namespace) -> tuple[Configuration, Scenario | None]:
     """The initial configuration named on the command line (file, or points, or both:
     points override the file's)."""
+    from gather_verify.scenario import load_scenario
     from gather_verify.worlds import FINITE, entry_of
 
     scenario = load_scenario(args.scenario) if args.scenario else None
