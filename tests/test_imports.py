@@ -156,3 +156,26 @@ def test_a_check_imports_nothing_it_does_not_use(run: str) -> None:
     out = subprocess.run([sys.executable, "-c", NOT_NEEDED, run], cwd=ROOT, capture_output=True,
                          text=True, check=True).stdout.splitlines()[-1]
     assert json.loads(out) == ["VERIFIED", []]
+
+
+@pytest.mark.parametrize("argv", [
+    ["check", "--world", "ring:9", "--robots", "0 3 5", "--meeting", "7", "--json"],
+    ["check", "--robots", "0,0 3,1 1,4", "--meeting", "2,2", "--scheduler", "ssync"],
+    ["sweep", "--world", "ring:5-7", "--robots", "2-3", "--meeting", "1"],
+    ["report", "--help"],
+])
+def test_the_parser_of_one_command_reads_as_the_whole_parser(argv: list[str], capsys) -> None:
+    """The command line builds the parser of the command it runs alone (importing no other
+    command's module): it reads every command line as the parser of every command does."""
+    from gather_verify.cli import build_parser
+    from gather_verify.cli.common import UsageError
+
+    def read(parser):  # the namespace, or the help printed and the exit code
+        try:
+            return vars(parser.parse_args(argv))
+        except SystemExit as stop:
+            return capsys.readouterr().out, stop.code
+
+    assert read(build_parser(argv[0])) == read(build_parser())
+    with pytest.raises(UsageError, match="invalid choice"):  # no other command in it
+        build_parser(argv[0]).parse_args(["classify" if argv[0] != "classify" else "check"])
