@@ -66,7 +66,7 @@ RUN_KERNELS = {
     "rounds": ("find_or_add", "place", "decode_chunk", "round_counts", "round_events",
                "event_keys"),
     "verdict": ("find_or_add", "place", "decode_chunk", "async_successors",
-                "event_canonical_keys", "successor_rows", "longest_path"),
+                "successor_canonical_keys", "successor_rows", "longest_path"),
     "full": ("find_or_add", "place", "decode_chunk", "async_successors", "successor_keys",
              "successor_rows", "longest_path"),
 }

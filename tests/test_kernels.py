@@ -377,3 +377,41 @@ def test_target_ids_three_bytes_each(seed: int) -> None:
     ids.extend(big, 1 << 30)
     column = ids.column()
     assert not column.packed and list(column) == values + big.tolist()
+
+
+MEETINGS = [[(3, 3)], [(1, 1), (5, 5)], [(1, 1), (5, 1), (1, 5), (5, 5)], [(2, 3), (4, 3)],
+            [(0, 0), (2, 1)]]
+"""Meeting nodes with ``Aut(M)`` of 8, 4 (two diagonal nodes), 8 (a square's corners), 4 and
+1 element(s): the symmetry tables of :class:`Encoding` over the box ``(0, 0, 6, 6)``."""
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.sampled_from(MEETINGS), st.booleans(), st.integers(1, 6), st.data())
+def test_compiled_one_change_canonical_keys_are_the_reference(meeting, anonymity, n,
+                                                              data) -> None:
+    """One change per event under the reductions: the compiled keys, made from each source's
+    images with one code changed, are ``Canon.keys`` of the successors' codes (sorted, the
+    least over the real symmetry tables of ``Aut(M)``), on random states with towers (robots
+    drawn from a few cells), sources in any order and many events per source."""
+    from gather_verify.engine.encoding import Encoding, symmetry_group
+
+    initial = Configuration([(0, 0)], meeting, initial=True)
+    enc = Encoding((0, 0, 6, 6), symmetry_group(initial, "all"), anonymity=anonymity)
+    canon = Canon(enc, n)
+    few = data.draw(st.lists(st.integers(0, enc.base - 1), min_size=1, max_size=4))
+    code = st.sampled_from(few) | st.integers(0, enc.base - 1)  # towers, or anywhere
+    s = data.draw(st.integers(1, 6))
+    codes = np.array(data.draw(st.lists(st.lists(code, min_size=n, max_size=n), min_size=s,
+                                        max_size=s)), dtype=np.int64)
+    events = data.draw(st.lists(st.tuples(st.integers(0, s - 1), st.integers(0, n - 1), code),
+                                min_size=1, max_size=40))
+    if data.draw(st.booleans()):
+        events.sort()  # as a scheduler gives them: by source
+    src, robot, new = (np.array(c, dtype=np.int64) for c in zip(*events, strict=True))
+    keys = canon.keys(codes)
+    fast, old, _ = successor_keys(keys, codes, src, robot, new, None, canon, True, True)
+    ref, ref_old, ref_codes = successor_keys(keys, codes, src, robot, new, None, canon, True,
+                                             False)
+    assert ref_codes is not None
+    assert fast.tolist() == ref.tolist() == canon.keys(ref_codes).tolist()
+    assert old.tolist() == ref_old.tolist()

@@ -96,10 +96,13 @@ def successor_keys(keys: np.ndarray, codes: np.ndarray, src: np.ndarray, robot: 
     changes per event; the compiled path computes none)."""
     single = event is None
     if compiled:
-        if reduced:  # (one change per event: change c is event c)
-            succ, old = kernels.event_canonical_keys(
-                codes, src, robot, new, np.arange(len(src)) if single else event, canon.powers,
-                canon.table_rows, canon.anonymity)
+        if reduced and single:  # each successor's key from its source's images
+            succ, old = kernels.successor_canonical_keys(codes, src, robot, new, canon.powers,
+                                                         canon.table_rows, canon.anonymity,
+                                                         canon.ordered)
+        elif reduced:
+            succ, old = kernels.event_canonical_keys(codes, src, robot, new, event, canon.powers,
+                                                     canon.table_rows, canon.anonymity)
         elif single:
             succ, old = kernels.successor_keys(keys, codes, src, robot, new, canon.powers)
         else:

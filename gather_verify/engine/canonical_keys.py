@@ -25,6 +25,10 @@ class Canon:
         self.table_rows = np.array(self.tables, dtype=np.int64) if self.tables else \
             np.zeros((0, 1), dtype=np.int64)
         """The tables as the rows of one array (for the compiled keys)."""
+        self.ordered = bool(self.table_rows.size == 0 or (
+            self.table_rows.min() >= 0 and self.table_rows.max() < enc.base))
+        """Whether every image of a code is a code (a digit of the keys): then a sorted
+        image's largest value is its key's leading digit."""
 
     def pack(self, columns: list[np.ndarray]) -> np.ndarray:
         out = columns[0].astype(np.uint64)

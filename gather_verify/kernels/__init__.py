@@ -33,6 +33,7 @@ same switch as the union engine's, :mod:`gather_verify.engine.union_kernels`).""
 KERNELS = ("find_or_add", "place", "async_successors", "longest_path", "first_sources",
            "tarjan_csr",
            "decode_chunk", "successor_keys", "event_keys", "event_canonical_keys",
+           "successor_canonical_keys",
            "pair_keys", "successor_rows", "round_counts", "round_events")
 """The compiled functions (in :mod:`gather_verify.kernels.compiled`, imported on first use)."""
 _forced: bool | None = None
@@ -105,7 +106,7 @@ def warm(names: Iterable[str] = KERNELS) -> None:
     if wanted - {"find_or_add", "place", "longest_path", "tarjan_csr"}:
         codes, cells, srt, ck, idle, rank = k.decode_chunk(k7, 45, 2, weights)
     if wanted & {"async_successors", "successor_keys", "event_keys", "event_canonical_keys",
-                 "pair_keys", "successor_rows"}:
+                 "successor_canonical_keys", "pair_keys", "successor_rows"}:
         src, weight, robot, new = k.async_successors(codes, masks, neighbour,
                                                      np.arange(4, dtype=np.int64))
         old = codes[src, robot]  # as successor_keys returns it
@@ -118,6 +119,10 @@ def warm(names: Iterable[str] = KERNELS) -> None:
             for anonymity in (False, True):
                 k.event_canonical_keys(codes, src, robot, new, event, powers,
                                        np.zeros((1, 45), dtype=np.int64), anonymity)
+        if "successor_canonical_keys" in wanted:
+            for anonymity in (False, True):
+                k.successor_canonical_keys(codes, src, robot, new, powers,
+                                           np.zeros((1, 45), dtype=np.int64), anonymity, True)
         if "pair_keys" in wanted:
             k.pair_keys(ck, rank, src, robot, old, new, 18, 9)
         if "successor_rows" in wanted:

@@ -600,6 +600,89 @@ def event_canonical_keys(codes, src, robot, new, event, powers, tables,
 
 
 @njit(cache=True, nogil=True)
+def successor_canonical_keys(codes, src, robot, new, powers, tables, anonymity,
+                             ordered):  # pragma: no cover - compiled
+    """One change per event under the reductions: each successor's stored key (as
+    :func:`event_canonical_keys` and ``Canon.keys``), and the old code of each changed robot.
+
+    A successor differs from its source in one code. Its source's images (by the identity,
+    then by each row of ``tables``) are made once per source state, with their largest
+    value, the robot holding it and the next largest. Without anonymity a successor's key
+    by each image is its source's packed image with one digit changed. With it, a sorted
+    image's largest value is its key's leading digit: the successor's is the larger of the
+    new code's image and the largest value of the other robots, so only the images whose
+    leading digit is the least can give the least key, and only those are sorted. That
+    holds when every value is a digit (``ordered``: the codes and the tables' values in
+    ``[0, base)``); else every image is sorted."""
+    m = len(src)
+    n = codes.shape[1]
+    images = len(tables) + 1
+    img = np.empty((images, n), dtype=np.int64)
+    packed = np.empty(images, dtype=np.uint64)  # each image packed, robot order
+    top = np.empty(images, dtype=np.int64)  # the largest value of each image,
+    holder = np.empty(images, dtype=np.int64)  # the robot holding it (the first one),
+    second = np.empty(images, dtype=np.int64)  # the largest of the other robots' values
+    value = np.empty(images, dtype=np.int64)  # the changed robot's new code, by each image
+    lead = np.empty(images, dtype=np.int64)  # the successor's image's largest value
+    buf = np.empty(n, dtype=np.int64)
+    succ = np.empty(m, dtype=np.uint64)
+    old = np.empty(m, dtype=np.int64)
+    last = -1
+    for e in range(m):
+        s = src[e]
+        if s != last:
+            last = s
+            for t in range(images):
+                first, at, after, key = np.int64(-1), np.int64(0), np.int64(-1), np.uint64(0)
+                for j in range(n):
+                    v = codes[s, j] if t == 0 else tables[t - 1, codes[s, j]]
+                    img[t, j] = v
+                    key += np.uint64(v) * powers[j]
+                    after = max(after, min(first, v))  # (branch-free: the values are random)
+                    at = j if v > first else at
+                    first = max(first, v)
+                top[t], holder[t], second[t], packed[t] = first, at, after, key
+        r = robot[e]
+        c = new[e]
+        old[e] = codes[s, r]
+        best = np.uint64(0)
+        if not anonymity:
+            for t in range(images):
+                v = c if t == 0 else tables[t - 1, c]
+                key = packed[t] - np.uint64(img[t, r]) * powers[r] + np.uint64(v) * powers[r]
+                if t == 0 or key < best:
+                    best = key
+            succ[e] = best
+            continue
+        least = np.int64(-1)
+        for t in range(images):
+            v = c if t == 0 else tables[t - 1, c]
+            value[t] = v
+            rest = second[t] if holder[t] == r else top[t]
+            lead[t] = max(rest, v)
+            if t == 0 or lead[t] < least:
+                least = lead[t]
+        found = False
+        for t in range(images):
+            if ordered and lead[t] != least:
+                continue
+            for j in range(n):  # the successor's image, sorted by insertion
+                v = value[t] if j == r else img[t, j]
+                k = j
+                while k > 0 and buf[k - 1] > v:
+                    buf[k] = buf[k - 1]
+                    k -= 1
+                buf[k] = v
+            key = np.uint64(0)
+            for j in range(n):
+                key += np.uint64(buf[j]) * powers[j]
+            if not found or key < best:
+                best, found = key, True
+        succ[e] = best
+    return succ, old
+
+
+@njit(cache=True, nogil=True)
 def pair_keys(rows, rank, src, robot, old, new, stride, cells):  # pragma: no cover - compiled
     """The transitions that move a robot to another cell, and for each the key of its
     (configuration row, sorted position of the cell left, cell entered)."""
