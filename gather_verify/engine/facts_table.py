@@ -78,6 +78,8 @@ def _step_perm(g: int) -> tuple[int, ...]:
 
 STAY = 1 << DEGREE
 """The move mask's bit for staying (after one bit per step of ``STEPS``)."""
+CRASHED = -3
+"""The target id of a configuration where the algorithm's ``target`` crashed."""
 STEP_PERM = tuple(_step_perm(g) for g in geometry.ALL)
 BIT = {(0, 0): STAY} | {step: 1 << k for k, step in enumerate(STEPS)}
 """The mask bit of each destination, relative to the robot."""
@@ -96,6 +98,12 @@ class FactsTable:
     the move set of ``a(v)`` in ``a(C)`` is ``a`` of the move set of ``v`` in ``C``
     (SEMANTICS.md §3: the union over the frames), whatever the algorithm. Class
     and target are computed on the configuration itself."""
+
+    fast_facts = True
+    """Whether the facts that need no row are shared (the algorithm's ``target_by_meeting``
+    hook: one target asked for every row; ``in_U`` when no configuration over ``M`` is in U):
+    False is the reference path, every target asked of the algorithm row by row and every
+    row's class and target read as its own (what the tests compare the shared facts with)."""
 
     def __init__(self, enc: Encoding, n: int, algorithm: Algorithm, meeting: frozenset,
                  detection: str, frames: Sequence[int], group: Sequence[Any],
@@ -142,6 +150,12 @@ class FactsTable:
         # hook, go-to-target's): each node's move mask once, per cell of the box above
         hook = getattr(algorithm, "answers_by_node", None)
         self.by_node = hook is not None and bool(hook())
+        # an algorithm whose target reads nothing of a configuration but its meeting nodes
+        # (its ``target_by_meeting`` hook, go-to-target's): one target for every row, asked
+        # once (:meth:`_meeting_target`), and read by a property as a fact its row does not fix
+        hook = getattr(algorithm, "target_by_meeting", None)
+        self.by_meeting = self.fast_facts and hook is not None and bool(hook())
+        self.meeting_target: int | None = None
         self.node_mask = np.zeros(w * h, dtype=np.uint8)
         self.node_flag = np.full(w * h, -1, dtype=np.int8)  # -1: not asked yet; 1, 2: as flags
         self.box_meeting = np.array([(x0 + c // h, y0 + c % h) in meeting for c in range(w * h)],
@@ -223,6 +237,11 @@ class FactsTable:
         self.flags[rows] = self.oflags[orows]
         self.row_orbit[rows] = orows
         self.row_image[rows] = best
+        if self.by_meeting:  # a crash is the orbits' (flags); the target is then none
+            t = self.meeting_target
+            if t is None:
+                t = self._meeting_target(self.configuration(int(rows[0])))
+            self.target[rows] = max(t, -1)
         return rows
 
     def _orbit_facts(self, cells: np.ndarray) -> None:
@@ -264,7 +283,11 @@ class FactsTable:
         flag = self.node_flag[cells]
         undefined = flag[np.arange(k), np.argmax(flag != 0, axis=1)].astype(np.int8)
         forms: list[CanonicalForm | None] = [None] * k
-        if getattr(self.algorithm, "target", None) is not None or self.memo is not None:
+        if self.by_meeting:  # one target for all (its crash too)
+            robots = tuple((x0 + v // h, y0 + v % h) for v in cells[0].tolist())
+            if self._meeting_target(Configuration.trusted(robots, self.meeting)) == CRASHED:
+                undefined[:] = 2
+        elif getattr(self.algorithm, "target", None) is not None or self.memo is not None:
             asked = np.flatnonzero(undefined != 2)
             xs, ys = (x0 + cells[asked] // h).tolist(), (y0 + cells[asked] % h).tolist()
             for i, x, y in zip(asked.tolist(), xs, ys, strict=True):
@@ -319,7 +342,10 @@ class FactsTable:
             undefined = 1
         except AlgorithmCrash:
             undefined = 2
-        if undefined != 2:
+        if undefined != 2 and self.by_meeting:  # one target for all (its crash too)
+            if self._meeting_target(c) == CRASHED:
+                undefined = 2
+        elif undefined != 2:
             try:  # whether it crashes; the value is kept for target_id_of (c's canonical form
                 # is already computed here, which is most of what a target costs)
                 t = target_of(self.algorithm, c)
@@ -496,14 +522,32 @@ class FactsTable:
             t = self.target_of(self.configuration(row, form=True))
         except AlgorithmCrash:  # a crash stops the search at the orbit
             t = None
-        if t is None:
-            self.target[row] = -1
-        else:
-            if t not in self.target_ids:
-                self.target_ids[t] = len(self.target_nodes)
-                self.target_nodes.append(t)
-            self.target[row] = self.target_ids[t]
+        self.target[row] = self._target_id(t)
         return int(self.target[row])
+
+    def _target_id(self, t: Node | None) -> int:
+        """The id of target ``t`` in ``target_nodes`` (numbered as first met; -1: none)."""
+        if t is None:
+            return -1
+        if t not in self.target_ids:
+            self.target_ids[t] = len(self.target_nodes)
+            self.target_nodes.append(t)
+        return self.target_ids[t]
+
+    def _meeting_target(self, c: Configuration) -> int:
+        """The target id of every row when the target reads nothing but the meeting nodes
+        (``by_meeting``), asked of the algorithm once, in ``c`` (any configuration over
+        them): -1 none, :data:`CRASHED` when it crashed there (so it does everywhere)."""
+        if self.meeting_target is None:
+            try:
+                t = target_of(self.algorithm, c)
+            except Unhandled:
+                t = None
+            except AlgorithmCrash:
+                self.meeting_target = CRASHED
+                return CRASHED
+            self.meeting_target = self._target_id(t)
+        return self.meeting_target
 
 
 class ReadsIdle:
@@ -597,11 +641,13 @@ class RowFacts(ReadsIdle):
 
     @property
     def in_U(self) -> bool:
-        self.read_row = True
+        if not (self.table.never_in_u and self.table.fast_facts):  # else false on every row
+            self.read_row = True
         return self.table.in_u_of(self.row)
 
     @property
     def target(self) -> Node | None:
-        self.read_row = True
+        if not self.table.by_meeting:  # else every row's
+            self.read_row = True
         t = self.table.target_id_of(self.row)
         return None if t < 0 else self.table.target_nodes[t]
