@@ -87,7 +87,10 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float,
 
     c = Configuration([tuple(r) for r in robots], [tuple(m) for m in meeting], initial=True)
     if kind != "explore":  # the check's modules: a fixed cost too, not a per-state one
+        from gather_verify import theory
         from gather_verify.check import run_check
+
+        theory.get_fact("in_U")  # (the registered theory's package, loaded on first use)
     # a fixed cost (numba and the compiled code), not a per-state one
     kernels.warm(RUN_KERNELS["rounds" if kind == "explore" and scheduler != "async" else kind])
     before = rss_mb()

@@ -148,6 +148,13 @@ class GoToTarget:
         (the mutants)."""
         return type(self).decide is GoToTarget.decide and __name__ == _HOME
 
+    def target_by_meeting(self) -> bool:
+        """Whether :meth:`target` reads nothing of a configuration but its meeting nodes (the
+        optional hook of the bulk engine's facts table, which then asks it once for every
+        configuration). False for a subclass with its own ``target`` and in a copy of this
+        module (the mutants)."""
+        return type(self).target is GoToTarget.target and __name__ == _HOME
+
     @commutes_with_translations
     def target(self, configuration: Configuration) -> Node | None:
         if len(configuration.meeting_nodes) == 1:

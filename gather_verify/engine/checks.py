@@ -150,6 +150,7 @@ class ColumnChecks:
         self.values: dict[str, tuple[np.ndarray, dict[Any, int], list[Any]]] = {}
         self.pairs: dict[str, dict[tuple[int, int], bool]] = {}
         self.matrices: dict[str, np.ndarray] = {}  # per property: verdicts of value-id pairs
+        self._read_row = True
 
     def failures(self, props: list[Property], rows: np.ndarray, idle: np.ndarray,
                  gate: int = 0) -> np.ndarray:
@@ -285,14 +286,35 @@ class ColumnChecks:
         got = np.take(col, rows)
         unknown = got < 0
         if unknown.any():
-            for r in np.unique(rows[unknown]).tolist():
-                v = prop.value(self.facts(r))  # type: ignore[misc]
-                if v not in index:
-                    index[v] = len(values)
-                    values.append(v)
-                col[r] = index[v]
+            todo = np.unique(rows[unknown])
+            if self.shared is not None:  # once per code when the value reads nothing of its row
+                code = self.shared(todo)
+                _, first, group = np.unique(code, return_index=True, return_inverse=True)
+                free = np.zeros(len(first), dtype=bool)
+                for g, r in enumerate(todo[first].tolist()):
+                    col[r] = self._value_id(prop, r, index, values)
+                    free[g] = not self._read_row
+                spread = free[group]
+                col[todo[spread]] = col[todo[first][group[spread]]]
+                todo = todo[col[todo] < 0]
+            for r in todo.tolist():
+                col[r] = self._value_id(prop, r, index, values)
             got = np.take(col, rows)
         return got, values
+
+    def _value_id(self, prop: Property, row: int, index: dict[Any, int], values: list[Any]
+                  ) -> int:
+        """The id of ``prop.value`` of the facts of ``row`` (a new value numbered next);
+        ``_read_row`` tells whether it read a fact of its own row (with ``shared``)."""
+        f = self.facts(row)
+        if self.shared is not None:
+            f.read_row = False
+        v = prop.value(f)  # type: ignore[misc]
+        self._read_row = self.shared is None or f.read_row
+        if v not in index:
+            index[v] = len(values)
+            values.append(v)
+        return index[v]
 
     def _dense_failures(self, p: Property, vb: np.ndarray, va: np.ndarray, values: list[Any],
                         pairs: dict[tuple[int, int], bool]) -> np.ndarray:

@@ -78,6 +78,10 @@ def _step_perm(g: int) -> tuple[int, ...]:
 
 STAY = 1 << DEGREE
 """The move mask's bit for staying (after one bit per step of ``STEPS``)."""
+UNASKED = object()
+"""What :meth:`FactsTable._orbit_facts` gives for a representative whose target it did not ask."""
+CRASHED = -3
+"""The target id of a configuration where the algorithm's ``target`` crashed."""
 STEP_PERM = tuple(_step_perm(g) for g in geometry.ALL)
 BIT = {(0, 0): STAY} | {step: 1 << k for k, step in enumerate(STEPS)}
 """The mask bit of each destination, relative to the robot."""
@@ -96,6 +100,13 @@ class FactsTable:
     the move set of ``a(v)`` in ``a(C)`` is ``a`` of the move set of ``v`` in ``C``
     (SEMANTICS.md §3: the union over the frames), whatever the algorithm. Class
     and target are computed on the configuration itself."""
+
+    fast_facts = True
+    """Whether the facts that need no row are shared (the algorithm's ``target_by_meeting``
+    hook: one target asked for every row; ``in_U`` when no configuration over ``M`` is in U)
+    and a target asked for an orbit's representative is kept for the row it is: False is
+    the reference path, every target asked of the algorithm row by row and every row's class
+    and target read as its own (what the tests compare the shared facts with)."""
 
     def __init__(self, enc: Encoding, n: int, algorithm: Algorithm, meeting: frozenset,
                  detection: str, frames: Sequence[int], group: Sequence[Any],
@@ -134,6 +145,9 @@ class FactsTable:
             group = [Automorphism(geometry.IDENTITY, (0, 0))]
             x0, y0, w, h = enc.x0, enc.y0, enc.width, enc.height
         self.group = group
+        self.identity = next((k for k, a in enumerate(group)
+                              if a.g == geometry.IDENTITY and a.t == (0, 0)), -1)
+        self._asked: object = UNASKED  # the target _facts asked, if it did
         self.box = (x0, y0, h)
         self.images = np.array([[(a(enc.node(c))[0] - x0) * h + a(enc.node(c))[1] - y0
                                  for c in range(enc.cells)] for a in group], dtype=np.int64)
@@ -142,6 +156,12 @@ class FactsTable:
         # hook, go-to-target's): each node's move mask once, per cell of the box above
         hook = getattr(algorithm, "answers_by_node", None)
         self.by_node = hook is not None and bool(hook())
+        # an algorithm whose target reads nothing of a configuration but its meeting nodes
+        # (its ``target_by_meeting`` hook, go-to-target's): one target for every row, asked
+        # once (:meth:`_meeting_target`), and read by a property as a fact its row does not fix
+        hook = getattr(algorithm, "target_by_meeting", None)
+        self.by_meeting = self.fast_facts and hook is not None and bool(hook())
+        self.meeting_target: int | None = None
         self.node_mask = np.zeros(w * h, dtype=np.uint8)
         self.node_flag = np.full(w * h, -1, dtype=np.int8)  # -1: not asked yet; 1, 2: as flags
         self.box_meeting = np.array([(x0 + c // h, y0 + c % h) in meeting for c in range(w * h)],
@@ -215,38 +235,50 @@ class FactsTable:
                 r = orbit[k] = len(orbit)
                 new.append(i)
             orows[i] = r
-        if new:
-            self._orbit_facts(ocells[new])
+        asked = self._orbit_facts(ocells[new]) if new else []
+        # a new orbit's representative that is the row itself: its target, asked above, is the
+        # row's (each target asked once)
+        for i, t in zip(new, asked, strict=True):
+            if t is not UNASKED and best[i] == self.identity and self.fast_facts:
+                self.target[rows[i]] = self._target_id(t)
         # robot j of the configuration sits on the rank[j]-th cell of the representative
         rank = np.argmax(image[best, pick][:, :, None] == ocells[:, None, :], axis=2)
         self.masks[rows] = self.perm[best[:, None], self.omasks[orows[:, None], rank]]
         self.flags[rows] = self.oflags[orows]
         self.row_orbit[rows] = orows
         self.row_image[rows] = best
+        if self.by_meeting:  # a crash is the orbits' (flags); the target is then none
+            t = self.meeting_target
+            if t is None:
+                t = self._meeting_target(self.configuration(int(rows[0])))
+            self.target[rows] = max(t, -1)
         return rows
 
-    def _orbit_facts(self, cells: np.ndarray) -> None:
+    def _orbit_facts(self, cells: np.ndarray) -> list[object]:
         """The facts of new orbits (numbered next, in order), from their representatives'
-        sorted cells in the group-closed box."""
+        sorted cells in the group-closed box; and the target of each representative where
+        it was asked (a crash: None), else :data:`UNASKED`."""
         first = len(self.oforms)
         while first + len(cells) > len(self.omasks):
             self.omasks = np.concatenate([self.omasks, np.zeros_like(self.omasks)])
             self.oflags = np.concatenate([self.oflags, np.zeros_like(self.oflags)])
         if self.by_node:
-            self._node_orbit_facts(cells, first)
-            return
+            return self._node_orbit_facts(cells, first)
         x0, y0, h = self.box
         facts = self._facts if self.memo is None else self._remembered_facts
-        masks, flags = [], []
+        masks, flags, asked = [], [], []
         for xs, ys in zip((x0 + cells // h).tolist(), (y0 + cells % h).tolist(), strict=True):
+            self._asked = UNASKED
             m, f, form = facts(tuple(zip(xs, ys, strict=True)))
             masks.append(m)
             flags.append(f)
+            asked.append(self._asked)
             self.oforms.append(form)
         self.omasks[first:first + len(cells)] = masks
         self.oflags[first:first + len(cells)] = flags
+        return asked
 
-    def _node_orbit_facts(self, cells: np.ndarray, first: int) -> None:
+    def _node_orbit_facts(self, cells: np.ndarray, first: int) -> list[object]:
         """:meth:`_orbit_facts` for an algorithm that answers by node: the move set of each
         node asked once (:meth:`_node_facts`, in the first configuration met that holds it),
         the masks and flags in bulk, as :meth:`_facts` defines them (the first robot in order
@@ -264,7 +296,12 @@ class FactsTable:
         flag = self.node_flag[cells]
         undefined = flag[np.arange(k), np.argmax(flag != 0, axis=1)].astype(np.int8)
         forms: list[CanonicalForm | None] = [None] * k
-        if getattr(self.algorithm, "target", None) is not None or self.memo is not None:
+        targets: list[object] = [UNASKED] * k
+        if self.by_meeting:  # one target for all (its crash too)
+            robots = tuple((x0 + v // h, y0 + v % h) for v in cells[0].tolist())
+            if self._meeting_target(Configuration.trusted(robots, self.meeting)) == CRASHED:
+                undefined[:] = 2
+        elif getattr(self.algorithm, "target", None) is not None or self.memo is not None:
             asked = np.flatnonzero(undefined != 2)
             xs, ys = (x0 + cells[asked] // h).tolist(), (y0 + cells[asked] % h).tolist()
             for i, x, y in zip(asked.tolist(), xs, ys, strict=True):
@@ -276,7 +313,9 @@ class FactsTable:
                     t = None
                 except AlgorithmCrash:
                     undefined[i] = 2
+                    targets[i] = None
                     continue
+                targets[i] = t
                 if self.keep_targets:
                     self._remember_target((robots, self.meeting), t)
                 forms[i] = c.__dict__.get("canonical_form")
@@ -288,6 +327,7 @@ class FactsTable:
         self.oflags[first:first + k, 2] = defined & (cells[:, 0] == cells[:, -1]) & \
             self.box_meeting[cells[:, 0]]
         self.oforms.extend(forms)
+        return targets
 
     def _node_facts(self, cell: int, c: Configuration) -> None:
         """The move mask (or flag: 1 no rule, 2 crash) of the node of box cell ``cell``, asked
@@ -319,7 +359,10 @@ class FactsTable:
             undefined = 1
         except AlgorithmCrash:
             undefined = 2
-        if undefined != 2:
+        if undefined != 2 and self.by_meeting:  # one target for all (its crash too)
+            if self._meeting_target(c) == CRASHED:
+                undefined = 2
+        elif undefined != 2:
             try:  # whether it crashes; the value is kept for target_id_of (c's canonical form
                 # is already computed here, which is most of what a target costs)
                 t = target_of(self.algorithm, c)
@@ -327,6 +370,8 @@ class FactsTable:
                 t = None
             except AlgorithmCrash:
                 undefined = 2
+                t = None
+            self._asked = t
             if undefined != 2 and self.keep_targets:
                 self._remember_target((robots, self.meeting), t)
         form = c.__dict__.get("canonical_form")
@@ -496,14 +541,32 @@ class FactsTable:
             t = self.target_of(self.configuration(row, form=True))
         except AlgorithmCrash:  # a crash stops the search at the orbit
             t = None
-        if t is None:
-            self.target[row] = -1
-        else:
-            if t not in self.target_ids:
-                self.target_ids[t] = len(self.target_nodes)
-                self.target_nodes.append(t)
-            self.target[row] = self.target_ids[t]
+        self.target[row] = self._target_id(t)
         return int(self.target[row])
+
+    def _target_id(self, t: Node | None) -> int:
+        """The id of target ``t`` in ``target_nodes`` (numbered as first met; -1: none)."""
+        if t is None:
+            return -1
+        if t not in self.target_ids:
+            self.target_ids[t] = len(self.target_nodes)
+            self.target_nodes.append(t)
+        return self.target_ids[t]
+
+    def _meeting_target(self, c: Configuration) -> int:
+        """The target id of every row when the target reads nothing but the meeting nodes
+        (``by_meeting``), asked of the algorithm once, in ``c`` (any configuration over
+        them): -1 none, :data:`CRASHED` when it crashed there (so it does everywhere)."""
+        if self.meeting_target is None:
+            try:
+                t = target_of(self.algorithm, c)
+            except Unhandled:
+                t = None
+            except AlgorithmCrash:
+                self.meeting_target = CRASHED
+                return CRASHED
+            self.meeting_target = self._target_id(t)
+        return self.meeting_target
 
 
 class ReadsIdle:
@@ -597,11 +660,13 @@ class RowFacts(ReadsIdle):
 
     @property
     def in_U(self) -> bool:
-        self.read_row = True
+        if not (self.table.never_in_u and self.table.fast_facts):  # else false on every row
+            self.read_row = True
         return self.table.in_u_of(self.row)
 
     @property
     def target(self) -> Node | None:
-        self.read_row = True
+        if not self.table.by_meeting:  # else every row's
+            self.read_row = True
         t = self.table.target_id_of(self.row)
         return None if t < 0 else self.table.target_nodes[t]

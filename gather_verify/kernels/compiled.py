@@ -97,9 +97,15 @@ def find_or_add(table, keys, count, shift, q, ids, first):  # pragma: no cover -
 
 @njit(cache=True, nogil=True)
 def place(table, keys, lo, hi, shift):  # pragma: no cover - compiled
-    """Put the distinct keys ``keys[lo:hi]`` (absent from the table) in it, with their ids."""
+    """Put the distinct keys ``keys[lo:hi]`` (absent from the table) in it, with their ids;
+    the slot of the key ``_AHEAD`` places on requested ahead (prefetch), as in
+    :func:`find_or_add`."""
     mask = len(table) - 1
+    for i in range(lo, min(hi, lo + _AHEAD)):
+        prefetch(table, np.int64((keys[i] * _MUL) >> shift))
     for i in range(lo, hi):
+        if i + _AHEAD < hi:
+            prefetch(table, np.int64((keys[i + _AHEAD] * _MUL) >> shift))
         s = np.int64((keys[i] * _MUL) >> shift)
         while table[s] != 0:
             s = (s + 1) & mask
