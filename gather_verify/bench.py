@@ -63,8 +63,7 @@ RING_QUICK = ("ring:9", [0, 3, 5], 7)  # SEMANTICS.md §9's test data: 225 state
 SPIN_DIR = Path(__file__).resolve().parent.parent / "bench" / "spin"
 RUN_KERNELS = {
     "explore": ("find_or_add", "place", "decode_chunk", "async_successors", "successor_keys"),
-    "rounds": ("find_or_add", "place", "decode_chunk", "round_counts", "round_events",
-               "event_keys"),
+    "rounds": ("find_or_add", "place", "decode_chunk", "round_counts", "round_keys"),
     "verdict": ("find_or_add", "place", "decode_chunk", "async_successors",
                 "event_canonical_keys", "successor_rows", "longest_path"),
     "full": ("find_or_add", "place", "decode_chunk", "async_successors", "successor_keys",
