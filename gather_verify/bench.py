@@ -57,6 +57,11 @@ from pathlib import Path
 from typing import Any
 
 FULL = ([(0, 0), (5, 1), (1, 5), (6, 6), (3, 0)], [(3, 3)])
+SECOND = ([(0, 0), (6, 1), (1, 6), (7, 7), (9, 3)], [(4, 4)])
+"""A second 5-robot instance for the ``schedulers`` rows (SSYNC: 691,200 states)."""
+UNION = ("4x4", 3, "1-2")
+UNION_QUICK = ("3x3", 2, "1")
+"""The ``union`` rows' sweep: box, robots, meeting nodes (go-to-target, one worker)."""
 QUICK = ([(0, 0), (3, 1), (1, 4)], [(2, 2)])
 RING = ("ring:14", [5, 6, 7, 8, 9], 0)
 RING_QUICK = ("ring:9", [0, 3, 5], 7)  # SEMANTICS.md §9's test data: 225 states, 560 transitions
@@ -83,10 +88,12 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float,
     from gather_verify.engine.explore import Limits, rss_mb
     from gather_verify.engine.search import explore
     from gather_verify.model.configuration import Configuration
+    from gather_verify.theory import get_fact
 
     c = Configuration([tuple(r) for r in robots], [tuple(m) for m in meeting], initial=True)
     if kind != "explore":  # the check's modules: a fixed cost too, not a per-state one
         from gather_verify.check import run_check
+    get_fact("in_U")  # the theories' modules, which a search imports on first use: the same
     # a fixed cost (numba and the compiled code), not a per-state one
     kernels.warm(RUN_KERNELS["rounds" if kind == "explore" and scheduler != "async" else kind])
     before = rss_mb()
@@ -113,6 +120,46 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float,
                   max_states=30_000_000, max_seconds=max_seconds)
     return {"verdict": r["verdict"], "states": r["states"], "transitions": r["transitions"],
             "max_moves": r["max_moves"], "check_seconds": r["seconds"]}
+
+
+def _union_child(box: str, robots: int, meeting: str, max_seconds: float,
+                 scheduler: str = "async") -> dict[str, Any]:
+    """The sweep of ``go-to-target`` over ``box`` with ``robots`` robots and ``meeting`` nodes
+    under ``scheduler``, one worker, inside the child process: the union engine's graphs (one
+    per meeting-node shape; :func:`gather_verify.engine.union.explore_union`), their states,
+    their transitions (the events whose successor keys it computed) and the CPU seconds of
+    those searches alone (the sweep's enumeration, its per-configuration checks and its
+    database are left out)."""
+    import contextlib
+    import io
+
+    from gather_verify.cli import main
+    from gather_verify.engine import union
+
+    got = {"graphs": 0, "states": 0, "transitions": 0, "search_cpu_seconds": 0.0}
+    explore_union, successor_keys = union.explore_union, union.successor_keys
+
+    def timed(*args: Any, **kw: Any) -> Any:
+        cpu = time.process_time()
+        graph = explore_union(*args, **kw)
+        got["search_cpu_seconds"] += time.process_time() - cpu
+        if graph is not None:
+            got["graphs"] += 1
+            got["states"] += graph.states
+        return graph
+
+    def counted(keys: Any, codes: Any, src: Any, *rest: Any) -> Any:
+        got["transitions"] += len(src)
+        return successor_keys(keys, codes, src, *rest)
+
+    union.explore_union, union.successor_keys = timed, counted
+    with tempfile.TemporaryDirectory() as tmp, contextlib.redirect_stdout(io.StringIO()) as out:
+        main(["sweep", "--box", box, "--robots", str(robots), "--meeting", meeting,
+              "--algorithm", "go-to-target", "--scheduler", scheduler, "--workers", "1",
+              "--engine", "union", "--max-seconds-per-config", str(min(max_seconds, 86400)),
+              "--db", os.path.join(tmp, "s.sqlite"), "--json"])
+    return {"scheduler": scheduler, "configurations": json.loads(out.getvalue())["total"],
+            **got}
 
 
 def _ring_child(world: str, robots: list, meeting: int, max_seconds: float) -> dict[str, Any]:
@@ -227,9 +274,11 @@ def schedulers_bench(schedulers: list[str], quick: bool = False, max_seconds: fl
     each, in that order; each row gives transitions per second (whole process, per CPU second
     of the whole process, per CPU second of the search) and its ratios to ASYNC's."""
     robots, meeting = QUICK if quick else FULL
+    instances = [(robots[:k], meeting) for k in (
+        range(len(robots) - 1, len(robots) + 1) if quick else (3, 4, 5))]
     rows: list[dict[str, Any]] = []
-    for k in range(len(robots) - 1, len(robots) + 1) if quick else (3, 4, 5):
-        instance = (robots[:k], meeting)
+    for instance in instances if quick else [*instances, SECOND]:
+        k = len(instance[0])
         base: dict[str, float] = {}
         for name in ["async", *schedulers]:
             r = _run_child("explore", instance, max_seconds, name)
@@ -239,8 +288,32 @@ def schedulers_bench(schedulers: list[str], quick: bool = False, max_seconds: fl
                      "search_cpu": r["transitions"] / max(r["search_cpu_seconds"], 1e-9)}
             if name == "async":
                 base = rates
-            rows.append({"robots": k, **r, "transitions_per_second": rates,
+            rows.append({"robots": k, "instance": instance, **r,
+                         "transitions_per_second": rates,
                          "ratio_to_async": {key: rates[key] / base[key] for key in rates}})
+    return rows
+
+
+def union_bench(schedulers: list[str], quick: bool = False, max_seconds: float = 3600.0
+                ) -> list[dict[str, Any]]:
+    """The ``union`` rows: the sweep of :data:`UNION` (quick: :data:`UNION_QUICK`) under ASYNC
+    and each of ``schedulers`` that the union engine runs, one fresh process each: the union
+    graphs' transitions per CPU second of their searches, and the ratio to ASYNC's."""
+    from schedulers import get_scheduler
+
+    box, robots, meeting = UNION_QUICK if quick else UNION
+    rows: list[dict[str, Any]] = []
+    base = 0.0
+    for name in ["async", *schedulers]:
+        if not getattr(get_scheduler(name), "union", False):
+            continue
+        r = _run_child("union", (box, robots, meeting), max_seconds, name)
+        rate = r["transitions"] / max(r["search_cpu_seconds"], 1e-9)
+        base = rate if name == "async" else base
+        rows.append({"box": box, "robots": robots, "meeting": meeting, **r,
+                     "transitions_per_search_cpu": rate,
+                     "states_per_search_cpu": r["states"] / max(r["search_cpu_seconds"], 1e-9),
+                     "ratio_to_async": rate / base})
     return rows
 
 
@@ -250,7 +323,8 @@ def bench(quick: bool = False, max_seconds: float = 3600.0, run_spin: bool = Tru
     """Every measurement, as one JSON-able dict (see the module docstring); with
     ``schedulers_only``, only the ``schedulers`` rows."""
     if schedulers_only:
-        return {"schedulers": schedulers_bench(schedulers or [], quick, max_seconds)}
+        return {"schedulers": schedulers_bench(schedulers or [], quick, max_seconds),
+                "union": union_bench(schedulers or [], quick, max_seconds)}
     instance = QUICK if quick else FULL
     ours = _run_child("explore", instance, max_seconds)
     ours["states_per_second"] = ours["states"] / ours["seconds"]
@@ -278,6 +352,7 @@ def bench(quick: bool = False, max_seconds: float = 3600.0, run_spin: bool = Tru
         out["sweep"] = sweep_rate(sweep_limit)
     if schedulers:
         out["schedulers"] = schedulers_bench(schedulers, quick, max_seconds)
+        out["union"] = union_bench(schedulers, quick, max_seconds)
     return out
 
 
@@ -323,6 +398,7 @@ def format_bench(r: dict[str, Any], write: Any = print) -> None:
     """The side-by-side table."""
     if "explore" not in r:  # the schedulers' rows only
         format_schedulers(r["schedulers"], write)
+        format_union(r.get("union") or [], write)
         return
     i, e, v, s = r["instance"], r["explore"], r["verdict"], r["spin"]
     write(f"instance {i['name']}: {i['algorithm']}, {i['scheduler']}, robots "
@@ -367,6 +443,7 @@ def format_bench(r: dict[str, Any], write: Any = print) -> None:
               f"1 worker: {w['seconds']:.1f} s, {w['per_second']:.1f} configurations/s")
     if r.get("schedulers"):
         format_schedulers(r["schedulers"], write)
+        format_union(r.get("union") or [], write)
 
 
 def format_schedulers(rows: list[dict[str, Any]], write: Any = print) -> None:
@@ -376,7 +453,13 @@ def format_schedulers(rows: list[dict[str, Any]], write: Any = print) -> None:
     write(f"{'robots':>6} {'scheduler':>11} {'states':>11} {'transitions':>12} "
           f"{'whole s':>8} {'CPU s':>6} {'search CPU':>10} {'/s whole':>10} {'/CPU s':>10} "
           f"{'/search CPU s':>13} {'ratios: whole, CPU, search':>26}")
+    instance = None
     for x in rows:
+        if x.get("instance") != instance:
+            instance = x.get("instance")
+            if instance is not None:
+                write("robots " + " ".join(f"{a},{b}" for a, b in instance[0]) + ", meeting "
+                      + " ".join(f"{a},{b}" for a, b in instance[1]) + ":")
         t, q = x["transitions_per_second"], x["ratio_to_async"]
         cpu = x["cpu_user_seconds"] + x["cpu_system_seconds"]
         ratios = "" if x["scheduler"] == "async" else \
@@ -387,6 +470,23 @@ def format_schedulers(rows: list[dict[str, Any]], write: Any = print) -> None:
               f"{ratios:>26}")
         if not x["complete"]:
             write("  (stopped at --max-seconds: INCOMPLETE, rates are partial)")
+
+
+def format_union(rows: list[dict[str, Any]], write: Any = print) -> None:
+    """The ``union`` rows: the union graphs' transitions per CPU second of their searches."""
+    if not rows:
+        return
+    x = rows[0]
+    write(f"union engine, sweep of go-to-target, box {x['box']}, {x['robots']} robots, "
+          f"meeting {x['meeting']}, 1 worker: the union graphs' transitions per search CPU s")
+    write(f"{'scheduler':>11} {'configurations':>14} {'graphs':>6} {'states':>10} "
+          f"{'transitions':>12} {'search CPU':>10} {'states/CPU s':>12} {'/search CPU s':>13} "
+          f"{'ratio':>6} {'whole s':>8}")
+    for x in rows:
+        write(f"{x['scheduler']:>11} {x['configurations']:>14,} {x['graphs']:>6} "
+              f"{x['states']:>10,} {x['transitions']:>12,} {x['search_cpu_seconds']:>10.2f} "
+              f"{x['states_per_search_cpu']:>12,.0f} {x['transitions_per_search_cpu']:>13,.0f} "
+              f"{x['ratio_to_async']:>6.2f} {x['seconds']:>8.2f}")
 
 
 def format_ring(g: dict[str, Any], write: Any = print) -> None:
@@ -430,6 +530,8 @@ if __name__ == "__main__":  # the child of _run_child
     args = json.loads(sys.argv[2])
     if sys.argv[1] == "ring":
         result = _ring_child(*args, float(sys.argv[3]))
+    elif sys.argv[1] == "union":
+        result = _union_child(*args, float(sys.argv[3]), *sys.argv[4:5])
     else:  # an optional fourth argument: explore's scheduler
         result = _child(sys.argv[1], *args, float(sys.argv[3]), *sys.argv[4:5])
     print(json.dumps(result), flush=True)
