@@ -29,12 +29,25 @@ process and is timed *whole* (interpreter start, imports, search), as SPIN's
 - ``sweep`` (optional): configurations/s of the paper's algorithm, n=3, m=3,
   4 x 4, ASYNC, one worker, over the first ``sweep_limit`` configurations;
 - ``schedulers`` (optional): the ``explore`` measurement under other schedulers (SSYNC,
-  FSYNC: rounds) beside ASYNC, on the bench instance and its 3- and 4-robot prefixes
-  (``quick``: the quick instance and its 2-robot prefix), the runs interleaved: transitions
-  per second whole process, per CPU second of the whole process and per CPU second of the
-  search alone, and each one's ratio to ASYNC's.
+  FSYNC: rounds) beside ASYNC, on the bench instance, its 3- and 4-robot prefixes and a
+  second 5-robot instance (:data:`SECOND`; ``quick``: the quick instance and its 2-robot
+  prefix), the runs interleaved: transitions per second whole process, per CPU second of
+  the whole process and per CPU second of the search alone, and each one's ratio to ASYNC's.
+  The search's CPU seconds include its fixed costs (its setup, the facts of every
+  configuration it meets, a few milliseconds per chunk): FSYNC's spaces under go-to-target
+  are paths of 58 to 176 states, all fixed cost, so their rate says how small they are, not
+  how fast a round is;
+- ``union`` (with ``schedulers``): a rate for every scheduler over a space that is not one
+  instance's: the sweep of go-to-target over :data:`UNION` (the 4 x 4 box, 3 robots, 1 or 2
+  meeting nodes; ``quick``: :data:`UNION_QUICK`), one worker, under ASYNC and each of
+  ``schedulers`` the union engine runs, one fresh process each: the union graphs' states
+  and transitions (every event whose successor it stored) per CPU second of those searches
+  alone. Under FSYNC most of a union state's cost is its configuration's facts (each state
+  a configuration of its own, one or two transitions each), so its states per CPU second
+  are the figure to read there.
 
-Memory per state is measured from a baseline taken once the compiled kernels the run uses
+The theories' modules, which a search imports on first use, are imported before the timed
+search (a once-per-process cost, as the kernels are). Memory per state is measured from a baseline taken once the compiled kernels the run uses
 are loaded (:func:`gather_verify.kernels.warm` of :data:`RUN_KERNELS`: numba and the compiled
 code are a fixed cost, not a per-state one) and, for ``verdict`` and ``full``, the check's
 modules imported (the same). A child exits as soon as its JSON is written, without the
