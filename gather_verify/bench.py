@@ -42,9 +42,11 @@ process and is timed *whole* (interpreter start, imports, search), as SPIN's
   meeting nodes; ``quick``: :data:`UNION_QUICK`), one worker, under ASYNC and each of
   ``schedulers`` the union engine runs, one fresh process each: the union graphs' states
   and transitions (every event whose successor it stored) per CPU second of those searches
-  alone. Under FSYNC most of a union state's cost is its configuration's facts (each state
-  a configuration of its own, one or two transitions each), so its states per CPU second
-  are the figure to read there.
+  alone, and the sweep's configurations per CPU second of those searches (what a sweep
+  under that scheduler costs per configuration decided by the union engine). Under FSYNC
+  a union state is mostly a configuration of its own with one or two transitions, and its
+  cost is that configuration's facts: the configurations per CPU second are the figure to
+  read there.
 
 The theories' modules, which a search imports on first use, are imported before the timed
 search (a once-per-process cost, as the kernels are). Memory per state is measured from a baseline taken once the compiled kernels the run uses
@@ -316,17 +318,18 @@ def union_bench(schedulers: list[str], quick: bool = False, max_seconds: float =
 
     box, robots, meeting = UNION_QUICK if quick else UNION
     rows: list[dict[str, Any]] = []
-    base = 0.0
+    base: dict[str, float] = {}
     for name in ["async", *schedulers]:
         if not getattr(get_scheduler(name), "union", False):
             continue
         r = _run_child("union", (box, robots, meeting), max_seconds, name)
-        rate = r["transitions"] / max(r["search_cpu_seconds"], 1e-9)
-        base = rate if name == "async" else base
+        cpu = max(r["search_cpu_seconds"], 1e-9)
+        rates = {"transitions": r["transitions"] / cpu, "states": r["states"] / cpu,
+                 "configurations": r["configurations"] / cpu}
+        base = rates if name == "async" else base
         rows.append({"box": box, "robots": robots, "meeting": meeting, **r,
-                     "transitions_per_search_cpu": rate,
-                     "states_per_search_cpu": r["states"] / max(r["search_cpu_seconds"], 1e-9),
-                     "ratio_to_async": rate / base})
+                     "per_search_cpu": rates,
+                     "ratio_to_async": {key: rates[key] / base[key] for key in rates}})
     return rows
 
 
@@ -482,7 +485,8 @@ def format_schedulers(rows: list[dict[str, Any]], write: Any = print) -> None:
               f"{t['whole']:>10,.0f} {t['whole_cpu']:>10,.0f} {t['search_cpu']:>13,.0f} "
               f"{ratios:>26}")
         if not x["complete"]:
-            write("  (stopped at --max-seconds: INCOMPLETE, rates are partial)")
+            write("  (stopped at a limit, --max-seconds or the states': INCOMPLETE, rates are "
+                  "partial)")
 
 
 def format_union(rows: list[dict[str, Any]], write: Any = print) -> None:
@@ -491,15 +495,18 @@ def format_union(rows: list[dict[str, Any]], write: Any = print) -> None:
         return
     x = rows[0]
     write(f"union engine, sweep of go-to-target, box {x['box']}, {x['robots']} robots, "
-          f"meeting {x['meeting']}, 1 worker: the union graphs' transitions per search CPU s")
+          f"meeting {x['meeting']}, 1 worker: per CPU second of the union searches, "
+          "transitions, states and configurations")
     write(f"{'scheduler':>11} {'configurations':>14} {'graphs':>6} {'states':>10} "
-          f"{'transitions':>12} {'search CPU':>10} {'states/CPU s':>12} {'/search CPU s':>13} "
-          f"{'ratio':>6} {'whole s':>8}")
+          f"{'transitions':>12} {'search CPU':>10} {'transitions/s':>13} {'states/s':>10} "
+          f"{'configs/s':>10} {'ratios: transitions, states, configs':>37} {'whole s':>8}")
     for x in rows:
+        t, q = x["per_search_cpu"], x["ratio_to_async"]
+        ratios = f"{q['transitions']:.2f} {q['states']:.2f} {q['configurations']:.2f}"
         write(f"{x['scheduler']:>11} {x['configurations']:>14,} {x['graphs']:>6} "
               f"{x['states']:>10,} {x['transitions']:>12,} {x['search_cpu_seconds']:>10.2f} "
-              f"{x['states_per_search_cpu']:>12,.0f} {x['transitions_per_search_cpu']:>13,.0f} "
-              f"{x['ratio_to_async']:>6.2f} {x['seconds']:>8.2f}")
+              f"{t['transitions']:>13,.0f} {t['states']:>10,.0f} {t['configurations']:>10,.0f} "
+              f"{ratios:>37} {x['seconds']:>8.2f}")
 
 
 def format_ring(g: dict[str, Any], write: Any = print) -> None:

@@ -121,7 +121,8 @@ def test_bench_schedulers_rows_quick():
     assert [r["scheduler"] for r in union] == ["async", "ssync", "fsync"]
     assert len({r["configurations"] for r in union}) == 1
     assert all(r["graphs"] >= 1 and r["states"] > 0 and r["transitions"] > 0 for r in union)
-    assert union[0]["ratio_to_async"] == 1.0 and union[1]["ratio_to_async"] > 0
+    assert set(union[0]["ratio_to_async"].values()) == {1.0}
+    assert min(union[1]["ratio_to_async"].values()) > 0
     lines: list[str] = []
     bench.format_bench({"schedulers": rows, "union": union}, lines.append)
     text = "\n".join(lines)
