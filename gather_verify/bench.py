@@ -145,11 +145,8 @@ def _union_child(box: str, robots: int, meeting: str, max_seconds: float,
     their transitions (the events whose successor keys it computed) and the CPU seconds of
     those searches alone (the sweep's enumeration, its per-configuration checks and its
     database are left out)."""
-    import contextlib
-    import io
-
-    from gather_verify.cli import main
     from gather_verify.engine import union
+    from gather_verify.sweeps.sweep import SweepSettings, run_sweep
 
     got = {"graphs": 0, "states": 0, "transitions": 0, "search_cpu_seconds": 0.0}
     explore_union, successor_keys = union.explore_union, union.successor_keys
@@ -168,13 +165,16 @@ def _union_child(box: str, robots: int, meeting: str, max_seconds: float,
         return successor_keys(keys, codes, src, *rest)
 
     union.explore_union, union.successor_keys = timed, counted
-    with tempfile.TemporaryDirectory() as tmp, contextlib.redirect_stdout(io.StringIO()) as out:
-        main(["sweep", "--box", box, "--robots", str(robots), "--meeting", meeting,
-              "--algorithm", "go-to-target", "--scheduler", scheduler, "--workers", "1",
-              "--engine", "union", "--max-seconds-per-config", str(min(max_seconds, 86400)),
-              "--db", os.path.join(tmp, "s.sqlite"), "--json"])
-    return {"scheduler": scheduler, "configurations": json.loads(out.getvalue())["total"],
-            **got}
+    width, height = map(int, box.split("x"))
+    low, _, high = meeting.partition("-")
+    settings = [SweepSettings(robots=robots, meeting=m, box=(width, height),
+                              algorithm="go-to-target", scheduler=scheduler,
+                              max_seconds=max_seconds)
+                for m in range(int(low), int(high or low) + 1)]
+    with tempfile.TemporaryDirectory() as tmp:
+        summary = run_sweep(settings, os.path.join(tmp, "s.sqlite"), workers=1, progress=False,
+                            engine="union")
+    return {"scheduler": scheduler, "configurations": summary["total"], **got}
 
 
 def _ring_child(world: str, robots: list, meeting: int, max_seconds: float) -> dict[str, Any]:
