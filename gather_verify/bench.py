@@ -29,12 +29,27 @@ process and is timed *whole* (interpreter start, imports, search), as SPIN's
 - ``sweep`` (optional): configurations/s of the paper's algorithm, n=3, m=3,
   4 x 4, ASYNC, one worker, over the first ``sweep_limit`` configurations;
 - ``schedulers`` (optional): the ``explore`` measurement under other schedulers (SSYNC,
-  FSYNC: rounds) beside ASYNC, on the bench instance and its 3- and 4-robot prefixes
-  (``quick``: the quick instance and its 2-robot prefix), the runs interleaved: transitions
-  per second whole process, per CPU second of the whole process and per CPU second of the
-  search alone, and each one's ratio to ASYNC's.
+  FSYNC: rounds) beside ASYNC, on the bench instance, its 3- and 4-robot prefixes and a
+  second 5-robot instance (:data:`SECOND`; ``quick``: the quick instance and its 2-robot
+  prefix), the runs interleaved: transitions per second whole process, per CPU second of
+  the whole process and per CPU second of the search alone, and each one's ratio to ASYNC's.
+  The search's CPU seconds include its fixed costs (its setup, the facts of every
+  configuration it meets, a few milliseconds per chunk): FSYNC's spaces under go-to-target
+  are paths of 58 to 176 states, all fixed cost, so their rate says how small they are, not
+  how fast a round is;
+- ``union`` (with ``schedulers``): a rate for every scheduler over a space that is not one
+  instance's: the sweep of go-to-target over :data:`UNION` (the 4 x 4 box, 3 robots, 1 or 2
+  meeting nodes; ``quick``: :data:`UNION_QUICK`), one worker, under ASYNC and each of
+  ``schedulers`` the union engine runs, one fresh process each: the union graphs' states
+  and transitions (every event whose successor it stored) per CPU second of those searches
+  alone, and the sweep's configurations per CPU second of those searches (what a sweep
+  under that scheduler costs per configuration decided by the union engine). Under FSYNC
+  a union state is mostly a configuration of its own with one or two transitions, and its
+  cost is that configuration's facts: the configurations per CPU second are the figure to
+  read there.
 
-Memory per state is measured from a baseline taken once the compiled kernels the run uses
+The theories' modules, which a search imports on first use, are imported before the timed
+search (a once-per-process cost, as the kernels are). Memory per state is measured from a baseline taken once the compiled kernels the run uses
 are loaded (:func:`gather_verify.kernels.warm` of :data:`RUN_KERNELS`: numba and the compiled
 code are a fixed cost, not a per-state one) and, for ``verdict`` and ``full``, the check's
 modules imported (the same). A child exits as soon as its JSON is written, without the
@@ -57,14 +72,18 @@ from pathlib import Path
 from typing import Any
 
 FULL = ([(0, 0), (5, 1), (1, 5), (6, 6), (3, 0)], [(3, 3)])
+SECOND = ([(0, 0), (6, 1), (1, 6), (7, 7), (9, 3)], [(4, 4)])
+"""A second 5-robot instance for the ``schedulers`` rows (SSYNC: 691,200 states)."""
+UNION = ("4x4", 3, "1-2")
+UNION_QUICK = ("3x3", 2, "1")
+"""The ``union`` rows' sweep: box, robots, meeting nodes (go-to-target, one worker)."""
 QUICK = ([(0, 0), (3, 1), (1, 4)], [(2, 2)])
 RING = ("ring:14", [5, 6, 7, 8, 9], 0)
 RING_QUICK = ("ring:9", [0, 3, 5], 7)  # SEMANTICS.md §9's test data: 225 states, 560 transitions
 SPIN_DIR = Path(__file__).resolve().parent.parent / "bench" / "spin"
 RUN_KERNELS = {
     "explore": ("find_or_add", "place", "decode_chunk", "async_successors", "successor_keys"),
-    "rounds": ("find_or_add", "place", "decode_chunk", "round_counts", "round_events",
-               "event_keys"),
+    "rounds": ("find_or_add", "place", "decode_chunk", "round_counts", "round_keys"),
     "verdict": ("find_or_add", "place", "decode_chunk", "async_successors",
                 "successor_canonical_keys", "successor_rows", "longest_path"),
     "full": ("find_or_add", "place", "decode_chunk", "async_successors", "successor_keys",
@@ -84,13 +103,12 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float,
     from gather_verify.engine.explore import Limits, rss_mb
     from gather_verify.engine.search import explore
     from gather_verify.model.configuration import Configuration
+    from gather_verify.theory import get_fact
 
     c = Configuration([tuple(r) for r in robots], [tuple(m) for m in meeting], initial=True)
     if kind != "explore":  # the check's modules: a fixed cost too, not a per-state one
-        from gather_verify import theory
         from gather_verify.check import run_check
-
-        theory.get_fact("in_U")  # (the registered theory's package, loaded on first use)
+    get_fact("in_U")  # the theories' modules, which a search imports on first use: the same
     # a fixed cost (numba and the compiled code), not a per-state one
     kernels.warm(RUN_KERNELS["rounds" if kind == "explore" and scheduler != "async" else kind])
     before = rss_mb()
@@ -117,6 +135,46 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float,
                   max_states=30_000_000, max_seconds=max_seconds)
     return {"verdict": r["verdict"], "states": r["states"], "transitions": r["transitions"],
             "max_moves": r["max_moves"], "check_seconds": r["seconds"]}
+
+
+def _union_child(box: str, robots: int, meeting: str, max_seconds: float,
+                 scheduler: str = "async") -> dict[str, Any]:
+    """The sweep of ``go-to-target`` over ``box`` with ``robots`` robots and ``meeting`` nodes
+    under ``scheduler``, one worker, inside the child process: the union engine's graphs (one
+    per meeting-node shape; :func:`gather_verify.engine.union.explore_union`), their states,
+    their transitions (the events whose successor keys it computed) and the CPU seconds of
+    those searches alone (the sweep's enumeration, its per-configuration checks and its
+    database are left out)."""
+    from gather_verify.engine import union
+    from gather_verify.sweeps.sweep import SweepSettings, run_sweep
+
+    got = {"graphs": 0, "states": 0, "transitions": 0, "search_cpu_seconds": 0.0}
+    explore_union, successor_keys = union.explore_union, union.successor_keys
+
+    def timed(*args: Any, **kw: Any) -> Any:
+        cpu = time.process_time()
+        graph = explore_union(*args, **kw)
+        got["search_cpu_seconds"] += time.process_time() - cpu
+        if graph is not None:
+            got["graphs"] += 1
+            got["states"] += graph.states
+        return graph
+
+    def counted(keys: Any, codes: Any, src: Any, *rest: Any) -> Any:
+        got["transitions"] += len(src)
+        return successor_keys(keys, codes, src, *rest)
+
+    union.explore_union, union.successor_keys = timed, counted
+    width, height = map(int, box.split("x"))
+    low, _, high = meeting.partition("-")
+    settings = [SweepSettings(robots=robots, meeting=m, box=(width, height),
+                              algorithm="go-to-target", scheduler=scheduler,
+                              max_seconds=max_seconds)
+                for m in range(int(low), int(high or low) + 1)]
+    with tempfile.TemporaryDirectory() as tmp:
+        summary = run_sweep(settings, os.path.join(tmp, "s.sqlite"), workers=1, progress=False,
+                            engine="union")
+    return {"scheduler": scheduler, "configurations": summary["total"], **got}
 
 
 def _ring_child(world: str, robots: list, meeting: int, max_seconds: float) -> dict[str, Any]:
@@ -231,9 +289,11 @@ def schedulers_bench(schedulers: list[str], quick: bool = False, max_seconds: fl
     each, in that order; each row gives transitions per second (whole process, per CPU second
     of the whole process, per CPU second of the search) and its ratios to ASYNC's."""
     robots, meeting = QUICK if quick else FULL
+    instances = [(robots[:k], meeting) for k in (
+        range(len(robots) - 1, len(robots) + 1) if quick else (3, 4, 5))]
     rows: list[dict[str, Any]] = []
-    for k in range(len(robots) - 1, len(robots) + 1) if quick else (3, 4, 5):
-        instance = (robots[:k], meeting)
+    for instance in instances if quick else [*instances, SECOND]:
+        k = len(instance[0])
         base: dict[str, float] = {}
         for name in ["async", *schedulers]:
             r = _run_child("explore", instance, max_seconds, name)
@@ -243,8 +303,33 @@ def schedulers_bench(schedulers: list[str], quick: bool = False, max_seconds: fl
                      "search_cpu": r["transitions"] / max(r["search_cpu_seconds"], 1e-9)}
             if name == "async":
                 base = rates
-            rows.append({"robots": k, **r, "transitions_per_second": rates,
+            rows.append({"robots": k, "instance": instance, **r,
+                         "transitions_per_second": rates,
                          "ratio_to_async": {key: rates[key] / base[key] for key in rates}})
+    return rows
+
+
+def union_bench(schedulers: list[str], quick: bool = False, max_seconds: float = 3600.0
+                ) -> list[dict[str, Any]]:
+    """The ``union`` rows: the sweep of :data:`UNION` (quick: :data:`UNION_QUICK`) under ASYNC
+    and each of ``schedulers`` that the union engine runs, one fresh process each: the union
+    graphs' transitions per CPU second of their searches, and the ratio to ASYNC's."""
+    from schedulers import get_scheduler
+
+    box, robots, meeting = UNION_QUICK if quick else UNION
+    rows: list[dict[str, Any]] = []
+    base: dict[str, float] = {}
+    for name in ["async", *schedulers]:
+        if not getattr(get_scheduler(name), "union", False):
+            continue
+        r = _run_child("union", (box, robots, meeting), max_seconds, name)
+        cpu = max(r["search_cpu_seconds"], 1e-9)
+        rates = {"transitions": r["transitions"] / cpu, "states": r["states"] / cpu,
+                 "configurations": r["configurations"] / cpu}
+        base = rates if name == "async" else base
+        rows.append({"box": box, "robots": robots, "meeting": meeting, **r,
+                     "per_search_cpu": rates,
+                     "ratio_to_async": {key: rates[key] / base[key] for key in rates}})
     return rows
 
 
@@ -254,7 +339,8 @@ def bench(quick: bool = False, max_seconds: float = 3600.0, run_spin: bool = Tru
     """Every measurement, as one JSON-able dict (see the module docstring); with
     ``schedulers_only``, only the ``schedulers`` rows."""
     if schedulers_only:
-        return {"schedulers": schedulers_bench(schedulers or [], quick, max_seconds)}
+        return {"schedulers": schedulers_bench(schedulers or [], quick, max_seconds),
+                "union": union_bench(schedulers or [], quick, max_seconds)}
     instance = QUICK if quick else FULL
     ours = _run_child("explore", instance, max_seconds)
     ours["states_per_second"] = ours["states"] / ours["seconds"]
@@ -282,6 +368,7 @@ def bench(quick: bool = False, max_seconds: float = 3600.0, run_spin: bool = Tru
         out["sweep"] = sweep_rate(sweep_limit)
     if schedulers:
         out["schedulers"] = schedulers_bench(schedulers, quick, max_seconds)
+        out["union"] = union_bench(schedulers, quick, max_seconds)
     return out
 
 
@@ -327,6 +414,7 @@ def format_bench(r: dict[str, Any], write: Any = print) -> None:
     """The side-by-side table."""
     if "explore" not in r:  # the schedulers' rows only
         format_schedulers(r["schedulers"], write)
+        format_union(r.get("union") or [], write)
         return
     i, e, v, s = r["instance"], r["explore"], r["verdict"], r["spin"]
     write(f"instance {i['name']}: {i['algorithm']}, {i['scheduler']}, robots "
@@ -371,6 +459,7 @@ def format_bench(r: dict[str, Any], write: Any = print) -> None:
               f"1 worker: {w['seconds']:.1f} s, {w['per_second']:.1f} configurations/s")
     if r.get("schedulers"):
         format_schedulers(r["schedulers"], write)
+        format_union(r.get("union") or [], write)
 
 
 def format_schedulers(rows: list[dict[str, Any]], write: Any = print) -> None:
@@ -380,7 +469,13 @@ def format_schedulers(rows: list[dict[str, Any]], write: Any = print) -> None:
     write(f"{'robots':>6} {'scheduler':>11} {'states':>11} {'transitions':>12} "
           f"{'whole s':>8} {'CPU s':>6} {'search CPU':>10} {'/s whole':>10} {'/CPU s':>10} "
           f"{'/search CPU s':>13} {'ratios: whole, CPU, search':>26}")
+    instance = None
     for x in rows:
+        if x.get("instance") != instance:
+            instance = x.get("instance")
+            if instance is not None:
+                write("robots " + " ".join(f"{a},{b}" for a, b in instance[0]) + ", meeting "
+                      + " ".join(f"{a},{b}" for a, b in instance[1]) + ":")
         t, q = x["transitions_per_second"], x["ratio_to_async"]
         cpu = x["cpu_user_seconds"] + x["cpu_system_seconds"]
         ratios = "" if x["scheduler"] == "async" else \
@@ -390,7 +485,28 @@ def format_schedulers(rows: list[dict[str, Any]], write: Any = print) -> None:
               f"{t['whole']:>10,.0f} {t['whole_cpu']:>10,.0f} {t['search_cpu']:>13,.0f} "
               f"{ratios:>26}")
         if not x["complete"]:
-            write("  (stopped at --max-seconds: INCOMPLETE, rates are partial)")
+            write("  (stopped at a limit, --max-seconds or the states': INCOMPLETE, rates are "
+                  "partial)")
+
+
+def format_union(rows: list[dict[str, Any]], write: Any = print) -> None:
+    """The ``union`` rows: the union graphs' transitions per CPU second of their searches."""
+    if not rows:
+        return
+    x = rows[0]
+    write(f"union engine, sweep of go-to-target, box {x['box']}, {x['robots']} robots, "
+          f"meeting {x['meeting']}, 1 worker: per CPU second of the union searches, "
+          "transitions, states and configurations")
+    write(f"{'scheduler':>11} {'configurations':>14} {'graphs':>6} {'states':>10} "
+          f"{'transitions':>12} {'search CPU':>10} {'transitions/s':>13} {'states/s':>10} "
+          f"{'configs/s':>10} {'ratios: transitions, states, configs':>37} {'whole s':>8}")
+    for x in rows:
+        t, q = x["per_search_cpu"], x["ratio_to_async"]
+        ratios = f"{q['transitions']:.2f} {q['states']:.2f} {q['configurations']:.2f}"
+        write(f"{x['scheduler']:>11} {x['configurations']:>14,} {x['graphs']:>6} "
+              f"{x['states']:>10,} {x['transitions']:>12,} {x['search_cpu_seconds']:>10.2f} "
+              f"{t['transitions']:>13,.0f} {t['states']:>10,.0f} {t['configurations']:>10,.0f} "
+              f"{ratios:>37} {x['seconds']:>8.2f}")
 
 
 def format_ring(g: dict[str, Any], write: Any = print) -> None:
@@ -434,6 +550,8 @@ if __name__ == "__main__":  # the child of _run_child
     args = json.loads(sys.argv[2])
     if sys.argv[1] == "ring":
         result = _ring_child(*args, float(sys.argv[3]))
+    elif sys.argv[1] == "union":
+        result = _union_child(*args, float(sys.argv[3]), *sys.argv[4:5])
     else:  # an optional fourth argument: explore's scheduler
         result = _child(sys.argv[1], *args, float(sys.argv[3]), *sys.argv[4:5])
     print(json.dumps(result), flush=True)

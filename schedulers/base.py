@@ -114,7 +114,10 @@ class Scheduler(Protocol):
     paper's world may explore all the configurations of one meeting-node set in one shared
     state graph under it (:mod:`gather_verify.engine.union`): its events from a state depend
     on that state alone and its ``bulk_successors`` gives them all, in ``successors``' order.
-    A scheduler without ``union`` has each configuration of a sweep checked on its own."""
+    A scheduler without ``union`` has each configuration of a sweep checked on its own.
+    A third, ``rounds``: its ``bulk_successors`` is :func:`bulk_rounds` over its
+    ``activations``, so the engine may take its events' successor keys straight from
+    :func:`bulk_round_keys`."""
 
     name: str
     kinds: tuple[str, ...]
@@ -251,6 +254,44 @@ def bulk_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Success
     kernels.round_events(codes, masks, np.ascontiguousarray(neighbour, dtype=np.int64), subsets,
                          _NTH, _COUNT, s, source, weight, robot, code, event)
     return Successors(s, source, weight, robot, code, event)
+
+
+class RoundKeys(NamedTuple):
+    """What :func:`bulk_round_keys` gives: the events of the first ``states`` states of a
+    :class:`Frontier` as :func:`bulk_rounds` lists them (``source``, ``weight``), each with
+    its successor's key in place of its changes; when ``leaves``, the last event listed is
+    the first in which a robot leaves the region (its key is none) and the list stops there."""
+
+    states: int
+    source: np.ndarray  # (E,) int64
+    weight: np.ndarray  # (E,) int8 (int16 past 127 robots)
+    keys: np.ndarray  # (E,) uint64
+    leaves: bool
+
+
+def bulk_round_keys(frontier: Frontier, budget: int, subsets: np.ndarray, keys: np.ndarray,
+                    powers: np.ndarray) -> RoundKeys:
+    """:func:`bulk_rounds` with each event's successor key computed in the same compiled pass
+    instead of its changes: the key of state s is ``keys[s]``, the sum of its robots' codes
+    times ``powers`` (the engine's key without reductions), and a successor's is that sum
+    with the stepping robots recoded. For the engine's searches that read no change (no
+    transition property): writing and reading the changes cost more than the events.
+    Compiled kernels only (:func:`gather_verify.kernels.enabled`)."""
+    from gather_verify import kernels
+
+    codes, masks, neighbour = frontier
+    codes = np.ascontiguousarray(codes, dtype=np.int64)
+    masks = np.ascontiguousarray(masks, dtype=np.uint8)
+    subsets = np.ascontiguousarray(subsets, dtype=np.bool_)
+    s, e, _ = kernels.round_counts(masks, subsets, _COUNT, budget)
+    source = np.empty(e, dtype=np.int64)
+    weight = np.empty(e, dtype=np.int8 if codes.shape[1] <= 127 else np.int16)
+    succ = np.empty(e, dtype=np.uint64)
+    e, leaves = kernels.round_keys(np.ascontiguousarray(keys, dtype=np.uint64), codes, masks,
+                                   np.ascontiguousarray(neighbour, dtype=np.int64), subsets,
+                                   _NTH, _COUNT, s, np.ascontiguousarray(powers, dtype=np.uint64),
+                                   source, weight, succ)
+    return RoundKeys(s, source[:e], weight[:e], succ[:e], bool(leaves))
 
 
 def _widths(count: np.ndarray, subsets: np.ndarray, budget: int

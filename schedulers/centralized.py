@@ -36,6 +36,7 @@ class Centralized:
     name = "centralized"
     kinds = ("round",)
     union = True
+    rounds = True
 
     def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
         options = move_sets(configuration_of(state))

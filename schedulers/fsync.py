@@ -34,6 +34,7 @@ class FSync:
     name = "fsync"
     kinds = ("round",)
     union = True
+    rounds = True
 
     def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
         options = move_sets(configuration_of(state))

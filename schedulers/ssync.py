@@ -41,6 +41,7 @@ class SSync:
     name = "ssync"
     kinds = ("round",)
     union = True
+    rounds = True
 
     def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
         options = move_sets(configuration_of(state))

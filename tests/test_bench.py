@@ -105,7 +105,8 @@ def test_bench_schedulers_rows_quick():
     out = subprocess.run([sys.executable, "-m", "gather_verify", "bench", "--quick", "--scheduler",
                           "ssync", "--scheduler", "fsync", "--schedulers-only", "--json"],
                          capture_output=True, text=True, check=True).stdout
-    rows = json.loads(out)["schedulers"]
+    result = json.loads(out)
+    rows = result["schedulers"]
     got = {(r["robots"], r["scheduler"]): r for r in rows}
     assert [(r["robots"], r["scheduler"]) for r in rows] == [
         (2, "async"), (2, "ssync"), (2, "fsync"), (3, "async"), (3, "ssync"), (3, "fsync")]
@@ -115,10 +116,18 @@ def test_bench_schedulers_rows_quick():
     assert set(got[3, "async"]["ratio_to_async"].values()) == {1.0}
     # the text table of the same rows (the command prints it without --json; a second run of
     # the command would start four more measuring processes)
+    # the union rows: one sweep per scheduler of the quick box, its union graphs' counts
+    union = result["union"]
+    assert [r["scheduler"] for r in union] == ["async", "ssync", "fsync"]
+    assert len({r["configurations"] for r in union}) == 1
+    assert all(r["graphs"] >= 1 and r["states"] > 0 and r["transitions"] > 0 for r in union)
+    assert set(union[0]["ratio_to_async"].values()) == {1.0}
+    assert min(union[1]["ratio_to_async"].values()) > 0
     lines: list[str] = []
-    bench.format_bench({"schedulers": rows}, lines.append)
+    bench.format_bench({"schedulers": rows, "union": union}, lines.append)
     text = "\n".join(lines)
     assert "ratios: whole, CPU, search" in text and "ssync" in text and "fsync" in text
+    assert "robots 0,0 3,1, meeting 2,2:" in text and "union engine, sweep of" in text
 
 
 def test_bench_schedulers_only_needs_a_scheduler():

@@ -370,3 +370,31 @@ def test_rounds_of_many_robots(scheduler, frames):
         e = same(c, "go-to-target", scheduler, reduction=reduction, frames=frames,
                  limits=Limits(max_states=1500))
         assert e.stopped is not None or scheduler == "fsync"
+
+
+ROUNDS = [name for name in ALL if getattr(SCHEDULERS[name], "rounds", False)]
+
+
+@pytest.mark.parametrize("scheduler", ROUNDS)
+@pytest.mark.parametrize("properties", [[], ["crash", "final"], ["target-invariance", "final"]])
+def test_rounds_keyed_without_transition_properties(scheduler, properties, monkeypatch):
+    """With no transition property to feed, a round scheduler's events come with their keys
+    from one compiled pass (``bulk_round_keys``, no changes listed): the same search as the
+    reference's, through a region limit, a states limit and a small event budget (with
+    ``target-invariance``: once its counterexample is found, under ``broken-wander``)."""
+    from gather_verify.engine import fast_explore
+
+    c = Configuration([(0, 0), (0, 1), (3, 3)], [(1, 2), (2, 1)], initial=True)
+    for algorithm in ("nearest-centre", "paper", "broken-wander"):
+        for margin in (0, 1):
+            same(c, algorithm, scheduler, reduction=False, properties=properties,
+                 limits=Limits(margin=margin))
+    for max_states in (1, 40, 150):
+        same(YARD, "go-to-target", scheduler, reduction=False, properties=properties,
+             limits=Limits(max_states=max_states))
+    monkeypatch.setattr(fast_explore, "EVENTS", 7)
+    same(YARD, "go-to-target", scheduler, reduction=False, properties=properties)
+    for graph in (False, True):
+        e = explore_fast(YARD, "go-to-target", scheduler, reduction=False,
+                         properties=properties, graph=graph)
+        assert e.states == YARD_STATES[scheduler]

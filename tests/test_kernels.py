@@ -28,7 +28,7 @@ from gather_verify.scenario import load_scenario
 from gather_verify.scenario_tests import run_expectation
 from gather_verify.sweeps.census import enumerate_configurations
 from schedulers import Frontier, get_scheduler
-from schedulers.base import bulk_rounds, numpy_rounds
+from schedulers.base import bulk_round_keys, bulk_rounds, numpy_rounds
 
 pytestmark = pytest.mark.skipif(not kernels.available(), reason="numba is not installed")
 
@@ -294,6 +294,36 @@ def test_compiled_event_keys_are_the_numpy_keys(case, anonymity, images, rnd) ->
     assert none is None and ref_codes is not None
     assert fast.tolist() == ref.tolist() == canon.keys(ref_codes).tolist()
     assert old.tolist() == ref_old.tolist()
+
+
+@settings(max_examples=80, deadline=None)
+@given(round_frontiers())
+def test_compiled_round_keys_are_the_numpy_rounds_keyed(case) -> None:
+    """``bulk_round_keys`` (events and successor keys in one compiled pass) against the numpy
+    rounds and the numpy keys of their successors: the same states taken, then, up to the
+    first event that leaves the region (included, and the list stops there), the same
+    sources, weights and keys of the successors' codes packed."""
+    if not kernels.enabled():
+        pytest.skip("the compiled kernels are off (numba missing, or GATHER_VERIFY_KERNELS)")
+    frontier, budget, subsets = case
+    if isinstance(subsets, str):
+        subsets = get_scheduler(subsets).activations(frontier.codes.shape[1])
+    n, cells = frontier.codes.shape[1], len(frontier.neighbour)
+    canon = Canon(SimpleNamespace(anonymity=False, tables=[], base=5 * cells), n)  # type: ignore[arg-type]
+    keys = canon.keys(frontier.codes)
+    got = bulk_round_keys(frontier, budget, subsets, keys, canon.powers)
+    ref = numpy_rounds(frontier, budget, subsets)
+    assert got.states == ref.states
+    leaving = ref.event[ref.code < 0]
+    cut = int(leaving[0]) + 1 if len(leaving) else len(ref.source)
+    assert got.leaves == bool(len(leaving))
+    assert got.source.tolist() == ref.source[:cut].tolist()
+    assert got.weight.dtype == ref.weight.dtype
+    assert got.weight.tolist() == ref.weight[:cut].tolist()
+    succ = frontier.codes[ref.source]
+    succ[ref.event, ref.robot] = ref.code
+    inside = cut - got.leaves  # the leaving event's key is none
+    assert got.keys[:inside].tolist() == canon.keys(succ[:inside]).tolist()
 
 
 def random_graph(seed: int, states: int = 60, edges: int = 200) -> tuple[np.ndarray, np.ndarray]:

@@ -24,7 +24,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--scheduler", action="append", metavar="NAME", default=[],
                         choices=[name for name in plane_schedulers() if name != "async"],
                         help="also run the search under NAME (repeat for several) beside ASYNC "
-                             "on the bench instance and its 3- and 4-robot prefixes: "
+                             "on the bench instance, its 3- and 4-robot prefixes and a second "
+                             "5-robot instance, and the union engine's sweep of a 4x4 box: "
                              "transitions/s and the ratio to ASYNC's")
     parser.add_argument("--schedulers-only", action="store_true",
                         help="with --scheduler: only those rows (no SPIN, verdict or ring)")

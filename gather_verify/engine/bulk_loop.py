@@ -39,6 +39,7 @@ from gather_verify.engine.key_index import KeyIndex
 from gather_verify.kernels.codes import OUTSIDE
 from gather_verify.progress import PROGRESS
 from schedulers import Scheduler, State
+from schedulers.base import RoundKeys
 
 MAX_IDS = 2**31 - 2
 """States and edges an ``int32`` id holds."""
@@ -74,6 +75,13 @@ class Face:
                extra: np.ndarray | None) -> Any:
         """The scheduler's bulk events of the states (``extra``: its own state of each)."""
         raise NotImplementedError
+
+    def round_keys(self, keys: np.ndarray, codes: np.ndarray, rows: np.ndarray,
+                   rank: np.ndarray) -> RoundKeys | None:
+        """The events of the states with their successors' keys and no changes
+        (:func:`~schedulers.base.bulk_round_keys`), when the face can give them that way (a
+        round scheduler, no reduction, compiled kernels); else None (ask :meth:`events`)."""
+        return None
 
     def pair_after(self, rows: np.ndarray, cells: np.ndarray | None, rank: np.ndarray,
                    src: np.ndarray, robot: np.ndarray, old: np.ndarray,
@@ -183,8 +191,12 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
             limit_src = halt[0]
         assert not face.no_actions(rows[:limit_src]).any(), \
             "a state without actions needs a halting property"
-        bulk = face.events(codes[:limit_src], rows[:limit_src], rank[:limit_src],
-                           None if turns is None else turns.of_keys(K[:limit_src]))
+        # no transition property to feed: a round scheduler's events come with their keys
+        keyed = None if checks.open(checks.on_transition) else \
+            face.round_keys(K[:limit_src], codes[:limit_src], rows[:limit_src], rank[:limit_src])
+        bulk: Any = keyed if keyed is not None else \
+            face.events(codes[:limit_src], rows[:limit_src], rank[:limit_src],
+                        None if turns is None else turns.of_keys(K[:limit_src]))
         if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
             hi = sid + bulk.states
             K, codes, rows = K[:bulk.states], codes[:bulk.states], rows[:bulk.states]
@@ -195,13 +207,18 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
         elif chunk < face.chunk:
             chunk = min(face.chunk, 2 * chunk)
         src, weight = bulk.source, bulk.weight
-        robot, new, event = bulk.robot, bulk.code, bulk.event  # the changes
-        single = event is None  # one change per event (event c is change c)
-        outside = np.flatnonzero(new == OUTSIDE)  # a move out of the region: a limit
-        cut = len(src)
         stop: Stop | str | None
-        if len(outside):
-            cut = int(outside[0]) if single else int(event[outside[0]])
+        if keyed is not None:  # no changes listed; the last event may leave the region
+            single, leaving = False, keyed.leaves
+            cut = len(src) - leaving
+        else:
+            robot, new, event = bulk.robot, bulk.code, bulk.event  # the changes
+            single = event is None  # one change per event (event c is change c)
+            outside = np.flatnonzero(new == OUTSIDE)  # a move out of the region: a limit
+            leaving = len(outside) > 0
+            cut = len(src) if not leaving else int(outside[0]) if single else \
+                int(event[outside[0]])
+        if leaving:
             stop_src = int(src[cut])
             stop = Stop.REGION
             transitions += cut + 1
@@ -210,12 +227,15 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
             stop = halt[1].name if halt is not None and halt[0] == limit_src else None
             transitions += cut
         src, weight = src[:cut], weight[:cut]
-        changes = cut if single else int(np.searchsorted(event, cut))
-        robot, new = robot[:changes], new[:changes]
-        if not single:
-            event = event[:changes]
-        succ, old, succ_codes = successor_keys(K, codes, src, robot, new, event, face.canon,
-                                               face.reduced, face.compiled)
+        if keyed is not None:
+            succ, succ_codes = keyed.keys[:cut], None
+        else:
+            changes = cut if single else int(np.searchsorted(event, cut))
+            robot, new = robot[:changes], new[:changes]
+            if not single:
+                event = event[:changes]
+            succ, old, succ_codes = successor_keys(K, codes, src, robot, new, event, face.canon,
+                                                   face.reduced, face.compiled)
         if turns is not None:
             succ = with_turns(succ, bulk.extra, turns)
         # new states get the next ids in order of first occurrence: the BFS order
@@ -232,9 +252,9 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
                 transitions -= cut - keep
                 cut = keep
                 src, weight, succ, ids = src[:cut], weight[:cut], succ[:cut], ids[:cut]
-                if single:
+                if keyed is None and single:
                     robot, new, old = robot[:cut], new[:cut], old[:cut]
-                else:
+                elif keyed is None:
                     changes = int(np.searchsorted(event, cut))
                     robot, new, old, event = (a[:changes] for a in (robot, new, old, event))
                 if succ_codes is not None:
@@ -261,7 +281,9 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
             fresh_rows = face.rows_of(fresh) if paired is None else \
                 paired[first[:len(fresh_keys)]]
             columns.states(known, fresh_rows, face.idle(fresh), checks.on_discovery)
-        if single:
+        if keyed is not None:  # a round's step always changes its robot's code
+            changed = weight > 0
+        elif single:
             changed = new != old
         else:
             changed = np.zeros(cut, dtype=bool)

@@ -86,7 +86,7 @@ from gather_verify.model.geometry import SLOTS, Node
 from gather_verify.model.symmetry import meeting_automorphisms
 from gather_verify.model.view import Lights
 from schedulers import Scheduler, State, as_scheduler, initial_state
-from schedulers.base import oblivious_events
+from schedulers.base import RoundKeys, bulk_round_keys, oblivious_events
 
 CHUNK = 1 << 14
 """States expanded per bulk step: bounds the transient arrays (a few MB)."""
@@ -218,6 +218,11 @@ class Oblivious(Face):
         super().__init__(enc, n, sched, turns, facts, reduced)
         self.table = table
         self.pairs = PairRows(table) if self.compiled else None
+        # a round scheduler's events and their keys in one compiled pass (no reduction: the
+        # keys are the codes' plain sum; a stateful scheduler's keys carry its state too)
+        self.rounds = self.compiled and not reduced and turns is None and \
+            getattr(sched, "rounds", False)
+        self.subsets = sched.activations(n) if self.rounds else None
 
     def decode(self, keys: np.ndarray) -> tuple[np.ndarray, ...]:
         step = decode_chunk(keys, self.table, self.compiled)
@@ -234,6 +239,13 @@ class Oblivious(Face):
         if extra is None:
             return self.sched.bulk_successors(frontier, EVENTS)
         return cast(Any, self.sched).bulk_successors(frontier, EVENTS, extra=extra)
+
+    def round_keys(self, keys: np.ndarray, codes: np.ndarray, rows: np.ndarray,
+                   rank: np.ndarray) -> RoundKeys | None:
+        if not self.rounds:
+            return None
+        frontier = self.enc.frontier(codes, move_masks(self.table, rows, rank, flat=True))
+        return bulk_round_keys(frontier, EVENTS, self.subsets, keys, self.canon.powers)
 
     def pair_after(self, rows: np.ndarray, cells: np.ndarray | None, rank: np.ndarray,
                    src: np.ndarray, robot: np.ndarray, old: np.ndarray,

@@ -34,7 +34,7 @@ KERNELS = ("find_or_add", "place", "async_successors", "longest_path", "first_so
            "tarjan_csr",
            "decode_chunk", "successor_keys", "event_keys", "event_canonical_keys",
            "successor_canonical_keys",
-           "pair_keys", "successor_rows", "round_counts", "round_events")
+           "pair_keys", "successor_rows", "round_counts", "round_events", "round_keys")
 """The compiled functions (in :mod:`gather_verify.kernels.compiled`, imported on first use)."""
 _forced: bool | None = None
 _available: bool | None = None
@@ -128,15 +128,20 @@ def warm(names: Iterable[str] = KERNELS) -> None:
         if "successor_rows" in wanted:
             k.successor_rows(ck, rank, src, robot, old, new, neighbour,
                              np.full((1, 2, Z2_DEGREE), -1, dtype=np.int32))
-    if wanted & {"round_counts", "round_events"}:
+    if wanted & {"round_counts", "round_events", "round_keys"}:
         subsets = np.ones((1, 2), dtype=np.bool_)
         count = np.ones(32, dtype=np.int64)
+        nth = np.full((1 << Z2_SLOTS, Z2_SLOTS), Z2_DEGREE, dtype=np.int64)
         s, e, c = k.round_counts(masks, subsets, count, 16)
         if "round_events" in wanted:
-            k.round_events(codes, masks, neighbour, subsets, np.full((1 << Z2_SLOTS, Z2_SLOTS), Z2_DEGREE, dtype=np.int64),
+            k.round_events(codes, masks, neighbour, subsets, nth,
                            count, s, np.empty(e, dtype=np.int64), np.empty(e, dtype=np.int8),
                            np.empty(c, dtype=np.int64), np.empty(c, dtype=np.int64),
                            np.empty(c, dtype=np.int64))
+        if "round_keys" in wanted:
+            k.round_keys(k7, codes, masks, neighbour, subsets, nth, count, s, powers,
+                         np.empty(e, dtype=np.int64), np.empty(e, dtype=np.int8),
+                         np.empty(e, dtype=np.uint64))
     off = np.array([0, 1, 1], dtype=np.int32)
     tgt = np.array([1], dtype=np.int32)
     packed = np.array([1, 0, 0], dtype=np.uint8)  # target ids three bytes each

@@ -266,6 +266,84 @@ def round_events(codes, masks, neighbour, subsets, nth, count, states, src, weig
                     break
 
 
+@njit(cache=True, nogil=True)
+def round_keys(keys, codes, masks, neighbour, subsets, nth, count, states, powers, src, weight,
+               succ):  # pragma: no cover - compiled
+    """:func:`round_events` and :func:`event_keys` in one pass, without the changes: per event
+    of the first ``states`` states (in :func:`round_events`' order, into arrays sized by
+    :func:`round_counts`) its source, its weight and its successor's key (``keys[s]``, the
+    key of state s with digit ``powers``, with each stepping robot recoded). Stops after the
+    first event in which a robot leaves the region (a step to ``OUTSIDE``; that event's key
+    is not one). Returns how many events it wrote and whether the last one leaves."""
+    n = codes.shape[1]
+    k = subsets.shape[0]
+    delta = np.empty((n, SLOTS), dtype=np.uint64)  # robot i's key change for its j-th choice
+    step = np.empty((n, SLOTS), dtype=np.bool_)  # whether that choice is a step
+    leave = np.empty((n, SLOTS), dtype=np.bool_)  # whether that step leaves the region
+    active = np.empty(n, dtype=np.int64)
+    width = np.empty(n, dtype=np.int64)
+    digit = np.empty(n, dtype=np.int64)
+    e = 0
+    for s in range(states):
+        for i in range(n):
+            code = codes[s, i]
+            cell = code // SLOTS
+            m = masks[s, i]
+            for j in range(count[m]):
+                kk = nth[m, j]
+                step[i, j] = kk < DEGREE
+                leave[i, j] = False
+                delta[i, j] = 0
+                if kk < DEGREE:
+                    dest = neighbour[cell, kk]
+                    if dest >= 0:
+                        delta[i, j] = np.uint64(dest * SLOTS - code) * powers[i]  # wraps
+                    else:
+                        leave[i, j] = True
+        base = keys[s]
+        for a in range(k):
+            size = 0
+            empty = False
+            for i in range(n):
+                if subsets[a, i]:
+                    w = count[masks[s, i]]
+                    active[size] = i
+                    width[size] = w
+                    digit[size] = 0
+                    size += 1
+                    if w == 0:
+                        empty = True
+            if empty:
+                continue
+            while True:
+                moved = 0
+                key = base
+                leaves = False
+                for t in range(size):
+                    i = active[t]
+                    j = digit[t]
+                    if step[i, j]:
+                        moved += 1
+                        key += delta[i, j]
+                        leaves |= leave[i, j]
+                src[e] = s
+                weight[e] = moved
+                succ[e] = key
+                e += 1
+                if leaves:
+                    return e, True
+                t = size - 1  # the next choice: the last robot varies fastest
+                while t >= 0:
+                    digit[t] += 1
+                    if digit[t] < width[t]:
+                        break
+                    digit[t] = 0
+                    t -= 1
+                if t < 0:
+                    break
+    return e, False
+
+
 # -- graph analyses over the kept CSR graph ----------------------------------------------
 
 @njit(cache=True, nogil=True, inline="always")
