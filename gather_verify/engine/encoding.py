@@ -184,17 +184,21 @@ class Encoding:
         return tuple(out)
 
     @cached_property
+    def xy(self) -> np.ndarray:
+        """``xy[cell]``: the node of each cell as an ``(x, y)`` row (:meth:`node`, for all)."""
+        cells = np.arange(self.cells, dtype=np.int64)
+        return np.stack([self.x0 + cells // self.height, self.y0 + cells % self.height], axis=1)
+
+    @cached_property
     def neighbour(self) -> np.ndarray:
         """``neighbour[cell, k]``: the cell one ``STEPS[k]`` away, :data:`OUTSIDE
         <gather_verify.kernels.codes.OUTSIDE>` when that node lies outside the box (a limit
         of the search). Z² has every edge: the table never holds ``NO_EDGE``."""
         out = np.full((self.cells, len(STEPS)), OUTSIDE, dtype=np.int64)
-        for cell in range(self.cells):
-            v = self.node(cell)
-            for k, step in enumerate(STEPS):
-                w = geometry.add(v, step)
-                if self.inside(w):
-                    out[cell, k] = (w[0] - self.x0) * self.height + (w[1] - self.y0)
+        for k, (dx, dy) in enumerate(STEPS):
+            x, y = self.xy[:, 0] + dx - self.x0, self.xy[:, 1] + dy - self.y0
+            inside = (x >= 0) & (x < self.width) & (y >= 0) & (y < self.height)
+            out[inside, k] = x[inside] * self.height + y[inside]
         return out
 
     def frontier(self, codes: np.ndarray, masks: np.ndarray) -> Frontier:

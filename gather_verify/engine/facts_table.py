@@ -125,7 +125,7 @@ class FactsTable:
         self.never_in_u = never is not None and never(self.aut_m, meeting)
         assert not self.aut_m or self.aut_m[0].g == geometry.IDENTITY and self.aut_m[0].t == (0, 0)
         self.index = KeyIndex(bits=10, capacity=1024)  # configuration key -> row
-        self.nodes = [enc.node(c) for c in range(enc.cells)]  # the node of each cell
+        self.nodes = list(map(tuple, enc.xy.tolist()))  # the node of each cell
         self.compiled = self.index.compiled  # the bulk paths of the compiled engine
         self.cells = np.zeros((1024, n), dtype=np.int32)
         self.masks = np.zeros((1024, n), dtype=np.uint8)
@@ -149,8 +149,11 @@ class FactsTable:
                               if a.g == geometry.IDENTITY and a.t == (0, 0)), -1)
         self._asked: object = UNASKED  # the target _facts asked, if it did
         self.box = (x0, y0, h)
-        self.images = np.array([[(a(enc.node(c))[0] - x0) * h + a(enc.node(c))[1] - y0
-                                 for c in range(enc.cells)] for a in group], dtype=np.int64)
+        x, y = enc.xy[:, 0], enc.xy[:, 1]
+        self.images = np.array([(m[0] * x + m[1] * y + a.t[0] - x0) * h + m[2] * x + m[3] * y
+                                + a.t[1] - y0
+                                for a in group for m in [geometry.MATRICES[a.g]]],
+                               dtype=np.int64).reshape(len(group), enc.cells)
         self.cpowers = np.array([(w * h) ** j for j in range(n)], dtype=np.int64)
         # an algorithm whose answers depend on the robot's node only (its ``answers_by_node``
         # hook, go-to-target's): each node's move mask once, per cell of the box above
