@@ -287,7 +287,7 @@ def test_what_the_union_decides_is_asked_not_named(tmp_path: Path) -> None:
     assert summary["union_fallbacks"]["a cycle is reachable"] > 0
 
 
-ROUNDS = ("fsync", "ssync", "centralized")
+ROUNDS = ("fsync", "ssync", "centralized", "round-robin")
 """The round schedulers, whose events are whole Look-Compute-Move cycles (several robots at
 once, or one under centralized)."""
 
