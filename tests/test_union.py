@@ -238,21 +238,24 @@ def test_a_user_target_read_from_absolute_coordinates_is_its_own_searchs(tmp_pat
     assert counts["settled"] == 0
 
 
-def test_what_the_union_decides_is_asked_not_named(tmp_path: Path) -> None:
+def test_what_the_union_decides_is_asked_not_named(tmp_path: Path,
+                                                   monkeypatch: pytest.MonkeyPatch) -> None:
     """The scheduler, each property and the algorithm's target say what the union engine may
     decide; a scheduler or property of the user's that says nothing gets the safe default (its
     own checks), and every configuration left to its own check says why."""
     from gather_verify.properties import Property, register, unregister
     from gather_verify.properties.builtin import FINAL
     from gather_verify.sweeps.sweep import run_sweep
+    from schedulers import SCHEDULERS
 
     items = list(enumerate(enumerate_configurations(2, 1, 3, 3)))
+    monkeypatch.setitem(SCHEDULERS, "mine", type("Mine", (), {"name": "mine"}))
     s = SweepSettings(robots=2, meeting=1, box=(3, 3), algorithm="broken-stay",
-                      scheduler="round-robin", max_memory_mb=8000)
+                      scheduler="mine", max_memory_mb=8000)
     for members in class_tasks(items):
         d = decide_class(s, members, configuration_key)
         assert d.rows == [] and set(d.reasons.values()) == {
-            "the union engine does not run the round-robin scheduler"}
+            "the union engine does not run the mine scheduler"}
     with pytest.raises(InvalidInput, match="union must be one of"):
         Property("x", "state", holds=lambda f: True, union="cycles")
     silent = Property("my-final", "state", holds=FINAL.holds, message="deadlock", symmetric=True)

@@ -722,9 +722,9 @@ def _count(seed_ids: np.ndarray, which: np.ndarray, rounds: list[np.ndarray],
         group = which[lo:lo + 64]
         mark = np.zeros(S, dtype=np.uint64)
         bits = np.left_shift(np.uint64(1), np.arange(len(group), dtype=np.uint64))
-        sizes = seed_off[group + 1] - seed_off[group]
+        starts_per_seed = seed_off[group + 1] - seed_off[group]
         members = np.concatenate([np.arange(seed_off[j], seed_off[j + 1]) for j in group])
-        np.bitwise_or.at(mark, seed_ids[members], np.repeat(bits, sizes))
+        np.bitwise_or.at(mark, seed_ids[members], np.repeat(bits, starts_per_seed))
         for states in reversed(rounds):
             idx, starts = _gather(pred_off, states)
             if len(idx):
