@@ -71,6 +71,7 @@ from __future__ import annotations
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any, cast
 
 import numpy as np
 
@@ -404,7 +405,7 @@ def explore_union(
         masks = move_masks(table, rows, step.rank, flat=compiled)
         frontier = enc.frontier(codes[ok], masks[ok])
         got = (sched.bulk_successors(frontier, EVENTS) if turns is None else
-               sched.bulk_successors(frontier, EVENTS, extra=turns.of_keys(K[ok])))
+               cast(Any, sched).bulk_successors(frontier, EVENTS, extra=turns.of_keys(K[ok])))
         assert got.states or not len(ok), f"{scheduler}: bulk_successors took no state"
         if got.states < len(ok):  # more events than the budget (rounds): fewer states at a time
             chunk = int(ok[got.states])
@@ -511,7 +512,8 @@ def seed_starts(enc: Encoding, turns: Turns | None, robots: tuple[Node, ...],
     here = {r: k for k, r in enumerate(range(len(robots)) if labels is None else labels)}
     keys: list[int] = []
     starts: list[object] = []
-    for order, turn in turns.starts():  # type: ignore[misc]
+    for start in turns.starts():
+        order, turn = cast(tuple[tuple[int, ...], int], start)
         key = turns.key(enc, state, (tuple(here[r] for r in order), turn))
         if key not in keys:
             keys.append(key)
@@ -581,7 +583,7 @@ class Oriented:
         while at < len(ok):  # every event of these states, the budget's worth at a time
             part = frontier._replace(codes=frontier.codes[at:], masks=frontier.masks[at:])
             got = (self.sched.bulk_successors(part, EVENTS) if turn is None else
-                   self.sched.bulk_successors(part, EVENTS, extra=turn[ok[at:]]))
+                   cast(Any, self.sched).bulk_successors(part, EVENTS, extra=turn[ok[at:]]))
             _, (src, _, robot, new, event, after) = _inside(
                 ok[at + got.source], got.weight, got.robot, got.code, got.event, got.extra)
             parts.append((src, successor_codes(rep_h, src, robot, new, event), after))
