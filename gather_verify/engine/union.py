@@ -55,11 +55,15 @@ moved back, its representative there, that representative's events in the
 scheduler's order). The target must commute with those isometries on every
 reachable configuration, as with ``Aut(M0)``, or the seed falls back.
 
-The scheduler is any that says ``union = True`` (ASYNC, FSYNC, SSYNC, centralized:
-:func:`unsupported`);
+The scheduler is any that says ``union = True`` (ASYNC, FSYNC, SSYNC, centralized,
+round-robin: :func:`unsupported`);
 its ``bulk_successors`` makes the events, one change each (ASYNC's Looks and Moves) or a
 round that changes several robots at once (FSYNC, SSYNC), fewer states at a time when their
-events pass ``EVENTS``.
+events pass ``EVENTS``. A ``stateful`` scheduler (round-robin) keeps its state in the keys
+as the bulk engine does (:class:`~gather_verify.engine.encoding.Turns`); a seed is then
+every start its configuration's own search keeps (:func:`seed_starts`), counted together,
+and a stuck state's turn going round the robots (``RING``: ``n`` states that make no move
+and hold the same facts) is one state for the peeling and the counts (:func:`_rings`).
 
 Time and memory limits are not deterministic: a class whose union search takes
 longer than one configuration's time limit, or leaves the process over its memory
