@@ -372,3 +372,11 @@ def test_round_robin_rows_when_lifting_its_graph_may_pass_max_states() -> None:
     assert counts["settled"] > 0
     assert counts["its own check lifts its graph (a turn goes round stuck robots), and that "
                   "search may pass a limit"] > 0
+
+
+def test_round_robin_with_a_given_order_names_each_configurations_robots() -> None:
+    """``round-robin:order=1 0`` names the robots of each configuration; the union moves a
+    configuration onto its shape's ``M0`` and sorts the robots, so its seed starts with that
+    order in the moved robots' labels (``labels``): the rows are the configuration's own."""
+    counts = assert_rows_equal(2, 2, (3, 3), "go-to-target", scheduler="round-robin:order=1 0")
+    assert counts["settled"] > 0
