@@ -42,6 +42,9 @@ class RoundRobin:
     kinds = ("round",)
     stateful = True
     """It keeps state of its own (the order and whose turn it is)."""
+    union = True
+    """A sweep may share one state graph per meeting-node class (its state in the keys,
+    :func:`gather_verify.engine.union.explore_union`)."""
 
     def __init__(self, order: str | None = None):
         self.order = None if order is None else _parse_order(order)

@@ -103,7 +103,7 @@ def test_a_wrong_count_is_caught():
 
 
 @pytest.mark.parametrize("n,m,scheduler", [(2, 2, "async"), (3, 2, "async"), (2, 2, "fsync"),
-                                            (2, 2, "ssync")])
+                                            (2, 2, "ssync"), (3, 2, "round-robin")])
 def test_sweep_rows_equal_under_both_paths(monkeypatch, n, m, scheduler):
     s = SweepSettings(robots=n, meeting=m, box=(3, 3), algorithm="paper", scheduler=scheduler,
                       max_memory_mb=8000)

@@ -55,11 +55,15 @@ moved back, its representative there, that representative's events in the
 scheduler's order). The target must commute with those isometries on every
 reachable configuration, as with ``Aut(M0)``, or the seed falls back.
 
-The scheduler is any that says ``union = True`` (ASYNC, FSYNC, SSYNC, centralized:
-:func:`unsupported`);
+The scheduler is any that says ``union = True`` (ASYNC, FSYNC, SSYNC, centralized,
+round-robin: :func:`unsupported`);
 its ``bulk_successors`` makes the events, one change each (ASYNC's Looks and Moves) or a
 round that changes several robots at once (FSYNC, SSYNC), fewer states at a time when their
-events pass ``EVENTS``.
+events pass ``EVENTS``. A ``stateful`` scheduler (round-robin) keeps its state in the keys
+as the bulk engine does (:class:`~gather_verify.engine.encoding.Turns`); a seed is then
+every start its configuration's own search keeps (:func:`seed_starts`), counted together,
+and a stuck state's turn going round the robots (``RING``: ``n`` states that make no move
+and hold the same facts) is one state for the peeling and the counts (:func:`_rings`).
 
 Time and memory limits are not deterministic: a class whose union search takes
 longer than one configuration's time limit, or leaves the process over its memory
@@ -71,6 +75,7 @@ from __future__ import annotations
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any, cast
 
 import numpy as np
 
@@ -78,6 +83,7 @@ from gather_verify import kernels
 from gather_verify.algorithms import Algorithm, AlgorithmCrash, get_algorithm
 from gather_verify.algorithms.moves import frames_for
 from gather_verify.engine import union_kernels
+from gather_verify.engine.bulk_loop import with_turns
 from gather_verify.engine.bulk_step import (
     cell_ranks,
     decode_chunk,
@@ -87,7 +93,7 @@ from gather_verify.engine.bulk_step import (
 )
 from gather_verify.engine.canonical_keys import Canon, decode_keys
 from gather_verify.engine.columns import Growing
-from gather_verify.engine.encoding import STEP_INDEX
+from gather_verify.engine.encoding import STEP_INDEX, Turns
 from gather_verify.engine.explore import Encoding, symmetry_group
 from gather_verify.engine.facts_table import STEP_PERM, FactsTable, facts_memo
 from gather_verify.engine.key_index import KeyIndex
@@ -113,7 +119,10 @@ UNION_MAX_STATES = 6_000_000
 """Largest union graph explored; a larger class is checked configuration by configuration."""
 
 # per-state flags
-DEFINED, FINAL, UNGATHERABLE, TARGET, TAINT, CYCLE, ASYMMETRIC = (1 << k for k in range(7))
+DEFINED, FINAL, UNGATHERABLE, TARGET, TAINT, CYCLE, ASYMMETRIC, RING = (1 << k for k in range(8))
+"""``RING``: a stuck state (no robot can move, none has a pending move) of a stateful
+scheduler: its turn goes round the robots, each staying, a cycle of ``n`` states that make
+no move and hold the same facts (:func:`_rings`)."""
 FACT_BITS = {"deadlock": FINAL, "in-u": UNGATHERABLE, "target-change": TARGET}
 """The state flag of each fact of :data:`~gather_verify.properties.base.UNION_FACTS` that a
 state or a transition has (the others, ``longest-path`` and ``acyclic``, are the graph's)."""
@@ -169,6 +178,14 @@ def normalise(c: Configuration, iso: tuple[int, Node]) -> Configuration:
                                                    for v in c.meeting_nodes))
 
 
+def labels(c: Configuration, iso: tuple[int, Node]) -> tuple[int, ...]:
+    """Robot ``k`` of :func:`normalise` ``(c, iso)`` is robot ``labels[k]`` of ``c`` (the
+    moved robots are sorted: a stateful scheduler's starts name ``c``'s robots)."""
+    g, t = iso
+    return tuple(sorted(range(c.n), key=lambda i: geometry.add(geometry.apply(g, c.robots[i]),
+                                                               t)))
+
+
 def meeting_classes(items: Sequence[tuple[int, Configuration]]
                     ) -> list[list[tuple[int, Configuration]]]:
     """``items`` grouped by meeting-node set up to translation, in order of first occurrence."""
@@ -182,7 +199,7 @@ def meeting_classes(items: Sequence[tuple[int, Configuration]]
 class UnionGraph:
     """The union of the reachable states of a class's seeds, as the decisions need it."""
 
-    seeds: np.ndarray  # state id of each seed
+    seeds: np.ndarray  # the state ids of the seeds' initial states, seed by seed (seed_off)
     states: int
     reach: np.ndarray  # per state: the flags reachable from it (CYCLE: not peeled)
     best: np.ndarray  # per state: the largest total moves from it (acyclic part)
@@ -199,20 +216,44 @@ class UnionGraph:
     index: KeyIndex  # state key -> id
     scheduler: str
     frames: str = "all"
+    seed_off: np.ndarray | None = None  # seed j: seeds[seed_off[j]:seed_off[j + 1]] (None: one)
+    starts: list[list[object]] | None = None  # per seed: the scheduler's start of each state
+    turns: Turns | None = None  # a stateful scheduler's state in the keys
     orders: dict = field(default_factory=dict)  # linear part -> its Oriented successors
     _offsets: list[int] | None = None  # offsets as a list (read state by state)
 
+    def initial(self, seed: int) -> np.ndarray:
+        """The union ids of seed ``seed``'s initial states (one; with a stateful scheduler,
+        one per start its own search keeps, in that search's order)."""
+        if self.seed_off is None:
+            return self.seeds[seed:seed + 1]
+        return self.seeds[self.seed_off[seed]:self.seed_off[seed + 1]]
+
+    def reach_of(self, seed: int) -> int:
+        """The flags reachable from seed ``seed``."""
+        return int(np.bitwise_or.reduce(self.reach[self.initial(seed)]))
+
+    def best_of(self, seed: int) -> int:
+        """The largest total moves from seed ``seed`` (acyclic part)."""
+        return int(self.best[self.initial(seed)].max())
+
+    def box_of(self, seed: int) -> np.ndarray:
+        """The box of every node reachable from seed ``seed``."""
+        b = self.box[self.initial(seed)]
+        return np.array([b[:, 0].min(), b[:, 1].min(), b[:, 2].max(), b[:, 3].max()])
+
     def witness_path(self, seed: int, bit: int, fresh: bool,
                      order: Oriented | None = None) -> list[int] | None:
-        """The union ids from seed ``seed`` (an index of ``seeds``) to the first state with
-        flag ``bit`` in its own search's BFS order (``fresh``: the seed itself excluded),
-        along BFS parents: the witness and the path that search reports. ``order``: the
+        """The union ids from seed ``seed``'s initial states to the first state with
+        flag ``bit`` in its own search's BFS order (``fresh``: the initial states excluded),
+        along BFS parents: the witness and the path that search reports (it starts at one
+        of :meth:`initial`). ``order``: the
         successors as :meth:`oriented` gives them, for a seed moved here by a rotation or
         reflection (default: the union's own order, that of a seed moved by a translation)."""
-        start = int(self.seeds[seed])
-        parent = {start: -1}
-        found = start if not fresh and self.flags[start] & bit else -1
-        queue, head = [start], 0
+        starts = self.initial(seed).tolist()
+        parent = dict.fromkeys(starts, -1)
+        found = next((s for s in starts if not fresh and self.flags[s] & bit), -1)
+        queue, head = list(starts), 0
         if self._offsets is None:
             self._offsets = self.offsets.tolist()
         off, tgt, flags = self._offsets, self.targets, self.flags
@@ -315,6 +356,7 @@ def explore_union(
     count_seeds: np.ndarray | None = None,
     max_states: int = UNION_MAX_STATES,
     orientations: Sequence[Automorphism] = (),
+    labels: Sequence[tuple[int, ...]] | None = None,
 ) -> UnionGraph | None:
     """Explore the union of the states reachable from every seed (robots, all with
     ``meeting``) in ``box`` (closed under ``Aut(meeting)``), with both reductions; the
@@ -322,15 +364,23 @@ def explore_union(
     states and transitions are counted. ``orientations``: the maps from ``meeting`` back
     to the seeds' own meeting nodes, for those moved here by a rotation or reflection (the
     target must commute with them too). ``properties``: the names of the properties checked,
-    whose facts (their ``union``) the graph records. None when the union passes ``max_states``."""
+    whose facts (their ``union``) the graph records. None when the union passes ``max_states``.
+
+    A ``stateful`` scheduler (round-robin) keeps its state in the keys as the bulk engine
+    does (:class:`~gather_verify.engine.encoding.Turns`: the robots keep their places, its
+    ``relabel`` is the anonymity); a seed is then the set of its starts (:func:`seed_starts`;
+    ``labels``: per seed, the index each robot has in the configuration it stands for, default
+    its own, so that the starts come in that configuration's order)."""
     started = time.perf_counter()
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
     sched = get_scheduler(scheduler)
     frame_elements = frames_for(frames)
     n = len(seeds[0])
     group = symmetry_group(Configuration.trusted(seeds[0], meeting), frames)
-    enc = Encoding(box, group, True)
-    if enc.base ** n >= 2**63:
+    stateful = getattr(sched, "stateful", False)
+    enc = Encoding(box, group, not stateful)
+    turns = Turns(sched, n, True, enc.base) if stateful else None
+    if (enc.base ** n >= 2**63) if turns is None else not turns.fits():
         return None
     wanted = {property_fact(p) for p in properties}
     table = FactsTable(enc, n, algo, meeting, detection, frame_elements, group,
@@ -339,7 +389,11 @@ def explore_union(
     canon = Canon(enc, n)
     compiled = kernels.enabled()
     index = KeyIndex()
-    seed_ids, _ = index.find_or_add(np.array([enc.key(initial_state(r)) for r in seeds],
+    starts = [seed_starts(enc, turns, r, None if labels is None else labels[j])
+              for j, r in enumerate(seeds)]
+    seed_off = np.zeros(len(seeds) + 1, dtype=np.int64)
+    np.cumsum([len(k) for k, _ in starts], out=seed_off[1:])
+    seed_ids, _ = index.find_or_add(np.array([key for k, _ in starts for key in k],
                                              dtype=np.uint64))
     e_src, e_tgt, e_w = Growing(np.int32), Growing(np.int32), Growing(np.int8)
     flags, events = Growing(np.uint8), Growing(np.int32)
@@ -353,7 +407,9 @@ def explore_union(
         f[table.flags[rows, 0] != 0] |= DEFINED  # no rule, or a crash: the per-config check's
         ok = np.flatnonzero(table.flags[rows, 0] == 0)
         masks = move_masks(table, rows, step.rank, flat=compiled)
-        got = sched.bulk_successors(enc.frontier(codes[ok], masks[ok]), EVENTS)
+        frontier = enc.frontier(codes[ok], masks[ok])
+        got = (sched.bulk_successors(frontier, EVENTS) if turns is None else
+               cast(Any, sched).bulk_successors(frontier, EVENTS, extra=turns.of_keys(K[ok])))
         assert got.states or not len(ok), f"{scheduler}: bulk_successors took no state"
         if got.states < len(ok):  # more events than the budget (rounds): fewer states at a time
             chunk = int(ok[got.states])
@@ -362,16 +418,21 @@ def explore_union(
         src, robot, new, weight, event = got.source, got.robot, got.code, got.weight, got.event
         src = ok[src]
         events.extend(np.bincount(src, minlength=len(K)).astype(np.int32))
-        gone, (src, weight, robot, new, event) = _inside(src, weight, robot, new, event)
+        gone, (src, weight, robot, new, event, after) = _inside(src, weight, robot, new, event,
+                                                                got.extra)
         f[gone] |= TAINT
         succ, old, succ_codes = successor_keys(K, codes, src, robot, new, event, canon, True,
                                                compiled)
+        if turns is not None:  # the scheduler's state after each event, above the robots
+            succ = with_turns(succ, after, turns)
         ids, _ = index.find_or_add(succ)
         if index.count > max_states:
             return None
         if "deadlock" in wanted:
             dead = (table.flags[rows, 1] == 1) & (table.flags[rows, 2] == 0) & step.idle
             f[dead] |= FINAL
+        if turns is not None and n > 1:  # (one robot: its turn is a self-loop)
+            f[(table.flags[rows, 1] == 1) & step.idle] |= RING
         if "in-u" in wanted:
             f[table.need_in_u(rows)] |= UNGATHERABLE
         if "target-change" in wanted and len(src):
@@ -402,24 +463,66 @@ def explore_union(
         sid = hi
     S = index.count
     own_box = _closed_boxes(np.concatenate(boxes_rows).astype(np.int64), group)
-    graph = _analyse(S, e_src.array().astype(np.int64), e_tgt.array().astype(np.int64),
-                     e_w.array().astype(np.int64), flags.array(), own_box)
+    src_all, tgt_all = e_src.array().astype(np.int64), e_tgt.array().astype(np.int64)
+    w_all, events_all = e_w.array().astype(np.int64), events.array().astype(np.int64)
+    ring_of, sizes = _rings(S, src_all, tgt_all, flags.array())
+    if ring_of is None:
+        graph = _analyse(S, src_all, tgt_all, w_all, flags.array(), own_box)
+    else:  # each ring one state, for the pass and the counts; the witness paths walk them
+        keep = (flags.array()[src_all] & RING) == 0
+        graph = _analyse(S, src_all[keep], ring_of[tgt_all[keep]], w_all[keep], flags.array(),
+                         own_box)
+        events_all = np.bincount(ring_of, weights=events_all, minlength=S).astype(np.int64)
     reach, best, reach_box, rounds, pred_off, pred_src, out_off, out_tgt = graph
+    count_ids = seed_ids
+    if ring_of is not None:
+        count_ids = ring_of[seed_ids]
+        for column in (reach, best, reach_box):  # a ring's members: its facts
+            column[:] = column[ring_of]
+        out_off = np.zeros(S + 1, dtype=np.int64)  # the whole graph, for the witness paths
+        np.cumsum(np.bincount(src_all, minlength=S), out=out_off[1:])
+        out_tgt = tgt_all
     counts = np.full(len(seeds), -1, dtype=np.int64)
     transitions = np.full(len(seeds), -1, dtype=np.int64)
     wanted_seeds = np.ones(len(seeds), dtype=bool) if count_seeds is None else count_seeds
-    wanted_seeds = wanted_seeds & ((reach[seed_ids] & CYCLE) == 0)
+    seed_reach = np.bitwise_or.reduceat(reach[seed_ids], seed_off[:-1])
+    wanted_seeds = wanted_seeds & ((seed_reach & CYCLE) == 0)
     which = np.flatnonzero(wanted_seeds)
     if kernels.enabled() and len(which):
         topo = np.concatenate([r[::-1] for r in rounds[::-1]]) if rounds else np.zeros(0, np.int64)
+        members = np.concatenate([np.arange(seed_off[j], seed_off[j + 1]) for j in which])
         counts[which], transitions[which] = union_kernels.seed_counts(
-            topo, pred_off, pred_src, out_off, out_tgt, seed_ids[which], events.array())
+            topo, pred_off, pred_src, graph[6], graph[7], count_ids[members], events_all,
+            np.concatenate([[0], np.cumsum(seed_off[which + 1] - seed_off[which])]), sizes)
     else:
-        _count(seed_ids, which, rounds, pred_off, pred_src, events.array().astype(np.int64),
-               S, counts, transitions)
+        _count(count_ids, which, rounds, pred_off, pred_src, events_all, S, counts,
+               transitions, seed_off, sizes)
     return UnionGraph(seed_ids, S, reach, best, reach_box, counts, transitions,
                       time.perf_counter() - started, enc, index.keys[:S].copy(), flags.array(),
-                      out_off, out_tgt, table, index, scheduler, frames)
+                      out_off, out_tgt, table, index, scheduler, frames, seed_off,
+                      [st for _, st in starts], turns)
+
+
+def seed_starts(enc: Encoding, turns: Turns | None, robots: tuple[Node, ...],
+                labels: tuple[int, ...] | None = None) -> tuple[list[int], list[object]]:
+    """The stored keys of a seed's initial states and the scheduler's start of each, as its
+    own search keeps them (:func:`~gather_verify.engine.explore.seed_states`, the repeats
+    the reductions merge left out): one state, or with a ``stateful`` scheduler one per
+    start, in the order of the starts of the configuration the seed stands for. ``labels``:
+    robot ``k`` here is robot ``labels[k]`` there (its starts name those robots)."""
+    state = initial_state(robots)
+    if turns is None:
+        return [enc.key(state)], [None]
+    here = {r: k for k, r in enumerate(range(len(robots)) if labels is None else labels)}
+    keys: list[int] = []
+    starts: list[object] = []
+    for start in turns.starts():
+        order, turn = cast(tuple[tuple[int, ...], int], start)
+        key = turns.key(enc, state, (tuple(here[r] for r in order), turn))
+        if key not in keys:
+            keys.append(key)
+            starts.append((order, turn))
+    return keys, starts
 
 
 class Oriented:
@@ -438,7 +541,8 @@ class Oriented:
         corners = [(enc.x0, enc.y0), (enc.x0 + enc.width - 1, enc.y0 + enc.height - 1)]
         meeting_h = frozenset(map(h, table.meeting))
         enc_h = Encoding(geometry.bounding_box(list(map(h, corners))),
-                         symmetry_group(Configuration.trusted((), meeting_h), u.frames), True)
+                         symmetry_group(Configuration.trusted((), meeting_h), u.frames),
+                         u.turns is None)
         # codes (cell * SLOTS + pending step) mapped both ways
         dirs = [0] + [STEP_INDEX[geometry.apply(h.g, step)] for step in STEPS]
         self.forward = np.empty(enc.cells * SLOTS, dtype=np.int64)
@@ -469,8 +573,10 @@ class Oriented:
     def _compute(self, states: np.ndarray) -> None:
         u, table, n = self.u, self.u.table, self.n
         back = self.back
+        keys = u.keys[states]
         rep_h = decode_keys(self.canon_h.keys(self.forward[decode_keys(
-            u.keys[states], u.encoding.base, n)]), self.enc_h.base, n)
+            keys, u.encoding.base, n)]), self.enc_h.base, n)
+        turn = None if u.turns is None else u.turns.of_keys(keys)  # the isometries keep it
         cells = back[rep_h] // SLOTS  # the representative, in the union's coordinates
         srt, ck = table.config_keys(cells)
         rows = table.rows(ck, srt)
@@ -479,16 +585,21 @@ class Oriented:
         frontier = self.enc_h.frontier(rep_h[ok], masks[ok])
         parts, at = [], 0
         while at < len(ok):  # every event of these states, the budget's worth at a time
-            got = self.sched.bulk_successors(frontier._replace(codes=frontier.codes[at:],
-                                                               masks=frontier.masks[at:]), EVENTS)
-            _, (src, _, robot, new, event) = _inside(ok[at + got.source], got.weight, got.robot,
-                                                     got.code, got.event)
-            parts.append((src, successor_codes(rep_h, src, robot, new, event)))
+            part = frontier._replace(codes=frontier.codes[at:], masks=frontier.masks[at:])
+            got = (self.sched.bulk_successors(part, EVENTS) if turn is None else
+                   cast(Any, self.sched).bulk_successors(part, EVENTS, extra=turn[ok[at:]]))
+            _, (src, _, robot, new, event, after) = _inside(
+                ok[at + got.source], got.weight, got.robot, got.code, got.event, got.extra)
+            parts.append((src, successor_codes(rep_h, src, robot, new, event), after))
             at += got.states
         src = np.concatenate([p[0] for p in parts]) if parts else np.zeros(0, dtype=np.int64)
         succ = (np.concatenate([p[1] for p in parts]) if parts
                 else np.zeros((0, n), dtype=np.int64))
-        ids, first = u.index.find_or_add(self.canon.keys(back[succ]))
+        succ_keys = self.canon.keys(back[succ])
+        if u.turns is not None:
+            succ_keys = with_turns(succ_keys, np.concatenate([p[2] for p in parts]) if parts
+                                   else np.zeros(0, dtype=np.int64), u.turns)
+        ids, first = u.index.find_or_add(succ_keys)
         assert not len(first), "a successor the union does not hold: a bug of gather-verify"
         ends = np.cumsum(np.bincount(src, minlength=len(states))).tolist()
         ids_list = ids.tolist()
@@ -499,23 +610,52 @@ class Oriented:
 
 
 def _inside(src: np.ndarray, weight: np.ndarray, robot: np.ndarray, new: np.ndarray,
-            event: np.ndarray | None
+            event: np.ndarray | None, extra: np.ndarray | None = None
             ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-                                         np.ndarray | None]]:
+                                         np.ndarray | None, np.ndarray | None]]:
     """The source states of the events (``src``, ``weight``; their changes ``robot``,
-    ``new``, ``event`` as in :class:`schedulers.Successors`) that take a robot out of the
-    region (the code ``OUTSIDE``), and the events without them, their changes renumbered."""
+    ``new``, ``event`` as in :class:`schedulers.Successors`; ``extra``: a stateful
+    scheduler's state after each) that take a robot out of the region (the code
+    ``OUTSIDE``), and the events without them, their changes renumbered."""
     outside = new == OUTSIDE
     if not outside.any():
-        return src[:0], (src, weight, robot, new, event)
+        return src[:0], (src, weight, robot, new, event, extra)
     bad = np.zeros(len(src), dtype=bool)
     bad[outside if event is None else event[outside]] = True
     keep = ~bad
+    after = None if extra is None else extra[:len(src)][keep]
     if event is None:
-        return src[bad], (src[keep], weight[keep], robot[keep], new[keep], None)
+        return src[bad], (src[keep], weight[keep], robot[keep], new[keep], None, after)
     kept = keep[event]
     renumber = np.cumsum(keep) - 1
-    return src[bad], (src[keep], weight[keep], robot[kept], new[kept], renumber[event[kept]])
+    return src[bad], (src[keep], weight[keep], robot[kept], new[kept], renumber[event[kept]],
+                      after)
+
+
+def _rings(S: int, src: np.ndarray, tgt: np.ndarray, flags: np.ndarray
+           ) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The rings of stuck states (``RING``: each state's one event, a stay, moves the turn
+    on, so the states of one configuration and every turn form a cycle that makes no move):
+    per state, the least member of its ring (itself when in none), and the states each
+    state counts for (a ring's least member: the ring's; its other members: none). (None,
+    None) when there is no ring."""
+    stuck = np.flatnonzero(flags & RING)
+    if not len(stuck):
+        return None, None
+    out = np.bincount(src, minlength=S)
+    assert (out[stuck] == 1).all(), "a stuck state with other than one event"
+    nxt = np.arange(S)
+    nxt[src[(flags[src] & RING) != 0]] = tgt[(flags[src] & RING) != 0]
+    assert (flags[nxt[stuck]] & RING).all(), "a stuck state's turn leads out of its ring"
+    ring_of = np.arange(S)
+    here = stuck.copy()
+    for _ in range(len(stuck)):  # round each ring (its length: the robots)
+        here = nxt[here]
+        if (here == stuck).all():
+            break
+        ring_of[stuck] = np.minimum(ring_of[stuck], here)
+    sizes = np.bincount(ring_of, minlength=S)
+    return ring_of, sizes
 
 
 def _analyse(S: int, src: np.ndarray, tgt: np.ndarray, w: np.ndarray, flags: np.ndarray,
@@ -575,15 +715,22 @@ def _gather(off: np.ndarray, states: np.ndarray) -> tuple[np.ndarray, np.ndarray
 
 def _count(seed_ids: np.ndarray, which: np.ndarray, rounds: list[np.ndarray],
            pred_off: np.ndarray, pred_src: np.ndarray, events: np.ndarray, S: int,
-           counts: np.ndarray, transitions: np.ndarray) -> None:
+           counts: np.ndarray, transitions: np.ndarray, seed_off: np.ndarray | None = None,
+           sizes: np.ndarray | None = None) -> None:
     """States and events reachable from each seed in ``which`` (all in the peeled part):
     the set of seeds reaching each state, 64 seeds a word, pulled from the predecessors
-    from the sources down."""
+    from the sources down. ``seed_off``: seed ``j`` is the states
+    ``seed_ids[seed_off[j]:seed_off[j + 1]]`` together (default: one state each); ``sizes``:
+    the states each state counts for (default one)."""
+    if seed_off is None:
+        seed_off = np.arange(len(seed_ids) + 1)
     for lo in range(0, len(which), 64):
         group = which[lo:lo + 64]
         mark = np.zeros(S, dtype=np.uint64)
         bits = np.left_shift(np.uint64(1), np.arange(len(group), dtype=np.uint64))
-        np.bitwise_or.at(mark, seed_ids[group], bits)
+        starts_per_seed = seed_off[group + 1] - seed_off[group]
+        members = np.concatenate([np.arange(seed_off[j], seed_off[j + 1]) for j in group])
+        np.bitwise_or.at(mark, seed_ids[members], np.repeat(bits, starts_per_seed))
         for states in reversed(rounds):
             idx, starts = _gather(pred_off, states)
             if len(idx):
@@ -592,10 +739,11 @@ def _count(seed_ids: np.ndarray, which: np.ndarray, rounds: list[np.ndarray],
         c = np.zeros(64, dtype=np.float64)
         t = np.zeros(64, dtype=np.float64)
         weights = events.astype(np.float64)
+        ones = np.ones(S) if sizes is None else sizes.astype(np.float64)
         for a in range(0, S, 1 << 14):
             block = np.unpackbits(mark[a:a + (1 << 14)].view(np.uint8).reshape(-1, 8), axis=1,
                                   bitorder="little").astype(np.float64)
-            c += block.sum(axis=0)  # sums of integers below 2**53: exact in float64 (BLAS)
+            c += ones[a:a + (1 << 14)] @ block  # sums of integers below 2**53: exact (BLAS)
             t += weights[a:a + (1 << 14)] @ block
         counts[group] = c[:len(group)].astype(np.int64)
         transitions[group] = t[:len(group)].astype(np.int64)

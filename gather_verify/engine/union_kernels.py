@@ -42,12 +42,15 @@ for _i in range(64):
 
 def _seed_counts_py(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray,
                     out_off: np.ndarray, out_tgt: np.ndarray, seeds: np.ndarray,
-                    events: np.ndarray, table: np.ndarray, words: int, counts: np.ndarray,
+                    seed_off: np.ndarray, events: np.ndarray, sizes: np.ndarray,
+                    table: np.ndarray, words: int, counts: np.ndarray,
                     transitions: np.ndarray) -> None:
-    """States and events reachable from each of ``seeds``: ``topo`` lists every state
-    the seeds reach, each after its predecessors (a state not in it is never counted);
-    results go to ``counts[j]`` and ``transitions[j]`` for ``seeds[j]``. Per ``64 * words``
-    seeds (a set of them per state, ``words`` 64-bit words), only the states they reach
+    """States and events reachable from each seed ``j``, the states
+    ``seeds[seed_off[j]:seed_off[j + 1]]`` (one, or a stateful scheduler's starts): ``topo``
+    lists every state the seeds reach, each after its predecessors (a state not in it is
+    never counted); results go to ``counts[j]`` and ``transitions[j]``, a state counting
+    for ``sizes[s]`` states (a contracted ring: its members) and ``events[s]`` events. Per
+    ``64 * words`` seeds (a set of them per state, ``words`` 64-bit words), only the states they reach
     are visited: found forward along ``out_off``/``out_tgt``, then pulled in ``topo``
     order. Each pass costs about the states it reaches, so the more seeds a pass takes,
     the fewer passes over much the same states."""
@@ -61,16 +64,17 @@ def _seed_counts_py(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray
     reached = np.empty(n_states, dtype=np.int64)  # positions in topo of the states reached
     one, magic, shift = np.uint64(1), np.uint64(_MAGIC), np.uint64(58)
     per_pass = 64 * words
-    for lo in range(0, len(seeds), per_pass):
-        hi = min(len(seeds), lo + per_pass)
+    for lo in range(0, len(seed_off) - 1, per_pass):
+        hi = min(len(seed_off) - 1, lo + per_pass)
         top = 0
         for j in range(lo, hi):
-            s = seeds[j]
-            mark[s, (j - lo) >> 6] |= one << np.uint64((j - lo) & 63)
-            if stamp[s] != lo:
-                stamp[s] = lo
-                stack[top] = s
-                top += 1
+            for q in range(seed_off[j], seed_off[j + 1]):
+                s = seeds[q]
+                mark[s, (j - lo) >> 6] |= one << np.uint64((j - lo) & 63)
+                if stamp[s] != lo:
+                    stamp[s] = lo
+                    stack[top] = s
+                    top += 1
         found = 0
         while top:
             top -= 1
@@ -88,6 +92,7 @@ def _seed_counts_py(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray
         for i in range(found):
             s = topo[order[i]]
             w = events[s]
+            z = sizes[s]
             for e in range(pred_off[s], pred_off[s + 1]):
                 p = pred_src[e]
                 for word in range(words):
@@ -98,13 +103,13 @@ def _seed_counts_py(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray
                 while m:
                     low = m & (~m + one)
                     b = base + table[(low * magic) >> shift]
-                    counts[b] += 1
+                    counts[b] += z
                     transitions[b] += w
                     m ^= low
         for i in range(found):  # the marks of these seeds, cleared for the next pass
             mark[topo[order[i]]] = 0
-        for j in range(lo, hi):
-            mark[seeds[j]] = 0
+        for q in range(seed_off[lo], seed_off[hi]):
+            mark[seeds[q]] = 0
 
 
 def _peel_py(out_off: np.ndarray, tgt: np.ndarray, w: np.ndarray, pred_off: np.ndarray,
@@ -166,16 +171,25 @@ SEED_WORDS = 16
 
 def seed_counts(topo: np.ndarray, pred_off: np.ndarray, pred_src: np.ndarray,
                 out_off: np.ndarray, out_tgt: np.ndarray, seeds: np.ndarray,
-                events: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                events: np.ndarray, seed_off: np.ndarray | None = None,
+                sizes: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Per seed: the states and events it reaches (compiled; see the module docstring).
-    A pass takes up to ``64 * SEED_WORDS`` seeds (the marks of the graph in at most
-    128 MB)."""
-    counts = np.zeros(len(seeds), dtype=np.int64)
-    transitions = np.zeros(len(seeds), dtype=np.int64)
+    ``seed_off``: seed ``j`` is the states ``seeds[seed_off[j]:seed_off[j + 1]]`` together
+    (default: one state each); ``sizes``: the states each state counts for (default one).
+    A pass takes up to ``64 * SEED_WORDS`` seeds (the marks of
+    the graph in at most 128 MB)."""
+    if seed_off is None:
+        seed_off = np.arange(len(seeds) + 1)
+    k = len(seed_off) - 1
+    counts = np.zeros(k, dtype=np.int64)
+    transitions = np.zeros(k, dtype=np.int64)
     states = len(pred_off) - 1
-    words = max(1, min(SEED_WORDS, -(-len(seeds) // 64), (128 << 20) // (8 * max(1, states))))
+    words = max(1, min(SEED_WORDS, -(-k // 64), (128 << 20) // (8 * max(1, states))))
     _jit(_seed_counts_py)(topo.astype(np.int64), pred_off.astype(np.int64),
                           pred_src.astype(np.int64), out_off.astype(np.int64),
                           out_tgt.astype(np.int64), seeds.astype(np.int64),
-                          events.astype(np.int64), _DE_BRUIJN, words, counts, transitions)
+                          seed_off.astype(np.int64), events.astype(np.int64),
+                          np.ones(states, np.int64) if sizes is None else sizes.astype(np.int64),
+                          _DE_BRUIJN,
+                          words, counts, transitions)
     return counts, transitions

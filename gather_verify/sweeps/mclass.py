@@ -11,6 +11,7 @@ ones early.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -22,9 +23,11 @@ from gather_verify.algorithms.base import target_commutes_with_translations as c
 from gather_verify.algorithms.moves import frames_for
 from gather_verify.check import _safety_trace, cause_of
 from gather_verify.engine import union
+from gather_verify.engine.encoding import Turns
 from gather_verify.engine.explore import (
     Encoding,
     Exploration,
+    TurnState,
     Violation,
     facts_cache,
     rss_mb,
@@ -39,6 +42,7 @@ from gather_verify.model.symmetry import Automorphism
 from gather_verify.sweeps.store import row
 from gather_verify.theory import failing, get_fact, scope_of
 from gather_verify.watchdog import Overtime, allowance, deadline
+from schedulers import initial_state
 
 ENGINES = ("union", "per-config")
 Row = dict[str, Any]
@@ -128,7 +132,8 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
         # its target is for its own searches to read
         return out.fall_back(members, "its target is not marked as commuting with translations")
     memory = memory_budget_mb() if settings.max_memory_mb is None else settings.max_memory_mb
-    todo: list[tuple[int, Configuration, Any, Configuration, Automorphism]] = []
+    todo: list[tuple[int, Configuration, Any, Configuration, Automorphism,
+                     tuple[int, ...]]] = []
     for index, c in members:
         cls = get_fact("class").of(c)
         unmet = failing(c, settings.frames)  # a precondition of the paper's (gather_verify.theory)
@@ -136,11 +141,12 @@ def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],
             out.fall_back([(index, c)], unmet[0].summary)
         else:
             iso = union.shape_isometry(c, settings.frames)
-            todo.append((index, c, cls, union.normalise(c, iso), Automorphism(*iso).inverse()))
+            todo.append((index, c, cls, union.normalise(c, iso), Automorphism(*iso).inverse(),
+                         union.labels(c, iso)))
     if not todo:
         return out
     by_n: dict[tuple[frozenset, int], list[int]] = {}  # one union per shape of M and n
-    for k, (_, c, _, nc, _) in enumerate(todo):
+    for k, (_, c, _, nc, _, _) in enumerate(todo):
         by_n.setdefault((nc.meeting_nodes, c.n), []).append(k)
     trace_facts: dict[frozenset, Any] = {}  # the facts met by the traces, per M
     graph_props = any(facts[p] in GRAPH_FACTS for p in wanted)
@@ -188,7 +194,8 @@ def _decide_union(settings: Any, algo: Algorithm, wanted: list[str],
                             settings.scheduler, detection=settings.detection,
                             frames=settings.frames, properties=wanted, box=box,
                             max_states=max(union.UNION_MAX_STATES, settings.max_states),
-                            orientations=list(turned.values()))
+                            orientations=list(turned.values()),
+                            labels=[todo[k][5] for k in ks])
     if u is None or rss_mb() > memory or u.seconds > settings.max_seconds:
         # too large, or past a limit the per-configuration searches might hit: they decide
         out.fall_back([(todo[k][0], todo[k][1]) for k in ks],
@@ -201,26 +208,30 @@ def _decide_union(settings: Any, algo: Algorithm, wanted: list[str],
     bits = {p: union.FACT_BITS.get(facts[p] or "", 0) for p in order}
     bounded = [p for p in order if facts[p] == "longest-path"]
     for j, k in enumerate(ks):
-        index, c, cls, nc, back = todo[k]
-        s = int(u.seeds[j])
-        reach = int(u.reach[s])
+        index, c, cls, nc, back, _ = todo[k]
+        reach = u.reach_of(j)
         count = int(u.counts[j])
         if reach & union.ASYMMETRIC:
             out.fall_back([(index, c)], "its target does not commute with the isometries that "
                                         "merge its states")
             continue
-        margin = union.margin_needed(nc, group, u.box[s])
+        margin = union.margin_needed(nc, group, u.box_of(j))
         if (reach & (union.DEFINED | union.TAINT | union.CYCLE) or margin is None or count < 0
                 or count > settings.max_states):
             out.fall_back([(index, c)], _seed_reason(reach, margin))
             continue
         D, n = c.D, c.n
-        max_moves = int(u.best[s]) if graph_props else None
+        max_moves = u.best_of(j) if graph_props else None
         failing = [p for p in order if bits[p] & reach]
         if failing and margin > PLANE.initial and not settings.keep_growing:
             # its own search at the first margin is stopped by the region: whether that
             # BFS prefix meets a violation, and so ends the search there, only it can say
             out.fall_back([(index, c)], "a violation its own search may meet at a smaller margin")
+            continue
+        if reach & union.RING and graph_props and not _lifted_fits(nc, group, u.box_of(j),
+                                                                     margin, count, settings):
+            out.fall_back([(index, c)], "its own check lifts its graph (a turn goes round "
+                                        "stuck robots), and that search may pass a limit")
             continue
         bound = settings.move_bound_c * D * n
         over = [p for p in bounded if max_moves is not None and max_moves > bound]
@@ -248,6 +259,18 @@ def _decide_union(settings: Any, algo: Algorithm, wanted: list[str],
             # every failing property, as the check lists them (acyclic: termination holds)
             failing=failing + over, cause=None if trace is None else trace["cause"]))
     return u.states
+
+
+def _lifted_fits(c: Configuration, group: Any, box: Any, margin: int, count: int,
+                 settings: Any) -> bool:
+    """Whether the search without reductions that ``run_check`` makes when a graph property
+    meets a cycle (here a turn going round stuck robots, whose component holds a final state:
+    no livelock) stays within its limits: at most ``count * n! * |Aut|`` states (each state
+    of the reduced graph stands for at most that many), every node reachable (``box``, closed
+    under the group) inside its region (at ``margin``, not closed under the group)."""
+    own = PLANE.needed(c, [], box)
+    return (own is not None and own <= margin
+            and count * math.factorial(c.n) * max(1, len(group)) <= settings.max_states)
 
 
 def _seed_reason(reach: int, margin: int | None) -> str:
@@ -297,16 +320,26 @@ def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, back: Automo
         facts[c.meeting_nodes] = facts_cache(algo, c, settings.detection,
                                              frames_for(settings.frames))
     group = symmetry_group(c, settings.frames)
-    enc = Encoding(PLANE.region(c, margin, group), group, True)
+    turns = u.turns
+    enc = Encoding(PLANE.region(c, margin, group), group, turns is None)
+    own = None if turns is None else Turns(turns.sched, c.n, True, enc.base)
     keys = []
     for sid in path:
-        state = u.encoding.decode(int(u.keys[sid]), c.n)
-        keys.append(enc.key(tuple((back(v), None if p is None else back(p)) for v, p in state)))
+        key = int(u.keys[sid])
+        state = tuple((back(v), None if p is None else back(p))
+                      for v, p in u.encoding.decode(key, c.n))
+        # with a stateful scheduler its state too (the isometries leave it alone)
+        keys.append(enc.key(state) if own is None or turns is None else
+                    own.key(enc, state, turns.extra(key)))
+    starts = None
+    if u.starts is not None and own is not None:  # the start the path leaves from
+        first = u.initial(seed).tolist().index(path[0])
+        starts = [TurnState(initial_state(c.robots), u.starts[seed][first])]
     e = Exploration(initial=c, algorithm=algo, scheduler_name=settings.scheduler,
                     detection=settings.detection, frames=settings.frames, anonymity=True,
                     symmetry=True, encoding=enc, keys=keys, parents=[-1, *range(len(path) - 1)],
                     offsets=[], targets=[], weights=[], changed_loops=0, states=len(path),
                     transitions=0, stopped=None, violations={}, seconds=0.0, peak_rss_mb=0.0,
-                    facts=facts[c.meeting_nodes], vacuous={})
+                    facts=facts[c.meeting_nodes], vacuous={}, turns=own, starts=starts)
     event = _TRANSITION if spec.kind == "transition" else None
     return _safety_trace(e, Violation(prop, len(path) - 1, "", event))
