@@ -79,7 +79,8 @@ def test_the_reference_engine_reads_the_clock_at_every_state(monkeypatch) -> Non
 
 
 def test_a_wide_region_ends_with_its_limit() -> None:
-    code, report = check("--robots", "0,0 500,0", "--meeting", "250,0", "--algorithm",
+    # (two robots 500 apart alone now finish within the 2 s: a third makes the space larger)
+    code, report = check("--robots", "0,0 500,0 250,3", "--meeting", "250,0", "--algorithm",
                          "go-to-target", "--max-seconds", "2")
     # the setup reads the clock; on a loaded machine the watchdog may stop it first (also time)
     assert code == 3 and report["reason"].split(" ")[0] == "time"
