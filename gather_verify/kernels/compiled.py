@@ -196,6 +196,39 @@ def round_counts(masks, subsets, count, budget):  # pragma: no cover - compiled
     return taken, events, changes
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _round_robots(subsets, a, masks, s, count, active, width, digit):  # pragma: no cover
+    """The robots that round ``a`` activates in state ``s`` (into ``active``), each with its
+    number of choices (``width``) and its first choice (``digit``); how many, or -1 when
+    one of them has no choice (the round does not exist)."""
+    size = 0
+    empty = False
+    for i in range(subsets.shape[1]):
+        if subsets[a, i]:
+            w = count[masks[s, i]]
+            active[size] = i
+            width[size] = w
+            digit[size] = 0
+            size += 1
+            if w == 0:
+                empty = True
+    return -1 if empty else size
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _next_choice(digit, width, size):  # pragma: no cover - compiled
+    """Move ``digit`` to the round's next joint choice (the last robot varies fastest);
+    False after the last."""
+    t = size - 1
+    while t >= 0:
+        digit[t] += 1
+        if digit[t] < width[t]:
+            return True
+        digit[t] = 0
+        t -= 1
+    return False
+
+
 @njit(cache=True, nogil=True)
 def round_events(codes, masks, neighbour, subsets, nth, count, states, src, weight, robot, new,
                  event):  # pragma: no cover - compiled
@@ -228,18 +261,8 @@ def round_events(codes, masks, neighbour, subsets, nth, count, states, src, weig
                     choice[i, j] = cell * SLOTS
                     step[i, j] = False
         for a in range(k):
-            size = 0
-            empty = False
-            for i in range(n):
-                if subsets[a, i]:
-                    w = count[masks[s, i]]
-                    active[size] = i
-                    width[size] = w
-                    digit[size] = 0
-                    size += 1
-                    if w == 0:
-                        empty = True
-            if empty:
+            size = _round_robots(subsets, a, masks, s, count, active, width, digit)
+            if size < 0:  # an activated robot with no choice: no such round
                 continue
             while True:
                 moved = 0
@@ -255,14 +278,7 @@ def round_events(codes, masks, neighbour, subsets, nth, count, states, src, weig
                 src[e] = s
                 weight[e] = moved
                 e += 1
-                t = size - 1  # the next choice: the last robot varies fastest
-                while t >= 0:
-                    digit[t] += 1
-                    if digit[t] < width[t]:
-                        break
-                    digit[t] = 0
-                    t -= 1
-                if t < 0:
+                if not _next_choice(digit, width, size):
                     break
 
 
@@ -302,18 +318,8 @@ def round_keys(keys, codes, masks, neighbour, subsets, nth, count, states, power
                         leave[i, j] = True
         base = keys[s]
         for a in range(k):
-            size = 0
-            empty = False
-            for i in range(n):
-                if subsets[a, i]:
-                    w = count[masks[s, i]]
-                    active[size] = i
-                    width[size] = w
-                    digit[size] = 0
-                    size += 1
-                    if w == 0:
-                        empty = True
-            if empty:
+            size = _round_robots(subsets, a, masks, s, count, active, width, digit)
+            if size < 0:  # an activated robot with no choice: no such round
                 continue
             while True:
                 moved = 0
@@ -332,14 +338,7 @@ def round_keys(keys, codes, masks, neighbour, subsets, nth, count, states, power
                 e += 1
                 if leaves:
                     return e, True
-                t = size - 1  # the next choice: the last robot varies fastest
-                while t >= 0:
-                    digit[t] += 1
-                    if digit[t] < width[t]:
-                        break
-                    digit[t] = 0
-                    t -= 1
-                if t < 0:
+                if not _next_choice(digit, width, size):
                     break
     return e, False
 
