@@ -197,6 +197,25 @@ def round_counts(masks, subsets, count, budget):  # pragma: no cover - compiled
 
 
 @njit(cache=True, nogil=True, inline="always")
+def _state_choices(codes, masks, neighbour, nth, count, s, choice, step):  # pragma: no cover
+    """Each robot's choices in state ``s``, in the order of ``nth[mask]``: its new code
+    (``OUTSIDE`` when the step leaves the region; its own cell's idle code when it stays)
+    into ``choice[i, j]``, and whether that choice is a step into ``step[i, j]``."""
+    for i in range(codes.shape[1]):
+        cell = codes[s, i] // SLOTS
+        m = masks[s, i]
+        for j in range(count[m]):
+            kk = nth[m, j]
+            if kk < DEGREE:
+                dest = neighbour[cell, kk]
+                choice[i, j] = dest * SLOTS if dest >= 0 else OUTSIDE
+                step[i, j] = True
+            else:
+                choice[i, j] = cell * SLOTS
+                step[i, j] = False
+
+
+@njit(cache=True, nogil=True, inline="always")
 def _round_robots(subsets, a, masks, s, count, active, width, digit):  # pragma: no cover
     """The robots that round ``a`` activates in state ``s`` (into ``active``), each with its
     number of choices (``width``) and its first choice (``digit``); how many, or -1 when
@@ -248,18 +267,7 @@ def round_events(codes, masks, neighbour, subsets, nth, count, states, src, weig
     e = 0
     c = 0
     for s in range(states):
-        for i in range(n):
-            cell = codes[s, i] // SLOTS
-            m = masks[s, i]
-            for j in range(count[m]):
-                kk = nth[m, j]
-                if kk < DEGREE:
-                    dest = neighbour[cell, kk]
-                    choice[i, j] = dest * SLOTS if dest >= 0 else OUTSIDE
-                    step[i, j] = True
-                else:
-                    choice[i, j] = cell * SLOTS
-                    step[i, j] = False
+        _state_choices(codes, masks, neighbour, nth, count, s, choice, step)
         for a in range(k):
             size = _round_robots(subsets, a, masks, s, count, active, width, digit)
             if size < 0:  # an activated robot with no choice: no such round
@@ -293,29 +301,23 @@ def round_keys(keys, codes, masks, neighbour, subsets, nth, count, states, power
     is not one). Returns how many events it wrote and whether the last one leaves."""
     n = codes.shape[1]
     k = subsets.shape[0]
-    delta = np.empty((n, SLOTS), dtype=np.uint64)  # robot i's key change for its j-th choice
+    choice = np.empty((n, SLOTS), dtype=np.int64)  # robot i's new code for its j-th choice
     step = np.empty((n, SLOTS), dtype=np.bool_)  # whether that choice is a step
+    delta = np.empty((n, SLOTS), dtype=np.uint64)  # the key's change for that choice
     leave = np.empty((n, SLOTS), dtype=np.bool_)  # whether that step leaves the region
     active = np.empty(n, dtype=np.int64)
     width = np.empty(n, dtype=np.int64)
     digit = np.empty(n, dtype=np.int64)
     e = 0
     for s in range(states):
+        _state_choices(codes, masks, neighbour, nth, count, s, choice, step)
         for i in range(n):
             code = codes[s, i]
-            cell = code // SLOTS
-            m = masks[s, i]
-            for j in range(count[m]):
-                kk = nth[m, j]
-                step[i, j] = kk < DEGREE
-                leave[i, j] = False
+            for j in range(count[masks[s, i]]):
+                leave[i, j] = choice[i, j] == OUTSIDE
                 delta[i, j] = 0
-                if kk < DEGREE:
-                    dest = neighbour[cell, kk]
-                    if dest >= 0:
-                        delta[i, j] = np.uint64(dest * SLOTS - code) * powers[i]  # wraps
-                    else:
-                        leave[i, j] = True
+                if not leave[i, j]:
+                    delta[i, j] = np.uint64(choice[i, j] - code) * powers[i]  # wraps
         base = keys[s]
         for a in range(k):
             size = _round_robots(subsets, a, masks, s, count, active, width, digit)
