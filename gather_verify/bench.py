@@ -84,7 +84,9 @@ UNION_QUICK = ("3x3", 2, "1")
 QUICK = ([(0, 0), (3, 1), (1, 4)], [(2, 2)])
 RING = ("ring:14", [5, 6, 7, 8, 9], 0)
 RING_QUICK = ("ring:9", [0, 3, 5], 7)  # SEMANTICS.md §9's test data: 225 states, 560 transitions
-SPIN_DIR = Path(__file__).resolve().parent.parent / "bench" / "spin"
+ROOT = Path(__file__).resolve().parent.parent
+"""The checkout: the project's packages and ``bench/``."""
+SPIN_DIR = ROOT / "bench" / "spin"
 RUN_KERNELS = {
     "explore": ("find_or_add", "place", "decode_chunk", "async_successors", "successor_keys"),
     "rounds": ("find_or_add", "place", "decode_chunk", "round_counts", "round_keys"),
@@ -219,7 +221,7 @@ def _bytecode() -> None:
     import compileall
 
     for top in ("gather_verify", "schedulers"):
-        compileall.compile_dir(SPIN_DIR.parent.parent / top, quiet=2)
+        compileall.compile_dir(ROOT / top, quiet=2)
 
 
 def _run_child(kind: str, instance: tuple, max_seconds: float,
