@@ -153,6 +153,23 @@ def test_the_compiled_index_numbers_keys_as_the_reference() -> None:
     assert a.count == b.count and a.keys[:a.count].tolist() == b.keys[:b.count].tolist()
 
 
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.lists(st.integers(0, 40), max_size=300), min_size=1, max_size=6),
+       st.sampled_from([1, 2**40, 2**63]))
+def test_the_compiled_index_numbers_repeated_keys_as_the_reference(batches, scale) -> None:
+    """Keys repeated within a call (the compiled pass finds them in its call's own table)
+    and keys alike in their low bits (long probe runs there): the same ids and first
+    occurrences as the reference, call after call, larger calls after smaller ones."""
+    a, b = KeyIndex(bits=3, compiled=True), KeyIndex(bits=3, compiled=False)
+    for batch in batches:
+        q = (np.array(batch, dtype=np.uint64) * np.uint64(scale)) if batch else \
+            np.empty(0, dtype=np.uint64)
+        ia, fa = a.find_or_add(q)
+        ib, fb = b.find_or_add(q)
+        assert ia.tolist() == ib.tolist() and fa.tolist() == fb.tolist()
+    assert a.keys[:a.count].tolist() == b.keys[:b.count].tolist()
+
+
 def test_longest_path_kernel_finds_cycles_and_bounds() -> None:
     # 0 -> 1 -> 2, 0 -> 2 (weights 1, 1, 0): best from 0 is 2; a self-loop is no edge
     off = np.array([0, 2, 4, 5], dtype=np.int32)

@@ -51,6 +51,7 @@ class KeyIndex:
         self.stale = False
         # the compiled index (kernels.find_or_add) keeps no tags: the same ids, in the same order
         self.compiled = kernels.enabled() if compiled is None else compiled
+        self.local = np.empty(0, dtype=np.int32)  # the compiled pass's table of a call's keys
         self._alloc(bits)
 
     def _alloc(self, bits: int) -> None:
@@ -139,8 +140,10 @@ class KeyIndex:
             ids = np.empty(m, dtype=np.int64)
             first = np.empty(m, dtype=np.int64)
             q = np.ascontiguousarray(q, dtype=np.uint64)
+            if len(self.local) < 2 * m:
+                self.local = np.empty(1 << max(10, (2 * m - 1).bit_length()), dtype=np.int32)
             self.count, added = kernels.find_or_add(self.table, self.keys, self.count,
-                                                    self.shift, q, ids, first)
+                                                    self.shift, q, ids, first, self.local)
             if self.count > LOAD * len(self.table):
                 self._fit(self.count, LOAD)
             return ids, first[:added]

@@ -4,7 +4,8 @@ module on first use, so that importing the project does not import numba).
 >>> import numpy as np
 >>> table, keys = np.zeros(16, dtype=np.int32), np.empty(8, dtype=np.uint64)
 >>> ids, first = np.empty(3, dtype=np.int64), np.empty(3, dtype=np.int64)
->>> find_or_add(table, keys, 0, np.uint64(60), np.array([5, 2, 5], dtype=np.uint64), ids, first)
+>>> q, local = np.array([5, 2, 5], dtype=np.uint64), np.empty(8, dtype=np.int32)
+>>> find_or_add(table, keys, 0, np.uint64(60), q, ids, first, local)
 (2, 2)
 >>> ids.tolist(), first[:2].tolist(), keys[:2].tolist()
 ([0, 1, 0], [0, 1], [5, 2])
@@ -54,28 +55,55 @@ def prefetch(typingctx, array, index):  # pragma: no cover - compiled
 # -- the hash index ----------------------------------------------------------------------
 
 @njit(cache=True, nogil=True)
-def find_or_add(table, keys, count, shift, q, ids, first):  # pragma: no cover - compiled
+def find_or_add(table, keys, count, shift, q, ids, first, local):  # pragma: no cover - compiled
     """Ids of the keys ``q`` in a linear-probing table of ``id + 1`` (0: empty) over the key
     column ``keys`` (ids ``0 .. count - 1``); absent keys get the next ids in order of first
     occurrence (``first``: their positions in ``q``). Returns the new count and how many
     were added. ``shift``: 64 - log2(len(table)); the table must have room for them all.
 
-    One key at a time, in order; the memory it will read is requested ahead (prefetch): the
-    table slot of the key ``_AHEAD`` places on, and the stored key that the slot of the key
-    half as far on names, so the processor's loads overlap."""
+    Two passes. A key met earlier in ``q`` takes that occurrence's id: ``local``, a
+    linear-probing table of positions in ``q`` plus one (a power of two at least twice
+    ``len(q)``, zeroed here), small enough to stay in the cache, finds it. The keys met
+    first are then looked up in ``table`` in order, the memory each will read requested
+    ahead (prefetch): the table slot of the key ``_AHEAD`` on, and the stored key that the
+    slot of the key half as far on names, so the processor's loads overlap. A bulk step's
+    successors repeat (two robots' moves in either order): on the bench instance two in
+    three are met earlier in their chunk, and only the first goes to ``table``."""
     mask = len(table) - 1
     m = len(q)
+    lmask = len(local) - 1
+    bits = 0
+    while (1 << bits) < len(local):
+        bits += 1
+    lshift = np.uint64(64 - bits)
+    local[:] = 0
+    nu = 0  # the first occurrences, their positions in first[:nu] (reused below)
+    for i in range(m):
+        k = q[i]
+        s = np.int64((k * _MUL) >> lshift)
+        while True:
+            j = local[s]
+            if j == 0:
+                local[s] = i + 1
+                first[nu] = i
+                nu += 1
+                break
+            if q[j - 1] == k:
+                ids[i] = -j  # met at j - 1: its id once known
+                break
+            s = (s + 1) & lmask
     added = 0
     half = _AHEAD // 2
-    for i in range(min(_AHEAD, m)):
-        prefetch(table, np.int64((q[i] * _MUL) >> shift))
-    for i in range(m):
-        if i + _AHEAD < m:
-            prefetch(table, np.int64((q[i + _AHEAD] * _MUL) >> shift))
-        if i + half < m:
-            ahead = table[np.int64((q[i + half] * _MUL) >> shift)]
+    for u in range(min(_AHEAD, nu)):
+        prefetch(table, np.int64((q[first[u]] * _MUL) >> shift))
+    for u in range(nu):
+        if u + _AHEAD < nu:
+            prefetch(table, np.int64((q[first[u + _AHEAD]] * _MUL) >> shift))
+        if u + half < nu:
+            ahead = table[np.int64((q[first[u + half]] * _MUL) >> shift)]
             if ahead > 0:
                 prefetch(keys, ahead - 1)
+        i = first[u]  # read before first[added] (added <= u) is written
         k = q[i]
         s = np.int64((k * _MUL) >> shift)
         while True:
@@ -92,6 +120,9 @@ def find_or_add(table, keys, count, shift, q, ids, first):  # pragma: no cover -
                 ids[i] = t - 1
                 break
             s = (s + 1) & mask
+    for i in range(m):
+        if ids[i] < 0:
+            ids[i] = ids[-ids[i] - 1]
     return count, added
 
 
