@@ -10,7 +10,7 @@ the reference engine, evaluated on the same facts.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -247,11 +247,15 @@ class ColumnChecks:
                       ) -> tuple[int, Property] | None:
         """The first state (index) where one of ``props`` fails (``failures``, their columns),
         and the first such property."""
-        hit: Sequence[int] | np.ndarray = np.flatnonzero(failures.any(axis=1)) if len(props) else []
-        if not len(hit):
+        if not len(props) or not failures.size:
             return None
-        i = int(hit[0])
-        return i, props[int(np.flatnonzero(failures[i])[0])]
+        # the first failure in row-major order: its state, then its property (argmax stops
+        # at the first True, where ``any(axis=1)`` reduces every short row)
+        first = int(failures.argmax())
+        if not failures.flat[first]:
+            return None
+        i, j = divmod(first, failures.shape[1])
+        return i, props[j]
 
     def record_halt(self, sid: int, row: int, idle: bool, prop: Property) -> None:
         self.checks._record(prop, sid, self.facts(row, idle))
