@@ -170,6 +170,20 @@ def test_the_compiled_index_numbers_repeated_keys_as_the_reference(batches, scal
     assert a.keys[:a.count].tolist() == b.keys[:b.count].tolist()
 
 
+def test_the_compiled_index_outgrows_its_tagged_slots(monkeypatch) -> None:
+    """Ids past the tagged slots' id bits (6 here, 24 in a search): the table is rebuilt
+    without tags and numbers on as the reference."""
+    monkeypatch.setattr("gather_verify.engine.key_index.TAGGED_IDS", 6)
+    rng = np.random.default_rng(3)
+    a, b = KeyIndex(bits=3, compiled=True), KeyIndex(bits=3, compiled=False)
+    for _ in range(12):
+        q = rng.integers(0, 400, size=40).astype(np.uint64)
+        ia, fa = a.find_or_add(q)
+        ib, fb = b.find_or_add(q)
+        assert ia.tolist() == ib.tolist() and fa.tolist() == fb.tolist()
+    assert a.idbits == 31 and a.count == b.count > 63
+
+
 def test_longest_path_kernel_finds_cycles_and_bounds() -> None:
     # 0 -> 1 -> 2, 0 -> 2 (weights 1, 1, 0): best from 0 is 2; a self-loop is no edge
     off = np.array([0, 2, 4, 5], dtype=np.int32)

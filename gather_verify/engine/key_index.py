@@ -18,6 +18,9 @@ from gather_verify import kernels
 
 LOAD = 0.7
 """Largest load factor of the hash table before it doubles."""
+TAGGED_IDS = 24
+"""The compiled table's slots keep 7 bits of their key's hash above the id while the ids
+fit this many bits (:func:`gather_verify.kernels.find_or_add`)."""
 _MUL = np.uint64(0x9E3779B97F4A7C15)
 _TAG_BITS = np.uint64(8)
 _BYTES = np.uint64(0x0101010101010101)
@@ -52,6 +55,7 @@ class KeyIndex:
         # the compiled index (kernels.find_or_add) keeps no tags: the same ids, in the same order
         self.compiled = kernels.enabled() if compiled is None else compiled
         self.local = np.empty(0, dtype=np.int32)  # the compiled pass's table of a call's keys
+        self.idbits = TAGGED_IDS  # the compiled slots' id bits (31 once the ids outgrow 24)
         self._alloc(bits)
 
     def _alloc(self, bits: int) -> None:
@@ -76,7 +80,7 @@ class KeyIndex:
         self._alloc(bits)
         self.stale = False
         if self.compiled:
-            kernels.place(self.table, self.keys, 0, self.count, self.shift)
+            kernels.place(self.table, self.keys, 0, self.count, self.shift, self.idbits)
             return
         for lo in range(0, self.count, 1 << 16):  # in slices: small temporaries
             hi = min(self.count, lo + (1 << 16))
@@ -88,6 +92,8 @@ class KeyIndex:
             grown = np.empty(max(need, 2 * len(self.keys)), dtype=np.uint64)
             grown[:self.count] = self.keys[:self.count]
             self.keys = grown
+        if self.compiled and self.idbits < 31 and need >= 1 << self.idbits:
+            self.idbits, self.stale = 31, True  # ids outgrow the tagged slots: none from now
         if need > load * len(self.table) or self.stale:
             bits = self.bits
             while need > LOAD * (1 << bits):
@@ -143,7 +149,8 @@ class KeyIndex:
             if len(self.local) < 2 * m:
                 self.local = np.empty(1 << max(10, (2 * m - 1).bit_length()), dtype=np.int32)
             self.count, added = kernels.find_or_add(self.table, self.keys, self.count,
-                                                    self.shift, q, ids, first, self.local)
+                                                    self.shift, self.idbits, q, ids, first,
+                                                    self.local)
             if self.count > LOAD * len(self.table):
                 self._fit(self.count, LOAD)
             return ids, first[:added]

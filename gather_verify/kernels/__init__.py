@@ -95,10 +95,10 @@ def warm(names: Iterable[str] = KERNELS) -> None:
     if wanted & {"find_or_add", "place"}:
         ids, first = np.empty(2, dtype=np.int64), np.empty(2, dtype=np.int64)
         q = np.array([3, 3], dtype=np.uint64)
-        count, _ = k.find_or_add(table, keys, 0, np.uint64(60), q, ids, first,
+        count, _ = k.find_or_add(table, keys, 0, np.uint64(60), 24, q, ids, first,
                                  np.empty(16, dtype=np.int32))
         if "place" in wanted:
-            k.place(np.zeros(16, dtype=np.int32), keys, 0, count, np.uint64(60))
+            k.place(np.zeros(16, dtype=np.int32), keys, 0, count, np.uint64(60), 24)
     k7 = np.array([7], dtype=np.uint64)
     weights = np.array([1, 9], dtype=np.int64)
     masks = np.ones((1, 2), dtype=np.uint8)

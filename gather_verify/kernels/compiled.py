@@ -5,7 +5,7 @@ module on first use, so that importing the project does not import numba).
 >>> table, keys = np.zeros(16, dtype=np.int32), np.empty(8, dtype=np.uint64)
 >>> ids, first = np.empty(3, dtype=np.int64), np.empty(3, dtype=np.int64)
 >>> q, local = np.array([5, 2, 5], dtype=np.uint64), np.empty(8, dtype=np.int32)
->>> find_or_add(table, keys, 0, np.uint64(60), q, ids, first, local)
+>>> find_or_add(table, keys, 0, np.uint64(60), 24, q, ids, first, local)
 (2, 2)
 >>> ids.tolist(), first[:2].tolist(), keys[:2].tolist()
 ([0, 1, 0], [0, 1], [5, 2])
@@ -54,12 +54,27 @@ def prefetch(typingctx, array, index):  # pragma: no cover - compiled
 
 # -- the hash index ----------------------------------------------------------------------
 
+@njit(inline="always")
+def _slot_tag(k, shift, idbits):  # pragma: no cover - compiled
+    """A key's home slot in the index (the top bits of its hash) and its tag: the
+    ``31 - idbits`` hash bits below those, kept in a slot above its ``id + 1``."""
+    h = k * _MUL
+    tag = np.int32((h >> (shift - np.uint64(31 - idbits))) & np.uint64((1 << (31 - idbits)) - 1))
+    return np.int64(h >> shift), tag
+
+
 @njit(cache=True, nogil=True)
-def find_or_add(table, keys, count, shift, q, ids, first, local):  # pragma: no cover - compiled
-    """Ids of the keys ``q`` in a linear-probing table of ``id + 1`` (0: empty) over the key
-    column ``keys`` (ids ``0 .. count - 1``); absent keys get the next ids in order of first
-    occurrence (``first``: their positions in ``q``). Returns the new count and how many
-    were added. ``shift``: 64 - log2(len(table)); the table must have room for them all.
+def find_or_add(table, keys, count, shift, idbits, q, ids, first,
+                local):  # pragma: no cover - compiled
+    """Ids of the keys ``q`` in a linear-probing table over the key column ``keys`` (ids
+    ``0 .. count - 1``); absent keys get the next ids in order of first occurrence
+    (``first``: their positions in ``q``). Returns the new count and how many were added.
+    ``shift``: 64 - log2(len(table)); the table must have room for them all.
+
+    A slot holds ``tag << idbits | id + 1`` (0: empty): while the ids fit ``idbits = 24``
+    bits, 7 more bits of the key's hash (:func:`_slot_tag`) tell most other keys' slots
+    apart without reading their stored key (a miss in the cache); with ``idbits = 31`` no
+    tag, every occupied slot's key is compared.
 
     Two passes. A key met earlier in ``q`` takes that occurrence's id: ``local``, a
     linear-probing table of positions in ``q`` plus one (a power of two at least twice
@@ -70,6 +85,7 @@ def find_or_add(table, keys, count, shift, q, ids, first, local):  # pragma: no 
     successors repeat (two robots' moves in either order): on the bench instance two in
     three are met earlier in their chunk, and only the first goes to ``table``."""
     mask = len(table) - 1
+    idmask = (1 << idbits) - 1
     m = len(q)
     lmask = len(local) - 1
     bits = 0
@@ -100,24 +116,25 @@ def find_or_add(table, keys, count, shift, q, ids, first, local):  # pragma: no 
         if u + _AHEAD < nu:
             prefetch(table, np.int64((q[first[u + _AHEAD]] * _MUL) >> shift))
         if u + half < nu:
-            ahead = table[np.int64((q[first[u + half]] * _MUL) >> shift)]
-            if ahead > 0:
-                prefetch(keys, ahead - 1)
+            s, tag = _slot_tag(q[first[u + half]], shift, idbits)
+            ahead = table[s]
+            if ahead != 0 and ahead >> idbits == tag:
+                prefetch(keys, (ahead & idmask) - 1)
         i = first[u]  # read before first[added] (added <= u) is written
         k = q[i]
-        s = np.int64((k * _MUL) >> shift)
+        s, tag = _slot_tag(k, shift, idbits)
         while True:
             t = table[s]
             if t == 0:
-                table[s] = count + 1
+                table[s] = (tag << idbits) | (count + 1)
                 keys[count] = k
                 ids[i] = count
                 first[added] = i
                 added += 1
                 count += 1
                 break
-            if keys[t - 1] == k:
-                ids[i] = t - 1
+            if t >> idbits == tag and keys[(t & idmask) - 1] == k:
+                ids[i] = (t & idmask) - 1
                 break
             s = (s + 1) & mask
     for i in range(m):
@@ -127,20 +144,20 @@ def find_or_add(table, keys, count, shift, q, ids, first, local):  # pragma: no 
 
 
 @njit(cache=True, nogil=True)
-def place(table, keys, lo, hi, shift):  # pragma: no cover - compiled
-    """Put the distinct keys ``keys[lo:hi]`` (absent from the table) in it, with their ids;
-    the slot of the key ``_AHEAD`` places on requested ahead (prefetch), as in
-    :func:`find_or_add`."""
+def place(table, keys, lo, hi, shift, idbits):  # pragma: no cover - compiled
+    """Put the distinct keys ``keys[lo:hi]`` (absent from the table) in it, with their ids
+    and tags (:func:`find_or_add`'s slots); the slot of the key ``_AHEAD`` places on
+    requested ahead (prefetch), as there."""
     mask = len(table) - 1
     for i in range(lo, min(hi, lo + _AHEAD)):
         prefetch(table, np.int64((keys[i] * _MUL) >> shift))
     for i in range(lo, hi):
         if i + _AHEAD < hi:
             prefetch(table, np.int64((keys[i + _AHEAD] * _MUL) >> shift))
-        s = np.int64((keys[i] * _MUL) >> shift)
+        s, tag = _slot_tag(keys[i], shift, idbits)
         while table[s] != 0:
             s = (s + 1) & mask
-        table[s] = i + 1
+        table[s] = (tag << idbits) | (i + 1)
 
 
 # -- the ASYNC scheduler's bulk step -----------------------------------------------------
