@@ -4,8 +4,10 @@ A bulk search numbers its states in BFS order and must find, for a whole array o
 successor keys at once, the id of each one already met and the next ids for the new
 ones, in order of first occurrence (the order the reference explorer gives them).
 :class:`KeyIndex` does that with ``uint64`` keys in a column and an open-addressing
-table of ``int32`` ids, probed a whole array at a time (numpy) or in compiled code
-(:func:`gather_verify.kernels.find_or_add`, same ids in the same order). It is shared
+table of ``int32`` ids, probed a whole array at a time (numpy, with a tag byte per slot) or
+in compiled code (:func:`gather_verify.kernels.find_or_add`, same ids in the same order: the
+tag in the slot's high bits while the ids fit :data:`TAGGED_IDS` bits, and repeats within a
+call found first in a small table of that call's keys). It is shared
 by the bulk explorer (:mod:`~gather_verify.engine.fast_explore`), its facts table (one
 row per configuration key), the union engine and the finite worlds' bulk search.
 """
@@ -52,7 +54,7 @@ class KeyIndex:
         self.keys = np.empty(capacity, dtype=np.uint64)
         self.count = 0
         self.stale = False
-        # the compiled index (kernels.find_or_add) keeps no tags: the same ids, in the same order
+        # the compiled index (kernels.find_or_add) keeps its tags in the slots: same ids, order
         self.compiled = kernels.enabled() if compiled is None else compiled
         self.local = np.empty(0, dtype=np.int32)  # the compiled pass's table of a call's keys
         self.idbits = TAGGED_IDS  # the compiled slots' id bits (31 once the ids outgrow 24)
