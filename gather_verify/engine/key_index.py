@@ -34,9 +34,10 @@ _U8_3, _U8_8 = np.uint8(3), np.uint8(8)
 class KeyIndex:
     """Visited states: ``uint64`` keys in id order and a linear-probing table of ids.
 
-    Beside each slot, a one-byte tag (0: empty; else 8 more bits of the key's hash)
-    rejects most occupied slots without reading the key column; the tags are read
-    eight slots at a time (one aligned ``uint64`` word, a group of slots).
+    In the numpy path, beside each slot, a one-byte tag (0: empty; else 8 more bits of the
+    key's hash) rejects most occupied slots without reading the key column; the tags are
+    read eight slots at a time (one aligned ``uint64`` word, a group of slots). The
+    compiled path keeps 7 such bits in the slot itself, above the id.
 
     >>> ix = KeyIndex()
     >>> ids, first = ix.find_or_add(np.array([7, 3, 9], dtype=np.uint64))
