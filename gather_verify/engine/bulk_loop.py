@@ -171,6 +171,13 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
     peak = rss_mb()
     sid = 0
     chunk = face.chunk
+    # a chunk's changes (a view of its events'), released at the chunk's end with the rest
+    robot: Any
+    new: Any
+    event: Any
+    old: Any
+    after: Any
+    counts: Any
     PROGRESS.states = 1
     while sid < index.count and stopped is None:
         if time.perf_counter() - started > limits.max_seconds:
@@ -309,6 +316,11 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
             stopped = stop
             break
         sid = hi
+        # the chunk's arrays go before the next chunk makes its own, so the heap reuses their
+        # room: two chunks' arrays alive at once grow it, fragmented, by as much again
+        del K, codes, cells, rows, idle, rank, failing, bulk, keyed, src, weight, succ, \
+            succ_codes, ids, first, fresh_src, fresh_keys, paired, changed
+        robot = new = event = old = after = counts = None
         PROGRESS.states = index.count  # read by a progress line (check --progress)
         if settle and checks.settled():
             stopped = Stop.SETTLED
@@ -319,7 +331,11 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
     if graph:
         offsets = np.zeros(degrees.size + 1, dtype=np.int32 if targets.size <= MAX_IDS
                            else np.int64)
-        np.cumsum(degrees.array(), dtype=offsets.dtype, out=offsets[1:])
+        degree, step = degrees.array(), 1 << 16
+        for lo in range(0, len(degree), step):  # in slices: numpy widens each to a copy
+            hi = min(len(degree), lo + step)
+            np.cumsum(degree[lo:hi], dtype=offsets.dtype, out=offsets[lo + 1:hi + 1])
+            offsets[lo + 1:hi + 1] += offsets[lo]
     del degrees
     return Searched(index, parents, offsets, targets, weights, seeds, transitions,
                     changed_loops, stopped, peak)
