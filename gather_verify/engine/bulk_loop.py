@@ -269,6 +269,7 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
                 m = int(np.searchsorted(fresh_src, stop_src, side="right"))
                 fresh_src = fresh_src[:m]
                 index.truncate(known + m)
+        del succ  # its ids are what the rest reads
         fresh_keys = index.keys[known:index.count]
         expanded = stop_src + (stop in (Stop.REGION, Stop.STATES))
         columns.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
@@ -282,7 +283,7 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
         if open_transition:
             after, succ_codes = (paired, succ_codes) if paired is not None else \
                 face.after_rows(codes, cells, src, robot, new, event, succ_codes)
-            columns.transitions(sid, src, rows[src], after, face.witness(K, src, succ_codes))
+            columns.transitions(sid, src, rows, after, face.witness(K, src, succ_codes))
         if open_discovery:
             fresh = decode_keys(fresh_keys, enc.base, n)
             fresh_rows = face.rows_of(fresh) if paired is None else \
@@ -297,7 +298,8 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
             changed[event[new != old]] = True
         changed_loops += int(np.count_nonzero((ids == sid + src) & changed))
         if graph:
-            counts = np.bincount(src, minlength=expanded)[:expanded]
+            # (src is sorted: no widened copy of it, as bincount makes of int32 sources)
+            counts = np.diff(np.searchsorted(src, np.arange(expanded + 1, dtype=src.dtype)))
             if len(counts) and counts.max() > np.iinfo(degrees.data.dtype).max:
                 degrees.widen(np.int64)
             degrees.extend(counts)
@@ -318,7 +320,7 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
         sid = hi
         # the chunk's arrays go before the next chunk makes its own, so the heap reuses their
         # room: two chunks' arrays alive at once grow it, fragmented, by as much again
-        del K, codes, cells, rows, idle, rank, failing, bulk, keyed, src, weight, succ, \
+        del K, codes, cells, rows, idle, rank, failing, bulk, keyed, src, weight, \
             succ_codes, ids, first, fresh_src, fresh_keys, paired, changed
         robot = new = event = old = after = counts = None
         PROGRESS.states = index.count  # read by a progress line (check --progress)
