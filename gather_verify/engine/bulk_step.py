@@ -26,7 +26,7 @@ import numpy as np
 
 from gather_verify import kernels
 from gather_verify.engine.canonical_keys import Canon, decode_keys
-from gather_verify.engine.columns import Growing
+from gather_verify.engine.columns import Growing, small_pages
 from gather_verify.engine.facts_table import FactsTable
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.geometry import DEGREE, SLOTS
@@ -131,7 +131,7 @@ class PairRows:
     def __init__(self, table: FactsTable):
         self.table = table
         # one more than the row reached, 0 while unknown: zeroed pages come untouched
-        self.succ = np.zeros((self.DIRECT_ROWS, table.n, DEGREE), dtype=np.int32)
+        self.succ = small_pages(np.zeros((self.DIRECT_ROWS, table.n, DEGREE), dtype=np.int32))
         self.neighbour = table.enc.neighbour
         self.index = KeyIndex(bits=12, capacity=1 << 12)
         self.rows = Growing(np.int64, 1 << 12)
