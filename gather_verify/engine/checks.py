@@ -299,7 +299,7 @@ class ColumnChecks:
                 todo = todo[col[todo] < 0]
             for r in todo.tolist():
                 col[r] = self._value_id(prop, r, index, values)
-            got = np.take(col, rows)
+            got[unknown] = col[rows[unknown]]
         return got, values
 
     def _value_id(self, prop: Property, row: int, index: dict[Any, int], values: list[Any]
@@ -334,7 +334,7 @@ class ColumnChecks:
                 a, b = divmod(k, DENSE_VALUES)
                 pairs[a, b] = ok = bool(p.holds(values[a], values[b]))  # type: ignore[misc]
                 matrix[a, b] = ok
-            got = np.take(matrix.reshape(-1), at)
+            np.take(matrix.reshape(-1), at, out=got)
         return np.flatnonzero(got == 0)
 
     def transitions(self, first_id: int, src: np.ndarray, before: np.ndarray,

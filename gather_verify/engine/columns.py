@@ -86,13 +86,19 @@ class Growing:
         self.size = 0
 
     def extend(self, values: np.ndarray) -> None:
-        need = self.size + len(values)
+        self.claim(len(values))[:] = values
+
+    def claim(self, count: int) -> np.ndarray:
+        """The next ``count`` slots, counted as written: the caller fills them in place (no
+        temporary array of the values to copy in)."""
+        need = self.size + count
         if need > len(self.data):
             grown = np.empty(max(need, 2 * len(self.data)), dtype=self.data.dtype)
             grown[:self.size] = self.data[:self.size]
             self.data = grown
-        self.data[self.size:need] = values
+        out = self.data[self.size:need]
         self.size = need
+        return out
 
     def array(self) -> np.ndarray:
         return self.data[:self.size]
@@ -242,11 +248,13 @@ class GrowingIds:
         """Append ``ids`` (each below ``below``)."""
         if self.packed and below > 1 << (8 * ID_BYTES):
             self._widen()
+        # written straight into the column (int32 ids, a bulk search's, are read in place)
+        wide = np.ascontiguousarray(ids, dtype="<i4")
         if self.packed:
-            raw = ids.astype("<u4").view(np.uint8).reshape(-1, 4)[:, :ID_BYTES]
-            self.data.extend(raw.reshape(-1))
+            raw = wide.view(np.uint8).reshape(-1, 4)[:, :ID_BYTES]
+            self.data.claim(ID_BYTES * len(ids)).reshape(-1, ID_BYTES)[:] = raw
         else:
-            self.data.extend(ids.astype("<i4").view(np.uint8))
+            self.data.claim(4 * len(ids)).view("<i4")[:] = wide
         self.size += len(ids)
 
     def _widen(self) -> None:
