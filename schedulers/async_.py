@@ -119,7 +119,7 @@ class Async:
     def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
         """:meth:`successors` for many states at once, in the same order: one change per
         event (a Look sets the robot's pending step, a Move takes it to its destination,
-        ``OUTSIDE`` when that leaves the region)."""
+        ``OUTSIDE`` when that leaves the region); sources, robots and codes ``int32``."""
         codes, masks, neighbour = frontier
         s, n = codes.shape
         if s * DEGREE * n > budget:  # at most DEGREE Looks (or one Move) per robot
@@ -150,4 +150,5 @@ class Async:
             new[move] = np.where(dest >= 0, dest * SLOTS, OUTSIDE)
         weight = np.zeros(len(flat), dtype=np.int8)
         weight[move] = 1
-        return Successors(len(codes), src, weight, robot, new, None)
+        return Successors(len(codes), src.astype(np.int32), weight, robot.astype(np.int32),
+                          new.astype(np.int32), None)  # the compiled kernel's types

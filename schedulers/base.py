@@ -95,10 +95,10 @@ class Successors(NamedTuple):
     """
 
     states: int
-    source: np.ndarray  # (E,) int64
+    source: np.ndarray  # (E,) int64 (int32 from ASYNC's bulk_successors)
     weight: np.ndarray  # (E,) int8 (int16 past 127 robots)
-    robot: np.ndarray  # (C,) int64
-    code: np.ndarray  # (C,) int64
+    robot: np.ndarray  # (C,) int64 (int32 from ASYNC's bulk_successors)
+    code: np.ndarray  # (C,) int64 (int32 from ASYNC's bulk_successors)
     event: np.ndarray | None  # (C,) int64, or None: C == E and event[c] == c
     extra: np.ndarray | None = None
     """(E,) int64: a ``stateful`` scheduler's own state after each event (``state_index``)."""

@@ -476,3 +476,62 @@ def test_compiled_one_change_canonical_keys_are_the_reference(meeting, anonymity
     assert ref_codes is not None
     assert fast.tolist() == ref.tolist() == canon.keys(ref_codes).tolist()
     assert old.tolist() == ref_old.tolist()
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 6), st.integers(1, 300), st.data())
+def test_compiled_async_step_is_the_numpy_step(n, s, data) -> None:
+    """ASYNC's compiled bulk step gives the numpy reference's events, field by field and dtype
+    by dtype (``int32`` sources, robots and codes: a chunk's largest arrays)."""
+    cells = 12
+    codes = data.draw(arrays(np.int64, (s, n), elements=st.integers(0, 5 * cells - 1)))
+    masks = data.draw(arrays(np.uint8, (s, n), elements=st.integers(0, 15)))
+    neighbour = data.draw(arrays(np.int64, (cells, 4), elements=st.integers(-1, cells - 1)))
+    frontier = Frontier(codes, masks, neighbour)
+    fast, ref = both(lambda: get_scheduler("async").bulk_successors(frontier, 1 << 19))
+    assert fast.states == ref.states == s and fast.event is ref.event is None
+    for field in ("source", "weight", "robot", "code"):
+        a, b = getattr(fast, field), getattr(ref, field)
+        assert a.dtype == b.dtype and a.tolist() == b.tolist(), field
+    assert fast.source.dtype == np.int32
+
+
+@pytest.mark.parametrize("known", [0.0, 0.5, 1.0])
+def test_successor_rows_settles_the_known_and_lists_the_rest(known: float) -> None:
+    """``successor_rows`` against a direct reading of its table: a known successor row (stored
+    plus one) is read, the rest are listed with their slots, past the list's first 1,024
+    entries too (it grows as they come)."""
+    if not kernels.enabled():
+        pytest.skip("the compiled kernels are off (numba missing, or GATHER_VERIFY_KERNELS)")
+    from gather_verify.kernels.codes import Z2_DEGREE, Z2_SLOTS
+
+    rng = np.random.default_rng(7)
+    n, states, m, cells = 3, 50, 5000, 30
+    neighbour = rng.integers(-1, cells, (cells, Z2_DEGREE))
+    rows = rng.integers(0, 40, states)
+    rank = rng.integers(0, n, (states, n))
+    src = np.sort(rng.integers(0, states, m)).astype(np.int32)
+    robot = rng.integers(0, n, m).astype(np.int32)
+    old = (rng.integers(0, cells, m) * Z2_SLOTS).astype(np.int32)
+    step = rng.integers(0, Z2_DEGREE + 1, m)  # the last: a cell no step of it reaches
+    dest = np.where(step < Z2_DEGREE, neighbour[old // Z2_SLOTS, np.minimum(step, 3)], -2)
+    new = np.where(rng.random(m) < 0.2, old, np.maximum(dest, 0) * Z2_SLOTS).astype(np.int32)
+    succ = np.zeros((40, n, Z2_DEGREE), dtype=np.int32)
+    fill = rng.random(succ.shape) < known
+    succ[fill] = rng.integers(0, 1000, int(fill.sum())) + 1
+    out, miss, slot = kernels.successor_rows(rows, rank, src, robot, old, new, neighbour, succ)
+    want_miss, want_slot = [], []
+    for e in range(m):
+        s, oc, nc = src[e], old[e] // Z2_SLOTS, new[e] // Z2_SLOTS
+        if oc == nc:
+            assert out[e] == rows[s]
+            continue
+        ks = [d for d in range(Z2_DEGREE) if neighbour[oc, d] == nc]
+        at = (rows[s] * n + rank[s, robot[e]]) * Z2_DEGREE + ks[0] if ks else -1
+        if at >= 0 and succ.reshape(-1)[at] > 0:
+            assert out[e] == succ.reshape(-1)[at] - 1
+            continue
+        want_miss.append(e)
+        want_slot.append(at)
+    assert miss.tolist() == want_miss and slot.tolist() == want_slot
+    assert out.dtype == np.int32 and (known < 1.0) == (len(miss) > 1024)

@@ -32,6 +32,7 @@ from gather_verify.engine.columns import (
     IntColumn,
     LazyColumn,
     first_sources,
+    small_pages,
 )
 from gather_verify.engine.encoding import Encoding, Limits, Stop
 from gather_verify.engine.explore import rss_mb
@@ -164,13 +165,24 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
     degrees = Growing(np.uint8, reserve if graph else 1 << 16)
     targets = GrowingIds(edges if graph else 1 << 16)
     weight_type = np.int8 if n <= 127 else np.int16  # a weight is at most n edges
-    weights: Growing | GrowingBits = GrowingBits(edges if graph else 1 << 16)
+    bits = GrowingBits(edges if graph else 1 << 16)
+    weights: Growing | GrowingBits = bits
+    # the reserved columns are written from their start: small pages, only that is resident
+    for column in (degrees, targets.data, bits.data) + (() if parents is None else (parents,)):
+        small_pages(column.data)
     on_chunk = checks.halting + checks.on_expansion
     transitions = changed_loops = 0
     stopped: Stop | str | None = None
     peak = rss_mb()
     sid = 0
     chunk = face.chunk
+    # a chunk's changes (a view of its events'), released at the chunk's end with the rest
+    robot: Any
+    new: Any
+    event: Any
+    old: Any
+    after: Any
+    counts: Any
     PROGRESS.states = 1
     while sid < index.count and stopped is None:
         if time.perf_counter() - started > limits.max_seconds:
@@ -262,25 +274,11 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
                 m = int(np.searchsorted(fresh_src, stop_src, side="right"))
                 fresh_src = fresh_src[:m]
                 index.truncate(known + m)
+        del succ  # its ids are what the rest reads
         fresh_keys = index.keys[known:index.count]
         expanded = stop_src + (stop in (Stop.REGION, Stop.STATES))
         columns.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
                        rows, idle)
-        open_transition = checks.open(checks.on_transition) and cut
-        open_discovery = checks.open(checks.on_discovery) and len(fresh_keys)
-        paired = None
-        if single and (open_transition or open_discovery):
-            # the configuration each transition reaches, once per (row, cell, destination)
-            paired = face.pair_after(rows, cells, rank, src, robot, old, new)
-        if open_transition:
-            after, succ_codes = (paired, succ_codes) if paired is not None else \
-                face.after_rows(codes, cells, src, robot, new, event, succ_codes)
-            columns.transitions(sid, src, rows[src], after, face.witness(K, src, succ_codes))
-        if open_discovery:
-            fresh = decode_keys(fresh_keys, enc.base, n)
-            fresh_rows = face.rows_of(fresh) if paired is None else \
-                paired[first[:len(fresh_keys)]]
-            columns.states(known, fresh_rows, face.idle(fresh), checks.on_discovery)
         if keyed is not None:  # a round's step always changes its robot's code
             changed = weight > 0
         elif single:
@@ -290,7 +288,8 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
             changed[event[new != old]] = True
         changed_loops += int(np.count_nonzero((ids == sid + src) & changed))
         if graph:
-            counts = np.bincount(src, minlength=expanded)[:expanded]
+            # (src is sorted: no widened copy of it, as bincount makes of int32 sources)
+            counts = np.diff(np.searchsorted(src, np.arange(expanded + 1, dtype=src.dtype)))
             if len(counts) and counts.max() > np.iinfo(degrees.data.dtype).max:
                 degrees.widen(np.int64)
             degrees.extend(counts)
@@ -303,12 +302,33 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
         else:
             assert parents is not None
             parents.extend((sid + fresh_src).astype(np.int32))
+        del ids, changed  # the graph has them: gone before the properties' arrays come
+        open_transition = checks.open(checks.on_transition) and cut
+        open_discovery = checks.open(checks.on_discovery) and len(fresh_keys)
+        paired = None
+        if single and (open_transition or open_discovery):
+            # the configuration each transition reaches, once per (row, cell, destination)
+            paired = face.pair_after(rows, cells, rank, src, robot, old, new)
+        if open_transition:
+            after, succ_codes = (paired, succ_codes) if paired is not None else \
+                face.after_rows(codes, cells, src, robot, new, event, succ_codes)
+            columns.transitions(sid, src, rows, after, face.witness(K, src, succ_codes))
+        if open_discovery:
+            fresh = decode_keys(fresh_keys, enc.base, n)
+            fresh_rows = face.rows_of(fresh) if paired is None else \
+                paired[first[:len(fresh_keys)]]
+            columns.states(known, fresh_rows, face.idle(fresh), checks.on_discovery)
         if halt is not None and stop == halt[1].name and halt[0] == stop_src:
             columns.record_halt(sid + stop_src, int(rows[stop_src]), bool(idle[stop_src]), halt[1])
         if stop is not None:
             stopped = stop
             break
         sid = hi
+        # the chunk's arrays go before the next chunk makes its own, so the heap reuses their
+        # room: two chunks' arrays alive at once grow it, fragmented, by as much again
+        del K, codes, cells, rows, idle, rank, failing, bulk, keyed, src, weight, \
+            succ_codes, first, fresh_src, fresh_keys, paired
+        robot = new = event = old = after = counts = None
         PROGRESS.states = index.count  # read by a progress line (check --progress)
         if settle and checks.settled():
             stopped = Stop.SETTLED
@@ -319,7 +339,11 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
     if graph:
         offsets = np.zeros(degrees.size + 1, dtype=np.int32 if targets.size <= MAX_IDS
                            else np.int64)
-        np.cumsum(degrees.array(), dtype=offsets.dtype, out=offsets[1:])
+        degree, step = degrees.array(), 1 << 16
+        for lo in range(0, len(degree), step):  # in slices: numpy widens each to a copy
+            hi = min(len(degree), lo + step)
+            np.cumsum(degree[lo:hi], dtype=offsets.dtype, out=offsets[lo + 1:hi + 1])
+            offsets[lo + 1:hi + 1] += offsets[lo]
     del degrees
     return Searched(index, parents, offsets, targets, weights, seeds, transitions,
                     changed_loops, stopped, peak)

@@ -26,7 +26,7 @@ import numpy as np
 
 from gather_verify import kernels
 from gather_verify.engine.canonical_keys import Canon, decode_keys
-from gather_verify.engine.columns import Growing
+from gather_verify.engine.columns import Growing, small_pages
 from gather_verify.engine.facts_table import FactsTable
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.geometry import DEGREE, SLOTS
@@ -108,7 +108,8 @@ def successor_keys(keys: np.ndarray, codes: np.ndarray, src: np.ndarray, robot: 
         else:
             succ, old = kernels.event_keys(keys, codes, src, robot, new, event, canon.powers)
         return succ, old, None
-    old = codes[src, robot] if single else codes[src[event], robot]
+    old = (codes[src, robot] if single else codes[src[event], robot]).astype(new.dtype,
+                                                                              copy=False)
     if reduced or not single:
         succ_codes = successor_codes(codes, src, robot, new, event)
         return canon.keys(succ_codes), old, succ_codes
@@ -124,11 +125,13 @@ class PairRows:
     per row and robot) while the rows are few; beyond, a hash index of the triples."""
 
     DIRECT_ROWS = 1 << 20
-    """Rows the direct table may cover (80 MB with five robots); beyond: the hash index."""
+    """Rows the direct table may cover (80 MB with five robots, reserved up front: untouched
+    pages cost no memory, and it never grows, so no copy); beyond: the hash index."""
 
     def __init__(self, table: FactsTable):
         self.table = table
-        self.succ = np.full((1024, table.n, DEGREE), -1, dtype=np.int32)
+        # one more than the row reached, 0 while unknown: zeroed pages come untouched
+        self.succ = small_pages(np.zeros((self.DIRECT_ROWS, table.n, DEGREE), dtype=np.int32))
         self.neighbour = table.enc.neighbour
         self.index = KeyIndex(bits=12, capacity=1 << 12)
         self.rows = Growing(np.int64, 1 << 12)
@@ -140,11 +143,6 @@ class PairRows:
         the chunk; robot ``robot`` goes from code ``old`` to code ``new``)."""
         if self.table.size > self.DIRECT_ROWS:
             return self._hashed(rows, cells, rank, src, robot, old, new)
-        if len(self.succ) < self.table.size:
-            grown = np.full((max(self.table.size, 2 * len(self.succ)),) + self.succ.shape[1:],
-                            -1, dtype=np.int32)
-            grown[:len(self.succ)] = self.succ
-            self.succ = grown
         out, miss, slot = kernels.successor_rows(rows, rank, src, robot, old, new,
                                                  self.neighbour, self.succ)
         if len(miss):
@@ -154,7 +152,7 @@ class PairRows:
             got = self.table.rows(k, srt)
             out[miss] = got
             known = slot >= 0
-            self.succ.reshape(-1)[slot[known]] = got[known]
+            self.succ.reshape(-1)[slot[known]] = got[known] + 1
         return out
 
     def _hashed(self, rows: np.ndarray, cells: np.ndarray, rank: np.ndarray, src: np.ndarray,

@@ -303,7 +303,7 @@ class ColumnChecks:
                 todo = todo[col[todo] < 0]
             for r in todo.tolist():
                 col[r] = self._value_id(prop, r, index, values)
-            got = np.take(col, rows)
+            got[unknown] = col[rows[unknown]]
         return got, values
 
     def _value_id(self, prop: Property, row: int, index: dict[Any, int], values: list[Any]
@@ -330,25 +330,28 @@ class ColumnChecks:
             for (a, b), ok in pairs.items():
                 grown[a, b] = ok
             self.matrices[p.name] = matrix = grown
-        at = vb.astype(np.int64) * DENSE_VALUES + va
+        at = vb * np.int32(DENSE_VALUES)  # below DENSE_VALUES**2: int32, one array
+        at += va
         got = np.take(matrix.reshape(-1), at)
         if len(got) and got.min() < 0:
             for k in np.unique(at[got < 0]).tolist():
                 a, b = divmod(k, DENSE_VALUES)
                 pairs[a, b] = ok = bool(p.holds(values[a], values[b]))  # type: ignore[misc]
                 matrix[a, b] = ok
-            got = np.take(matrix.reshape(-1), at)
+            np.take(matrix.reshape(-1), at, out=got)
         return np.flatnonzero(got == 0)
 
     def transitions(self, first_id: int, src: np.ndarray, before: np.ndarray,
                     after: np.ndarray, step: Callable[[int], tuple[Event, State]]) -> None:
         """Check the transition properties on transitions from states ``first_id + src`` whose
-        configurations are the rows ``before`` and ``after`` (in BFS and event order);
-        ``step(i)`` gives the event and successor of the ``i``-th (for a witness)."""
+        configurations are the rows ``before[src]`` (``before``: per source state) and
+        ``after`` (in BFS and event order); ``step(i)`` gives the event and successor of the
+        ``i``-th (for a witness)."""
         if not len(src):
             return
         for p in self.checks.open(self.checks.on_transition):
-            vb, values = self.value_ids(p, before)
+            vb, values = self.value_ids(p, before[:int(src[-1]) + 1])
+            vb = vb[src]  # read once per source state, not once per transition
             va, values = self.value_ids(p, after)
             pairs = self.pairs.setdefault(p.name, {})
             if len(values) <= DENSE_VALUES:  # few values: a verdict matrix, no sorting

@@ -12,10 +12,14 @@ keeps its edges stores no parents: :class:`LazyColumn` reads them off the edges
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterator, Sequence
 from typing import Any
 
 import numpy as np
+
+MADV_NOHUGEPAGE = 15
+"""Linux's ``madvise`` advice: no transparent huge pages in this range."""
 
 
 class IntColumn(Sequence[int]):
@@ -46,6 +50,34 @@ class IntColumn(Sequence[int]):
 
 
 
+@functools.cache
+def glibc() -> Any:
+    """The C library when it is glibc (loaded on first use, not at import); else None."""
+    import ctypes
+
+    try:
+        libc = ctypes.CDLL("libc.so.6")
+    except OSError:  # pragma: no cover - not glibc
+        return None
+    return libc if hasattr(libc, "malloc_trim") else None
+
+
+def small_pages(array: np.ndarray) -> np.ndarray:
+    """``array`` (untouched room reserved up front), its pages kept small: numpy asks for
+    transparent huge pages on large arrays, and a column written from its start would hold
+    up to 2 MB resident past its last value; with small pages only what is written is.
+    Where there is no glibc, nothing changes."""
+    libc = glibc()
+    page = 4096
+    start = -(-array.ctypes.data // page) * page  # the first whole page
+    end = (array.ctypes.data + array.nbytes) // page * page
+    if libc is not None and end > start:
+        import ctypes
+
+        libc.madvise(ctypes.c_void_p(start), ctypes.c_size_t(end - start), MADV_NOHUGEPAGE)
+    return array
+
+
 class Growing:
     """An append-only numpy column (amortised doubling)."""
 
@@ -54,13 +86,19 @@ class Growing:
         self.size = 0
 
     def extend(self, values: np.ndarray) -> None:
-        need = self.size + len(values)
+        self.claim(len(values))[:] = values
+
+    def claim(self, count: int) -> np.ndarray:
+        """The next ``count`` slots, counted as written: the caller fills them in place (no
+        temporary array of the values to copy in)."""
+        need = self.size + count
         if need > len(self.data):
             grown = np.empty(max(need, 2 * len(self.data)), dtype=self.data.dtype)
             grown[:self.size] = self.data[:self.size]
             self.data = grown
-        self.data[self.size:need] = values
+        out = self.data[self.size:need]
         self.size = need
+        return out
 
     def array(self) -> np.ndarray:
         return self.data[:self.size]
@@ -210,11 +248,13 @@ class GrowingIds:
         """Append ``ids`` (each below ``below``)."""
         if self.packed and below > 1 << (8 * ID_BYTES):
             self._widen()
+        # written straight into the column (int32 ids, a bulk search's, are read in place)
+        wide = np.ascontiguousarray(ids, dtype="<i4")
         if self.packed:
-            raw = ids.astype("<u4").view(np.uint8).reshape(-1, 4)[:, :ID_BYTES]
-            self.data.extend(raw.reshape(-1))
+            raw = wide.view(np.uint8).reshape(-1, 4)[:, :ID_BYTES]
+            self.data.claim(ID_BYTES * len(ids)).reshape(-1, ID_BYTES)[:] = raw
         else:
-            self.data.extend(ids.astype("<i4").view(np.uint8))
+            self.data.claim(4 * len(ids)).view("<i4")[:] = wide
         self.size += len(ids)
 
     def _widen(self) -> None:

@@ -136,7 +136,8 @@ class KeyIndex:
 
     def find_or_add(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Ids of ``q``, the absent keys appended with the next ids in order of first
-        occurrence in ``q``; and the positions in ``q`` of those first occurrences.
+        occurrence in ``q``; and the positions in ``q`` of those first occurrences (both
+        ``int32``: the table holds ``int32`` ids).
 
         One probing pass: a key meeting an empty slot claims it with a tag naming
         its position in ``q`` (negative, to tell it from a stored id); the other
@@ -145,9 +146,9 @@ class KeyIndex:
         index lists and arithmetic."""
         m = len(q)
         self._fit(self.count + m, 0.9)  # never full during the pass
-        if self.compiled:
-            ids = np.empty(m, dtype=np.int64)
-            first = np.empty(m, dtype=np.int64)
+        if self.compiled:  # int32: an id is below the table's int32 ids, a position below m
+            ids = np.empty(m, dtype=np.int32)
+            first = np.empty(m, dtype=np.int32)
             q = np.ascontiguousarray(q, dtype=np.uint64)
             if len(self.local) < 2 * m:
                 self.local = np.empty(1 << max(10, (2 * m - 1).bit_length()), dtype=np.int32)
@@ -234,7 +235,7 @@ class KeyIndex:
         if self.count > LOAD * len(table):
             del table, tags  # the old table goes before the new one is filled
             self._fit(self.count, LOAD)
-        return ids, first
+        return ids.astype(np.int32), first.astype(np.int32)  # the compiled path's types
 
     def _place(self, q: np.ndarray, first_id: int) -> None:
         """Put distinct keys absent from the table, ids ``first_id`` on, in their slots."""

@@ -39,7 +39,6 @@ scheduler it does not know); the caller then runs the reference.
 
 from __future__ import annotations
 
-import functools
 import time
 from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any
@@ -48,7 +47,7 @@ import numpy as np
 
 from gather_verify import kernels
 from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
-from gather_verify.engine.columns import Growing
+from gather_verify.engine.columns import Growing, glibc
 from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop, rss_mb
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.engine.world_search import (
@@ -490,21 +489,9 @@ def _join(parts: list[np.ndarray], dtype: Any) -> np.ndarray:
 def _trim() -> None:
     """Hand the pages freed inside the C heap back to the system (glibc's ``malloc_trim``,
     where there is one): the chunks of a column are freed there, not unmapped."""
-    libc = _libc()
+    libc = glibc()
     if libc is not None:
         libc.malloc_trim(0)
-
-
-@functools.cache
-def _libc() -> Any:
-    """The C library when it is glibc (loaded on first use, not at import)."""
-    import ctypes
-
-    try:
-        libc = ctypes.CDLL("libc.so.6")
-    except OSError:  # pragma: no cover - not glibc
-        return None
-    return libc if hasattr(libc, "malloc_trim") else None
 
 
 def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: str | Scheduler, *,

@@ -93,7 +93,7 @@ def warm(names: Iterable[str] = KERNELS) -> None:
     table = np.zeros(16, dtype=np.int32)
     keys = np.empty(16, dtype=np.uint64)
     if wanted & {"find_or_add", "place"}:
-        ids, first = np.empty(2, dtype=np.int64), np.empty(2, dtype=np.int64)
+        ids, first = np.empty(2, dtype=np.int32), np.empty(2, dtype=np.int32)
         q = np.array([3, 3], dtype=np.uint64)
         count, _ = k.find_or_add(table, keys, 0, np.uint64(60), 24, q, ids, first,
                                  np.empty(16, dtype=np.int32))
@@ -110,15 +110,17 @@ def warm(names: Iterable[str] = KERNELS) -> None:
                  "successor_canonical_keys", "pair_keys", "successor_rows"}:
         src, weight, robot, new = k.async_successors(codes, masks, neighbour,
                                                      np.arange(4, dtype=np.int64))
-        old = codes[src, robot]  # as successor_keys returns it
+        old = codes[src, robot].astype(new.dtype)  # as successor_keys returns it
         if "successor_keys" in wanted:
             k.successor_keys(k7, codes, src, robot, new, powers)
         event = np.arange(len(robot), dtype=np.int64)
+        # the rounds' events are int64
+        src64, robot64, new64 = (a.astype(np.int64) for a in (src, robot, new))
         if "event_keys" in wanted:
-            k.event_keys(k7, codes, src, robot, new, event, powers)
+            k.event_keys(k7, codes, src64, robot64, new64, event, powers)
         if "event_canonical_keys" in wanted:
             for anonymity in (False, True):
-                k.event_canonical_keys(codes, src, robot, new, event, powers,
+                k.event_canonical_keys(codes, src64, robot64, new64, event, powers,
                                        np.zeros((1, 45), dtype=np.int64), anonymity)
         if "successor_canonical_keys" in wanted:
             for anonymity in (False, True):
@@ -128,7 +130,7 @@ def warm(names: Iterable[str] = KERNELS) -> None:
             k.pair_keys(ck, rank, src, robot, old, new, 18, 9)
         if "successor_rows" in wanted:
             k.successor_rows(ck, rank, src, robot, old, new, neighbour,
-                             np.full((1, 2, Z2_DEGREE), -1, dtype=np.int32))
+                             np.zeros((1, 2, Z2_DEGREE), dtype=np.int32))
     if wanted & {"round_counts", "round_events", "round_keys"}:
         subsets = np.ones((1, 2), dtype=np.bool_)
         count = np.ones(32, dtype=np.int64)

@@ -3,7 +3,7 @@ module on first use, so that importing the project does not import numba).
 
 >>> import numpy as np
 >>> table, keys = np.zeros(16, dtype=np.int32), np.empty(8, dtype=np.uint64)
->>> ids, first = np.empty(3, dtype=np.int64), np.empty(3, dtype=np.int64)
+>>> ids, first = np.empty(3, dtype=np.int32), np.empty(3, dtype=np.int32)
 >>> q, local = np.array([5, 2, 5], dtype=np.uint64), np.empty(8, dtype=np.int32)
 >>> find_or_add(table, keys, 0, np.uint64(60), 24, q, ids, first, local)
 (2, 2)
@@ -167,7 +167,8 @@ def async_successors(codes, masks, neighbour, look_order):  # pragma: no cover -
     """Every event of the states ``codes`` (robots ``cell * SLOTS + d``) in the order of
     ``Async.successors``: per robot, its Looks (idle: one per step of its move mask, in
     ``look_order``) or its Move (pending). Returns (source, weight, robot, new code;
-    ``OUTSIDE`` when the Move leaves the region)."""
+    ``OUTSIDE`` when the Move leaves the region), ``int32`` but the weight (``int8``): a bulk
+    step's largest arrays, a chunk's states, robots and codes fit."""
     s_count, n = codes.shape
     total = 0
     for s in range(s_count):
@@ -179,10 +180,10 @@ def async_successors(codes, masks, neighbour, look_order):  # pragma: no cover -
                     total += (m >> k) & 1
             else:
                 total += 1
-    src = np.empty(total, dtype=np.int64)
+    src = np.empty(total, dtype=np.int32)
     weight = np.zeros(total, dtype=np.int8)
-    robot = np.empty(total, dtype=np.int64)
-    new = np.empty(total, dtype=np.int64)
+    robot = np.empty(total, dtype=np.int32)
+    new = np.empty(total, dtype=np.int32)
     e = 0
     for s in range(s_count):
         for i in range(n):
@@ -659,10 +660,10 @@ def decode_chunk(keys, base, n, weights):  # pragma: no cover - compiled
 @njit(cache=True, nogil=True)
 def successor_keys(keys, codes, src, robot, new, powers):  # pragma: no cover - compiled
     """One change per event, no reduction: each successor's key (its source's key with robot
-    ``robot`` recoded from its old code to ``new``), and the old codes."""
+    ``robot`` recoded from its old code to ``new``), and the old codes (of ``new``'s type)."""
     m = len(src)
     succ = np.empty(m, dtype=np.uint64)
-    old = np.empty(m, dtype=np.int64)
+    old = np.empty(m, dtype=new.dtype)
     for e in range(m):
         s = src[e]
         r = robot[e]
@@ -736,7 +737,8 @@ def event_canonical_keys(codes, src, robot, new, event, powers, tables,
 def successor_canonical_keys(codes, src, robot, new, powers, tables, anonymity,
                              ordered):  # pragma: no cover - compiled
     """One change per event under the reductions: each successor's stored key (as
-    :func:`event_canonical_keys` and ``Canon.keys``), and the old code of each changed robot.
+    :func:`event_canonical_keys` and ``Canon.keys``), and the old code of each changed robot
+    (of ``new``'s type).
 
     A successor differs from its source in one code. Its source's images (by the identity,
     then by each row of ``tables``) are made once per source state, with their largest
@@ -759,7 +761,7 @@ def successor_canonical_keys(codes, src, robot, new, powers, tables, anonymity,
     lead = np.empty(images, dtype=np.int64)  # the successor's image's largest value
     buf = np.empty(n, dtype=np.int64)
     succ = np.empty(m, dtype=np.uint64)
-    old = np.empty(m, dtype=np.int64)
+    old = np.empty(m, dtype=new.dtype)
     last = -1
     for e in range(m):
         s = src[e]
@@ -836,15 +838,16 @@ def pair_keys(rows, rank, src, robot, old, new, stride, cells):  # pragma: no co
 @njit(cache=True, nogil=True)
 def successor_rows(rows, rank, src, robot, old, new, neighbour, succ):  # pragma: no cover
     """The configuration row each one-change transition reaches, from the table ``succ``
-    (``succ[row, j, k]``: the row reached when a robot on the ``j``-th sorted cell of ``row``
-    takes step ``k``; -1 unknown). Returns the rows (the source's own where no robot changes
-    cell), and for the transitions not settled: their positions and their ``succ`` slots
-    (flat index; -1 when the change is not one step)."""
+    (``succ[row, j, k]``: one more than the row reached when a robot on the ``j``-th sorted
+    cell of ``row`` takes step ``k``; 0 unknown). Returns the rows (``int32``; the source's
+    own where no robot changes cell), and for the transitions not settled: their positions
+    and their ``succ`` slots (flat index; -1 when the change is not one step). The unsettled
+    are few once the table fills: their lists start small and double."""
     m = len(src)
     n = succ.shape[1]
-    out = np.empty(m, dtype=np.int64)
-    miss = np.empty(m, dtype=np.int64)
-    slot = np.empty(m, dtype=np.int64)
+    out = np.empty(m, dtype=np.int32)
+    miss = np.empty(min(m, 1024), dtype=np.int64)
+    slot = np.empty(len(miss), dtype=np.int64)
     flat = succ.reshape(-1)
     k_miss = 0
     for e in range(m):
@@ -861,15 +864,21 @@ def successor_rows(rows, rank, src, robot, old, new, neighbour, succ):  # pragma
             if neighbour[oc, d] == nc:
                 k = d
                 break
+        at = -1
         if k >= 0:
             at = (r * n + j) * DEGREE + k
             v = flat[at]
-            if v >= 0:
-                out[e] = v
+            if v > 0:
+                out[e] = v - 1
                 continue
-            slot[k_miss] = at
-        else:
-            slot[k_miss] = -1
+        if k_miss == len(miss):
+            grown = np.empty(min(m, 2 * len(miss)), dtype=np.int64)
+            grown[:k_miss] = miss
+            miss = grown
+            grown = np.empty(len(miss), dtype=np.int64)
+            grown[:k_miss] = slot[:k_miss]
+            slot = grown
+        slot[k_miss] = at
         miss[k_miss] = e
         k_miss += 1
     return out, miss[:k_miss], slot[:k_miss]
