@@ -171,7 +171,7 @@ class FactsTable:
                                     dtype=bool)
         # masks of a representative, seen from the configuration that ``a`` maps onto it
         self.perm = np.array([STEP_PERM[geometry.inverse(a.g)] for a in group], dtype=np.uint8)
-        self.orbit: dict[int, int] = {}
+        self.orbits = KeyIndex(bits=10, capacity=1024)  # orbit keys, numbered as first met
         self.mask_of: dict[tuple[Node, frozenset[Node]], int] = {}  # (node, move set) -> mask
         self.omasks = np.zeros((1024, n), dtype=np.uint8)
         self.oflags = np.zeros((1024, 3), dtype=np.int8)
@@ -229,19 +229,13 @@ class FactsTable:
         best = np.argmin(packed, axis=0)
         pick = np.arange(m)
         okeys, ocells = packed[best, pick], srt[best, pick]
-        orows = np.empty(m, dtype=np.int64)
-        orbit = self.orbit
-        new = []  # the first configuration of each orbit met here for the first time
-        for i, k in enumerate(okeys.tolist()):
-            r = orbit.get(k)
-            if r is None:
-                r = orbit[k] = len(orbit)
-                new.append(i)
-            orows[i] = r
-        asked = self._orbit_facts(ocells[new]) if new else []
+        # each orbit's number, and the first configuration of each orbit met here for the first
+        # time (in order: the new orbits are numbered next, in that order)
+        orows, new = self.orbits.find_or_add(okeys.astype(np.uint64))
+        asked = self._orbit_facts(ocells[new]) if len(new) else []
         # a new orbit's representative that is the row itself: its target, asked above, is the
         # row's (each target asked once)
-        for i, t in zip(new, asked, strict=True):
+        for i, t in zip(new.tolist(), asked, strict=True):
             if t is not UNASKED and best[i] == self.identity and self.fast_facts:
                 self.target[rows[i]] = self._target_id(t)
         # robot j of the configuration sits on the rank[j]-th cell of the representative
