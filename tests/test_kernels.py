@@ -229,12 +229,15 @@ def test_never_in_u_is_exact_on_a_whole_box(n, m) -> None:
     assert not never_in_u(meeting_automorphisms(c), c.meeting_nodes)
 
 
-def test_the_hashed_successor_rows_give_the_same_exploration(monkeypatch) -> None:
+@pytest.mark.parametrize("sizes", [(1024, 1 << 14, 0), (4, 16, 64)])
+def test_the_hashed_successor_rows_give_the_same_exploration(monkeypatch, sizes) -> None:
     """Past ``PairRows.DIRECT_ROWS`` rows the (row, cell, step) triples go through a hash
-    index: forced here from the first row."""
+    index: forced here from the first row; and a direct table that doubles, is then
+    reserved whole, then hands over to the hash index within one search."""
     from gather_verify.engine.bulk_step import PairRows
 
-    monkeypatch.setattr(PairRows, "DIRECT_ROWS", 0)
+    for name, value in zip(("FIRST_ROWS", "SMALL_ROWS", "DIRECT_ROWS"), sizes, strict=True):
+        monkeypatch.setattr(PairRows, name, value)
     c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
     fast, ref = both(lambda: explore_fast(c, "go-to-target", "async", reduction=False))
     same_exploration(fast, ref)

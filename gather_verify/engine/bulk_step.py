@@ -125,13 +125,18 @@ class PairRows:
     per row and robot) while the rows are few; beyond, a hash index of the triples."""
 
     DIRECT_ROWS = 1 << 20
-    """Rows the direct table may cover (80 MB with five robots, reserved up front: untouched
-    pages cost no memory, and it never grows, so no copy); beyond: the hash index."""
+    """Rows the direct table may cover (80 MB with five robots); beyond: the hash index."""
+    FIRST_ROWS = 1 << 10
+    """Rows the direct table starts with room for."""
+    SMALL_ROWS = 1 << 14
+    """Rows up to which the direct table doubles (in the heap: a search of a few
+    configurations maps no fresh pages); past them it is reserved whole (untouched pages
+    cost no memory, so it is copied once)."""
 
     def __init__(self, table: FactsTable):
         self.table = table
-        # one more than the row reached, 0 while unknown: zeroed pages come untouched
-        self.succ = small_pages(np.zeros((self.DIRECT_ROWS, table.n, DEGREE), dtype=np.int32))
+        # one more than the row reached, 0 while unknown
+        self.succ = np.zeros((self.FIRST_ROWS, table.n, DEGREE), dtype=np.int32)
         self.neighbour = table.enc.neighbour
         self.index = KeyIndex(bits=12, capacity=1 << 12)
         self.rows = Growing(np.int64, 1 << 12)
@@ -143,6 +148,16 @@ class PairRows:
         the chunk; robot ``robot`` goes from code ``old`` to code ``new``)."""
         if self.table.size > self.DIRECT_ROWS:
             return self._hashed(rows, cells, rank, src, robot, old, new)
+        if self.table.size > len(self.succ):
+            size = 2 * len(self.succ)
+            while size < self.table.size:
+                size *= 2
+            grown = np.zeros((size if size <= self.SMALL_ROWS else self.DIRECT_ROWS,)
+                             + self.succ.shape[1:], dtype=np.int32)
+            if len(grown) == self.DIRECT_ROWS:
+                small_pages(grown)  # written by row: only the rows met are resident
+            grown[:len(self.succ)] = self.succ
+            self.succ = grown
         out, miss, slot = kernels.successor_rows(rows, rank, src, robot, old, new,
                                                  self.neighbour, self.succ)
         if len(miss):
