@@ -327,6 +327,33 @@ def test_sweep_exploration_with_the_visited_nodes(world_name: str, scheduler: st
             assert_same_tasks(ref, bulk, w, len(robots), (), scheduler)
 
 
+class NodeWalk:
+    """An algorithm that answers by its node only: it walks to its last neighbour but one hop
+    from the meeting node, where it stays."""
+
+    name = "node-walk"
+
+    def answers_by_node(self) -> bool:
+        return True
+
+    def decide(self, view: Any) -> Any:
+        d = min(view.distance(view.me, m) for m in view.meeting_nodes)
+        return view.me if d == 1 else view.neighbours()[-1]
+
+
+@pytest.mark.parametrize("world_name", ["ring:5", "ring:6", "house"])
+def test_exploration_by_node_carries_the_visited_nodes(world_name: str, tmp_path: Path) -> None:
+    """ASYNC's one-pass kernel for an algorithm that answers by node, with the visited nodes
+    in the state: a Move adds its destination."""
+    w = sweep_world(world_name, tmp_path)
+    for robots in configurations(w, (1, 2)):
+        for reduce in (False, True):
+            ref, bulk = searches(w, robots, (0,), NodeWalk(), "async",
+                                 task="exploration-with-stop", reduce=reduce)
+            assert_same(ref, bulk)
+            assert_same_tasks(ref, bulk, w, len(robots), (0,), "async")
+
+
 @pytest.mark.parametrize("scheduler", SCHEDULERS)
 @pytest.mark.parametrize("size", [5, pytest.param(6, marks=SLOW), pytest.param(7, marks=SLOW)])
 def test_sweep_ring_algorithms(size: int, scheduler: str) -> None:

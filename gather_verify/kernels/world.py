@@ -222,63 +222,125 @@ def world_async(keys, nodes, slots, cols, adj, vis, masks, act_node, act_col, ac
 
 
 @njit(cache=True, nogil=True)
+def _code_events(radix, rc_node, rc_slot, rc_col, pair_mask, known, adj, act_node, act_col,
+                 act_slot, stay_bit, pend, colours):  # pragma: no cover - compiled
+    """Per robot code, when the algorithm answers by (node, colour) alone: how many ASYNC
+    events the robot has (-1: its pair is not known as answered), each event's change of the
+    robot's code (in the order of :func:`_async_events`), whether the robot is idle and
+    final, whether it is idle with staying among its actions, and its Move's destination
+    (-1: idle)."""
+    width = act_node.shape[1]
+    one = np.int64(1)
+    count = np.full(radix, -1, dtype=np.int64)
+    change = np.zeros((radix, max(width, 1)), dtype=np.int64)
+    final = np.zeros(radix, dtype=np.bool_)
+    stays = np.zeros(radix, dtype=np.bool_)
+    dest = np.full(radix, -1, dtype=np.int64)
+    for rc in range(radix):
+        v = rc_node[rc]
+        slot = rc_slot[rc]
+        c = rc_col[rc]
+        pair = v * colours + c
+        if known[pair] != 1:
+            continue
+        old = (v * pend + slot) * colours + c
+        if slot:
+            dest[rc] = adj[v, slot - 1]
+            change[rc, 0] = dest[rc] * pend * colours + c - old
+            count[rc] = 1
+            continue
+        m = pair_mask[pair]
+        b0 = stay_bit[v, c]
+        final[rc] = m == (one << b0)
+        stays[rc] = (m >> b0) & 1
+        k = 0
+        for b in range(width):
+            if (m >> b) & 1 and not (act_node[v, b] == v and act_col[v, b] == c):
+                change[rc, k] = (v * pend + act_slot[v, b]) * colours + act_col[v, b] - old
+                k += 1
+        count[rc] = k
+    return count, change, final, stays, dest
+
+
+@njit(cache=True, nogil=True)
 def world_async_by_node(keys, n, radix, rc_node, rc_slot, rc_col, pair_mask, known, adj,
                         act_node, act_col, act_slot, stay_bit, pw, visits, pend, colours,
                         vb):  # pragma: no cover - compiled
-    """:func:`world_decode`, the robots' bit sets, :func:`world_facts` and
-    :func:`world_async` in one pass, for an algorithm that answers by (node, colour) alone:
-    robot i's bit set is ``pair_mask[node * K + colour]``, asked of the algorithm already
-    when ``known`` of its pair is 1 (0: not yet; 2: it has no answer there). Expands the
-    states up to the first one with a pair not known as answered (``cut``; ``len(keys)``:
-    none). Returns ``cut``; per event (of the states before it) its state, its successor's
-    key and its robots' mask; per state its events' end, final and stay."""
+    """:func:`world_decode`, :func:`world_facts` and :func:`world_async` in one pass, for an
+    algorithm that answers by (node, colour) alone: robot i's bit set is
+    ``pair_mask[node * K + colour]``, asked of the algorithm already when ``known`` of its
+    pair is 1 (0: not yet; 2: it has no answer there). A robot's events then depend on its
+    code alone (:func:`_code_events`), but for the visited nodes. Expands the states up to
+    the first one with a pair not known as answered (``cut``; ``len(keys)``: none). Returns
+    ``cut``; per event (of the states before it) its state (int32), its successor's key and
+    its robots' mask (int32); per state its events' end, final and stay."""
+    count, change, code_final, code_stays, dest = _code_events(
+        radix, rc_node, rc_slot, rc_col, pair_mask, known, adj, act_node, act_col, act_slot,
+        stay_bit, pend, colours)
     s_count = len(keys)
-    nodes = np.empty(n, dtype=np.int64)
-    slots = np.empty(n, dtype=np.int64)
-    cols = np.empty(n, dtype=np.int64)
-    masks = np.empty(n, dtype=np.int64)
-    codes = np.empty((s_count, n), dtype=np.int64)  # the first pass's robot codes
+    codes = np.empty((s_count, n), dtype=np.int32)  # the first pass's robot codes
     rests = np.empty(s_count, dtype=np.int64)  # (the second pass divides nothing)
     total = 0
     cut = s_count
     for s in range(s_count):
         rest = keys[s]
-        ok = True
+        events = 0
         for i in range(n):
             q = rest // radix
             rc = rest - q * radix
             rest = q
             codes[s, i] = rc
-            nodes[i] = rc_node[rc]
-            slots[i] = rc_slot[rc]
-            cols[i] = rc_col[rc]
-            pair = nodes[i] * colours + cols[i]
-            if known[pair] != 1:
-                ok = False
+            if count[rc] < 0:
+                events = -1
                 break
-            masks[i] = pair_mask[pair]
-        if not ok:
+            events += count[rc]
+        if events < 0:
             cut = s
             break
-        rests[s] = rest
-        total += _async_count(nodes, slots, cols, masks, act_node, act_col)
-    src = np.empty(total, dtype=np.int64)
+        if visits:
+            rests[s] = rest
+        total += events
+    src = np.empty(total, dtype=np.int32)
     succ = np.empty(total, dtype=np.int64)
-    rmask = np.empty(total, dtype=np.int64)
+    rmask = np.empty(total, dtype=np.int32)
     ends = np.empty(cut, dtype=np.int64)
     final = np.empty(cut, dtype=np.bool_)
     stay = np.empty(cut, dtype=np.int64)
+    one = np.int64(1)
+    visited = np.zeros(n, dtype=np.int64)  # per robot, its event's change of the visited
     e = 0
     for s in range(cut):
+        if visits:
+            seen = rests[s] % vb
+            everyone = seen
+            for j in range(n):
+                everyone |= one << rc_node[codes[s, j]]
+            for i in range(n):
+                rc = codes[s, i]
+                if dest[rc] < 0:  # a Look sees every robot's node
+                    visited[i] = (everyone - seen) * pw[n]
+                else:  # a Move reaches its destination; the others stay where they are
+                    moved = seen | (one << dest[rc])
+                    for j in range(n):
+                        if j != i:
+                            moved |= one << rc_node[codes[s, j]]
+                    visited[i] = (moved - seen) * pw[n]
+        key = keys[s]
+        f = True
+        st = np.int64(0)
         for i in range(n):
             rc = codes[s, i]
-            nodes[i] = rc_node[rc]
-            slots[i] = rc_slot[rc]
-            cols[i] = rc_col[rc]
-            masks[i] = pair_mask[nodes[i] * colours + cols[i]]
-        final[s], stay[s] = _facts(nodes, slots, cols, masks, stay_bit)
-        e = _async_events(s, keys[s], rests[s] % vb, nodes, slots, cols, masks, adj, act_node,
-                          act_col, act_slot, pw, visits, pend, colours, src, succ, rmask, e)
+            f &= code_final[rc]
+            st |= np.int64(code_stays[rc]) << i
+            base = key + visited[i]
+            p = pw[i]
+            for k in range(count[rc]):
+                src[e] = s
+                succ[e] = base + change[rc, k] * p
+                rmask[e] = 1 << i
+                e += 1
+        final[s] = f
+        stay[s] = st
         ends[s] = e
     return cut, src, succ, rmask, ends, final, stay
 
