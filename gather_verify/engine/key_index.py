@@ -19,7 +19,11 @@ import numpy as np
 from gather_verify import kernels
 
 LOAD = 0.7
-"""Largest load factor of the hash table before it doubles."""
+"""Largest load factor of the hash table before it grows."""
+FOURFOLD_BELOW = 20
+"""A table of fewer than ``2**FOURFOLD_BELOW`` slots (4 MB) grows fourfold, a larger one
+twofold: each growth places every stored key again, and a small table's extra room costs
+little."""
 TAGGED_IDS = 24
 """The compiled table's slots keep 7 bits of their key's hash above the id while the ids
 fit this many bits (:func:`gather_verify.kernels.find_or_add`)."""
@@ -100,7 +104,7 @@ class KeyIndex:
         if need > load * len(self.table) or self.stale:
             bits = self.bits
             while need > LOAD * (1 << bits):
-                bits += 1
+                bits += 2 if bits < FOURFOLD_BELOW else 1
             self._rebuild(bits)
 
     def drop_table(self) -> None:
