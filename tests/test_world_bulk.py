@@ -341,15 +341,39 @@ class NodeWalk:
         return view.me if d == 1 else view.neighbours()[-1]
 
 
+class NodeBlink:
+    """An algorithm with lights that answers by its node and its own colour only: off the
+    meeting node it turns its light on, then moves to its last neighbour with the light
+    off."""
+
+    name = "node-blink"
+
+    def answers_by_node(self) -> bool:
+        return True
+
+    def decide(self, view: Any) -> Any:
+        c = view.light
+        if view.me in view.meeting_nodes:
+            return view.me, c
+        return (view.neighbours()[-1], 0) if c else (view.me, 1)
+
+
 @pytest.mark.parametrize("world_name", ["ring:5", "ring:6", "house"])
-def test_exploration_by_node_carries_the_visited_nodes(world_name: str, tmp_path: Path) -> None:
-    """ASYNC's one-pass kernel for an algorithm that answers by node, with the visited nodes
-    in the state: a Move adds its destination."""
+def test_the_by_node_kernel_carries_visited_nodes_and_colours(world_name: str,
+                                                              tmp_path: Path) -> None:
+    """ASYNC's one-pass kernel for an algorithm that answers by node: with the visited
+    nodes in the state (a Move adds its destination), and with lights (a Look may change
+    the robot's colour)."""
     w = sweep_world(world_name, tmp_path)
     for robots in configurations(w, (1, 2)):
         for reduce in (False, True):
             ref, bulk = searches(w, robots, (0,), NodeWalk(), "async",
                                  task="exploration-with-stop", reduce=reduce)
+            assert_same(ref, bulk)
+            assert_same_tasks(ref, bulk, w, len(robots), (0,), "async")
+        for colours in itertools.product(range(2), repeat=len(robots)):
+            ref, bulk = searches(w, robots, (0,), NodeBlink(), "async", lights="2",
+                                 colours=list(colours))
             assert_same(ref, bulk)
             assert_same_tasks(ref, bulk, w, len(robots), (0,), "async")
 
