@@ -22,7 +22,8 @@ events come out in the order of the reference search
 (:mod:`gather_verify.engine.world_search`).
 
 The helpers with a leading underscore (one state's decoding, facts and ASYNC events) are
-inlined into the kernels that share them.
+inlined into the kernels that share them; :func:`_code_events` (a table per robot code) is
+called once per chunk.
 """
 
 from __future__ import annotations
@@ -279,7 +280,7 @@ def world_async_by_node(keys, n, radix, rc_node, rc_slot, rc_col, pair_mask, kno
         stay_bit, pend, colours)
     s_count = len(keys)
     codes = np.empty((s_count, n), dtype=np.int32)  # the first pass's robot codes
-    rests = np.empty(s_count, dtype=np.int64)  # (the second pass divides nothing)
+    rests = np.empty(s_count, dtype=np.int64)  # past the robots' digits: the visited nodes
     total = 0
     cut = s_count
     for s in range(s_count):
@@ -307,7 +308,7 @@ def world_async_by_node(keys, n, radix, rc_node, rc_slot, rc_col, pair_mask, kno
     final = np.empty(cut, dtype=np.bool_)
     stay = np.empty(cut, dtype=np.int64)
     one = np.int64(1)
-    visited = np.zeros(n, dtype=np.int64)  # per robot, its event's change of the visited
+    visited = np.zeros(n, dtype=np.int64)  # per robot, its events' change of that digit
     e = 0
     for s in range(cut):
         if visits:
