@@ -49,7 +49,6 @@ class IntColumn(Sequence[int]):
             yield from self.array[start:start + (1 << 16)].tolist()
 
 
-
 @functools.cache
 def glibc() -> Any:
     """The C library when it is glibc (loaded on first use, not at import); else None."""

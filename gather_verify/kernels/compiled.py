@@ -835,6 +835,14 @@ def pair_keys(rows, rank, src, robot, old, new, stride, cells):  # pragma: no co
     return moved[:k], keys[:k]
 
 
+@njit(inline="always")
+def _doubled(a, most):  # pragma: no cover - compiled
+    """A full list ``a`` with twice its room (at most ``most``), its values kept."""
+    grown = np.empty(min(most, 2 * len(a)), dtype=a.dtype)
+    grown[:len(a)] = a
+    return grown
+
+
 @njit(cache=True, nogil=True)
 def successor_rows(rows, rank, src, robot, old, new, neighbour, succ):  # pragma: no cover
     """The configuration row each one-change transition reaches, from the table ``succ``
@@ -872,12 +880,8 @@ def successor_rows(rows, rank, src, robot, old, new, neighbour, succ):  # pragma
                 out[e] = v - 1
                 continue
         if k_miss == len(miss):
-            grown = np.empty(min(m, 2 * len(miss)), dtype=np.int64)
-            grown[:k_miss] = miss
-            miss = grown
-            grown = np.empty(len(miss), dtype=np.int64)
-            grown[:k_miss] = slot[:k_miss]
-            slot = grown
+            miss = _doubled(miss, m)
+            slot = _doubled(slot, m)
         slot[k_miss] = at
         miss[k_miss] = e
         k_miss += 1
