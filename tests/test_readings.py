@@ -14,7 +14,7 @@ from gather_verify.algorithms.base import Unhandled
 from gather_verify.check import run_check
 from gather_verify.cli import main
 from gather_verify.model.configuration import Configuration
-from gather_verify.paper.algorithm import DEFAULTS, READINGS, Reading, analyse
+from gather_verify.paper.algorithm import DEFAULTS, READINGS, PaperAlgorithm, Reading, analyse
 from gather_verify.paper.readings import (
     check_readings,
     covering,
@@ -181,12 +181,12 @@ def test_check_readings_reports_every_reading_run():
     c = configuration(F11_ROTATION)
     report = check_readings(c, "all", algorithm="paper", scheduler="async", **LIMITS)
     specs = [r["algorithm"] for r in report["readings"]]
-    assert len(specs) == len(set(specs)) == 768 == len(covering(parse_readings("all"), c))
+    assert len(specs) == len(set(specs)) == 1536 == len(covering(parse_readings("all"), c))
     assert specs[0] == reading_name({o: v[0] for o, v in READINGS.items()})
     assert report["algorithm"] == specs[0] and report["verdict"] == "VIOLATED"
     assert report["robustness"] == "READING-DEPENDENT"
     assert report["readings_not_read"] == {"alpha": ["mer", "mer_f"]}
-    assert sum(r["readings"] for r in report["runs"]) == 768 > len(report["runs"])
+    assert sum(r["readings"] for r in report["runs"]) == 1536 > len(report["runs"])
     removed = {r["algorithm"] for r in report["readings"] if r["verdict"] == "VERIFIED"}
     assert removed and all("metric=euclid" in a or "placement=reachable" in a for a in removed)
 
@@ -355,6 +355,75 @@ def test_hidden_infer_acts_only_where_the_hidden_node_is_known():
         analyse(three, hidden="infer")
 
 
+# -- the proof of Theorem 8: GuardMovement starts when one position is off m ----------------
+
+F4_N2 = ROOT / "scenarios/regressions/i22-final-paper-async-c933bc2a.json"
+I21_PILE_ON_GUARD = [Configuration([(0, 0), (0, 1), (0, 2), (0, 3)], m, initial=True)
+                     for m in ([(1, 0), (1, 1), (2, 2), (3, 2)], [(1, 0), (2, 0), (3, 1), (3, 2)])]
+
+
+def test_movement_proof_removes_the_deadlocks_on_the_guards_node():
+    """F4 with two robots and the two I21 runs whose non-guards all step onto the guard: the
+    pseudo-code leaves every robot there without a move; the proof's GuardMovement walks
+    them to m (every robot on the guard's node, then the multiplicity left behind)."""
+    for c in [configuration(F4_N2), *I21_PILE_ON_GUARD]:
+        assert verdict(c, "paper") == ("VIOLATED", "final"), c
+        assert verdict(c, "paper:movement=proof") == ("VERIFIED", None), c
+
+
+def test_movement_proof_acts_only_where_the_pseudo_code_has_no_rule():
+    """Every robot on the placed guard's node: no move, or towards m. Finalization: the
+    position off the target moves as before; only its robots on a multiplicity, to whom
+    ``survivor=neither`` gives no move, get one; other parses of line 2 are left alone."""
+    pile = Configuration([(0, 0)], [(1, 0), (1, 1), (2, 1), (2, 2)])
+    reading = Reading(DEFAULTS)
+    assert analyse(pile, reading).moves == {(0, 0): {(0, 0)}}
+    assert "movement" in reading.consulted
+    proof = analyse(pile, movement="proof")
+    assert proof.moves == {(0, 0): {(1, 0)}} and proof.target == (1, 0)
+    final = Configuration([(0, 0), (0, 1)], [(0, 1), (2, 1)])
+    reading = Reading(DEFAULTS)
+    plan = analyse(final, reading)
+    assert "movement" not in reading.consulted  # read by the robot on the multiplicity only
+    assert plan.if_multiplicity == {(0, 0): {(0, 0)}} and plan.proof_moves == {(0, 0): {(0, 1)}}
+    for survivor in ("not-both", "off-target"):
+        assert analyse(final, survivor=survivor).proof_moves == {}
+
+
+def test_movement_is_read_when_a_robot_on_the_multiplicity_decides():
+    """The option is consulted by ``allowed``, when a robot sees its own multiplicity at a
+    position of ``proof_moves``; planned move sets and ``decide`` agree on it."""
+    from gather_verify.algorithms.moves import frames_for, move_set
+
+    one_each = Configuration([(0, 0), (0, 1)], [(0, 1), (2, 1)])
+    two_on_guard = Configuration([(0, 0), (0, 0), (0, 1)], [(0, 1), (2, 1)])
+    for movement, expected in (("algorithm", {(0, 0)}), ("proof", {(0, 1)})):
+        algo = PaperAlgorithm(movement=movement)
+        assert algo.move_sets(one_each, "local-weak", frames_for("all"))[(0, 0)] == {(0, 1)}
+        assert "movement" not in algo.consulted
+        planned = algo.move_sets(two_on_guard, "local-weak", frames_for("all"))
+        assert planned[(0, 0)] == expected == move_set(algo, two_on_guard, (0, 0))
+        assert "movement" in algo.consulted
+
+
+def test_dynamic_covering_with_movement_read_by_the_robots():
+    assert _dynamic_against_product(F4_N3, "movement,survivor,finalize=closest|literal",
+                                    "async") == []
+
+
+def test_dynamic_covering_check_would_catch_movement_read_unrecorded(monkeypatch):
+    """Broken on purpose: ``movement`` read without being recorded, so the runs under
+    ``movement=algorithm`` claim the ``proof`` readings too."""
+    def unrecorded(self, option):
+        if option != "movement":
+            self.consulted.add(option)
+        return self.values[option]
+
+    monkeypatch.setattr(Reading, "__getitem__", unrecorded)
+    wrong = _dynamic_against_product(F4_N3, "movement,survivor", "async")
+    assert wrong and all("movement=proof" in a for a, _, _ in wrong)
+
+
 def test_every_unhandled_of_paper_starts_with_its_own_rule_label():
     """The text before the first colon names the rule (another tool groups failures by it):
     one label per raise site."""
@@ -464,7 +533,7 @@ def test_check_cli_readings_all_on_the_a4_witness(capsys):
     out = json.loads(capsys.readouterr().out)
     assert code == 1 and out["robustness"] == "READING-DEPENDENT"
     by = {r["algorithm"]: r["verdict"] for r in out["readings"]}
-    assert len(by) == 192 and len(out["runs"]) < 192
+    assert len(by) == 384 and len(out["runs"]) < 384
     assert {v for a, v in by.items() if "placement=reachable" in a} == {"VERIFIED"}
     assert {v for a, v in by.items() if "placement=closest" in a} == {"VIOLATED"}
 

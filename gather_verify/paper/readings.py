@@ -39,11 +39,11 @@ product, and fails when either claim is broken on purpose.
 
 >>> varied = parse_readings("all")
 >>> [len(v) for v in varied.values()]
-[2, 2, 2, 4, 2, 2, 2, 3, 2]
+[2, 2, 2, 4, 2, 2, 2, 3, 2, 2]
 >>> from gather_verify.model.configuration import Configuration
 >>> i22 = Configuration([(0, 0), (2, 3)], [(3, 0), (3, 1)])
->>> len(covering(varied, i22))  # every option but alpha: 2*2*4*2*2 * 2*3*2
-768
+>>> len(covering(varied, i22))  # every option but alpha: 2*2*4*2*2 * 2*3*2*2
+1536
 >>> [r.split(",")[0] for r in covering(varied, Configuration([(0, 0)], [(0, 0), (1, 0), (3, 1)]))]
 ['paper:alpha=mer', 'paper:alpha=mer_f']
 >>> robustness(["VIOLATED", "VERIFIED"]), robustness(["VIOLATED", "INCOMPLETE"])
@@ -78,9 +78,10 @@ CLASS_M_TYPE = {"I11": "I1-ordered", "I12": "I1-ordered", "I13": "I13", "I21": "
 _READ: dict[str, tuple[str, ...]] = {
     "I1-ordered": ("alpha",),
     "I13": (),
-    "reflection": ("oscan", "finalize", "outside", "placement", "survivor", "hidden"),
+    "reflection": ("oscan", "finalize", "outside", "placement", "survivor", "hidden",
+                   "movement"),
     "rotation": ("metric", "oscan", "finalize", "outside", "unclassified", "placement",
-                 "survivor", "hidden"),
+                 "survivor", "hidden", "movement"),
 }
 
 
