@@ -191,6 +191,37 @@ def test_check_readings_reports_every_reading_run():
     assert removed and all("metric=euclid" in a or "placement=reachable" in a for a in removed)
 
 
+def test_a_finite_run_over_the_constant_refutes_no_claim(capsys):
+    """Every reading's run goes over c·D·n with c = 0.1 and gathers: move-bound is VIOLATED
+    under each, the robustness is ROBUST-VERIFIED, and the run is over the constant."""
+    c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
+    report = check_readings(c, "all", algorithm="paper", scheduler="async", move_bound_c=0.1,
+                            **LIMITS)
+    assert report["verdict"] == "VIOLATED" and report["property"] == "move-bound"
+    assert report["runs"][0]["fault"] == "VERIFIED"
+    assert report["robustness"] == "ROBUST-VERIFIED"
+    over = report["over_constant"]  # 9 moves, D = 4, n = 3
+    assert over == {"runs": 1, "readings": 1, "moves": 9, "bound": pytest.approx(1.2)}
+    assert main(["check", "--robots", "0,0 3,1 1,4", "--meeting", "2,2", "--readings", "all",
+                 "--move-bound-c", "0.1"]) == 0
+    out = capsys.readouterr().out
+    assert "over the project's constant" in out and "robustness: ROBUST-VERIFIED" in out
+
+
+@pytest.mark.slow
+def test_the_walk_away_over_the_constant_is_not_robust():
+    """The I31 run that walks away under placement=reachable, survivor=off-target: 33 moves
+    over 4·D·n = 32, the search stopped by its region, so its other claims are undecided:
+    INCOMPLETE, never a fault."""
+    c = Configuration([(0, 0), (1, 1), (1, 2), (2, 1)], [(0, 1), (0, 2), (1, 0), (2, 0)],
+                      initial=True)
+    report = check_readings(c, "placement=reachable,survivor=off-target", algorithm="paper",
+                            scheduler="async")
+    assert report["verdict"] == "VIOLATED" and report["property"] == "move-bound"
+    assert report["robustness"] == "INCOMPLETE"
+    assert report["over_constant"] == {"runs": 1, "readings": 1, "moves": 33, "bound": 32.0}
+
+
 def test_check_readings_incomplete_is_never_robust():
     c = configuration(F11_ROTATION)
     report = check_readings(c, "metric", algorithm="paper", scheduler="async", max_states=2,
@@ -210,7 +241,7 @@ def test_check_cli_readings_json(capsys):
         ("metric=manhattan", "finalize=n1", "VIOLATED"),
         ("metric=euclid", "finalize=closest", "VERIFIED"),
         ("metric=euclid", "finalize=n1", "VIOLATED")]
-    assert set(out["readings"][0]) == {"algorithm", "verdict", "property", "run"}
+    assert set(out["readings"][0]) == {"algorithm", "verdict", "property", "fault", "run"}
     assert main(["check", str(F11_ROTATION), "--readings", "metric=taxicab"]) == 2
     assert "metric" in capsys.readouterr().err
 
@@ -246,6 +277,28 @@ def test_robustness_table_counts_only_complete_coverings():
     assert complete == {"READING-DEPENDENT": 1, "ROBUST-VIOLATED": 1, "DEFAULT-ONLY": 3}
     assert table["I13"] == {"ROBUST-VERIFIED": 1}  # I13 reads no option: one reading is all
     assert table["UNCLASSIFIED"] == {"NOT-APPLICABLE": 1}
+
+
+def test_robustness_table_counts_runs_over_the_constant_beside_the_robustness(capsys):
+    from gather_verify.paper.readings import OVER, format_robustness
+
+    base = {"algorithm": "paper", "extra": {"on": "all"}}
+    dynamic = {"algorithm": "paper", "extra": {"on": "all", "covering": "dynamic"}}
+    over = {"runs": 2, "readings": 80, "moves": 33, "bound": 32.0}
+    rows = [{"key": k, "class": "I31", "verdict": v} for k, v in
+            (("a", "VIOLATED"), ("b", "VIOLATED"), ("c", "VERIFIED"))]
+    robust = [{"key": "a", "class": "I31", "verdict": "INCOMPLETE",
+               "trace": {"over_constant": over}},
+              {"key": "b", "class": "I31", "verdict": "ROBUST-VIOLATED",
+               "trace": {"over_constant": None}},
+              {"key": "c", "class": "I31", "verdict": "ROBUST-VERIFIED",
+               "trace": {"over_constant": over}}]
+    table = robustness_table([(base, rows), (dynamic, robust)])
+    assert table["I31"] == {"INCOMPLETE": 1, "ROBUST-VIOLATED": 1, "ROBUST-VERIFIED": 1,
+                            OVER: 2}
+    format_robustness(table)
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("I31"))
+    assert line.split()[:2] == ["I31", "3"] and line.split()[-1] == "2"
 
 
 def test_sweep_readings_stores_every_reading(tmp_path, capsys):
