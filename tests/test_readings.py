@@ -628,3 +628,16 @@ def test_a_readings_sweep_examines_every_configuration_by_the_dynamic_covering(t
         assert row["verdict"] == full["robustness"], row["key"]
     assert main(argv) == 1  # resumed: nothing to compute, the same tables
     assert json.loads(capsys.readouterr().out) == out
+
+
+def test_the_default_readings_verdict_table_says_it_is_one_reading(tmp_path, capsys):
+    """The README's main job: the verdict table of ``paper`` says its counts are the default
+    reading's and points to --readings; another algorithm's table says nothing of it."""
+    argv = ["sweep", "--robots", "2", "--meeting", "2", "--box", "2x2", "--workers", "1"]
+    main([*argv, "--algorithm", "paper", "--db", str(tmp_path / "p.sqlite")])
+    out = capsys.readouterr().out
+    assert "under its default reading" in out and "--readings all" in out
+    main([*argv, "--algorithm", "paper:alpha=mer_f", "--db", str(tmp_path / "f.sqlite")])
+    assert "under the reading paper:alpha=mer_f" in capsys.readouterr().out
+    main([*argv, "--algorithm", "go-to-target", "--db", str(tmp_path / "g.sqlite")])
+    assert "--readings" not in capsys.readouterr().out
