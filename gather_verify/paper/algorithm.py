@@ -180,9 +180,10 @@ class Plan:
 class Reading(Mapping[str, str]):
     """One reading (a value per option of ``READINGS``) that records which options were read.
 
-    ``analyse`` reads every option through this mapping, and only where a rule needs it, so
-    ``consulted`` is every option a plan depended on: two readings equal on the options
-    consulted over all the plans of a run give the same plans, hence the same run
+    ``analyse`` reads every option through this mapping, and only where a rule needs it
+    (:meth:`PaperAlgorithm.allowed` reads ``movement`` so, when a robot decides), so
+    ``consulted`` is every option a plan or a robot's move depended on: two readings equal
+    on the options consulted over a run give the same plans and moves, hence the same run
     (:mod:`gather_verify.paper.readings`, the dynamic covering).
 
     >>> r = Reading({**DEFAULTS, "finalize": "n1"})
@@ -600,7 +601,8 @@ class PaperAlgorithm:
         self.reading = {option: given[option] for option in READINGS}
         self.consulted: set[str] = set()
         """Every option read by a plan this instance computed (a plan comes from the cache
-        only if this instance computed it): the dynamic covering of the readings."""
+        only if this instance computed it) or by one of its robots' moves (``allowed``):
+        the dynamic covering of the readings."""
         self.name = "paper"
         self._plan = lru_cache(maxsize=CACHE_SIZE)(self._plan_uncached)
 

@@ -36,11 +36,12 @@ product, never one at a time, because they interact: finding F9 disappears only 
 
 ``check --readings`` and ``sweep --readings`` run fewer (:func:`check_readings`, the
 dynamic covering; a sweep runs it per configuration, :func:`verify_readings_one`): the
-plans read every option through a recording :class:`~gather_verify.paper.algorithm.Reading`,
-so after a run the instance knows every option its plans consulted; a reading that agrees
-with the run on those options computes the same plan on every snapshot the run planned,
-hence explores the same graph in the same order to the same verdict, and the run stands
-for it. The next run is the first reading not yet stood for. ``tests/test_readings.py``
+plans (and the robots, for ``movement``) read every option through a recording
+:class:`~gather_verify.paper.algorithm.Reading`, so after a run the instance knows every
+option its plans and moves consulted; a reading that agrees with the run on those options
+computes the same plan on every snapshot the run planned and the same moves, hence
+explores the same graph in the same order to the same verdict, and the run stands for
+it. The next run is the first reading not yet stood for. ``tests/test_readings.py``
 checks both claims on random snapshots, compares the dynamic covering with the full
 product, and fails when either claim is broken on purpose.
 
@@ -250,8 +251,9 @@ def check_readings(configuration: Configuration, readings: str, *, algorithm: st
     read).
 
     ``dynamic`` (the default): a run stands for every reading that agrees with it on the
-    options its plans consulted (:class:`~gather_verify.paper.algorithm.Reading`): those
-    readings compute the same plan on every snapshot the run planned, so they explore
+    options its plans and moves consulted (:class:`~gather_verify.paper.algorithm.Reading`):
+    those readings compute the same plan on every snapshot the run planned and the same
+    moves, so they explore
     the same graph, in the same order, and reach the same verdict. The next run is the
     first reading no run stands for yet. ``dynamic=False`` runs every reading."""
     if run is None:
