@@ -32,3 +32,4 @@ def test_the_ratios_are_those_of_the_stored_rows(tmp_path, capsys):
     assert ratios_main([db]) == 0
     assert "3x2 n 2 m 2" in capsys.readouterr().out
     assert ratios_main([str(tmp_path / "none.sqlite")]) == 2
+    assert ratios(db, meeting=range(3, 5)) == {"database": db, "covers": [], "classes": {}}

@@ -6,6 +6,7 @@ grows as the boxes grow. Run it from the repository's root on the databases of o
 sweeps (one column per database; the sweeps ``--readings`` adds are left out)::
 
     python -m tools.move_ratios out/b3.sqlite out/b4.sqlite out/b5.sqlite
+    python -m tools.move_ratios out/b3.sqlite out/b4.sqlite --meeting 2-3   # those sweeps only
     python -m tools.move_ratios out/b3.sqlite --json
 
 Per class and database: ``verified``, the largest ratio over the configurations every
@@ -27,15 +28,20 @@ from gather_verify.sweeps.store import Store
 from gather_verify.theory import get_fact
 
 
-def ratios(db: str, algorithm: str | None = None) -> dict[str, Any]:
+def ratios(db: str, algorithm: str | None = None, robots: range | None = None,
+           meeting: range | None = None) -> dict[str, Any]:
     """The column of one database: what its ordinary sweeps cover (boxes, robots, meeting
-    nodes) and, per class, ``configurations``, ``verified``, ``all`` and ``unmeasured``."""
+    nodes; only the sweeps of ``algorithm`` and of the counts in ``robots`` and ``meeting``,
+    when given) and, per class, ``configurations``, ``verified``, ``all`` and
+    ``unmeasured``."""
     from gather_verify.sweeps.store import algorithm_matches
 
     store = Store(db, read_only=True)
     try:
         sweeps = [(i, s) for i, s in store.sweeps() if "covering" not in (s.get("extra") or {})
-                  and algorithm_matches(s.get("algorithm"), algorithm)]
+                  and algorithm_matches(s.get("algorithm"), algorithm)
+                  and (robots is None or s["robots"] in robots)
+                  and (meeting is None or s["meeting"] in meeting)]
         by: dict[str, dict[str, Any]] = {}
         for i, _ in sweeps:
             for name, verdict, ratio in store.db.execute(
@@ -92,18 +98,29 @@ def format_table(columns: list[dict[str, Any]], write: Any = print) -> None:
           "or a search stopped first)")
 
 
+def _counts(text: str) -> range:
+    low, _, high = text.partition("-")
+    try:
+        return range(int(low), int(high or low) + 1)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: give N or A-B") from None
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tools.move_ratios",
                                      description=__doc__.splitlines()[0])
     parser.add_argument("db", nargs="+", help="results databases of ordinary sweeps")
     parser.add_argument("--algorithm", default=None, help="only the sweeps of this algorithm")
+    parser.add_argument("--robots", type=_counts, default=None, help="only these robots: N or A-B")
+    parser.add_argument("--meeting", type=_counts, default=None,
+                        help="only these meeting nodes: N or A-B")
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args(argv)
     missing = [d for d in args.db if not Path(d).is_file()]
     if missing:
         print(f"{missing[0]}: no such results database", file=sys.stderr)
         return 2
-    columns = [ratios(d, args.algorithm) for d in args.db]
+    columns = [ratios(d, args.algorithm, args.robots, args.meeting) for d in args.db]
     if args.json:
         print(json.dumps(columns, indent=1))
     else:
