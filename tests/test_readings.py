@@ -408,6 +408,16 @@ def test_hidden_infer_acts_only_where_the_hidden_node_is_known():
         analyse(three, hidden="infer")
 
 
+def _read_unrecorded(monkeypatch, hidden: str) -> None:
+    """Break the tracker on purpose: ``hidden`` is read without being recorded."""
+    def unrecorded(self, option):
+        if option != hidden:
+            self.consulted.add(option)
+        return self.values[option]
+
+    monkeypatch.setattr(Reading, "__getitem__", unrecorded)
+
+
 # -- the proof of Theorem 8: GuardMovement starts when one position is off m ----------------
 
 F4_N2 = ROOT / "scenarios/regressions/i22-final-paper-async-c933bc2a.json"
@@ -457,24 +467,6 @@ def test_movement_is_read_when_a_robot_on_the_multiplicity_decides():
         planned = algo.move_sets(two_on_guard, "local-weak", frames_for("all"))
         assert planned[(0, 0)] == expected == move_set(algo, two_on_guard, (0, 0))
         assert "movement" in algo.consulted
-
-
-def test_dynamic_covering_with_movement_read_by_the_robots():
-    assert _dynamic_against_product(F4_N3, "movement,survivor,finalize=closest|literal",
-                                    "async") == []
-
-
-def test_dynamic_covering_check_would_catch_movement_read_unrecorded(monkeypatch):
-    """Broken on purpose: ``movement`` read without being recorded, so the runs under
-    ``movement=algorithm`` claim the ``proof`` readings too."""
-    def unrecorded(self, option):
-        if option != "movement":
-            self.consulted.add(option)
-        return self.values[option]
-
-    monkeypatch.setattr(Reading, "__getitem__", unrecorded)
-    wrong = _dynamic_against_product(F4_N3, "movement,survivor", "async")
-    assert wrong and all("movement=proof" in a for a, _, _ in wrong)
 
 
 def test_every_unhandled_of_paper_starts_with_its_own_rule_label():
@@ -539,12 +531,7 @@ def test_readings_equal_on_the_consulted_options_plan_alike():
 
 def test_the_tracker_check_would_catch_an_option_read_unrecorded(monkeypatch):
     """Broken on purpose: ``survivor`` read without being recorded."""
-    def unrecorded(self, option):
-        if option != "survivor":
-            self.consulted.add(option)
-        return self.values[option]
-
-    monkeypatch.setattr(Reading, "__getitem__", unrecorded)
+    _read_unrecorded(monkeypatch, "survivor")
     failures = _tracker_failures(_finalization_snapshots())
     assert failures and all(a["survivor"] != b["survivor"] for _, a, b in failures)
 
@@ -566,19 +553,21 @@ def test_dynamic_covering_gives_every_reading_the_verdict_of_its_own_run():
                                     "async") == []
     assert _dynamic_against_product(F7_I31[0], "finalize,outside,survivor,hidden",
                                     "fsync") == []
+    # movement is read by a robot when it decides, not by a plan
+    assert _dynamic_against_product(F4_N3, "movement,survivor,finalize=closest|literal",
+                                    "async") == []
 
 
-def test_dynamic_covering_check_would_catch_a_broken_tracker(monkeypatch):
-    """Broken on purpose: ``placement`` read without being recorded, so the run under
-    ``placement=closest`` claims the ``reachable`` readings too."""
-    def unrecorded(self, option):
-        if option != "placement":
-            self.consulted.add(option)
-        return self.values[option]
-
-    monkeypatch.setattr(Reading, "__getitem__", unrecorded)
-    wrong = _dynamic_against_product(F11_DIAGONAL, "placement,finalize=closest", "async")
-    assert wrong and all("placement=reachable" in a for a, _, _ in wrong)
+@pytest.mark.parametrize(("option", "path", "readings", "other"), [
+    ("placement", F11_DIAGONAL, "placement,finalize=closest", "placement=reachable"),
+    ("movement", F4_N3, "movement,survivor", "movement=proof")])
+def test_dynamic_covering_check_would_catch_a_broken_tracker(monkeypatch, option, path,
+                                                             readings, other):
+    """Broken on purpose: ``option`` read without being recorded, so the runs under its
+    first value claim the readings of the other too."""
+    _read_unrecorded(monkeypatch, option)
+    wrong = _dynamic_against_product(path, readings, "async")
+    assert wrong and all(other in a for a, _, _ in wrong)
 
 
 def test_check_cli_readings_all_on_the_a4_witness(capsys):
