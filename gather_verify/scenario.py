@@ -263,10 +263,10 @@ def load_scenario(path: str | Path) -> Scenario:
     or any invalid field.
     """
     where = str(path)
-    from gather_verify.errors import read_input
+    from gather_verify.inputs import read_text
 
     try:
-        text = read_input(path, "scenario")
+        text = read_text(path, "scenario")
     except InvalidInput as error:
         raise ScenarioError(str(error)) from None
     try:

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import functools
 import math
+import os
 import signal
 import threading
 import time
@@ -198,5 +199,87 @@ def guards(function: F) -> F:
     return guarded  # type: ignore[return-value]
 
 
-__all__ = ["GRACE_SECONDS", "INTERVAL", "Overtime", "allowance", "available", "deadline", "guards",
-           "watched"]
+# -- what ends the verifier: a real Ctrl-C only ------------------------------------------
+# A KeyboardInterrupt, a SystemExit or a call of os._exit raised in the user's code is a bug
+# of that code (the ``crash`` counterexample), never an interrupt of the verifier: only a
+# SIGINT that reached this process is one. The command line counts them.
+
+_interrupts = 0
+"""SIGINTs this process received since :func:`count_interrupts`."""
+_counting = False
+"""Whether SIGINTs are counted here (or cannot reach this code at all)."""
+
+
+def _interrupted(signum: int, frame: Any) -> None:
+    global _interrupts
+    _interrupts += 1
+    raise KeyboardInterrupt
+
+
+def count_interrupts() -> None:
+    """Count the SIGINTs this process receives (the command line, on its main thread), each
+    still raising KeyboardInterrupt as Python's own handler does: a KeyboardInterrupt raised
+    while none was received is the user's code's (:func:`real_interrupt`). Also makes a
+    call of ``os._exit`` in the user's code an exception (:func:`guard_exits`)."""
+    global _counting
+    if threading.current_thread() is threading.main_thread():
+        try:
+            if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+                signal.signal(signal.SIGINT, _interrupted)
+        except (ValueError, OSError):  # pragma: no cover - an embedding that refuses handlers
+            return
+    _counting = True
+    guard_exits()
+
+
+def interrupts_unreachable() -> None:
+    """This process (or thread) receives no Ctrl-C: a pool worker ignores SIGINT, a Dask
+    task runs off the main thread. Any KeyboardInterrupt here is the user's code's."""
+    global _counting
+    _counting = True
+    guard_exits()
+
+
+def real_interrupt(error: BaseException) -> bool:
+    """Whether ``error`` is a Ctrl-C the verifier must stop for: a KeyboardInterrupt where a
+    SIGINT was received (or where they are not counted: a library caller's process)."""
+    return isinstance(error, KeyboardInterrupt) and (_interrupts > 0 or not _counting)
+
+
+class ExitCalled(SystemExit):
+    """The user's code called ``os._exit``: in the verifier's process that would end it with
+    no verdict (exit 0 and no output, for ``os._exit(0)``), so inside the user's code it
+    raises this instead, and the check reports the ``crash`` counterexample.
+
+    Cause: an algorithm (or a property) that ends its process. Fix: return a move; raise an
+    exception to report a problem.
+
+    Deliberately *not* a :class:`~gather_verify.errors.GatherVerifyError`: a ``SystemExit``
+    (a ``BaseException``), as what the user's code called would have ended it with."""
+
+    def __init__(self, status: int):
+        super().__init__(f"os._exit({status}) called: it would end the verifier's process")
+        self.status = status
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return ExitCalled, (self.status,)
+
+
+_real_exit = os._exit
+
+
+def _exit(status: int) -> None:
+    if _inside and threading.current_thread() is threading.main_thread():
+        raise ExitCalled(status)
+    _real_exit(status)
+
+
+def guard_exits() -> None:
+    """Make ``os._exit`` raise :class:`ExitCalled` inside the user's code (:func:`watched`)
+    on the main thread; everywhere else it ends the process as before."""
+    os._exit = _exit
+
+
+__all__ = ["GRACE_SECONDS", "INTERVAL", "ExitCalled", "Overtime", "allowance", "available",
+           "count_interrupts", "deadline", "guard_exits", "guards", "interrupts_unreachable",
+           "real_interrupt", "watched"]

@@ -42,7 +42,8 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from gather_verify.algorithms import AlgorithmCrash, Unhandled, get_algorithm
-from gather_verify.errors import InvalidInput, read_input
+from gather_verify.errors import InvalidInput
+from gather_verify.inputs import read_text
 from gather_verify.tasks import get_task
 from gather_verify.worlds import finite_world
 from gather_verify.worlds.base import World
@@ -74,7 +75,7 @@ def read_trace(source: str | Path) -> Any:
     """The JSON of a trace file (a scenario that stores one under ``trace``: that trace), as
     it is; one line when it is not JSON."""
     try:
-        data = json.loads(read_input(source, "trace"))
+        data = json.loads(read_text(source, "trace"))
     except json.JSONDecodeError as error:
         raise InvalidInput(f"bad trace {source}: not JSON ({error.msg} at line "
                            f"{error.lineno})") from None

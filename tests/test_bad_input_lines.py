@@ -32,7 +32,7 @@ SWEEP = ("sweep", "--robots", "2", "--meeting", "1", "--box", "2x2", "--algorith
 
 
 @pytest.mark.parametrize("argv, words", [
-    (("classify", "/dev/zero"), ("larger than",)),  # bounded input
+    (("classify", "/dev/zero"), ("character device", "not a file")),  # never read at all
     (("check", "--robots", "1_0,0", "--meeting", "1,1"), ("digits 0-9",)),
     (("check", "--robots", "\u0661,0", "--meeting", "1,1"), ("digits 0-9",)),
     (("check", "--robots", "0,0", "--meeting", "1,1", "--algorithm", ""), ("empty",)),

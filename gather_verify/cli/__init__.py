@@ -30,7 +30,8 @@ from gather_verify.cli.common import (
     UsageError,
 )
 from gather_verify.errors import InvalidInput
-from gather_verify.watchdog import Overtime
+from gather_verify.inputs import kept
+from gather_verify.watchdog import Overtime, count_interrupts
 
 EXIT_BROKEN_PIPE = 141
 """The output pipe was closed by its reader (128 + SIGPIPE, as shells report it)."""
@@ -85,7 +86,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         if not getattr(args, "_run", None):
             build_parser().print_help(sys.stderr)
             return EXIT_USAGE
-        return int(args._run(args))
+        count_interrupts()  # a KeyboardInterrupt no Ctrl-C sent is the user's code's
+        with kept():  # every input file is read once (gather_verify.inputs)
+            return int(args._run(args))
     except InvalidInput as error:  # the user's mistake: the message names the bad value
         print(f"error: {error}", file=sys.stderr)
         return EXIT_USAGE

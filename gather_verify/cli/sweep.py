@@ -114,8 +114,25 @@ def count_range(text: str) -> range:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Every input read once, before anything runs: the extra files (which the algorithm may
+    read at import), then the algorithm and property files, copied, so that what is loaded,
+    fingerprinted and shipped to the workers is one snapshot (docs/reliability.md)."""
+    from gather_verify.algorithms.loading import absolute_spec, snapshot
+    from gather_verify.fingerprint import files_fingerprint
+    from gather_verify.properties.registry import absolute_spec as absolute_property
+    from gather_verify.sweeps.store import check_db_path
+
+    check_db_path(args.db)
+    args.fingerprint_extra = [os.path.abspath(f) for f in args.fingerprint_extra]
+    files_fingerprint(args.fingerprint_extra)  # an unreadable file fails before any work
+    args.algorithm = absolute_spec(args.algorithm)  # the workers load the same file
+    args.properties = [absolute_property(p) for p in args.properties or ()] or None
+    with snapshot({args.algorithm, *(args.properties or ())}):
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     from gather_verify.algorithms import get_algorithm
-    from gather_verify.algorithms.loading import absolute_spec
     from gather_verify.algorithms.moves import frames_for
     from gather_verify.model.view import check_detection
     from gather_verify.sweeps.census import validate_census_arguments
@@ -139,7 +156,6 @@ def run(args: argparse.Namespace) -> int:
     if args.readings_types is not None and not args.readings:
         raise InvalidInput("--readings-types needs --readings (it picks which configurations the "
                            "readings run on)")
-    args.algorithm = absolute_spec(args.algorithm)  # the workers load the same file
     with deadline(allowance(args.max_seconds_per_config)):  # an endless import ends (watchdog)
         algorithm = get_algorithm(args.algorithm)  # unknown names fail before any work
     writable_outputs(junit=args.junit)
@@ -149,10 +165,8 @@ def run(args: argparse.Namespace) -> int:
         for m in args.meeting:
             validate_census_arguments(n, m, *args.box)
     if args.properties:
-        from gather_verify.properties.registry import absolute_spec as absolute_property
         from gather_verify.properties.registry import check_property_names
 
-        args.properties = [absolute_property(p) for p in args.properties]  # workers load the file
         with deadline(allowance(args.max_seconds_per_config)):
             check_property_names(args.properties)
         from gather_verify.check import refuse_inapplicable
@@ -167,11 +181,9 @@ def run(args: argparse.Namespace) -> int:
         max_seconds=args.max_seconds_per_config, move_bound_c=args.move_bound_c,
         reduction=not args.no_reduction, max_memory_mb=args.max_memory_mb,
         keep_growing=args.keep_growing,
-        fingerprint_extra=tuple(os.path.abspath(f) for f in args.fingerprint_extra),
+        fingerprint_extra=tuple(args.fingerprint_extra),
         force=args.force, lights=args.lights, initial_colours=args.initial_colours,
     ) for n in args.robots for m in args.meeting]
-    if args.fingerprint_extra:
-        settings[0].fingerprint()  # an unreadable file fails before any work
     if args.readings:
         return _readings(args, settings)
     try:
@@ -221,7 +233,6 @@ def _worlds(args: argparse.Namespace) -> int:
     """``sweep --world W``: every class of initial configurations of a finite world (or of
     each ring of a range), one search each, into the same store."""
     from gather_verify.algorithms import get_algorithm
-    from gather_verify.algorithms.loading import absolute_spec
     from gather_verify.model.view import check_detection
     from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
     from gather_verify.tasks import get_task
@@ -235,8 +246,8 @@ def _worlds(args: argparse.Namespace) -> int:
                                f"(Z²), not of {args.world}")
     if 0 in args.robots:
         raise InvalidInput("--robots: at least one robot")
-    args.algorithm = absolute_spec(args.algorithm if args.algorithm != "paper" else
-                                   "go-to-target")
+    if args.algorithm == "paper":
+        args.algorithm = "go-to-target"
     with deadline(allowance(args.max_seconds_per_config)):  # an endless import ends (watchdog)
         get_algorithm(args.algorithm)
     check_detection(args.multiplicity)
@@ -260,7 +271,7 @@ def _worlds(args: argparse.Namespace) -> int:
         properties=tuple(args.properties or ()), max_states=args.max_states_per_config,
         max_seconds=args.max_seconds_per_config, reduction=not args.no_reduction,
         max_memory_mb=args.max_memory_mb,
-        fingerprint_extra=tuple(os.path.abspath(f) for f in args.fingerprint_extra),
+        fingerprint_extra=tuple(args.fingerprint_extra),
         world=w.name, task=args.task or ("gathering-on-meeting-nodes" if m else "gathering"),
         visibility=args.visibility, lights=args.lights, initial_colours=args.initial_colours,
     ) for w in worlds for n in args.robots for m in args.meeting]

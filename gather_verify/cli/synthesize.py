@@ -301,10 +301,11 @@ def _minimum(args: argparse.Namespace) -> int:
 
     from gather_verify.fingerprint import own_digest
     from gather_verify.sweeps.minimum import format_table, least_cell
-    from gather_verify.sweeps.store import Store
+    from gather_verify.sweeps.store import Store, check_db_path
     from gather_verify.worlds import PLANE, entry_of
     from schedulers import get_scheduler
 
+    check_db_path(args.db)
     colours = _colour_range(args.lights)
     values = _counts(args.robots) if colours is None else colours[0]
     what = "robots" if colours is None else "colours"

@@ -145,6 +145,24 @@ def utc_now() -> str:
     return now.isoformat().replace("+00:00", "Z")
 
 
+def check_db_path(path: str) -> None:
+    """A results database given on the command line must be a file that outlives the command:
+    one line for an empty path, ``:memory:`` or a ``file:`` URI (SQLite would keep every row
+    in memory, or read the text as options, and the command would end with nothing written).
+
+    >>> check_db_path("file:x.db?mode=memory")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    gather_verify.errors.InvalidInput: --db 'file:x.db?mode=memory': ...
+    """
+    text = str(path).strip()
+    if not text:
+        raise InvalidInput("--db: the path is empty (give a file, e.g. --db out/results.sqlite)")
+    if text == ":memory:" or text.lower().startswith("file:"):
+        raise InvalidInput(f"--db {path!r}: a results database is a file (SQLite would read this "
+                           "as an in-memory database or a URI, and nothing would be kept): "
+                           "give a file path, e.g. --db out/results.sqlite")
+
+
 class Store:
     """A results database at ``path`` (``:memory:`` for tests). ``read_only``: a reader
     (``report``) never writes: the file must exist and be a results database, and is

@@ -10,6 +10,7 @@ the stored results are the same whichever ran them.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import os
 import sys
@@ -20,7 +21,7 @@ from dataclasses import asdict, dataclass, field, replace
 from functools import partial
 from typing import Any
 
-from gather_verify.errors import InvalidInput
+from gather_verify.errors import GatherVerifyError, InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.sweeps.store import CAUSE_UNKNOWN, Store, check_row
 
@@ -101,12 +102,20 @@ class SweepSettings:
 
     def fingerprint(self) -> str:
         """The digest of the code and data behind the rows (:mod:`gather_verify.fingerprint`):
-        the algorithm's, every property file's, the ``fingerprint_extra`` files' and
-        gather-verify's own source."""
-        from gather_verify.fingerprint import algorithm_fingerprint, sweep_fingerprint
+        the algorithm's, the graph file's, every property file's, the ``fingerprint_extra``
+        files' and gather-verify's own source."""
+        from gather_verify.fingerprint import sweep_fingerprint
 
-        return sweep_fingerprint(algorithm_fingerprint(self.algorithm)["digest"], self.world,
-                                 self.properties, self.fingerprint_extra)
+        return sweep_fingerprint(self.inputs())
+
+    def inputs(self, disk: bool = False) -> dict[str, str]:
+        """Each input the rows depend on, with the digest this process computes them from
+        (:func:`gather_verify.fingerprint.sweep_inputs`; ``disk``: as a worker sees them
+        after a task)."""
+        from gather_verify.fingerprint import algorithm_fingerprint, sweep_inputs
+
+        return sweep_inputs(algorithm_fingerprint(self.algorithm)["digest"], self.world,
+                            self.properties, self.fingerprint_extra, disk)
 
 
 def configuration_key(c: Configuration) -> str:
@@ -223,8 +232,9 @@ def run_sweep(
     if verify is not None:
         engine = "per-config"
     from gather_verify.algorithms.loading import snapshot
+    from gather_verify.inputs import kept
 
-    with snapshot({one.algorithm for one in batch}):  # fingerprinted and run: the same text
+    with kept(), snapshot(code_specs(batch)):  # fingerprinted and run: the same text
         summary = _run_sweep(batch, db_path, workers, dask, progress, limit, where, fresh,
                              engine, verify)
     return summary if lit is None else {**summary, "engine_fallback": lit}
@@ -261,8 +271,10 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
             plan.append((one, sweep, todo))
         bar = Progress(sum(len(todo) for _, _, todo in plan), progress)
         fallbacks: dict[str, int] = {}
+        expected = {sweep: one.inputs() for one, sweep, _ in plan}
         try:
-            for sweep, rows, why in _execute(plan, workers, dask, engine, verify):
+            for sweep, rows, why, basis in _execute(plan, workers, dask, engine, verify):
+                refuse_changed(expected[sweep], basis, len(rows))
                 store.add(sweep, rows)
                 bar.advance(len(rows))
                 for reason, count in why.items():
@@ -279,6 +291,18 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
     if engine == "union":  # of those computed now: why the union left some to their own checks
         summary["union_fallbacks"] = dict(sorted(fallbacks.items(), key=lambda kv: (-kv[1], kv[0])))
     return summary
+
+
+def refuse_changed(expected: dict[str, str], basis: dict[str, str], rows: int) -> None:
+    """A row is stored only if every input it was computed from is the one its key names:
+    one line naming the first input that is not (edited while the sweep ran, or another on
+    a worker), the rows of the task not stored."""
+    for name in sorted(set(expected) | set(basis)):
+        if expected.get(name) != basis.get(name):
+            raise InvalidInput(
+                f"{name} changed while the sweep ran (or is another on a worker): the {rows} "
+                "rows computed from it were not stored, since their key names the one read at "
+                "the start; every row stored before is kept: run the same command again")
 
 
 def _census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
@@ -310,11 +334,13 @@ def _census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
 
 Task = tuple[int, SweepSettings, list[tuple[int, Configuration]]]
 """One unit of work: the sweep's id in the store, its settings, a chunk of configurations."""
-Done = tuple[int, list[dict[str, Any]], list[Task], dict[str, int]]
-"""What a task gives back: the sweep's id, its rows, the tasks it hands off, and how many of
-its configurations the union engine left to their own checks, by reason."""
-Finished = tuple[int, list[dict[str, Any]], dict[str, int]]
-"""What :func:`_execute` yields per task: the sweep's id, its rows, its fallbacks by reason."""
+Done = tuple[int, list[dict[str, Any]], list[Task], dict[str, int], dict[str, str]]
+"""What a task gives back: the sweep's id, its rows, the tasks it hands off, how many of its
+configurations the union engine left to their own checks, by reason, and the digest of each
+input its rows were computed from (:meth:`SweepSettings.inputs`)."""
+Finished = tuple[int, list[dict[str, Any]], dict[str, int], dict[str, str]]
+"""What :func:`_execute` yields per task: the sweep's id, its rows, its fallbacks by reason,
+its inputs' digests."""
 
 def warm_kernels(schedulers: Iterable[str]) -> None:
     """Compile (or load from numba's cache) the bulk engine's kernels before any row is
@@ -382,8 +408,8 @@ def _execute(
         yield from _execute_dask(tasks, dask, workers, run)
     elif local or not tasks:
         for task in tasks:
-            sweep, rows, _, why = run(task)  # nothing is handed off in this process
-            yield sweep, rows, why
+            sweep, rows, _, why, basis = run(task)  # nothing is handed off in this process
+            yield sweep, rows, why, basis
     else:
         yield from _execute_pool(tasks, workers or os.cpu_count() or 1, run)
 
@@ -426,11 +452,11 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
             waiting -= 1
             if isinstance(got, BaseException):
                 raise got
-            sweep, rows, more, why = got
+            sweep, rows, more, why, basis = got
             for task in more:
                 submit(_run_task, task)
             waiting += len(more)
-            yield sweep, rows, why
+            yield sweep, rows, why, basis
     finally:
         if lost():
             _abandon(pool)
@@ -459,7 +485,10 @@ def _pool_worker(parent: int) -> None:
     import signal
     import threading
 
+    from gather_verify.watchdog import interrupts_unreachable
+
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    interrupts_unreachable()  # so a KeyboardInterrupt here is the user's code's: a crash
     if sys.platform.startswith("linux"):
         import ctypes
         from contextlib import suppress
@@ -475,42 +504,84 @@ def _pool_worker(parent: int) -> None:
     threading.Thread(target=orphaned, name="gather-verify parent watch", daemon=True).start()
 
 
-def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
-              verify: Verify = verify_one) -> Done:
-    """Worker entry point (picklable for process pools and Dask). ``sources``: the text of
-    the algorithm files (:func:`gather_verify.algorithms.loading.ship`), for a worker that
-    does not see them (a Dask cluster on other machines); ``verify``: the row maker."""
-    sweep, settings, chunk = task
-    if sources:
-        from gather_verify.algorithms.loading import receive
+Shipped = tuple[dict[str, dict[str, str]] | None, dict[str, bytes] | None]
+"""What a worker needs that it may not see: the code files of the sweep's snapshot
+(:func:`gather_verify.algorithms.loading.ship`) and the input files its parent read once
+(:func:`gather_verify.inputs.export`: graph files, extras)."""
 
-        receive(sources)
+
+class WorkerFailed(GatherVerifyError, RuntimeError):
+    """A sweep's worker failed with an exception that is no verdict and no bad input: a bug
+    of gather-verify (the message holds the worker's traceback).
+
+    Cause: an exception escaped the verifier's own code in a worker process. Fix: report it
+    with the command line; every row stored before is kept."""
+
+
+def worker_task(run: Callable[..., tuple[Any, ...]]) -> Callable[..., Done]:
+    """A worker's entry point from ``run(task, **options) -> (sweep, rows, more, why)``:
+    the task runs on the parent's snapshot (``shipped``: the code it ran, the input files it
+    read), reports the digest of every input its rows were computed from
+    (:meth:`SweepSettings.inputs` with ``disk``), and an exception that would end the worker
+    process (with a traceback of its own) comes back to the parent as :class:`WorkerFailed`.
+    Picklable: it is looked up by its module-level name."""
+
+    @functools.wraps(run)
+    def entry(task: Task, shipped: Shipped = (None, None), **options: Any) -> Done:
+        import threading
+        import traceback
+
+        from gather_verify.algorithms.loading import receive
+        from gather_verify.inputs import adopt, kept
+        from gather_verify.watchdog import interrupts_unreachable
+
+        if threading.current_thread() is not threading.main_thread():
+            interrupts_unreachable()  # a Dask task: no Ctrl-C reaches this thread
+        sources, files = shipped
+        settings = task[1]
+        with kept():
+            if sources:
+                receive(sources)
+            adopt(files or {})
+            try:
+                sweep, rows, more, why = run(task, **options)
+                return sweep, Store.encode(rows), more, why, settings.inputs(disk=True)
+            except (GatherVerifyError, OSError):
+                raise  # bad input, one line in the parent as anywhere
+            except BaseException as error:  # never a worker's own traceback on the terminal
+                raise WorkerFailed(f"a sweep worker failed: {type(error).__name__}: {error}\n"
+                                   + "".join(traceback.format_exception(error))) from None
+
+    return entry
+
+
+@worker_task
+def _run_task(task: Task, verify: Verify = verify_one) -> tuple[Any, ...]:
+    """Worker entry point (picklable for process pools and Dask): each configuration of the
+    chunk checked on its own; ``verify``: the row maker."""
+    sweep, settings, chunk = task
     if verify is verify_one and not settings.on_plane:  # handed off by a finite world's class
         from gather_verify.sweeps.world_census import verify_world_one
 
         verify = verify_world_one
-    return sweep, Store.encode(verify_chunk(settings, chunk, verify)), [], {}
+    return sweep, verify_chunk(settings, chunk, verify), [], {}
 
 
-def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
-                    hand_off: float | None = None) -> Done:
-    """Worker entry point of ``engine="union"``: the chunk is one meeting-node class
-    (``sources`` as for :func:`_run_task`); the per-configuration checks left after
-    ``hand_off`` seconds come back as tasks of one configuration each."""
+@worker_task
+def _run_class_task(task: Task, hand_off: float | None = None) -> tuple[Any, ...]:
+    """Worker entry point of ``engine="union"``: the chunk is one meeting-node class; the
+    per-configuration checks left after ``hand_off`` seconds come back as tasks of one
+    configuration each."""
     from gather_verify.sweeps.mclass import verify_class
 
     sweep, settings, chunk = task
-    if sources:
-        from gather_verify.algorithms.loading import receive
-
-        receive(sources)
     fallbacks: dict[str, int] = {}
     rows, rest = verify_class(settings, chunk, verify_one, configuration_key, hand_off, fallbacks)
-    return sweep, Store.encode(rows), [(sweep, settings, [item]) for item in rest], fallbacks
+    return sweep, rows, [(sweep, settings, [item]) for item in rest], fallbacks
 
 
-def _run_world_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
-                          hand_off: bool = False) -> Done:
+@worker_task
+def _run_world_class_task(task: Task, hand_off: bool = False) -> tuple[Any, ...]:
     """Worker entry point of a finite world's union sweep: the chunk is one meeting-node
     class (:mod:`gather_verify.sweeps.world_union`); with ``hand_off`` the configurations
     the union leaves to their own checks come back as tasks of ``CHUNK`` each, for the
@@ -518,13 +589,8 @@ def _run_world_class_task(task: Task, sources: dict[str, dict[str, str]] | None 
     from gather_verify.sweeps.world_union import verify_world_class
 
     sweep, settings, chunk = task
-    if sources:
-        from gather_verify.algorithms.loading import receive
-
-        receive(sources)
     rows, rest = verify_world_class(settings, chunk, hand_off)
-    return (sweep, Store.encode(rows), [(sweep, settings, part) for part in _chunks(rest, CHUNK)],
-            {})
+    return sweep, rows, [(sweep, settings, part) for part in _chunks(rest, CHUNK)], {}
 
 
 def _execute_dask(tasks: list[Task], address: str, workers: int | None,
@@ -554,15 +620,13 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None,
                 raise InvalidInput(f"--dask {address}: cannot reach a Dask scheduler there "
                                    f"({type(error).__name__}: {error}); give 'local' or "
                                    "tcp://HOST:PORT") from None
-        from gather_verify.algorithms.loading import ship
-
-        sources = ship({settings.algorithm for _, settings, _ in tasks}) or None
-        pending = as_completed(client.map(run, tasks, sources=sources, pure=False))
+        shipped = _shipped([settings for _, settings, _ in tasks])
+        pending = as_completed(client.map(run, tasks, shipped=shipped, pure=False))
         for future in pending:
-            sweep, rows, more, why = future.result()
+            sweep, rows, more, why, basis = future.result()
             for task in more:
-                pending.add(client.submit(_run_task, task, sources=sources, pure=False))
-            yield sweep, rows, why
+                pending.add(client.submit(_run_task, task, shipped=shipped, pure=False))
+            yield sweep, rows, why, basis
     except KeyboardInterrupt:  # stop the workers quietly; the command says what was kept
         _quiet_dask_logs()
         if address == "local" and cluster is None:
@@ -573,6 +637,23 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None,
             client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _shipped(batch: Iterable[SweepSettings]) -> Shipped:
+    """What workers on other machines need of the sweeps ``batch``: the snapshot of their
+    code files (algorithms, property files) and of the graph and extra files they read."""
+    from gather_verify.algorithms.loading import ship
+    from gather_verify.inputs import export
+
+    batch = list(batch)
+    files = [f for one in batch for f in one.fingerprint_extra]
+    files += [one.world.partition(":")[2] for one in batch if one.world.startswith("graph:")]
+    return ship(code_specs(batch)) or None, export(files) or None
+
+
+def code_specs(batch: Iterable[SweepSettings]) -> set[str]:
+    """The algorithm and property files of the sweeps ``batch`` (what a snapshot copies)."""
+    return {spec for one in batch for spec in (one.algorithm, *one.properties)}
 
 
 @contextmanager

@@ -372,10 +372,10 @@ def write_certificate(path: str, inst: Instance, views: Views, cexs: list[dict[s
 def verify_certificate(path: str) -> dict[str, Any]:
     """Re-check a certificate without searching; a summary, or :class:`CertificateError`
     (the certificate does not hold) / :class:`InvalidInput` (not a certificate)."""
-    from gather_verify.errors import read_input
+    from gather_verify.inputs import read_text
 
     try:
-        doc = json.loads(read_input(path, "certificate"))
+        doc = json.loads(read_text(path, "certificate"))
     except json.JSONDecodeError as error:
         raise InvalidInput(f"{path}: not JSON ({error})") from None
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:

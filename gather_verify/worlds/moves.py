@@ -20,7 +20,7 @@ from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, AlgorithmEr
 from gather_verify.algorithms.moves import HiddenRead
 from gather_verify.errors import InvalidInput
 from gather_verify.model.view import MultiplicityHidden, check_detection
-from gather_verify.watchdog import Overtime, watched
+from gather_verify.watchdog import Overtime, real_interrupt, watched
 from gather_verify.worlds.base import World
 from gather_verify.worlds.view import LightHidden, Lights, WorldView
 
@@ -104,9 +104,11 @@ class WorldMoves:
             except (MultiplicityHidden, LightHidden) as error:
                 raise HiddenRead(f"algorithm {algorithm.name!r} reads what its robots cannot "
                                  f"see: {error}") from None
-            except (Unhandled, KeyboardInterrupt, Overtime):
+            except (Unhandled, Overtime):  # no rule; the watchdog's stop at the time limit
                 raise
-            except BaseException as error:  # SystemExit too: user code never ends the verifier
+            except BaseException as error:  # SystemExit, KeyboardInterrupt, os._exit too
+                if real_interrupt(error):  # only a real Ctrl-C stops the verifier
+                    raise
                 raise AlgorithmCrash(algorithm.name, "decide", error,
                                      self.world.label(node), view) from None
             out.add(self._action(answer, frame, node, colour, view))
