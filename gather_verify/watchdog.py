@@ -222,14 +222,15 @@ def count_interrupts() -> None:
     while none was received is the user's code's (:func:`real_interrupt`). Also makes a
     call of ``os._exit`` in the user's code an exception (:func:`guard_exits`)."""
     global _counting
-    if threading.current_thread() is threading.main_thread():
-        try:
-            if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
-                signal.signal(signal.SIGINT, _interrupted)
-        except (ValueError, OSError):  # pragma: no cover - an embedding that refuses handlers
-            return
-    _counting = True
     guard_exits()
+    if threading.current_thread() is not threading.main_thread():
+        return  # (SIGINT reaches the main thread only: there it is counted, or never)
+    try:
+        if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            signal.signal(signal.SIGINT, _interrupted)
+        _counting = _counting or signal.getsignal(signal.SIGINT) is _interrupted
+    except (ValueError, OSError):  # pragma: no cover - an embedding that refuses handlers
+        return
 
 
 def interrupts_unreachable() -> None:
