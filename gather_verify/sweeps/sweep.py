@@ -425,7 +425,8 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
                                                     initargs=(os.getpid(),))
     # the workers as the pool started them, before any task: they live as long as the pool,
     # so one that is gone, or replaced by a new one, was killed
-    started = {p.pid for p in pool._pool}  # noqa: SLF001 - to notice a lost one
+    first = list(pool._pool)  # noqa: SLF001 - to notice a lost one, and how it ended
+    started = {p.pid for p in first}
 
     def lost() -> bool:
         return {p.pid for p in pool._pool if p.exitcode is None} != started  # noqa: SLF001
@@ -444,10 +445,7 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
                 # a worker killed never reports the task it held (the pool may have started
                 # another in its place already): say so instead of waiting for ever
                 if lost():
-                    raise InvalidInput(
-                        "a worker process was lost (killed, perhaps by the system for lack "
-                        "of memory); every finished row is kept: run the same command again "
-                        "to resume, perhaps with fewer --workers or a lower --max-memory-mb") from None
+                    raise InvalidInput(_lost_worker(first)) from None
                 continue
             waiting -= 1
             if isinstance(got, BaseException):
@@ -461,6 +459,27 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
         if lost():
             _abandon(pool)
         pool.terminate()
+
+
+def _lost_worker(processes: list[Any]) -> str:
+    """The line that says a pool worker died, how (a signal, an exit status) and what to do."""
+    how = ""
+    for p in processes:
+        code = p.exitcode
+        if code is not None and code < 0:
+            import signal
+
+            try:
+                how = f" (killed by {signal.Signals(-code).name})"
+            except ValueError:
+                how = f" (killed by signal {-code})"
+        elif code is not None:
+            how = f" (it exited with status {code})"
+    return (f"a worker process died{how} while it checked configurations: killed by the system "
+            "for lack of memory, or ended by the algorithm's code in a way the verifier "
+            "cannot catch (a signal, a crash of C code: docs/reliability.md); every finished "
+            "row is kept: run the same command again to resume, perhaps with fewer --workers "
+            "or a lower --max-memory-mb")
 
 
 def _abandon(pool: Any) -> None:
@@ -623,7 +642,12 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None,
         shipped = _shipped([settings for _, settings, _ in tasks])
         pending = as_completed(client.map(run, tasks, shipped=shipped, pure=False))
         for future in pending:
-            sweep, rows, more, why, basis = future.result()
+            try:
+                sweep, rows, more, why, basis = future.result()
+            except Exception as error:
+                if type(error).__name__ == "KilledWorker":  # the task's worker died, again
+                    raise InvalidInput(f"Dask: {_lost_worker([])}") from None
+                raise
             for task in more:
                 pending.add(client.submit(_run_task, task, shipped=shipped, pure=False))
             yield sweep, rows, why, basis
