@@ -201,6 +201,8 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
             "reason": (f"time (the watchdog stopped your code: still running "
                        f"{stopped.seconds:g} s into the check)"),
             "stopped": "time", "states": PROGRESS.states, "transitions": 0,
+            "engine": "bulk" if engine != "reference" and fallback is None else "reference",
+            **({"engine_fallback": fallback} if fallback is not None else {}),
             "lights": str(light), "reductions": reductions,
             "properties": {name: {"holds": None, "reason": "the search stopped (time)"}
                            for name in names},
