@@ -51,8 +51,8 @@ from gather_verify.engine.columns import Growing, glibc
 from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop, rss_mb
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.engine.world_search import (
-    Halt,
     EVENT_CUT,
+    Halt,
     Relabel,
     SearchArrays,
     WorldSearch,

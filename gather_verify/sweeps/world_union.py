@@ -38,9 +38,9 @@ from typing import Any
 import numpy as np
 
 from gather_verify.errors import InvalidInput
-from gather_verify.watchdog import Overtime, allowance, deadline
 from gather_verify.sweeps.store import row
 from gather_verify.sweeps.world_census import WorldConfiguration, verify_world_one, world_key
+from gather_verify.watchdog import Overtime, allowance, deadline
 from gather_verify.worlds import finite_world
 from gather_verify.worlds.base import World
 
