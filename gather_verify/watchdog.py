@@ -109,7 +109,8 @@ def _ring(signum: int, frame: Any) -> None:
         return
     passed = _ARMED[-1]
     passed.expired = True
-    if _inside and (frame is None or frame.f_code not in _COUNTING):
+    if _inside and (frame is None or (frame.f_code not in _COUNTING
+                                      and frame.f_code not in _QUIET)):
         raise Overtime(passed.seconds)
 
 
@@ -199,6 +200,99 @@ def guards(function: F) -> F:
     return guarded  # type: ignore[return-value]
 
 
+# -- the verifier's own setup, bounded --------------------------------------------------
+# Building what a search needs (a world of a million nodes, the automorphisms of a graph
+# file, a synthesis's tables, a certificate's views) is the verifier's own code, but it
+# keeps no state a stop could leave half written (a result is kept only when it is whole):
+# it may be cut anywhere, as the user's code is.
+
+
+class OverMemory(BaseException):
+    """The resident memory passed the limit of a :func:`bounded` block (``limit_mb``).
+
+    Cause: a setup step (building a world, its automorphisms, a synthesis's views) needs
+    more memory than the limit (``--max-memory-mb``) allows. Fix: a smaller world, or a
+    larger limit; the command reports INCOMPLETE (or ``unknown``) with this reason.
+
+    Deliberately *not* a :class:`~gather_verify.errors.GatherVerifyError`: a
+    ``BaseException``, as :class:`Overtime`, so that no ``except Exception`` on the way
+    swallows it."""
+
+    limit_mb = 0.0
+
+
+class bounded:  # noqa: N801 - a context manager used as a function is
+    """Within the block, :class:`Overtime` once ``seconds`` have passed and
+    :class:`OverMemory` once ``rss()`` (MiB) passes ``memory_mb`` (read every
+    :data:`INTERVAL` by a thread), raised wherever the block's code is: it is watched as
+    the user's code is (:func:`watched`). On the main thread only, as :func:`deadline`.
+
+    A class, not a generator: on the way out it leaves the watched region first, in a frame
+    where the alarm never raises (:func:`quiet`), so a second ring cannot cut its own
+    clean-up."""
+
+    def __init__(self, seconds: float | None, memory_mb: float | None,
+                 rss: Callable[[], float]):
+        self.seconds, self.memory_mb, self.rss = seconds, memory_mb, rss
+        self.on = available()
+        self.stop, self.fired = threading.Event(), False
+        self.thread: threading.Thread | None = None
+        self.timer: Any = None
+
+    def _watch(self, here: int) -> None:
+        import ctypes
+
+        while not self.stop.wait(INTERVAL):
+            if self.rss() > self.memory_mb:  # type: ignore[operator]
+                self.fired = True
+                OverMemory.limit_mb = float(self.memory_mb)  # type: ignore[arg-type]
+                ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(here),
+                                                           ctypes.py_object(OverMemory))
+                return
+
+    def __enter__(self) -> None:
+        if not self.on:
+            return
+        global _inside
+        if self.memory_mb is not None and 0 < self.memory_mb < math.inf:
+            self.thread = threading.Thread(target=self._watch, args=(threading.get_ident(),),
+                                           name="gather-verify memory watch", daemon=True)
+            self.thread.start()
+        self.timer = deadline(self.seconds)
+        self.timer.__enter__()
+        _inside += 1
+
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 tb: object) -> None:
+        if not self.on:
+            return
+        global _inside
+        _inside -= 1  # first: no ring raises in this block's clean-up
+        self.timer.__exit__(None, None, None)
+        self.stop.set()
+        if self.thread is not None:
+            self.thread.join()
+            if self.fired:  # raised, or still pending: never delivered after the block
+                import ctypes
+
+                ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(
+                    threading.get_ident()), None)
+        passed = _passed()
+        if passed is not None and error is None:  # the block ended after its deadline
+            raise Overtime(passed.seconds)
+
+
+_QUIET: set[Any] = {bounded.__exit__.__code__}
+"""Code objects in which the alarm never raises (the clean-up of a bounded block)."""
+
+
+def quiet(function: Callable[..., Any]) -> Callable[..., Any]:
+    """Mark ``function`` as a place where the alarm never raises (the ``__exit__`` of a
+    context manager around a :class:`bounded` block: it must run to its end)."""
+    _QUIET.add(function.__code__)
+    return function
+
+
 # -- what ends the verifier: a real Ctrl-C only ------------------------------------------
 # A KeyboardInterrupt, a SystemExit or a call of os._exit raised in the user's code is a bug
 # of that code (the ``crash`` counterexample), never an interrupt of the verifier: only a
@@ -281,6 +375,6 @@ def guard_exits() -> None:
     os._exit = _exit
 
 
-__all__ = ["GRACE_SECONDS", "INTERVAL", "ExitCalled", "Overtime", "allowance", "available",
-           "count_interrupts", "deadline", "guard_exits", "guards", "interrupts_unreachable",
-           "real_interrupt", "watched"]
+__all__ = ["GRACE_SECONDS", "INTERVAL", "ExitCalled", "OverMemory", "Overtime", "allowance",
+           "available", "bounded", "count_interrupts", "deadline", "guard_exits", "guards", "interrupts_unreachable",
+           "quiet", "real_interrupt", "watched"]

@@ -7,6 +7,7 @@ import os
 import sys
 
 from gather_verify.cli.common import (
+    EXIT_INCOMPLETE,
     EXIT_INTERRUPTED,
     bounded_float,
     bounded_int,
@@ -230,6 +231,21 @@ def _lights(args: argparse.Namespace) -> None:
 
 
 def _worlds(args: argparse.Namespace) -> int:
+    """``sweep --world W``: :func:`_world_sweep`; a limit that stops the setup (building a
+    world, listing its configurations) before any configuration is checked is one line,
+    exit 3 (INCOMPLETE), never a hang."""
+    from gather_verify.engine.bounds import SetupStopped
+
+    try:
+        return _world_sweep(args)
+    except SetupStopped as stop:
+        print(f"INCOMPLETE: {stop.reason}; no configuration was checked (raise "
+              "--max-seconds-per-config or --max-memory-mb, or sweep a smaller world)",
+              file=sys.stderr)
+        return EXIT_INCOMPLETE
+
+
+def _world_sweep(args: argparse.Namespace) -> int:
     """``sweep --world W``: every class of initial configurations of a finite world (or of
     each ring of a range), one search each, into the same store."""
     from gather_verify.algorithms import get_algorithm
@@ -254,9 +270,15 @@ def _worlds(args: argparse.Namespace) -> int:
     specs = world_specs(args.world)
     if args.world.startswith("graph:"):  # the workers read the same file, wherever they run
         specs = ["graph:" + os.path.abspath(args.world.partition(":")[2])]
-    worlds = [finite_world(spec) for spec in specs]  # a bad world fails before any work
-    for w in worlds:
-        w.symmetries(args.frames)
+    from gather_verify.engine.bounds import setup
+    from gather_verify.engine.resources import memory_budget_mb
+
+    worlds = []
+    for spec in specs:  # a bad world fails before any work; a huge one ends at the limits
+        with setup(f"building {spec}", args.max_seconds_per_config,
+                   args.max_memory_mb or memory_budget_mb()):
+            worlds.append(finite_world(spec))
+            worlds[-1].symmetries(args.frames)
     if args.task is not None:
         get_task(args.task)
     if args.lights is not None:

@@ -264,8 +264,7 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
             shape = (one.world, one.robots, one.meeting, one.box, one.frames, one.lights,
                      one.initial_colours)
             if shape not in census:  # classes up to the robots' frame group, never more
-                census[shape] = [(index, c, key) for index, (c, key) in itertools.islice(
-                    enumerate(_census(one)), limit)]
+                census[shape] = _listed(one, limit)
             todo = [(index, c) for index, c, key in census[shape]
                     if key not in done and (where is None or where(one, c))]
             plan.append((one, sweep, todo))
@@ -303,6 +302,25 @@ def refuse_changed(expected: dict[str, str], basis: dict[str, str], rows: int) -
                 f"{name} changed while the sweep ran (or is another on a worker): the {rows} "
                 "rows computed from it were not stored, since their key names the one read at "
                 "the start; every row stored before is kept: run the same command again")
+
+
+def _listed(settings: SweepSettings, limit: int | None) -> list[tuple[int, Any, str]]:
+    """The sweep's configurations (the first ``limit``), with their index and stored key. A
+    finite world's census (its world, its automorphisms, every class) is bounded by the
+    limits of one configuration: past them, :class:`~gather_verify.engine.bounds.SetupStopped`
+    (``ring:10000`` has 10,000 nodes and 20,000 automorphisms of 10,000 entries each)."""
+    def listed() -> list[tuple[int, Any, str]]:
+        return [(index, c, key) for index, (c, key) in itertools.islice(
+            enumerate(_census(settings)), limit)]
+
+    if settings.on_plane:  # the box is at most 64 x 64: its census is bounded by its size
+        return listed()
+    from gather_verify.engine.bounds import setup
+    from gather_verify.engine.resources import memory_budget_mb
+
+    with setup(f"listing the configurations of {settings.world}", settings.max_seconds,
+               settings.max_memory_mb or memory_budget_mb()):
+        return listed()
 
 
 def _census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
