@@ -90,6 +90,8 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
             m = w.parse_nodes(meeting) if isinstance(meeting, str) else list(meeting)
             if not r:
                 raise InvalidInput("no robots: give at least one robot node")
+            distinct(w, r, "robots", "an initial configuration has robots on distinct nodes")
+            distinct(w, m, "meeting nodes", "give each meeting node once")
             if visibility is not None and visibility < 0:
                 raise InvalidInput(f"visibility {visibility} is negative: give a number of hops "
                                    ">= 0")
@@ -232,6 +234,15 @@ def stopped_report(stop: Stop, reason: str, world: str, task: str | None, algori
                        for name in names},
         "trace": None, "seconds": time.perf_counter() - started,
     }
+
+
+def distinct(world: World, nodes: list[int], what: str, rule: str) -> None:
+    """One line naming the first node given twice (as the paper's world refuses it)."""
+    seen: set[int] = set()
+    for v in nodes:
+        if v in seen:
+            raise InvalidInput(f"{what}: node {world.format_node(v)} is given twice ({rule})")
+        seen.add(v)
 
 
 def check_colours(colours: list[int] | None, robots: list[int], k: int) -> None:

@@ -15,6 +15,7 @@ from gather_verify.cli.common import (
     EXIT_VIOLATED,
     VERDICT_EXIT,
     UsageError,
+    Words,
     add_configuration_arguments,
     bounded_float,
     bounded_int,
@@ -51,7 +52,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="luminous robots with K colours, on every world (external: a "
                              "robot does not see its own light; internal: only its own; "
                              "docs/worlds.md)")
-    parser.add_argument("--colours", default=None, metavar="C ...",
+    parser.add_argument("--colours", default=None, metavar="C", nargs="+", action=Words,
                         help="with --lights: each robot's initial colour (default 0)")
     parser.add_argument("--visibility", type=bounded_int(-10**6, 10**6), default=None,
                         metavar="HOPS", help="on a finite world: robots see only the nodes "
@@ -124,7 +125,16 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.worlds import FINITE, entry_of
 
     if entry_of(args.world) == FINITE:
-        return run_world(args)
+        if not args.scenario:
+            return run_world(args)
+        from gather_verify.scenario import load_scenario
+
+        scenario = load_scenario(args.scenario)  # never ignored: it is read, and must agree
+        if scenario.world != args.world.strip():
+            raise UsageError(f"{args.scenario} is a scenario of {scenario.world or 'grid'}, "
+                             f"not of --world {args.world}: give the scenario alone, or "
+                             "--world with --robots")
+        return run_world(args, scenario)
     if args.scenario:
         from gather_verify.scenario import load_scenario
 

@@ -22,6 +22,7 @@ from gather_verify.cli.common import (
     EXIT_OK,
     EXIT_VIOLATED,
     UsageError,
+    Words,
     bounded_float,
     bounded_int,
     print_json,
@@ -56,7 +57,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--lights", default=None, metavar="K[:internal]",
                    help="luminous robots with K colours, all starting at 0; with --minimum, "
                         "a range A-B asks the least number of colours")
-    p.add_argument("--colours", default=None, metavar="C ...",
+    p.add_argument("--colours", default=None, metavar="C", nargs="+", action=Words,
                    help="with lights and one configuration: each robot's initial colour "
                         "(default 0); with --minimum --lights A-B, also 'some': from any "
                         "initial colouring")

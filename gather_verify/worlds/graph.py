@@ -64,7 +64,10 @@ class FileGraph(World):
         return text
 
     def node_from_json(self, value: object) -> int:
-        return super().node_from_json(str(value))
+        """The file's node ids are text: a number stored as JSON's ``1`` names id ``"1"``."""
+        if isinstance(value, int) and not isinstance(value, bool):
+            value = str(value)
+        return super().node_from_json(value)
 
     @property
     def automorphisms(self) -> tuple[tuple[int, ...], ...]:

@@ -35,9 +35,6 @@ class Ring(World):
     def parse_label(self, text: str) -> Label:
         return int(text, 10)
 
-    def node_from_json(self, value: object) -> int:
-        return super().node_from_json(value if isinstance(value, int) else -1)
-
     @property
     def automorphisms(self) -> tuple[tuple[int, ...], ...]:  # the dihedral group, 2N
         n = self.n
