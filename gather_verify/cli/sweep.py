@@ -72,12 +72,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="local processes (default: the number of cores)")
     p.add_argument("--dask", metavar="local|ADDRESS", default=None,
                    help="run on a Dask cluster: 'local' starts one, else a scheduler address")
-    p.add_argument("--max-states-per-config", type=bounded_int(1, 10**9), default=2_000_000)
-    p.add_argument("--max-seconds-per-config", type=bounded_float(0.001, 86400.0), default=600.0)
+    p.add_argument("--max-states-per-config", type=bounded_int(1, 10**9), default=2_000_000,
+                   help="states of one configuration's search (default %(default)s)")
+    p.add_argument("--max-seconds-per-config", type=bounded_float(0.001, 86400.0), default=600.0,
+                   help="seconds of one configuration's check (default %(default)g); on a "
+                        "finite world they also bound building it and listing its "
+                        "configurations")
     p.add_argument("--max-memory-mb", type=bounded_float(1, 10**7), default=None, metavar="MB",
                    help="resident memory limit of each worker process (default: a share of "
                         "this machine's memory); a configuration that hits it is INCOMPLETE")
-    p.add_argument("--move-bound-c", type=bounded_float(0.0, 1e6), default=4.0)
+    p.add_argument("--move-bound-c", type=bounded_float(0.0, 1e6), default=None, metavar="C",
+                   help="the paper's world: move-bound holds when the total moves are at most "
+                        "C * D * n (default 4)")
     p.add_argument("--engine", choices=("union", "per-config"), default="union",
                    help="union: one state graph per meeting-node set, shared by its "
                         "configurations (default; on a finite world too); per-config: one "
@@ -179,7 +185,8 @@ def _run(args: argparse.Namespace) -> int:
         robots=n, meeting=m, box=args.box, algorithm=args.algorithm,
         scheduler=args.scheduler, detection=args.multiplicity, frames=args.frames,
         properties=tuple(args.properties or ()), max_states=args.max_states_per_config,
-        max_seconds=args.max_seconds_per_config, move_bound_c=args.move_bound_c,
+        max_seconds=args.max_seconds_per_config,
+        move_bound_c=4.0 if args.move_bound_c is None else args.move_bound_c,
         reduction=not args.no_reduction, max_memory_mb=args.max_memory_mb,
         keep_growing=args.keep_growing,
         fingerprint_extra=tuple(args.fingerprint_extra),
@@ -256,7 +263,8 @@ def _world_sweep(args: argparse.Namespace) -> int:
 
     if args.meeting is None:
         args.meeting = [0]
-    for option in ("box", "readings", "readings_types", "junit", "force", "keep_growing"):
+    for option in ("box", "readings", "readings_types", "junit", "force", "keep_growing",
+                   "move_bound_c"):
         if getattr(args, option):
             raise InvalidInput(f"--{option.replace('_', '-')} is an option of the paper's world "
                                f"(Z²), not of {args.world}")

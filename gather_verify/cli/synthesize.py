@@ -126,6 +126,11 @@ def run(args: argparse.Namespace) -> int:
 
     if entry_of(args.world) == PLANE:
         return _plane(args)
+    box_only = [o for o, given in (("--together", args.together), ("--select", args.select != "all"),
+                                   ("--classes", args.classes is not None)) if given]
+    if box_only:
+        raise UsageError(f"{box_only[0]} goes with --box on the paper's world (--world grid "
+                         "--box WxH)")
     if args.box is not None or args.seed:
         raise UsageError(f"{'--box' if args.box is not None else '--seed'} goes with the "
                          "paper's world (--world grid)")
@@ -744,6 +749,9 @@ def _plane(args: argparse.Namespace) -> int:
                          "--lights, --colours and --visibility")
     if not args.witness.endswith(".py"):
         raise UsageError(f"--witness {args.witness}: the algorithm file must end in .py")
+    if args.together and args.box is None:
+        raise UsageError("--together asks one algorithm for every configuration of a box: "
+                         "give --box WxH (with --select outside-u)")
     writable_outputs(witness=args.witness, certificate=args.certificate)
     inst = plane.make_instance(args.robots, args.meeting, args.scheduler, args.task,
                                args.multiplicity, args.frames, args.box, args.select,

@@ -151,17 +151,16 @@ def parse_lights(text: str | None) -> Lights:
     """``--lights K`` or ``K:external`` / ``K:internal`` (K >= 1 colours)."""
     if text is None:
         return Lights(1)
-    count, _, variant = text.partition(":")
-    try:
-        k = int(count, 10)
-    except ValueError:
-        raise InvalidInput(f"--lights {text!r}: write K, K:external or K:internal") from None
+    count, colon, variant = text.partition(":")
+    if not (count.isascii() and count.isdigit()):  # int() takes ' 2', '+2', '٢', '2_0'
+        raise InvalidInput(f"--lights {text!r}: write K, K:external or K:internal (K in "
+                           "the digits 0-9)")
+    k = int(count, 10)
     if not 1 <= k <= 64:
         raise InvalidInput(f"--lights {k}: the number of colours must be in [1, 64]")
-    variant = variant or "full"
-    if variant not in ("full", "external", "internal"):
+    if colon and variant not in ("external", "internal"):
         raise InvalidInput(f"--lights {text!r}: the variant is external or internal")
-    return Lights(k, variant)
+    return Lights(k, variant or "full")
 
 
 def _hashable(value: object) -> bool:
