@@ -145,6 +145,42 @@ def utc_now() -> str:
     return now.isoformat().replace("+00:00", "Z")
 
 
+def _json(column: str, kind: str) -> str:
+    c = f'r."{column}"'  # (json_type raises on malformed text: asked only of valid JSON)
+    return f"{c} IS NULL OR CASE WHEN json_valid({c}) THEN json_type({c}) = '{kind}' ELSE 0 END"
+
+
+_RULES = (
+    ("key", "typeof(r.key) = 'text'"),
+    ("index", "typeof(r.\"index\") = 'integer'"),
+    ("class", "typeof(r.class) = 'text'"),
+    ("verdict", "r.verdict IN ('VERIFIED', 'VIOLATED', 'INCOMPLETE', 'NOT-APPLICABLE')"),
+    *((c, f"r.{c} IS NULL OR typeof(r.{c}) = 'text'") for c in ("property", "reason", "cause")),
+    *((c, f'r."{c}" IS NULL OR typeof(r."{c}") = \'integer\'')
+      for c in ("states", "transitions", "max_moves", "D", "n")),
+    ("ratio", "r.ratio IS NULL OR typeof(r.ratio) IN ('real', 'integer')"),
+    ("robots", _json("robots", "array")),
+    ("meeting_nodes", _json("meeting_nodes", "array")),
+    ("failing", _json("failing", "array")),
+    ("trace", _json("trace", "object")),
+)
+"""What each column of a stored row holds (an SQL test per column, NULL allowed where a
+writer leaves it NULL)."""
+_SWEEP_SETTINGS = " AND ".join((
+    *(f"json_type(settings, '$.{k}') = 'text'" for k in ("algorithm", "scheduler")),
+    *(f"json_type(settings, '$.{k}') = 'integer'" for k in ("robots", "meeting")),
+    "(json_type(settings, '$.world') = 'text' OR (json_type(settings, '$.box') = 'array' AND "
+    "json_array_length(settings, '$.box') = 2 AND json_type(settings, '$.box[0]') = 'integer' "
+    "AND json_type(settings, '$.box[1]') = 'integer'))"))
+"""An SQL test of a sweep's settings: the fields every reader of a sweep takes."""
+_RULE_WORDS = {"key": "text", "index": "an integer", "class": "a class or world name",
+               "verdict": "a verdict", "property": "text", "reason": "text", "cause": "text",
+               "states": "an integer", "transitions": "an integer", "max_moves": "an integer",
+               "D": "an integer", "n": "an integer", "ratio": "a number",
+               "robots": "a JSON list", "meeting_nodes": "a JSON list",
+               "failing": "a JSON list", "trace": "a JSON object"}
+
+
 def check_db_path(path: str) -> None:
     """A results database given on the command line must be a file that outlives the command:
     one line for an empty path, ``:memory:`` or a ``file:`` URI (SQLite would keep every row
@@ -209,6 +245,7 @@ class Store:
                 raise InvalidInput(f"{path}: not a gather-verify results database (table {table} "
                                  f"has no column {missing[0]!r})")
         if read_only:
+            self.refuse_damage(str(path))
             return
         self.db.execute("PRAGMA journal_mode=WAL")
         self.db.execute("PRAGMA synchronous=NORMAL")
@@ -219,6 +256,52 @@ class Store:
 
     def close(self) -> None:
         self.db.close()
+
+    def refuse_damage(self, path: str) -> None:
+        """One line naming the first value a reader cannot take (a damaged or hand-edited
+        database: settings that are no JSON object, a column of the wrong type, truncated
+        JSON, a sweep's row with no class or verdict), before anything reads the rows. The
+        checks run in SQLite (``typeof``, ``json_valid``): no row is read into Python."""
+        try:
+            self.db.execute("SELECT json_valid('1')")
+            json = True
+        except sqlite3.OperationalError:  # an SQLite without its JSON functions: the types
+            json = False
+        problem = self._first_damage(json)
+        if problem is not None:
+            self.db.close()
+            raise InvalidInput(f"{path}: a damaged results database: {problem} (written by "
+                               "hand, or damaged: sweep again into a fresh database)")
+
+    def _first_damage(self, json: bool = True) -> str | None:
+        """The first damaged value, in words, or None."""
+        db = self.db
+        bad = db.execute("SELECT id, substr(settings, 1, 40) FROM sweeps WHERE "
+                         + ("NOT CASE WHEN json_valid(settings) THEN json_type(settings) = "
+                            "'object' ELSE 0 END"
+                            if json else "typeof(settings) != 'text'") + " LIMIT 1").fetchone()
+        if bad is not None:
+            return f"sweep {bad[0]}: its settings {bad[1]!r} are not a JSON object"
+        if json:  # a sweep's settings name its algorithm, scheduler, counts and world or box
+            bad = db.execute(f"SELECT id FROM sweeps WHERE json_extract(settings, '$.command') "
+                             f"IS NULL AND NOT IFNULL(({_SWEEP_SETTINGS}), 0) LIMIT 1").fetchone()
+            if bad is not None:
+                return (f"sweep {bad[0]}: its settings lack a text algorithm and scheduler, "
+                        "integer robots and meeting, or a world or box")
+        for column, rule in _RULES:
+            if not json and "json_" in rule:
+                continue
+            if column in ("class", "verdict"):  # a sweep's rows have both; not those of
+                rule = (f"({rule}) OR r.sweep IN (SELECT id FROM sweeps WHERE "  # --minimum
+                        + ("json_extract(settings, '$.command') IS NOT NULL)" if json else
+                           "settings LIKE '%\"command\":%')"))
+            got = db.execute(f'SELECT r.sweep, r.key, substr(r."{column}", 1, 40) FROM results r '
+                             f"WHERE NOT IFNULL(({rule}), 0) LIMIT 1").fetchone()
+            if got is not None:
+                value = "NULL" if got[2] is None else repr(got[2])
+                return (f"sweep {got[0]}, row {str(got[1])[:60]!r}: {column} holds {value}, "
+                        f"not {_RULE_WORDS[column]}")
+        return None
 
     @staticmethod
     def settings_text(settings: dict[str, Any]) -> str:
