@@ -409,6 +409,15 @@ class Store:
         return [{"robots": json.loads(robots), "meeting_nodes": json.loads(m), "class": c,
                  "seconds": sec} for robots, m, c, sec in cursor]
 
+    def failing(self, sweep: int, count: int) -> list[dict[str, Any]]:
+        """The first ``count`` VIOLATED rows of a sweep, in enumeration order: their nodes,
+        class and failing property."""
+        cursor = self.db.execute(
+            'SELECT robots, meeting_nodes, class, property FROM results WHERE sweep = ? AND '
+            'verdict = \'VIOLATED\' ORDER BY "index" LIMIT ?', (sweep, count))
+        return [{"robots": json.loads(robots), "meeting_nodes": json.loads(m), "class": c,
+                 "property": p} for robots, m, c, p in cursor]
+
     def forget(self, sweep: int) -> None:
         """Drop every stored row of a sweep (``sweep --fresh``)."""
         with self.db:

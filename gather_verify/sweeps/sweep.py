@@ -283,9 +283,14 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
         # counted in the store: reading back every row took seconds a whole box
         groups = [group for _, sweep, _ in plan for group in store.totals(sweep)]
         slowest = _slowest(row for _, sweep, _ in plan for row in store.slowest(sweep, SLOWEST))
+        failed = [row for one, sweep, _ in plan if not one.on_plane  # a finite world's: which
+                  for row in store.failing(sweep, FAILING)][:FAILING]
     finally:
         store.close()
-    summary = summarise_totals(groups, slowest, batch[0] if len(batch) == 1 else None)
+    summary = summarise_totals(groups, slowest, batch[0] if len(batch) == 1 else None,
+                               plane=all(one.on_plane for one in batch))
+    if not summary["plane"]:
+        summary["failing_configurations"] = failed
     summary["computed"] = sum(len(todo) for _, _, todo in plan)  # the rest was stored before
     if engine == "union":  # of those computed now: why the union left some to their own checks
         summary["union_fallbacks"] = dict(sorted(fallbacks.items(), key=lambda kv: (-kv[1], kv[0])))
@@ -752,7 +757,16 @@ def summarise(rows: list[dict[str, Any]], settings: SweepSettings | None = None)
     slowest configurations."""
     groups = [(r["class"], r["verdict"], r.get("property"), r.get("failing"), 1, r.get("ratio"),
                r.get("cause")) for r in rows]
-    return summarise_totals(groups, _slowest(rows), settings)
+    from gather_verify.theory import get_fact
+
+    plane = settings.on_plane if settings is not None else all(
+        r["class"] in get_fact("class").values for r in rows)
+    summary = summarise_totals(groups, _slowest(rows), settings, plane=plane)
+    if not plane:  # a finite world's: which configurations failed
+        summary["failing_configurations"] = [
+            {k: r[k] for k in ("robots", "meeting_nodes", "class", "property")}
+            for r in rows if r["verdict"] == "VIOLATED"][:FAILING]
+    return summary
 
 
 SLOWEST = 5
@@ -763,8 +777,13 @@ def _slowest(rows: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
     return sorted(rows, key=lambda r: -(r.get("seconds") or 0.0))[:SLOWEST]
 
 
+FAILING = 20
+"""How many VIOLATED configurations a finite world's summary names (in enumeration order)."""
+
+
 def summarise_totals(groups: Iterable[tuple[Any, ...]], slowest: list[dict[str, Any]],
-                     settings: SweepSettings | None = None) -> dict[str, Any]:
+                     settings: SweepSettings | None = None, plane: bool = True
+                     ) -> dict[str, Any]:
     """:func:`summarise` from rows counted in groups (``Store.totals``: ``(class, verdict,
     property, failing, count, largest ratio, cause)``, in order of first row) and the slowest
     rows. ``causes``: per failing property (the one each configuration names first), its
@@ -772,7 +791,8 @@ def summarise_totals(groups: Iterable[tuple[Any, ...]], slowest: list[dict[str, 
     :data:`~gather_verify.sweeps.store.CAUSE_UNKNOWN`."""
     from gather_verify.theory import get_fact
 
-    classes = dict.fromkeys(get_fact("class").values, 0)
+    # the paper's classes on its world; a finite world's rows are counted by world
+    classes = dict.fromkeys(get_fact("class").values if plane else (), 0)
     verdicts: dict[str, dict[str, int]] = {}
     failing: dict[str, dict[str, int]] = {}
     every: dict[str, dict[str, int]] = {}
@@ -797,6 +817,7 @@ def summarise_totals(groups: Iterable[tuple[Any, ...]], slowest: list[dict[str, 
             worst[name] = max(worst.get(name, 0.0), float(ratio))
     return {
         "settings": settings.key() if settings else None,
+        "plane": plane,
         "total": total,
         "classes": classes,
         "verdicts": verdicts,
@@ -820,8 +841,10 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
           f" ({computed} computed now, {summary['total'] - computed} reused from the database)"))
     from gather_verify.theory import get_fact, preconditions
 
-    worlds = any(k and name not in get_fact("class").values for name, k in summary["classes"].items())
-    header = f"{'world' if worlds else 'class':<13}{'count':>7}" + "".join(f"{v:>16}" for v in VERDICTS) + f"{'max ratio':>11}"
+    worlds = not summary.get("plane", True) or any(
+        k and name not in get_fact("class").values for name, k in summary["classes"].items())
+    header = (f"{'world' if worlds else 'class':<13}{'count':>7}"
+              + "".join(f"{v:>16}" for v in VERDICTS) + ("" if worlds else f"{'max ratio':>11}"))
     write(header)
     write("-" * len(header))
     for name, count in summary["classes"].items():
@@ -830,7 +853,7 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
         by = summary["verdicts"].get(name, {})
         ratio = summary["max_ratio"].get(name)
         write(f"{name:<13}{count:>7}" + "".join(f"{by.get(v, 0):>16}" for v in VERDICTS)
-              + (f"{ratio:>11.2f}" if ratio is not None else f"{'-':>11}"))
+              + ("" if worlds else f"{ratio:>11.2f}" if ratio is not None else f"{'-':>11}"))
     if not worlds:  # and what each precondition's NOT-APPLICABLE means (gather_verify.theory)
         write("; ".join(["max ratio: the largest total moves / (D·n) of the class",
                          *(p.legend for p in preconditions() if p.legend)]))
@@ -859,8 +882,18 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
               "computed now), by reason:")
         for why, k in summary["union_fallbacks"].items():
             write(f"  {k:>6}  {why}")
+    failed = summary.get("failing_configurations")
+    if failed:
+        count = sum(by.get("VIOLATED", 0) for by in summary["verdicts"].values())
+        write("")
+        write(f"failing configurations ({'the first ' + str(len(failed)) + ' of ' if count > len(failed) else ''}"
+              f"{count}, in enumeration order):")
+        for r in failed:
+            write(f"  {r['class']}  robots={r['robots']} meeting={r['meeting_nodes']}: "
+                  f"{r['property']}")
     if summary["slowest"]:
         write("")
         write("slowest configurations:")
         for r in summary["slowest"]:
             write(f"  {r['seconds']:8.3f}s  {r['class']:<5} robots={r['robots']} meeting={r['meeting_nodes']}")
+

@@ -16,7 +16,7 @@ the text after the colon``).
 >>> get_world("ring:2")  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-gather_verify.errors.InvalidInput: world size 2 is out of range [3, 10000] (ring:N, N >= 3)
+gather_verify.errors.InvalidInput: world size 2 is out of range [3, 10000] (ring:N: a ring has at least 3 nodes)
 """
 
 from __future__ import annotations
@@ -92,7 +92,7 @@ def world_specs(spec: str) -> list[str]:
     kind, _, arg = spec.strip().partition(":")
     low, dash, high = arg.partition("-")
     if kind == "ring" and dash:
-        first, last = (parse_size(x, "ring:A-B, 3 <= A <= B", 3) for x in (low, high))
+        first, last = (parse_size(x, "ring:A-B: a ring has at least 3 nodes", 3) for x in (low, high))
         if first > last:
             raise InvalidInput(f"world range {spec!r} is empty")
         return [f"ring:{k}" for k in range(first, last + 1)]

@@ -30,7 +30,7 @@ class Ring(World):
 
     @classmethod
     def from_spec(cls, arg: str) -> Ring:
-        return cls(parse_size(arg, "ring:N, N >= 3", 3))
+        return cls(parse_size(arg, "ring:N: a ring has at least 3 nodes", 3))
 
     def parse_label(self, text: str) -> Label:
         return int(text, 10)
