@@ -91,6 +91,8 @@ def _read(path: str, what: str, limit: int) -> Kept:
         raise InvalidInput(f"{what} {path}: no such file") from None
     except IsADirectoryError:
         raise InvalidInput(f"{what} {path}: a folder, not a file") from None
+    except ValueError:  # a NUL byte in the name
+        raise InvalidInput(f"{what} {path!r}: not a file name") from None
     except OSError as error:
         raise InvalidInput(f"{what} {path}: cannot read it ({error.strerror or error})") from None
     try:

@@ -82,6 +82,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the console script; returns the exit code."""
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
+        for text in argv:  # (a shell cannot pass one; a program can, and the OS refuses it)
+            if "\x00" in text:
+                raise UsageError(f"the argument {text!r} holds a NUL byte: no value or file "
+                                 "name has one")
         args = build_parser(argv[0] if argv and argv[0] in COMMANDS else None).parse_args(argv)
         if not getattr(args, "_run", None):
             build_parser().print_help(sys.stderr)

@@ -528,8 +528,12 @@ def write_plot(db_path: str, out: str, algorithm: str | None = None) -> list[str
     when there are several), marker area growing with the number of configurations on a
     point, and the line c·D·n of each batch's move bound (matplotlib); ``algorithm``: only
     its sweeps. Returns the legend."""
-    return _plot([(common, [r for _, rs in sweeps for r in rs])
-                  for common, sweeps in batches(db_path, algorithm)], out)
+    groups = [(common, [r for _, rs in sweeps for r in rs])
+              for common, sweeps in batches(db_path, algorithm) if _on_plane(common)]
+    if not groups:  # a finite world has no D (the paper's MER) to plot moves against
+        raise InvalidInput(f"--plot {out}: no sweep of the paper's world in {db_path} (the "
+                           "plot is of moves against D·n, the paper's notions)")
+    return _plot(groups, out)
 
 
 def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -> list[str]:
@@ -545,6 +549,11 @@ def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -
     from gather_verify.scenario import VERDICTS
 
     fig, ax = plt.subplots(figsize=(7, 4.8))
+    formats = fig.canvas.get_supported_filetypes()
+    if Path(out).suffix.lower().lstrip(".") not in formats:
+        plt.close(fig)
+        raise InvalidInput(f"--plot {out}: write a picture, one of "
+                           f"{', '.join('.' + f for f in sorted(formats))}")
     top = 1.0
     bounds: set[float] = set()
     for b, (common, rows) in enumerate(groups):

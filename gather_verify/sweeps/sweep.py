@@ -258,6 +258,7 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
             sweep = store.sweep_id(one.key())
             if fresh:
                 store.forget(sweep)
+            store.refuse_damage(db_path, sweep)  # its rows are read back for the summary
             if one.fingerprint_extra:
                 store.note_extra(sweep, one.fingerprint_extra)
             done = store.done_keys(sweep)
@@ -304,9 +305,10 @@ def refuse_changed(expected: dict[str, str], basis: dict[str, str], rows: int) -
     for name in sorted(set(expected) | set(basis)):
         if expected.get(name) != basis.get(name):
             raise InvalidInput(
-                f"{name} changed while the sweep ran (or is another on a worker): the {rows} "
-                "rows computed from it were not stored, since their key names the one read at "
-                "the start; every row stored before is kept: run the same command again")
+                f"{name} changed while the sweep ran (or since this process first read it, "
+                f"or it is another on a worker): the {rows} rows computed from it were not "
+                "stored, since their key names the one read at the start; every row stored "
+                "before is kept: run the same command again")
 
 
 def _listed(settings: SweepSettings, limit: int | None) -> list[tuple[int, Any, str]]:

@@ -114,7 +114,10 @@ def replay(views: Views, cex: dict[str, Any]) -> Replayed:
     n = len(robots0)
     starts = getattr(sched, "starts", lambda _n: [None])(n)
     start = cex.get("start")
-    extra = None if start is None else (tuple(start[0]), int(start[1]))
+    try:
+        extra = None if start is None else (tuple(start[0]), int(start[1]))
+    except (TypeError, ValueError, IndexError, KeyError):
+        raise CertificateError(f"a malformed start {str(start)[:40]}") from None
     if extra not in starts:
         raise CertificateError(f"the scheduler has no start {start!r}")
     visits = task.visits
