@@ -43,7 +43,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from typing import Any, TypeVar
+from typing import Any, NoReturn, TypeVar
 
 GRACE_SECONDS = 1.0
 """The least time a check's watchdog adds to its own time limit (``run_check`` arms
@@ -363,7 +363,7 @@ class ExitCalled(SystemExit):
 _real_exit = os._exit
 
 
-def _exit(status: int) -> None:
+def _exit(status: int) -> NoReturn:
     if _inside and threading.current_thread() is threading.main_thread():
         raise ExitCalled(status)
     _real_exit(status)

@@ -109,9 +109,9 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
             for v in set(r):  # the frames of the first views (a graph file's automorphisms)
                 w.frames(v, visibility, frames)
     except SetupStopped as stop:
-        written = [x.split() if isinstance(x, str) else list(x) for x in (robots, meeting)]
-        return stopped_report(stop.stop, stop.reason, name, task or default_task(written[1]),
-                              algorithm, scheduler, detection, frames, visibility, *written,
+        nodes, at = [x.split() if isinstance(x, str) else list(x) for x in (robots, meeting)]
+        return stopped_report(stop.stop, stop.reason, name, task or default_task(at),
+                              algorithm, scheduler, detection, frames, visibility, nodes, at,
                               lights, started)
     stateful = getattr(sched, "stateful", False)
     moves = WorldMoves(w, algo, frozenset(m), detection, frames, visibility, light)
