@@ -151,17 +151,23 @@ def _json(column: str, kind: str, null: bool = True) -> str:
     return f"{c} IS NULL OR {test}" if null else test
 
 
+STORED_VERDICTS = ("VERIFIED", "VIOLATED", "INCOMPLETE", "NOT-APPLICABLE", "ROBUST-VERIFIED",
+                   "ROBUST-VIOLATED", "READING-DEPENDENT")
+"""What a row's verdict may hold: a check's verdict, or a readings sweep's robustness
+(:data:`gather_verify.paper.readings.ROBUSTNESS`)."""
 _RULES = (
     ("key", "typeof(r.key) = 'text'"),
     ("index", "typeof(r.\"index\") = 'integer'"),
     ("class", "typeof(r.class) = 'text'"),
-    ("verdict", "r.verdict IN ('VERIFIED', 'VIOLATED', 'INCOMPLETE', 'NOT-APPLICABLE')"),
+    ("verdict", f"r.verdict IN {STORED_VERDICTS}"),
     ("property", "typeof(r.property) = 'text' OR (r.property IS NULL AND "
                  "r.verdict IS NOT 'VIOLATED')"),  # a violation names its property
     *((c, f"r.{c} IS NULL OR typeof(r.{c}) = 'text'") for c in ("reason", "cause")),
     *((c, f'r."{c}" IS NULL OR typeof(r."{c}") = \'integer\'')
       for c in ("states", "transitions", "max_moves", "D")),
-    ("n", "typeof(r.n) = 'integer'"),  # every row counts its robots
+    ("n", "typeof(r.n) = 'integer' OR (r.n IS NULL AND r.verdict IN "
+          "('ROBUST-VERIFIED', 'ROBUST-VIOLATED', 'READING-DEPENDENT'))"),
+    # every row counts its robots (a readings row of an earlier version did not)
     ("ratio", "r.ratio IS NULL OR typeof(r.ratio) IN ('real', 'integer')"),
     ("robots", _json("robots", "array", null=False)),
     ("meeting_nodes", _json("meeting_nodes", "array", null=False)),
@@ -189,7 +195,7 @@ _SWEEP_SETTINGS = " AND ".join((
     "AND json_type(settings, '$.box[1]') = 'integer'))"))
 """An SQL test of a sweep's settings: the fields every reader of a sweep takes."""
 _RULE_WORDS = {"key": "text", "index": "an integer", "class": "a class or world name",
-               "verdict": "a verdict", "property": "the failing property's name", "reason": "text", "cause": "text",
+               "verdict": "a verdict or a robustness", "property": "the failing property's name", "reason": "text", "cause": "text",
                "states": "an integer", "transitions": "an integer", "max_moves": "an integer",
                "D": "an integer", "n": "an integer", "ratio": "a number",
                "robots": "a JSON list", "meeting_nodes": "a JSON list",
