@@ -213,6 +213,33 @@ def test_synthesize_shares_one_time_budget_and_a_memory_limit(tmp_path, monkeypa
     assert 0 < asked["check"] < 50 and asked["memory"] == 4321
 
 
+def test_a_synthesis_stopped_by_the_memory_watch_keeps_its_counts(tmp_path, monkeypatch,
+                                                                  capsys):
+    """``synthesize --world ring:12 --robots 4 --max-memory-mb 300``, stopped by the
+    command's memory watch after 28 s of search, printed "views met 0  candidates 0 ...
+    states 0": the watch's stop (here raised where it lands, in an exploration) is the
+    search's, with what it had done."""
+    from gather_verify.synthesis import search
+    from gather_verify.watchdog import OverMemory
+
+    real, calls = search.explore, [0]
+
+    def explore(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
+        calls[0] += 1
+        if calls[0] == 4:
+            raise OverMemory
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(search, "explore", explore)
+    code = main(["synthesize", "--world", "ring:7", "--robots", "2", "--max-memory-mb",
+                 "99999", "--json", "--witness", str(tmp_path / "w.py"),
+                 "--certificate", str(tmp_path / "c.json")])
+    report = json.loads(capsys.readouterr().out)
+    assert code == 3 and report["answer"] == "unknown"
+    assert report["limit"] == "memory (the search over algorithms: past 99999 MB)"
+    assert report["candidates"] >= 1 and report["views"] > 0 and report["states"] > 0
+
+
 def test_synthesize_s_limits_are_in_its_help(capsys):
     """A hidden ``--max-states`` default of 2,000,000 (a run asked for 200 s came back
     ``unknown`` after 49 s), and no ``--max-memory-mb`` (8M states took 8.9 GB)."""
