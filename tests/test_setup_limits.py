@@ -240,6 +240,54 @@ def test_a_synthesis_stopped_by_the_memory_watch_keeps_its_counts(tmp_path, monk
     assert report["candidates"] >= 1 and report["views"] > 0 and report["states"] > 0
 
 
+def test_minimum_on_a_finite_world_reads_the_memory_limit(tmp_path, monkeypatch):
+    """``synthesize --minimum`` searched with the default memory limit, whatever
+    ``--max-memory-mb`` said."""
+    from gather_verify.synthesis import search
+
+    asked: list[float] = []
+    real = search.synthesize
+
+    def synth(inst, **options):  # noqa: ANN001, ANN003, ANN202
+        asked.append(options["max_memory_mb"])
+        return real(inst, **options)
+
+    monkeypatch.setattr(search, "synthesize", synth)
+    monkeypatch.chdir(tmp_path)
+    assert main(["synthesize", "--world", "ring:5", "--robots", "2-3", "--minimum",
+                 "--scheduler", "fsync", "--task", "gathering", "--db", "m.sqlite",
+                 "--max-memory-mb", "4321"]) in (0, 1)
+    assert asked and set(asked) == {4321}
+
+
+@pytest.mark.parametrize("argv", [
+    ["--robots", "0,0 2,1", "--meeting", "1,1"],
+    ["--robots", "2", "--meeting", "1", "--box", "2x2"],
+    ["--robots", "2", "--meeting", "1", "--box", "2x2", "--minimum", "--db", "m.sqlite"],
+])
+def test_the_paper_s_world_refuses_a_memory_limit_it_would_not_read(tmp_path, capsys,
+                                                                     monkeypatch, argv):
+    """``synthesize --world grid ... --max-memory-mb 20`` answered exists: the paper's world's
+    synthesis reads no memory limit, so the option is refused there, not ignored."""
+    monkeypatch.chdir(tmp_path)
+    assert main(["synthesize", "--world", "grid", *argv, "--max-memory-mb", "20"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "--max-memory-mb bounds synthesis on a " \
+        "finite world" in err, err
+    assert not list(tmp_path.iterdir())
+
+
+def test_a_plane_certificate_s_re_check_refuses_a_memory_limit(tmp_path, capsys):
+    cert = tmp_path / "u.cert.json"
+    assert main(["synthesize", "--world", "grid", "--robots", "0,1 2,1", "--meeting",
+                 "0,0 2,0", "--scheduler", "fsync", "--rounds", "3", "--certificate",
+                 str(cert), "--witness", str(tmp_path / "w.py")]) == 1
+    assert main(["synthesize", "--verify", str(cert)]) == 0
+    capsys.readouterr()
+    assert main(["synthesize", "--verify", str(cert), "--max-memory-mb", "20"]) == 2
+    assert "--max-memory-mb bounds synthesis on a finite world" in capsys.readouterr().err
+
+
 def test_synthesize_s_limits_are_in_its_help(capsys):
     """A hidden ``--max-states`` default of 2,000,000 (a run asked for 200 s came back
     ``unknown`` after 49 s), and no ``--max-memory-mb`` (8M states took 8.9 GB)."""
