@@ -188,6 +188,23 @@ def test_a_fifo_with_no_writer_is_one_line_not_a_wait(tmp_path, argv, what):
     one_line(done, 2, f"{what} {fifo}: a FIFO")
 
 
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
+@pytest.mark.parametrize("argv, words", [
+    (("check", "--world", "ring:6", "--robots", "0 3", "--meeting", "1", "--algorithm",
+      "{fifo}:A"), "algorithm file {fifo}: a FIFO"),
+    (("sweep", "--world", "ring:6", "--robots", "2", "--algorithm", "{fifo}:A", "--db",
+      "s.sqlite"), "algorithm file {fifo}: a FIFO"),
+    (("check", "--robots", "0,0 2,1", "--meeting", "1,1", "--property", "{fifo}:P"),
+     "{fifo}: a FIFO"),
+])
+def test_a_code_file_that_is_a_fifo_says_so(tmp_path, argv, words):
+    """An algorithm or property file that is a FIFO (or a device) said "no such file"."""
+    fifo = tmp_path / "f.py"
+    os.mkfifo(fifo)
+    done = cli(*(a.format(fifo=fifo) for a in argv), cwd=tmp_path, timeout=60)
+    one_line(done, 2, words.format(fifo=fifo))
+
+
 def test_synthesize_shares_one_time_budget_and_a_memory_limit(tmp_path, monkeypatch, capsys):
     """``synthesize --max-seconds 280`` ran 298 s: the checker's run on the witness had a
     budget of its own. It is given the time left; the memory limit reaches the search."""
