@@ -11,6 +11,7 @@ import sys
 
 import pytest
 
+from gather_verify.engine import bfs as clock_module
 from gather_verify.engine import explore as reference_module
 from gather_verify.engine.encoding import Encoding, Limits
 from gather_verify.model import geometry
@@ -58,7 +59,7 @@ class FakeClock:
 
 def test_the_reference_engine_reads_the_clock_at_every_state(monkeypatch) -> None:  # noqa: ANN001
     clock = FakeClock()
-    monkeypatch.setattr(reference_module, "time", clock)
+    monkeypatch.setattr(clock_module, "time", clock)
 
     from gather_verify.algorithms.go_to_target import GoToTarget
 
