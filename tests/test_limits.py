@@ -47,6 +47,19 @@ def test_a_state_with_exponentially_many_events_stops_at_the_states_limit(schedu
     assert report["states"] <= 10 + 1024 + 16  # the grain: 1,024 events of one state
 
 
+def test_a_finite_world_state_with_many_events_stops_at_the_states_limit() -> None:
+    """The one reference search reads the states limit every 1,024 events of one state on
+    every world: 12 luminous robots on ring:24, each with two steps, make 4,096 events in the
+    first FSYNC round (a key past 63 bits: the reference engine runs it)."""
+    from gather_verify.world_check import run_world_check
+
+    report = run_world_check("ring:24", list(range(0, 24, 2)), [], "bounce", "fsync",
+                             task="gathering", lights="2", colours=[1] * 12, reduction=False,
+                             max_states=10)
+    assert report["engine"] == "reference" and report["reason"] == "states"
+    assert report["transitions"] == 1024 and report["states"] <= 10 + 1024
+
+
 class FakeClock:
     """``time`` for one engine module: ``perf_counter`` moves only when told to."""
 
