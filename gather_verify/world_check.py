@@ -319,7 +319,7 @@ def concrete_run(s: WorldSearch, sched: Any, start: int, hops: list[tuple[int, i
 def successor(sched: Any, state: WorldState, event: Any, visits: bool) -> WorldState:
     """The state ``event`` leads to from ``state``: the robots as the event moves them, the
     nodes visited (when the search carries them) and the scheduler's own state after it."""
-    from gather_verify.world_replay import scheduler_after  # a trace's need, not a search's
+    from gather_verify.replay import scheduler_after  # a trace's need, not a search's
 
     robots, visited, extra = state
     after = _apply(state, event)

@@ -62,7 +62,7 @@ class Model(Protocol):
         """The state's key under the reductions: one key per orbit."""
         ...
 
-    def stored(self, state: Any, key: Hashable) -> Any:
+    def stored(self, state: Any, key: Any) -> Any:
         """What the search keeps of a state met first (the state, or its key)."""
         ...
 

@@ -463,11 +463,13 @@ class PlaneModel:
                  colours: Sequence[int] | None):
         algo, frame_elements = req.algorithm, req.frame_elements
         self.sched, self.settle, self.n = req.scheduler, settle, initial.n
+        self.facts: Callable[[Any], ConfigurationFacts]
+        self.conf: Callable[[Any], Any]  # a state -> what its robots see (with lights: colours)
+        self.start: Any
         if lights is None:
             self.enc = Encoding(req.box, req.group, req.relabel)
-            self.facts: Callable[[Any], ConfigurationFacts] = facts_cache(
-                algo, initial, detection, frame_elements)
-            self.conf: Callable[[State], Any] = configuration_of
+            self.facts = facts_cache(algo, initial, detection, frame_elements)
+            self.conf = configuration_of
             self.start = initial_state(initial.robots)
         else:
             self.enc = LuminousEncoding(req.box, req.group, req.relabel, lights.colours)
@@ -477,13 +479,17 @@ class PlaneModel:
         self.lights = lights
         self.turns = turns_of(self.sched, initial.n, req.anonymity, self.enc.base)
         self.key = state_key(self.enc, self.turns)
-        self.checks = Checks(properties, StateFacts(self.facts(self.conf(self.start)), True))
-        self.checks.state(0, StateFacts(self.facts(self.conf(self.start)), True),
-                          self.checks.on_discovery)
+        first = StateFacts(self.facts_of(self.start), True)
+        self.checks = Checks(properties, first)
+        self.checks.state(0, first, self.checks.on_discovery)
         self.offsets, self.targets = array("q"), array("l")
         self.weights = array(weight_code(initial.n))
         self.changed_loops = 0
         self.here: ConfigurationFacts | None = None  # the facts of the state being expanded
+
+    def facts_of(self, state: Any) -> ConfigurationFacts:
+        """The facts of a concrete state's configuration (with its lights, if any)."""
+        return self.facts(self.conf(state))
 
     def seeds(self) -> list[State]:
         return seed_states(self.start, self.turns)
@@ -498,7 +504,7 @@ class PlaneModel:
         return state
 
     def expand(self, sid: int, state: State) -> Iterable[tuple[Event, State]] | str:
-        here = self.here = self.facts(self.conf(state))
+        here = self.here = self.facts_of(state)
         seen = StateFacts(here, all(r[1] is None for r in state))
         halted = self.checks.halt(sid, seen)
         if halted:
@@ -534,12 +540,11 @@ class PlaneModel:
     def transition(self, sid: int, event: Event, succ: State) -> None:
         if self.checks.on_transition:
             assert self.here is not None
-            self.checks.transition(sid, self.here, lambda: self.facts(self.conf(succ)),
-                                   (event, succ))
+            self.checks.transition(sid, self.here, lambda: self.facts_of(succ), (event, succ))
 
     def discovered(self, did: int, succ: State) -> None:
         if self.checks.on_discovery:
-            self.checks.state(did, StateFacts(self.facts(self.conf(succ)),
+            self.checks.state(did, StateFacts(self.facts_of(succ),
                                               all(r[1] is None for r in succ)),
                               self.checks.on_discovery)
 
