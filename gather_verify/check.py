@@ -13,6 +13,13 @@ class. Termination needs robot identities: when the reduced graph has a
 cycle, the space is explored again without reductions and the fair
 components are decided there.
 
+``gather_verify.check`` is both this module and the API's entry point: the module is
+callable, as :func:`check` (``import gather_verify as gv; gv.check(robots=..., ...)``),
+because importing a submodule binds its name in the package, so the package attribute
+``check`` holds this module once anything has imported it. The module's class is set to
+:class:`CallableModule` (Python's documented way to customise a module,
+``module.__class__``); ``tests/test_public_api.py`` checks both orders of import.
+
 >>> from gather_verify.model.configuration import Configuration
 >>> r = run_check(Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True),
 ...               algorithm="go-to-target", scheduler="async", max_states=10**5, max_seconds=60)
@@ -867,12 +874,13 @@ def check(
                          keep_growing=keep_growing, **limits)
 
 
-class _CallableModule(types.ModuleType):
-    """``gather_verify.check(...)`` is :func:`check` also when the package attribute names this
-    module (importing ``gather_verify.check`` binds it so)."""
+class CallableModule(types.ModuleType):
+    """This module, callable as :func:`check`: ``gather_verify.check(...)`` is the API's
+    entry point whether the package attribute was bound by an import of this module or by
+    the package's lazy names (docs/api.md)."""
 
     def __call__(self, *args: Any, **kwargs: Any) -> CheckReport:
         return check(*args, **kwargs)
 
 
-sys.modules[__name__].__class__ = _CallableModule
+sys.modules[__name__].__class__ = CallableModule
