@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
+from functools import cache
+from itertools import product
 from typing import Any, NamedTuple, Protocol
 
 import numpy as np
@@ -418,3 +420,57 @@ def subsets_matrix(subsets: Iterable[Iterable[int]], n: int) -> np.ndarray:
     """Activated subsets as a boolean matrix, one row per subset, in order."""
     rows = [[i in set(a) for i in range(n)] for a in subsets]
     return np.array(rows, dtype=bool).reshape(len(rows), n)
+
+
+class Rounds:
+    """A scheduler of atomic rounds: each event activates a set of robots that look at one
+    snapshot and move (and set their colours) at once; the adversary picks the set, among
+    :meth:`active_sets`, and each robot's choice. FSYNC, SSYNC and centralized are this
+    with their sets (every robot; every non-empty subset; one robot); the events, one state
+    at a time or in bulk, are written once here."""
+
+    name: str
+    kinds = ("round",)
+    union = True
+    rounds = True
+
+    def active_sets(self, n: int) -> Iterable[tuple[int, ...]]:
+        """The sets of robots a round may activate, in event order."""
+        raise NotImplementedError
+
+    def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
+        options = move_sets(configuration_of(state))
+        for active in self.active_sets(len(state)):
+            for choice in product(*(sorted(options[state[i][0]]) for i in active)):
+                nodes = [node for node, _ in state]
+                for i, d in zip(active, choice, strict=True):
+                    nodes[i] = d
+                moves = tuple((i, state[i][0], d)
+                              for i, d in zip(active, choice, strict=True) if d != state[i][0])
+                yield Event("round", active, moves), tuple((v, None) for v in nodes)
+
+    def activations(self, n: int) -> np.ndarray:
+        return _activations(type(self), n)
+
+    def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
+        return bulk_rounds(frontier, budget, self.activations(frontier.codes.shape[1]))
+
+    def bulk_luminous(self, frontier: Frontier, budget: int, colours: int) -> Successors:
+        return bulk_luminous_rounds(frontier, budget, self.activations(frontier.codes.shape[1]),
+                                    colours)
+
+    def luminous(self, robots: tuple[LRobot, ...], extra: object, actions: Actions, *,
+                 order: ActionOrder = repr, null: bool = False
+                 ) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
+        for active in self.active_sets(len(robots)):
+            for choice in product(*(sorted(actions(i), key=order) for i in active)):
+                event, succ = round_event(active, robots, choice)
+                if null or succ != robots:
+                    yield event, succ, extra
+
+
+@cache
+def _activations(kind: type[Rounds], n: int) -> np.ndarray:
+    """The rounds' sets of a :class:`Rounds` scheduler for ``n`` robots, as a boolean
+    matrix (:func:`subsets_matrix`), once per kind and ``n``."""
+    return subsets_matrix(kind().active_sets(n), n)
