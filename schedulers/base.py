@@ -331,6 +331,23 @@ def _products(slot: np.ndarray, per: np.ndarray, width: np.ndarray, choice: np.n
     return group, new, moved
 
 
+def _chosen(codes: np.ndarray, choice: np.ndarray, go: np.ndarray, subsets: np.ndarray,
+            per: np.ndarray, width: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_products` of rounds: ``choice[s, i, j]`` robot i's new code for its j-th choice
+    in state s (``go``: whether it moves), a robot that is not activated keeping its code."""
+    s, n, w = choice.shape
+    table = np.empty((s, n, w + 1), dtype=np.int64)
+    table[:, :, :w] = choice
+    table[:, :, w] = codes
+    moves = np.zeros((s, n, w + 1), dtype=bool)
+    moves[:, :, :w] = go
+    # per (state, subset) and robot: where its choices start in those flat tables
+    slot = ((np.arange(s)[:, None] * n + np.arange(n)) * (w + 1))[:, None, :] + \
+        np.where(subsets, 0, w)[None, :, :]
+    return _products(slot.reshape(s * len(subsets), n), per, width, table.reshape(-1),
+                     moves.reshape(-1))
+
+
 def numpy_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Successors:
     """:func:`bulk_rounds` in numpy: the reference the compiled kernel is tested against."""
     codes, masks, neighbour = frontier
@@ -344,17 +361,8 @@ def numpy_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Succes
     cell = codes[:s] // SLOTS
     go = nth < DEGREE
     dest = neighbour[cell[:, :, None], np.where(go, nth, 0)]
-    choice = np.empty((s, n, SLOTS + 1), dtype=np.int64)
-    choice[:, :, :SLOTS] = np.where(go, np.where(dest >= 0, dest * SLOTS, OUTSIDE),
-                                    cell[:, :, None] * SLOTS)
-    choice[:, :, SLOTS] = codes[:s]
-    moves = np.zeros((s, n, SLOTS + 1), dtype=bool)
-    moves[:, :, :SLOTS] = go
-    choice, moves = choice.reshape(-1), moves.reshape(-1)
-    # per (state, subset) and robot: where its choices start in those flat tables
-    slot = ((np.arange(s)[:, None] * n + np.arange(n)) * (SLOTS + 1))[:, None, :] + \
-        np.where(subsets, 0, SLOTS)[None, :, :]
-    group, new, moved = _products(slot.reshape(s * k, n), per, width, choice, moves)
+    choice = np.where(go, np.where(dest >= 0, dest * SLOTS, OUTSIDE), cell[:, :, None] * SLOTS)
+    group, new, moved = _chosen(codes[:s], choice, go, subsets, per, width)
     flat = np.flatnonzero(moved.reshape(-1))
     event, robot = np.divmod(flat, n)
     return Successors(s, group // k, moved.sum(axis=1, dtype=np.int8 if n <= 127 else np.int16),
@@ -388,7 +396,6 @@ def bulk_luminous_rounds(frontier: Frontier, budget: int, subsets: np.ndarray,
     s, n = codes.shape
     k = len(subsets)
     order = luminous_order(colours)
-    w = len(order)
     allowed = allowed_actions(masks, order)  # (S, n, W)
     count = allowed.sum(axis=2)
     s, width, per = _widths(count, subsets, budget)
@@ -398,17 +405,9 @@ def bulk_luminous_rounds(frontier: Frontier, budget: int, subsets: np.ndarray,
     cell = codes[:s] // (SLOTS * colours)
     go = step < DEGREE
     dest = neighbour[cell[:, :, None], np.where(go, step, 0)]
-    choice = np.empty((s, n, w + 1), dtype=np.int64)
-    choice[:, :, :w] = np.where(go, np.where(dest >= 0, dest * SLOTS * colours + colour,
-                                             OUTSIDE),
-                                cell[:, :, None] * SLOTS * colours + colour)
-    choice[:, :, w] = codes[:s]
-    moves = np.zeros((s, n, w + 1), dtype=bool)
-    moves[:, :, :w] = go
-    choice, moves = choice.reshape(-1), moves.reshape(-1)
-    slot = ((np.arange(s)[:, None] * n + np.arange(n)) * (w + 1))[:, None, :] + \
-        np.where(subsets, 0, w)[None, :, :]
-    group, new, moved = _products(slot.reshape(s * k, n), per, width, choice, moves)
+    choice = np.where(go, np.where(dest >= 0, dest * SLOTS * colours + colour, OUTSIDE),
+                      cell[:, :, None] * SLOTS * colours + colour)
+    group, new, moved = _chosen(codes[:s], choice, go, subsets, per, width)
     source = group // k
     flat = np.flatnonzero((new != codes[source]).reshape(-1))
     event, robot = np.divmod(flat, n)
