@@ -521,13 +521,14 @@ def first_sources(offsets, targets, seeds, states, packed=False):  # pragma: no 
 
 
 @njit(cache=True, nogil=True)
-def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover - compiled
-    """Tarjan's strongly connected components over a CSR graph, iteratively, roots in id
-    order and edges in CSR order (the order of :func:`gather_verify.properties.graph.tarjan`).
-    Self-loops are left out when ``skip_loops``. Returns (members, starts): the components
-    with an edge between distinct states (or a self-loop kept), each unsorted, in the order
-    found; component c is ``members[starts[c]:starts[c + 1]]``. ``packed``: as
-    :func:`longest_path`'s."""
+def tarjan(offsets, targets, inside, packed=False):  # pragma: no cover - compiled
+    """Tarjan's strongly connected components of the states ``0 .. len(offsets) - 2`` that
+    are ``inside``, over the edges between them (an edge to a state past them is left out),
+    iteratively, roots in id order and edges in CSR order (the order of
+    :func:`gather_verify.properties.graph.tarjan`). Returns (members, starts): every
+    component in the order it closes, its members in the order they leave the stack;
+    component c is ``members[starts[c]:starts[c + 1]]``. ``packed``: as
+    :func:`longest_path`'s. Per state a 4-byte index, low link, stack slot and member."""
     n = len(offsets) - 1
     index = np.full(n, -1, dtype=np.int32)
     low = np.zeros(n, dtype=np.int32)
@@ -541,7 +542,7 @@ def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover 
     starts = [0]
     counter = 0
     for root in range(n):
-        if index[root] >= 0:
+        if index[root] >= 0 or not inside[root]:
             continue
         wp = 0
         work_v[0] = root
@@ -560,7 +561,7 @@ def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover 
             while k < end:
                 w = _target(targets, k, packed)
                 k += 1
-                if skip_loops and w == v:
+                if w >= n or not inside[w]:
                     continue
                 if index[w] < 0:
                     work_k[wp] = k
@@ -580,7 +581,6 @@ def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover 
             if recurse:
                 continue
             if low[v] == index[v]:
-                begin = mcount
                 while True:
                     sp -= 1
                     w = stack[sp]
@@ -589,16 +589,7 @@ def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover 
                     mcount += 1
                     if w == v:
                         break
-                keep = mcount - begin > 1
-                if not keep and not skip_loops:
-                    for j in range(offsets[v], offsets[v + 1]):
-                        if _target(targets, j, packed) == v:
-                            keep = True
-                            break
-                if keep:
-                    starts.append(mcount)
-                else:
-                    mcount = begin
+                starts.append(mcount)
             wp -= 1
             if wp >= 0:
                 u = work_v[wp]
@@ -607,6 +598,36 @@ def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover 
     out = np.empty(len(starts), dtype=np.int64)
     for i in range(len(starts)):
         out[i] = starts[i]
+    return members[:mcount], out
+
+
+@njit(cache=True, nogil=True)
+def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover - compiled
+    """The components of :func:`tarjan` over every state that have an edge between distinct
+    states, or (unless ``skip_loops``) a self-loop, each unsorted, in the order found:
+    (members, starts), component c is ``members[starts[c]:starts[c + 1]]``."""
+    members, starts = tarjan(offsets, targets, np.ones(len(offsets) - 1, dtype=np.bool_),
+                             packed)
+    kept = [0]
+    mcount = 0
+    for c in range(len(starts) - 1):
+        lo = starts[c]
+        hi = starts[c + 1]
+        keep = hi - lo > 1
+        if not keep and not skip_loops:
+            v = members[lo]
+            for j in range(offsets[v], offsets[v + 1]):
+                if _target(targets, j, packed) == v:
+                    keep = True
+                    break
+        if keep:
+            for j in range(lo, hi):
+                members[mcount] = members[j]
+                mcount += 1
+            kept.append(mcount)
+    out = np.empty(len(kept), dtype=np.int64)
+    for i in range(len(kept)):
+        out[i] = kept[i]
     return members[:mcount].copy(), out
 
 
