@@ -31,7 +31,15 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from gather_verify.kernels.compiled import tarjan
+from gather_verify.kernels.compiled import _per_robot, tarjan
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _digit(rest, radix):  # pragma: no cover - compiled
+    """The key ``rest`` without its least digit in base ``radix``, and that digit (a robot's
+    code: the keys hold the robots' codes as their least digits)."""
+    q = rest // radix
+    return q, rest - q * radix
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -40,9 +48,7 @@ def _decode(key, n, radix, rc_node, rc_slot, rc_col, nodes, slots, cols):  # pra
     through the robot code tables); returns the rest (visited and extra)."""
     rest = key
     for i in range(n):
-        q = rest // radix
-        rc = rest - q * radix
-        rest = q
+        rest, rc = _digit(rest, radix)
         nodes[i] = rc_node[rc]
         slots[i] = rc_slot[rc]
         cols[i] = rc_col[rc]
@@ -57,12 +63,9 @@ def world_decode(keys, n, radix, rc_node, rc_slot, rc_col, colours,
     the configuration key (the sorted ``node * K + colour`` digits in base ``cfg_base``);
     each robot's position among those sorted digits (the first equal)."""
     s_count = len(keys)
-    nodes = np.empty((s_count, n), dtype=np.int64)
-    slots = np.empty((s_count, n), dtype=np.int64)
-    cols = np.empty((s_count, n), dtype=np.int64)
+    nodes, slots, cols, pos = _per_robot(4, s_count, n)
     rest_out = np.empty(s_count, dtype=np.int64)
     ckey = np.empty(s_count, dtype=np.int64)
-    pos = np.empty((s_count, n), dtype=np.int64)
     srt = np.empty(n, dtype=np.int64)
     elem = np.empty(n, dtype=np.int64)
     for s in range(s_count):
@@ -100,9 +103,7 @@ def world_nodes(keys, n, radix, pend, colours):  # pragma: no cover - compiled
     for s in range(s_count):
         rest = keys[s]
         for i in range(n):
-            q = rest // radix
-            rc = rest - q * radix
-            rest = q
+            rest, rc = _digit(rest, radix)
             nodes[s, i] = (rc // colours) // pend
         rest_out[s] = rest
     return nodes, rest_out
@@ -289,9 +290,7 @@ def world_async_by_node(keys, n, radix, rc_node, rc_slot, rc_col, pair_mask, kno
         rest = keys[s]
         events = 0
         for i in range(n):
-            q = rest // radix
-            rc = rest - q * radix
-            rest = q
+            rest, rc = _digit(rest, radix)
             codes[s, i] = rc
             if count[rc] < 0:
                 events = -1
@@ -496,9 +495,7 @@ def world_canon(keys, group, anonymity, visits, n, size, radix, pend, colours, a
     for s in range(s_count):
         rest = keys[s]
         for i in range(n):
-            q = rest // radix
-            rc = rest - q * radix
-            rest = q
+            rest, rc = _digit(rest, radix)
             cc[i] = rc % colours
             t = rc // colours
             slot = t % pend
