@@ -384,37 +384,50 @@ class Request:
         return bool(self.group or self.anonymity)
 
 
-def resolve(initial: Configuration, algorithm: str | Algorithm, scheduler: str | Scheduler, *,
-            detection: str, frames: str, reduction: bool, anonymity: bool | None,
-            symmetry: bool | None, properties: Iterable[str] | None, margin: int) -> Request:
+def resolve(initial: Configuration, algorithm: str | Algorithm, scheduler: str | Scheduler,
+            asked: Asked) -> Request:
     """The :class:`Request` of a search (an unknown algorithm, scheduler or detection model
     is an error here, before anything is searched)."""
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
     sched = as_scheduler(scheduler)
+    detection, frames, reduction = asked.detection, asked.frames, asked.reduction
+    anonymity, symmetry, properties = asked.anonymity, asked.symmetry, asked.properties
     check_detection(detection)
     anonymity = reduction if anonymity is None else anonymity
     symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
     group = symmetry_group(initial, frames) if symmetry else []
     return Request(algo, sched, frames_for(frames), anonymity, symmetry, group,
-                   region_box(initial, margin, group), getattr(sched, "stateful", False))
+                   region_box(initial, asked.limits.margin, group),
+                   getattr(sched, "stateful", False))
 
 
-def explore_reference(
-    initial: Configuration,
-    algorithm: str | Algorithm,
-    scheduler: str | Scheduler,
-    *,
-    detection: str = "local-weak",
-    frames: str = "all",
-    reduction: bool = True,
-    anonymity: bool | None = None,
-    symmetry: bool | None = None,
-    properties: Iterable[str] | None = None,
-    limits: Limits = NO_LIMITS,
-    settle: bool = False,
-    lights: Lights | None = None,
-    colours: Sequence[int] | None = None,
-) -> Exploration:
+@dataclass(frozen=True)
+class Asked:
+    """What a search of the paper's world is asked, whichever engine runs it (the keyword
+    arguments of :func:`explore_reference` and of the bulk engine's ``explore_fast``):
+    the detection model and the frames, the reductions (``anonymity`` and ``symmetry``
+    default to ``reduction``), the properties checked on the way (default: every registered
+    one), the limits, whether to stop once every requested property has its counterexample
+    (``settle``), and luminous robots (``lights``, with their initial ``colours``)."""
+
+    detection: str = "local-weak"
+    frames: str = "all"
+    reduction: bool = True
+    anonymity: bool | None = None
+    symmetry: bool | None = None
+    properties: Iterable[str] | None = None
+    limits: Limits = NO_LIMITS
+    settle: bool = False
+    lights: Lights | None = None
+    colours: Sequence[int] | None = None
+
+    def initial_colours(self, n: int) -> tuple[int, ...] | None:
+        """The robots' initial colours with lights (default 0), None without."""
+        return None if self.lights is None else tuple(self.colours or (0,) * n)
+
+
+def explore_reference(initial: Configuration, algorithm: str | Algorithm,
+                      scheduler: str | Scheduler, **options: Any) -> Exploration:
     """Breadth-first search of every state reachable from ``initial`` (reference path): the
     one reference search (:func:`~gather_verify.engine.bfs.breadth_first`) over the paper's
     world (:class:`PlaneModel`).
@@ -431,23 +444,23 @@ def explore_reference(
     of a halting property (``crash``, ``defined``: the state cannot be expanded; ``stopped`` names the
     property) or when a limit is hit (``stopped`` names it).
     """
-    req = resolve(initial, algorithm, scheduler, detection=detection, frames=frames,
-                  reduction=reduction, anonymity=anonymity, symmetry=symmetry,
-                  properties=properties, margin=limits.margin)
-    model = PlaneModel(initial, req, detection, properties, settle, lights, colours)
-    walked = breadth_first(model, limits)
+    asked = Asked(**options)
+    req = resolve(initial, algorithm, scheduler, asked)
+    model = PlaneModel(initial, req, asked.detection, asked.properties, asked.settle,
+                       asked.lights, asked.colours)
+    walked = breadth_first(model, asked.limits)
     model.offsets.append(len(model.targets))
     return Exploration(
         initial=initial, algorithm=req.algorithm,
         scheduler_name=scheduler if isinstance(scheduler, str) else req.scheduler.name,
-        detection=detection, frames=frames, anonymity=req.anonymity, symmetry=req.symmetry,
-        encoding=model.enc, keys=walked.stored, parents=walked.parents, offsets=model.offsets,
+        detection=asked.detection, frames=asked.frames, anonymity=req.anonymity,
+        symmetry=req.symmetry, encoding=model.enc, keys=walked.stored, parents=walked.parents, offsets=model.offsets,
         targets=model.targets, weights=model.weights, changed_loops=model.changed_loops,
         states=len(walked.stored), transitions=walked.transitions, stopped=walked.stopped,
         violations=model.checks.violations, seconds=walked.seconds,
         peak_rss_mb=walked.peak_rss_mb, facts=model.facts, vacuous=model.checks.vacuous,
-        lights=lights, colours=None if lights is None else tuple(colours or (0,) * initial.n),
-        turns=model.turns, starts=None if model.turns is None else walked.seeds)
+        lights=asked.lights, colours=asked.initial_colours(initial.n), turns=model.turns,
+        starts=None if model.turns is None else walked.seeds)
 
 
 class PlaneModel:
