@@ -842,24 +842,18 @@ def check(
     meeting: Iterable[Node] | None = None,
     algorithm: str | Algorithm = "paper",
     scheduler: str = "async",
-    detection: str = "local-weak",
-    frames: str = "all",
-    properties: Sequence[str] | None = None,
-    reduction: bool = True,
-    max_states: int = DEFAULT_MAX_STATES,
-    max_seconds: float = DEFAULT_MAX_SECONDS,
-    move_bound_c: float = 4.0,
-    force: bool = False,
-    keep_growing: bool = False,
-    **limits: Any,
+    **options: Any,
 ) -> CheckReport:
     """Check ``algorithm`` from a configuration (or ``robots`` and ``meeting``) against every
     adversary of ``scheduler``; the same search as ``gather-verify check``.
 
     ``algorithm`` is a spec (``"paper"``, ``"my_alg.py:MyAlgorithm"``,
-    ``"package.module:NAME"``) or an object with ``name`` and ``decide(view)``. The limits
-    default to the command line's; ``max_memory_mb`` and ``margin`` may be given too, and
-    ``keep_growing`` (``check --keep-growing``: the region grows after a violation too)."""
+    ``"package.module:NAME"``) or an object with ``name`` and ``decide(view)``. The
+    ``options`` are :func:`run_check`'s (``detection``, ``frames``, ``properties``,
+    ``reduction``, ``max_states``, ``max_seconds``, ``move_bound_c``, ``force``,
+    ``lights``, ``colours``, ...), with the command line's defaults; ``max_memory_mb`` and
+    ``margin`` may be given too, and ``keep_growing`` (``check --keep-growing``: the region
+    grows after a violation too)."""
     if configuration is None:
         if robots is None or meeting is None:
             raise InvalidInput("give a configuration, or both robots and meeting")
@@ -867,11 +861,7 @@ def check(
     name = algorithm if isinstance(algorithm, str) else getattr(algorithm, "name", None)
     if not isinstance(name, str):
         raise InvalidInput("an algorithm object needs a name (a string attribute)")
-    return _check_report(configuration, algorithm=algorithm,
-                         scheduler=scheduler, detection=detection, frames=frames,
-                         properties=properties, reduction=reduction, max_states=max_states,
-                         max_seconds=max_seconds, move_bound_c=move_bound_c, force=force,
-                         keep_growing=keep_growing, **limits)
+    return _check_report(configuration, algorithm=algorithm, scheduler=scheduler, **options)
 
 
 class CallableModule(types.ModuleType):
