@@ -26,6 +26,26 @@ DEFAULT_DB = "gather-verify-results.sqlite"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    _what_arguments(p)
+    _how_arguments(p)
+    p.add_argument("--junit", metavar="FILE", help="also write JUnit XML, one test case per configuration")
+    p.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
+                   help="sweep the paper's algorithm under every reading of its ambiguous "
+                        "passages and print the class x robustness table")
+    p.add_argument("--readings-on", choices=("all", "violated"), default="all",
+                   help="with --readings: run the other readings on every configuration, or "
+                        "only on those the base reading violates (the rest: DEFAULT-ONLY)")
+    p.add_argument("--readings-types", default=None, metavar="TYPE,...",
+                   help="with --readings: only configurations whose M is of these types "
+                        "(I1-ordered, I13, reflection, rotation; default all)")
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.add_argument("--timings", action="store_true",
+                   help="with --json, also print the slowest configurations and their seconds "
+                        "(left out by default so the output is byte-for-byte reproducible)")
+
+
+def _what_arguments(p: argparse.ArgumentParser) -> None:
+    """What is swept: the configurations, the world, the algorithm and its adversary."""
     p.add_argument("--robots", type=count_range, required=True,
                    help="robots n, or a range A-B (every n from A to B)")
     p.add_argument("--meeting", type=count_range, default=None,
@@ -58,6 +78,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="property to check, a name or FILE.py:NAME (docs/properties.md); "
                         "repeat; default: all")
     p.add_argument("--no-reduction", action="store_true")
+
+
+def _how_arguments(p: argparse.ArgumentParser) -> None:
+    """How it runs: the store, the workers, the limits of each configuration, the engine."""
     p.add_argument("--db", default=DEFAULT_DB, help=f"results database (default {DEFAULT_DB})")
     p.add_argument("--fresh", action="store_true",
                    help="drop the stored rows of these settings and compute every one again "
@@ -94,20 +118,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--keep-growing", action="store_true",
                    help="grow a configuration's region even after a violation is found "
                         "(check --keep-growing; slower, the verdicts are the same)")
-    p.add_argument("--junit", metavar="FILE", help="also write JUnit XML, one test case per configuration")
-    p.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
-                   help="sweep the paper's algorithm under every reading of its ambiguous "
-                        "passages and print the class x robustness table")
-    p.add_argument("--readings-on", choices=("all", "violated"), default="all",
-                   help="with --readings: run the other readings on every configuration, or "
-                        "only on those the base reading violates (the rest: DEFAULT-ONLY)")
-    p.add_argument("--readings-types", default=None, metavar="TYPE,...",
-                   help="with --readings: only configurations whose M is of these types "
-                        "(I1-ordered, I13, reflection, rotation; default all)")
-    p.add_argument("--json", action="store_true", help="print the summary as JSON")
-    p.add_argument("--timings", action="store_true",
-                   help="with --json, also print the slowest configurations and their seconds "
-                        "(left out by default so the output is byte-for-byte reproducible)")
 
 
 def count_range(text: str) -> range:
