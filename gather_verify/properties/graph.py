@@ -18,9 +18,11 @@ from __future__ import annotations
 
 from array import array
 from collections import deque
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
+
+from gather_verify.kernels.components import components_of
 
 if TYPE_CHECKING:
     import networkx as nx
@@ -315,58 +317,6 @@ def tarjan(succs: Sequence[Sequence[int]]) -> list[list[int]]:
     """
     return [sorted(comp) for comp in components_of(len(succs), succs.__getitem__)
             if len(comp) > 1 or comp[0] in succs[comp[0]]]
-
-
-def components_of(count: int, successors: Callable[[int], Sequence[int]],
-                  inside: Callable[[int], bool] | None = None) -> Iterator[list[int]]:
-    """Tarjan's strongly connected components of the states ``0 .. count - 1`` that are
-    ``inside`` (all by default), over the edges between them (an edge to a state past them
-    is left out), iteratively: roots in id order, edges in the order ``successors`` gives
-    them; each component as its states in the order they leave the stack, in the order the
-    components close (the compiled kernel's order, :func:`gather_verify.kernels.compiled.tarjan`)."""
-    ok = (lambda _v: True) if inside is None else inside
-    index = [-1] * count
-    low = [0] * count
-    on_stack = [False] * count
-    stack: list[int] = []
-    counter = 0
-    for root in range(count):
-        if index[root] >= 0 or not ok(root):
-            continue
-        work = [(root, 0)]
-        index[root] = low[root] = counter
-        counter += 1
-        stack.append(root)
-        on_stack[root] = True
-        while work:
-            v, i = work[-1]
-            edges = successors(v)
-            if i < len(edges):
-                work[-1] = (v, i + 1)
-                w = edges[i]
-                if w >= count or not ok(w):
-                    continue
-                if index[w] < 0:
-                    index[w] = low[w] = counter
-                    counter += 1
-                    stack.append(w)
-                    on_stack[w] = True
-                    work.append((w, 0))
-                elif on_stack[w]:
-                    low[v] = min(low[v], index[w])
-                continue
-            work.pop()
-            if work:
-                low[work[-1][0]] = min(low[work[-1][0]], low[v])
-            if low[v] == index[v]:
-                comp = []
-                while True:
-                    w = stack.pop()
-                    on_stack[w] = False
-                    comp.append(w)
-                    if w == v:
-                        break
-                yield comp
 
 
 @dataclass

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gather_verify.engine.world_search import SearchArrays, WorldSearch
-from gather_verify.properties.graph import components_of
+from gather_verify.kernels.components import components_of
 
 
 @dataclass
@@ -64,7 +64,7 @@ class Task:
 
 def components(s: WorldSearch, inside: Callable[[int], bool] | None = None) -> Iterator[list[int]]:
     """The strongly connected components of the expanded states (those ``inside`` only),
-    iteratively (Tarjan, :func:`~gather_verify.properties.graph.components_of`), each as a
+    iteratively (Tarjan, :func:`~gather_verify.kernels.components.components_of`), each as a
     list of ids."""
     return components_of(len(s.edges), lambda v: [w for w, _, _ in s.edges[v]], inside)
 
