@@ -44,6 +44,14 @@ HELP = ("verify an algorithm from one initial configuration against every advers
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_configuration_arguments(parser)
+    _what_arguments(parser)
+    _limit_arguments(parser)
+    _output_arguments(parser)
+
+
+def _what_arguments(parser: argparse.ArgumentParser) -> None:
+    """What is checked: the world, the robots' lights and sight, the algorithm, its adversary,
+    the properties, the reductions and the engine."""
     parser.add_argument("--world", help="the graph the robots live on: grid (Z², the paper's, "
                         "default), grid:WxH, ring:N, torus:WxH or graph:FILE (docs/worlds.md)")
     parser.add_argument("--task", help="on a finite world: gathering, "
@@ -76,6 +84,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "Python, the engine the bulk one is tested against), or auto "
                              "(default: bulk when it can run the request); both give the same "
                              "states, verdict and trace (docs/explorer.md, docs/worlds.md)")
+
+
+def _limit_arguments(parser: argparse.ArgumentParser) -> None:
+    """The limits of the check, and the paper's world's own options (its region, keep going,
+    the move bound, force)."""
     parser.add_argument("--max-states", type=bounded_int(1, 10**10), default=DEFAULT_MAX_STATES,
                         help="states the search may store (default %(default)s): past it, "
                         "INCOMPLETE (docs/reliability.md)")
@@ -108,6 +121,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true",
                         help="the paper's world only: check even when the initial "
                              "configuration is in U or UNCLASSIFIED")
+
+
+def _output_arguments(parser: argparse.ArgumentParser) -> None:
+    """What the check writes: the trace and its pictures, the graph, JUnit, the readings'
+    table, progress lines, JSON."""
     parser.add_argument("--trace-out", metavar="FILE", help="write the counterexample trace (JSON)")
     parser.add_argument("--svg", metavar="FILE", help="write the trace as an SVG storyboard")
     parser.add_argument("--html", metavar="FILE",

@@ -61,22 +61,8 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.paper.readings import format_robustness, stored_robustness
 
     robust = stored_robustness(args.db, only)  # sweeps run with --readings: class x robustness
-    curve = None
-    if args.workers_curve is not None:  # an empty list is refused, not ignored
-        from gather_verify.sweeps.schedule import predict, task_seconds
-        from gather_verify.sweeps.store import Store
-
-        workers = parse_workers(args.workers_curve)
-        store = Store(args.db, read_only=True)
-        try:
-            # the sweeps' tasks: synthesize --minimum's answers are no sweep's
-            skip = {i for i, settings in store.sweeps() if settings.get("command") == COMMAND}
-            seconds = task_seconds(r for r in store.seconds() if r["sweep"] not in skip)
-        finally:
-            store.close()
-        curve = {"tasks": len(seconds), "seconds": round(sum(seconds), 3),
-                 "largest": round(max(seconds), 3) if seconds else 0.0,
-                 "wall": predict(seconds, workers)}
+    curve, seconds = (None, []) if args.workers_curve is None else \
+        _workers_curve(args.db, args.workers_curve)  # an empty list is refused, not ignored
     if args.json:
         print_json({"sweeps": found if args.timings else without_timings(found),
                     **({"robustness": robust} if robust else {}),
@@ -116,6 +102,26 @@ def run(args: argparse.Namespace) -> int:
         print("== predicted wall time on N workers (tasks in hand-out order, from stored seconds)")
         format_prediction(seconds, curve["wall"])
     return 0
+
+
+def _workers_curve(db: str, text: str) -> tuple[dict[str, Any], list[float]]:
+    """The predicted wall time of the stored sweeps' tasks on the worker counts ``text``, and
+    the tasks' seconds."""
+    from gather_verify.sweeps.minimum import COMMAND
+    from gather_verify.sweeps.schedule import predict, task_seconds
+    from gather_verify.sweeps.store import Store
+
+    workers = parse_workers(text)
+    store = Store(db, read_only=True)
+    try:
+        # the sweeps' tasks: synthesize --minimum's answers are no sweep's
+        skip = {i for i, settings in store.sweeps() if settings.get("command") == COMMAND}
+        seconds = task_seconds(r for r in store.seconds() if r["sweep"] not in skip)
+    finally:
+        store.close()
+    return {"tasks": len(seconds), "seconds": round(sum(seconds), 3),
+            "largest": round(max(seconds), 3) if seconds else 0.0,
+            "wall": predict(seconds, workers)}, seconds
 
 
 def parse_workers(text: str) -> list[int]:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from typing import Any
 
 from gather_verify.cli.common import (
     EXIT_INCOMPLETE,
@@ -25,6 +26,26 @@ DEFAULT_DB = "gather-verify-results.sqlite"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    _what_arguments(p)
+    _how_arguments(p)
+    p.add_argument("--junit", metavar="FILE", help="also write JUnit XML, one test case per configuration")
+    p.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
+                   help="sweep the paper's algorithm under every reading of its ambiguous "
+                        "passages and print the class x robustness table")
+    p.add_argument("--readings-on", choices=("all", "violated"), default="all",
+                   help="with --readings: run the other readings on every configuration, or "
+                        "only on those the base reading violates (the rest: DEFAULT-ONLY)")
+    p.add_argument("--readings-types", default=None, metavar="TYPE,...",
+                   help="with --readings: only configurations whose M is of these types "
+                        "(I1-ordered, I13, reflection, rotation; default all)")
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.add_argument("--timings", action="store_true",
+                   help="with --json, also print the slowest configurations and their seconds "
+                        "(left out by default so the output is byte-for-byte reproducible)")
+
+
+def _what_arguments(p: argparse.ArgumentParser) -> None:
+    """What is swept: the configurations, the world, the algorithm and its adversary."""
     p.add_argument("--robots", type=count_range, required=True,
                    help="robots n, or a range A-B (every n from A to B)")
     p.add_argument("--meeting", type=count_range, default=None,
@@ -57,6 +78,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="property to check, a name or FILE.py:NAME (docs/properties.md); "
                         "repeat; default: all")
     p.add_argument("--no-reduction", action="store_true")
+
+
+def _how_arguments(p: argparse.ArgumentParser) -> None:
+    """How it runs: the store, the workers, the limits of each configuration, the engine."""
     p.add_argument("--db", default=DEFAULT_DB, help=f"results database (default {DEFAULT_DB})")
     p.add_argument("--fresh", action="store_true",
                    help="drop the stored rows of these settings and compute every one again "
@@ -93,20 +118,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--keep-growing", action="store_true",
                    help="grow a configuration's region even after a violation is found "
                         "(check --keep-growing; slower, the verdicts are the same)")
-    p.add_argument("--junit", metavar="FILE", help="also write JUnit XML, one test case per configuration")
-    p.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
-                   help="sweep the paper's algorithm under every reading of its ambiguous "
-                        "passages and print the class x robustness table")
-    p.add_argument("--readings-on", choices=("all", "violated"), default="all",
-                   help="with --readings: run the other readings on every configuration, or "
-                        "only on those the base reading violates (the rest: DEFAULT-ONLY)")
-    p.add_argument("--readings-types", default=None, metavar="TYPE,...",
-                   help="with --readings: only configurations whose M is of these types "
-                        "(I1-ordered, I13, reflection, rotation; default all)")
-    p.add_argument("--json", action="store_true", help="print the summary as JSON")
-    p.add_argument("--timings", action="store_true",
-                   help="with --json, also print the slowest configurations and their seconds "
-                        "(left out by default so the output is byte-for-byte reproducible)")
 
 
 def count_range(text: str) -> range:
@@ -143,7 +154,7 @@ def _run(args: argparse.Namespace) -> int:
     from gather_verify.algorithms.moves import frames_for
     from gather_verify.model.view import check_detection
     from gather_verify.sweeps.census import validate_census_arguments
-    from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
+    from gather_verify.sweeps.sweep import SweepSettings, format_summary
     from gather_verify.worlds import FINITE, entry_of
     from schedulers import get_scheduler
 
@@ -194,13 +205,8 @@ def _run(args: argparse.Namespace) -> int:
     ) for n in args.robots for m in args.meeting]
     if args.readings:
         return _readings(args, settings)
-    try:
-        summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
-                            progress=not args.json, limit=args.limit, fresh=args.fresh,
-                            engine=args.engine)
-    except KeyboardInterrupt:
-        print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
-              "run the same command again to resume", file=sys.stderr)
+    summary = _swept(args, settings)
+    if summary is None:
         return EXIT_INTERRUPTED
     if args.junit:
         from gather_verify.junit import write_sweep_junit
@@ -274,7 +280,7 @@ def _world_sweep(args: argparse.Namespace) -> int:
     each ring of a range), one search each, into the same store."""
     from gather_verify.algorithms import get_algorithm
     from gather_verify.model.view import check_detection
-    from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
+    from gather_verify.sweeps.sweep import SweepSettings, format_summary
     from gather_verify.tasks import get_task
     from gather_verify.worlds import finite_world, world_specs
 
@@ -322,13 +328,8 @@ def _world_sweep(args: argparse.Namespace) -> int:
         world=w.name, task=args.task or ("gathering-on-meeting-nodes" if m else "gathering"),
         visibility=args.visibility, lights=args.lights, initial_colours=args.initial_colours,
     ) for w in worlds for n in args.robots for m in args.meeting]
-    try:
-        summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
-                            progress=not args.json, limit=args.limit, fresh=args.fresh,
-                            engine=args.engine)
-    except KeyboardInterrupt:
-        print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
-              "run the same command again to resume", file=sys.stderr)
+    summary = _swept(args, settings)
+    if summary is None:
         return EXIT_INTERRUPTED
     if args.json:
         print_json(summary if args.timings else without_timings(summary))
@@ -368,3 +369,18 @@ def _readings(args: argparse.Namespace, settings: list) -> int:
     if seen & {"ROBUST-VIOLATED", "READING-DEPENDENT"}:
         return 1
     return 3 if seen & {"INCOMPLETE", "PARTIAL"} else 0
+
+
+def _swept(args: argparse.Namespace, settings: Any) -> dict[str, Any] | None:
+    """The sweep's summary (:func:`run_sweep` with the command's options); None when Ctrl-C
+    stopped it, after saying that every finished configuration is kept."""
+    from gather_verify.sweeps.sweep import run_sweep
+
+    try:
+        return run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
+                         progress=not args.json, limit=args.limit, fresh=args.fresh,
+                         engine=args.engine)
+    except KeyboardInterrupt:
+        print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
+              "run the same command again to resume", file=sys.stderr)
+        return None

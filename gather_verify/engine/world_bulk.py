@@ -47,11 +47,11 @@ import numpy as np
 
 from gather_verify import kernels
 from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
+from gather_verify.engine.bfs import EVENT_CUT
 from gather_verify.engine.columns import Growing, glibc
 from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop, rss_mb
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.engine.world_search import (
-    EVENT_CUT,
     Halt,
     Relabel,
     SearchArrays,

@@ -22,6 +22,8 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from gather_verify.kernels.components import components_of
+
 if TYPE_CHECKING:
     import networkx as nx
 
@@ -307,56 +309,14 @@ def strongly_connected(e: Exploration) -> list[list[int]]:
 
 
 def tarjan(succs: Sequence[Sequence[int]]) -> list[list[int]]:
-    """:func:`strongly_connected` on successor lists, by an iterative Tarjan (large graphs).
+    """:func:`strongly_connected` on successor lists, by an iterative Tarjan (large graphs):
+    the components with an edge between distinct states or a self-loop, each sorted.
 
     >>> tarjan([[1], [0, 2], [2], []])
     [[2], [0, 1]]
     """
-    n = len(succs)
-    index = [-1] * n
-    low = [0] * n
-    on_stack = [False] * n
-    stack: list[int] = []
-    out: list[list[int]] = []
-    counter = 0
-    for root in range(n):
-        if index[root] >= 0:
-            continue
-        work = [(root, 0)]
-        while work:
-            v, i = work.pop()
-            if i == 0:
-                index[v] = low[v] = counter
-                counter += 1
-                stack.append(v)
-                on_stack[v] = True
-            recurse = False
-            while i < len(succs[v]):
-                w = succs[v][i]
-                i += 1
-                if index[w] < 0:
-                    work.append((v, i))
-                    work.append((w, 0))
-                    recurse = True
-                    break
-                if on_stack[w]:
-                    low[v] = min(low[v], index[w])
-            if recurse:
-                continue
-            if low[v] == index[v]:
-                comp = []
-                while True:
-                    w = stack.pop()
-                    on_stack[w] = False
-                    comp.append(w)
-                    if w == v:
-                        break
-                if len(comp) > 1 or v in succs[v]:
-                    out.append(sorted(comp))
-            if work:
-                u, _ = work[-1]
-                low[u] = min(low[u], low[v])
-    return out
+    return [sorted(comp) for comp in components_of(len(succs), succs.__getitem__)
+            if len(comp) > 1 or comp[0] in succs[comp[0]]]
 
 
 @dataclass

@@ -100,6 +100,16 @@ class SweepSettings:
             del out["force"]
         return out
 
+    def check_options(self) -> dict[str, Any]:
+        """The options of ``run_check`` on the paper's world that the sweep's settings give,
+        for one configuration's check."""
+        return dict(algorithm=self.algorithm, scheduler=self.scheduler,
+                    detection=self.detection, frames=self.frames,
+                    properties=self.properties or None, reduction=self.reduction,
+                    max_states=self.max_states, max_seconds=self.max_seconds,
+                    move_bound_c=self.move_bound_c, max_memory_mb=self.max_memory_mb,
+                    keep_growing=self.keep_growing, force=self.force)
+
     def fingerprint(self) -> str:
         """The digest of the code and data behind the rows (:mod:`gather_verify.fingerprint`):
         the algorithm's, the graph file's, every property file's, the ``fingerprint_extra``
@@ -135,15 +145,8 @@ def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[st
     from gather_verify.check import run_check
 
     started = time.perf_counter()
-    report = run_check(
-        c, algorithm=settings.algorithm, scheduler=settings.scheduler,
-        detection=settings.detection, frames=settings.frames,
-        properties=settings.properties or None, reduction=settings.reduction,
-        max_states=settings.max_states, max_seconds=settings.max_seconds,
-        move_bound_c=settings.move_bound_c, max_memory_mb=settings.max_memory_mb,
-        keep_growing=settings.keep_growing, force=settings.force,
-        memo=True,  # the checks of a sweep meet the same configurations again and again
-    )
+    report = run_check(  # the checks of a sweep meet the same configurations again and again
+        c, **settings.check_options(), memo=True)
     return check_row(report, configuration_key(c), index, [list(r) for r in c.robots], c,
                      time.perf_counter() - started)
 
@@ -223,13 +226,7 @@ def run_sweep(
         from gather_verify.sweeps.lit_census import verify_lit_one
 
         verify = verify_lit_one
-    if verify is None and engine == "union" and not any(one.on_plane for one in batch):
-        engine = WORLD_UNION  # finite worlds: one union search per meeting-node class
-    elif not all(one.on_plane for one in batch):
-        from gather_verify.sweeps.world_census import verify_world_one
-
-        verify = verify or verify_world_one  # a finite world: one search per configuration
-    if verify is not None:
+    if verify is not None:  # a row maker of the caller's: one configuration at a time
         engine = "per-config"
     from gather_verify.algorithms.loading import snapshot
     from gather_verify.inputs import kept
@@ -331,22 +328,31 @@ def _listed(settings: SweepSettings, limit: int | None) -> list[tuple[int, Any, 
 
 
 def _census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
-    """The sweep's configurations in enumeration order, each with its stored key."""
-    if settings.on_plane:
-        from gather_verify.sweeps.census import enumerate_configurations
-        from gather_verify.sweeps.lit_census import lit_configurations
-        from gather_verify.worlds.moves import parse_lights
+    """The sweep's configurations in enumeration order, each with its stored key (its
+    world's census, :func:`face_of`)."""
+    return face_of(settings).census(settings)
 
-        k = parse_lights(settings.lights).colours
-        for c in enumerate_configurations(settings.robots, settings.meeting, *settings.box,
-                                          settings.frames):
-            if settings.lights is None:
-                yield c, configuration_key(c)
-                continue
-            for lit in lit_configurations(c, configuration_key(c), k, settings.frames,
-                                          settings.initial_colours == "all"):
-                yield lit, lit.key
-        return
+
+def _plane_census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
+    """The paper's world: one configuration per class of the box (translations and the
+    robots' frame group), with lights one per initial colouring asked for."""
+    from gather_verify.sweeps.census import enumerate_configurations
+    from gather_verify.sweeps.lit_census import lit_configurations
+    from gather_verify.worlds.moves import parse_lights
+
+    k = parse_lights(settings.lights).colours
+    for c in enumerate_configurations(settings.robots, settings.meeting, *settings.box,
+                                      settings.frames):
+        if settings.lights is None:
+            yield c, configuration_key(c)
+            continue
+        for lit in lit_configurations(c, configuration_key(c), k, settings.frames,
+                                      settings.initial_colours == "all"):
+            yield lit, lit.key
+
+
+def _world_census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
+    """A finite world: one configuration per class under its symmetries."""
     from gather_verify.sweeps.world_census import world_configurations, world_key
     from gather_verify.worlds import finite_world
     from gather_verify.worlds.moves import parse_lights
@@ -380,7 +386,6 @@ def warm_kernels(schedulers: Iterable[str]) -> None:
                       max_seconds=60.0)
 
 
-WORLD_UNION = "world-union"
 """The engine of a finite world's sweep under ``engine="union"``: one state graph per
 meeting-node class (:mod:`gather_verify.sweeps.world_union`)."""
 
@@ -403,17 +408,11 @@ def _execute(
     local = dask is None and workers == 1
     if any(todo for _, _, todo in plan):  # forked workers inherit the compiled kernels
         warm_kernels({settings.scheduler for settings, _, _ in plan  # (none: finite worlds,
-                      if settings.on_plane and not settings.lights})  # lights)
+                      if face_of(settings).warm and not settings.lights})  # lights)
     tasks: list[Task] = []
     for settings, sweep, todo in plan:
         if engine == "union":  # a task is a meeting-node class, the largest first
-            from gather_verify.sweeps.mclass import class_tasks
-
-            chunks = class_tasks(todo, settings.frames)
-        elif engine == WORLD_UNION:
-            from gather_verify.sweeps.world_union import world_class_tasks
-
-            chunks = world_class_tasks(settings, todo)
+            chunks = face_of(settings).class_tasks(settings, todo)
         else:
             chunks = list(_chunks(todo, CHUNK))
         if settings.max_memory_mb is None:  # the machine's memory, shared by the workers
@@ -426,9 +425,6 @@ def _execute(
     if engine == "union":
         tasks.sort(key=lambda task: -len(task[2]))  # the largest classes of every sweep first
         run = _run_class_task if local else partial(_run_class_task, hand_off=HAND_OFF_SECONDS)
-    elif engine == WORLD_UNION:
-        tasks.sort(key=lambda task: -len(task[2]))
-        run = _run_world_class_task if local else partial(_run_world_class_task, hand_off=True)
     if dask is not None:
         yield from _execute_dask(tasks, dask, workers, run)
     elif local or not tasks:
@@ -600,41 +596,25 @@ def worker_task(run: Callable[..., tuple[Any, ...]]) -> Callable[..., Done]:
 
 
 @worker_task
-def _run_task(task: Task, verify: Verify = verify_one) -> tuple[Any, ...]:
+def _run_task(task: Task, verify: Verify | None = None) -> tuple[Any, ...]:
     """Worker entry point (picklable for process pools and Dask): each configuration of the
-    chunk checked on its own; ``verify``: the row maker."""
+    chunk checked on its own; ``verify``: the row maker (by default the world's,
+    :func:`face_of`)."""
     sweep, settings, chunk = task
-    if verify is verify_one and not settings.on_plane:  # handed off by a finite world's class
-        from gather_verify.sweeps.world_census import verify_world_one
-
-        verify = verify_world_one
-    return sweep, verify_chunk(settings, chunk, verify), [], {}
+    return sweep, verify_chunk(settings, chunk, verify or face_of(settings).verify_one), [], {}
 
 
 @worker_task
 def _run_class_task(task: Task, hand_off: float | None = None) -> tuple[Any, ...]:
-    """Worker entry point of ``engine="union"``: the chunk is one meeting-node class; the
-    per-configuration checks left after ``hand_off`` seconds come back as tasks of one
-    configuration each."""
-    from gather_verify.sweeps.mclass import verify_class
-
+    """Worker entry point of ``engine="union"``: the chunk is one meeting-node class, decided
+    by its world's union engine; the per-configuration checks left after ``hand_off`` seconds
+    come back as tasks, for the other workers."""
     sweep, settings, chunk = task
     fallbacks: dict[str, int] = {}
-    rows, rest = verify_class(settings, chunk, verify_one, configuration_key, hand_off, fallbacks)
-    return sweep, rows, [(sweep, settings, [item]) for item in rest], fallbacks
-
-
-@worker_task
-def _run_world_class_task(task: Task, hand_off: bool = False) -> tuple[Any, ...]:
-    """Worker entry point of a finite world's union sweep: the chunk is one meeting-node
-    class (:mod:`gather_verify.sweeps.world_union`); with ``hand_off`` the configurations
-    the union leaves to their own checks come back as tasks of ``CHUNK`` each, for the
-    other workers."""
-    from gather_verify.sweeps.world_union import verify_world_class
-
-    sweep, settings, chunk = task
-    rows, rest = verify_world_class(settings, chunk, hand_off)
-    return sweep, rows, [(sweep, settings, part) for part in _chunks(rest, CHUNK)], {}
+    face = face_of(settings)
+    rows, rest = face.verify_class(settings, chunk, hand_off, fallbacks)
+    return sweep, rows, [(sweep, settings, part) for part in _chunks(rest, face.hand_off_chunk)], \
+        fallbacks
 
 
 def _execute_dask(tasks: list[Task], address: str, workers: int | None,
@@ -899,3 +879,74 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
         for r in summary["slowest"]:
             write(f"  {r['seconds']:8.3f}s  {r['class']:<5} robots={r['robots']} meeting={r['meeting_nodes']}")
 
+
+Item = tuple[int, Any]
+"""A configuration of a sweep with its index in the enumeration."""
+Rows = tuple[list[dict[str, Any]], list[Item]]
+"""The rows a union task decided, and the configurations it leaves to their own checks."""
+
+
+@dataclass(frozen=True)
+class SweepFace:
+    """What a world supplies to the one sweep (its ``entry`` names it,
+    :func:`~gather_verify.worlds.entry_of`): its census (the configurations with their stored
+    keys, in enumeration order), the row of one configuration, and its union engine (the
+    configurations grouped by meeting-node class, the largest first, and a class's rows from
+    one state graph, the rest left to their own checks after ``hand_off`` seconds, handed
+    off ``hand_off_chunk`` at a time); ``warm``: its checks run the compiled kernels, to be
+    compiled before the first row is timed."""
+
+    census: Callable[[SweepSettings], Iterator[tuple[Any, str]]]
+    verify_one: Verify
+    class_tasks: Callable[[SweepSettings, list[Item]], list[list[Item]]]
+    verify_class: Callable[[SweepSettings, list[Item], float | None, dict[str, int]], Rows]
+    hand_off_chunk: int
+    warm: bool
+
+
+def _plane_class_tasks(settings: SweepSettings, todo: list[Item]) -> list[list[Item]]:
+    from gather_verify.sweeps.mclass import class_tasks
+
+    return class_tasks(todo, settings.frames)
+
+
+def _plane_class(settings: SweepSettings, chunk: list[Item], hand_off: float | None,
+                 fallbacks: dict[str, int]) -> Rows:
+    from gather_verify.sweeps.mclass import verify_class
+
+    return verify_class(settings, chunk, verify_one, configuration_key, hand_off, fallbacks)
+
+
+def _world_one(settings: SweepSettings, index: int, c: Any) -> dict[str, Any]:
+    from gather_verify.sweeps.world_census import verify_world_one
+
+    return verify_world_one(settings, index, c)
+
+
+def _world_class_tasks(settings: SweepSettings, todo: list[Item]) -> list[list[Item]]:
+    from gather_verify.sweeps.world_union import world_class_tasks
+
+    return world_class_tasks(settings, todo)
+
+
+def _world_class(settings: SweepSettings, chunk: list[Item], hand_off: float | None,
+                 fallbacks: dict[str, int]) -> Rows:
+    from gather_verify.sweeps.world_union import verify_world_class
+
+    return verify_world_class(settings, chunk, hand_off)
+
+
+SWEEP_FACES: dict[str, SweepFace] = {
+    "plane": SweepFace(_plane_census, verify_one, _plane_class_tasks, _plane_class, 1, True),
+    "finite": SweepFace(_world_census, _world_one, _world_class_tasks, _world_class, CHUNK,
+                        False),
+}
+"""Each world entry's face (:data:`gather_verify.worlds.base.PLANE`,
+:data:`~gather_verify.worlds.base.FINITE`): a world with an entry of its own adds one line."""
+
+
+def face_of(settings: SweepSettings) -> SweepFace:
+    """The face of the sweep's world."""
+    from gather_verify.worlds import entry_of
+
+    return SWEEP_FACES[entry_of(settings.world)]

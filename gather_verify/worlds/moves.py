@@ -16,13 +16,13 @@ from __future__ import annotations
 
 from collections import Counter
 
-from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, AlgorithmError, Unhandled
-from gather_verify.algorithms.moves import HiddenRead
+from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, AlgorithmError
+from gather_verify.algorithms.moves import ask
 from gather_verify.errors import InvalidInput
-from gather_verify.model.view import MultiplicityHidden, check_detection
-from gather_verify.watchdog import Overtime, real_interrupt, watched
-from gather_verify.worlds.base import World
-from gather_verify.worlds.view import LightHidden, Lights, WorldView
+from gather_verify.model.view import check_detection
+from gather_verify.watchdog import watched
+from gather_verify.worlds.base import World, hashable
+from gather_verify.worlds.view import Lights, WorldView
 
 MEMO_SIZE = 1 << 18
 """Configurations whose actions a search keeps (then the memo starts over)."""
@@ -98,19 +98,8 @@ class WorldMoves:
         for frame in self.world.frames(node, self.visibility, self.frames):
             view = WorldView(self.world, counts, self.meeting, node, frame, self.detection,
                              self.lights, colours, colour)
-            try:
-                with watched():  # an endless decide ends with the time limit (watchdog)
-                    answer = algorithm.decide(view)
-            except (MultiplicityHidden, LightHidden) as error:
-                raise HiddenRead(f"algorithm {algorithm.name!r} reads what its robots cannot "
-                                 f"see: {error}") from None
-            except (Unhandled, Overtime):  # no rule; the watchdog's stop at the time limit
-                raise
-            except BaseException as error:  # SystemExit, KeyboardInterrupt, os._exit too
-                if real_interrupt(error):  # only a real Ctrl-C stops the verifier
-                    raise
-                raise AlgorithmCrash(algorithm.name, "decide", error,
-                                     self.world.label(node), view) from None
+            with watched():  # an endless decide ends with the time limit (watchdog)
+                answer = ask(algorithm, algorithm.decide, view, self.world.label(node))
             out.add(self._action(answer, frame, node, colour, view))
         return frozenset(out)
 
@@ -118,10 +107,10 @@ class WorldMoves:
                 view: WorldView) -> tuple[int, int]:
         """An answer as ``(destination index, colour)``, or a crash naming what is wrong."""
         target, new = answer, colour
-        back = frame.inverse.get(answer) if _hashable(answer) else None  # type: ignore[attr-defined]
+        back = frame.inverse.get(answer) if hashable(answer) else None  # type: ignore[attr-defined]
         if back is None and isinstance(answer, tuple) and len(answer) == 2:
             target, new = answer
-            back = frame.inverse.get(target) if _hashable(target) else None  # type: ignore[attr-defined]
+            back = frame.inverse.get(target) if hashable(target) else None  # type: ignore[attr-defined]
         problem = None
         if back is None or (back != node and back not in self.world.adjacency[node]):
             problem = (f"answered {answer!r}: a move must be view.me ({view.me!r}) or one of "
@@ -161,11 +150,3 @@ def parse_lights(text: str | None) -> Lights:
     if colon and variant not in ("external", "internal"):
         raise InvalidInput(f"--lights {text!r}: the variant is external or internal")
     return Lights(k, variant or "full")
-
-
-def _hashable(value: object) -> bool:
-    try:
-        hash(value)
-    except TypeError:
-        return False
-    return True
