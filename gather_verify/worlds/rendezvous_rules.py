@@ -25,6 +25,7 @@ from __future__ import annotations
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from itertools import product
+from typing import Any
 
 from gather_verify.errors import InvalidInput
 
@@ -132,7 +133,7 @@ def initial_colour_pairs(colours: int, initial: str) -> tuple[tuple[int, int], .
         raise InvalidInput(f"unknown initial colours {initial!r}: use all or same")
     if initial == "same":
         return tuple((c, c) for c in range(colours))
-    return tuple(product(range(colours), repeat=2))
+    return tuple((a, b) for a in range(colours) for b in range(colours))
 
 
 def gathered(position: int, pending: Sequence[int]) -> bool:
@@ -208,19 +209,19 @@ class RendezvousAlgorithm:
                 yield (*key, answer)
 
 
-def _colour_blind(name: str, colours: int, by_other: Mapping[int, tuple[int, int]], **kw: str
-                  ) -> RendezvousAlgorithm:
+def _colour_blind(name: str, colours: int, by_other: Mapping[int, tuple[int, int]],
+                  **kw: Any) -> RendezvousAlgorithm:
     """An external-light algorithm: the answer depends on the other's colour only."""
     rules = tuple(((ANY, c, ANY), answer) for c, answer in by_other.items())
-    return RendezvousAlgorithm(name, colours, rules, lights="external", **kw)  # type: ignore[arg-type]
+    return RendezvousAlgorithm(name, colours, rules, lights="external", **kw)
 
 
-def _full(name: str, colours: int, by_pair: Mapping[tuple[int, int], tuple[int, int]],
-          first: tuple[Rule, ...] = (), **kw: str) -> RendezvousAlgorithm:
+def _full(name: str, colours: int, by_pair: Mapping[tuple[int, int | None], tuple[int, int]],
+          first: tuple[Rule, ...] = (), **kw: Any) -> RendezvousAlgorithm:
     """A full-light algorithm: the answer depends on both colours (after the rules in
     ``first``, which may read the position)."""
     rules = first + tuple(((own, other, ANY), answer) for (own, other), answer in by_pair.items())
-    return RendezvousAlgorithm(name, colours, rules, **kw)  # type: ignore[arg-type]
+    return RendezvousAlgorithm(name, colours, rules, **kw)
 
 
 B, W, R, Y, G = BLACK, WHITE, RED, YELLOW, GREEN
