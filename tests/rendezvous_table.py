@@ -1,0 +1,87 @@
+"""The rendezvous table by the naive referee, beside the SPIN model's verdicts.
+
+    python tests/rendezvous_table.py --spin bench/spin/light/results.json \\
+        --out bench/spin/light/referee.json --markdown table.md
+
+Per cell (algorithm, synchrony model, movement, initial colours): the referee's verdict
+under §13 (fairness: every robot completes infinitely many cycles; goal: gathered), under
+the SPIN model's own notions (bounded starvation; goal ``<>[] same``), its state and
+transition counts and seconds, and the SPIN model's verdict from the harness's results
+(``bench/spin/light/run_light.py``). Disagreements are listed at the end.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).parent))
+from rendezvous_referee import MODELS, check  # noqa: E402
+
+from gather_verify.worlds.rendezvous_rules import ALGORITHMS  # noqa: E402
+
+MOVEMENTS = ("rigid", "non-rigid")
+COLOURS = ("all", "same")
+
+
+def cell(name: str, model: str, movement: str, colours: str) -> dict:
+    alg = ALGORITHMS[name]
+    t0 = time.perf_counter()
+    ours = check(alg, model, movement, colours)
+    t1 = time.perf_counter()
+    spin_like = check(alg, model, movement, colours, fairness="bounded", goal="same")
+    t2 = time.perf_counter()
+    return {"verdict": ours.verdict, "states": ours.states, "transitions": ours.transitions,
+            "seconds": round(t1 - t0, 4), "bounded_verdict": spin_like.verdict,
+            "bounded_states": spin_like.states, "bounded_seconds": round(t2 - t1, 4)}
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--spin", help="the SPIN harness's results.json")
+    ap.add_argument("--out", help="write the referee's cells here (JSON)")
+    ap.add_argument("--markdown", help="write the side-by-side table here")
+    args = ap.parse_args(argv)
+    spin = {}
+    if args.spin:
+        spin = json.loads(Path(args.spin).read_text(encoding="utf-8"))["cells"]
+    cells, lines, disagree = {}, [], []
+    header = ["algorithm", "movement", "colours", *MODELS]
+    lines += ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for name in ALGORITHMS:
+        for movement in MOVEMENTS:
+            for colours in COLOURS:
+                row = [name, movement, colours]
+                for model in MODELS:
+                    key = f"{name}|{model}|{movement}|{colours}"
+                    c = cells[key] = cell(name, model, movement, colours)
+                    theirs = spin.get(key, {}).get("verdict", "?")
+                    mark = _mark(c["verdict"]) + "/" + _mark(theirs)
+                    if theirs in ("PASS", "FAIL") and theirs != c["verdict"]:
+                        disagree.append(key)
+                        mark = f"**{mark}**"
+                    row.append(mark)
+                lines.append("| " + " | ".join(row) + " |")
+    lines += ["", "ours/SPIN: ✓ rendezvous, ✗ fails, ? not run or incomplete.",
+              f"disagreements: {', '.join(disagree) or 'none'}"]
+    compared = sum(1 for k in cells if spin.get(k, {}).get("verdict") in ("PASS", "FAIL"))
+    lines.append(f"cells compared with SPIN: {compared} of {len(cells)}")
+    text = "\n".join(lines) + "\n"
+    if args.markdown:
+        Path(args.markdown).write_text(text, encoding="utf-8")
+    print(text)
+    if args.out:
+        Path(args.out).write_text(json.dumps({"cells": cells, "disagreements": disagree},
+                                             indent=1) + "\n", encoding="utf-8")
+    return 0
+
+
+def _mark(verdict: str) -> str:
+    return {"PASS": "✓", "FAIL": "✗"}.get(verdict, "?")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
