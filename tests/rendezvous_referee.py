@@ -82,11 +82,11 @@ class Referee:
     """The state graph of one algorithm under one model, from every initial state."""
 
     def __init__(self, alg: RendezvousAlgorithm, model: str, movement: str = "non-rigid",
-                 colours: str = "all", fairness: str = "fair"):
+                 colours: str = "all", fairness: str = "fair", limit: int | None = None):
         self.alg, self.model, self.name = alg, MODELS[model], model
         self.k = alg.colours
         self.bounded = fairness == "bounded"
-        self.limit = (1 + self.k) * self.model.spin_steps
+        self.limit = (1 + self.k) * self.model.spin_steps if limit is None else limit
         pos = (NEAR, SAME) if movement == "rigid" else (FAR, NEAR, SAME)
         pairs = [(a, b) for a in range(self.k) for b in range(self.k)
                  if colours == "all" or a == b]
@@ -276,12 +276,14 @@ class Verdict:
 
 
 def check(alg: RendezvousAlgorithm, model: str, movement: str = "non-rigid",
-          colours: str = "all", fairness: str = "fair", goal: str = "gathered") -> Verdict:
+          colours: str = "all", fairness: str = "fair", goal: str = "gathered",
+          limit: int | None = None) -> Verdict:
     """The verdict of ``rendezvous`` (``goal`` gathered: §13's; same: the SPIN model's
     ``<>[] position == SAME``) under ``fairness`` (fair: §13's; bounded: the SPIN model's),
     with a counterexample: a prefix from an initial state and a cycle that stays out of the
-    goal (a fair one: both robots step in it)."""
-    ref = Referee(alg, model, movement, colours, fairness)
+    goal (a fair one: both robots step in it). ``limit``: the bounded fairness's most
+    consecutive steps of one robot (default the SPIN model's, ``(1 + K) x steps``)."""
+    ref = Referee(alg, model, movement, colours, fairness, limit)
     ref.explore()
     bad = (lambda s: s[0] != SAME) if goal == "same" else (lambda s: not Referee.goal(s))
     for comp in sorted(components(ref.edges), key=min):
@@ -371,3 +373,22 @@ def show(state: tuple) -> str:
 
 def render(steps: list[tuple[str, tuple]]) -> list[str]:
     return [f"{label:32} {show(state)}" for label, state in steps]
+
+
+def starvation_needed(alg: RendezvousAlgorithm, model: str, movement: str = "non-rigid",
+                      colours: str = "all") -> int | None:
+    """The fewest consecutive steps of one robot that a bounded scheduler must allow for a
+    counterexample to exist (None when there is none even under §13's fairness): the
+    SPIN model finds every counterexample exactly when this is at most its bound."""
+    if check(alg, model, movement, colours).verdict == "PASS":
+        return None
+    lo, hi = 1, (1 + alg.colours) * MODELS[model].spin_steps
+    while check(alg, model, movement, colours, "bounded", limit=hi).verdict == "PASS":
+        lo, hi = hi + 1, 2 * hi
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if check(alg, model, movement, colours, "bounded", limit=mid).verdict == "FAIL":
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
