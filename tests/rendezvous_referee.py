@@ -163,7 +163,7 @@ class Referee:
     def events(self, tagged: tuple) -> Iterator[tuple[int, str, tuple]]:
         """(robots mask, label, successor) of every event from a (tagged) state."""
         state, tag = tagged[:3], tagged[3]
-        if self.bounded and self.goal_spin_stop(state):
+        if self.bounded and self.goal(state):  # the SPIN model's scheduler stops there
             return
         m = self.model
         if m.single:
@@ -192,7 +192,6 @@ class Referee:
     def goal(state: tuple) -> bool:
         return state[0] == SAME and state[1][3] == STAY and state[2][3] == STAY
 
-    goal_spin_stop = goal
 
     # --- the search ---------------------------------------------------------------------
     def explore(self) -> None:

@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
-from rendezvous_referee import MODELS, check  # noqa: E402
+from rendezvous_referee import MODELS, check, starvation_needed  # noqa: E402
 
 from gather_verify.worlds.rendezvous_rules import ALGORITHMS  # noqa: E402
 
@@ -36,7 +36,9 @@ def cell(name: str, model: str, movement: str, colours: str) -> dict:
     t2 = time.perf_counter()
     return {"verdict": ours.verdict, "states": ours.states, "transitions": ours.transitions,
             "seconds": round(t1 - t0, 4), "bounded_verdict": spin_like.verdict,
-            "bounded_states": spin_like.states, "bounded_seconds": round(t2 - t1, 4)}
+            "bounded_states": spin_like.states, "bounded_seconds": round(t2 - t1, 4),
+            "starvation_needed": starvation_needed(alg, model, movement, colours),
+            "spin_bound": (1 + alg.colours) * MODELS[model].spin_steps}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -48,27 +50,38 @@ def main(argv: list[str] | None = None) -> int:
     spin = {}
     if args.spin:
         spin = json.loads(Path(args.spin).read_text(encoding="utf-8"))["cells"]
-    cells, lines, disagree = {}, [], []
-    header = ["algorithm", "movement", "colours", *MODELS]
-    lines += ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    cells: dict[str, dict] = {}
+    disagree = []
+    lines = ["| algorithm | " + " | ".join(MODELS) + " |", "|---|" + "---|" * len(MODELS)]
     for name in ALGORITHMS:
-        for movement in MOVEMENTS:
-            for colours in COLOURS:
-                row = [name, movement, colours]
-                for model in MODELS:
+        row = [name]
+        for model in MODELS:
+            marks, agree = "", True
+            for movement in MOVEMENTS:
+                for colours in COLOURS:
                     key = f"{name}|{model}|{movement}|{colours}"
                     c = cells[key] = cell(name, model, movement, colours)
                     theirs = spin.get(key, {}).get("verdict", "?")
-                    mark = _mark(c["verdict"]) + "/" + _mark(theirs)
+                    c["spin_verdict"] = theirs
+                    marks += _mark(c["verdict"])
                     if theirs in ("PASS", "FAIL") and theirs != c["verdict"]:
                         disagree.append(key)
-                        mark = f"**{mark}**"
-                    row.append(mark)
-                lines.append("| " + " | ".join(row) + " |")
-    lines += ["", "ours/SPIN: ✓ rendezvous, ✗ fails, ? not run or incomplete.",
-              f"disagreements: {', '.join(disagree) or 'none'}"]
-    compared = sum(1 for k in cells if spin.get(k, {}).get("verdict") in ("PASS", "FAIL"))
-    lines.append(f"cells compared with SPIN: {compared} of {len(cells)}")
+                        agree = False
+                    elif theirs not in ("PASS", "FAIL"):
+                        agree = False
+            row.append(marks + (" =" if agree else " ≠" if any(
+                k.startswith(f"{name}|{model}|") for k in disagree) else " ?"))
+        lines.append("| " + " | ".join(row) + " |")
+    lines += ["", "Per cell: rigid (all colours, same colour), non-rigid (all, same); ✓ "
+              "rendezvous, ✗ fails; = SPIN agrees on all four, ≠ it disagrees on one, ? "
+              "not all four compared.",
+              f"Disagreements: {', '.join(disagree) or 'none'}."]
+    compared = sum(1 for c in cells.values() if c["spin_verdict"] in ("PASS", "FAIL"))
+    needed = [c["starvation_needed"] for c in cells.values() if c["starvation_needed"]]
+    lines.append(f"Cells compared with SPIN: {compared} of {len(cells)}. A counterexample "
+                 f"needs at most {max(needed)} consecutive steps of one robot (the SPIN "
+                 f"model allows at least "
+                 f"{min(c['spin_bound'] for c in cells.values())}).")
     text = "\n".join(lines) + "\n"
     if args.markdown:
         Path(args.markdown).write_text(text, encoding="utf-8")
