@@ -57,7 +57,7 @@ COLOURS = ("all", "same")
 NUMBERS = ("-DALGO_REGULAR4=104", "-DALGO_REGULAR5=105", "-DALGO_REGULAR6=106")
 GCC = ["gcc", "-DMEMLIM=4096", "-DXUSAFE", "-DNOREDUCE", "-O2", "-w", "-o", "pan", "pan.c"]
 PAN = ["./pan", "-m100000", "-a", "-f", "-E", "-n", "gathering"]
-TRACE_LINES = 400
+HEAD, CYCLE = 20, 40
 
 
 def name(symbol: str) -> str:
@@ -76,11 +76,24 @@ def defines(algo: str, sched: str, movement: str, colours: str) -> list[str]:
 
 
 def compact_trace(text: str) -> list[str]:
-    """The counterexample's steps and configurations (what the model's README greps for),
-    with the line that marks the start of the cycle."""
-    keep = [line.strip() for line in text.splitlines()
-            if re.search(r"<<<|CONF|STEP|ALGORITHM|SCHEDULER:", line)]
-    return keep[:TRACE_LINES]
+    """The counterexample in short: each step with the configuration after it on one line
+    (the model's README greps STEP and CONF), white space collapsed; its first ``HEAD``
+    steps, then, from the line that marks the start of the acceptance cycle, at most
+    ``CYCLE`` steps (``...`` where steps are left out). ``spin -t`` with the same
+    definitions replays the whole trail."""
+    steps: list[str] = []
+    for line in text.splitlines():
+        line = " ".join(line.replace("Never claim moves to line 3", "").split())
+        if line.startswith("CONF") and steps and steps[-1].startswith("STEP"):
+            steps[-1] += " -> " + line.removeprefix("CONF: ")
+        elif "<<<" in line or line.startswith("STEP"):
+            steps.append(line.split("[(")[0].strip())
+    cycle = next((i for i, line in enumerate(steps) if "<<<" in line), None)
+    if cycle is None:
+        return steps[:HEAD] + (["..."] if len(steps) > HEAD else [])
+    head = steps[:min(HEAD, cycle)] + (["..."] if cycle > HEAD else [])
+    rest = steps[cycle:cycle + CYCLE + 1]
+    return head + rest + (["..."] if len(steps) > cycle + CYCLE + 1 else [])
 
 
 def run_cell(promela: str, algo: str, sched: str, movement: str, colours: str,
