@@ -77,11 +77,14 @@ def main(argv: list[str] | None = None) -> int:
               "not all four compared.",
               f"Disagreements: {', '.join(disagree) or 'none'}."]
     compared = sum(1 for c in cells.values() if c["spin_verdict"] in ("PASS", "FAIL"))
-    needed = [c["starvation_needed"] for c in cells.values() if c["starvation_needed"]]
-    lines.append(f"Cells compared with SPIN: {compared} of {len(cells)}. A counterexample "
-                 f"needs at most {max(needed)} consecutive steps of one robot (the SPIN "
-                 f"model allows at least "
-                 f"{min(c['spin_bound'] for c in cells.values())}).")
+    needed = [(c["starvation_needed"] / c["spin_bound"], c["starvation_needed"], key)
+              for key, c in cells.items() if c["starvation_needed"]]
+    ratio, most, where = max(needed)
+    lines.append(f"Cells compared with SPIN: {compared} of {len(cells)}. In every cell a "
+                 f"counterexample needs at most {ratio:.0%} of the consecutive steps of one "
+                 f"robot that the SPIN model allows (the most: "
+                 f"{max(n for _, n, _ in needed)} steps; the tightest cell: {where}, "
+                 f"{most} step(s)).")
     text = "\n".join(lines) + "\n"
     if args.markdown:
         Path(args.markdown).write_text(text, encoding="utf-8")
