@@ -164,3 +164,29 @@ def test_tables_refuse_what_their_lights_hide():
     with pytest.raises(InvalidInput, match="unknown rendezvous algorithm"):
         rr.get_algorithm("vig-4cols")
     assert rr.get_algorithm("viglietta-2") is A["vig-2cols"]
+
+
+# --- the stored SPIN table ---------------------------------------------------------------
+
+def _stored(name):
+    import json
+    from pathlib import Path
+
+    return json.loads((Path(__file__).parent.parent / "bench/spin/light" / name).read_text())
+
+
+def test_every_spin_algorithm_is_built_in_and_every_stored_cell_agrees():
+    """The SPIN model's 15 algorithms are the built-ins (by its names), each cell of the
+    stored SPIN run checked the algorithm it names, and the referee gives the stored SPIN
+    verdict on a sample of cells (the whole table: tests/rendezvous_table.py)."""
+    spin = _stored("results.json")["cells"]
+    assert {key.split("|")[0] for key in spin} == set(A)
+    assert {a.spin for a in A.values()} == {c["algorithm_name"] for c in spin.values()}
+    for key, c in spin.items():
+        assert c["algorithm_name"] == A[key.split("|")[0]].spin
+        assert c["verdict"] in ("PASS", "FAIL")
+    for key in ("vig-2cols|async|rigid|same", "wada-4ext|fsync|non-rigid|all",
+                "wada-4ext|fsync|non-rigid|same", "3ext-nonqss|async-lc-strict|rigid|all",
+                "regular4|async-move-regular|non-rigid|all", "optimal|async-regular|rigid|all"):
+        name, model, movement, colours = key.split("|")
+        assert check(A[name], model, movement, colours).verdict == spin[key]["verdict"], key
