@@ -13,6 +13,13 @@ class. Termination needs robot identities: when the reduced graph has a
 cycle, the space is explored again without reductions and the fair
 components are decided there.
 
+``gather_verify.check`` is both this module and the API's entry point: the module is
+callable, as :func:`check` (``import gather_verify as gv; gv.check(robots=..., ...)``),
+because importing a submodule binds its name in the package, so the package attribute
+``check`` holds this module once anything has imported it. The module's class is set to
+:class:`CallableModule` (Python's documented way to customise a module,
+``module.__class__``); ``tests/test_public_api.py`` checks both orders of import.
+
 >>> from gather_verify.model.configuration import Configuration
 >>> r = run_check(Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True),
 ...               algorithm="go-to-target", scheduler="async", max_states=10**5, max_seconds=60)
@@ -25,13 +32,12 @@ from __future__ import annotations
 import sys
 import time
 import types
-from collections.abc import Callable, Iterable, Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from functools import wraps
 from typing import Any, ParamSpec
 
-from gather_verify import theory
+from gather_verify import pipeline, theory
 from gather_verify.algorithms.base import Algorithm, phase_of
 from gather_verify.engine.checks import Violation
 from gather_verify.engine.explore import (
@@ -55,7 +61,6 @@ from gather_verify.properties.graph import GraphFacts, Walk, longest_path, most_
 from gather_verify.properties.registry import check_property_names, get_property, registered
 from gather_verify.trace import build_trace, initial_of, steps_of
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine, named_first
-from gather_verify.watchdog import Overtime, allowance, deadline
 from gather_verify.worlds.moves import parse_lights
 from schedulers import Scheduler, get_scheduler, initial_state
 
@@ -399,160 +404,252 @@ def _check_report(
     more): the algorithm and property files must import within it (else InvalidInput, one
     line), and a call of ``decide`` (``target``, a property's function ...) still running
     past it ends the check: INCOMPLETE, reason ``time``, never a crash and never VERIFIED. ``max_seconds=math.inf``: no watchdog."""
-    started = time.perf_counter()
-    from gather_verify.algorithms import get_algorithm
+    checker = PlaneCheck(configuration, algorithm=algorithm, scheduler=scheduler,
+                         detection=detection, frames=frames, properties=properties,
+                         reduction=reduction, max_states=max_states, max_seconds=max_seconds,
+                         move_bound_c=move_bound_c, force=force, engine=engine, memo=memo,
+                         keep_growing=keep_growing, keep_going=keep_going,
+                         on_exploration=on_exploration, lights=lights, colours=colours,
+                         limits=limits)
+    if checker.why_not is not None:  # a precondition of the paper's theory (gather_verify.theory)
+        return replace(checker.report, verdict=NOT_APPLICABLE, reason=checker.why_not,
+                       seconds=time.perf_counter() - checker.started)
+    return pipeline.run(checker, max_seconds)
 
-    with deadline(allowance(max_seconds)):  # the user's files import in time (watchdog)
-        wanted = check_property_names(properties)
-        algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
-    not_applicable: dict[str, str] = {}
-    light = None if lights is None else parse_lights(lights)
-    if colours is not None and (light is None or len(colours) != configuration.n or any(
-            isinstance(c, bool) or not isinstance(c, int) or not 0 <= c < light.colours
-            for c in colours)):
-        raise InvalidInput(f"initial colours {list(colours)}: give --lights, and one colour "
-                           f"per robot in 0..{(light.colours if light else 1) - 1}")
-    lit: dict[str, Any] = {} if light is None else {
-        "lights": light, "colours": None if colours is None else tuple(colours)}
-    if not getattr(algo, "plane", True):
-        raise InvalidInput(f"algorithm {algo.name!r} is written for finite worlds: give "
-                           "--world ring:N (docs/worlds.md)")
-    for name, why, where, reason in inapplicable(wanted, algo, frames, light):
-        _leave_out(name, why, where, wanted, properties, not_applicable, reason)
-    fixed_margin = limits.pop("margin", None)
-    lim = Limits(max_states=max_states, max_seconds=max_seconds,
-                 max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),
-                 margin=PLANE.initial if fixed_margin is None else fixed_margin)
-    if limits:
-        raise InvalidInput(f"unknown limit(s): {', '.join(sorted(limits))}")
-    first_margin = lim.margin
-    PROGRESS.doing = "classifying the configuration"
-    class_name = theory.get_fact("class").of(configuration)
-    why_not = None if force else theory.not_applicable(configuration, frames)
-    n, D = configuration.n, configuration.D
-    report = CheckReport(  # nothing decided yet: every return sets the verdict
-        verdict=INCOMPLETE, property=None, reason=None, class_=class_name, n=n, D=D, states=0,
-        transitions=0, max_moves=None, max_moves_infinite=False, ratio=None,
-        bound=move_bound_c * D * n, properties={p: PropertyResult(None) for p in wanted},
-        trace=None, algorithm=algorithm if isinstance(algorithm, str) else algorithm.name,
-        scheduler=scheduler, detection=detection, frames=frames, reduction=reduction,
-        limits={"max_states": max_states, "max_seconds": max_seconds,
-                "max_memory_mb": lim.max_memory_mb, "margin": lim.margin,
-                "margin_auto": fixed_margin is None, "keep_growing": keep_growing},
-        seconds=0.0, not_applicable=not_applicable or None,
-        lights=None if light is None else str(light),
-        colours=None if light is None else list(colours or (0,) * n),
-        engine=None if light is None else "reference" if engine == "reference" else "bulk")
-    if why_not is not None:  # a precondition of the paper's theory (gather_verify.theory)
-        return replace(report, verdict=NOT_APPLICABLE, reason=why_not,
-                       seconds=time.perf_counter() - started)
-    sched = get_scheduler(scheduler)  # resolved once: the engines take the objects
-    with _watchdog(max_seconds) as watch:
+
+class PlaneCheck:
+    """The paper's world's part of the one check (:class:`~gather_verify.pipeline.Checker`):
+    the request resolved once (the properties that apply, the algorithm, the lights, the
+    limits and the region, the configuration's class and the theory's precondition), then
+    the search in a region grown while it stops the search, the properties decided on what
+    it found (the graph's on a finished graph, lifted to robot identities for its cycles)
+    and the report."""
+
+    def __init__(self, configuration: Configuration, *, algorithm: str | Algorithm,
+                 scheduler: str, detection: str, frames: str, properties: Sequence[str] | None,
+                 reduction: bool, max_states: int, max_seconds: float, move_bound_c: float,
+                 force: bool, engine: str, memo: bool, keep_growing: bool, keep_going: bool,
+                 on_exploration: Callable[[Exploration], object] | None, lights: str | None,
+                 colours: Sequence[int] | None, limits: dict[str, Any]):
+        from gather_verify.algorithms import get_algorithm
+
+        self.started = time.perf_counter()
+        wanted, algo = pipeline.user_code(max_seconds, lambda: (
+            check_property_names(properties),
+            get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm))
+        light = None if lights is None else parse_lights(lights)
+        pipeline.check_colours(colours, configuration.n, None if light is None else light.colours)
+        if not getattr(algo, "plane", True):
+            raise InvalidInput(f"algorithm {algo.name!r} is written for finite worlds: give "
+                               "--world ring:N (docs/worlds.md)")
+        not_applicable: dict[str, str] = {}
+        for name, why, where, reason in inapplicable(wanted, algo, frames, light):
+            _leave_out(name, why, where, wanted, properties, not_applicable, reason)
+        self.fixed_margin = limits.pop("margin", None)
+        self.lim = Limits(max_states=max_states, max_seconds=max_seconds,
+                          max_memory_mb=_memory_limit(limits.pop("max_memory_mb", None)),
+                          margin=PLANE.initial if self.fixed_margin is None else self.fixed_margin)
+        if limits:
+            raise InvalidInput(f"unknown limit(s): {', '.join(sorted(limits))}")
+        self.configuration, self.algo, self.wanted, self.light = configuration, algo, wanted, light
+        self.scheduler, self.detection, self.frames = scheduler, detection, frames
+        self.reduction, self.engine, self.memo = reduction, engine, memo
+        self.keep_growing, self.keep_going, self.on_exploration = keep_growing, keep_going, \
+            on_exploration
+        self.max_seconds, self.c = max_seconds, move_bound_c
+        self.lit: dict[str, Any] = {} if light is None else {
+            "lights": light, "colours": None if colours is None else tuple(colours)}
         # the edges are kept only for a graph property or the caller's use of the graph
-        keep_graph = on_exploration is not None or any(
+        self.keep_graph = on_exploration is not None or any(
             get_property(p).kind == "graph" for p in wanted)
+        PROGRESS.doing = "classifying the configuration"
+        self.why_not = None if force else theory.not_applicable(configuration, frames)
+        self.report = self.skeleton(algorithm, colours, not_applicable)
 
-        def search(lim: Limits) -> tuple[Exploration, dict[str, dict[str, Any]] | None]:
-            """The search in ``lim``'s region, and its traces (None: not needed yet, the region
-            grows whatever they are)."""
-            PROGRESS.doing = ("exploring" if lim.margin == first_margin else
-                              f"exploring a larger region (margin {lim.margin})")
-            e = explore(configuration, algo, sched, engine=engine, detection=detection,
-                        frames=frames, reduction=reduction, properties=wanted, limits=lim,
-                        memo=memo, graph=keep_graph, settle=not keep_going, **lit)
-            watch.searched[:] = [e]
-            if keep_growing:
-                return e, None
-            return e, _witnesses(e, configuration, algo, sched, engine, detection,
-                                 frames, lim, **lit)
+    def skeleton(self, algorithm: str | Algorithm, colours: Sequence[int] | None,
+                 not_applicable: dict[str, str]) -> CheckReport:
+        """The report with nothing decided yet: every return sets the verdict."""
+        c, lim, light = self.configuration, self.lim, self.light
+        n, D = c.n, c.D
+        return CheckReport(
+            verdict=INCOMPLETE, property=None, reason=None,
+            class_=theory.get_fact("class").of(c), n=n, D=D, states=0, transitions=0,
+            max_moves=None, max_moves_infinite=False, ratio=None, bound=self.c * D * n,
+            properties={p: PropertyResult(None) for p in self.wanted}, trace=None,
+            algorithm=algorithm if isinstance(algorithm, str) else algorithm.name,
+            scheduler=self.scheduler, detection=self.detection, frames=self.frames,
+            reduction=self.reduction,
+            limits={"max_states": lim.max_states, "max_seconds": lim.max_seconds,
+                    "max_memory_mb": lim.max_memory_mb, "margin": lim.margin,
+                    "margin_auto": self.fixed_margin is None, "keep_growing": self.keep_growing},
+            seconds=0.0, not_applicable=not_applicable or None,
+            lights=None if light is None else str(light),
+            colours=None if light is None else list(colours or (0,) * n),
+            engine=None if light is None else "reference" if self.engine == "reference"
+            else "bulk")
 
-        def _unfinished(e: Exploration, traces: dict[str, dict[str, Any]]) -> dict[str, dict[str, Any]]:
-            """``traces``, with a move-bound trace on an unfinished search whose stored graph
-            already has an execution over the bound (a finite prefix: no need to finish). Only
-            on the last search: the region grows as before (a finished graph decides more)."""
-            if e.stopped is not None and "move-bound" in wanted and keep_graph:
-                over = _over_bound(e, move_bound_c, D, n)
-                if over is not None:
-                    traces["move-bound"] = over
-            return traces
+    @property
+    def bound(self) -> float:
+        """The move bound ``c * D * n``."""
+        return self.c * self.configuration.D * self.configuration.n
 
-        e, traces = search(lim)
-        while fixed_margin is None and e.stopped == "region" and not traces:
+    # -- the search ------------------------------------------------------------------------
+
+    def search(self, watch: pipeline.Watch) -> tuple[Exploration, dict[str, dict[str, Any]]]:
+        """The search in the region, grown while the region stops it and nothing fails
+        (:data:`~gather_verify.engine.region.PLANE`: the margin doubled, up to
+        ``AUTO_MARGIN_MAX``; the same exact search on a larger region, so the verdict stays
+        honest; only the last search is reported), and its counterexamples' traces."""
+        self.sched = get_scheduler(self.scheduler)  # resolved once: the engines take the objects
+        lim = self.lim
+        e, traces = self.explore(lim, watch)
+        while self.fixed_margin is None and e.stopped == "region" and not traces:
             larger = PLANE.grow(lim.margin)
-            left = max_seconds - (time.perf_counter() - started)
+            left = self.max_seconds - (time.perf_counter() - self.started)
             if larger is None or left <= 0:
                 break
             lim = replace(lim, margin=larger, max_seconds=left)
-            e, traces = search(lim)
+            e, traces = self.explore(lim, watch)
+        self.lim = lim
         if traces is None:
-            traces = _witnesses(e, configuration, algo, sched, engine, detection, frames,
-                                lim, **lit)
-        traces = _unfinished(e, traces)
-        report = replace(report, limits={**report.limits, "margin": lim.margin})
-        if on_exploration is not None:
-            on_exploration(e)
+            traces = self.witnesses(e)
+        if e.stopped is not None and "move-bound" in self.wanted and self.keep_graph:
+            # an unfinished search whose stored graph already has an execution over the bound
+            # (a finite prefix: no need to finish); only on the last search
+            over = _over_bound(e, self.c, self.configuration.D, self.configuration.n)
+            if over is not None:
+                traces["move-bound"] = over
+        return e, traces
+
+    def explore(self, lim: Limits, watch: pipeline.Watch
+                ) -> tuple[Exploration, dict[str, dict[str, Any]] | None]:
+        """The search in ``lim``'s region, and its traces (None: not needed yet, the region
+        grows whatever they are)."""
+        PROGRESS.doing = ("exploring" if lim.margin == self.lim.margin else
+                          f"exploring a larger region (margin {lim.margin})")
+        e = explore(self.configuration, self.algo, self.sched, engine=self.engine,
+                    detection=self.detection, frames=self.frames, reduction=self.reduction,
+                    properties=self.wanted, limits=lim, memo=self.memo, graph=self.keep_graph,
+                    settle=not self.keep_going, **self.lit)
+        watch.searched[:] = [e]
+        if self.keep_growing:
+            return e, None
+        return e, self.witnesses(e, lim)
+
+    def witnesses(self, e: Exploration, lim: Limits | None = None) -> dict[str, dict[str, Any]]:
+        """The trace of each violation ``e`` found (:func:`_witnesses`)."""
+        return _witnesses(e, self.configuration, self.algo, self.sched, self.engine,
+                          self.detection, self.frames, lim or self.lim, **self.lit)
+
+    # -- the decisions -----------------------------------------------------------------------
+
+    def decide(self, found: tuple[Exploration, dict[str, dict[str, Any]]]) -> CheckReport:
+        """Every requested property decided on the last search: the state and transition
+        properties from its witnesses, the graph's on a finished graph; the verdict, the
+        first failing property's trace and cause."""
+        e, traces = found
+        report = replace(self.report, limits={**self.report.limits, "margin": self.lim.margin})
+        if self.on_exploration is not None:
+            self.on_exploration(e)
         report = replace(report, states=e.states, transitions=e.transitions,
                          peak_rss_mb=round(e.peak_rss_mb, 1))
-        if light is not None:  # which engine ran the last search, and why not the bulk one
+        if self.light is not None:  # which engine ran the last search, and why not the bulk one
             report = replace(report, engine=e.engine, engine_fallback=e.engine_fallback)
-        results: dict[str, dict[str, Any]] = {p: {"holds": None} for p in wanted}
+        results: dict[str, dict[str, Any]] = {p: {"holds": None} for p in self.wanted}
         for name, trace in traces.items():
             # the trace's reason: it names the nodes of the concrete execution shown
             results[name] = {"holds": False, "reason": trace["reason"]}
         halted = e.stopped is not None and e.stopped in e.violations  # a halting property
         stopped = None if halted or e.stopped == "settled" else e.stopped
+        self.state_results(e, traces, results)
+        report, stopped = self.graph_results(e, traces, results, report, stopped)
+        self.move_bound(e, traces, results)
+        self.undecided(e, results, stopped)
+        drift = _drift(e, self.bound) if (
+            e.stopped == "region" and self.keep_graph and self.light is None) else None
+        for name, v in e.violations.items():  # always checked, so never requested: add them
+            if get_property(name).pseudo:
+                results.setdefault(name, {"holds": False, "reason": v.reason})
+        return self.verdict(e, report, traces, results, stopped, drift)
+
+    def state_results(self, e: Exploration, traces: dict[str, dict[str, Any]],
+                      results: dict[str, dict[str, Any]]) -> None:
+        """The state and transition properties with no counterexample: they hold on a
+        finished search (vacuously, with the reason, where the initial state settles them),
+        else are not decided."""
         complete = e.stopped is None
-        chosen = [p for p in registered() if p.name in wanted]
-        for prop in chosen:
-            if prop.kind != "graph" and prop.name not in traces:
-                results[prop.name] = {"holds": True} if complete else {
-                    "holds": None, "reason": SETTLED if e.stopped == "settled" else
-                    f"search stopped ({e.stopped})"}
-                if complete and prop.name in e.vacuous:
-                    results[prop.name] = {"holds": True, "reason": e.vacuous[prop.name]}
-        on_graph = [p for p in chosen if p.kind == "graph"]
-        if complete and on_graph:
-            PROGRESS.doing = "measuring the longest run (move-bound)"
-            longest = longest_path(e)
-            lifted = e
-            cycles = longest.max_moves is None or longest.cyclic
-            if cycles and (e.anonymity or e.symmetry):
-                PROGRESS.doing = "exploring without reductions (to check the cycles)"
-                lifted = explore(configuration, algo, sched, engine=engine,
-                                 detection=detection, frames=frames, reduction=False,
-                                 properties=[], limits=lim, **lit)
-                if lifted.stopped:
-                    stopped = f"{lifted.stopped} (while lifting the reduced graph to check cycles)"
-            if longest.max_moves is not None:
-                report = replace(report, max_moves=longest.max_moves,
-                                 ratio=longest.max_moves / (D * n) if D * n else None)
-            elif not lifted.stopped:
-                report = replace(report, max_moves_infinite=True)
-            if (longest.max_moves is not None and not longest.cyclic) or not lifted.stopped:
-                graph = GraphFacts(e, longest, lifted if cycles else None,
-                                   D, n, move_bound_c)
-                for prop in on_graph:
-                    assert prop.decide is not None
-                    PROGRESS.doing = f"deciding {prop.name}" + (
-                        " (looking for a fair livelock)" if prop.name == "termination" else "")
-                    outcome = prop.decide(graph)
-                    results[prop.name] = outcome.result
-                    w = outcome.witness
-                    if w is not None:
-                        traces[prop.name] = _trace(w.exploration, prop.name, w.reason, w.path,
-                                                   w.cycle, **w.detail)
-        if ("move-bound" in wanted and keep_graph and complete and "move-bound" not in traces
-                and results["move-bound"].get("holds") is None):
-            # the graph is finished but its cycles could not be lifted: a finite execution over
-            # the bound is found on the reduced graph all the same
-            over = _over_bound(e, move_bound_c, D, n)
+        for prop in registered():
+            if prop.name not in self.wanted or prop.kind == "graph" or prop.name in traces:
+                continue
+            results[prop.name] = {"holds": True} if complete else {
+                "holds": None, "reason": SETTLED if e.stopped == "settled" else
+                f"search stopped ({e.stopped})"}
+            if complete and prop.name in e.vacuous:
+                results[prop.name] = {"holds": True, "reason": e.vacuous[prop.name]}
+
+    def on_graph(self) -> list[Any]:
+        """The requested graph properties (``move-bound``, ``termination``), in order."""
+        return [p for p in registered() if p.name in self.wanted and p.kind == "graph"]
+
+    def graph_results(self, e: Exploration, traces: dict[str, dict[str, Any]],
+                      results: dict[str, dict[str, Any]], report: CheckReport,
+                      stopped: str | None) -> tuple[CheckReport, str | None]:
+        """The graph properties decided on a finished graph: the longest run (the report's
+        ``max_moves``), the graph lifted to robot identities when it has cycles and was
+        reduced (a limit there stops the decision, and says so in ``stopped``)."""
+        on_graph = self.on_graph()
+        if e.stopped is not None or not on_graph:
+            return report, stopped
+        c = self.configuration
+        D, n = c.D, c.n
+        PROGRESS.doing = "measuring the longest run (move-bound)"
+        longest = longest_path(e)
+        lifted = e
+        cycles = longest.max_moves is None or longest.cyclic
+        if cycles and (e.anonymity or e.symmetry):
+            PROGRESS.doing = "exploring without reductions (to check the cycles)"
+            lifted = explore(c, self.algo, self.sched, engine=self.engine,
+                             detection=self.detection, frames=self.frames, reduction=False,
+                             properties=[], limits=self.lim, **self.lit)
+            if lifted.stopped:
+                stopped = f"{lifted.stopped} (while lifting the reduced graph to check cycles)"
+        if longest.max_moves is not None:
+            report = replace(report, max_moves=longest.max_moves,
+                             ratio=longest.max_moves / (D * n) if D * n else None)
+        elif not lifted.stopped:
+            report = replace(report, max_moves_infinite=True)
+        if (longest.max_moves is not None and not longest.cyclic) or not lifted.stopped:
+            graph = GraphFacts(e, longest, lifted if cycles else None, D, n, self.c)
+            for prop in on_graph:
+                assert prop.decide is not None
+                PROGRESS.doing = f"deciding {prop.name}" + (
+                    " (looking for a fair livelock)" if prop.name == "termination" else "")
+                outcome = prop.decide(graph)
+                results[prop.name] = outcome.result
+                w = outcome.witness
+                if w is not None:
+                    traces[prop.name] = _trace(w.exploration, prop.name, w.reason, w.path,
+                                               w.cycle, **w.detail)
+        return report, stopped
+
+    def move_bound(self, e: Exploration, traces: dict[str, dict[str, Any]],
+                   results: dict[str, dict[str, Any]]) -> None:
+        """``move-bound`` fails on an execution over the bound: on a finished graph whose
+        cycles could not be lifted the reduced graph shows one all the same."""
+        c = self.configuration
+        if ("move-bound" in self.wanted and self.keep_graph and e.stopped is None
+                and "move-bound" not in traces and results["move-bound"].get("holds") is None):
+            over = _over_bound(e, self.c, c.D, c.n)
             if over is not None:
                 traces["move-bound"] = over
         if "moves" in traces.get("move-bound", {}).get("detail", {}):  # an execution over the bound
-            results["move-bound"] = {"holds": False, "max_moves": None,
-                                     "bound": move_bound_c * D * n,
+            results["move-bound"] = {"holds": False, "max_moves": None, "bound": self.bound,
                                      "reason": traces["move-bound"]["reason"]}
-        for prop in on_graph:  # not decided: say why, as for the others
+
+    def undecided(self, e: Exploration, results: dict[str, dict[str, Any]],
+                  stopped: str | None) -> None:
+        """A graph property left undecided says why, as the others do."""
+        for prop in self.on_graph():
             if results[prop.name].get("holds") is None and "reason" not in results[prop.name]:
                 if e.stopped == "settled":
                     why = SETTLED
@@ -562,11 +659,12 @@ def _check_report(
                     limit = (stopped or "a limit").split(" ", 1)[0]
                     why = f"search stopped while lifting the reduced graph to check cycles ({limit})"
                 results[prop.name]["reason"] = why
-        drift = _drift(e, move_bound_c * D * n) if (
-            e.stopped == "region" and keep_graph and light is None) else None
-        for name, v in e.violations.items():  # always checked, so never requested: add them
-            if get_property(name).pseudo:
-                results.setdefault(name, {"holds": False, "reason": v.reason})
+
+    def verdict(self, e: Exploration, report: CheckReport, traces: dict[str, dict[str, Any]],
+                results: dict[str, dict[str, Any]], stopped: str | None,
+                drift: dict[str, Any] | None) -> CheckReport:
+        """The causes of the failures, the verdict and the trace shown (the first failing
+        property's, in the verdict order)."""
         PROGRESS.doing = "naming the causes"
         for name, trace in traces.items():
             trace["cause"] = cause_of(e.algorithm, trace)
@@ -585,19 +683,19 @@ def _check_report(
         return replace(report, verdict=verdict, property=failing[0] if failing else None,
                        reason=reason, trace=shown, cause=cause, drift=drift,
                        properties={p: PropertyResult.from_json(r) for p, r in results.items()},
-                       seconds=time.perf_counter() - started)
-    # stopped by the watchdog: INCOMPLETE, the states stored so far, no property decided
-    assert watch.overtime is not None
-    last = watch.searched[-1] if watch.searched else None
-    return replace(
-        report, verdict=INCOMPLETE, property=None, trace=None, cause=None, max_moves=None,
-        max_moves_infinite=False, ratio=None, drift=None,
-        reason=f"time (the watchdog stopped your code: still running {watch.overtime:g} s "
-               "into the check)",
-        states=max(PROGRESS.states, last.states if last else 0),
-        transitions=last.transitions if last else 0, peak_rss_mb=round(rss_mb(), 1),
-        properties={p: PropertyResult(None, "search stopped (time)") for p in wanted},
-        seconds=time.perf_counter() - started)
+                       seconds=time.perf_counter() - self.started)
+
+    def overtime(self, seconds: float, watch: pipeline.Watch) -> CheckReport:
+        """Stopped by the watchdog: INCOMPLETE, the states stored so far, no property decided."""
+        last = watch.searched[-1] if watch.searched else None
+        return replace(
+            self.report, verdict=INCOMPLETE, property=None, trace=None, cause=None,
+            max_moves=None, max_moves_infinite=False, ratio=None, drift=None,
+            reason=pipeline.overtime_reason(seconds),
+            states=max(PROGRESS.states, last.states if last else 0),
+            transitions=last.transitions if last else 0, peak_rss_mb=round(rss_mb(), 1),
+            properties={p: PropertyResult(None, "search stopped (time)") for p in self.wanted},
+            seconds=time.perf_counter() - self.started)
 
 
 P = ParamSpec("P")
@@ -614,31 +712,6 @@ def _as_json(build: Callable[P, CheckReport]) -> Callable[P, dict[str, Any]]:
 # the one entry point behind ``gather-verify check`` and the sweep: the report as a dict
 run_check = _as_json(_check_report)
 run_check.__name__ = run_check.__qualname__ = "run_check"
-
-
-@dataclass
-class _Watch:
-    """What :func:`_watchdog` saw: the last search that returned, and how many seconds into
-    the check the watchdog stopped the user's code (None: it did not)."""
-
-    searched: list[Exploration] = field(default_factory=list)
-    overtime: float | None = None
-
-
-@contextmanager
-def _watchdog(max_seconds: float) -> Iterator[_Watch]:
-    """The search and the decisions of :func:`run_check`, under a :func:`deadline` of
-    its :func:`~gather_verify.watchdog.allowance` of ``max_seconds``: the engines read
-    their clock first, and the alarm only stops the user's code that does not return
-    (:mod:`gather_verify.watchdog`). When it does, the block ends and the :class:`_Watch` it
-    yields says so (the caller's report becomes INCOMPLETE with reason ``time``)."""
-    watch = _Watch()
-    PROGRESS.states = 0
-    try:
-        with deadline(allowance(max_seconds)):
-            yield watch
-    except Overtime as stopped:
-        watch.overtime = stopped.seconds
 
 
 SETTLED = ("not looked for: the search stopped once every requested property had its "
@@ -769,24 +842,18 @@ def check(
     meeting: Iterable[Node] | None = None,
     algorithm: str | Algorithm = "paper",
     scheduler: str = "async",
-    detection: str = "local-weak",
-    frames: str = "all",
-    properties: Sequence[str] | None = None,
-    reduction: bool = True,
-    max_states: int = DEFAULT_MAX_STATES,
-    max_seconds: float = DEFAULT_MAX_SECONDS,
-    move_bound_c: float = 4.0,
-    force: bool = False,
-    keep_growing: bool = False,
-    **limits: Any,
+    **options: Any,
 ) -> CheckReport:
     """Check ``algorithm`` from a configuration (or ``robots`` and ``meeting``) against every
     adversary of ``scheduler``; the same search as ``gather-verify check``.
 
     ``algorithm`` is a spec (``"paper"``, ``"my_alg.py:MyAlgorithm"``,
-    ``"package.module:NAME"``) or an object with ``name`` and ``decide(view)``. The limits
-    default to the command line's; ``max_memory_mb`` and ``margin`` may be given too, and
-    ``keep_growing`` (``check --keep-growing``: the region grows after a violation too)."""
+    ``"package.module:NAME"``) or an object with ``name`` and ``decide(view)``. The
+    ``options`` are :func:`run_check`'s (``detection``, ``frames``, ``properties``,
+    ``reduction``, ``max_states``, ``max_seconds``, ``move_bound_c``, ``force``,
+    ``lights``, ``colours``, ...), with the command line's defaults; ``max_memory_mb`` and
+    ``margin`` may be given too, and ``keep_growing`` (``check --keep-growing``: the region
+    grows after a violation too)."""
     if configuration is None:
         if robots is None or meeting is None:
             raise InvalidInput("give a configuration, or both robots and meeting")
@@ -794,19 +861,16 @@ def check(
     name = algorithm if isinstance(algorithm, str) else getattr(algorithm, "name", None)
     if not isinstance(name, str):
         raise InvalidInput("an algorithm object needs a name (a string attribute)")
-    return _check_report(configuration, algorithm=algorithm,
-                         scheduler=scheduler, detection=detection, frames=frames,
-                         properties=properties, reduction=reduction, max_states=max_states,
-                         max_seconds=max_seconds, move_bound_c=move_bound_c, force=force,
-                         keep_growing=keep_growing, **limits)
+    return _check_report(configuration, algorithm=algorithm, scheduler=scheduler, **options)
 
 
-class _CallableModule(types.ModuleType):
-    """``gather_verify.check(...)`` is :func:`check` also when the package attribute names this
-    module (importing ``gather_verify.check`` binds it so)."""
+class CallableModule(types.ModuleType):
+    """This module, callable as :func:`check`: ``gather_verify.check(...)`` is the API's
+    entry point whether the package attribute was bound by an import of this module or by
+    the package's lazy names (docs/api.md)."""
 
     def __call__(self, *args: Any, **kwargs: Any) -> CheckReport:
         return check(*args, **kwargs)
 
 
-sys.modules[__name__].__class__ = _CallableModule
+sys.modules[__name__].__class__ = CallableModule

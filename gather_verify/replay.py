@@ -1,12 +1,17 @@
 """Replay: re-execute a trace from scratch and confirm its violation independently.
 
-Uses only the algorithm, :mod:`~gather_verify.algorithms.moves` and the schedulers (never the
-explorer): every event must be one the scheduler offers from the previous
-state, every recorded state must be the one reached, and the property's
-failure is re-established on the replayed states by the property object itself
-(:meth:`~gather_verify.properties.Property.confirmed`: a state or transition property
-re-evaluates its predicate on facts computed here from the algorithm; a graph property
-checks its cycle or its move count).
+One walk for every world (:func:`walk`): it uses only the algorithm and the schedulers
+(never the explorer). At each step the robots that computed do what the event says (a
+node one edge away, a colour of the lights: else the trace does not match itself, exit
+2); the scheduler must offer that event from the state before and reach the recorded
+state (under a scheduler that keeps its own state, from a start the trace allows: the
+order it names, else any); and the algorithm must still choose that action (else the
+trace no longer reproduces, exit 5). A world's trace format reads its states and events
+and says how its failure is confirmed: on the paper's world (here, :func:`replay`) by the
+property object itself (:meth:`~gather_verify.properties.Property.confirmed`: a state or
+transition property re-evaluates its predicate on facts computed here from the
+algorithm; a graph property checks its cycle or its move count); on a finite world by
+its task's part (:mod:`gather_verify.world_replay`).
 
 >>> from gather_verify.check import run_check
 >>> from gather_verify.model.configuration import Configuration
@@ -18,7 +23,9 @@ True
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import json
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
 from typing import Any
 
 from gather_verify.algorithms import AlgorithmCrash, Unhandled, get_algorithm
@@ -26,44 +33,14 @@ from gather_verify.algorithms.moves import frames_for, move_sets
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import STEPS, add
+from gather_verify.model.view import Lights
 from gather_verify.properties.base import Run
 from gather_verify.properties.facts import configuration_facts, luminous_facts
 from gather_verify.properties.registry import get_property
 from gather_verify.trace import initial_of, load_trace, steps_of
 from gather_verify.worlds.moves import parse_lights
-from schedulers import State, configuration_of, get_scheduler, initial_state
-from schedulers.base import oblivious_events
-
-
-class _Turns:
-    """A ``stateful`` scheduler's own state along a replay (round-robin's order and turn; a
-    trace from a search names the order it started in, ``round-robin:order=2 0 1``): every
-    start it may have had, kept while the trace is consistent with it, as on finite worlds
-    (:mod:`gather_verify.world_replay`). The replayed states carry it
-    (:class:`~gather_verify.engine.explore.TurnState`), so a cycle must return to its turn."""
-
-    def __init__(self, scheduler: Any, n: int):
-        self.runs: list[list[object]] = [[x] for x in scheduler.starts(n)]
-
-    def follow(self, k: int, event: Any, state: Any, events: Any) -> None:
-        """Keep the runs in which ``events(extra)`` (event, successor, extra after) offers
-        ``event`` reaching ``state``; InvalidInput (one line) when none does."""
-        kept = [[*run, after] for run in self.runs for ev, succ, after in events(run[-1])
-                if ev == event and succ == state]
-        if not kept:
-            raise InvalidInput(f"trace step {k}: event {event.to_json()} is not allowed from the "
-                               "previous state, or does not reach the recorded state")
-        self.runs = kept
-
-    def offered(self, k: int, events: Any) -> set[Any]:
-        """The events the algorithm offers at step ``k`` in the runs kept so far."""
-        return {ev for run in self.runs for ev, _, _ in events(run[k - 1])}
-
-    def states(self, states: list[Any]) -> list[Any]:
-        """The replayed states with the first kept run's scheduler state."""
-        from gather_verify.engine.explore import TurnState
-
-        return [TurnState(s, x) for s, x in zip(states, self.runs[0], strict=True)]
+from schedulers import Event, configuration_of, get_scheduler, initial_state
+from schedulers.base import Action, LRobot
 
 
 class NoLongerReproduces(InvalidInput):
@@ -83,166 +60,250 @@ class Replayed:
     steps: int
 
 
+LRobots = tuple[LRobot, ...]
+"""A state as the walk reads it, on every world: per robot its node, its pending
+destination (None when idle) and its colour (0 without lights)."""
+
+
+@dataclass
+class Walk:
+    """A trace's run, replayed: per state before a step, each robot's actions the algorithm
+    gives there; and the scheduler's own state along every run the trace is consistent with
+    (one start each; ``[None, ...]`` for a scheduler that keeps none)."""
+
+    actions: list[Sequence[frozenset[Any]]] = field(default_factory=list)
+    runs: list[list[object]] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class Steps:
+    """How a world's trace reads for the walk: where a robot may go in one edge, how many
+    colours its lights have, how its nodes, actions and events are written, whether a round
+    that changes nothing is an event (Z², §4), and what an unmatched event should add (the
+    order a round-robin trace names)."""
+
+    neighbours: Callable[[Any], Iterable[Any]]
+    colours: int
+    node_text: Callable[[Any], str]
+    event_text: Callable[[Event], str]
+    null: bool = False
+    note: str = ""
+
+
+def walk(scheduler: Any, states: Sequence[LRobots], events: Sequence[Event],
+         actions: Callable[[Any], Sequence[frozenset[Any]]], steps: Steps) -> Walk:
+    """Replay ``events`` from ``states[0]`` (see the module): InvalidInput (one line) when the
+    trace does not match itself, :class:`NoLongerReproduces` when the algorithm no longer
+    takes a step."""
+    # the scheduler's own state (round-robin's order and turn): a trace names the start its
+    # run began in (round-robin:order=1 0 2), then that start alone is followed; an older
+    # trace without it is followed from every start, keeping those it is consistent with
+    try:
+        starts = getattr(scheduler, "starts", lambda _n: [None])(len(states[0]))
+    except InvalidInput as error:
+        raise InvalidInput(f"bad trace: its scheduler: {error}") from None
+    done = Walk(runs=[[extra] for extra in starts])
+    for k, (event, after) in enumerate(zip(events, states[1:], strict=True), 1):
+        before = states[k - 1]
+        unknown = [i for i in event.robots if not 0 <= i < len(before)]
+        if unknown:
+            raise InvalidInput(f"bad trace: step {k}: robot {unknown[0]!r} is not one of the "
+                               f"trace's robots 0..{len(before) - 1}")
+        chosen = chosen_by(event, before)
+        for i, action in chosen.items():
+            _legal(k, i, before[i][0], action, steps)
+        done.runs = _follow(k, scheduler, before, done.runs, event, after, steps)
+        try:
+            offered = actions(before)
+        except (AlgorithmCrash, Unhandled) as error:
+            raise NoLongerReproduces(f"step {k}: the algorithm does not decide the state before "
+                                     f"any more ({error})") from None
+        done.actions.append(offered)
+        for i, action in chosen.items():
+            if action not in offered[i]:
+                raise NoLongerReproduces(f"step {k}: the algorithm no longer lets robot {i} "
+                                         f"do {_action_text(action, steps)} "
+                                         f"({steps.event_text(event)})")
+    return done
+
+
+def chosen_by(event: Event, before: LRobots) -> dict[int, Action]:
+    """What each robot that computed in ``event`` chose, as the event says: its destination
+    (its new node after a round, its pending one after a Look; its own node when it stays)
+    and its colour (the new one when its light changed)."""
+    if event.kind == "move":
+        return {}
+    dest = {i: b for i, _, b in event.moves}
+    colour = {i: new for i, _, new in event.lights}
+    return {i: (dest.get(i, before[i][0]), colour.get(i, before[i][2])) for i in event.robots}
+
+
+def _legal(k: int, i: int, v: Any, action: Action, steps: Steps) -> None:
+    """InvalidInput when robot ``i`` on ``v`` cannot take ``action``: a node past one edge,
+    or a colour its lights do not have."""
+    d, c = action
+    if d != v and d not in steps.neighbours(v):
+        raise InvalidInput(f"bad trace: step {k}: robot {i} cannot reach {steps.node_text(d)} "
+                           f"from {steps.node_text(v)} in one edge")
+    if isinstance(c, bool) or not isinstance(c, int) or not 0 <= c < steps.colours:
+        raise InvalidInput(f"bad trace: step {k}: robot {i} cannot take colour {c!r}: the "
+                           f"lights have {steps.colours} colour(s)")
+
+
+def _follow(k: int, scheduler: Any, before: LRobots, runs: list[list[object]], event: Event,
+            after: LRobots, steps: Steps) -> list[list[object]]:
+    """The runs that go on through step ``k``: those from whose scheduler state ``event``
+    is offered (each computing robot doing what the event says) and reaches ``after``."""
+    offered = [([*run, nxt], succ) for run in runs
+               for nxt, succ in offers(scheduler, before, run[-1], event, steps.null)]
+    kept = [run for run, succ in offered if succ == after]
+    if not kept:
+        what = "does not reach the recorded state" if offered else \
+            "is not allowed from the state before"
+        raise InvalidInput(f"bad trace: step {k}: the event {steps.event_text(event)} {what}"
+                           + steps.note)
+    return kept
+
+
+def offers(scheduler: Any, before: LRobots, extra: object, event: Event, null: bool = False
+           ) -> list[tuple[object, LRobots]]:
+    """Each way the scheduler (in its own state ``extra``) offers ``event`` from ``before``
+    when every computing robot does what the event says: its state after, and the
+    successor."""
+    chosen = chosen_by(event, before)
+    legal = {i: frozenset({chosen[i]}) if i in chosen else frozenset({(v, c)})
+             for i, (v, _, c) in enumerate(before)}
+    return [(nxt, succ) for got, succ, nxt in scheduler.luminous(before, extra, legal.__getitem__,
+                                                                 null=null)
+            if same_event(got, event)]
+
+
+def same_event(a: Event, b: Event) -> bool:
+    """One event: the same kind, robots, moves and colour changes."""
+    return (a.kind, a.robots, sorted(a.moves), sorted(a.lights)) == \
+        (b.kind, b.robots, sorted(b.moves), sorted(b.lights))
+
+
+def scheduler_after(scheduler: Any, before: LRobots, extra: object, event: Event,
+                    after: LRobots, null: bool = False) -> list[object]:
+    """The scheduler's own state after ``event`` (a list of one), when it offers ``event``
+    from ``before`` (its own state ``extra``) and the event reaches ``after``; else an empty
+    list."""
+    return [nxt for nxt, succ in offers(scheduler, before, extra, event, null)
+            if succ == after][:1]
+
+
+def _action_text(action: Action, steps: Steps) -> str:
+    d, c = action
+    return steps.node_text(d) + (f" with colour {c}" if c else "")
+
+
+def _event_text(event: Event) -> str:
+    return json.dumps(event.to_json())
+
+
+def plane_steps(trace: dict[str, Any], colours: int) -> Steps:
+    """How a trace of the paper's world reads for :func:`walk`: unit steps, its lights'
+    colours, nodes written ``x,y``; a round in which every robot stays is an event (§4)."""
+    return Steps(neighbours=lambda v: [add(v, step) for step in STEPS], colours=colours,
+                 node_text=lambda v: f"{v[0]},{v[1]}", event_text=_event_text, null=True,
+                 note=(f" (under {trace['scheduler']}, the order the trace names)"
+                       if ":order=" in trace["scheduler"] else ""))
+
+
 def replay(trace: dict[str, Any]) -> Replayed:
-    """Re-execute ``trace``; ValueError (one line) when it does not match its configuration."""
+    """Re-execute a trace of the paper's world and confirm its violation (see the module):
+    InvalidInput (one line) when it does not match its configuration."""
     trace = load_trace(trace)
+    light = None
     if trace.get("lights") is not None:
-        return _replay_lights(trace)
+        if not isinstance(trace["lights"], str):
+            raise InvalidInput("bad trace: 'lights' must be a string, K or K:variant")
+        light = parse_lights(trace["lights"])
     algorithm = get_algorithm(trace["algorithm"])
     scheduler = get_scheduler(trace["scheduler"])
     frames = frames_for(trace["frames"])
     detection = trace["detection"]
     initial = initial_of(trace)
     meeting = initial.meeting_nodes
-
-    def conf(state: State) -> Configuration:
-        return Configuration.trusted(configuration_of(state), meeting)
+    steps = steps_of(trace)
 
     def ms(robots: tuple) -> dict:
         return move_sets(algorithm, Configuration.trusted(robots, meeting), detection, frames)
 
-    def anything(robots: tuple) -> dict:  # every robot may stay or take any unit step
-        return {v: frozenset([v, *(add(v, step) for step in STEPS)]) for v in robots}
+    if light is None:
+        lit: list[LRobots] = [tuple((v, p, 0) for v, p in state) for state in
+                              [initial_state(initial.robots), *(s for _, s in steps)]]
 
-    states = [initial_state(initial.robots)]
-    steps = steps_of(trace)
-    turns = _Turns(scheduler, initial.n) if getattr(scheduler, "stateful", False) else None
-    for k, (event, state) in enumerate(steps, 1):
-        if turns is not None:
-            before = states[-1]
-            turns.follow(k, event, state,
-                         lambda x: oblivious_events(scheduler, before, x, anything))  # noqa: B023
-            try:
-                offers = turns.offered(k, lambda x: oblivious_events(scheduler, before, x, ms))  # noqa: B023
-            except (Unhandled, AlgorithmCrash) as error:
-                raise NoLongerReproduces(f"trace step {k}: the algorithm does not decide the "
-                                         f"previous state any more ({error})") from None
-            if event not in offers:
-                raise NoLongerReproduces(f"trace step {k}: the algorithm no longer allows event "
-                                         f"{event.to_json()}")
-            states.append(state)
-            continue
-        possible = dict(scheduler.successors(states[-1], anything))
-        if event not in possible:
-            raise InvalidInput(f"trace step {k}: event {event.to_json()} is not allowed from the "
-                             "previous state")
-        if possible[event] != state:
-            raise InvalidInput(f"trace step {k}: the recorded state is not the one the event reaches")
-        try:
-            offered = dict(scheduler.successors(states[-1], ms))
-        except (Unhandled, AlgorithmCrash) as error:
-            raise NoLongerReproduces(f"trace step {k}: the algorithm does not decide the previous "
-                                     f"state any more ({error})") from None
-        if event not in offered:  # a legal execution, but not this algorithm's (any more)
-            raise NoLongerReproduces(f"trace step {k}: the algorithm no longer allows event "
-                                     f"{event.to_json()}")
-        states.append(state)
+        def facts(state: Any) -> Any:
+            return configuration_facts(algorithm, Configuration.trusted(
+                configuration_of(state), meeting), initial, detection, frames)
+
+        def actions(robots: LRobots) -> list[frozenset[Action]]:
+            options = ms(tuple(sorted(r[0] for r in robots)))
+            return [frozenset((d, 0) for d in options[v]) for v, _, _ in robots]
+    else:
+        lit = [_lit_start(trace, initial, light), *(_lit_state(k, s) for k, (_, s) in
+                                                      enumerate(steps, 1))]
+
+        def facts(state: Any) -> Any:
+            return luminous_facts(algorithm, tuple(sorted((r[0], r[2]) for r in state)),
+                                  initial, detection, frames, light)
+
+        def actions(robots: LRobots) -> list[frozenset[Action]]:
+            f = facts(robots)
+            if f.actions is None:
+                raise Unhandled(f.unhandled or str(f.crash))
+            return [f.actions[v, c] for v, _, c in robots]
+    done = walk(scheduler, lit, [e for e, _ in steps], actions,
+                plane_steps(trace, 1 if light is None else light.colours))
     try:
         prop = get_property(trace["property"])
     except InvalidInput as error:
         raise InvalidInput(f"bad trace: {error}") from None
-    if turns is not None:
-        states = turns.states(states)
-    run = Run(trace, states, steps,
-              lambda state: configuration_facts(algorithm, conf(state), initial, detection, frames),
-              ms)
+    states: list[Any] = [lit[0] if light is not None else initial_state(initial.robots),
+                         *(s for _, s in steps)]
+    if getattr(scheduler, "stateful", False):
+        from gather_verify.engine.explore import TurnState
+
+        states = [TurnState(s, x) for s, x in zip(states, done.runs[0], strict=True)]
+    if light is None:
+        run = Run(trace, states, steps, facts, ms)
+    else:
+        run = Run(trace, states, steps, facts, _no_move_sets, _stays(facts))
     confirmed, message = prop.confirmed(run)
     return Replayed(confirmed, message, len(steps))
 
 
-def _replay_lights(trace: dict[str, Any]) -> Replayed:
-    """:func:`replay` of a trace with lights (SEMANTICS.md §10): the states carry colours, the
-    events the lights they changed, and the algorithm answers (move, colour)."""
-    if not isinstance(trace["lights"], str):
-        raise InvalidInput("bad trace: 'lights' must be a string, K or K:variant")
-    light = parse_lights(trace["lights"])
-    algorithm = get_algorithm(trace["algorithm"])
-    scheduler = get_scheduler(trace["scheduler"])
-    frames = frames_for(trace["frames"])
-    detection = trace["detection"]
-    initial = initial_of(trace)
+def _lit_start(trace: dict[str, Any], initial: Configuration, light: Lights) -> LRobots:
+    """The initial state of a trace with lights: every robot idle with its initial colour."""
     colours = trace["initial"].get("colours", [0] * initial.n)
     if not isinstance(colours, list) or len(colours) != initial.n or any(
             isinstance(c, bool) or not isinstance(c, int) or not 0 <= c < light.colours
             for c in colours):
         raise InvalidInput(f"bad trace: 'initial.colours' must give each robot a colour in "
                            f"0..{light.colours - 1}")
+    return tuple((v, None, c) for v, c in zip(initial.robots, colours, strict=True))
 
-    def lit(state: Any) -> Any:
-        return tuple(sorted((r[0], r[2]) for r in state))
 
-    def facts(state: Any) -> Any:
-        return luminous_facts(algorithm, lit(state), initial, detection, frames, light)
+def _lit_state(k: int, state: Any) -> LRobots:
+    if any(len(r) != 3 for r in state):
+        raise InvalidInput(f"trace step {k}: a state of a trace with lights gives every "
+                           "robot its 'colour'")
+    return tuple(state)
 
-    def anything(state: Any) -> Any:  # stay or take any unit step, with any colour
-        return lambda i: frozenset((d, c) for d in (state[i][0], *(add(state[i][0], s)
-                                                                    for s in STEPS))
-                                   for c in range(light.colours))
 
-    def offered(state: Any) -> Any:
-        f = facts(state)
-        if f.actions is None:
-            return None, f.unhandled or str(f.crash)
-        acts = f.actions
-        return (lambda i: acts[state[i][0], state[i][2]]), None
-
-    def natural(action: Any) -> Any:
-        return action
-
-    states: list[Any] = [tuple((v, None, c) for v, c in zip(initial.robots, colours,
-                                                                strict=True))]
-    steps = steps_of(trace)
-    turns = _Turns(scheduler, initial.n) if getattr(scheduler, "stateful", False) else None
-    for k, (event, state) in enumerate(steps, 1):
-        if any(len(r) != 3 for r in state):
-            raise InvalidInput(f"trace step {k}: a state of a trace with lights gives every "
-                               "robot its 'colour'")
-        if turns is not None:
-            before = states[-1]
-            turns.follow(k, event, state, lambda x: scheduler.luminous(  # noqa: B023
-                before, x, anything(before), order=natural, null=True))  # noqa: B023
-            actions, why = offered(before)
-            if actions is None:
-                raise NoLongerReproduces(f"trace step {k}: the algorithm does not decide the "
-                                         f"previous state any more ({why})")
-            if event not in turns.offered(k, lambda x: scheduler.luminous(  # noqa: B023
-                    before, x, actions, order=natural, null=True)):  # noqa: B023
-                raise NoLongerReproduces(f"trace step {k}: the algorithm no longer allows event "
-                                         f"{event.to_json()}")
-            states.append(state)
-            continue
-        possible = {ev: succ for ev, succ, _ in scheduler.luminous(
-            states[-1], None, anything(states[-1]), order=natural, null=True)}
-        if event not in possible:
-            raise InvalidInput(f"trace step {k}: event {event.to_json()} is not allowed from the "
-                               "previous state")
-        if possible[event] != state:
-            raise InvalidInput(f"trace step {k}: the recorded state is not the one the event reaches")
-        actions, why = offered(states[-1])
-        if actions is None:
-            raise NoLongerReproduces(f"trace step {k}: the algorithm does not decide the previous "
-                                     f"state any more ({why})")
-        if event not in {ev for ev, _, _ in scheduler.luminous(states[-1], None, actions,
-                                                               order=natural, null=True)}:
-            raise NoLongerReproduces(f"trace step {k}: the algorithm no longer allows event "
-                                     f"{event.to_json()}")
-        states.append(state)
-    try:
-        prop = get_property(trace["property"])
-    except InvalidInput as error:
-        raise InvalidInput(f"bad trace: {error}") from None
+def _stays(facts: Callable[[Any], Any]) -> Callable[[Any, int], bool]:
+    """Whether robot i of a luminous state is idle and may stay, keeping its colour."""
 
     def stays(state: Any, i: int) -> bool:
         v, p, c = state[i]
         acts = facts(state).actions
         return p is None and acts is not None and (v, c) in acts[v, c]
 
-    def no_move_sets(robots: tuple) -> dict:
-        raise InvalidInput("with lights a robot's move set depends on its colour: read "
-                           "run.facts(state).actions, per (node, colour)")
+    return stays
 
-    if turns is not None:
-        states = turns.states(states)
-    run = Run(trace, states, steps, facts, no_move_sets, stays)
-    confirmed, message = prop.confirmed(run)
-    return Replayed(confirmed, message, len(steps))
+
+def _no_move_sets(robots: tuple) -> dict:
+    raise InvalidInput("with lights a robot's move set depends on its colour: read "
+                       "run.facts(state).actions, per (node, colour)")

@@ -17,6 +17,7 @@ from __future__ import annotations
 import time
 from typing import Any
 
+from gather_verify import pipeline
 from gather_verify.algorithms import Algorithm, get_algorithm
 from gather_verify.engine import world_bulk
 from gather_verify.engine.encoding import (
@@ -30,13 +31,13 @@ from gather_verify.errors import InvalidInput
 from gather_verify.progress import PROGRESS
 from gather_verify.tasks import TASKS, Context, Finding, Task, get_task
 from gather_verify.tasks.base import fair_walk
-from gather_verify.watchdog import Overtime, allowance, deadline
+from gather_verify.verdict import combine
 from gather_verify.worlds import finite_world
 from gather_verify.worlds.base import World
 from gather_verify.worlds.moves import WorldMoves, parse_lights
 from schedulers import get_scheduler
 
-ENGINES = ("auto", "reference", "bulk")
+ENGINES = pipeline.ENGINES
 """``--engine`` on a finite world (:func:`run_world_check`)."""
 PSEUDO = ("crash", "defined")
 """Checked on every task: the algorithm must answer a move in every view it meets."""
@@ -70,76 +71,122 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
     """Check ``algorithm`` from one initial configuration of ``world``; a JSON-ready report
     (``verdict``, ``property``, ``reason``, ``states``, ``transitions``, per-part results,
     the counterexample ``trace``, ``seconds`` of the whole check and ``search_seconds`` of
-    the search alone).
+    the search alone): the one check (:func:`gather_verify.pipeline.run`) over a finite
+    world's :class:`WorldCheck`.
 
     ``engine``: ``bulk`` (:mod:`gather_verify.engine.world_bulk`, refused in one line when it
     cannot run the request), ``reference`` (:mod:`gather_verify.engine.world_search`), or
     ``auto`` (the default: the bulk engine when it can, else the reference). Both find the
     same search (``tests/test_world_bulk.py``); the report names the engine that ran
     (``engine``) and, when ``auto`` fell back to the reference, why (``engine_fallback``)."""
-    started = time.perf_counter()
-    if engine not in ENGINES:
-        raise InvalidInput(f"unknown engine {engine!r}: use one of {', '.join(ENGINES)}")
-    w = finite_world(world) if isinstance(world, str) else world
-    r = w.parse_nodes(robots) if isinstance(robots, str) else list(robots)
-    m = w.parse_nodes(meeting) if isinstance(meeting, str) else list(meeting)
-    if not r:
-        raise InvalidInput("no robots: give at least one robot node")
-    if visibility is not None and visibility < 0:
-        raise InvalidInput(f"visibility {visibility} is negative: give a number of hops >= 0")
-    with deadline(allowance(max_seconds)):  # the algorithm's file imports within the time limit
-        algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
-    sched = get_scheduler(scheduler)  # resolved once: the engines take the objects
-    stateful = getattr(sched, "stateful", False)
-    light = parse_lights(lights)
-    if colours is not None and (len(colours) != len(r) or any(
-            isinstance(c, bool) or not isinstance(c, int) or not 0 <= c < light.colours
-            for c in colours)):
-        raise InvalidInput(f"initial colours {colours}: one per robot, each in "
-                           f"0..{light.colours - 1}")
-    t = get_task(task or default_task(m))
-    parts = _parts(t, properties, w)
-    if t.needs_meeting and not m:
-        raise InvalidInput(f"task {t.name} needs meeting nodes: give --meeting")
-    if t.visits and w.size > 62:
-        raise InvalidInput(f"task {t.name} tracks visited nodes in the state: {w.name} has "
-                           f"{w.size} nodes, at most 62 are supported")
-    liveness = any(p in t.liveness for p in parts)
-    reduce = reduction and not liveness
-    moves = WorldMoves(w, algo, frozenset(m), detection, frames, visibility, light)
-    limits = Limits(max_states=max_states, max_seconds=max_seconds, max_memory_mb=max_memory_mb)
-    reductions = (reductions_used(stateful) if reduce else
-                  "off: liveness needs robot identities" if reduction and liveness
-                  else "off")  # (the search reduces exactly when ``reduce`` holds)
-    PROGRESS.states = 0
-    symmetries = w.symmetries(frames) if reduce else ()
-    fallback = None if engine == "reference" else world_bulk.unsupported(
-        w, len(r), sched, light.colours, visits=t.visits, anonymity=reduce,
-        symmetries=symmetries, meeting=frozenset(m))
-    if engine == "bulk" and fallback is not None:
-        raise InvalidInput(f"the bulk engine cannot run this check: {fallback} (use --engine auto "
-                           "or reference)")
+    checker = WorldCheck(world, robots, meeting, algorithm, scheduler, task=task,
+                         properties=properties, detection=detection, frames=frames,
+                         visibility=visibility, lights=lights, colours=colours,
+                         reduction=reduction, engine=engine,
+                         limits=Limits(max_states=max_states, max_seconds=max_seconds,
+                                       max_memory_mb=max_memory_mb))
+    return pipeline.run(checker, max_seconds)
 
-    def decided() -> dict[str, Any]:
+
+class WorldCheck:
+    """A finite world's part of the one check (:class:`~gather_verify.pipeline.Checker`):
+    the request resolved once (the world, its nodes, the algorithm, the scheduler, the
+    lights, the task and its parts, the reductions, the engine), then the search, the
+    task's decisions and the report."""
+
+    def __init__(self, world: str | World, robots: str | list[int], meeting: str | list[int],
+                 algorithm: str | Algorithm, scheduler: str, *, task: str | None,
+                 properties: list[str] | None, detection: str, frames: str,
+                 visibility: int | None, lights: str | None, colours: list[int] | None,
+                 reduction: bool, engine: str, limits: Limits):
+        self.started = time.perf_counter()
+        pipeline.engine_plan(engine, lambda: None)  # an unknown engine: one line, first
+        w = self.world = finite_world(world) if isinstance(world, str) else world
+        r = self.robots = w.parse_nodes(robots) if isinstance(robots, str) else list(robots)
+        m = self.meeting = w.parse_nodes(meeting) if isinstance(meeting, str) else list(meeting)
+        if not r:
+            raise InvalidInput("no robots: give at least one robot node")
+        if visibility is not None and visibility < 0:
+            raise InvalidInput(f"visibility {visibility} is negative: give a number of hops >= 0")
+        self.algo = pipeline.user_code(limits.max_seconds, lambda: get_algorithm(algorithm)
+                                       if isinstance(algorithm, str) else algorithm)
+        self.sched = get_scheduler(scheduler)  # resolved once: the engines take the objects
+        self.light = parse_lights(lights)
+        pipeline.check_colours(colours, len(r), self.light.colours)
+        t = self.task = get_task(task or default_task(m))
+        self.parts = _parts(t, properties, w)
+        if t.needs_meeting and not m:
+            raise InvalidInput(f"task {t.name} needs meeting nodes: give --meeting")
+        if t.visits and w.size > 62:
+            raise InvalidInput(f"task {t.name} tracks visited nodes in the state: {w.name} has "
+                               f"{w.size} nodes, at most 62 are supported")
+        liveness = any(p in t.liveness for p in self.parts)
+        self.reduce = reduction and not liveness
+        self.reductions = (reductions_used(getattr(self.sched, "stateful", False))
+                           if self.reduce else "off: liveness needs robot identities"
+                           if reduction and liveness else "off")
+        self.request = {"scheduler": scheduler, "detection": detection, "frames": frames,
+                        "visibility": visibility}
+        self.colours, self.limits = colours, limits
+        self.moves = WorldMoves(w, self.algo, frozenset(m), detection, frames, visibility,
+                                self.light)
+        self.symmetries = w.symmetries(frames) if self.reduce else ()
+        self.bulk, self.fallback = pipeline.engine_plan(engine, lambda: world_bulk.unsupported(
+            w, len(r), self.sched, self.light.colours, visits=t.visits, anonymity=self.reduce,
+            symmetries=self.symmetries, meeting=frozenset(m)))
+
+    def search(self, watch: pipeline.Watch) -> WorldSearch:
         PROGRESS.doing = "exploring"
-        if engine != "reference" and fallback is None:
-            s = world_bulk.search(w, tuple(r), moves, sched, colours=colours,
-                                  visits=t.visits, anonymity=reduce, symmetries=symmetries,
-                                  meeting=frozenset(m), limits=limits)
+        if self.bulk:
+            s = world_bulk.search(self.world, tuple(self.robots), self.moves, self.sched,
+                                  colours=self.colours, visits=self.task.visits,
+                                  anonymity=self.reduce, symmetries=self.symmetries,
+                                  meeting=frozenset(self.meeting), limits=self.limits)
         else:
-            s = search(w, tuple(r), moves.actions, sched, colours=colours, visits=t.visits,
-                       anonymity=reduce, symmetries=symmetries, meeting=frozenset(m),
-                       limits=limits)
-        ctx = Context(len(r), w.size, frozenset(m), scheduler,
-                      tuple(w.format_node(v) for v in range(w.size)))
+            s = search(self.world, tuple(self.robots), self.moves.actions, self.sched,
+                       colours=self.colours, visits=self.task.visits, anonymity=self.reduce,
+                       symmetries=self.symmetries, meeting=frozenset(self.meeting),
+                       limits=self.limits)
+        watch.searched.append(s)
+        return s
+
+    def decide(self, s: WorldSearch) -> dict[str, Any]:
+        """The task's parts decided on the search, the verdict and the report."""
+        w = self.world
+        ctx = Context(len(self.robots), w.size, frozenset(self.meeting),
+                      self.request["scheduler"], tuple(w.format_node(v) for v in range(w.size)))
+        results, first = self.results(s, ctx)
+        verdict = combine([first.property] if first is not None else [],
+                          None if s.complete else str(s.stopped))
+        trace = None if first is None else trace_of(
+            w, s, first, self.robots, self.meeting, self.algo.name, self.request["scheduler"],
+            self.task.name, self.request["detection"], self.request["frames"],
+            self.request["visibility"], str(self.light))
+        return {
+            **self.head(verdict),
+            "property": None if first is None else first.property,
+            "reason": (first.reason if first is not None else
+                       None if s.complete else str(s.stopped)),  # the limit, as on Z²
+            "stopped": s.stopped, "states": s.states, "transitions": s.transitions,
+            "engine": s.engine,
+            **({"engine_fallback": self.fallback} if self.fallback is not None else {}),
+            "lights": str(self.light), "reductions": self.reductions, "properties": results,
+            "trace": trace, "seconds": time.perf_counter() - self.started,
+            "search_seconds": s.seconds,
+        }
+
+    def results(self, s: WorldSearch, ctx: Context
+                ) -> tuple[dict[str, dict[str, Any]], Finding | None]:
+        """Per part (and the pseudo-parts every task checks) its result, and the first
+        violated one: a halt of the search first, then the task's parts in order."""
         results: dict[str, dict[str, Any]] = {}
         first: Finding | None = None
         if s.halt is not None:
             first = Finding(s.halt.property, s.halt.state, s.halt.reason, detail=s.halt.detail)
             results[s.halt.property] = {"holds": False, "reason": s.halt.reason}
-        PROGRESS.doing = f"deciding the task's properties ({', '.join(parts)})"
-        found = t.check(s, ctx) if s.halt is None else {}
-        for name in parts:
+        PROGRESS.doing = f"deciding the task's properties ({', '.join(self.parts)})"
+        found = self.task.check(s, ctx) if s.halt is None else {}
+        for name in self.parts:
             got = found.get(name)
             if got is not None:
                 results[name] = {"holds": False, "reason": got.reason}
@@ -153,58 +200,25 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
         for name in PSEUDO:
             results.setdefault(name, {"holds": True} if s.complete else
                                {"holds": None, "reason": "the search did not finish"})
-        if first is not None:
-            verdict = "VIOLATED"
-        elif s.complete:
-            verdict = "VERIFIED"
-        else:
-            verdict = "INCOMPLETE"
-        return {
-            "verdict": verdict,
-            "world": w.name,
-            "task": t.name,
-            "algorithm": algo.name,
-            "scheduler": scheduler,
-            "detection": detection,
-            "frames": frames,
-            "visibility": visibility,
-            "robots": [w.node_to_json(v) for v in r],
-            "meeting_nodes": [w.node_to_json(v) for v in m],
-            "property": None if first is None else first.property,
-            "reason": (first.reason if first is not None else
-                       None if s.complete else str(s.stopped)),  # the limit, as on Z²
-            "stopped": s.stopped,
-            "states": s.states,
-            "transitions": s.transitions,
-            "engine": s.engine,
-            **({"engine_fallback": fallback} if fallback is not None else {}),
-            "lights": str(light),
-            "reductions": reductions,
-            "properties": results,
-            "trace": None if first is None else trace_of(w, s, first, r, m, algo.name, scheduler,
-                                                         t.name, detection, frames, visibility,
-                                                         str(light)),
-            "seconds": time.perf_counter() - started,
-            "search_seconds": s.seconds,
-        }
+        return results, first
 
-    try:  # the user's code that does not return ends with the time limit (watchdog)
-        with deadline(allowance(max_seconds)):
-            return decided()
-    except Overtime as stopped:
-        names = [*parts, *PSEUDO]
+    def head(self, verdict: str) -> dict[str, Any]:
+        """The report's first keys: the verdict and the request."""
+        w = self.world
+        return {"verdict": verdict, "world": w.name, "task": self.task.name,
+                "algorithm": self.algo.name, **self.request,
+                "robots": [w.node_to_json(v) for v in self.robots],
+                "meeting_nodes": [w.node_to_json(v) for v in self.meeting]}
+
+    def overtime(self, seconds: float, watch: pipeline.Watch) -> dict[str, Any]:
         return {
-            "verdict": "INCOMPLETE", "world": w.name, "task": t.name, "algorithm": algo.name,
-            "scheduler": scheduler, "detection": detection, "frames": frames,
-            "visibility": visibility, "robots": [w.node_to_json(v) for v in r],
-            "meeting_nodes": [w.node_to_json(v) for v in m], "property": None,
-            "reason": (f"time (the watchdog stopped your code: still running "
-                       f"{stopped.seconds:g} s into the check)"),
-            "stopped": "time", "states": PROGRESS.states, "transitions": 0,
-            "lights": str(light), "reductions": reductions,
+            **self.head("INCOMPLETE"), "property": None,
+            "reason": pipeline.overtime_reason(seconds), "stopped": "time",
+            "states": PROGRESS.states, "transitions": 0, "lights": str(self.light),
+            "reductions": self.reductions,
             "properties": {name: {"holds": None, "reason": "the search stopped (time)"}
-                           for name in names},
-            "trace": None, "seconds": time.perf_counter() - started,
+                           for name in [*self.parts, *PSEUDO]},
+            "trace": None, "seconds": time.perf_counter() - self.started,
         }
 
 
@@ -319,7 +333,7 @@ def concrete_run(s: WorldSearch, sched: Any, start: int, hops: list[tuple[int, i
 def successor(sched: Any, state: WorldState, event: Any, visits: bool) -> WorldState:
     """The state ``event`` leads to from ``state``: the robots as the event moves them, the
     nodes visited (when the search carries them) and the scheduler's own state after it."""
-    from gather_verify.world_replay import scheduler_after  # a trace's need, not a search's
+    from gather_verify.replay import scheduler_after  # a trace's need, not a search's
 
     robots, visited, extra = state
     after = _apply(state, event)

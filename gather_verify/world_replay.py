@@ -43,6 +43,7 @@ from typing import Any, NoReturn
 
 from gather_verify.algorithms import AlgorithmCrash, Unhandled, get_algorithm
 from gather_verify.errors import InvalidInput, read_input
+from gather_verify.replay import NoLongerReproduces, Replayed, Steps, walk
 from gather_verify.tasks import get_task
 from gather_verify.worlds import finite_world
 from gather_verify.worlds.base import World
@@ -55,19 +56,8 @@ PSEUDO = ("crash", "defined")
 """Parts every task checks: the algorithm answers a move in every view it meets."""
 
 
-class NoLongerReproduces(InvalidInput):
-    """The world trace no longer reproduces (``replay`` exits 5, ``step-not-taken``).
-
-    Cause: every step is a legal execution of the robots, but the algorithm (edited since
-    the trace was written) no longer takes one of them. Fix: run ``check`` again for a
-    fresh trace."""
-
-
-@dataclass
-class WorldReplayed:
-    confirmed: bool
-    message: str
-    steps: int
+WorldReplayed = Replayed
+"""A finite world's replay answers as every replay does (:class:`~gather_verify.replay.Replayed`)."""
 
 
 def read_trace(source: str | Path) -> Any:
@@ -222,38 +212,6 @@ def _event(raw: object, where: str, node: Callable[[object, str], int], n: int) 
                  tuple(lights))
 
 
-def scheduler_after(sched: Any, before: Any, extra: object, event: Any, after: Any
-                    ) -> list[object]:
-    """The scheduler's own state after ``event`` (a list of one), when it offers ``event``
-    from the robots ``before`` (its own state ``extra``) and the event reaches ``after`` with
-    each acting robot doing what ``after`` shows it did; else an empty list."""
-    chosen = chosen_actions(event, after)
-    legal = {i: frozenset({chosen[i]}) if i in chosen else frozenset({(v, c)})
-             for i, (v, _, c) in enumerate(before)}
-    for got, succ, nxt in sched.luminous(before, extra, legal.__getitem__):
-        if same_event(got, event) and succ == after:
-            return [nxt]
-    return []
-
-
-def same_event(a: Any, b: Any) -> bool:
-    """One event: the same kind, robots, moves and colour changes."""
-    return (a.kind, a.robots, sorted(a.moves), sorted(a.lights)) == \
-        (b.kind, b.robots, sorted(b.moves), sorted(b.lights))
-
-
-def chosen_actions(event: Any, after: Any) -> dict[int, tuple[int, int]]:
-    """What each robot that computed in ``event`` chose, read from the state after it: its
-    destination (its new node after a round, its pending one after a Look) and colour."""
-    out: dict[int, tuple[int, int]] = {}
-    if event.kind == "move":
-        return out
-    for i in event.robots:
-        v, pending, colour = after[i]
-        out[i] = (pending if event.kind == "look" and pending is not None else v, colour)
-    return out
-
-
 def replay_world(trace: dict[str, Any], folder: Path | None = None) -> WorldReplayed:
     """Re-execute a world trace and confirm its failure (see the module): confirmed or not,
     with why; :class:`NoLongerReproduces` when the algorithm no longer takes a step;
@@ -275,43 +233,12 @@ def replay_world(trace: dict[str, Any], folder: Path | None = None) -> WorldRepl
                            raw["frames"], raw.get("visibility"), light)
     except InvalidInput as error:
         _fail(str(error))
-    n = len(t.robots)
-    # the scheduler's own state (round-robin's order and turn): a trace names the start its
-    # run began in (round-robin:order=1 0 2), then that start alone is followed; an older
-    # trace without it is followed from every start, keeping those it is consistent with
-    try:
-        runs: list[list[object]] = [[extra] for extra in
-                                    getattr(scheduler, "starts", lambda _n: [None])(n)]
-    except InvalidInput as error:
-        _fail(f"its scheduler: {error}")
-    actions: list[list[frozenset[tuple[int, int]]]] = []
-    for k, (event, after) in enumerate(zip(t.events, t.states[1:], strict=True), 1):
-        before = t.states[k - 1]
-        chosen = chosen_actions(event, after)
-        for i, (d, _) in chosen.items():
-            v = before[i][0]
-            if d != v and d not in world.adjacency[v]:
-                _fail(f"step {k}: robot {i} cannot reach {world.format_node(d)} from "
-                      f"{world.format_node(v)} in one edge")
-        kept = [[*run, extra] for run in runs
-                for extra in scheduler_after(scheduler, before, run[-1], event, after)]
-        if not kept:
-            _fail(f"step {k}: the event {_text(world, event)} is not allowed from the state "
-                  "before, or does not reach the recorded state"
-                  + (f" (under {raw['scheduler']}, the order the trace names)"
-                     if ":order=" in raw["scheduler"] else ""))
-        runs = kept
-        try:
-            offered = moves.actions(before)
-        except (AlgorithmCrash, Unhandled) as error:
-            raise NoLongerReproduces(f"step {k}: the algorithm does not decide the state before "
-                                     f"any more ({error})") from None
-        actions.append(offered)
-        for i, action in chosen.items():
-            if action not in offered[i]:
-                raise NoLongerReproduces(f"step {k}: the algorithm no longer lets robot {i} "
-                                         f"do {_action_text(world, action)} "
-                                         f"({_text(world, event)})")
+    done = walk(scheduler, t.states, t.events, moves.actions, Steps(
+        neighbours=world.adjacency.__getitem__, colours=light.colours,
+        node_text=world.format_node, event_text=lambda event: _text(world, event),
+        note=(f" (under {raw['scheduler']}, the order the trace names)"
+              if ":order=" in raw["scheduler"] else "")))
+    actions, runs = done.actions, done.runs
     seen = _visits(t.states)
     for k, recorded in enumerate(t.visited):
         if recorded is not None and recorded != seen[k]:

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
+from functools import cache
+from itertools import product
 from typing import Any, NamedTuple, Protocol
 
 import numpy as np
@@ -329,6 +331,23 @@ def _products(slot: np.ndarray, per: np.ndarray, width: np.ndarray, choice: np.n
     return group, new, moved
 
 
+def _chosen(codes: np.ndarray, choice: np.ndarray, go: np.ndarray, subsets: np.ndarray,
+            per: np.ndarray, width: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_products` of rounds: ``choice[s, i, j]`` robot i's new code for its j-th choice
+    in state s (``go``: whether it moves), a robot that is not activated keeping its code."""
+    s, n, w = choice.shape
+    table = np.empty((s, n, w + 1), dtype=np.int64)
+    table[:, :, :w] = choice
+    table[:, :, w] = codes
+    moves = np.zeros((s, n, w + 1), dtype=bool)
+    moves[:, :, :w] = go
+    # per (state, subset) and robot: where its choices start in those flat tables
+    slot = ((np.arange(s)[:, None] * n + np.arange(n)) * (w + 1))[:, None, :] + \
+        np.where(subsets, 0, w)[None, :, :]
+    return _products(slot.reshape(s * len(subsets), n), per, width, table.reshape(-1),
+                     moves.reshape(-1))
+
+
 def numpy_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Successors:
     """:func:`bulk_rounds` in numpy: the reference the compiled kernel is tested against."""
     codes, masks, neighbour = frontier
@@ -342,17 +361,8 @@ def numpy_rounds(frontier: Frontier, budget: int, subsets: np.ndarray) -> Succes
     cell = codes[:s] // SLOTS
     go = nth < DEGREE
     dest = neighbour[cell[:, :, None], np.where(go, nth, 0)]
-    choice = np.empty((s, n, SLOTS + 1), dtype=np.int64)
-    choice[:, :, :SLOTS] = np.where(go, np.where(dest >= 0, dest * SLOTS, OUTSIDE),
-                                    cell[:, :, None] * SLOTS)
-    choice[:, :, SLOTS] = codes[:s]
-    moves = np.zeros((s, n, SLOTS + 1), dtype=bool)
-    moves[:, :, :SLOTS] = go
-    choice, moves = choice.reshape(-1), moves.reshape(-1)
-    # per (state, subset) and robot: where its choices start in those flat tables
-    slot = ((np.arange(s)[:, None] * n + np.arange(n)) * (SLOTS + 1))[:, None, :] + \
-        np.where(subsets, 0, SLOTS)[None, :, :]
-    group, new, moved = _products(slot.reshape(s * k, n), per, width, choice, moves)
+    choice = np.where(go, np.where(dest >= 0, dest * SLOTS, OUTSIDE), cell[:, :, None] * SLOTS)
+    group, new, moved = _chosen(codes[:s], choice, go, subsets, per, width)
     flat = np.flatnonzero(moved.reshape(-1))
     event, robot = np.divmod(flat, n)
     return Successors(s, group // k, moved.sum(axis=1, dtype=np.int8 if n <= 127 else np.int16),
@@ -386,7 +396,6 @@ def bulk_luminous_rounds(frontier: Frontier, budget: int, subsets: np.ndarray,
     s, n = codes.shape
     k = len(subsets)
     order = luminous_order(colours)
-    w = len(order)
     allowed = allowed_actions(masks, order)  # (S, n, W)
     count = allowed.sum(axis=2)
     s, width, per = _widths(count, subsets, budget)
@@ -396,17 +405,9 @@ def bulk_luminous_rounds(frontier: Frontier, budget: int, subsets: np.ndarray,
     cell = codes[:s] // (SLOTS * colours)
     go = step < DEGREE
     dest = neighbour[cell[:, :, None], np.where(go, step, 0)]
-    choice = np.empty((s, n, w + 1), dtype=np.int64)
-    choice[:, :, :w] = np.where(go, np.where(dest >= 0, dest * SLOTS * colours + colour,
-                                             OUTSIDE),
-                                cell[:, :, None] * SLOTS * colours + colour)
-    choice[:, :, w] = codes[:s]
-    moves = np.zeros((s, n, w + 1), dtype=bool)
-    moves[:, :, :w] = go
-    choice, moves = choice.reshape(-1), moves.reshape(-1)
-    slot = ((np.arange(s)[:, None] * n + np.arange(n)) * (w + 1))[:, None, :] + \
-        np.where(subsets, 0, w)[None, :, :]
-    group, new, moved = _products(slot.reshape(s * k, n), per, width, choice, moves)
+    choice = np.where(go, np.where(dest >= 0, dest * SLOTS * colours + colour, OUTSIDE),
+                      cell[:, :, None] * SLOTS * colours + colour)
+    group, new, moved = _chosen(codes[:s], choice, go, subsets, per, width)
     source = group // k
     flat = np.flatnonzero((new != codes[source]).reshape(-1))
     event, robot = np.divmod(flat, n)
@@ -418,3 +419,57 @@ def subsets_matrix(subsets: Iterable[Iterable[int]], n: int) -> np.ndarray:
     """Activated subsets as a boolean matrix, one row per subset, in order."""
     rows = [[i in set(a) for i in range(n)] for a in subsets]
     return np.array(rows, dtype=bool).reshape(len(rows), n)
+
+
+class Rounds:
+    """A scheduler of atomic rounds: each event activates a set of robots that look at one
+    snapshot and move (and set their colours) at once; the adversary picks the set, among
+    :meth:`active_sets`, and each robot's choice. FSYNC, SSYNC and centralized are this
+    with their sets (every robot; every non-empty subset; one robot); the events, one state
+    at a time or in bulk, are written once here."""
+
+    name: str
+    kinds = ("round",)
+    union = True
+    rounds = True
+
+    def active_sets(self, n: int) -> Iterable[tuple[int, ...]]:
+        """The sets of robots a round may activate, in event order."""
+        raise NotImplementedError
+
+    def successors(self, state: State, move_sets: MoveSets) -> Iterator[tuple[Event, State]]:
+        options = move_sets(configuration_of(state))
+        for active in self.active_sets(len(state)):
+            for choice in product(*(sorted(options[state[i][0]]) for i in active)):
+                nodes = [node for node, _ in state]
+                for i, d in zip(active, choice, strict=True):
+                    nodes[i] = d
+                moves = tuple((i, state[i][0], d)
+                              for i, d in zip(active, choice, strict=True) if d != state[i][0])
+                yield Event("round", active, moves), tuple((v, None) for v in nodes)
+
+    def activations(self, n: int) -> np.ndarray:
+        return _activations(type(self), n)
+
+    def bulk_successors(self, frontier: Frontier, budget: int) -> Successors:
+        return bulk_rounds(frontier, budget, self.activations(frontier.codes.shape[1]))
+
+    def bulk_luminous(self, frontier: Frontier, budget: int, colours: int) -> Successors:
+        return bulk_luminous_rounds(frontier, budget, self.activations(frontier.codes.shape[1]),
+                                    colours)
+
+    def luminous(self, robots: tuple[LRobot, ...], extra: object, actions: Actions, *,
+                 order: ActionOrder = repr, null: bool = False
+                 ) -> Iterator[tuple[Event, tuple[LRobot, ...], object]]:
+        for active in self.active_sets(len(robots)):
+            for choice in product(*(sorted(actions(i), key=order) for i in active)):
+                event, succ = round_event(active, robots, choice)
+                if null or succ != robots:
+                    yield event, succ, extra
+
+
+@cache
+def _activations(kind: type[Rounds], n: int) -> np.ndarray:
+    """The rounds' sets of a :class:`Rounds` scheduler for ``n`` robots, as a boolean
+    matrix (:func:`subsets_matrix`), once per kind and ``n``."""
+    return subsets_matrix(kind().active_sets(n), n)

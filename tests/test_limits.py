@@ -11,6 +11,7 @@ import sys
 
 import pytest
 
+from gather_verify.engine import bfs as clock_module
 from gather_verify.engine import explore as reference_module
 from gather_verify.engine.encoding import Encoding, Limits
 from gather_verify.model import geometry
@@ -46,6 +47,19 @@ def test_a_state_with_exponentially_many_events_stops_at_the_states_limit(schedu
     assert report["states"] <= 10 + 1024 + 16  # the grain: 1,024 events of one state
 
 
+def test_a_finite_world_state_with_many_events_stops_at_the_states_limit() -> None:
+    """The one reference search reads the states limit every 1,024 events of one state on
+    every world: 12 luminous robots on ring:24, each with two steps, make 4,096 events in the
+    first FSYNC round (a key past 63 bits: the reference engine runs it)."""
+    from gather_verify.world_check import run_world_check
+
+    report = run_world_check("ring:24", list(range(0, 24, 2)), [], "bounce", "fsync",
+                             task="gathering", lights="2", colours=[1] * 12, reduction=False,
+                             max_states=10)
+    assert report["engine"] == "reference" and report["reason"] == "states"
+    assert report["transitions"] == 1024 and report["states"] <= 10 + 1024
+
+
 class FakeClock:
     """``time`` for one engine module: ``perf_counter`` moves only when told to."""
 
@@ -58,7 +72,7 @@ class FakeClock:
 
 def test_the_reference_engine_reads_the_clock_at_every_state(monkeypatch) -> None:  # noqa: ANN001
     clock = FakeClock()
-    monkeypatch.setattr(reference_module, "time", clock)
+    monkeypatch.setattr(clock_module, "time", clock)
 
     from gather_verify.algorithms.go_to_target import GoToTarget
 

@@ -50,7 +50,7 @@ def assert_rows_equal(world: str, n: int, m: int, algorithm: str, scheduler: str
         settled += len(decide_world_class(s, members))
         rows, rest = verify_world_class(s, members)
         assert [r["index"] for r in rows] == [i for i, _ in members] and rest == []
-        kept, handed = verify_world_class(s, members, hand_off=True)
+        kept, handed = verify_world_class(s, members, hand_off=0.0)
         assert len(kept) == len(decide_world_class(s, members))
         assert [i for i, _ in handed] == [i for i, _ in members if i not in
                                           {r["index"] for r in kept}]

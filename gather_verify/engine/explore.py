@@ -32,7 +32,6 @@ concrete state, and only the successor's key is canonicalised.
 
 from __future__ import annotations
 
-import time
 from array import array
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
@@ -41,6 +40,7 @@ from typing import Any
 
 from gather_verify.algorithms import Algorithm, Unhandled, get_algorithm
 from gather_verify.algorithms.moves import frames_for
+from gather_verify.engine.bfs import breadth_first
 from gather_verify.engine.checks import Checks, Violation, symmetric
 from gather_verify.engine.encoding import (
     DEFAULT_MARGIN,
@@ -62,7 +62,6 @@ from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.symmetry import Automorphism
 from gather_verify.model.view import Lights, check_detection
-from gather_verify.progress import PROGRESS
 from gather_verify.properties.facts import (
     ConfigurationFacts,
     StateFacts,
@@ -385,38 +384,53 @@ class Request:
         return bool(self.group or self.anonymity)
 
 
-def resolve(initial: Configuration, algorithm: str | Algorithm, scheduler: str | Scheduler, *,
-            detection: str, frames: str, reduction: bool, anonymity: bool | None,
-            symmetry: bool | None, properties: Iterable[str] | None, margin: int) -> Request:
+def resolve(initial: Configuration, algorithm: str | Algorithm, scheduler: str | Scheduler,
+            asked: Asked) -> Request:
     """The :class:`Request` of a search (an unknown algorithm, scheduler or detection model
     is an error here, before anything is searched)."""
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
     sched = as_scheduler(scheduler)
+    detection, frames, reduction = asked.detection, asked.frames, asked.reduction
+    anonymity, symmetry, properties = asked.anonymity, asked.symmetry, asked.properties
     check_detection(detection)
     anonymity = reduction if anonymity is None else anonymity
     symmetry = (reduction if symmetry is None else symmetry) and symmetric(properties)
     group = symmetry_group(initial, frames) if symmetry else []
     return Request(algo, sched, frames_for(frames), anonymity, symmetry, group,
-                   region_box(initial, margin, group), getattr(sched, "stateful", False))
+                   region_box(initial, asked.limits.margin, group),
+                   getattr(sched, "stateful", False))
 
 
-def explore_reference(
-    initial: Configuration,
-    algorithm: str | Algorithm,
-    scheduler: str | Scheduler,
-    *,
-    detection: str = "local-weak",
-    frames: str = "all",
-    reduction: bool = True,
-    anonymity: bool | None = None,
-    symmetry: bool | None = None,
-    properties: Iterable[str] | None = None,
-    limits: Limits = NO_LIMITS,
-    settle: bool = False,
-    lights: Lights | None = None,
-    colours: Sequence[int] | None = None,
-) -> Exploration:
-    """Breadth-first search of every state reachable from ``initial`` (reference path).
+@dataclass(frozen=True)
+class Asked:
+    """What a search of the paper's world is asked, whichever engine runs it (the keyword
+    arguments of :func:`explore_reference` and of the bulk engine's ``explore_fast``):
+    the detection model and the frames, the reductions (``anonymity`` and ``symmetry``
+    default to ``reduction``), the properties checked on the way (default: every registered
+    one), the limits, whether to stop once every requested property has its counterexample
+    (``settle``), and luminous robots (``lights``, with their initial ``colours``)."""
+
+    detection: str = "local-weak"
+    frames: str = "all"
+    reduction: bool = True
+    anonymity: bool | None = None
+    symmetry: bool | None = None
+    properties: Iterable[str] | None = None
+    limits: Limits = NO_LIMITS
+    settle: bool = False
+    lights: Lights | None = None
+    colours: Sequence[int] | None = None
+
+    def initial_colours(self, n: int) -> tuple[int, ...] | None:
+        """The robots' initial colours with lights (default 0), None without."""
+        return None if self.lights is None else tuple(self.colours or (0,) * n)
+
+
+def explore_reference(initial: Configuration, algorithm: str | Algorithm,
+                      scheduler: str | Scheduler, **options: Any) -> Exploration:
+    """Breadth-first search of every state reachable from ``initial`` (reference path): the
+    one reference search (:func:`~gather_verify.engine.bfs.breadth_first`) over the paper's
+    world (:class:`PlaneModel`).
 
     ``lights``: luminous robots (§10; ``colours``: their initial colours, default 0): a
     state's robots carry their colours, an algorithm answers a move or (move, colour).
@@ -430,129 +444,128 @@ def explore_reference(
     of a halting property (``crash``, ``defined``: the state cannot be expanded; ``stopped`` names the
     property) or when a limit is hit (``stopped`` names it).
     """
-    started = time.perf_counter()
-    req = resolve(initial, algorithm, scheduler, detection=detection, frames=frames,
-                  reduction=reduction, anonymity=anonymity, symmetry=symmetry,
-                  properties=properties, margin=limits.margin)
-    algo, sched, frame_elements = req.algorithm, req.scheduler, req.frame_elements
-    if lights is None:
-        enc = Encoding(req.box, req.group, req.relabel)
-        facts: Callable[[Any], ConfigurationFacts] = facts_cache(algo, initial, detection,
-                                                                 frame_elements)
-        conf: Callable[[State], Any] = configuration_of
-        start = initial_state(initial.robots)
+    asked = Asked(**options)
+    req = resolve(initial, algorithm, scheduler, asked)
+    model = PlaneModel(initial, req, asked.detection, asked.properties, asked.settle,
+                       asked.lights, asked.colours)
+    walked = breadth_first(model, asked.limits)
+    model.offsets.append(len(model.targets))
+    return Exploration(
+        initial=initial, algorithm=req.algorithm,
+        scheduler_name=scheduler if isinstance(scheduler, str) else req.scheduler.name,
+        detection=asked.detection, frames=asked.frames, anonymity=req.anonymity,
+        symmetry=req.symmetry, encoding=model.enc, keys=walked.stored, parents=walked.parents, offsets=model.offsets,
+        targets=model.targets, weights=model.weights, changed_loops=model.changed_loops,
+        states=len(walked.stored), transitions=walked.transitions, stopped=walked.stopped,
+        violations=model.checks.violations, seconds=walked.seconds,
+        peak_rss_mb=walked.peak_rss_mb, facts=model.facts, vacuous=model.checks.vacuous,
+        lights=asked.lights, colours=asked.initial_colours(initial.n), turns=model.turns,
+        starts=None if model.turns is None else walked.seeds)
 
-        def ms(robots: tuple[Node, ...]) -> dict[Node, frozenset[Node]]:
-            got = facts(robots).move_sets
-            assert got is not None  # checked before the scheduler runs
-            return got
 
-        def events(state: State, here: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
-            if turns is not None:
-                return ((e, TurnState(s, a)) for e, s, a in oblivious_events(
-                    sched, state, state.extra, ms))  # type: ignore[attr-defined]
-            return sched.successors(state, ms)
-    else:
-        enc = LuminousEncoding(req.box, req.group, req.relabel, lights.colours)
-        facts = luminous_facts_cache(algo, initial, detection, frame_elements, lights)
-        conf = lit_configuration
-        start = lit_initial_state(initial.robots, colours)
+class PlaneModel:
+    """The paper's world as the one reference search reads it (:class:`~gather_verify.engine.bfs.Model`):
+    states stored as their integer keys (:class:`~gather_verify.engine.encoding.Encoding`,
+    the canonical representative decoded back for expansion), the configuration facts of
+    each state from the algorithm (:func:`facts_cache`), the registered properties checked
+    on the way (:class:`~gather_verify.engine.checks.Checks`), the graph kept in CSR arrays
+    with each edge's weight (moves), and the region as the search's bound."""
 
-        def events(state: State, here: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
+    def __init__(self, initial: Configuration, req: Request, detection: str,
+                 properties: Iterable[str] | None, settle: bool, lights: Lights | None,
+                 colours: Sequence[int] | None):
+        algo, frame_elements = req.algorithm, req.frame_elements
+        self.sched, self.settle, self.n = req.scheduler, settle, initial.n
+        self.facts: Callable[[Any], ConfigurationFacts]
+        self.conf: Callable[[Any], Any]  # a state -> what its robots see (with lights: colours)
+        self.start: Any
+        if lights is None:
+            self.enc = Encoding(req.box, req.group, req.relabel)
+            self.facts = facts_cache(algo, initial, detection, frame_elements)
+            self.conf = configuration_of
+            self.start = initial_state(initial.robots)
+        else:
+            self.enc = LuminousEncoding(req.box, req.group, req.relabel, lights.colours)
+            self.facts = luminous_facts_cache(algo, initial, detection, frame_elements, lights)
+            self.conf = lit_configuration
+            self.start = lit_initial_state(initial.robots, colours)
+        self.lights = lights
+        self.turns = turns_of(self.sched, initial.n, req.anonymity, self.enc.base)
+        self.key = state_key(self.enc, self.turns)
+        first = StateFacts(self.facts_of(self.start), True)
+        self.checks = Checks(properties, first)
+        self.checks.state(0, first, self.checks.on_discovery)
+        self.offsets, self.targets = array("q"), array("l")
+        self.weights = array(weight_code(initial.n))
+        self.changed_loops = 0
+        self.here: ConfigurationFacts | None = None  # the facts of the state being expanded
+
+    def facts_of(self, state: Any) -> ConfigurationFacts:
+        """The facts of a concrete state's configuration (with its lights, if any)."""
+        return self.facts(self.conf(state))
+
+    def seeds(self) -> list[State]:
+        return seed_states(self.start, self.turns)
+
+    def stored(self, state: State, key: int) -> int:
+        return key
+
+    def state(self, sid: int, stored: int) -> State:
+        state = self.enc.decode(stored, self.n)
+        if self.turns is not None:
+            return TurnState(state, self.turns.extra(stored))
+        return state
+
+    def expand(self, sid: int, state: State) -> Iterable[tuple[Event, State]] | str:
+        here = self.here = self.facts_of(state)
+        seen = StateFacts(here, all(r[1] is None for r in state))
+        halted = self.checks.halt(sid, seen)
+        if halted:
+            return halted
+        assert here.move_sets is not None, "a state without move sets needs a halting property"
+        self.checks.state(sid, seen, self.checks.on_expansion)
+        self.offsets.append(len(self.targets))
+        return self.events(state, here)
+
+    def events(self, state: State, here: ConfigurationFacts) -> Iterable[tuple[Event, State]]:
+        """The scheduler's events of a concrete state (its own state carried along when it
+        keeps one)."""
+        sched, turns = self.sched, self.turns
+        if self.lights is not None:
             if turns is not None:
                 return ((e, TurnState(s, a)) for e, s, a in luminous_steps(
                     sched, state, here, state.extra))  # type: ignore[attr-defined]
             return luminous_events(sched, state, here)
-    turns = turns_of(sched, initial.n, req.anonymity, enc.base)
-    checks = Checks(properties, StateFacts(facts(conf(start)), True))
 
-    key_of = state_key(enc, turns)
-    keys: list[int] = []
-    visited: dict[int, int] = {}
-    seeds = []
-    for seed in seed_states(start, turns):
-        key = key_of(seed)
-        if visited.setdefault(key, len(keys)) == len(keys):
-            keys.append(key)
-            seeds.append(seed)
-    parents, offsets, targets = array("q", [-1] * len(keys)), array("q"), array("l")
-    weights = array(weight_code(initial.n))
-    checks.state(0, StateFacts(facts(conf(start)), True), checks.on_discovery)
-    transitions = changed_loops = 0
-    stopped: Stop | str | None = None
-    peak = rss_mb()
-    n = initial.n
-    sid = 0
-    PROGRESS.states = 1
-    while sid < len(keys):
-        if time.perf_counter() - started > limits.max_seconds:  # every state: a state of
-            stopped = Stop.TIME  # many robots costs far more than the clock read
-            break
-        if sid & 4095 == 0:
-            peak = max(peak, rss_mb())
-            if peak > limits.max_memory_mb:
-                stopped = Stop.MEMORY
-                break
-        state = enc.decode(keys[sid], n)
+        def ms(robots: tuple[Node, ...]) -> dict[Node, frozenset[Node]]:
+            got = self.facts(robots).move_sets
+            assert got is not None  # checked before the scheduler runs
+            return got
+
         if turns is not None:
-            state = TurnState(state, turns.extra(keys[sid]))
-        here = facts(conf(state))
-        seen = StateFacts(here, all(r[1] is None for r in state))
-        halted = checks.halt(sid, seen)
-        if halted:
-            stopped = halted
-            break
-        assert here.move_sets is not None, "a state without move sets needs a halting property"
-        checks.state(sid, seen, checks.on_expansion)
-        offsets.append(len(targets))
-        for k, (event, succ) in enumerate(events(state, here), 1):
-            transitions += 1
-            if k & 1023 == 0 and (len(keys) > limits.max_states or
-                                  time.perf_counter() - started > limits.max_seconds):
-                # one state's events can be many (FSYNC: a product over the robots): the
-                # limits are read every 1,024 of them (a usual state has far fewer)
-                stopped = Stop.STATES if len(keys) > limits.max_states else Stop.TIME
-                break
-            if not all(enc.inside(r[0]) for r in succ):
-                stopped = Stop.REGION
-                break
-            if checks.on_transition:
-                checks.transition(sid, here, lambda: facts(conf(succ)),  # noqa: B023
-                                  (event, succ))
-            key = key_of(succ)
-            did = visited.get(key)
-            if did is None:
-                did = len(keys)
-                visited[key] = did
-                keys.append(key)
-                parents.append(sid)
-                if checks.on_discovery:
-                    checks.state(did, StateFacts(facts(conf(succ)),
-                                                 all(r[1] is None for r in succ)),
-                                 checks.on_discovery)
-            elif did == sid and succ != state:
-                changed_loops += 1
-            targets.append(did)
-            weights.append(event.distance)
-        if stopped:
-            break
-        sid += 1
-        if settle and checks.settled():
-            stopped = Stop.SETTLED
-            break
-        PROGRESS.states = len(keys)  # read by a progress line (check --progress)
-        if len(keys) > limits.max_states:
-            stopped = Stop.STATES
-            break
-    offsets.append(len(targets))
-    peak = max(peak, rss_mb())
-    return Exploration(
-        initial=initial, algorithm=algo,
-        scheduler_name=scheduler if isinstance(scheduler, str) else sched.name, detection=detection,
-        frames=frames, anonymity=req.anonymity, symmetry=req.symmetry, encoding=enc, keys=keys,
-        parents=parents, offsets=offsets, targets=targets, weights=weights,
-        changed_loops=changed_loops, states=len(keys), transitions=transitions, stopped=stopped,
-        violations=checks.violations, seconds=time.perf_counter() - started, peak_rss_mb=peak,
-        facts=facts, vacuous=checks.vacuous, lights=lights,
-        colours=None if lights is None else tuple(colours or (0,) * n), turns=turns,
-        starts=None if turns is None else seeds)
+            return ((e, TurnState(s, a)) for e, s, a in oblivious_events(
+                sched, state, state.extra, ms))  # type: ignore[attr-defined]
+        return sched.successors(state, ms)
+
+    def inside(self, succ: State) -> bool:
+        return all(self.enc.inside(r[0]) for r in succ)
+
+    def transition(self, sid: int, event: Event, succ: State) -> None:
+        if self.checks.on_transition:
+            assert self.here is not None
+            self.checks.transition(sid, self.here, lambda: self.facts_of(succ), (event, succ))
+
+    def discovered(self, did: int, succ: State) -> None:
+        if self.checks.on_discovery:
+            self.checks.state(did, StateFacts(self.facts_of(succ),
+                                              all(r[1] is None for r in succ)),
+                              self.checks.on_discovery)
+
+    def edge(self, sid: int, did: int, event: Event, succ: State, state: State) -> None:
+        if did == sid and succ != state:
+            self.changed_loops += 1
+        self.targets.append(did)
+        self.weights.append(event.distance)
+
+    def expanded(self, sid: int) -> str | None:
+        return Stop.SETTLED if self.settle and self.checks.settled() else None

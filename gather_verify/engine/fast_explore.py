@@ -37,15 +37,15 @@ make :func:`supports` say no and the caller uses the reference path.
 
 >>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
->>> e = explore_fast(c, "go-to-target", "async", reduction=False)
->>> e.states, e.transitions, e.stopped
-(2184, 7032, None)
+>>> e = explore_fast(c, "go-to-target", "ssync", reduction=False)
+>>> e.states, e.transitions, e.engine
+(216, 2556, 'bulk')
 """
 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable
 from functools import partial
 from itertools import islice
 from typing import Any, cast
@@ -69,6 +69,7 @@ from gather_verify.engine.encoding import (
     symmetry_group,
 )
 from gather_verify.engine.explore import (
+    Asked,
     Exploration,
     Request,
     TurnState,
@@ -84,7 +85,6 @@ from gather_verify.engine.lit_bulk import luminous
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import SLOTS, Node
 from gather_verify.model.symmetry import meeting_automorphisms
-from gather_verify.model.view import Lights
 from schedulers import Scheduler, State, as_scheduler, initial_state
 from schedulers.base import RoundKeys, bulk_round_keys, oblivious_events
 
@@ -110,24 +110,8 @@ def supports(initial: Configuration, scheduler: str | Scheduler, reduction: bool
     return fits and min(limits.max_states, MAX_IDS) >= 1
 
 
-def explore_fast(
-    initial: Configuration,
-    algorithm: str | Algorithm,
-    scheduler: str | Scheduler,
-    *,
-    detection: str = "local-weak",
-    frames: str = "all",
-    reduction: bool = True,
-    anonymity: bool | None = None,
-    symmetry: bool | None = None,
-    properties: Iterable[str] | None = None,
-    limits: Limits = NO_LIMITS,
-    graph: bool = True,
-    memo: bool = False,
-    settle: bool = False,
-    lights: Lights | None = None,
-    colours: Sequence[int] | None = None,
-) -> Exploration:
+def explore_fast(initial: Configuration, algorithm: str | Algorithm, scheduler: str | Scheduler,
+                 *, graph: bool = True, memo: bool = False, **options: Any) -> Exploration:
     """Breadth-first search in bulk; same result as the reference explorer.
 
     ``settle``: stop after the chunk in which every requested property got its
@@ -145,15 +129,15 @@ def explore_fast(
     :mod:`~gather_verify.engine.lit_bulk` (ask its ``unsupported`` first).
     """
     started = time.perf_counter()
-    req = resolve(initial, algorithm, scheduler, detection=detection, frames=frames,
-                  reduction=reduction, anonymity=anonymity, symmetry=symmetry,
-                  properties=properties, margin=limits.margin)
+    asked = Asked(**options)
+    req = resolve(initial, algorithm, scheduler, asked)
+    detection, limits, lights = asked.detection, asked.limits, asked.lights
     if lights is None:
-        face, checks, columns, start = _oblivious(initial, req, detection, frames, properties,
-                                                  memo, limits)
+        face, checks, columns, start = _oblivious(initial, req, detection, asked.frames,
+                                                  asked.properties, memo, limits)
     else:
-        face, checks, columns, start = luminous(initial, req, detection, lights, colours,
-                                                properties)
+        face, checks, columns, start = luminous(initial, req, detection, lights, asked.colours,
+                                                asked.properties)
     n, turns = initial.n, face.turns
     seeds = seed_states(start, turns)
     max_states = min(limits.max_states, MAX_IDS)
@@ -166,17 +150,17 @@ def explore_fast(
     # the graph's columns reserved too (untouched pages cost nothing): no copy as they grow,
     # so no transient second copy of the graph
     searched = bulk_search(face, checks, columns, index, len(seeds), limits=limits,
-                           started=started, graph=graph, settle=settle, reserve=reserve,
+                           started=started, graph=graph, settle=asked.settle, reserve=reserve,
                            edges=min(8 * reserve, 1 << 28))
     return Exploration(
         initial=initial, algorithm=req.algorithm, scheduler_name=scheduler if isinstance(
             scheduler, str) else req.scheduler.name, detection=detection,
-        frames=frames, anonymity=req.anonymity, symmetry=req.symmetry, encoding=face.enc,
+        frames=asked.frames, anonymity=req.anonymity, symmetry=req.symmetry, encoding=face.enc,
         **searched.fields(), violations=checks.violations,
         seconds=time.perf_counter() - started, facts=face.facts,
         vacuous=checks.vacuous, engine="bulk", turns=turns,
         starts=None if turns is None else seeds, lights=lights,
-        colours=None if lights is None else tuple(colours or (0,) * n))
+        colours=asked.initial_colours(n))
 
 
 def _oblivious(initial: Configuration, req: Request, detection: str, frames: str,

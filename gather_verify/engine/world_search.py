@@ -27,16 +27,15 @@ one is searched unreduced; the report says so.
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
 
 from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
-from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop, rss_mb
-from gather_verify.progress import PROGRESS
+from gather_verify.engine.bfs import breadth_first
+from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop
 from schedulers import Event, Scheduler, as_scheduler
 
 WorldState = tuple[tuple[tuple[int, int | None, int], ...], int, object]
@@ -189,7 +188,9 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
            watch: Watch | None = None) -> WorldSearch:
     """Breadth-first search of every state reachable from ``robots`` (all idle, with the
     initial ``colours``, default 0), from each start the scheduler has (one, or one per
-    round-robin order).
+    round-robin order): the one reference search
+    (:func:`~gather_verify.engine.bfs.breadth_first`) over a finite world
+    (:class:`WorldModel`).
 
     ``actions`` gives each robot's actions (:class:`~gather_verify.worlds.moves.WorldMoves`);
     ``symmetries``: the automorphisms that commute with the robots' frames
@@ -200,81 +201,92 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
     ``"watch"``, ``halt`` = what it returned) when it returns a :class:`Halt`: a caller that
     needs only the first violation of a safety part need not search on.
     """
-    started = time.perf_counter()
     sched = as_scheduler(scheduler)
     canon = canonicaliser(symmetries, meeting, anonymity, visits,
                           relabeller(sched, len(robots)))
     lights = tuple(colours) if colours is not None else (0,) * len(robots)
-    start_robots = tuple((v, None, c) for v, c in zip(robots, lights, strict=True))
-    seen0 = _visit_bits(robots) if visits else 0
-    starts = getattr(sched, "starts", lambda _n: [None])(len(robots))
-    reps: list[WorldState] = []
-    index: dict[WorldState, int] = {}
-    for extra in starts:
-        rep = (start_robots, seen0, extra)
-        if index.setdefault(canon(rep), len(reps)) == len(reps):
-            reps.append(rep)
-    parents = [-1] * len(reps)
-    edges: list[list[tuple[int, int, Event]]] = []
-    final: list[bool] = []
-    stay: list[int] = []
-    transitions = 0
-    stopped: Stop | str | None = None
-    halt = None
-    sid = 0
-    PROGRESS.states = len(reps)
-    while sid < len(reps):
-        if sid & 63 == 0:
-            PROGRESS.states = len(reps)  # read by a progress line and by the watchdog's report
-            if time.perf_counter() - started > limits.max_seconds:
-                stopped = Stop.TIME
-                break
-        if sid & 4095 == 0 and rss_mb() > limits.max_memory_mb:
-            stopped = Stop.MEMORY
-            break
-        state, visited, extra = reps[sid]
+    start = tuple((v, None, c) for v, c in zip(robots, lights, strict=True))
+    model = WorldModel(sched, start, canon, actions, visits, watch)
+    walked = breadth_first(model, limits)
+    return WorldSearch(keys=walked.stored, parents=walked.parents.tolist(), edges=model.edges,
+                       final=model.final, stay=model.stay, states=len(walked.stored),
+                       transitions=walked.transitions, stopped=walked.stopped, halt=model.halt,
+                       reduced=anonymity or len(symmetries) > 1, seconds=walked.seconds,
+                       canonical=canon)
+
+
+class WorldModel:
+    """A finite world as the one reference search reads it (:class:`~gather_verify.engine.bfs.Model`):
+    a state is ``(robots, visited, extra)`` (:data:`WorldState`), stored as the first
+    member of its class met; per expanded state the facts the tasks read (final, the
+    robots that may stay) and its out-edges ``(target, robots mask, event)``."""
+
+    def __init__(self, sched: Scheduler, start: tuple[tuple[int, int | None, int], ...],
+                 canon: Callable[[WorldState], WorldState], actions: Actions, visits: bool,
+                 watch: Watch | None):
+        self.sched, self.start, self.key, self.actions = sched, start, canon, actions
+        self.visits, self.watch = visits, watch
+        self.edges: list[list[tuple[int, int, Event]]] = []
+        self.final: list[bool] = []
+        self.stay: list[int] = []
+        self.out: list[tuple[int, int, Event]] = []
+        self.halt: Halt | None = None
+        self.current: WorldState = (start, 0, None)  # the state being expanded
+
+    def seeds(self) -> list[WorldState]:
+        seen = _visit_bits(v for v, _, _ in self.start) if self.visits else 0
+        starts = getattr(self.sched, "starts", lambda _n: [None])(len(self.start))
+        return [(self.start, seen, extra) for extra in starts]
+
+    def stored(self, state: WorldState, key: WorldState) -> WorldState:
+        return state
+
+    def state(self, sid: int, stored: WorldState) -> WorldState:
+        return stored
+
+    def expand(self, sid: int, state: WorldState) -> Iterable[tuple[Event, WorldState]] | str:
+        robots, visited, extra = state
         try:
-            options = actions(state)
+            options = self.actions(robots)
         except AlgorithmCrash as error:
-            halt = Halt("crash", sid, error.reason, error.detail())
+            self.halt = Halt("crash", sid, error.reason, error.detail())
+            return self.halt.property
         except Unhandled as error:
-            halt = Halt("defined", sid, f"the algorithm has no rule here: {error}")
-        if halt is not None:
-            stopped = halt.property
-            break
-        final.append(all(p is None and options[i] == {(v, c)}
-                         for i, (v, p, c) in enumerate(state)))
-        stay.append(sum(1 << i for i, (v, p, c) in enumerate(state)
-                        if p is None and (v, c) in options[i]))
-        out: list[tuple[int, int, Event]] = []
-        for event, succ, after in sched.luminous(state, extra, options.__getitem__):
-            transitions += 1
-            seen = visited
-            if visits:
-                seen |= _visit_bits(v for v, _, _ in succ)
-            nxt: WorldState = (succ, seen, after)
-            key = canon(nxt)
-            did = index.get(key)
-            if did is None:
-                did = len(reps)
-                index[key] = did
-                reps.append(nxt)
-                parents.append(sid)
-            out.append((did, _mask(event.robots), event))
-        edges.append(out)
-        if watch is not None:
-            halt = watch(sid, reps[sid], final[-1], out)
-            if halt is not None:
-                stopped = Stop.WATCH
-                break
-        sid += 1
-        if len(reps) > limits.max_states:
-            stopped = Stop.STATES
-            break
-    return WorldSearch(keys=reps, parents=parents, edges=edges, final=final, stay=stay,
-                       states=len(reps), transitions=transitions, stopped=stopped, halt=halt,
-                       reduced=anonymity or len(symmetries) > 1,
-                       seconds=time.perf_counter() - started, canonical=canon)
+            self.halt = Halt("defined", sid, f"the algorithm has no rule here: {error}")
+            return self.halt.property
+        self.final.append(all(p is None and options[i] == {(v, c)}
+                              for i, (v, p, c) in enumerate(robots)))
+        self.stay.append(sum(1 << i for i, (v, p, c) in enumerate(robots)
+                             if p is None and (v, c) in options[i]))
+        self.current, self.out = state, []
+        return ((event, (succ, self.visited(visited, succ), after))
+                for event, succ, after in self.sched.luminous(robots, extra,
+                                                              options.__getitem__))
+
+    def visited(self, before: int, succ: tuple[tuple[int, int | None, int], ...]) -> int:
+        """The nodes visited once ``succ`` is reached (when the task explores)."""
+        return before | _visit_bits(v for v, _, _ in succ) if self.visits else before
+
+    def inside(self, succ: WorldState) -> bool:
+        return True
+
+    def transition(self, sid: int, event: Event, succ: WorldState) -> None:
+        pass
+
+    def discovered(self, did: int, succ: WorldState) -> None:
+        pass
+
+    def edge(self, sid: int, did: int, event: Event, succ: WorldState,
+             state: WorldState) -> None:
+        self.out.append((did, _mask(event.robots), event))
+
+    def expanded(self, sid: int) -> str | None:
+        self.edges.append(self.out)
+        if self.watch is not None:
+            self.halt = self.watch(sid, self.current, self.final[-1], self.out)
+            if self.halt is not None:
+                return Stop.WATCH
+        return None
 
 
 def arrays_of(s: WorldSearch) -> SearchArrays:

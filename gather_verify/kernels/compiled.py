@@ -162,28 +162,12 @@ def place(table, keys, lo, hi, shift, idbits):  # pragma: no cover - compiled
 
 # -- the ASYNC scheduler's bulk step -----------------------------------------------------
 
-@njit(cache=True, nogil=True)
-def async_successors(codes, masks, neighbour, look_order):  # pragma: no cover - compiled
-    """Every event of the states ``codes`` (robots ``cell * SLOTS + d``) in the order of
-    ``Async.successors``: per robot, its Looks (idle: one per step of its move mask, in
-    ``look_order``) or its Move (pending). Returns (source, weight, robot, new code;
-    ``OUTSIDE`` when the Move leaves the region), ``int32`` but the weight (``int8``): a bulk
-    step's largest arrays, a chunk's states, robots and codes fit."""
+@njit(cache=True, nogil=True, inline="always")
+def _async_events(codes, masks, neighbour, look_order, src, weight, robot, new,
+                  fill):  # pragma: no cover - compiled
+    """:func:`async_successors`'s events, counted (``fill`` false) or written into the
+    arrays (``fill`` true); returns how many."""
     s_count, n = codes.shape
-    total = 0
-    for s in range(s_count):
-        for i in range(n):
-            c = codes[s, i]
-            if c % SLOTS == 0:
-                m = masks[s, i]
-                for k in range(DEGREE):
-                    total += (m >> k) & 1
-            else:
-                total += 1
-    src = np.empty(total, dtype=np.int32)
-    weight = np.zeros(total, dtype=np.int8)
-    robot = np.empty(total, dtype=np.int32)
-    new = np.empty(total, dtype=np.int32)
     e = 0
     for s in range(s_count):
         for i in range(n):
@@ -193,18 +177,38 @@ def async_successors(codes, masks, neighbour, look_order):  # pragma: no cover -
                 for j in range(DEGREE):
                     k = look_order[j]
                     if (m >> k) & 1:
-                        src[e] = s
-                        robot[e] = i
-                        new[e] = c + 1 + k
+                        if fill:
+                            src[e] = s
+                            robot[e] = i
+                            new[e] = c + 1 + k
                         e += 1
             else:
-                cell = c // SLOTS
-                dest = neighbour[cell, c - cell * SLOTS - 1]
-                src[e] = s
-                robot[e] = i
-                new[e] = dest * SLOTS if dest >= 0 else OUTSIDE
-                weight[e] = 1
+                if fill:
+                    cell = c // SLOTS
+                    dest = neighbour[cell, c - cell * SLOTS - 1]
+                    src[e] = s
+                    robot[e] = i
+                    new[e] = dest * SLOTS if dest >= 0 else OUTSIDE
+                    weight[e] = 1
                 e += 1
+    return e
+
+
+@njit(cache=True, nogil=True)
+def async_successors(codes, masks, neighbour, look_order):  # pragma: no cover - compiled
+    """Every event of the states ``codes`` (robots ``cell * SLOTS + d``) in the order of
+    ``Async.successors``: per robot, its Looks (idle: one per step of its move mask, in
+    ``look_order``) or its Move (pending). Returns (source, weight, robot, new code;
+    ``OUTSIDE`` when the Move leaves the region), ``int32`` but the weight (``int8``): a bulk
+    step's largest arrays, a chunk's states, robots and codes fit."""
+    none = np.empty(0, dtype=np.int32)
+    total = _async_events(codes, masks, neighbour, look_order, none, np.empty(0, np.int8),
+                          none, none, False)
+    src = np.empty(total, dtype=np.int32)
+    weight = np.zeros(total, dtype=np.int8)
+    robot = np.empty(total, dtype=np.int32)
+    new = np.empty(total, dtype=np.int32)
+    _async_events(codes, masks, neighbour, look_order, src, weight, robot, new, True)
     return src, weight, robot, new
 
 
@@ -297,77 +301,36 @@ def _next_choice(digit, width, size):  # pragma: no cover - compiled
     return False
 
 
-@njit(cache=True, nogil=True)
-def round_events(codes, masks, neighbour, subsets, nth, count, states, src, weight, robot, new,
-                 event):  # pragma: no cover - compiled
-    """The round events of the first ``states`` states of ``codes`` into the arrays sized by
-    :func:`round_counts`, in the order of ``schedulers.base.bulk_rounds``: per state, per row
-    of ``subsets``, every choice of the activated robots (robot j's choices in the order of
-    ``nth[mask]``, the last robot varying fastest). Per event its source and weight (the
-    robots that step); per change (the robots that step, in robot order) its event, robot and
-    new code (``OUTSIDE`` when it leaves the region)."""
+@njit(cache=True, nogil=True, inline="always")
+def _rounds(codes, masks, neighbour, subsets, nth, count, states, keys, powers, src, weight,
+            robot, new, event, succ, keyed):  # pragma: no cover - compiled
+    """The round events of the first ``states`` states (see :func:`round_events`): with
+    ``keyed`` each event's successor key into ``succ``, stopping after the first event in
+    which a robot leaves the region (:func:`round_keys`); else each event's changes into
+    ``robot``, ``new`` and ``event``. Returns how many events and whether the last leaves."""
     n = codes.shape[1]
     k = subsets.shape[0]
     choice = np.empty((n, SLOTS), dtype=np.int64)  # robot i's new code for its j-th choice
     step = np.empty((n, SLOTS), dtype=np.bool_)  # whether that choice is a step
+    delta = np.zeros((n, SLOTS), dtype=np.uint64)  # the key's change for that choice
+    leave = np.zeros((n, SLOTS), dtype=np.bool_)  # whether that step leaves the region
     active = np.empty(n, dtype=np.int64)
     width = np.empty(n, dtype=np.int64)
     digit = np.empty(n, dtype=np.int64)
     e = 0
     c = 0
+    base = np.uint64(0)
     for s in range(states):
         _state_choices(codes, masks, neighbour, nth, count, s, choice, step)
-        for a in range(k):
-            size = _round_robots(subsets, a, masks, s, count, active, width, digit)
-            if size < 0:  # an activated robot with no choice: no such round
-                continue
-            while True:
-                moved = 0
-                for t in range(size):
-                    i = active[t]
-                    j = digit[t]
-                    if step[i, j]:
-                        robot[c] = i
-                        new[c] = choice[i, j]
-                        event[c] = e
-                        c += 1
-                        moved += 1
-                src[e] = s
-                weight[e] = moved
-                e += 1
-                if not _next_choice(digit, width, size):
-                    break
-
-
-@njit(cache=True, nogil=True)
-def round_keys(keys, codes, masks, neighbour, subsets, nth, count, states, powers, src, weight,
-               succ):  # pragma: no cover - compiled
-    """:func:`round_events` and :func:`event_keys` in one pass, without the changes: per event
-    of the first ``states`` states (in :func:`round_events`' order, into arrays sized by
-    :func:`round_counts`) its source, its weight and its successor's key (``keys[s]``, the
-    key of state s with digit ``powers``, with each stepping robot recoded). Stops after the
-    first event in which a robot leaves the region (a step to ``OUTSIDE``; that event's key
-    is not one). Returns how many events it wrote and whether the last one leaves."""
-    n = codes.shape[1]
-    k = subsets.shape[0]
-    choice = np.empty((n, SLOTS), dtype=np.int64)  # robot i's new code for its j-th choice
-    step = np.empty((n, SLOTS), dtype=np.bool_)  # whether that choice is a step
-    delta = np.empty((n, SLOTS), dtype=np.uint64)  # the key's change for that choice
-    leave = np.empty((n, SLOTS), dtype=np.bool_)  # whether that step leaves the region
-    active = np.empty(n, dtype=np.int64)
-    width = np.empty(n, dtype=np.int64)
-    digit = np.empty(n, dtype=np.int64)
-    e = 0
-    for s in range(states):
-        _state_choices(codes, masks, neighbour, nth, count, s, choice, step)
-        for i in range(n):
-            code = codes[s, i]
-            for j in range(count[masks[s, i]]):
-                leave[i, j] = choice[i, j] == OUTSIDE
-                delta[i, j] = 0
-                if not leave[i, j]:
-                    delta[i, j] = np.uint64(choice[i, j] - code) * powers[i]  # wraps
-        base = keys[s]
+        if keyed:
+            for i in range(n):
+                code = codes[s, i]
+                for j in range(count[masks[s, i]]):
+                    leave[i, j] = choice[i, j] == OUTSIDE
+                    delta[i, j] = 0
+                    if not leave[i, j]:
+                        delta[i, j] = np.uint64(choice[i, j] - code) * powers[i]  # wraps
+            base = keys[s]
         for a in range(k):
             size = _round_robots(subsets, a, masks, s, count, active, width, digit)
             if size < 0:  # an activated robot with no choice: no such round
@@ -381,17 +344,52 @@ def round_keys(keys, codes, masks, neighbour, subsets, nth, count, states, power
                     j = digit[t]
                     if step[i, j]:
                         moved += 1
-                        key += delta[i, j]
-                        leaves |= leave[i, j]
+                        if keyed:
+                            key += delta[i, j]
+                            leaves |= leave[i, j]
+                        else:
+                            robot[c] = i
+                            new[c] = choice[i, j]
+                            event[c] = e
+                            c += 1
                 src[e] = s
                 weight[e] = moved
-                succ[e] = key
+                if keyed:
+                    succ[e] = key
                 e += 1
                 if leaves:
                     return e, True
                 if not _next_choice(digit, width, size):
                     break
     return e, False
+
+
+@njit(cache=True, nogil=True)
+def round_events(codes, masks, neighbour, subsets, nth, count, states, src, weight, robot, new,
+                 event):  # pragma: no cover - compiled
+    """The round events of the first ``states`` states of ``codes`` into the arrays sized by
+    :func:`round_counts`, in the order of ``schedulers.base.bulk_rounds``: per state, per row
+    of ``subsets``, every choice of the activated robots (robot j's choices in the order of
+    ``nth[mask]``, the last robot varying fastest). Per event its source and weight (the
+    robots that step); per change (the robots that step, in robot order) its event, robot and
+    new code (``OUTSIDE`` when it leaves the region)."""
+    _rounds(codes, masks, neighbour, subsets, nth, count, states, np.zeros(1, np.uint64),
+            np.zeros(codes.shape[1], np.uint64), src, weight, robot, new, event,
+            np.zeros(1, np.uint64), False)
+
+
+@njit(cache=True, nogil=True)
+def round_keys(keys, codes, masks, neighbour, subsets, nth, count, states, powers, src, weight,
+               succ):  # pragma: no cover - compiled
+    """:func:`round_events` and :func:`event_keys` in one pass, without the changes: per event
+    of the first ``states`` states (in :func:`round_events`' order, into arrays sized by
+    :func:`round_counts`) its source, its weight and its successor's key (``keys[s]``, the
+    key of state s with digit ``powers``, with each stepping robot recoded). Stops after the
+    first event in which a robot leaves the region (a step to ``OUTSIDE``; that event's key
+    is not one). Returns how many events it wrote and whether the last one leaves."""
+    none = np.zeros(1, np.int64)
+    return _rounds(codes, masks, neighbour, subsets, nth, count, states, keys, powers, src,
+                   weight, none, none, none, succ, True)
 
 
 # -- graph analyses over the kept CSR graph ----------------------------------------------
@@ -520,14 +518,40 @@ def first_sources(offsets, targets, seeds, states, packed=False):  # pragma: no 
     return parents
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _int64s(values):  # pragma: no cover - compiled
+    """A typed list of integers as an ``int64`` array."""
+    out = np.empty(len(values), dtype=np.int64)
+    for i in range(len(values)):
+        out[i] = values[i]
+    return out
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _open(w, wp, counter, sp, offsets, work_v, work_k, index, low, stack,
+          on_stack):  # pragma: no cover - compiled
+    """Tarjan's visit of state ``w``: on the work stack above ``wp`` (its edges from the
+    first), numbered ``counter``, pushed on the component stack at ``sp``; the three
+    counters after it."""
+    wp += 1
+    work_v[wp] = w
+    work_k[wp] = offsets[w]
+    index[w] = counter
+    low[w] = counter
+    stack[sp] = w
+    on_stack[w] = True
+    return wp, counter + 1, sp + 1
+
+
 @njit(cache=True, nogil=True)
-def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover - compiled
-    """Tarjan's strongly connected components over a CSR graph, iteratively, roots in id
-    order and edges in CSR order (the order of :func:`gather_verify.properties.graph.tarjan`).
-    Self-loops are left out when ``skip_loops``. Returns (members, starts): the components
-    with an edge between distinct states (or a self-loop kept), each unsorted, in the order
-    found; component c is ``members[starts[c]:starts[c + 1]]``. ``packed``: as
-    :func:`longest_path`'s."""
+def tarjan(offsets, targets, inside, packed=False):  # pragma: no cover - compiled
+    """Tarjan's strongly connected components of the states ``0 .. len(offsets) - 2`` that
+    are ``inside``, over the edges between them (an edge to a state past them is left out),
+    iteratively, roots in id order and edges in CSR order (the order of
+    :func:`gather_verify.properties.graph.tarjan`). Returns (members, starts): every
+    component in the order it closes, its members in the order they leave the stack;
+    component c is ``members[starts[c]:starts[c + 1]]``. ``packed``: as
+    :func:`longest_path`'s. Per state a 4-byte index, low link, stack slot and member."""
     n = len(offsets) - 1
     index = np.full(n, -1, dtype=np.int32)
     low = np.zeros(n, dtype=np.int32)
@@ -541,17 +565,10 @@ def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover 
     starts = [0]
     counter = 0
     for root in range(n):
-        if index[root] >= 0:
+        if index[root] >= 0 or not inside[root]:
             continue
-        wp = 0
-        work_v[0] = root
-        work_k[0] = offsets[root]
-        index[root] = counter
-        low[root] = counter
-        counter += 1
-        stack[sp] = root
-        sp += 1
-        on_stack[root] = True
+        wp, counter, sp = _open(root, -1, counter, sp, offsets, work_v, work_k, index, low,
+                                stack, on_stack)
         while wp >= 0:
             v = work_v[wp]
             k = work_k[wp]
@@ -560,19 +577,12 @@ def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover 
             while k < end:
                 w = _target(targets, k, packed)
                 k += 1
-                if skip_loops and w == v:
+                if w >= n or not inside[w]:
                     continue
                 if index[w] < 0:
                     work_k[wp] = k
-                    wp += 1
-                    work_v[wp] = w
-                    work_k[wp] = offsets[w]
-                    index[w] = counter
-                    low[w] = counter
-                    counter += 1
-                    stack[sp] = w
-                    sp += 1
-                    on_stack[w] = True
+                    wp, counter, sp = _open(w, wp, counter, sp, offsets, work_v, work_k, index,
+                                            low, stack, on_stack)
                     recurse = True
                     break
                 if on_stack[w] and index[w] < low[v]:
@@ -580,7 +590,6 @@ def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover 
             if recurse:
                 continue
             if low[v] == index[v]:
-                begin = mcount
                 while True:
                     sp -= 1
                     w = stack[sp]
@@ -589,28 +598,49 @@ def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover 
                     mcount += 1
                     if w == v:
                         break
-                keep = mcount - begin > 1
-                if not keep and not skip_loops:
-                    for j in range(offsets[v], offsets[v + 1]):
-                        if _target(targets, j, packed) == v:
-                            keep = True
-                            break
-                if keep:
-                    starts.append(mcount)
-                else:
-                    mcount = begin
+                starts.append(mcount)
             wp -= 1
             if wp >= 0:
                 u = work_v[wp]
                 if low[v] < low[u]:
                     low[u] = low[v]
-    out = np.empty(len(starts), dtype=np.int64)
-    for i in range(len(starts)):
-        out[i] = starts[i]
-    return members[:mcount].copy(), out
+    return members[:mcount], _int64s(starts)
+
+
+@njit(cache=True, nogil=True)
+def tarjan_csr(offsets, targets, skip_loops, packed=False):  # pragma: no cover - compiled
+    """The components of :func:`tarjan` over every state that have an edge between distinct
+    states, or (unless ``skip_loops``) a self-loop, each unsorted, in the order found:
+    (members, starts), component c is ``members[starts[c]:starts[c + 1]]``."""
+    members, starts = tarjan(offsets, targets, np.ones(len(offsets) - 1, dtype=np.bool_),
+                             packed)
+    kept = [0]
+    mcount = 0
+    for c in range(len(starts) - 1):
+        lo = starts[c]
+        hi = starts[c + 1]
+        keep = hi - lo > 1
+        if not keep and not skip_loops:
+            v = members[lo]
+            for j in range(offsets[v], offsets[v + 1]):
+                if _target(targets, j, packed) == v:
+                    keep = True
+                    break
+        if keep:
+            for j in range(lo, hi):
+                members[mcount] = members[j]
+                mcount += 1
+            kept.append(mcount)
+    return members[:mcount].copy(), _int64s(kept)
 
 
 # -- the bulk engine's per-chunk arithmetic ----------------------------------------------
+
+@njit(cache=True, nogil=True, inline="always")
+def _per_robot(k, s_count, n):  # pragma: no cover - compiled
+    """``k`` fresh ``(s_count, n)`` int64 tables, a value per state and robot."""
+    block = np.empty((k, s_count, n), dtype=np.int64)
+    return [block[i] for i in range(k)]
 
 @njit(cache=True, nogil=True)
 def decode_chunk(keys, base, n, weights):  # pragma: no cover - compiled
@@ -618,12 +648,9 @@ def decode_chunk(keys, base, n, weights):  # pragma: no cover - compiled
     sorted, the packed configuration key (sorted cells by ``weights``), whether every robot
     is idle, and each robot's position among the sorted cells (the first equal one)."""
     s_count = len(keys)
-    codes = np.empty((s_count, n), dtype=np.int64)
-    cells = np.empty((s_count, n), dtype=np.int64)
-    srt = np.empty((s_count, n), dtype=np.int64)
+    codes, cells, srt, rank = _per_robot(4, s_count, n)
     ck = np.empty(s_count, dtype=np.int64)
     idle = np.empty(s_count, dtype=np.bool_)
-    rank = np.empty((s_count, n), dtype=np.int64)
     b = np.uint64(base)
     for s in range(s_count):
         rest = keys[s]

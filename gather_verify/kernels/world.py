@@ -31,6 +31,16 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from gather_verify.kernels.compiled import _per_robot, tarjan
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _digit(rest, radix):  # pragma: no cover - compiled
+    """The key ``rest`` without its least digit in base ``radix``, and that digit (a robot's
+    code: the keys hold the robots' codes as their least digits)."""
+    q = rest // radix
+    return q, rest - q * radix
+
 
 @njit(cache=True, nogil=True, inline="always")
 def _decode(key, n, radix, rc_node, rc_slot, rc_col, nodes, slots, cols):  # pragma: no cover
@@ -38,9 +48,7 @@ def _decode(key, n, radix, rc_node, rc_slot, rc_col, nodes, slots, cols):  # pra
     through the robot code tables); returns the rest (visited and extra)."""
     rest = key
     for i in range(n):
-        q = rest // radix
-        rc = rest - q * radix
-        rest = q
+        rest, rc = _digit(rest, radix)
         nodes[i] = rc_node[rc]
         slots[i] = rc_slot[rc]
         cols[i] = rc_col[rc]
@@ -55,12 +63,9 @@ def world_decode(keys, n, radix, rc_node, rc_slot, rc_col, colours,
     the configuration key (the sorted ``node * K + colour`` digits in base ``cfg_base``);
     each robot's position among those sorted digits (the first equal)."""
     s_count = len(keys)
-    nodes = np.empty((s_count, n), dtype=np.int64)
-    slots = np.empty((s_count, n), dtype=np.int64)
-    cols = np.empty((s_count, n), dtype=np.int64)
+    nodes, slots, cols, pos = _per_robot(4, s_count, n)
     rest_out = np.empty(s_count, dtype=np.int64)
     ckey = np.empty(s_count, dtype=np.int64)
-    pos = np.empty((s_count, n), dtype=np.int64)
     srt = np.empty(n, dtype=np.int64)
     elem = np.empty(n, dtype=np.int64)
     for s in range(s_count):
@@ -98,9 +103,7 @@ def world_nodes(keys, n, radix, pend, colours):  # pragma: no cover - compiled
     for s in range(s_count):
         rest = keys[s]
         for i in range(n):
-            q = rest // radix
-            rc = rest - q * radix
-            rest = q
+            rest, rc = _digit(rest, radix)
             nodes[s, i] = (rc // colours) // pend
         rest_out[s] = rest
     return nodes, rest_out
@@ -287,9 +290,7 @@ def world_async_by_node(keys, n, radix, rc_node, rc_slot, rc_col, pair_mask, kno
         rest = keys[s]
         events = 0
         for i in range(n):
-            q = rest // radix
-            rc = rest - q * radix
-            rest = q
+            rest, rc = _digit(rest, radix)
             codes[s, i] = rc
             if count[rc] < 0:
                 events = -1
@@ -494,9 +495,7 @@ def world_canon(keys, group, anonymity, visits, n, size, radix, pend, colours, a
     for s in range(s_count):
         rest = keys[s]
         for i in range(n):
-            q = rest // radix
-            rc = rest - q * radix
-            rest = q
+            rest, rc = _digit(rest, radix)
             cc[i] = rc % colours
             t = rc // colours
             slot = t % pend
@@ -556,108 +555,17 @@ def world_canon(keys, group, anonymity, visits, n, size, radix, pend, colours, a
 # -- the tasks' tests on a search's arrays -----------------------------------------------
 
 @njit(cache=True, nogil=True)
-def _scc(offsets, targets, inside, robots, stay, final, pick, skip_final, single_states,
-         full):  # pragma: no cover - compiled
-    """Tarjan's strongly connected components of the expanded states (``len(offsets) - 1``)
-    that are ``inside``, over the edges between them, iteratively: a label per state (-1
-    outside), how many components, and with ``pick`` the label of the fair component whose
-    least state is least (-1: none; see :func:`fair_component`), each component tested as it
-    is closed. Per state 4-byte index, low link and label (state ids fit 31 bits)."""
-    total = len(offsets) - 1
-    index = np.full(total, -1, dtype=np.int32)
-    low = np.empty(total, dtype=np.int32)
-    on_stack = np.zeros(total, dtype=np.bool_)
-    stack = np.empty(total, dtype=np.int32)
-    work_v = np.empty(total, dtype=np.int32)
-    work_k = np.empty(total, dtype=np.int64)
-    labels = np.full(total, -1, dtype=np.int32)
-    sp = 0
-    counter = 0
-    ncomp = 0
-    best = -1
-    best_least = total
-    for root in range(total):
-        if index[root] >= 0 or not inside[root]:
-            continue
-        wp = 0
-        work_v[0] = root
-        work_k[0] = offsets[root]
-        index[root] = counter
-        low[root] = counter
-        counter += 1
-        stack[sp] = root
-        sp += 1
-        on_stack[root] = True
-        while wp >= 0:
-            v = work_v[wp]
-            k = work_k[wp]
-            end = offsets[v + 1]
-            recurse = False
-            while k < end:
-                w = targets[k]
-                k += 1
-                if w >= total or not inside[w]:
-                    continue
-                if index[w] < 0:
-                    work_k[wp] = k
-                    wp += 1
-                    work_v[wp] = w
-                    work_k[wp] = offsets[w]
-                    index[w] = counter
-                    low[w] = counter
-                    counter += 1
-                    stack[sp] = w
-                    sp += 1
-                    on_stack[w] = True
-                    recurse = True
-                    break
-                if on_stack[w] and index[w] < low[v]:
-                    low[v] = index[w]
-            if recurse:
-                continue
-            if low[v] == index[v]:
-                top = sp
-                while True:
-                    sp -= 1
-                    w = stack[sp]
-                    on_stack[w] = False
-                    labels[w] = ncomp
-                    if w == v:
-                        break
-                if pick and (top - sp > 1 or single_states):  # its members: stack[sp:top]
-                    least = total
-                    has_final = False
-                    covered = np.int64(0)
-                    for j in range(sp, top):
-                        u = stack[j]
-                        least = min(least, u)
-                        has_final = has_final or final[u]
-                        covered |= stay[u]
-                        for e in range(offsets[u], offsets[u + 1]):
-                            t = targets[e]
-                            if t < total and labels[t] == ncomp:
-                                covered |= robots[e]
-                    if covered == full and not (skip_final and has_final) and least < best_least:
-                        best = ncomp
-                        best_least = least
-                ncomp += 1
-            wp -= 1
-            if wp >= 0:
-                u = work_v[wp]
-                if low[v] < low[u]:
-                    low[u] = low[v]
-    return labels, ncomp, best
-
-
-@njit(cache=True, nogil=True)
 def scc_labels(offsets, targets, inside):  # pragma: no cover - compiled
     """Tarjan's strongly connected components of the expanded states (``len(offsets) - 1``)
-    that are ``inside``, over the edges between them: a label per state (int32, -1 outside),
-    and how many components."""
-    none = np.zeros(0, dtype=np.int64)
-    labels, ncomp, _ = _scc(offsets, targets, inside, none, none, np.zeros(0, dtype=np.bool_),
-                            False, False, False, 0)
-    return labels, ncomp
+    that are ``inside``, over the edges between them
+    (:func:`~gather_verify.kernels.compiled.tarjan`): a label per state (int32, -1
+    outside), in the order the components close, and how many components."""
+    members, starts = tarjan(offsets, targets, inside)
+    labels = np.full(len(offsets) - 1, -1, dtype=np.int32)
+    for c in range(len(starts) - 1):
+        for j in range(starts[c], starts[c + 1]):
+            labels[members[j]] = c
+    return labels, len(starts) - 1
 
 
 @njit(cache=True, nogil=True)
@@ -668,8 +576,33 @@ def fair_component(offsets, targets, robots, stay, final, inside, skip_final, si
     components of one state only when ``single_states``, none holding a final state when
     ``skip_final``. Returns the components' labels (:func:`scc_labels`) and its label
     (-1: none)."""
-    labels, _, best = _scc(offsets, targets, inside, robots, stay, final, True, skip_final,
-                           single_states, full)
+    members, starts = tarjan(offsets, targets, inside)
+    total = len(offsets) - 1
+    labels = np.full(total, -1, dtype=np.int32)
+    best = -1
+    best_least = total
+    for c in range(len(starts) - 1):
+        lo = starts[c]
+        hi = starts[c + 1]
+        for j in range(lo, hi):
+            labels[members[j]] = c
+        if not (hi - lo > 1 or single_states):
+            continue
+        least = total
+        has_final = False
+        covered = np.int64(0)
+        for j in range(lo, hi):
+            u = members[j]
+            least = min(least, u)
+            has_final = has_final or final[u]
+            covered |= stay[u]
+            for e in range(offsets[u], offsets[u + 1]):
+                t = targets[e]
+                if t < total and labels[t] == c:
+                    covered |= robots[e]
+        if covered == full and not (skip_final and has_final) and least < best_least:
+            best = c
+            best_least = least
     return labels, best
 
 

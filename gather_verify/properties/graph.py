@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from array import array
 from collections import deque
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -307,42 +307,57 @@ def strongly_connected(e: Exploration) -> list[list[int]]:
 
 
 def tarjan(succs: Sequence[Sequence[int]]) -> list[list[int]]:
-    """:func:`strongly_connected` on successor lists, by an iterative Tarjan (large graphs).
+    """:func:`strongly_connected` on successor lists, by an iterative Tarjan (large graphs):
+    the components with an edge between distinct states or a self-loop, each sorted.
 
     >>> tarjan([[1], [0, 2], [2], []])
     [[2], [0, 1]]
     """
-    n = len(succs)
-    index = [-1] * n
-    low = [0] * n
-    on_stack = [False] * n
+    return [sorted(comp) for comp in components_of(len(succs), succs.__getitem__)
+            if len(comp) > 1 or comp[0] in succs[comp[0]]]
+
+
+def components_of(count: int, successors: Callable[[int], Sequence[int]],
+                  inside: Callable[[int], bool] | None = None) -> Iterator[list[int]]:
+    """Tarjan's strongly connected components of the states ``0 .. count - 1`` that are
+    ``inside`` (all by default), over the edges between them (an edge to a state past them
+    is left out), iteratively: roots in id order, edges in the order ``successors`` gives
+    them; each component as its states in the order they leave the stack, in the order the
+    components close (the compiled kernel's order, :func:`gather_verify.kernels.compiled.tarjan`)."""
+    ok = (lambda _v: True) if inside is None else inside
+    index = [-1] * count
+    low = [0] * count
+    on_stack = [False] * count
     stack: list[int] = []
-    out: list[list[int]] = []
     counter = 0
-    for root in range(n):
-        if index[root] >= 0:
+    for root in range(count):
+        if index[root] >= 0 or not ok(root):
             continue
         work = [(root, 0)]
+        index[root] = low[root] = counter
+        counter += 1
+        stack.append(root)
+        on_stack[root] = True
         while work:
-            v, i = work.pop()
-            if i == 0:
-                index[v] = low[v] = counter
-                counter += 1
-                stack.append(v)
-                on_stack[v] = True
-            recurse = False
-            while i < len(succs[v]):
-                w = succs[v][i]
-                i += 1
+            v, i = work[-1]
+            edges = successors(v)
+            if i < len(edges):
+                work[-1] = (v, i + 1)
+                w = edges[i]
+                if w >= count or not ok(w):
+                    continue
                 if index[w] < 0:
-                    work.append((v, i))
+                    index[w] = low[w] = counter
+                    counter += 1
+                    stack.append(w)
+                    on_stack[w] = True
                     work.append((w, 0))
-                    recurse = True
-                    break
-                if on_stack[w]:
+                elif on_stack[w]:
                     low[v] = min(low[v], index[w])
-            if recurse:
                 continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[v])
             if low[v] == index[v]:
                 comp = []
                 while True:
@@ -351,12 +366,7 @@ def tarjan(succs: Sequence[Sequence[int]]) -> list[list[int]]:
                     comp.append(w)
                     if w == v:
                         break
-                if len(comp) > 1 or v in succs[v]:
-                    out.append(sorted(comp))
-            if work:
-                u, _ = work[-1]
-                low[u] = min(low[u], low[v])
-    return out
+                yield comp
 
 
 @dataclass

@@ -214,13 +214,7 @@ def run_sweep(
         from gather_verify.sweeps.lit_census import verify_lit_one
 
         verify = verify_lit_one
-    if verify is None and engine == "union" and not any(one.on_plane for one in batch):
-        engine = WORLD_UNION  # finite worlds: one union search per meeting-node class
-    elif not all(one.on_plane for one in batch):
-        from gather_verify.sweeps.world_census import verify_world_one
-
-        verify = verify or verify_world_one  # a finite world: one search per configuration
-    if verify is not None:
+    if verify is not None:  # a row maker of the caller's: one configuration at a time
         engine = "per-config"
     from gather_verify.algorithms.loading import snapshot
 
@@ -282,22 +276,31 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
 
 
 def _census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
-    """The sweep's configurations in enumeration order, each with its stored key."""
-    if settings.on_plane:
-        from gather_verify.sweeps.census import enumerate_configurations
-        from gather_verify.sweeps.lit_census import lit_configurations
-        from gather_verify.worlds.moves import parse_lights
+    """The sweep's configurations in enumeration order, each with its stored key (its
+    world's census, :func:`face_of`)."""
+    return face_of(settings).census(settings)
 
-        k = parse_lights(settings.lights).colours
-        for c in enumerate_configurations(settings.robots, settings.meeting, *settings.box,
-                                          settings.frames):
-            if settings.lights is None:
-                yield c, configuration_key(c)
-                continue
-            for lit in lit_configurations(c, configuration_key(c), k, settings.frames,
-                                          settings.initial_colours == "all"):
-                yield lit, lit.key
-        return
+
+def _plane_census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
+    """The paper's world: one configuration per class of the box (translations and the
+    robots' frame group), with lights one per initial colouring asked for."""
+    from gather_verify.sweeps.census import enumerate_configurations
+    from gather_verify.sweeps.lit_census import lit_configurations
+    from gather_verify.worlds.moves import parse_lights
+
+    k = parse_lights(settings.lights).colours
+    for c in enumerate_configurations(settings.robots, settings.meeting, *settings.box,
+                                      settings.frames):
+        if settings.lights is None:
+            yield c, configuration_key(c)
+            continue
+        for lit in lit_configurations(c, configuration_key(c), k, settings.frames,
+                                      settings.initial_colours == "all"):
+            yield lit, lit.key
+
+
+def _world_census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
+    """A finite world: one configuration per class under its symmetries."""
     from gather_verify.sweeps.world_census import world_configurations, world_key
     from gather_verify.worlds import finite_world
     from gather_verify.worlds.moves import parse_lights
@@ -329,7 +332,6 @@ def warm_kernels(schedulers: Iterable[str]) -> None:
                       max_seconds=60.0)
 
 
-WORLD_UNION = "world-union"
 """The engine of a finite world's sweep under ``engine="union"``: one state graph per
 meeting-node class (:mod:`gather_verify.sweeps.world_union`)."""
 
@@ -352,17 +354,11 @@ def _execute(
     local = dask is None and workers == 1
     if any(todo for _, _, todo in plan):  # forked workers inherit the compiled kernels
         warm_kernels({settings.scheduler for settings, _, _ in plan  # (none: finite worlds,
-                      if settings.on_plane and not settings.lights})  # lights)
+                      if face_of(settings).warm and not settings.lights})  # lights)
     tasks: list[Task] = []
     for settings, sweep, todo in plan:
         if engine == "union":  # a task is a meeting-node class, the largest first
-            from gather_verify.sweeps.mclass import class_tasks
-
-            chunks = class_tasks(todo, settings.frames)
-        elif engine == WORLD_UNION:
-            from gather_verify.sweeps.world_union import world_class_tasks
-
-            chunks = world_class_tasks(settings, todo)
+            chunks = face_of(settings).class_tasks(settings, todo)
         else:
             chunks = list(_chunks(todo, CHUNK))
         if settings.max_memory_mb is None:  # the machine's memory, shared by the workers
@@ -375,9 +371,6 @@ def _execute(
     if engine == "union":
         tasks.sort(key=lambda task: -len(task[2]))  # the largest classes of every sweep first
         run = _run_class_task if local else partial(_run_class_task, hand_off=HAND_OFF_SECONDS)
-    elif engine == WORLD_UNION:
-        tasks.sort(key=lambda task: -len(task[2]))
-        run = _run_world_class_task if local else partial(_run_world_class_task, hand_off=True)
     if dask is not None:
         yield from _execute_dask(tasks, dask, workers, run)
     elif local or not tasks:
@@ -476,55 +469,36 @@ def _pool_worker(parent: int) -> None:
 
 
 def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
-              verify: Verify = verify_one) -> Done:
+              verify: Verify | None = None) -> Done:
     """Worker entry point (picklable for process pools and Dask). ``sources``: the text of
     the algorithm files (:func:`gather_verify.algorithms.loading.ship`), for a worker that
-    does not see them (a Dask cluster on other machines); ``verify``: the row maker."""
+    does not see them (a Dask cluster on other machines); ``verify``: the row maker (by
+    default the world's, :func:`face_of`)."""
     sweep, settings, chunk = task
     if sources:
         from gather_verify.algorithms.loading import receive
 
         receive(sources)
-    if verify is verify_one and not settings.on_plane:  # handed off by a finite world's class
-        from gather_verify.sweeps.world_census import verify_world_one
-
-        verify = verify_world_one
-    return sweep, Store.encode(verify_chunk(settings, chunk, verify)), [], {}
+    rows = verify_chunk(settings, chunk, verify or face_of(settings).verify_one)
+    return sweep, Store.encode(rows), [], {}
 
 
 def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
                     hand_off: float | None = None) -> Done:
     """Worker entry point of ``engine="union"``: the chunk is one meeting-node class
-    (``sources`` as for :func:`_run_task`); the per-configuration checks left after
-    ``hand_off`` seconds come back as tasks of one configuration each."""
-    from gather_verify.sweeps.mclass import verify_class
-
+    (``sources`` as for :func:`_run_task`), decided by its world's union engine; the
+    per-configuration checks left after ``hand_off`` seconds come back as tasks, for the
+    other workers."""
     sweep, settings, chunk = task
     if sources:
         from gather_verify.algorithms.loading import receive
 
         receive(sources)
     fallbacks: dict[str, int] = {}
-    rows, rest = verify_class(settings, chunk, verify_one, configuration_key, hand_off, fallbacks)
-    return sweep, Store.encode(rows), [(sweep, settings, [item]) for item in rest], fallbacks
-
-
-def _run_world_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
-                          hand_off: bool = False) -> Done:
-    """Worker entry point of a finite world's union sweep: the chunk is one meeting-node
-    class (:mod:`gather_verify.sweeps.world_union`); with ``hand_off`` the configurations
-    the union leaves to their own checks come back as tasks of ``CHUNK`` each, for the
-    other workers."""
-    from gather_verify.sweeps.world_union import verify_world_class
-
-    sweep, settings, chunk = task
-    if sources:
-        from gather_verify.algorithms.loading import receive
-
-        receive(sources)
-    rows, rest = verify_world_class(settings, chunk, hand_off)
-    return (sweep, Store.encode(rows), [(sweep, settings, part) for part in _chunks(rest, CHUNK)],
-            {})
+    face = face_of(settings)
+    rows, rest = face.verify_class(settings, chunk, hand_off, fallbacks)
+    return (sweep, Store.encode(rows),
+            [(sweep, settings, part) for part in _chunks(rest, face.hand_off_chunk)], fallbacks)
 
 
 def _execute_dask(tasks: list[Task], address: str, workers: int | None,
@@ -741,3 +715,75 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
         write("slowest configurations:")
         for r in summary["slowest"]:
             write(f"  {r['seconds']:8.3f}s  {r['class']:<5} robots={r['robots']} meeting={r['meeting_nodes']}")
+
+
+Item = tuple[int, Any]
+"""A configuration of a sweep with its index in the enumeration."""
+Rows = tuple[list[dict[str, Any]], list[Item]]
+"""The rows a union task decided, and the configurations it leaves to their own checks."""
+
+
+@dataclass(frozen=True)
+class SweepFace:
+    """What a world supplies to the one sweep (its ``entry`` names it,
+    :func:`~gather_verify.worlds.entry_of`): its census (the configurations with their stored
+    keys, in enumeration order), the row of one configuration, and its union engine (the
+    configurations grouped by meeting-node class, the largest first, and a class's rows from
+    one state graph, the rest left to their own checks after ``hand_off`` seconds, handed
+    off ``hand_off_chunk`` at a time); ``warm``: its checks run the compiled kernels, to be
+    compiled before the first row is timed."""
+
+    census: Callable[[SweepSettings], Iterator[tuple[Any, str]]]
+    verify_one: Verify
+    class_tasks: Callable[[SweepSettings, list[Item]], list[list[Item]]]
+    verify_class: Callable[[SweepSettings, list[Item], float | None, dict[str, int]], Rows]
+    hand_off_chunk: int
+    warm: bool
+
+
+def _plane_class_tasks(settings: SweepSettings, todo: list[Item]) -> list[list[Item]]:
+    from gather_verify.sweeps.mclass import class_tasks
+
+    return class_tasks(todo, settings.frames)
+
+
+def _plane_class(settings: SweepSettings, chunk: list[Item], hand_off: float | None,
+                 fallbacks: dict[str, int]) -> Rows:
+    from gather_verify.sweeps.mclass import verify_class
+
+    return verify_class(settings, chunk, verify_one, configuration_key, hand_off, fallbacks)
+
+
+def _world_one(settings: SweepSettings, index: int, c: Any) -> dict[str, Any]:
+    from gather_verify.sweeps.world_census import verify_world_one
+
+    return verify_world_one(settings, index, c)
+
+
+def _world_class_tasks(settings: SweepSettings, todo: list[Item]) -> list[list[Item]]:
+    from gather_verify.sweeps.world_union import world_class_tasks
+
+    return world_class_tasks(settings, todo)
+
+
+def _world_class(settings: SweepSettings, chunk: list[Item], hand_off: float | None,
+                 fallbacks: dict[str, int]) -> Rows:
+    from gather_verify.sweeps.world_union import verify_world_class
+
+    return verify_world_class(settings, chunk, hand_off)
+
+
+SWEEP_FACES: dict[str, SweepFace] = {
+    "plane": SweepFace(_plane_census, verify_one, _plane_class_tasks, _plane_class, 1, True),
+    "finite": SweepFace(_world_census, _world_one, _world_class_tasks, _world_class, CHUNK,
+                        False),
+}
+"""Each world entry's face (:data:`gather_verify.worlds.base.PLANE`,
+:data:`~gather_verify.worlds.base.FINITE`): a world with an entry of its own adds one line."""
+
+
+def face_of(settings: SweepSettings) -> SweepFace:
+    """The face of the sweep's world."""
+    from gather_verify.worlds import entry_of
+
+    return SWEEP_FACES[entry_of(settings.world)]

@@ -74,25 +74,24 @@ def world_class_tasks(settings: Any, items: list[Item]) -> list[list[Item]]:
     return sorted(classes.values(), key=lambda members: -len(members))
 
 
-def verify_world_class(settings: Any, items: list[Item], hand_off: bool = False
+def verify_world_class(settings: Any, items: list[Item], hand_off: float | None = None
                        ) -> tuple[list[dict[str, Any]], list[Item]]:
     """The rows of the configurations ``items`` (one meeting-node class), in order: from one
-    union search where it decides them, else from their own checks; with ``hand_off`` those
-    checks are left to the caller (returned, for other workers)."""
+    union search where it decides them, else from their own checks; with ``hand_off``
+    (seconds), the checks left once the task has run that long are returned instead, for
+    other workers (as :func:`gather_verify.sweeps.mclass.verify_class` does)."""
     started = time.perf_counter()
     decided = decide_world_class(settings, items)
     share = (time.perf_counter() - started) / max(1, len(decided))
-    rows, rest = [], []
-    for index, c in items:
-        row = decided.get(index)
-        if row is not None:
-            row["seconds"] = share
-            rows.append(row)
-        elif hand_off:
-            rest.append((index, c))
-        else:
-            rows.append(verify_world_one(settings, index, c))
-    return rows, rest
+    rows = list(decided.values())
+    for one in rows:
+        one["seconds"] = share
+    rest = [(index, c) for index, c in items if index not in decided]
+    done = 0
+    while done < len(rest) and (hand_off is None or time.perf_counter() - started < hand_off):
+        rows.append(verify_world_one(settings, *rest[done]))
+        done += 1
+    return sorted(rows, key=lambda r: r["index"]), rest[done:]
 
 
 def decide_world_class(settings: Any, items: list[Item]) -> dict[int, dict[str, Any]]:

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gather_verify.engine.world_search import SearchArrays, WorldSearch
+from gather_verify.properties.graph import components_of
 
 
 @dataclass
@@ -63,51 +64,9 @@ class Task:
 
 def components(s: WorldSearch, inside: Callable[[int], bool] | None = None) -> Iterator[list[int]]:
     """The strongly connected components of the expanded states (those ``inside`` only),
-    iteratively (Tarjan), each as a list of ids."""
-    total = len(s.edges)
-    ok = (lambda _v: True) if inside is None else inside
-    index = [-1] * total
-    low = [0] * total
-    on_stack = [False] * total
-    stack: list[int] = []
-    counter = 0
-    for root in range(total):
-        if index[root] >= 0 or not ok(root):
-            continue
-        work = [(root, 0)]
-        index[root] = low[root] = counter
-        counter += 1
-        stack.append(root)
-        on_stack[root] = True
-        while work:
-            v, i = work[-1]
-            edges = s.edges[v]
-            if i < len(edges):
-                work[-1] = (v, i + 1)
-                w = edges[i][0]
-                if w >= total or not ok(w):
-                    continue
-                if index[w] < 0:
-                    index[w] = low[w] = counter
-                    counter += 1
-                    stack.append(w)
-                    on_stack[w] = True
-                    work.append((w, 0))
-                elif on_stack[w]:
-                    low[v] = min(low[v], index[w])
-                continue
-            work.pop()
-            if work:
-                low[work[-1][0]] = min(low[work[-1][0]], low[v])
-            if low[v] == index[v]:
-                comp = []
-                while True:
-                    w = stack.pop()
-                    on_stack[w] = False
-                    comp.append(w)
-                    if w == v:
-                        break
-                yield comp
+    iteratively (Tarjan, :func:`~gather_verify.properties.graph.components_of`), each as a
+    list of ids."""
+    return components_of(len(s.edges), lambda v: [w for w, _, _ in s.edges[v]], inside)
 
 
 def fair(s: WorldSearch, comp: list[int], n: int) -> bool:
