@@ -44,6 +44,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_configuration_arguments(parser)
     parser.add_argument("--world", help="the graph the robots live on: grid (Z², the paper's, "
                         "default), grid:WxH, ring:N, torus:WxH or graph:FILE (docs/worlds.md)")
+    parser.add_argument("--movement", choices=("rigid", "non-rigid"), default=None,
+                        help="on the rendezvous world: rigid moves end where they aim; "
+                             "non-rigid ones may stop early (default non-rigid; "
+                             "docs/rendezvous.md)")
+    parser.add_argument("--initial-colours", choices=("all", "same"), default=None,
+                        help="on the rendezvous world: every pair of initial colours, or one "
+                             "colour for both (default all)")
     parser.add_argument("--task", help="on a finite world: gathering, "
                         "gathering-on-meeting-nodes (default with meeting nodes), "
                         "exclusive-perpetual-exploration or exploration-with-stop")
@@ -122,7 +129,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from gather_verify.worlds import FINITE, entry_of
+    from gather_verify.worlds.rendezvous import RENDEZVOUS
 
+    if entry_of(args.world) == RENDEZVOUS:
+        return run_rendezvous(args)
+    if args.movement or args.initial_colours:
+        raise UsageError("--movement and --initial-colours are options of the rendezvous "
+                         "world (--world rendezvous)")
     if entry_of(args.world) == FINITE:
         return run_world(args)
     if args.scenario:
@@ -324,6 +337,55 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
                   + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
     if expected is not None:
         return EXIT_OK if expected["matched"] else EXIT_VIOLATED
+    return VERDICT_EXIT[report["verdict"]]
+
+
+RENDEZVOUS_TAKES = ("algorithm", "scheduler", "movement", "initial_colours", "max_states",
+                    "max_seconds", "max_memory", "json", "timings", "trace_out", "progress",
+                    "world", "engine")
+"""The options the rendezvous world takes; any other given is refused in one line."""
+
+
+def run_rendezvous(args: argparse.Namespace) -> int:
+    """``check --world rendezvous``: two robots with lights in the plane under one of §13's
+    synchrony models (:mod:`gather_verify.rendezvous_check`)."""
+    from gather_verify.rendezvous_check import render_rendezvous_trace, run_rendezvous_check
+
+    defaults = {"engine": "auto", "max_states": DEFAULT_MAX_STATES,
+                "max_seconds": DEFAULT_MAX_SECONDS, "move_bound_c": 4.0}
+    for option, value in vars(args).items():
+        if option in RENDEZVOUS_TAKES or option in ("command", "func") or callable(value):
+            continue
+        if value not in (None, False, [], defaults.get(option)):
+            raise UsageError(f"--{option.replace('_', '-')} is no option of the rendezvous "
+                             "world: it takes --algorithm, --scheduler, --movement, "
+                             "--initial-colours and the limits")
+    if args.engine == "bulk":
+        raise UsageError("the bulk engine cannot run the rendezvous world: use --engine auto "
+                         "or reference")
+    if not args.algorithm or not args.scheduler:
+        raise UsageError("give --algorithm and --scheduler on the rendezvous world")
+    writable_outputs(trace_out=args.trace_out)
+    with _progress(args):
+        report = run_rendezvous_check(
+            args.algorithm, args.scheduler, movement=args.movement or "non-rigid",
+            initial_colours=args.initial_colours or "all", max_states=args.max_states,
+            max_seconds=args.max_seconds,
+            **({} if args.max_memory is None else {"max_memory_mb": args.max_memory}))
+    if args.trace_out and report["trace"] is not None:
+        Path(args.trace_out).write_text(json.dumps(report["trace"], indent=1) + "\n",
+                                        encoding="utf-8")
+    if args.json:
+        print_json(report if args.timings else without_timings(report))
+    else:
+        print(f"{report['verdict']}  rendezvous  {report['algorithm']} / {report['scheduler']}  "
+              f"{report['movement']}, initial colours {report['initial_colours']}")
+        if report["reason"]:
+            print(f"reason: {report['reason']}")
+        print(f"states {report['states']}  transitions {report['transitions']}  "
+              f"initial states {report['initial_states']}  {report['seconds']:.2f}s")
+        if report["trace"] is not None:
+            print(render_rendezvous_trace(report["trace"]))
     return VERDICT_EXIT[report["verdict"]]
 
 
