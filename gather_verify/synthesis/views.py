@@ -31,7 +31,7 @@ from gather_verify.worlds import FINITE, get_world
 from gather_verify.worlds.base import FrameMap, World
 from gather_verify.worlds.moves import parse_lights
 from gather_verify.worlds.view import Lights, WorldView
-from schedulers import get_scheduler
+from schedulers import get_scheduler, not_phased
 
 Answer = tuple[object, int | None]
 """An answer in the key's labels: the destination label and the new colour (None: keep)."""
@@ -87,6 +87,7 @@ def make_instance(world: str, robots: str, meeting: str, scheduler: str, task: s
         raise InvalidInput("synthesize runs on a finite world (--world ring:N, grid:WxH, "
                            "torus:WxH or graph:FILE); the paper's world Z² is not built yet")
     check_detection(detection)
+    not_phased(scheduler, "in synthesis (not built yet)")
     sched = get_scheduler(scheduler)
     light = parse_lights(lights)
     if light.variant == "external" and light.colours > 1:
