@@ -23,7 +23,7 @@ True
 from __future__ import annotations
 
 import time
-from typing import Any
+from typing import Any, cast
 
 from gather_verify import pipeline
 from gather_verify.engine.bfs import breadth_first
@@ -162,7 +162,7 @@ class RendezvousCheck:
         return s
 
     def decide(self, s: WorldSearch) -> dict[str, Any]:
-        ctx = Context(2, 0, frozenset(), self.request["scheduler"], ())
+        ctx = Context(2, 0, frozenset(), str(self.request["scheduler"]), ())
         found = livelock(s, ctx, TASK, WHAT, inside=lambda v: not s.final[v],
                          single_states=True)
         verdict = combine([TASK] if found else [], None if s.complete else str(s.stopped))
@@ -181,10 +181,11 @@ class RendezvousCheck:
                 for a, b in zip(ids, ids[1:], strict=False)]
         assert found.component is not None
         hops += fair_walk(s, found.component, 2, found.state)
-        steps = [{"event": None, "state": state_to_json(s.keys[ids[0]])}]
+        keys = cast(list[State], s.keys)  # the rendezvous world's states, not robots on nodes
+        steps = [{"event": None, "state": state_to_json(keys[ids[0]])}]
         for a, k in hops:
             target, _, event = s.edges[a][k]
-            steps.append({"event": event.to_json(), "state": state_to_json(s.keys[target])})
+            steps.append({"event": event.to_json(), "state": state_to_json(keys[target])})
         return {**self.request, "property": TASK, "reason": WHAT, "steps": steps,
                 "cycle_start": len(ids) - 1}
 

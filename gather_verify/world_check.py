@@ -15,7 +15,7 @@ found failing on the way is still VIOLATED: its trace is real).
 from __future__ import annotations
 
 import time
-from typing import Any
+from typing import Any, cast
 
 from gather_verify import pipeline
 from gather_verify.algorithms import Algorithm, get_algorithm
@@ -343,7 +343,8 @@ def successor(sched: Any, state: WorldState, event: Any, visits: bool, colours: 
 
     robots, visited, extra = state
     if getattr(sched, "phased", False):
-        extra, after = offers(sched, robots, extra, event, colours=colours)[0]
+        extra, stepped = offers(sched, robots, extra, event, colours=colours)[0]
+        after = cast(tuple[tuple[int, int | None, int], ...], stepped)  # a finite world's nodes
     else:
         after = _apply(state, event)
         extra = next(iter(scheduler_after(sched, robots, extra, event, after)))

@@ -39,7 +39,7 @@ import json
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import Any, NoReturn, cast
 
 from gather_verify.algorithms import AlgorithmCrash, Unhandled, get_algorithm
 from gather_verify.errors import InvalidInput, read_input
@@ -222,7 +222,7 @@ def _chosen(raw: object, where: str, node: Callable[[object, str], int],
     if not ok:
         _fail(f"{where}: 'chosen' is a list of [robot, destination, colour, [colours read]]")
     return tuple((index(i), node(d, where), c, tuple(read))
-                 for i, d, c, read in raw)  # type: ignore[union-attr]
+                 for i, d, c, read in cast(list[list[Any]], raw))
 
 
 def replay_world(trace: dict[str, Any], folder: Path | None = None) -> WorldReplayed:

@@ -39,14 +39,14 @@ from schedulers.ssync import SSync
 SCHEDULERS: dict[str, type[Scheduler]] = {
     "fsync": FSync, "ssync": SSync, "async": Async, "centralized": Centralized,
     "round-robin": RoundRobin,
-    "async-lc-atomic": phase_scheduler("async-lc-atomic"),  # type: ignore[dict-item]
-    "async-lc-strict": phase_scheduler("async-lc-strict"),  # type: ignore[dict-item]
-    "async-cm-atomic": phase_scheduler("async-cm-atomic"),  # type: ignore[dict-item]
-    "async-move-atomic": phase_scheduler("async-move-atomic"),  # type: ignore[dict-item]
-    "async-regular": phase_scheduler("async-regular"),  # type: ignore[dict-item]
-    "async-safe": phase_scheduler("async-safe"),  # type: ignore[dict-item]
-    "async-move-regular": phase_scheduler("async-move-regular"),  # type: ignore[dict-item]
-    "async-move-safe": phase_scheduler("async-move-safe"),  # type: ignore[dict-item]
+    "async-lc-atomic": phase_scheduler("async-lc-atomic"),
+    "async-lc-strict": phase_scheduler("async-lc-strict"),
+    "async-cm-atomic": phase_scheduler("async-cm-atomic"),
+    "async-move-atomic": phase_scheduler("async-move-atomic"),
+    "async-regular": phase_scheduler("async-regular"),
+    "async-safe": phase_scheduler("async-safe"),
+    "async-move-regular": phase_scheduler("async-move-regular"),
+    "async-move-safe": phase_scheduler("async-move-safe"),
 }
 """Every scheduler by name, in the order the CLI and the scenario loader list them: a new
 scheduler is one module implementing :class:`Scheduler` and one line here."""

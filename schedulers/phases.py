@@ -122,7 +122,7 @@ NO_CHANGE: Change = ((), (), ())
 def reads(model: PhaseModel, world: Phased, state: Any, i: int) -> list[tuple[int, ...]]:
     """The colours robot ``i``'s Look may read of each robot, by the model's read semantics
     (only a robot between Begin-Compute and End-Compute is read otherwise than atomically)."""
-    out = []
+    out: list[tuple[int, ...]] = []
     for j in range(world.count(state)):
         colour, after = world.light(state, j)
         if j == i or world.phase(state, j) != END_COMPUTE or model.reads == "atomic":

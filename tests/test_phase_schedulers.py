@@ -125,8 +125,10 @@ def test_the_reductions_are_off_under_them():
     assert r2["states"] == r["states"]
 
 
-def test_a_changed_read_does_not_replay():
-    """A safe read recorded in the trace (the colours the Look saw) is part of its event."""
+def test_a_changed_command_does_not_replay():
+    """A Look's command recorded in the trace (its next colour, carried out at End-Compute)
+    must be the one the scheduler and the algorithm give: changed, the trace does not match
+    itself."""
     trace = bounce("async-safe")["trace"]
     looks = [k for k, step in enumerate(trace["steps"]) if step["event"] and
              step["event"].get("chosen")]

@@ -74,10 +74,10 @@ class Rendezvous:
         return 2
 
     def phase(self, state: State, i: int) -> int:
-        return state[1 + i][0]
+        return _robot(state, i)[0]
 
     def light(self, state: State, i: int) -> tuple[int, int]:
-        return state[1 + i][1], state[1 + i][2]
+        return _robot(state, i)[1], _robot(state, i)[2]
 
     def starts(self, movement: str, colours: str) -> list[State]:
         """Every initial state: each allowed position, each colour pair, both robots idle."""
@@ -88,8 +88,8 @@ class Rendezvous:
     def look(self, state: State, i: int, reads: Sequence[tuple[int, ...]]
              ) -> Iterator[tuple[Change, State]]:
         position = state[0]
-        _, colour, _, _ = state[1 + i]
-        other = state[2 - i]
+        _, colour, _, _ = _robot(state, i)
+        other = _robot(state, 1 - i)
         moving = other[0] == END_MOVE and other[3] != STAY
         for seen in reads[1 - i]:
             move, new = decide(self.algorithm, colour, seen, position, moving)
@@ -97,7 +97,7 @@ class Rendezvous:
                 _put(state, i, (BEGIN_COMPUTE, colour, new, move))
 
     def advance(self, state: State, i: int, phase: int) -> tuple[Change, State]:
-        _, colour, after, pending = state[1 + i]
+        _, colour, after, pending = _robot(state, i)
         if phase == BEGIN_COMPUTE:
             return ((), (), ()), _put(state, i, (END_COMPUTE, colour, after, pending))
         if phase == END_COMPUTE:
@@ -108,8 +108,9 @@ class Rendezvous:
         position = state[0]
         if pending == STAY:
             return ((), (), ()), _put(state, i, (LOOK, colour, colour, STAY))
-        where, theirs = end_move(position, pending, state[2 - i][3])
-        other = state[2 - i][:3] + (theirs,)
+        where, theirs = end_move(position, pending, _robot(state, 1 - i)[3])
+        p, c, n, _ = _robot(state, 1 - i)
+        other = (p, c, n, theirs)
         mine = (LOOK, colour, colour, STAY)
         robots = (mine, other) if i == 0 else (other, mine)
         return (((i, POSITIONS[position], POSITIONS[where]),), (), ()), (where, *robots)
@@ -118,6 +119,10 @@ class Rendezvous:
     def goal(state: State) -> bool:
         """§13's goal: one point, nothing pending (absorbing)."""
         return gathered(state[0], (state[1][3], state[2][3]))
+
+
+def _robot(state: State, i: int) -> Robot:
+    return state[1] if i == 0 else state[2]
 
 
 def _put(state: State, i: int, robot: Robot) -> State:
