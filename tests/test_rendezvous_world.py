@@ -14,6 +14,7 @@ import itertools
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 from hypothesis import given, settings
@@ -32,6 +33,7 @@ from gather_verify.rendezvous_check import (
     run_rendezvous_check,
 )
 from gather_verify.replay import NoLongerReproduces
+from gather_verify.sweeps import rendezvous as table_of
 from gather_verify.worlds import rendezvous_rules as rr
 from gather_verify.worlds.rendezvous import Rendezvous
 
@@ -183,3 +185,52 @@ def test_options_of_other_worlds_are_refused_in_one_line():
     assert done.returncode == 2 and done.stderr.count("\n") == 1 and "--robots" in done.stderr
     done = _cli("check", "--world", "ring:6", "--robots", "0 2", "--movement", "rigid")
     assert done.returncode == 2 and "rendezvous" in done.stderr
+
+
+SPIN_RESULTS = Path(__file__).resolve().parent.parent / "bench" / "spin" / "light" / "results.json"
+
+
+def test_the_table_beside_spin_on_a_sample(tmp_path):
+    """The table's cells are the check's, SPIN's stored verdicts stand beside them (they agree),
+    and every failure's trace is written and replays."""
+    spin = table_of.load_spin(SPIN_RESULTS)
+    t = table_of.table(["vig-2cols", "to-half"], ["fsync", "async", "async-lc-atomic"],
+                       spin=spin, traces=tmp_path)
+    assert len(t["cells"]) == 2 * 3 * 4 and t["compared"] == 24 and not t["disagreements"]
+    for c in t["cells"]:
+        r = run_rendezvous_check(c["algorithm"], c["scheduler"], movement=c["movement"],
+                                 initial_colours=c["initial_colours"])
+        assert (c["verdict"], c["states"]) == (r["verdict"], r["states"])
+        assert ("trace" in c) == (c["verdict"] == "VIOLATED")
+        if "trace" in c:
+            assert replay_rendezvous(json.loads((tmp_path / c["trace"]).read_text())).confirmed
+    text = table_of.markdown(t)
+    assert "| vig-2cols | ✓✓✓✓ = | ✗✗✗✗ = | ✓✓✓✓ = |" in text
+
+
+def test_a_disagreement_with_spin_is_shown():
+    spin = table_of.load_spin(SPIN_RESULTS)
+    key = "vig-2cols|async|rigid|all"
+    spin = {key: {**spin[key], "verdict": "PASS"}}  # as if SPIN had verified it
+    t = table_of.table(["vig-2cols"], ["async"], ["rigid"], ["all"], spin=spin)
+    assert [c["verdict"] for c in t["disagreements"]] == ["VIOLATED"]
+    assert "✗ ≠" in table_of.markdown(t)
+
+
+def test_the_sweep_command_rebuilds_the_table(tmp_path):
+    out = tmp_path / "table.md"
+    done = _cli("sweep", "--world", "rendezvous", "--algorithm", "vig-3cols",
+                "--scheduler", "async,async-regular", "--movement", "rigid",
+                "--spin", str(SPIN_RESULTS), "--markdown", str(out), "--json")
+    assert done.returncode == 0, done.stderr
+    cells = json.loads(done.stdout)["cells"]
+    assert [(c["scheduler"], c["verdict"], c["spin"]) for c in cells] == [
+        ("async", "VERIFIED", "VERIFIED"), ("async", "VERIFIED", "VERIFIED"),
+        ("async-regular", "VIOLATED", "VIOLATED"), ("async-regular", "VIOLATED", "VIOLATED")]
+    assert "| vig-3cols | ✓✓ = | ✗✗ = |" in out.read_text()
+    done = _cli("sweep", "--world", "rendezvous", "--robots", "2")
+    assert done.returncode == 2 and "--robots" in done.stderr
+    done = _cli("sweep", "--world", "ring:5", "--robots", "2", "--movement", "rigid")
+    assert done.returncode == 2 and "rendezvous" in done.stderr
+    done = _cli("sweep", "--world", "ring:5")
+    assert done.returncode == 2 and "--robots" in done.stderr
