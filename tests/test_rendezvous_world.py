@@ -234,3 +234,21 @@ def test_the_sweep_command_rebuilds_the_table(tmp_path):
     assert done.returncode == 2 and "rendezvous" in done.stderr
     done = _cli("sweep", "--world", "ring:5")
     assert done.returncode == 2 and "--robots" in done.stderr
+
+
+def test_the_picture_draws_every_step(tmp_path):
+    """``--html`` draws one frame per step: the segment, both robots with their lights, the
+    pending moves (a miss dashed and crossed), the robots of the step outlined."""
+    from gather_verify.rendezvous_picture import trace_html
+
+    trace = run_rendezvous_check("vig-2cols", "async", movement="rigid")["trace"]
+    page = trace_html(trace)
+    assert page.count("<svg class='step'") == len(trace["steps"])
+    misses = [k for k, s in enumerate(trace["steps"])
+              if any(r["pending"] == "miss" for r in s["state"]["robots"])]
+    assert misses and page.count("stroke-dasharray") >= len(misses)
+    out = tmp_path / "v.html"
+    done = _cli("check", "--world", "rendezvous", "--algorithm", "vig-2cols", "--scheduler",
+                "async", "--movement", "rigid", "--html", str(out))
+    assert done.returncode == 1 and out.read_text().count("<svg class='step'") == len(
+        trace["steps"])

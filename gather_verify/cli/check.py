@@ -342,7 +342,7 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
 
 RENDEZVOUS_TAKES = ("algorithm", "scheduler", "movement", "initial_colours", "max_states",
                     "max_seconds", "max_memory", "json", "timings", "trace_out", "progress",
-                    "world", "engine")
+                    "world", "engine", "html")
 """The options the rendezvous world takes; any other given is refused in one line."""
 
 
@@ -365,7 +365,7 @@ def run_rendezvous(args: argparse.Namespace) -> int:
                          "or reference")
     if not args.algorithm or not args.scheduler:
         raise UsageError("give --algorithm and --scheduler on the rendezvous world")
-    writable_outputs(trace_out=args.trace_out)
+    writable_outputs(trace_out=args.trace_out, html=args.html)
     with _progress(args):
         report = run_rendezvous_check(
             args.algorithm, args.scheduler, movement=args.movement or "non-rigid",
@@ -375,6 +375,10 @@ def run_rendezvous(args: argparse.Namespace) -> int:
     if args.trace_out and report["trace"] is not None:
         Path(args.trace_out).write_text(json.dumps(report["trace"], indent=1) + "\n",
                                         encoding="utf-8")
+    if args.html and report["trace"] is not None:
+        from gather_verify.rendezvous_picture import trace_html
+
+        Path(args.html).write_text(trace_html(report["trace"]), encoding="utf-8")
     if args.json:
         print_json(report if args.timings else without_timings(report))
     else:

@@ -102,14 +102,19 @@ def run_rendezvous(args: argparse.Namespace, trace: dict[str, Any]) -> int:
     from gather_verify.rendezvous_check import render_rendezvous_trace, replay_rendezvous
     from gather_verify.replay import NoLongerReproduces, Replayed
 
-    if args.property or args.svg or args.html:
-        raise InvalidInput("a rendezvous trace takes no --property, --svg or --html")
+    if args.property or args.svg:
+        raise InvalidInput("a rendezvous trace takes no --property or --svg (--html draws it)")
     try:
         result = replay_rendezvous(trace)
         why = "property-holds"
     except NoLongerReproduces as error:
         result = Replayed(False, str(error), len(trace["steps"]) - 1)
         why = "step-not-taken"
+    if args.html:
+        from gather_verify.rendezvous_picture import trace_html
+
+        Path(args.html).write_text(trace_html(trace), encoding="utf-8")
+        args.html = None  # drawn here: the graph worlds' viewer does not draw the plane
     return _answer(args, trace, result, why, render_rendezvous_trace, {"world": "rendezvous"})
 
 

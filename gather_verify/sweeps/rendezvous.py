@@ -72,7 +72,7 @@ def table(algorithms: Sequence[str], models: Sequence[str], movements: Sequence[
             "transitions": r["transitions"], "seconds": time.perf_counter() - started}
         theirs = (spin or {}).get(f"{name}|{model}|{movement}|{initial}")
         if theirs is not None:
-            cell["spin"] = SPIN_VERDICT.get(theirs.get("verdict"), "INCOMPLETE")
+            cell["spin"] = SPIN_VERDICT.get(str(theirs.get("verdict")), "INCOMPLETE")
             cell["spin_seconds"] = theirs.get("seconds")
             cell["spin_search_seconds"] = theirs.get("search_seconds")
             if cell["spin"] != "INCOMPLETE" and cell["spin"] != cell["verdict"]:
