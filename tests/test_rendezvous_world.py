@@ -252,3 +252,31 @@ def test_the_picture_draws_every_step(tmp_path):
                 "async", "--movement", "rigid", "--html", str(out))
     assert done.returncode == 1 and out.read_text().count("<svg class='step'") == len(
         trace["steps"])
+
+
+def test_a_rendezvous_scenario_is_checked_and_tested(tmp_path):
+    """A scenario of the rendezvous world: its expectations run through the one check, its
+    stored trace replays; a wrong expectation fails; fields of other worlds are refused."""
+    from gather_verify.scenario import ScenarioError, parse_scenario
+    from gather_verify.scenario_tests import cases
+
+    trace = run_rendezvous_check("to-other", "fsync", movement="rigid")["trace"]
+    data = {"world": "rendezvous", "algorithm": "to-other", "scheduler": "fsync",
+            "movement": "rigid",
+            "expect": {"verdicts": [
+                {"algorithm": "to-other", "scheduler": "fsync", "verdict": "VIOLATED",
+                 "property": "rendezvous"},
+                {"algorithm": "to-other", "scheduler": "centralized", "verdict": "VERIFIED"}]},
+            "trace": trace}
+    outcomes = [c.run() for c in cases(parse_scenario(data, "s.json"))]
+    assert len(outcomes) == 3 and all(o.passed for o in outcomes), outcomes
+    wrong = {**data, "expect": {"verdicts": [{"algorithm": "to-other", "scheduler": "fsync",
+                                              "verdict": "VERIFIED"}]}}
+    assert not [c.run() for c in cases(parse_scenario(wrong, "s.json"))][0].passed
+    with pytest.raises(ScenarioError, match="no field of a rendezvous scenario"):
+        parse_scenario({**data, "robots": [0, 1]}, "s.json")
+    with pytest.raises(ScenarioError, match="unknown synchrony model"):
+        parse_scenario({**data, "scheduler": "round-robin"}, "s.json")
+    with pytest.raises(ScenarioError, match="rendezvous world"):
+        parse_scenario({"robots": [[0, 0]], "meeting_nodes": [[1, 1]], "movement": "rigid"},
+                       "s.json")

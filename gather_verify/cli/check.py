@@ -142,6 +142,8 @@ def run(args: argparse.Namespace) -> int:
         from gather_verify.scenario import load_scenario
 
         scenario = load_scenario(args.scenario)
+        if scenario.world == RENDEZVOUS:
+            return run_rendezvous(args, scenario)
         if entry_of(scenario.world) == FINITE:
             return run_world(args, scenario)
     # the paper's world (Z²): its engines, imported here, not by a finite world's check
@@ -346,15 +348,16 @@ RENDEZVOUS_TAKES = ("algorithm", "scheduler", "movement", "initial_colours", "ma
 """The options the rendezvous world takes; any other given is refused in one line."""
 
 
-def run_rendezvous(args: argparse.Namespace) -> int:
-    """``check --world rendezvous``: two robots with lights in the plane under one of §13's
-    synchrony models (:mod:`gather_verify.rendezvous_check`)."""
+def run_rendezvous(args: argparse.Namespace, scenario: Scenario | None = None) -> int:
+    """``check --world rendezvous`` (or a rendezvous scenario file): two robots with lights in
+    the plane under one of §13's synchrony models (:mod:`gather_verify.rendezvous_check`)."""
     from gather_verify.rendezvous_check import render_rendezvous_trace, run_rendezvous_check
 
     defaults = {"engine": "auto", "max_states": DEFAULT_MAX_STATES,
                 "max_seconds": DEFAULT_MAX_SECONDS, "move_bound_c": 4.0}
     for option, value in vars(args).items():
-        if option in RENDEZVOUS_TAKES or option in ("command", "func") or callable(value):
+        if option in RENDEZVOUS_TAKES or option in ("command", "func", "scenario") or callable(
+                value):
             continue
         if value not in (None, False, [], defaults.get(option)):
             raise UsageError(f"--{option.replace('_', '-')} is no option of the rendezvous "
@@ -363,13 +366,17 @@ def run_rendezvous(args: argparse.Namespace) -> int:
     if args.engine == "bulk":
         raise UsageError("the bulk engine cannot run the rendezvous world: use --engine auto "
                          "or reference")
-    if not args.algorithm or not args.scheduler:
+    raw = scenario.raw if scenario is not None else {}
+    algorithm = args.algorithm or (scenario.algorithm if scenario else None)
+    scheduler = args.scheduler or (scenario.scheduler if scenario else None)
+    if not algorithm or not scheduler:
         raise UsageError("give --algorithm and --scheduler on the rendezvous world")
     writable_outputs(trace_out=args.trace_out, html=args.html)
     with _progress(args):
         report = run_rendezvous_check(
-            args.algorithm, args.scheduler, movement=args.movement or "non-rigid",
-            initial_colours=args.initial_colours or "all", max_states=args.max_states,
+            algorithm, scheduler, movement=args.movement or raw.get("movement", "non-rigid"),
+            initial_colours=args.initial_colours or raw.get("initial_colours", "all"),
+            max_states=args.max_states,
             max_seconds=args.max_seconds,
             **({} if args.max_memory is None else {"max_memory_mb": args.max_memory}))
     if args.trace_out and report["trace"] is not None:
@@ -379,6 +386,9 @@ def run_rendezvous(args: argparse.Namespace) -> int:
         from gather_verify.rendezvous_picture import trace_html
 
         Path(args.html).write_text(trace_html(report["trace"]), encoding="utf-8")
+    expected = _expectation(scenario, algorithm, scheduler, report)
+    if expected is not None:
+        report["expectation"] = expected
     if args.json:
         print_json(report if args.timings else without_timings(report))
     else:
@@ -390,6 +400,11 @@ def run_rendezvous(args: argparse.Namespace) -> int:
               f"initial states {report['initial_states']}  {report['seconds']:.2f}s")
         if report["trace"] is not None:
             print(render_rendezvous_trace(report["trace"]))
+        if expected is not None:
+            print(f"expectation of {args.scenario}: "
+                  + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
+    if expected is not None:
+        return EXIT_OK if expected["matched"] else EXIT_VIOLATED
     return VERDICT_EXIT[report["verdict"]]
 
 
