@@ -136,11 +136,19 @@ def _rendezvous(args: argparse.Namespace) -> int:
     initial colours (:mod:`gather_verify.sweeps.rendezvous`); no database."""
     from gather_verify.sweeps import rendezvous as table
 
-    for option in ("robots", "meeting", "box", "task", "visibility", "lights", "readings"):
-        if getattr(args, option) is not None:
-            raise InvalidInput(f"--{option} is no option of the rendezvous world: it takes "
-                               "--algorithm, --scheduler, --movement, --initial-colours, "
-                               "--spin, --traces and --markdown")
+    defaults = {"db": DEFAULT_DB, "multiplicity": "local-weak", "frames": "all",
+                "engine": "union", "move_bound_c": 4.0, "readings_on": "all"}
+    takes = {"algorithm", "scheduler", "movement", "initial_colours", "spin", "traces",
+             "markdown", "json", "timings", "world", "max_states_per_config",
+             "max_seconds_per_config", "max_memory_mb", "command"}
+    for option, value in vars(args).items():
+        if option in takes or callable(value) or value in (None, False, []) or \
+                value == defaults.get(option):
+            continue
+        raise InvalidInput(f"--{option.replace('_', '-')} is no option of the rendezvous world "
+                           "(a table of milliseconds per cell, no database): it takes "
+                           "--algorithm, --scheduler, --movement, --initial-colours, --spin, "
+                           "--traces and --markdown")
     algorithms, models = table.check_known(args.algorithm, args.scheduler)
     spin = table.load_spin(args.spin) if args.spin else None
     result = table.table(algorithms, models,
