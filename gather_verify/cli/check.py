@@ -44,13 +44,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_configuration_arguments(parser)
     parser.add_argument("--world", help="the graph the robots live on: grid (Z², the paper's, "
                         "default), grid:WxH, ring:N, torus:WxH or graph:FILE (docs/worlds.md)")
-    parser.add_argument("--movement", choices=("rigid", "non-rigid"), default=None,
-                        help="on the rendezvous world: rigid moves end where they aim; "
-                             "non-rigid ones may stop early (default non-rigid; "
-                             "docs/rendezvous.md)")
-    parser.add_argument("--initial-colours", choices=("all", "same"), default=None,
-                        help="on the rendezvous world: every pair of initial colours, or one "
-                             "colour for both (default all)")
+    _rendezvous_options(parser)
     parser.add_argument("--task", help="on a finite world: gathering, "
                         "gathering-on-meeting-nodes (default with meeting nodes), "
                         "exclusive-perpetual-exploration or exploration-with-stop")
@@ -127,22 +121,26 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "(left out by default so the output is byte-for-byte reproducible)")
 
 
+def _rendezvous_options(parser: argparse.ArgumentParser) -> None:
+    """The options of the rendezvous world (two robots with lights in the plane)."""
+    parser.add_argument("--movement", choices=("rigid", "non-rigid"), help="on the "
+                        "rendezvous world (docs/rendezvous.md): default non-rigid")
+    parser.add_argument("--initial-colours", choices=("all", "same"), help="on the "
+                        "rendezvous world: every pair, or one colour for both (default all)")
+
+
 def run(args: argparse.Namespace) -> int:
     from gather_verify.worlds import FINITE, entry_of
-    from gather_verify.worlds.rendezvous import RENDEZVOUS
 
-    if entry_of(args.world) == RENDEZVOUS:
+    if _plane_of_lights(args):
         return run_rendezvous(args)
-    if args.movement or args.initial_colours:
-        raise UsageError("--movement and --initial-colours are options of the rendezvous "
-                         "world (--world rendezvous)")
     if entry_of(args.world) == FINITE:
         return run_world(args)
     if args.scenario:
         from gather_verify.scenario import load_scenario
 
         scenario = load_scenario(args.scenario)
-        if scenario.world == RENDEZVOUS:
+        if scenario.world == "rendezvous":
             return run_rendezvous(args, scenario)
         if entry_of(scenario.world) == FINITE:
             return run_world(args, scenario)
@@ -253,6 +251,19 @@ def run(args: argparse.Namespace) -> int:
     if expected is not None:  # a scenario test: matched is success, whatever the verdict
         return EXIT_OK if expected["matched"] else EXIT_VIOLATED
     return VERDICT_EXIT[report["verdict"]]
+
+
+def _plane_of_lights(args: argparse.Namespace) -> bool:
+    """Whether ``--world rendezvous`` is asked for (its options refused on any other world)."""
+    from gather_verify.worlds import entry_of
+    from gather_verify.worlds.rendezvous import RENDEZVOUS
+
+    if entry_of(args.world) == RENDEZVOUS:
+        return True
+    if args.movement or args.initial_colours:
+        raise UsageError("--movement and --initial-colours are options of the rendezvous "
+                         "world (--world rendezvous)")
+    return False
 
 
 def _progress(args: argparse.Namespace) -> Reporter:

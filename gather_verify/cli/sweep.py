@@ -48,26 +48,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--lights", default=None, metavar="K[:external|internal]",
                    help="luminous robots with K colours, all starting at 0 (on Z² each "
                         "configuration is checked on its own, by the bulk engine)")
-    p.add_argument("--initial-colours", choices=("all", "same"), default=None,
-                   help="with --lights: every initial colouring of the robots up to the "
-                        "configuration's symmetries, not only all 0; on the rendezvous world: "
-                        "all (every pair) or same (one colour for both; default: both tables)")
-    p.add_argument("--algorithm", default=None,
-                   help="a name, FILE.py:NAME or package.module:NAME (docs/algorithms.md; "
-                        "default paper); on the rendezvous world: names, comma-separated, or "
-                        "all (the default)")
-    p.add_argument("--scheduler", default=None, metavar="NAME",
-                   help=f"the adversary: {', '.join(SCHEDULERS)} (default async); on the "
-                        "rendezvous world: §13's models, comma-separated, or all (the default)")
-    p.add_argument("--movement", choices=("rigid", "non-rigid"), default=None,
-                   help="on the rendezvous world: rigid or non-rigid moves (default: both)")
-    p.add_argument("--spin", metavar="FILE",
-                   help="on the rendezvous world: the SPIN harness's results "
-                        "(bench/spin/light/results.json), put beside our verdicts")
-    p.add_argument("--traces", metavar="DIR",
-                   help="on the rendezvous world: write each failing cell's trace here")
-    p.add_argument("--markdown", metavar="FILE",
-                   help="on the rendezvous world: write the table as Markdown")
+    p.add_argument("--initial-colours", choices=("all", "same"), help="with --lights: every "
+                   "colouring up to symmetry, not only all 0; rendezvous: all or same")
+    p.add_argument("--algorithm", default=None, help="a name, FILE.py:NAME or package."
+                   "module:NAME (default paper); rendezvous: A,B,... or all (default)")
+    p.add_argument("--scheduler", default=None, metavar="NAME", help=f"the adversary: "
+                   f"{', '.join(SCHEDULERS)} (default async); rendezvous: M,N,... or all")
+    _rendezvous_arguments(p)
     p.add_argument("--multiplicity", default="local-weak", help="detection model")
     p.add_argument("--frames", default="all", choices=("all", "chirality", "compass"))
     p.add_argument("--property", action="append", dest="properties", metavar="P",
@@ -131,6 +118,34 @@ def count_range(text: str) -> range:
     return range(first, last + 1)
 
 
+def _robots_world(args: argparse.Namespace) -> None:
+    """A sweep of robots on nodes (Z² or a finite world): the rendezvous world's options
+    refused, ``--robots`` required, the algorithm and scheduler defaults (paper, async)."""
+    for option in ("movement", "spin", "traces", "markdown"):
+        if getattr(args, option) is not None:
+            raise InvalidInput(f"--{option} is an option of the rendezvous world "
+                               "(--world rendezvous)")
+    if args.initial_colours == "same":
+        raise InvalidInput("--initial-colours same is an option of the rendezvous world")
+    if args.robots is None:
+        raise InvalidInput("gather-verify sweep: the following arguments are required: --robots")
+    args.algorithm = "paper" if args.algorithm is None else args.algorithm
+    args.scheduler = "async" if args.scheduler is None else args.scheduler
+
+
+def _rendezvous_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of the rendezvous world's table."""
+    p.add_argument("--movement", choices=("rigid", "non-rigid"), default=None,
+                   help="on the rendezvous world: rigid or non-rigid moves (default: both)")
+    p.add_argument("--spin", metavar="FILE",
+                   help="on the rendezvous world: the SPIN harness's results "
+                        "(bench/spin/light/results.json), put beside our verdicts")
+    p.add_argument("--traces", metavar="DIR",
+                   help="on the rendezvous world: write each failing cell's trace here")
+    p.add_argument("--markdown", metavar="FILE",
+                   help="on the rendezvous world: write the table as Markdown")
+
+
 def _rendezvous(args: argparse.Namespace) -> int:
     """``sweep --world rendezvous``: the table, algorithm x synchrony model x movement x
     initial colours (:mod:`gather_verify.sweeps.rendezvous`); no database."""
@@ -185,16 +200,7 @@ def run(args: argparse.Namespace) -> int:
 
     if entry_of(args.world) == RENDEZVOUS:
         return _rendezvous(args)
-    for option in ("movement", "spin", "traces", "markdown"):
-        if getattr(args, option) is not None:
-            raise InvalidInput(f"--{option} is an option of the rendezvous world "
-                               "(--world rendezvous)")
-    if args.initial_colours == "same":
-        raise InvalidInput("--initial-colours same is an option of the rendezvous world")
-    if args.robots is None:
-        raise InvalidInput("gather-verify sweep: the following arguments are required: --robots")
-    args.algorithm = "paper" if args.algorithm is None else args.algorithm
-    args.scheduler = "async" if args.scheduler is None else args.scheduler
+    _robots_world(args)
     get_scheduler(args.scheduler)  # an unknown name fails before any work
     if entry_of(args.world) == FINITE:
         return _worlds(args)
