@@ -228,7 +228,7 @@ def verify(certificate: dict[str, Any]) -> bool:
         if view not in all_views or view in table or not isinstance(children, list) \
                 or len(children) != len(answers(setting.colours)):
             return False
-        key = cast(View, view)
+        key: View = view
         for answer, child in zip(answers(setting.colours), children, strict=True):
             table[key] = answer
             ok = holds(child, table)
