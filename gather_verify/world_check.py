@@ -15,16 +15,19 @@ found failing on the way is still VIOLATED: its trace is real).
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from typing import Any, cast
 
 from gather_verify import pipeline
 from gather_verify.algorithms import Algorithm, get_algorithm
 from gather_verify.engine import world_bulk
+from gather_verify.engine.bounds import SetupStopped, setup
 from gather_verify.engine.encoding import (
     DEFAULT_MAX_MEMORY_MB,
     DEFAULT_MAX_SECONDS,
     DEFAULT_MAX_STATES,
     Limits,
+    Stop,
 )
 from gather_verify.engine.world_search import WorldSearch, WorldState, search
 from gather_verify.errors import InvalidInput
@@ -79,12 +82,20 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
     ``auto`` (the default: the bulk engine when it can, else the reference). Both find the
     same search (``tests/test_world_bulk.py``); the report names the engine that ran
     (``engine``) and, when ``auto`` fell back to the reference, why (``engine_fallback``)."""
-    checker = WorldCheck(world, robots, meeting, algorithm, scheduler, task=task,
-                         properties=properties, detection=detection, frames=frames,
-                         visibility=visibility, lights=lights, colours=colours,
-                         reduction=reduction, engine=engine,
-                         limits=Limits(max_states=max_states, max_seconds=max_seconds,
-                                       max_memory_mb=max_memory_mb))
+    started = time.perf_counter()
+    limits = Limits(max_states=max_states, max_seconds=max_seconds,
+                    max_memory_mb=max_memory_mb)
+    try:
+        checker = WorldCheck(world, robots, meeting, algorithm, scheduler, task=task,
+                             properties=properties, detection=detection, frames=frames,
+                             visibility=visibility, lights=lights, colours=colours,
+                             reduction=reduction, engine=engine, limits=limits)
+    except SetupStopped as stop:  # a limit stopped the setup: INCOMPLETE, nothing claimed
+        nodes, at = [x.split() if isinstance(x, str) else list(x) for x in (robots, meeting)]
+        name = world if isinstance(world, str) else world.name
+        return stopped_report(stop.stop, stop.reason, name, task or default_task(at),
+                              algorithm, scheduler, detection, frames, visibility, nodes, at,
+                              lights, started)
     return pipeline.run(checker, max_seconds)
 
 
@@ -101,11 +112,43 @@ class WorldCheck:
                  reduction: bool, engine: str, limits: Limits):
         self.started = time.perf_counter()
         pipeline.engine_plan(engine, lambda: None)  # an unknown engine: one line, first
+        name = world if isinstance(world, str) else world.name
+        with setup(f"building {name} and what its search needs", limits.max_seconds,
+                   limits.max_memory_mb):  # the setup is bounded by the limits too
+            self.resolve(world, robots, meeting, algorithm, scheduler, task, properties,
+                         frames, visibility, lights, colours, reduction, limits)
+        w, r, m, t = self.world, self.robots, self.meeting, self.task
+        self.reductions = (reductions_used(getattr(self.sched, "stateful", False))
+                           if self.reduce else "off: liveness needs robot identities"
+                           if reduction and self.liveness else "off: a phase scheduler's "
+                           "records name the robots" if reduction and self.phased else "off")
+        self.request = {"scheduler": scheduler, "detection": detection, "frames": frames,
+                        "visibility": visibility}
+        self.colours = colours
+        self.limits = replace(limits, max_seconds=max(  # the search has the time left
+            0.0, limits.max_seconds - (time.perf_counter() - self.started)))
+        self.moves = WorldMoves(w, self.algo, frozenset(m), detection, frames, visibility,
+                                self.light)
+        self.bulk, self.fallback = pipeline.engine_plan(engine, lambda: world_bulk.unsupported(
+            w, len(r), self.sched, self.light.colours, visits=t.visits, anonymity=self.reduce,
+            symmetries=self.symmetries, meeting=frozenset(m)))
+
+    def resolve(self, world: str | World, robots: str | list[int], meeting: str | list[int],
+                algorithm: str | Algorithm, scheduler: str, task: str | None,
+                properties: list[str] | None, frames: str, visibility: int | None,
+                lights: str | None, colours: list[int] | None, reduction: bool,
+                limits: Limits) -> None:
+        """The request resolved (under the setup's limits): the world and its nodes, the
+        algorithm (its file imported within the time limit), the scheduler, the lights, the
+        task and its parts, the symmetries, and the frames of the first views (a graph
+        file's automorphisms)."""
         w = self.world = finite_world(world) if isinstance(world, str) else world
         r = self.robots = w.parse_nodes(robots) if isinstance(robots, str) else list(robots)
         m = self.meeting = w.parse_nodes(meeting) if isinstance(meeting, str) else list(meeting)
         if not r:
             raise InvalidInput("no robots: give at least one robot node")
+        distinct(w, r, "robots", "an initial configuration has robots on distinct nodes")
+        distinct(w, m, "meeting nodes", "give each meeting node once")
         if visibility is not None and visibility < 0:
             raise InvalidInput(f"visibility {visibility} is negative: give a number of hops >= 0")
         self.algo = pipeline.user_code(limits.max_seconds, lambda: get_algorithm(algorithm)
@@ -115,27 +158,13 @@ class WorldCheck:
         pipeline.check_colours(colours, len(r), self.light.colours)
         t = self.task = get_task(task or default_task(m))
         self.parts = _parts(t, properties, w)
-        if t.needs_meeting and not m:
-            raise InvalidInput(f"task {t.name} needs meeting nodes: give --meeting")
-        if t.visits and w.size > 62:
-            raise InvalidInput(f"task {t.name} tracks visited nodes in the state: {w.name} has "
-                               f"{w.size} nodes, at most 62 are supported")
-        liveness = any(p in t.liveness for p in self.parts)
-        phased = getattr(self.sched, "phased", False)
-        self.reduce = reduction and not liveness and not phased
-        self.reductions = (reductions_used(getattr(self.sched, "stateful", False))
-                           if self.reduce else "off: liveness needs robot identities"
-                           if reduction and liveness else "off: a phase scheduler's records "
-                           "name the robots" if reduction and phased else "off")
-        self.request = {"scheduler": scheduler, "detection": detection, "frames": frames,
-                        "visibility": visibility}
-        self.colours, self.limits = colours, limits
-        self.moves = WorldMoves(w, self.algo, frozenset(m), detection, frames, visibility,
-                                self.light)
+        check_task(t, w, m)
+        self.liveness = any(p in t.liveness for p in self.parts)
+        self.phased = getattr(self.sched, "phased", False)  # its records name the robots
+        self.reduce = reduction and not self.liveness and not self.phased
         self.symmetries = w.symmetries(frames) if self.reduce else ()
-        self.bulk, self.fallback = pipeline.engine_plan(engine, lambda: world_bulk.unsupported(
-            w, len(r), self.sched, self.light.colours, visits=t.visits, anonymity=self.reduce,
-            symmetries=self.symmetries, meeting=frozenset(m)))
+        for v in set(r):
+            w.frames(v, visibility, frames)
 
     def search(self, watch: pipeline.Watch) -> WorldSearch:
         PROGRESS.doing = "exploring"
@@ -213,15 +242,60 @@ class WorldCheck:
                 "meeting_nodes": [w.node_to_json(v) for v in self.meeting]}
 
     def overtime(self, seconds: float, watch: pipeline.Watch) -> dict[str, Any]:
-        return {
-            **self.head("INCOMPLETE"), "property": None,
-            "reason": pipeline.overtime_reason(seconds), "stopped": "time",
-            "states": PROGRESS.states, "transitions": 0, "lights": str(self.light),
-            "reductions": self.reductions,
-            "properties": {name: {"holds": None, "reason": "the search stopped (time)"}
-                           for name in [*self.parts, *PSEUDO]},
-            "trace": None, "seconds": time.perf_counter() - self.started,
-        }
+        w = self.world
+        report = stopped_report(
+            Stop.TIME, pipeline.overtime_reason(seconds), w.name, self.task.name,
+            self.algo.name, self.request["scheduler"], self.request["detection"],
+            self.request["frames"], self.request["visibility"],
+            [w.node_to_json(v) for v in self.robots], [w.node_to_json(v) for v in self.meeting],
+            str(self.light), self.started, self.parts)
+        report["reductions"] = self.reductions
+        report["engine"] = "bulk" if self.bulk else "reference"
+        if self.fallback is not None:
+            report["engine_fallback"] = self.fallback
+        return report
+
+
+def stopped_report(stop: Stop, reason: str, world: str, task: str | None, algorithm: Any,
+                   scheduler: str, detection: str, frames: str, visibility: int | None,
+                   robots: Any, meeting: Any, lights: str | None, started: float,
+                   parts: list[str] | None = None) -> dict[str, Any]:
+    """The INCOMPLETE report of a check a limit stopped before its search could report
+    (the setup, or the watchdog over the user's code): ``reason`` names the limit and the
+    step, every property is unknown, nothing is claimed."""
+    if parts is None:
+        parts = list(get_task(task).parts) if task in TASKS else []
+    names = [*parts, *PSEUDO]
+    return {
+        "verdict": "INCOMPLETE", "world": world, "task": task, "scheduler": scheduler,
+        "algorithm": algorithm if isinstance(algorithm, str) else getattr(algorithm, "name", "?"),
+        "detection": detection, "frames": frames, "visibility": visibility,
+        "robots": robots, "meeting_nodes": meeting, "property": None, "reason": reason,
+        "stopped": str(stop), "states": PROGRESS.states, "transitions": 0,
+        "engine": "none (stopped before the search)", "lights": str(lights or 1),
+        "reductions": "-",
+        "properties": {name: {"holds": None, "reason": f"the check stopped ({stop})"}
+                       for name in names},
+        "trace": None, "seconds": time.perf_counter() - started,
+    }
+
+
+def distinct(world: World, nodes: list[int], what: str, rule: str) -> None:
+    """One line naming the first node given twice (as the paper's world refuses it)."""
+    seen: set[int] = set()
+    for v in nodes:
+        if v in seen:
+            raise InvalidInput(f"{what}: node {world.format_node(v)} is given twice ({rule})")
+        seen.add(v)
+
+
+def check_task(task: Task, world: World, meeting: list[int]) -> None:
+    """The task can run here: its meeting nodes given, its visited set small enough."""
+    if task.needs_meeting and not meeting:
+        raise InvalidInput(f"task {task.name} needs meeting nodes: give --meeting")
+    if task.visits and world.size > 62:
+        raise InvalidInput(f"task {task.name} tracks visited nodes in the state: {world.name} "
+                           f"has {world.size} nodes, at most 62 are supported")
 
 
 def reductions_used(stateful: bool) -> str:

@@ -43,6 +43,9 @@ from gather_verify.progress import PROGRESS
 
 EVENT_GRAIN = 1023
 """The limits are read again every 1,024 events of one state (``k & EVENT_GRAIN == 0``)."""
+EVENT_CUT = EVENT_GRAIN + 1
+"""So a state's expansion stops once the states stored pass ``max_states`` by at most this
+many (a bulk engine weighs a round's events against the same bound)."""
 MEMORY_GRAIN = 4095
 """The memory is read every 4,096 states."""
 
@@ -146,10 +149,10 @@ def breadth_first(model: Model, limits: Limits = NO_LIMITS) -> Walked:
             break
         for k, (event, succ) in enumerate(events, 1):
             transitions += 1
-            if k & EVENT_GRAIN == 0 and (len(stored) > limits.max_states or
-                                         time.perf_counter() - started > limits.max_seconds):
-                stopped = Stop.STATES if len(stored) > limits.max_states else Stop.TIME
-                break
+            if k & EVENT_GRAIN == 0:
+                stopped = _inside_limit(limits, started, len(stored))
+                if stopped:  # a round of very many events: its events cut here
+                    break
             if not model.inside(succ):
                 stopped = Stop.REGION
                 break
@@ -175,3 +178,15 @@ def breadth_first(model: Model, limits: Limits = NO_LIMITS) -> Walked:
             break
     return Walked(stored, parents, seeds, transitions, stopped, max(peak, rss_mb()),
                   time.perf_counter() - started)
+
+
+def _inside_limit(limits: Limits, started: float, stored: int) -> str | None:
+    """The limit a state of very many events has passed while it is expanded, if any: a
+    round of 20 robots of two moves each makes 2**20 of them."""
+    if stored > limits.max_states:
+        return Stop.STATES
+    if time.perf_counter() - started > limits.max_seconds:
+        return Stop.TIME
+    if rss_mb() > limits.max_memory_mb:
+        return Stop.MEMORY
+    return None

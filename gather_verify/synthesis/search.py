@@ -36,7 +36,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
-from gather_verify.engine.encoding import Limits
+from gather_verify.engine.encoding import DEFAULT_MAX_MEMORY_MB, Limits
 from gather_verify.engine.world_search import Halt, WorldSearch, search
 from gather_verify.errors import InvalidInput
 from gather_verify.synthesis.certificate import (
@@ -122,7 +122,8 @@ def solver_class() -> Callable[..., Any]:
 def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
                max_candidates: int = DEFAULT_MAX_CANDIDATES,
                max_states: int = DEFAULT_MAX_STATES, max_tree: int = DEFAULT_MAX_TREE,
-               views: Views | None = None) -> Result:
+               views: Views | None = None,
+               max_memory_mb: float = DEFAULT_MAX_MEMORY_MB) -> Result:
     """Search for a table that solves ``inst`` from every initial configuration."""
     started = time.perf_counter()
     views = views or Views(inst)
@@ -183,7 +184,8 @@ def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
                     left = max_seconds - (time.perf_counter() - started)
                     s, findings = explore(inst, views, choice, idx, reached,
                                           Limits(max_states=max_states,
-                                                 max_seconds=max(left, 0.001)))
+                                                 max_seconds=max(left, 0.001),
+                                                 max_memory_mb=max_memory_mb))
                     explored += s.states
                     if s.stopped is not None:
                         limit = {"time": "max-seconds", "states": "max-states",
@@ -537,7 +539,11 @@ def _scheduler(inst: Instance) -> Any:
 
 
 def certificate_stats(result: Result) -> dict[str, Any]:
+    """What a certificate's ``stats`` hold: the views the search met, its candidates, the
+    counterexamples, the decision tree's questions (inner nodes) and leaves, and the views
+    the counterexamples rely on (the certificate's list, what ``--verify`` counts)."""
     inner, leaves = tree_size(result.tree)
     return {"views": result.views, "candidates": result.candidates,
             "counterexamples": len(result.counterexamples), "tree_nodes": inner,
-            "tree_leaves": leaves}
+            "tree_leaves": leaves,
+            "tree_views": len({k for lits in result.literals for k in lits})}

@@ -84,8 +84,9 @@ def make_instance(world: str, robots: str, meeting: str, scheduler: str, task: s
     the synthesis cannot take."""
     w = get_world(world)
     if not isinstance(w, World) or w.entry != FINITE:
-        raise InvalidInput("synthesize runs on a finite world (--world ring:N, grid:WxH, "
-                           "torus:WxH or graph:FILE); the paper's world Z² is not built yet")
+        raise InvalidInput("these views are a finite world's (--world ring:N, grid:WxH, "
+                           "torus:WxH or graph:FILE); the paper's world Z² has its own "
+                           "synthesis: synthesize --world grid")
     check_detection(detection)
     not_phased(scheduler, "in synthesis (not built yet)")
     sched = get_scheduler(scheduler)
