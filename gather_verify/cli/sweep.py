@@ -202,7 +202,12 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.fingerprint import files_fingerprint
     from gather_verify.properties.registry import absolute_spec as absolute_property
     from gather_verify.sweeps.store import check_db_path
+    from gather_verify.worlds import entry_of
+    from gather_verify.worlds.rendezvous import RENDEZVOUS
 
+    if entry_of(args.world) == RENDEZVOUS:
+        return _rendezvous(args)
+    _robots_world(args)
     check_db_path(args.db)
     args.fingerprint_extra = [os.path.abspath(f) for f in args.fingerprint_extra]
     files_fingerprint(args.fingerprint_extra)  # an unreadable file fails before any work
@@ -219,12 +224,8 @@ def _run(args: argparse.Namespace) -> int:
     from gather_verify.sweeps.census import validate_census_arguments
     from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
     from gather_verify.worlds import FINITE, entry_of
-    from gather_verify.worlds.rendezvous import RENDEZVOUS
     from schedulers import get_scheduler
 
-    if entry_of(args.world) == RENDEZVOUS:
-        return _rendezvous(args)
-    _robots_world(args)
     get_scheduler(args.scheduler)  # an unknown name fails before any work
     if entry_of(args.world) == FINITE:
         return _worlds(args)
