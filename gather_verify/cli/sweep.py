@@ -7,6 +7,7 @@ import json
 import os
 import sys
 from pathlib import Path
+from typing import Any
 
 from gather_verify.cli.common import (
     EXIT_INCOMPLETE,
@@ -222,7 +223,7 @@ def _run(args: argparse.Namespace) -> int:
     from gather_verify.algorithms.moves import frames_for
     from gather_verify.model.view import check_detection
     from gather_verify.sweeps.census import validate_census_arguments
-    from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
+    from gather_verify.sweeps.sweep import SweepSettings, format_summary
     from gather_verify.worlds import FINITE, entry_of
     from schedulers import get_scheduler
 
@@ -273,13 +274,8 @@ def _run(args: argparse.Namespace) -> int:
     ) for n in args.robots for m in args.meeting]
     if args.readings:
         return _readings(args, settings)
-    try:
-        summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
-                            progress=not args.json, limit=args.limit, fresh=args.fresh,
-                            engine=args.engine)
-    except KeyboardInterrupt:
-        print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
-              "run the same command again to resume", file=sys.stderr)
+    summary = _swept(args, settings)
+    if summary is None:
         return EXIT_INTERRUPTED
     if args.junit:
         from gather_verify.junit import write_sweep_junit
@@ -336,7 +332,7 @@ def _world_sweep(args: argparse.Namespace) -> int:
     each ring of a range), one search each, into the same store."""
     from gather_verify.algorithms import get_algorithm
     from gather_verify.model.view import check_detection
-    from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
+    from gather_verify.sweeps.sweep import SweepSettings, format_summary
     from gather_verify.tasks import get_task
     from gather_verify.worlds import finite_world, world_specs
 
@@ -384,13 +380,8 @@ def _world_sweep(args: argparse.Namespace) -> int:
         world=w.name, task=args.task or ("gathering-on-meeting-nodes" if m else "gathering"),
         visibility=args.visibility, lights=args.lights, initial_colours=args.initial_colours,
     ) for w in worlds for n in args.robots for m in args.meeting]
-    try:
-        summary = run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
-                            progress=not args.json, limit=args.limit, fresh=args.fresh,
-                            engine=args.engine)
-    except KeyboardInterrupt:
-        print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
-              "run the same command again to resume", file=sys.stderr)
+    summary = _swept(args, settings)
+    if summary is None:
         return EXIT_INTERRUPTED
     if args.json:
         print_json(summary if args.timings else without_timings(summary))
@@ -430,3 +421,18 @@ def _readings(args: argparse.Namespace, settings: list) -> int:
     if seen & {"ROBUST-VIOLATED", "READING-DEPENDENT"}:
         return 1
     return 3 if seen & {"INCOMPLETE", "PARTIAL"} else 0
+
+
+def _swept(args: argparse.Namespace, settings: Any) -> dict[str, Any] | None:
+    """The sweep's summary (:func:`run_sweep` with the command's options); None when Ctrl-C
+    stopped it, after saying that every finished configuration is kept."""
+    from gather_verify.sweeps.sweep import run_sweep
+
+    try:
+        return run_sweep(settings, args.db, workers=args.workers, dask=args.dask,
+                         progress=not args.json, limit=args.limit, fresh=args.fresh,
+                         engine=args.engine)
+    except KeyboardInterrupt:
+        print(f"interrupted: every finished configuration is kept in {os.path.abspath(args.db)}; "
+              "run the same command again to resume", file=sys.stderr)
+        return None

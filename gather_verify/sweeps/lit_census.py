@@ -92,14 +92,8 @@ def verify_lit_one(settings: Any, index: int, lit: LitConfiguration,
 
     started = time.perf_counter()
     c = lit.configuration
-    report = run_check(
-        c, algorithm=settings.algorithm, scheduler=settings.scheduler,
-        detection=settings.detection, frames=settings.frames,
-        properties=settings.properties or None, reduction=settings.reduction,
-        max_states=settings.max_states, max_seconds=settings.max_seconds,
-        move_bound_c=settings.move_bound_c, max_memory_mb=settings.max_memory_mb,
-        keep_growing=settings.keep_growing, force=settings.force,
-        lights=settings.lights, colours=list(lit.colours), engine=engine)
+    report = run_check(c, **settings.check_options(), lights=settings.lights,
+                       colours=list(lit.colours), engine=engine)
     robots = [[list(r), colour] if lit.every else list(r)
               for r, colour in zip(c.robots, lit.colours, strict=True)]
     return check_row(report, lit.key, index, robots, c, time.perf_counter() - started)

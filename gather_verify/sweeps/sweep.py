@@ -100,6 +100,16 @@ class SweepSettings:
             del out["force"]
         return out
 
+    def check_options(self) -> dict[str, Any]:
+        """The options of ``run_check`` on the paper's world that the sweep's settings give,
+        for one configuration's check."""
+        return dict(algorithm=self.algorithm, scheduler=self.scheduler,
+                    detection=self.detection, frames=self.frames,
+                    properties=self.properties or None, reduction=self.reduction,
+                    max_states=self.max_states, max_seconds=self.max_seconds,
+                    move_bound_c=self.move_bound_c, max_memory_mb=self.max_memory_mb,
+                    keep_growing=self.keep_growing, force=self.force)
+
     def fingerprint(self) -> str:
         """The digest of the code and data behind the rows (:mod:`gather_verify.fingerprint`):
         the algorithm's, the graph file's, every property file's, the ``fingerprint_extra``
@@ -135,15 +145,8 @@ def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[st
     from gather_verify.check import run_check
 
     started = time.perf_counter()
-    report = run_check(
-        c, algorithm=settings.algorithm, scheduler=settings.scheduler,
-        detection=settings.detection, frames=settings.frames,
-        properties=settings.properties or None, reduction=settings.reduction,
-        max_states=settings.max_states, max_seconds=settings.max_seconds,
-        move_bound_c=settings.move_bound_c, max_memory_mb=settings.max_memory_mb,
-        keep_growing=settings.keep_growing, force=settings.force,
-        memo=True,  # the checks of a sweep meet the same configurations again and again
-    )
+    report = run_check(  # the checks of a sweep meet the same configurations again and again
+        c, **settings.check_options(), memo=True)
     return check_row(report, configuration_key(c), index, [list(r) for r in c.robots], c,
                      time.perf_counter() - started)
 

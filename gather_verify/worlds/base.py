@@ -283,7 +283,7 @@ class World:
         label = tuple(value) if isinstance(value, list) else value
         parts = label if isinstance(label, tuple) else (label,)
         if not all(isinstance(x, int | str) and not isinstance(x, bool) for x in parts) \
-                or not _hashable(label) or label not in self.index:
+                or not hashable(label) or label not in self.index:
             raise InvalidInput(f"{json_text(value)} is not a node of {self.name} (nodes are "
                                f"written like {json_text(self.node_to_json(0))})")
         return self.index[label]
@@ -415,7 +415,9 @@ def json_text(value: object) -> str:
     return text if len(text) <= 40 else text[:37] + "..."
 
 
-def _hashable(value: object) -> bool:
+def hashable(value: object) -> bool:
+    """Whether ``value`` can be looked up in a dict (an answer or a label of the user's may
+    be anything)."""
     try:
         hash(value)
     except TypeError:

@@ -21,7 +21,7 @@ from gather_verify.algorithms.moves import HiddenRead
 from gather_verify.errors import InvalidInput
 from gather_verify.model.view import MultiplicityHidden, check_detection
 from gather_verify.watchdog import Overtime, real_interrupt, watched
-from gather_verify.worlds.base import World
+from gather_verify.worlds.base import World, hashable
 from gather_verify.worlds.view import LightHidden, Lights, WorldView
 
 MEMO_SIZE = 1 << 18
@@ -118,10 +118,10 @@ class WorldMoves:
                 view: WorldView) -> tuple[int, int]:
         """An answer as ``(destination index, colour)``, or a crash naming what is wrong."""
         target, new = answer, colour
-        back = frame.inverse.get(answer) if _hashable(answer) else None  # type: ignore[attr-defined]
+        back = frame.inverse.get(answer) if hashable(answer) else None  # type: ignore[attr-defined]
         if back is None and isinstance(answer, tuple) and len(answer) == 2:
             target, new = answer
-            back = frame.inverse.get(target) if _hashable(target) else None  # type: ignore[attr-defined]
+            back = frame.inverse.get(target) if hashable(target) else None  # type: ignore[attr-defined]
         problem = None
         if back is None or (back != node and back not in self.world.adjacency[node]):
             problem = (f"answered {answer!r}: a move must be view.me ({view.me!r}) or one of "
@@ -161,11 +161,3 @@ def parse_lights(text: str | None) -> Lights:
     if colon and variant not in ("external", "internal"):
         raise InvalidInput(f"--lights {text!r}: the variant is external or internal")
     return Lights(k, variant or "full")
-
-
-def _hashable(value: object) -> bool:
-    try:
-        hash(value)
-    except TypeError:
-        return False
-    return True
