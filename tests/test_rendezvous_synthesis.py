@@ -90,3 +90,16 @@ def test_the_issue_command_prints_answer(tmp_path):
     assert done.returncode == 0 and "holds" in done.stdout
     done = _cli("synthesize", "--world", "rendezvous", "--lights", "1-3", "--scheduler", "ssync")
     assert done.returncode == 2
+
+
+def test_two_external_colours_in_lc_strict_async_by_the_referee_too():
+    """A finding: 2 external colours suffice in LC-strict ASYNC (non-rigid). The witness
+    passes the independent referee there and fails LC-atomic."""
+    from rendezvous_referee import check
+
+    r = synthesize(2, "external", "async-lc-strict")
+    assert r["answer"] == "exists"
+    setting = Setting(2, "external", "async-lc-strict", "non-rigid", "all")
+    alg = algorithm_of(setting, {tuple(v): tuple(a) for v, a in r["witness"]}, "w")
+    assert check(alg, "async-lc-strict").verdict == "PASS"
+    assert check(alg, "async-lc-atomic").verdict == "FAIL"
