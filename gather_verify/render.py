@@ -266,13 +266,20 @@ def _defs(uid: str) -> str:
             + "".join(_marker(f"{uid}-m{i}", c) for i, c in enumerate(PALETTE)) + "</defs>")
 
 
-def _caption(data: dict[str, Any], k: int) -> tuple[str, list[str]]:
-    """The head line of panel ``k`` and its notes (stale snapshot, class and phase)."""
+def _panel_head(data: dict[str, Any], k: int) -> tuple[str, list[str]]:
+    """The head line of panel ``k`` (the event that led to it) and, where the trace's cycle
+    starts, that note."""
     trace = data["trace"]
     head = "initial" if k == 0 else data["events"][k - 1]["text"]
     notes = []
     if trace.get("cycle_start") == k:
         notes.append(f"cycle starts (state {len(trace['steps'])} = state {k})")
+    return head, notes
+
+
+def _caption(data: dict[str, Any], k: int) -> tuple[str, list[str]]:
+    """The head line of panel ``k`` and its notes (stale snapshot, class and phase)."""
+    head, notes = _panel_head(data, k)
     if k:
         for d in data["events"][k - 1]["decisions"]:
             if d["stale"]:
@@ -614,11 +621,8 @@ def world_svg(pic: WorldPicture, data: dict[str, Any], k: int, ox: float = 0, oy
 def _world_caption(data: dict[str, Any], k: int) -> tuple[str, list[str]]:
     """The head line of panel ``k`` of a world trace and its notes (the cycle, stale
     snapshots, robots sharing a node, the nodes visited)."""
-    trace, names = data["trace"], [n["text"] for n in data["drawing"]["nodes"]]
-    head = "initial" if k == 0 else data["events"][k - 1]["text"]
-    notes = []
-    if trace.get("cycle_start") == k:
-        notes.append(f"cycle starts (state {len(trace['steps'])} = state {k})")
+    names = [n["text"] for n in data["drawing"]["nodes"]]
+    head, notes = _panel_head(data, k)
     if k:
         for d in data["events"][k - 1]["decisions"]:
             if d["stale"]:

@@ -16,7 +16,8 @@ common chirality the 4 rotations.
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
+from typing import Any
 
 from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, AlgorithmError, Unhandled
 from gather_verify.errors import InvalidInput
@@ -56,6 +57,31 @@ def frames_for(name: str) -> tuple[int, ...]:
     return FRAME_SETS[name]
 
 
+MULTIPLICITY = ((MultiplicityHidden,), "multiplicity its robots cannot see")
+"""What an oblivious robot's view can hide (:func:`ask`'s ``hidden``)."""
+HIDDEN = ((MultiplicityHidden, LightHidden), "what its robots cannot see")
+"""What a luminous robot's view can hide: a multiplicity or a light."""
+
+
+def ask(algorithm: Algorithm, decide: Callable[[Any], Any], seen: Any, where: Any,
+        hidden: tuple[tuple[type[Exception], ...], str] = HIDDEN) -> Any:
+    """The answer of ``decide`` (the algorithm's) in the view ``seen`` of the robots at
+    ``where``: a read the view hides is no rule (:class:`HiddenRead`); no rule and the
+    watchdog's stop at the time limit go through; anything else it raises, SystemExit and
+    ``os._exit`` too, is a crash (:class:`AlgorithmCrash`), but a real Ctrl-C stops the
+    verifier."""
+    try:
+        return decide(seen)
+    except hidden[0] as error:
+        raise HiddenRead(f"algorithm {algorithm.name!r} reads {hidden[1]}: {error}") from None
+    except (Unhandled, Overtime):
+        raise
+    except BaseException as error:
+        if real_interrupt(error):
+            raise
+        raise AlgorithmCrash(algorithm.name, "decide", error, where, seen) from None
+
+
 def move_set(
     algorithm: Algorithm,
     configuration: Configuration,
@@ -76,17 +102,7 @@ def move_set(
     with watched():  # an endless decide ends with the time limit (the watchdog)
         for g in frames:
             seen = view(configuration, node, g, detection)
-            try:
-                answer = decide(seen)
-            except MultiplicityHidden as error:  # a rule its robots cannot apply: no rule
-                raise HiddenRead(f"algorithm {algorithm.name!r} reads multiplicity its robots "
-                                 f"cannot see: {error}") from None
-            except (Unhandled, Overtime):  # no rule; the watchdog's stop at the time limit
-                raise
-            except BaseException as error:  # SystemExit, KeyboardInterrupt, os._exit too
-                if real_interrupt(error):  # only a real Ctrl-C stops the verifier
-                    raise
-                raise AlgorithmCrash(algorithm.name, "decide", error, node, seen) from None
+            answer = ask(algorithm, decide, seen, node, MULTIPLICITY)
             try:
                 dx, dy = MAPPED_BACK[g][answer]  # the answer, mapped back to global coordinates
             except (KeyError, TypeError):
@@ -149,17 +165,7 @@ def luminous_actions(algorithm: Algorithm, configuration: Configuration,
         for g in frames:
             seen = LuminousView.luminous(configuration, node, g, detection, lights, colours,
                                          colour)
-            try:
-                answer = decide(seen)
-            except (MultiplicityHidden, LightHidden) as error:
-                raise HiddenRead(f"algorithm {algorithm.name!r} reads what its robots cannot "
-                                 f"see: {error}") from None
-            except (Unhandled, Overtime):  # no rule; the watchdog's stop at the time limit
-                raise
-            except BaseException as error:  # SystemExit, KeyboardInterrupt, os._exit too
-                if real_interrupt(error):  # only a real Ctrl-C stops the verifier
-                    raise
-                raise AlgorithmCrash(algorithm.name, "decide", error, node, seen) from None
+            answer = ask(algorithm, decide, seen, node)
             back, new = MAPPED_BACK[g], colour
             step = _lookup(back, answer)
             if step is None and isinstance(answer, tuple) and len(answer) == 2:

@@ -53,7 +53,7 @@ from gather_verify.synthesis.certificate import (
 from gather_verify.synthesis.views import Instance, Views
 from gather_verify.tasks import Context, Finding
 from gather_verify.tasks.base import components, fair
-from gather_verify.watchdog import Overtime, deadline, watched
+from gather_verify.watchdog import OverMemory, Overtime, deadline, watched
 
 DEFAULT_MAX_SECONDS = 600.0
 DEFAULT_MAX_CANDIDATES = 1_000_000
@@ -217,6 +217,9 @@ def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
                     solver.add_clause([-(base[k] + o + 1) for k, o in sorted(lits.items())])
     except Overtime:
         return result("unknown", f"{TIME_LIMIT} (cut by the watchdog)")
+    except OverMemory:  # the command's memory watch (engine.bounds.setup): keep the counts
+        return result("unknown", f"memory (the search over algorithms: past "
+                      f"{max_memory_mb:g} MB)")
 
 
 def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,

@@ -16,13 +16,13 @@ from __future__ import annotations
 
 from collections import Counter
 
-from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, AlgorithmError, Unhandled
-from gather_verify.algorithms.moves import HiddenRead
+from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, AlgorithmError
+from gather_verify.algorithms.moves import ask
 from gather_verify.errors import InvalidInput
-from gather_verify.model.view import MultiplicityHidden, check_detection
-from gather_verify.watchdog import Overtime, real_interrupt, watched
+from gather_verify.model.view import check_detection
+from gather_verify.watchdog import watched
 from gather_verify.worlds.base import World, hashable
-from gather_verify.worlds.view import LightHidden, Lights, WorldView
+from gather_verify.worlds.view import Lights, WorldView
 
 MEMO_SIZE = 1 << 18
 """Configurations whose actions a search keeps (then the memo starts over)."""
@@ -98,19 +98,8 @@ class WorldMoves:
         for frame in self.world.frames(node, self.visibility, self.frames):
             view = WorldView(self.world, counts, self.meeting, node, frame, self.detection,
                              self.lights, colours, colour)
-            try:
-                with watched():  # an endless decide ends with the time limit (watchdog)
-                    answer = algorithm.decide(view)
-            except (MultiplicityHidden, LightHidden) as error:
-                raise HiddenRead(f"algorithm {algorithm.name!r} reads what its robots cannot "
-                                 f"see: {error}") from None
-            except (Unhandled, Overtime):  # no rule; the watchdog's stop at the time limit
-                raise
-            except BaseException as error:  # SystemExit, KeyboardInterrupt, os._exit too
-                if real_interrupt(error):  # only a real Ctrl-C stops the verifier
-                    raise
-                raise AlgorithmCrash(algorithm.name, "decide", error,
-                                     self.world.label(node), view) from None
+            with watched():  # an endless decide ends with the time limit (watchdog)
+                answer = ask(algorithm, algorithm.decide, view, self.world.label(node))
             out.add(self._action(answer, frame, node, colour, view))
         return frozenset(out)
 
