@@ -103,3 +103,15 @@ def test_two_external_colours_in_lc_strict_async_by_the_referee_too():
     alg = algorithm_of(setting, {tuple(v): tuple(a) for v, a in r["witness"]}, "w")
     assert check(alg, "async-lc-strict").verdict == "PASS"
     assert check(alg, "async-lc-atomic").verdict == "FAIL"
+
+
+def test_a_malformed_certificate_is_one_line_or_refused():
+    from gather_verify.errors import InvalidInput
+
+    cert = synthesize(1, "full", "ssync")["certificate"]
+    with pytest.raises(InvalidInput, match="bad certificate"):
+        verify({**cert, "colours": 99})
+    with pytest.raises(InvalidInput, match="unknown synchrony model"):
+        verify({**cert, "scheduler": "nope"})
+    assert not verify({**cert, "tree": {"view": 5, "children": []}})
+    assert not verify({**cert, "tree": [1, 2]})

@@ -309,12 +309,16 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
 
 
 def _rendezvous_certificate(path: str) -> bool:
-    """Whether the certificate file is one of the rendezvous world (read again by its check)."""
+    """Whether the certificate file is one of the rendezvous world (its bytes read once,
+    :mod:`gather_verify.inputs`; a file that is none is left to the finite world's check,
+    which says why in one line)."""
+    from gather_verify.inputs import read_text
+
     try:
-        with open(path, encoding="utf-8") as handle:
-            return json.load(handle).get("world") == "rendezvous"
-    except (OSError, ValueError, AttributeError):
+        data = json.loads(read_text(path, "certificate"))
+    except (InvalidInput, ValueError, RecursionError):
         return False
+    return isinstance(data, dict) and data.get("world") == "rendezvous"
 
 
 def _rendezvous(args: argparse.Namespace) -> int:
@@ -324,8 +328,9 @@ def _rendezvous(args: argparse.Namespace) -> int:
     from gather_verify.synthesis import rendezvous as rv
 
     if args.verify:
-        with open(args.verify, encoding="utf-8") as handle:
-            holds = rv.verify(json.load(handle))
+        from gather_verify.inputs import read_text
+
+        holds = rv.verify(json.loads(read_text(args.verify, "certificate")))
         if args.json:
             print_json({"certificate": args.verify, "holds": holds})
         else:

@@ -32,7 +32,9 @@ from gather_verify.properties.graph import components_of
 from gather_verify.rendezvous_check import phase_model, run_rendezvous_check
 from gather_verify.worlds.rendezvous import Rendezvous, State
 from gather_verify.worlds.rendezvous_rules import (
+    INITIAL_COLOURS,
     LIGHTS,
+    MOVEMENTS,
     POSITIONS,
     STAY,
     TO_HALF,
@@ -214,9 +216,14 @@ def verify(certificate: dict[str, Any]) -> bool:
         setting = Setting(certificate["colours"], certificate["lights"],
                           certificate["scheduler"], certificate["movement"],
                           certificate["initial_colours"])
+        assert type(setting.colours) is int and 1 <= setting.colours <= 8
+        assert setting.lights in LIGHTS and setting.movement in MOVEMENTS
+        assert setting.initial_colours in INITIAL_COLOURS
+        phase_model(str(setting.scheduler))
         all_views = set(views(setting.colours, setting.lights))
-    except (KeyError, TypeError) as error:
-        raise InvalidInput(f"bad certificate: {error}") from None
+    except (KeyError, TypeError, AssertionError):
+        raise InvalidInput("bad certificate: a rendezvous certificate names colours (1 to 8), "
+                           "lights, scheduler, movement and initial_colours") from None
 
     def holds(node: Any, table: dict[View, Answer]) -> bool:
         if not isinstance(node, dict):
@@ -237,4 +244,7 @@ def verify(certificate: dict[str, Any]) -> bool:
                 return False
         return True
 
-    return holds(certificate.get("tree"), {})
+    try:
+        return holds(certificate.get("tree"), {})
+    except (TypeError, ValueError, RecursionError):
+        return False  # a tree that is no case split holds nothing
