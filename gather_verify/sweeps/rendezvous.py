@@ -45,11 +45,15 @@ def names(text: str | None, known: Sequence[str], what: str) -> list[str]:
 def load_spin(path: str | Path) -> dict[str, dict[str, Any]]:
     """The SPIN harness's cells (``bench/spin/light/results.json``), by
     ``algorithm|model|movement|colours``; one line when the file is not such a file."""
+    from gather_verify.inputs import read_text  # read once, regular files only
+
     try:
-        cells = json.loads(Path(path).read_text(encoding="utf-8"))["cells"]
-        assert isinstance(cells, dict)
+        cells = json.loads(read_text(path, "--spin results"))["cells"]
+        assert isinstance(cells, dict) and all(isinstance(c, dict) for c in cells.values())
         return cells
-    except (OSError, ValueError, KeyError, TypeError, AssertionError):
+    except InvalidInput:
+        raise
+    except (ValueError, KeyError, TypeError, AssertionError, RecursionError):
         raise InvalidInput(f"--spin {path}: not the SPIN harness's results (a JSON object with "
                            "'cells', as bench/spin/light/run_light.py writes)") from None
 
