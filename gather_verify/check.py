@@ -62,7 +62,7 @@ from gather_verify.properties.registry import check_property_names, get_property
 from gather_verify.trace import build_trace, initial_of, steps_of
 from gather_verify.verdict import INCOMPLETE, NOT_APPLICABLE, combine, named_first
 from gather_verify.worlds.moves import parse_lights
-from schedulers import Scheduler, get_scheduler, initial_state
+from schedulers import Scheduler, get_scheduler, initial_state, not_phased
 
 
 def _memory_limit(value: float | None) -> float:
@@ -439,6 +439,7 @@ class PlaneCheck:
             get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm))
         light = None if lights is None else parse_lights(lights)
         pipeline.check_colours(colours, configuration.n, None if light is None else light.colours)
+        not_phased(scheduler, "on the paper's world Z²")
         if not getattr(algo, "plane", True):
             raise InvalidInput(f"algorithm {algo.name!r} is written for finite worlds: give "
                                "--world ring:N (docs/worlds.md)")

@@ -120,18 +120,38 @@ def walk(scheduler: Any, states: Sequence[LRobots], events: Sequence[Event],
                                      f"any more ({error})") from None
         done.actions.append(offered)
         for i, action in chosen.items():
-            if action not in offered[i]:
+            if action not in _as_read(event, i, before, offered, actions):
                 raise NoLongerReproduces(f"step {k}: the algorithm no longer lets robot {i} "
                                          f"do {_action_text(action, steps)} "
                                          f"({steps.event_text(event)})")
     return done
 
 
+def _as_read(event: Event, i: int, before: LRobots, offered: Sequence[frozenset[Any]],
+             actions: Callable[[Any], Sequence[frozenset[Any]]]) -> frozenset[Any]:
+    """Robot ``i``'s actions as its Look saw the others: ``offered[i]``, or under a phase
+    scheduler's regular or safe read, the actions under the colours it read."""
+    read = next((r for j, _, _, r in event.chosen if j == i), None)
+    if read is None:
+        return offered[i]
+    others = iter(read)
+    seen = tuple(r if j == i else (r[0], r[1], next(others)) for j, r in enumerate(before))
+    if seen == before:
+        return offered[i]
+    try:
+        return actions(seen)[i]
+    except (AlgorithmCrash, Unhandled) as error:
+        raise NoLongerReproduces(f"the algorithm does not decide what robot {i} read any "
+                                 f"more ({error})") from None
+
+
 def chosen_by(event: Event, before: LRobots) -> dict[int, Action]:
     """What each robot that computed in ``event`` chose, as the event says: its destination
     (its new node after a round, its pending one after a Look; its own node when it stays)
     and its colour (the new one when its light changed)."""
-    if event.kind == "move":
+    if event.chosen:  # a phase scheduler's Look: what it chose, carried out later
+        return {i: (d, c) for i, d, c, _ in event.chosen}
+    if event.kind not in ("round", "look"):
         return {}
     dest = {i: b for i, _, b in event.moves}
     colour = {i: new for i, _, new in event.lights}
@@ -155,7 +175,8 @@ def _follow(k: int, scheduler: Any, before: LRobots, runs: list[list[object]], e
     """The runs that go on through step ``k``: those from whose scheduler state ``event``
     is offered (each computing robot doing what the event says) and reaches ``after``."""
     offered = [([*run, nxt], succ) for run in runs
-               for nxt, succ in offers(scheduler, before, run[-1], event, steps.null)]
+               for nxt, succ in offers(scheduler, before, run[-1], event, steps.null,
+                                       steps.colours)]
     kept = [run for run, succ in offered if succ == after]
     if not kept:
         what = "does not reach the recorded state" if offered else \
@@ -165,23 +186,24 @@ def _follow(k: int, scheduler: Any, before: LRobots, runs: list[list[object]], e
     return kept
 
 
-def offers(scheduler: Any, before: LRobots, extra: object, event: Event, null: bool = False
-           ) -> list[tuple[object, LRobots]]:
+def offers(scheduler: Any, before: LRobots, extra: object, event: Event, null: bool = False,
+           colours: int = 1) -> list[tuple[object, LRobots]]:
     """Each way the scheduler (in its own state ``extra``) offers ``event`` from ``before``
     when every computing robot does what the event says: its state after, and the
-    successor."""
+    successor (``colours``: K, what a phase scheduler's safe read ranges over)."""
     chosen = chosen_by(event, before)
     legal = {i: frozenset({chosen[i]}) if i in chosen else frozenset({(v, c)})
              for i, (v, _, c) in enumerate(before)}
+    more = {"colours": colours} if getattr(scheduler, "phased", False) else {}
     return [(nxt, succ) for got, succ, nxt in scheduler.luminous(before, extra, legal.__getitem__,
-                                                                 null=null)
+                                                                 null=null, **more)
             if same_event(got, event)]
 
 
 def same_event(a: Event, b: Event) -> bool:
-    """One event: the same kind, robots, moves and colour changes."""
-    return (a.kind, a.robots, sorted(a.moves), sorted(a.lights)) == \
-        (b.kind, b.robots, sorted(b.moves), sorted(b.lights))
+    """One event: the same kind, robots, moves, colour changes and commands chosen."""
+    return (a.kind, a.robots, sorted(a.moves), sorted(a.lights), sorted(a.chosen)) == \
+        (b.kind, b.robots, sorted(b.moves), sorted(b.lights), sorted(b.chosen))
 
 
 def scheduler_after(scheduler: Any, before: LRobots, extra: object, event: Event,

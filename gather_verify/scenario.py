@@ -42,6 +42,8 @@ TOP_LEVEL = {
     "visibility": int,
     "lights": str,
     "colours": list,
+    "movement": str,
+    "initial_colours": str,
 }
 
 
@@ -112,12 +114,18 @@ def parse_scenario(data: object, where: str) -> Scenario:
             )
         if not isinstance(value, TOP_LEVEL[key]):
             raise ScenarioError(f"{where}: field {key!r} must be {_type_name(TOP_LEVEL[key])}")
+    from gather_verify.worlds import DEFAULT_WORLD, PLANE, entry_of
+    from gather_verify.worlds.rendezvous import RENDEZVOUS
+
+    world = data.get("world", DEFAULT_WORLD).strip()
+    if world == RENDEZVOUS:
+        return _rendezvous_scenario(data, where)
+    for key in ("movement", "initial_colours"):
+        if key in data:
+            raise ScenarioError(f"{where}: {key!r} is a field of the rendezvous world")
     for key in ("robots", "meeting_nodes"):
         if key not in data:
             raise ScenarioError(f"{where}: missing field {key!r}")
-    from gather_verify.worlds import DEFAULT_WORLD, PLANE, entry_of
-
-    world = data.get("world", DEFAULT_WORLD).strip()
     nodes: tuple[tuple[int, ...], tuple[int, ...]] = ((), ())
     configuration = None
     try:
@@ -158,6 +166,43 @@ def parse_scenario(data: object, where: str) -> Scenario:
         lights=data.get("lights"),
         colours=data.get("colours"),
     )
+
+
+RENDEZVOUS_FIELDS = {"name", "description", "world", "algorithm", "scheduler", "movement",
+                     "initial_colours", "expect", "trace", "source"}
+"""The fields of a rendezvous scenario (no robots or nodes: every initial state is checked)."""
+
+
+def _rendezvous_scenario(data: dict[str, Any], where: str) -> Scenario:
+    """A scenario of the rendezvous world: an algorithm, a synchrony model, the movement and
+    the initial colours, the verdicts expected (docs/rendezvous.md)."""
+    from gather_verify.worlds.rendezvous_rules import INITIAL_COLOURS, MOVEMENTS
+    from schedulers.phases import MODELS
+
+    extra = sorted(set(data) - RENDEZVOUS_FIELDS)
+    if extra:
+        raise ScenarioError(f"{where}: {extra[0]!r} is no field of a rendezvous scenario "
+                            f"(known: {', '.join(sorted(RENDEZVOUS_FIELDS))})")
+    movement = data.get("movement", "non-rigid")
+    colours = data.get("initial_colours", "all")
+    if movement not in MOVEMENTS or colours not in INITIAL_COLOURS:
+        raise ScenarioError(f"{where}: 'movement' is rigid or non-rigid, 'initial_colours' all "
+                            "or same")
+    scheduler = data.get("scheduler", "async")
+    models = [scheduler] + [item.get("scheduler", scheduler) for item in data.get(
+        "expect", {}).get("verdicts", []) if isinstance(item, dict)]
+    unknown = [m for m in models if m not in MODELS]
+    if unknown:
+        raise ScenarioError(f"{where}: unknown synchrony model {unknown[0]!r}: use one of "
+                            f"{', '.join(MODELS)}")
+    if "class" in data.get("expect", {}):
+        raise ScenarioError(f"{where}: 'expect.class' is a class of the paper's world")
+    _, expectations = _parse_expect(data.get("expect", {}), where, data)
+    return Scenario(name=data.get("name", Path(where).stem), configuration=None,
+                    description=data.get("description", ""),
+                    algorithm=data.get("algorithm", "vig-2cols"), scheduler=scheduler,
+                    expectations=expectations, trace=data.get("trace"), path=where, raw=data,
+                    world="rendezvous")
 
 
 def _world_nodes(data: dict[str, Any], where: str) -> tuple[tuple[int, ...], tuple[int, ...]]:
@@ -295,7 +340,9 @@ def _files_relative_to(scenario: Scenario, folder: Path, where: str) -> Scenario
         from gather_verify.viewer import is_world_trace, world_trace_problem
 
         try:  # a finite world's trace is read by its replay, when the scenario is tested:
-            if not is_world_trace(trace):  # its fields are checked here
+            if trace.get("world") == "rendezvous":  # read by the rendezvous world's replay
+                pass
+            elif not is_world_trace(trace):  # its fields are checked here
                 load_trace(trace)
             elif (problem := world_trace_problem(trace)) is not None:
                 raise InvalidInput(f"bad trace: {problem}")

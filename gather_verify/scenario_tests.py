@@ -51,9 +51,19 @@ def run_expectation(scenario: Scenario, expectation: Expectation) -> dict[str, A
     options.setdefault("multiplicity", scenario.multiplicity)
     options.setdefault("frames", scenario.frames)
     from gather_verify.worlds import FINITE, entry_of
+    from gather_verify.worlds.rendezvous import RENDEZVOUS
 
     if entry_of(scenario.world) == FINITE:
         return _run_world_expectation(scenario, expectation, options)
+    if scenario.world == RENDEZVOUS:
+        from gather_verify.rendezvous_check import run_rendezvous_check
+
+        return run_rendezvous_check(
+            expectation.algorithm, expectation.scheduler,
+            movement=scenario.raw.get("movement", "non-rigid"),
+            initial_colours=scenario.raw.get("initial_colours", "all"),
+            max_states=options.pop("max_states", 2_000_000),
+            max_seconds=options.pop("max_seconds", 600.0))
     return run_check(
         scenario.configuration,
         algorithm=expectation.algorithm,
@@ -181,7 +191,9 @@ def _run_verdict(case: Case) -> Outcome:
     if why is None:
         return Outcome(case.name, True)
     trace = report.get("trace")
-    if trace and "world" in trace:
+    if trace and trace.get("world") == "rendezvous":
+        from gather_verify.rendezvous_check import render_rendezvous_trace as render_trace
+    elif trace and "world" in trace:
         from gather_verify.world_check import render_world_trace as render_trace
     lines = [f"{case.name}: {why}",
              f"property: {report.get('property') or expectation.property or '-'}",
@@ -217,6 +229,8 @@ def _run_replay(case: Case) -> Outcome:
 
     trace = case.scenario.trace
     assert trace is not None
+    if trace.get("world") == "rendezvous":
+        return _replay_rendezvous(case, trace)
     on_world = is_world_trace(trace)
     why = "the stored trace no longer reproduces"
     try:
@@ -234,6 +248,25 @@ def _run_replay(case: Case) -> Outcome:
                    f"{message}\n{shown}\n"
                    f"replay: gather-verify replay {shlex.quote(case.scenario.path)}",
                    trace.get("property"), trace)
+
+
+def _replay_rendezvous(case: Case, trace: dict[str, Any]) -> Outcome:
+    """A rendezvous scenario's stored trace, replayed (:func:`~gather_verify.rendezvous_check.replay_rendezvous`)."""
+    from gather_verify.rendezvous_check import render_rendezvous_trace, replay_rendezvous
+    from gather_verify.replay import NoLongerReproduces
+
+    try:
+        outcome = replay_rendezvous(trace)
+        ok, message, why = outcome.confirmed, outcome.message, "the stored trace no longer " \
+            "reproduces"
+    except NoLongerReproduces as error:
+        ok, message, why = False, str(error), "the stored trace no longer reproduces"
+    except ValueError as error:
+        ok, message, why = False, str(error), "the stored trace cannot be replayed"
+    if ok:
+        return Outcome(case.name, True)
+    return Outcome(case.name, False, f"{case.name}: {why}: {message}\n"
+                   f"{render_rendezvous_trace(trace)}", trace.get("property"), trace)
 
 
 def cases(scenario: Scenario) -> list[Case]:

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import replace
-from typing import Any
+from typing import Any, cast
 
 from gather_verify import pipeline
 from gather_verify.algorithms import Algorithm, get_algorithm
@@ -120,7 +120,8 @@ class WorldCheck:
         w, r, m, t = self.world, self.robots, self.meeting, self.task
         self.reductions = (reductions_used(getattr(self.sched, "stateful", False))
                            if self.reduce else "off: liveness needs robot identities"
-                           if reduction and self.liveness else "off")
+                           if reduction and self.liveness else "off: a phase scheduler's "
+                           "records name the robots" if reduction and self.phased else "off")
         self.request = {"scheduler": scheduler, "detection": detection, "frames": frames,
                         "visibility": visibility}
         self.colours = colours
@@ -159,7 +160,8 @@ class WorldCheck:
         self.parts = _parts(t, properties, w)
         check_task(t, w, m)
         self.liveness = any(p in t.liveness for p in self.parts)
-        self.reduce = reduction and not self.liveness
+        self.phased = getattr(self.sched, "phased", False)  # its records name the robots
+        self.reduce = reduction and not self.liveness and not self.phased
         self.symmetries = w.symmetries(frames) if self.reduce else ()
         for v in set(r):
             w.frames(v, visibility, frames)
@@ -175,7 +177,7 @@ class WorldCheck:
             s = search(self.world, tuple(self.robots), self.moves.actions, self.sched,
                        colours=self.colours, visits=self.task.visits, anonymity=self.reduce,
                        symmetries=self.symmetries, meeting=frozenset(self.meeting),
-                       limits=self.limits)
+                       limits=self.limits, palette=self.light.colours or 1)
         watch.searched.append(s)
         return s
 
@@ -354,7 +356,8 @@ def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
     if finding.edge is not None:  # a transition part: the failing round itself
         hops.append(finding.edge)
     sched = get_scheduler(scheduler)
-    run = concrete_run(s, sched, ids[0], hops, get_task(task).visits)
+    run = concrete_run(s, sched, ids[0], hops, get_task(task).visits,
+                       parse_lights(lights).colours or 1)
     keys = [state for _, state in run]
     scheduler = scheduler_from(scheduler, keys[0][2])
     steps = [_step(world, event, key) for event, key in run]
@@ -379,7 +382,7 @@ def trace_of(world: World, s: WorldSearch, finding: Finding, robots: list[int],
 
 
 def concrete_run(s: WorldSearch, sched: Any, start: int, hops: list[tuple[int, int]],
-                 visits: bool) -> list[tuple[Any, WorldState]]:
+                 visits: bool, colours: int = 1) -> list[tuple[Any, WorldState]]:
     """The run that follows ``hops`` (per step, a stored state's id and the index of an edge
     of it) from the stored state ``start``, as ``(event, state)`` pairs (the first event
     None): each state the event applied to the state before, the scheduler's own state
@@ -397,21 +400,28 @@ def concrete_run(s: WorldSearch, sched: Any, start: int, hops: list[tuple[int, i
         if state != s.keys[a]:  # pragma: no cover - the hops leave the stored states last
             raise AssertionError(f"state {a} of the run is not its stored state")
         target, _, event = s.edges[a][k]
-        state = successor(sched, state, event, visits)
+        state = successor(sched, state, event, visits, colours)
         if s.canonical(state) != s.canonical(s.keys[target]):  # pragma: no cover
             raise AssertionError(f"edge {k} of state {a} does not reach the class of {target}")
         run.append((event, state))
     return run
 
 
-def successor(sched: Any, state: WorldState, event: Any, visits: bool) -> WorldState:
+def successor(sched: Any, state: WorldState, event: Any, visits: bool, colours: int = 1
+              ) -> WorldState:
     """The state ``event`` leads to from ``state``: the robots as the event moves them, the
-    nodes visited (when the search carries them) and the scheduler's own state after it."""
-    from gather_verify.replay import scheduler_after  # a trace's need, not a search's
+    nodes visited (when the search carries them) and the scheduler's own state after it.
+    Under a phase scheduler the event's effect depends on the robots' phases (its own
+    state), so the scheduler itself carries it out (``colours``: K, for a safe read)."""
+    from gather_verify.replay import offers, scheduler_after  # a trace's need, not a search's
 
     robots, visited, extra = state
-    after = _apply(state, event)
-    extra = next(iter(scheduler_after(sched, robots, extra, event, after)))
+    if getattr(sched, "phased", False):
+        extra, stepped = offers(sched, robots, extra, event, colours=colours)[0]
+        after = cast(tuple[tuple[int, int | None, int], ...], stepped)  # a finite world's nodes
+    else:
+        after = _apply(state, event)
+        extra = next(iter(scheduler_after(sched, robots, extra, event, after)))
     if visits:
         for v, _, _ in after:
             visited |= 1 << v
@@ -431,7 +441,7 @@ def _edge_between(s: WorldSearch, a: int, b: int) -> tuple[int, int]:
     stored ``a`` to the stored ``b`` (along BFS parents and inside an unreduced cycle, each
     stored state is the concrete successor of the one before)."""
     for k, (target, _, event) in enumerate(s.edges[a]):
-        if target == b and _apply(s.keys[a], event) == s.keys[b][0]:
+        if target == b and (not s.reduced or _apply(s.keys[a], event) == s.keys[b][0]):
             return a, k
     raise AssertionError(f"no edge from state {a} to {b}")  # pragma: no cover
 

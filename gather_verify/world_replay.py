@@ -39,7 +39,7 @@ import json
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import Any, NoReturn, cast
 
 from gather_verify.algorithms import AlgorithmCrash, Unhandled, get_algorithm
 from gather_verify.errors import InvalidInput
@@ -208,8 +208,9 @@ def _same_graph(trace: dict[str, Any], world: World) -> None:
 
 def _event(raw: object, where: str, node: Callable[[object, str], int], n: int) -> Event:
     if not isinstance(raw, dict) or not {"kind", "robots", "moves"} <= set(raw) \
-            or not set(raw) <= {"kind", "robots", "moves", "lights"}:
-        _fail(f"{where}: an event is an object with 'kind', 'robots', 'moves' (and 'lights')")
+            or not set(raw) <= {"kind", "robots", "moves", "lights", "chosen"}:
+        _fail(f"{where}: an event is an object with 'kind', 'robots', 'moves' (and 'lights', "
+              "'chosen')")
 
     def index(i: object) -> int:
         if isinstance(i, bool) or not isinstance(i, int) or not 0 <= i < n:
@@ -232,7 +233,19 @@ def _event(raw: object, where: str, node: Callable[[object, str], int], n: int) 
             _fail(f"{where}: a light change is [robot, old colour, new colour]")
         lights.append((index(i), a, b))
     return Event(raw["kind"], tuple(index(i) for i in raw["robots"]), moves,  # type: ignore[arg-type]
-                 tuple(lights))
+                 tuple(lights), _chosen(raw.get("chosen", []), where, node, index))
+
+
+def _chosen(raw: object, where: str, node: Callable[[object, str], int],
+            index: Callable[[object], int]) -> tuple[tuple[int, int, int, tuple[int, ...]], ...]:
+    """A phase scheduler's Looks: ``[robot, destination, next colour, colours read]``."""
+    ok = isinstance(raw, list) and all(
+        isinstance(t, list) and len(t) == 4 and isinstance(t[3], list) and all(
+            isinstance(c, int) and not isinstance(c, bool) for c in [t[2], *t[3]]) for t in raw)
+    if not ok:
+        _fail(f"{where}: 'chosen' is a list of [robot, destination, colour, [colours read]]")
+    return tuple((index(i), node(d, where), c, tuple(read))
+                 for i, d, c, read in cast(list[list[Any]], raw))
 
 
 def replay_world(trace: dict[str, Any], folder: Path | None = None) -> WorldReplayed:
@@ -343,9 +356,11 @@ def _fair_cycle(prop: str, t: WorldTrace, final: list[bool],
                            f"{start}: the cycle does not return")
     cycle = range(start, end + 1)
     covered = set()
+    # under a phase scheduler a null cycle is events of the robot's own: no null activation
+    null = not getattr(get_scheduler(t.raw["scheduler"]), "phased", False)
     for k in cycle:
         covered |= {i for i, (v, p, c) in enumerate(t.states[k])
-                    if p is None and (v, c) in actions[k][i]}
+                    if null and p is None and (v, c) in actions[k][i]}
     for event in t.events[start:end]:
         covered |= set(event.robots)
     unfair = sorted(set(range(n)) - covered)
@@ -389,7 +404,9 @@ def event_json(world: World, event: Any) -> dict[str, Any]:
     name = world.node_to_json
     return {"kind": event.kind, "robots": list(event.robots),
             "moves": [[i, name(a), name(b)] for i, a, b in event.moves],
-            **({"lights": [list(x) for x in event.lights]} if event.lights else {})}
+            **({"lights": [list(x) for x in event.lights]} if event.lights else {}),
+            **({"chosen": [[i, name(d), c, list(read)] for i, d, c, read in event.chosen]}
+               if event.chosen else {})}
 
 
 def _text(world: World, event: Event) -> str:

@@ -32,20 +32,32 @@ from schedulers.base import (
 )
 from schedulers.centralized import Centralized
 from schedulers.fsync import FSync
+from schedulers.phases import PhaseScheduler, phase_scheduler
 from schedulers.round_robin import RoundRobin
 from schedulers.ssync import SSync
 
-SCHEDULERS: dict[str, type[Scheduler]] = {"fsync": FSync, "ssync": SSync, "async": Async,
-                                          "centralized": Centralized,
-                                          "round-robin": RoundRobin}
+SCHEDULERS: dict[str, type[Scheduler]] = {
+    "fsync": FSync, "ssync": SSync, "async": Async, "centralized": Centralized,
+    "round-robin": RoundRobin,
+    "async-lc-atomic": phase_scheduler("async-lc-atomic"),
+    "async-lc-strict": phase_scheduler("async-lc-strict"),
+    "async-cm-atomic": phase_scheduler("async-cm-atomic"),
+    "async-move-atomic": phase_scheduler("async-move-atomic"),
+    "async-regular": phase_scheduler("async-regular"),
+    "async-safe": phase_scheduler("async-safe"),
+    "async-move-regular": phase_scheduler("async-move-regular"),
+    "async-move-safe": phase_scheduler("async-move-safe"),
+}
 """Every scheduler by name, in the order the CLI and the scenario loader list them: a new
 scheduler is one module implementing :class:`Scheduler` and one line here."""
 
 
 def plane_schedulers() -> tuple[str, ...]:
     """The schedulers that keep no state of their own (the Z² engines run them through
-    ``successors``; a ``stateful`` one, round-robin, through its state)."""
-    return tuple(name for name, cls in SCHEDULERS.items() if not getattr(cls, "stateful", False))
+    ``successors``; a ``stateful`` one, round-robin, through its state; a ``phased`` one,
+    :mod:`schedulers.phases`, runs on the finite worlds and the rendezvous world only)."""
+    return tuple(name for name, cls in SCHEDULERS.items()
+                 if not getattr(cls, "stateful", False) and not getattr(cls, "phased", False))
 
 
 def get_scheduler(name: str) -> Scheduler:
@@ -62,6 +74,16 @@ def get_scheduler(name: str) -> Scheduler:
     return SCHEDULERS[base](value)  # type: ignore[call-arg]
 
 
+def not_phased(name: str, where: str) -> None:
+    """InvalidInput (one line) when ``name`` is a phase scheduler (:mod:`schedulers.phases`),
+    which ``where`` does not run."""
+    base = name.partition(":")[0]
+    if getattr(SCHEDULERS.get(base), "phased", False):
+        raise InvalidInput(f"scheduler {base} is one of §13's phase schedulers: it runs on the "
+                           f"finite worlds (check --world ring:N ...) and the rendezvous "
+                           f"world, not {where}")
+
+
 def as_scheduler(scheduler: str | Scheduler) -> Scheduler:
     """``scheduler`` itself, or the one its name names (:func:`get_scheduler`): a check
     resolves its scheduler once, at the edge, and the engines take the object (or a name,
@@ -74,5 +96,5 @@ def as_scheduler(scheduler: str | Scheduler) -> Scheduler:
     return get_scheduler(scheduler) if isinstance(scheduler, str) else scheduler
 
 
-__all__ = ["as_scheduler", "plane_schedulers", "Async", "Event", "FSync", "Frontier", "MoveSets", "SCHEDULERS", "SSync", "Scheduler",
+__all__ = ["PhaseScheduler", "as_scheduler", "not_phased", "plane_schedulers", "Async", "Event", "FSync", "Frontier", "MoveSets", "SCHEDULERS", "SSync", "Scheduler",
            "State", "Successors", "configuration_of", "get_scheduler", "initial_state"]

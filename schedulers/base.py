@@ -45,6 +45,10 @@ class Event:
     moves: tuple[tuple[int, Node, Node], ...]
     lights: tuple[tuple[int, int, int], ...] = ()
     """``(robot, old colour, new colour)`` for every robot whose light changed (§10)."""
+    chosen: tuple[tuple[int, Any, int, tuple[int, ...]], ...] = ()
+    """Under a phase scheduler (:mod:`schedulers.phases`), per robot that looked: ``(robot,
+    destination, next colour, the colours it read of the others)``; its light and position
+    change at later steps."""
 
     @property
     def distance(self) -> int:
@@ -58,6 +62,8 @@ class Event:
                                   "moves": [[i, list(a), list(b)] for i, a, b in self.moves]}
         if self.lights:
             out["lights"] = [list(change) for change in self.lights]
+        if self.chosen:
+            out["chosen"] = [[i, d, c, list(read)] for i, d, c, read in self.chosen]
         return out
 
 

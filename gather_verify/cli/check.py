@@ -54,6 +54,7 @@ def _what_arguments(parser: argparse.ArgumentParser) -> None:
     the properties, the reductions and the engine."""
     parser.add_argument("--world", help="the graph the robots live on: grid (Z², the paper's, "
                         "default), grid:WxH, ring:N, torus:WxH or graph:FILE (docs/worlds.md)")
+    _rendezvous_options(parser)
     parser.add_argument("--task", help="on a finite world: gathering, "
                         "gathering-on-meeting-nodes (default with meeting nodes), "
                         "exclusive-perpetual-exploration or exploration-with-stop")
@@ -153,9 +154,19 @@ def _output_arguments(parser: argparse.ArgumentParser) -> None:
                              "(left out by default so the output is byte-for-byte reproducible)")
 
 
+def _rendezvous_options(parser: argparse.ArgumentParser) -> None:
+    """The options of the rendezvous world (two robots with lights in the plane)."""
+    parser.add_argument("--movement", choices=("rigid", "non-rigid"), help="on the "
+                        "rendezvous world (docs/rendezvous.md): default non-rigid")
+    parser.add_argument("--initial-colours", choices=("all", "same"), help="on the "
+                        "rendezvous world: every pair, or one colour for both (default all)")
+
+
 def run(args: argparse.Namespace) -> int:
     from gather_verify.worlds import FINITE, entry_of
 
+    if _plane_of_lights(args):
+        return run_rendezvous(args)
     if entry_of(args.world) == FINITE:
         if not args.scenario:
             return run_world(args)
@@ -171,6 +182,8 @@ def run(args: argparse.Namespace) -> int:
         from gather_verify.scenario import load_scenario
 
         scenario = load_scenario(args.scenario)
+        if scenario.world == "rendezvous":
+            return run_rendezvous(args, scenario)
         if entry_of(scenario.world) == FINITE:
             return run_world(args, scenario)
     # the paper's world (Z²): its engines, imported here, not by a finite world's check
@@ -283,6 +296,19 @@ def run(args: argparse.Namespace) -> int:
     return VERDICT_EXIT[report["verdict"]]
 
 
+def _plane_of_lights(args: argparse.Namespace) -> bool:
+    """Whether ``--world rendezvous`` is asked for (its options refused on any other world)."""
+    from gather_verify.worlds import entry_of
+    from gather_verify.worlds.rendezvous import RENDEZVOUS
+
+    if entry_of(args.world) == RENDEZVOUS:
+        return True
+    if args.movement or args.initial_colours:
+        raise UsageError("--movement and --initial-colours are options of the rendezvous "
+                         "world (--world rendezvous)")
+    return False
+
+
 def _progress(args: argparse.Namespace) -> Reporter:
     """The progress lines of ``check --progress`` (default: every 2 s on a terminal)."""
     return Reporter(default_every() if args.progress is None else args.progress)
@@ -364,6 +390,72 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
             print(f"  {name:24} {holds}  {result.get('reason', '')}".rstrip())
         if trace is not None:
             print(render_world_trace(trace))
+        if expected is not None:
+            print(f"expectation of {args.scenario}: "
+                  + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
+    if expected is not None:
+        return EXIT_OK if expected["matched"] else EXIT_VIOLATED
+    return VERDICT_EXIT[report["verdict"]]
+
+
+RENDEZVOUS_TAKES = ("algorithm", "scheduler", "movement", "initial_colours", "max_states",
+                    "max_seconds", "max_memory", "json", "timings", "trace_out", "progress",
+                    "world", "engine", "html")
+"""The options the rendezvous world takes; any other given is refused in one line."""
+
+
+def run_rendezvous(args: argparse.Namespace, scenario: Scenario | None = None) -> int:
+    """``check --world rendezvous`` (or a rendezvous scenario file): two robots with lights in
+    the plane under one of §13's synchrony models (:mod:`gather_verify.rendezvous_check`)."""
+    from gather_verify.rendezvous_check import render_rendezvous_trace, run_rendezvous_check
+
+    defaults = {"engine": "auto", "max_states": DEFAULT_MAX_STATES,
+                "max_seconds": DEFAULT_MAX_SECONDS, "move_bound_c": 4.0}
+    for option, value in vars(args).items():
+        if option in RENDEZVOUS_TAKES or option in ("command", "func", "scenario") or callable(
+                value):
+            continue
+        if value not in (None, False, [], defaults.get(option)):
+            raise UsageError(f"--{option.replace('_', '-')} is no option of the rendezvous "
+                             "world: it takes --algorithm, --scheduler, --movement, "
+                             "--initial-colours and the limits")
+    if args.engine == "bulk":
+        raise UsageError("the bulk engine cannot run the rendezvous world: use --engine auto "
+                         "or reference")
+    raw = scenario.raw if scenario is not None else {}
+    algorithm = args.algorithm or (scenario.algorithm if scenario else None)
+    scheduler = args.scheduler or (scenario.scheduler if scenario else None)
+    if not algorithm or not scheduler:
+        raise UsageError("give --algorithm and --scheduler on the rendezvous world")
+    writable_outputs(trace_out=args.trace_out, html=args.html)
+    with _progress(args):
+        report = run_rendezvous_check(
+            algorithm, scheduler, movement=args.movement or raw.get("movement", "non-rigid"),
+            initial_colours=args.initial_colours or raw.get("initial_colours", "all"),
+            max_states=args.max_states,
+            max_seconds=args.max_seconds,
+            **({} if args.max_memory is None else {"max_memory_mb": args.max_memory}))
+    if args.trace_out and report["trace"] is not None:
+        Path(args.trace_out).write_text(json.dumps(report["trace"], indent=1) + "\n",
+                                        encoding="utf-8")
+    if args.html and report["trace"] is not None:
+        from gather_verify.rendezvous_picture import trace_html
+
+        Path(args.html).write_text(trace_html(report["trace"]), encoding="utf-8")
+    expected = _expectation(scenario, algorithm, scheduler, report)
+    if expected is not None:
+        report["expectation"] = expected
+    if args.json:
+        print_json(report if args.timings else without_timings(report))
+    else:
+        print(f"{report['verdict']}  rendezvous  {report['algorithm']} / {report['scheduler']}  "
+              f"{report['movement']}, initial colours {report['initial_colours']}")
+        if report["reason"]:
+            print(f"reason: {report['reason']}")
+        print(f"states {report['states']}  transitions {report['transitions']}  "
+              f"initial states {report['initial_states']}  {report['seconds']:.2f}s")
+        if report["trace"] is not None:
+            print(render_rendezvous_trace(report["trace"]))
         if expected is not None:
             print(f"expectation of {args.scenario}: "
                   + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))

@@ -58,6 +58,8 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.world_replay import read_trace
 
     raw = read_trace(args.trace)
+    if isinstance(raw, dict) and raw.get("world") == "rendezvous":
+        return run_rendezvous(args, raw)
     if is_world_trace(raw):
         return run_world(args, raw)
     trace = load_trace(args.trace)
@@ -93,6 +95,27 @@ def _answer(args: argparse.Namespace, trace: dict[str, Any], result: Any, why: s
         where = f" on {extra['world']}" if "world" in extra else ""
         print(f"{word}: {trace['property']}{where} ({result.steps} steps) - {result.message}")
     return EXIT_VIOLATED if result.confirmed else EXIT_NO_LONGER_REPRODUCES
+
+
+def run_rendezvous(args: argparse.Namespace, trace: dict[str, Any]) -> int:
+    """``replay`` of a rendezvous trace (:func:`gather_verify.rendezvous_check.replay_rendezvous`)."""
+    from gather_verify.rendezvous_check import render_rendezvous_trace, replay_rendezvous
+    from gather_verify.replay import NoLongerReproduces, Replayed
+
+    if args.property or args.svg:
+        raise InvalidInput("a rendezvous trace takes no --property or --svg (--html draws it)")
+    try:
+        result = replay_rendezvous(trace)
+        why = "property-holds"
+    except NoLongerReproduces as error:
+        result = Replayed(False, str(error), len(trace["steps"]) - 1)
+        why = "step-not-taken"
+    if args.html:
+        from gather_verify.rendezvous_picture import trace_html
+
+        Path(args.html).write_text(trace_html(trace), encoding="utf-8")
+        args.html = None  # drawn here: the graph worlds' viewer does not draw the plane
+    return _answer(args, trace, result, why, render_rendezvous_trace, {"world": "rendezvous"})
 
 
 def run_world(args: argparse.Namespace, trace: dict[str, Any]) -> int:

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import sys
+from pathlib import Path
 from typing import Any
 
 from gather_verify.cli.common import (
@@ -46,8 +48,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def _what_arguments(p: argparse.ArgumentParser) -> None:
     """What is swept: the configurations, the world, the algorithm and its adversary."""
-    p.add_argument("--robots", type=count_range, required=True,
-                   help="robots n, or a range A-B (every n from A to B)")
+    p.add_argument("--robots", type=count_range, default=None,
+                   help="robots n, or a range A-B (every n from A to B); required but on the "
+                        "rendezvous world")
     p.add_argument("--meeting", type=count_range, default=None,
                    help="meeting nodes m, or a range A-B (required on the paper's world; on a "
                         "finite world the default is 0: the task needs none)")
@@ -55,7 +58,9 @@ def _what_arguments(p: argparse.ArgumentParser) -> None:
                    help="box of nodes, WxH (the paper's world; a finite world needs none)")
     p.add_argument("--world", default="grid",
                    help="grid (Z², the paper's, default), or a finite world: grid:WxH, ring:N, "
-                        "a range of rings ring:A-B, torus:WxH, graph:FILE (docs/worlds.md)")
+                        "a range of rings ring:A-B, torus:WxH, graph:FILE (docs/worlds.md); "
+                        "rendezvous: the table of two robots with lights in the plane "
+                        "(docs/rendezvous.md)")
     p.add_argument("--task", default=None,
                    help="on a finite world: gathering, gathering-on-meeting-nodes (default "
                         "with meeting nodes), exclusive-perpetual-exploration, "
@@ -65,13 +70,13 @@ def _what_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--lights", default=None, metavar="K[:external|internal]",
                    help="luminous robots with K colours, all starting at 0 (on Z² each "
                         "configuration is checked on its own, by the bulk engine)")
-    p.add_argument("--initial-colours", choices=("all",), default=None,
-                   help="with --lights: every initial colouring of the robots up to the "
-                        "configuration's symmetries, not only all 0")
-    p.add_argument("--algorithm", default="paper",
-                   help="a name, FILE.py:NAME or package.module:NAME (docs/algorithms.md)")
-    p.add_argument("--scheduler", default="async", metavar="NAME",
-                   help=f"the adversary: {', '.join(SCHEDULERS)} (default async)")
+    p.add_argument("--initial-colours", choices=("all", "same"), help="with --lights: every "
+                   "colouring up to symmetry, not only all 0; rendezvous: all or same")
+    p.add_argument("--algorithm", default=None, help="a name, FILE.py:NAME or package."
+                   "module:NAME (default paper); rendezvous: A,B,... or all (default)")
+    p.add_argument("--scheduler", default=None, metavar="NAME", help=f"the adversary: "
+                   f"{', '.join(SCHEDULERS)} (default async); rendezvous: M,N,... or all")
+    _rendezvous_arguments(p)
     p.add_argument("--multiplicity", default="local-weak", help="detection model")
     p.add_argument("--frames", default="all", choices=("all", "chirality", "compass"))
     p.add_argument("--property", action="append", dest="properties", metavar="P",
@@ -131,6 +136,75 @@ def count_range(text: str) -> range:
     return range(first, last + 1)
 
 
+def _robots_world(args: argparse.Namespace) -> None:
+    """A sweep of robots on nodes (Z² or a finite world): the rendezvous world's options
+    refused, ``--robots`` required, the algorithm and scheduler defaults (paper, async)."""
+    for option in ("movement", "spin", "traces", "markdown"):
+        if getattr(args, option) is not None:
+            raise InvalidInput(f"--{option} is an option of the rendezvous world "
+                               "(--world rendezvous)")
+    if args.initial_colours == "same":
+        raise InvalidInput("--initial-colours same is an option of the rendezvous world")
+    if args.robots is None:
+        raise InvalidInput("gather-verify sweep: the following arguments are required: --robots")
+    args.algorithm = "paper" if args.algorithm is None else args.algorithm
+    args.scheduler = "async" if args.scheduler is None else args.scheduler
+
+
+def _rendezvous_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of the rendezvous world's table."""
+    p.add_argument("--movement", choices=("rigid", "non-rigid"), default=None,
+                   help="on the rendezvous world: rigid or non-rigid moves (default: both)")
+    p.add_argument("--spin", metavar="FILE",
+                   help="on the rendezvous world: the SPIN harness's results "
+                        "(bench/spin/light/results.json), put beside our verdicts")
+    p.add_argument("--traces", metavar="DIR",
+                   help="on the rendezvous world: write each failing cell's trace here")
+    p.add_argument("--markdown", metavar="FILE",
+                   help="on the rendezvous world: write the table as Markdown")
+
+
+def _rendezvous(args: argparse.Namespace) -> int:
+    """``sweep --world rendezvous``: the table, algorithm x synchrony model x movement x
+    initial colours (:mod:`gather_verify.sweeps.rendezvous`); no database."""
+    from gather_verify.sweeps import rendezvous as table
+
+    defaults = {"db": DEFAULT_DB, "multiplicity": "local-weak", "frames": "all",
+                "engine": "union", "move_bound_c": 4.0, "readings_on": "all"}
+    takes = {"algorithm", "scheduler", "movement", "initial_colours", "spin", "traces",
+             "markdown", "json", "timings", "world", "max_states_per_config",
+             "max_seconds_per_config", "max_memory_mb", "command"}
+    for option, value in vars(args).items():
+        if option in takes or callable(value) or value in (None, False, []) or \
+                value == defaults.get(option):
+            continue
+        raise InvalidInput(f"--{option.replace('_', '-')} is no option of the rendezvous world "
+                           "(a table of milliseconds per cell, no database): it takes "
+                           "--algorithm, --scheduler, --movement, --initial-colours, --spin, "
+                           "--traces and --markdown")
+    algorithms, models = table.check_known(args.algorithm, args.scheduler)
+    spin = table.load_spin(args.spin) if args.spin else None
+    result = table.table(algorithms, models,
+                         [args.movement] if args.movement else ["rigid", "non-rigid"],
+                         [args.initial_colours] if args.initial_colours else ["all", "same"],
+                         spin=spin, traces=Path(args.traces) if args.traces else None,
+                         max_states=args.max_states_per_config,
+                         max_seconds=args.max_seconds_per_config)
+    text = table.markdown(result)
+    if args.markdown:
+        Path(args.markdown).write_text(text, encoding="utf-8")
+    if args.json:
+        cells = result["cells"] if args.timings else [
+            {k: v for k, v in c.items() if "seconds" not in k} for c in result["cells"]]
+        print(json.dumps({**result, "cells": cells, "disagreements": [
+            {k: c[k] for k in ("algorithm", "scheduler", "movement", "initial_colours",
+                               "verdict", "spin")} for c in result["disagreements"]]},
+            indent=1, sort_keys=True))
+    else:
+        print(text, end="")
+    return 1 if result["disagreements"] else 0
+
+
 def run(args: argparse.Namespace) -> int:
     """Every input read once, before anything runs: the extra files (which the algorithm may
     read at import), then the algorithm and property files, copied, so that what is loaded,
@@ -139,7 +213,12 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.fingerprint import files_fingerprint
     from gather_verify.properties.registry import absolute_spec as absolute_property
     from gather_verify.sweeps.store import check_db_path
+    from gather_verify.worlds import entry_of
+    from gather_verify.worlds.rendezvous import RENDEZVOUS
 
+    if entry_of(args.world) == RENDEZVOUS:
+        return _rendezvous(args)
+    _robots_world(args)
     check_db_path(args.db)
     args.fingerprint_extra = [os.path.abspath(f) for f in args.fingerprint_extra]
     files_fingerprint(args.fingerprint_extra)  # an unreadable file fails before any work

@@ -9,10 +9,12 @@ when the certificate holds and 1 when it does not (one line saying where).
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import re
 import sys
 import time
+from pathlib import Path
 from typing import Any
 
 from gather_verify.cli.common import (
@@ -61,6 +63,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="with lights and one configuration: each robot's initial colour "
                         "(default 0); with --minimum --lights A-B, also 'some': from any "
                         "initial colouring")
+    p.add_argument("--movement", choices=("rigid", "non-rigid"), help="rendezvous world")
+    p.add_argument("--initial-colours", choices=("all", "same"), help="rendezvous world")
     p.add_argument("--witness", default="synthesized.py", metavar="FILE.py",
                    help="where exists writes the algorithm (default synthesized.py)")
     p.add_argument("--certificate", default="synthesized.cert.json", metavar="FILE",
@@ -114,6 +118,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.world == "rendezvous" or (args.verify and _rendezvous_certificate(args.verify)):
+        return _rendezvous(args)
+    if args.movement or args.initial_colours:
+        raise UsageError("--movement and --initial-colours are options of the rendezvous world")
     if args.verify:
         return _verify(args)
     if not args.world:
@@ -298,6 +306,64 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
     else:
         print(f"the search stopped at a limit: {report['limit']} (no answer; raise it and run "
               "again)")
+
+
+def _rendezvous_certificate(path: str) -> bool:
+    """Whether the certificate file is one of the rendezvous world (its bytes read once,
+    :mod:`gather_verify.inputs`; a file that is none is left to the finite world's check,
+    which says why in one line)."""
+    from gather_verify.inputs import read_text
+
+    try:
+        data = json.loads(read_text(path, "certificate"))
+    except (InvalidInput, ValueError, RecursionError):
+        return False
+    return isinstance(data, dict) and data.get("world") == "rendezvous"
+
+
+def _rendezvous(args: argparse.Namespace) -> int:
+    """``synthesize --world rendezvous``: the least colours (``--minimum --lights A-B[:kind]``)
+    or one number of colours; ``--verify`` of its certificates
+    (:mod:`gather_verify.synthesis.rendezvous`)."""
+    from gather_verify.synthesis import rendezvous as rv
+
+    if args.verify:
+        from gather_verify.inputs import read_text
+
+        holds = rv.verify(json.loads(read_text(args.verify, "certificate")))
+        if args.json:
+            print_json({"certificate": args.verify, "holds": holds})
+        else:
+            print(f"certificate {'holds: none' if holds else 'REJECTED'}  rendezvous")
+        return EXIT_OK if holds else EXIT_VIOLATED
+    if args.robots is not None or args.meeting or args.task:
+        raise UsageError("the rendezvous world takes no --robots, --meeting or --task")
+    count, _, kind = (args.lights or "").partition(":")
+    low, dash, high = count.partition("-")
+    if not (low.isdigit() and (not dash or high.isdigit())) or (dash and not args.minimum):
+        raise UsageError("--lights K[:full|external|internal] (A-B with --minimum) on the "
+                         "rendezvous world")
+    rows = []
+    for k in range(int(low), int(high if dash else low) + 1):
+        row = rv.synthesize(k, kind or "full", args.scheduler, args.movement or "non-rigid",
+                            args.initial_colours or "all", max_seconds=args.max_seconds)
+        rows.append(row)
+        if row["answer"] == "none":
+            Path(args.certificate).write_text(json.dumps(row["certificate"]) + "\n",
+                                              encoding="utf-8")
+        if row["answer"] != "none":
+            break
+    out = rows[-1] if not args.minimum else {"minimum": rows[-1]["colours"] if rows[-1][
+        "answer"] == "exists" else None, "rows": [{k: v for k, v in r.items()
+                                                  if k != "certificate"} for r in rows]}
+    if args.json:
+        print_json(out if args.minimum else {k: v for k, v in out.items() if k != "certificate"})
+    else:
+        for r in rows:
+            print(f"{r['answer']:8} rendezvous  {r['colours']} {r['lights']} colour(s) / "
+                  f"{r['scheduler']}  {r['movement']}, initial colours {r['initial_colours']}  "
+                  f"({r['tables']} partial tables)")
+    return EXIT_OK
 
 
 def _verify(args: argparse.Namespace) -> int:

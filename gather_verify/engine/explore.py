@@ -233,8 +233,9 @@ class Exploration:
 
 class TurnState(tuple[Any, ...]):
     """A concrete state of the robots with a ``stateful`` scheduler's own state, ``extra``
-    (round-robin's order and turn): a :data:`State` to every reader of robots, and two are
-    equal only when their schedulers' states are too (a cycle must return to the same turn)."""
+    (round-robin's order and turn): a :data:`~schedulers.base.State` to every reader of
+    robots, and two are equal only when their schedulers' states are too (a cycle must
+    return to the same turn)."""
 
     extra: object
 

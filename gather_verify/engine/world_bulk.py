@@ -91,6 +91,8 @@ def unsupported(world: World, n: int, scheduler: str | Scheduler, colours: int, 
     sched = as_scheduler(scheduler)
     if not hasattr(sched, "activations"):  # a scheduler of the user's that declares none
         return f"the scheduler {sched.name} does not say which robots its rounds activate"
+    if getattr(sched, "phased", False):
+        return f"the phase scheduler {sched.name} runs on the reference engine"
     stateful = getattr(sched, "stateful", False)
     if n < 1 or n > 62:
         return f"{n} robots (the bulk engine takes 1 to 62)"

@@ -185,7 +185,7 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
            colours: Sequence[int] | None = None, visits: bool = False,
            anonymity: bool = False, symmetries: Sequence[Sequence[int]] = (),
            meeting: frozenset[int] = frozenset(), limits: Limits = NO_LIMITS,
-           watch: Watch | None = None) -> WorldSearch:
+           watch: Watch | None = None, palette: int = 1) -> WorldSearch:
     """Breadth-first search of every state reachable from ``robots`` (all idle, with the
     initial ``colours``, default 0), from each start the scheduler has (one, or one per
     round-robin order): the one reference search
@@ -199,14 +199,15 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
     (``halt``); a limit stops it with ``stopped`` naming the limit. ``watch``, called on each
     expanded state with its id, key, finality and out-edges, stops the search (``stopped`` =
     ``"watch"``, ``halt`` = what it returned) when it returns a :class:`Halt`: a caller that
-    needs only the first violation of a safety part need not search on.
+    needs only the first violation of a safety part need not search on. ``palette``: K, the
+    colours a safe read of a phase scheduler ranges over (:mod:`schedulers.phases`).
     """
     sched = as_scheduler(scheduler)
     canon = canonicaliser(symmetries, meeting, anonymity, visits,
                           relabeller(sched, len(robots)))
     lights = tuple(colours) if colours is not None else (0,) * len(robots)
     start = tuple((v, None, c) for v, c in zip(robots, lights, strict=True))
-    model = WorldModel(sched, start, canon, actions, visits, watch)
+    model = WorldModel(sched, start, canon, actions, visits, watch, palette)
     walked = breadth_first(model, limits)
     return WorldSearch(keys=walked.stored, parents=walked.parents.tolist(), edges=model.edges,
                        final=model.final, stay=model.stay, states=len(walked.stored),
@@ -223,8 +224,13 @@ class WorldModel:
 
     def __init__(self, sched: Scheduler, start: tuple[tuple[int, int | None, int], ...],
                  canon: Callable[[WorldState], WorldState], actions: Actions, visits: bool,
-                 watch: Watch | None):
+                 watch: Watch | None, palette: int = 1):
         self.sched, self.start, self.key, self.actions = sched, start, canon, actions
+        self.phased = getattr(sched, "phased", False)
+        """A phase scheduler (:mod:`schedulers.phases`): a Look may read colours being
+        changed (it re-evaluates the actions under them), and a robot's null cycle is
+        events of its own, so no robot is counted as staying by a null activation."""
+        self.palette = palette
         self.visits, self.watch = visits, watch
         self.edges: list[list[tuple[int, int, Event]]] = []
         self.final: list[bool] = []
@@ -248,6 +254,10 @@ class WorldModel:
         robots, visited, extra = state
         try:
             options = self.actions(robots)
+            events = self.sched.luminous(robots, extra, options.__getitem__, **(
+                {"view": self.actions, "colours": self.palette} if self.phased else {}))
+            if self.phased:  # a read Look evaluates the algorithm again: crashes here
+                events = list(events)
         except AlgorithmCrash as error:
             self.halt = Halt("crash", sid, error.reason, error.detail())
             return self.halt.property
@@ -256,12 +266,11 @@ class WorldModel:
             return self.halt.property
         self.final.append(all(p is None and options[i] == {(v, c)}
                               for i, (v, p, c) in enumerate(robots)))
-        self.stay.append(sum(1 << i for i, (v, p, c) in enumerate(robots)
-                             if p is None and (v, c) in options[i]))
+        self.stay.append(0 if self.phased else sum(
+            1 << i for i, (v, p, c) in enumerate(robots) if p is None and (v, c) in options[i]))
         self.current, self.out = state, []
         return ((event, (succ, self.visited(visited, succ), after))
-                for event, succ, after in self.sched.luminous(robots, extra,
-                                                              options.__getitem__))
+                for event, succ, after in events)
 
     def visited(self, before: int, succ: tuple[tuple[int, int | None, int], ...]) -> int:
         """The nodes visited once ``succ`` is reached (when the task explores)."""

@@ -31,7 +31,7 @@ from gather_verify.worlds import FINITE, get_world
 from gather_verify.worlds.base import FrameMap, World, decimal
 from gather_verify.worlds.moves import parse_lights
 from gather_verify.worlds.view import Lights, WorldView
-from schedulers import get_scheduler
+from schedulers import get_scheduler, not_phased
 
 Answer = tuple[object, int | None]
 """An answer in the key's labels: the destination label and the new colour (None: keep)."""
@@ -88,6 +88,7 @@ def make_instance(world: str, robots: str, meeting: str, scheduler: str, task: s
                            "torus:WxH or graph:FILE); the paper's world Z² has its own "
                            "synthesis: synthesize --world grid")
     check_detection(detection)
+    not_phased(scheduler, "in synthesis (not built yet)")
     sched = get_scheduler(scheduler)
     light = parse_lights(lights)
     if light.variant == "external" and light.colours > 1:

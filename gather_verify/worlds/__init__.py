@@ -28,6 +28,7 @@ from gather_verify.worlds.base import FINITE, PLANE, AnyWorld, World
 from gather_verify.worlds.graph import FileGraph
 from gather_verify.worlds.grid import FiniteGrid
 from gather_verify.worlds.plane import Plane
+from gather_verify.worlds.rendezvous import RendezvousWorld
 from gather_verify.worlds.ring import Ring, parse_size
 from gather_verify.worlds.torus import Torus
 
@@ -36,6 +37,7 @@ __all__ = ["DEFAULT_WORLD", "FINITE", "NAMED_WORLDS", "PLANE", "WORLDS", "AnyWor
 
 NAMED_WORLDS: dict[str, Callable[[], AnyWorld]] = {
     "grid": Plane,
+    "rendezvous": RendezvousWorld,
 }
 """The worlds named without an argument."""
 

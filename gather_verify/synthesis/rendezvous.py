@@ -1,0 +1,250 @@
+"""Synthesis on the rendezvous world: does some algorithm with K colours make two robots
+with lights meet under a synchrony model (SEMANTICS.md §12, §13)?
+
+An algorithm is a table from a view (own colour, other's colour, as far as the lights show
+them; the relative position) to a move and a colour. The search assigns a view's answer
+only when a reachable state needs it (lazily, depth first), and after each assignment
+explores what the table decides so far: the states that need an unassigned view are left
+open. A fair strongly connected component of decided states outside the goal (both robots
+step in it, it never gathers) is in the state graph of every completion, so the whole
+subtree fails there. A table with no open state and no such component is a witness, which
+the ordinary check (:func:`~gather_verify.rendezvous_check.run_rendezvous_check`) then
+verifies. When every branch fails, the answer is ``none`` with a certificate: the case
+split (a view, and a subtree per answer) down to each refuted partial table, which
+:func:`verify` re-checks without searching.
+
+>>> synthesize(1, "full", "fsync", "rigid", "all")["answer"]
+'exists'
+>>> r = synthesize(1, "full", "async", "rigid", "all")
+>>> r["answer"], verify(r["certificate"])
+('none', True)
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from itertools import product
+from typing import Any, cast
+
+from gather_verify.errors import InvalidInput
+from gather_verify.properties.graph import components_of
+from gather_verify.rendezvous_check import phase_model, run_rendezvous_check
+from gather_verify.worlds.rendezvous import Rendezvous, State
+from gather_verify.worlds.rendezvous_rules import (
+    INITIAL_COLOURS,
+    LIGHTS,
+    MOVEMENTS,
+    POSITIONS,
+    STAY,
+    TO_HALF,
+    TO_OTHER,
+    RendezvousAlgorithm,
+)
+from schedulers.phases import phase_events
+
+View = tuple[int | None, int | None, int]
+"""(own colour or None, other's colour or None, position): what a robot sees."""
+Answer = tuple[int, int]
+"""(move, new colour)."""
+
+
+class Missing(Exception):
+    """A reachable state needs the answer to a view the table does not give yet."""
+
+    def __init__(self, view: View):
+        super().__init__(view)
+        self.view = view
+
+
+@dataclass
+class Partial:
+    """A table being built, as the rendezvous world asks an algorithm."""
+
+    colours: int
+    lights: str
+    table: dict[View, Answer]
+
+    def view(self, own: int, other: int, position: int) -> View:
+        return (None if self.lights == "external" else own,
+                None if self.lights == "internal" else other, position)
+
+    def answer(self, own: int, other: int, position: int) -> Answer:
+        key = self.view(own, other, position)
+        if key not in self.table:
+            raise Missing(key)
+        return self.table[key]
+
+
+def views(colours: int, lights: str) -> list[View]:
+    """Every view a robot may have under these lights."""
+    own = [None] if lights == "external" else list(range(colours))
+    other = [None] if lights == "internal" else list(range(colours))
+    return [(a, b, p) for a, b, p in product(own, other, range(len(POSITIONS)))]
+
+
+def answers(colours: int) -> list[Answer]:
+    return [(m, c) for m in (STAY, TO_HALF, TO_OTHER) for c in range(colours)]
+
+
+@dataclass(frozen=True)
+class Setting:
+    """What is synthesized for: K colours, the lights, the model, movement, initial colours."""
+
+    colours: int
+    lights: str
+    scheduler: str
+    movement: str
+    initial_colours: str
+
+    def explore(self, table: dict[View, Answer]) -> tuple[bool, View | None]:
+        """What ``table`` decides so far: whether a fair run of decided states never gathers
+        (refuted), and the first view an open state needs (None: every state decided)."""
+        alg = Partial(self.colours, self.lights, table)
+        world = Rendezvous(cast(RendezvousAlgorithm, alg))
+        model = phase_model(self.scheduler)
+        states: list[State] = world.starts(self.movement, self.initial_colours)
+        index = {s: i for i, s in enumerate(states)}
+        edges: list[list[tuple[int, int]]] = []
+        need: View | None = None
+        for state in states:  # grows as it goes: breadth first
+            try:
+                events = list(phase_events(model, world, state))
+            except Missing as missing:
+                need = need or missing.view
+                edges.append([])
+                continue
+            out = []
+            for event, succ in events:
+                if succ not in index:
+                    index[succ] = len(states)
+                    states.append(succ)
+                out.append((index[succ], sum(1 << i for i in event.robots)))
+            edges.append(out)
+        return _fair_outside_goal(states, edges), need
+
+
+def _fair_outside_goal(states: list[State], edges: list[list[tuple[int, int]]]) -> bool:
+    """A strongly connected component of decided states, none gathered, with an edge of each
+    robot inside it (open states have no edge, so they are in none)."""
+    def inside(v: int) -> bool:
+        return not Rendezvous.goal(states[v])
+
+    for comp in components_of(len(states), lambda v: [w for w, _ in edges[v]], inside):
+        members = set(comp)
+        robots = 0
+        for v in comp:
+            for w, mask in edges[v]:
+                if w in members:
+                    robots |= mask
+        if robots == 3:
+            return True
+    return False
+
+
+class Found(Exception):
+    def __init__(self, table: dict[View, Answer]):
+        super().__init__()
+        self.table = dict(table)
+
+
+class OutOfTime(Exception):
+    pass
+
+
+def _search(setting: Setting, table: dict[View, Answer], deadline: float,
+            count: list[int]) -> dict[str, Any]:
+    """The case split below ``table`` (raises :class:`Found` at a witness)."""
+    if time.perf_counter() > deadline:
+        raise OutOfTime
+    count[0] += 1
+    refuted, need = setting.explore(table)
+    if refuted:
+        return {"refuted": True}
+    if need is None:
+        raise Found(table)
+    children = []
+    for answer in answers(setting.colours):
+        table[need] = answer
+        children.append(_search(setting, table, deadline, count))
+        del table[need]
+    return {"view": list(need), "children": children}
+
+
+def algorithm_of(setting: Setting, table: dict[View, Answer], name: str) -> RendezvousAlgorithm:
+    """The witness as an algorithm (views no run reaches answer stay, colour 0)."""
+    rules = tuple(((v[0], v[1], v[2]), table.get(v, (STAY, 0)))
+                  for v in views(setting.colours, setting.lights))
+    return RendezvousAlgorithm(name, setting.colours, rules, lights=setting.lights)
+
+
+def synthesize(colours: int, lights: str, scheduler: str, movement: str = "non-rigid",
+               initial_colours: str = "all", max_seconds: float = 600.0) -> dict[str, Any]:
+    """``exists`` (with the witness's table, verified by the ordinary check), ``none`` (with a
+    certificate) or ``unknown`` (the time ran out)."""
+    if lights not in LIGHTS or not 1 <= colours <= 8:
+        raise InvalidInput(f"lights {colours}:{lights}: 1 to 8 colours, full, external or "
+                           "internal")
+    setting = Setting(colours, lights, scheduler, movement, initial_colours)
+    phase_model(scheduler)  # an unknown model: one line
+    count = [0]
+    head = {"world": "rendezvous", "colours": colours, "lights": lights,
+            "scheduler": scheduler, "movement": movement, "initial_colours": initial_colours}
+    try:
+        tree = _search(setting, {}, time.perf_counter() + max_seconds, count)
+    except Found as found:
+        witness = algorithm_of(setting, found.table, f"synthesized-{colours}-{lights}")
+        check = run_rendezvous_check(witness, scheduler, movement=movement,
+                                     initial_colours=initial_colours)
+        if check["verdict"] != "VERIFIED":  # pragma: no cover - the search and check agree
+            raise AssertionError(f"the witness fails the check: {check['reason']}") from None
+        return {**head, "answer": "exists", "tables": count[0],
+                "witness": [[list(v), list(a)] for v, a in sorted(
+                    found.table.items(), key=lambda x: [(-1 if y is None else y) for y in x[0]])],
+                "witness_verdict": check["verdict"]}
+    except OutOfTime:
+        return {**head, "answer": "unknown", "reason": f"time ({max_seconds:g} s)",
+                "tables": count[0]}
+    return {**head, "answer": "none", "tables": count[0],
+            "certificate": {**head, "tree": tree}}
+
+
+def verify(certificate: dict[str, Any]) -> bool:
+    """Whether a ``none`` certificate holds: every inner node splits on one view over every
+    answer, and every leaf's partial table is refuted (a fair run that never gathers)."""
+    try:
+        setting = Setting(certificate["colours"], certificate["lights"],
+                          certificate["scheduler"], certificate["movement"],
+                          certificate["initial_colours"])
+        assert type(setting.colours) is int and 1 <= setting.colours <= 8
+        assert setting.lights in LIGHTS and setting.movement in MOVEMENTS
+        assert setting.initial_colours in INITIAL_COLOURS
+        phase_model(str(setting.scheduler))
+        all_views = set(views(setting.colours, setting.lights))
+    except (KeyError, TypeError, AssertionError):
+        raise InvalidInput("bad certificate: a rendezvous certificate names colours (1 to 8), "
+                           "lights, scheduler, movement and initial_colours") from None
+
+    def holds(node: Any, table: dict[View, Answer]) -> bool:
+        if not isinstance(node, dict):
+            return False
+        if node.get("refuted") is True:
+            return setting.explore(table)[0]
+        view = tuple(node.get("view", ()))
+        children = node.get("children")
+        if view not in all_views or view in table or not isinstance(children, list) \
+                or len(children) != len(answers(setting.colours)):
+            return False
+        key: View = view
+        for answer, child in zip(answers(setting.colours), children, strict=True):
+            table[key] = answer
+            ok = holds(child, table)
+            del table[key]
+            if not ok:
+                return False
+        return True
+
+    try:
+        return holds(certificate.get("tree"), {})
+    except (TypeError, ValueError, RecursionError):
+        return False  # a tree that is no case split holds nothing
