@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from gather_verify.errors import GatherVerifyError, InvalidInput
+from gather_verify.synthesis.lift import LADDER, lift, liftable, rank
 from gather_verify.synthesis.views import Instance, Views, make_instance
 from schedulers import Event, get_scheduler
 
@@ -91,12 +92,21 @@ def _action(robots: tuple[tuple[int, int | None, int], ...], event: Event, i: in
     return after[0], after[2]
 
 
-def replay(views: Views, cex: dict[str, Any]) -> Replayed:
-    """Replay ``cex`` from scratch: its literals, or :class:`CertificateError` naming what
-    fails (an event the scheduler cannot take, two options for one view, no violation)."""
+def replay(views: Views, cex: dict[str, Any], scheduler: str | None = None) -> Replayed:
+    """Replay ``cex`` from scratch under its scheduler (the instance's, unless it names the
+    cheaper one it was found under, :mod:`~gather_verify.synthesis.lift`; ``scheduler``
+    overrides both): its literals, or :class:`CertificateError` naming what fails (an event
+    the scheduler cannot take, two options for one view, no violation)."""
     inst = views.inst
     world, task = inst.world, inst.task
-    sched = get_scheduler(inst.scheduler)
+    name = scheduler
+    if name is None:
+        name = cex.get("scheduler", inst.scheduler) if isinstance(cex, dict) else None
+        if not isinstance(name, str) or not liftable(name, inst.scheduler,
+                                                     inst.lights.colours):
+            raise CertificateError(f"a counterexample under {name!r} is none under "
+                                   f"{inst.scheduler}")
+    sched = get_scheduler(name)
     try:
         config = inst.configurations[int(cex["configuration"])]
         raw_events = list(cex["events"])
@@ -357,8 +367,11 @@ def write_certificate(path: str, inst: Instance, views: Views, cexs: list[dict[s
         "instance": inst.describe(),
         "covers": ("every algorithm that is a deterministic function of the view up to "
                    "isomorphism (these capabilities, these frames) fails the task from at "
-                   "least one of these initial configurations under this scheduler: each "
-                   "leaf's counterexample is an execution every algorithm on its path has"),
+                   "least one of these initial configurations under this scheduler, and under "
+                   "each scheduler of holds_under: each leaf's counterexample is an execution "
+                   "every algorithm on its path has (found under the adversary it names, a "
+                   "run of every stronger one too)"),
+        "holds_under": holds_under(views, cexs, literals),
         "views": [{"key": views.texts[k], "options": len(views.options[k])} for k in used],
         "counterexamples": cexs,
         "tree": renumber(tree),
@@ -369,9 +382,9 @@ def write_certificate(path: str, inst: Instance, views: Views, cexs: list[dict[s
         f.write("\n")
 
 
-def verify_certificate(path: str) -> dict[str, Any]:
-    """Re-check a certificate without searching; a summary, or :class:`CertificateError`
-    (the certificate does not hold) / :class:`InvalidInput` (not a certificate)."""
+def load_certificate(path: str) -> tuple[dict[str, Any], Instance]:
+    """A certificate file and the instance its text gives today, or :class:`InvalidInput`
+    (not a certificate) / :class:`CertificateError` (its instance does not match)."""
     from gather_verify.errors import read_input
 
     try:
@@ -385,15 +398,27 @@ def verify_certificate(path: str) -> dict[str, Any]:
         inst = make_instance(raw["world"], raw["robots"],
                              " ".join(str(_text(v)) for v in raw["meeting_nodes"]),
                              raw["scheduler"], raw["task"], raw["detection"], raw["frames"],
-                             raw["visibility"], raw["lights"], raw.get("colours"))
-        cexs = doc["counterexamples"]
-        tree = doc["tree"]
-        listed = [v["key"] for v in doc["views"]]
+                             raw["visibility"], raw["lights"], raw.get("colours"),
+                             raw.get("start"))
     except (KeyError, TypeError) as error:
         raise CertificateError(f"a malformed certificate: missing {error}") from None
     if inst.describe() != raw:
         raise CertificateError("the instance does not match what its text gives today (the "
                                "configurations or the graph file changed)")
+    return doc, inst
+
+
+def verify_certificate(path: str) -> dict[str, Any]:
+    """Re-check a certificate without searching; a summary, or :class:`CertificateError`
+    (the certificate does not hold) / :class:`InvalidInput` (not a certificate)."""
+    doc, inst = load_certificate(path)
+    raw = doc["instance"]
+    try:
+        cexs = doc["counterexamples"]
+        tree = doc["tree"]
+        listed = [v["key"] for v in doc["views"]]
+    except (KeyError, TypeError) as error:
+        raise CertificateError(f"a malformed certificate: missing {error}") from None
     views = Views(inst)
     clauses = []
     for j, cex in enumerate(cexs):
@@ -413,8 +438,57 @@ def verify_certificate(path: str) -> dict[str, Any]:
                                    f"({views.texts[error.args[0]][:60]})") from None
     options = {number[k]: len(views.options[k]) for lits in clauses for k in lits}
     leaves = check_tree(tree, renamed, options)
+    holds = holds_under(views, cexs, clauses)
+    if "holds_under" in doc and doc["holds_under"] != holds:
+        raise CertificateError(f"the certificate says it holds under {doc['holds_under']}; "
+                               f"its counterexamples show {holds}")
     return {"answer": "none", "holds": True, "counterexamples": len(cexs),
-            "views": len(options), "leaves": leaves, "instance": raw}
+            "views": len(options), "leaves": leaves, "holds_under": holds,
+            "rests_on": rests_on(tree, cexs), "instance": raw}
+
+
+def holds_under(views: Views, cexs: list[dict[str, Any]], clauses: list[dict[int, int]]
+                ) -> list[str]:
+    """The schedulers under which the certificate holds: the instance's, and, when every
+    counterexample was found under a cheaper adversary, each from the strongest of those
+    upwards (a none under FSYNC is one under SSYNC and ASYNC, :mod:`.lift`). Each claim is
+    re-checked: every counterexample, lifted to that scheduler, replays through it and
+    relies on no literal its own replay did not (so the tree holds there too)."""
+    inst = views.inst
+    target, colours = inst.scheduler, inst.lights.colours
+    found = [str(c.get("scheduler", target)) for c in cexs]
+    strongest = max(found, key=rank, default=target)
+    if rank(strongest) < 0:
+        return [target]
+    holds = [s for s in LADDER if liftable(strongest, s, colours)]
+    for s in holds:
+        for j, (cex, own) in enumerate(zip(cexs, found, strict=True)):
+            if own == s:
+                continue
+            start = [inst.world.node_to_json(v)
+                     for v in inst.configurations[int(cex["configuration"])][0]]
+            try:
+                got = replay(views, lift(cex, own, s, colours, start), scheduler=s)
+            except (CertificateError, KeyError, ValueError) as error:
+                raise CertificateError(f"counterexample {j}, lifted to {s}: {error}") from None
+            if any(clauses[j].get(k) != o for k, o in got.literals.items()):
+                raise CertificateError(f"counterexample {j}, lifted to {s}, relies on an "
+                                       "answer its own replay does not")
+    return holds
+
+
+def rests_on(tree: Any, cexs: list[dict[str, Any]]) -> list[int]:
+    """The initial configurations (indices) of the counterexamples the tree's leaves use:
+    no one algorithm solves the task from all of them."""
+    out: set[int] = set()
+    stack = [tree]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, int):
+            out.add(int(cexs[node]["configuration"]))
+        else:
+            stack.extend(node[1])
+    return sorted(out)
 
 
 def _text(node: Any) -> str:
