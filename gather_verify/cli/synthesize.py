@@ -42,6 +42,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--robots", help='one initial configuration ("0 2"), or a count of robots '
                    "(2: every initial configuration of that many, up to the world's "
                    "symmetries)")
+    p.add_argument("--start", default=None, metavar="SET",
+                   choices=("all", "aperiodic", "asymmetric", "rigid", "periodic", "symmetric"),
+                   help="with a count of robots: the initial configurations of that set "
+                        "(all, aperiodic, asymmetric or rigid, periodic, symmetric: "
+                        "docs/synthesis.md), each on its own; with --together, one algorithm "
+                        "for all of them")
     p.add_argument("--meeting", default="", help="meeting nodes, for the task that has them")
     p.add_argument("--task", default=None,
                    help="gathering, gathering-on-meeting-nodes (default with meeting nodes), "
@@ -92,12 +98,20 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="with --box: only the configurations of these classes (I11 ... I42, "
                         "UNCLASSIFIED)")
     p.add_argument("--together", action="store_true",
-                   help="with --box --select outside-u: one algorithm for every selected "
-                        "configuration at once")
+                   help="one algorithm for every configuration at once: with --start, every "
+                        "start of the set; with --world ring:A-B, every start of every size, "
+                        "written as gap rules; with --box --select outside-u, every selected "
+                        "configuration")
     p.add_argument("--seed", action="append", default=None, metavar="ALGORITHM",
-                   help="the paper's world: an algorithm (name or FILE.py:NAME, a witness of "
-                        "an earlier run) whose answers the search tries first, before the "
-                        "paper's and the nearest-meeting-node rule; may be repeated")
+                   help="an algorithm (name or FILE.py:NAME, a witness of an earlier run) "
+                        "whose answers the search tries first (on the paper's world, before "
+                        "the paper's and the nearest-meeting-node rule); may be repeated")
+    p.add_argument("--gap-cap", type=bounded_int(2, 64), default=3, metavar="T",
+                   help="with --world ring:A-B --together: gap rules read a gap below T "
+                        "exactly, and compare the gaps of T or more with each other (default 3)")
+    p.add_argument("--explain", action="store_true",
+                   help="with --verify: the certificate in words (the starts it rests on, the "
+                        "adversary's strategy along each branch)")
     p.add_argument("--rounds", type=bounded_int(0, 1000), default=12,
                    help="the paper's world: rounds of Theorem 1's adversary that a certificate "
                         "of none re-checks with the view code (default 12)")
@@ -120,9 +134,12 @@ def run(args: argparse.Namespace) -> int:
 
     if entry_of(args.world) == PLANE:
         return _plane(args)
-    if args.box is not None or args.seed:
-        raise UsageError(f"{'--box' if args.box is not None else '--seed'} goes with the "
-                         "paper's world (--world grid)")
+    if args.box is not None:
+        raise UsageError("--box goes with the paper's world (--world grid)")
+    from gather_verify.cli import synthesize_sets as sets
+
+    if sets.wants_sets(args):
+        return sets.run(args)
     from gather_verify.synthesis.search import certificate_stats, synthesize
     from gather_verify.synthesis.views import Views, make_instance
 
@@ -131,13 +148,13 @@ def run(args: argparse.Namespace) -> int:
     writable_outputs(witness=args.witness, certificate=args.certificate)
     inst = make_instance(args.world, args.robots, args.meeting, args.scheduler, args.task,
                          args.multiplicity, args.frames, args.visibility, args.lights,
-                         args.colours)
+                         args.colours, args.start)
     views = Views(inst)
     started = time.perf_counter()
     try:
         result = synthesize(inst, max_seconds=args.max_seconds,
                             max_candidates=args.max_candidates, max_states=args.max_states,
-                            max_tree=args.max_tree, views=views)
+                            max_tree=args.max_tree, views=views, seeds=sets.seeds(args))
     except KeyboardInterrupt:
         print("interrupted: synthesize keeps no partial results; run the same command again "
               "(it starts over)", file=sys.stderr)
@@ -181,6 +198,10 @@ def run(args: argparse.Namespace) -> int:
         report["tree"] = {"nodes": stats["tree_nodes"], "leaves": stats["tree_leaves"]}
         try:
             verify_certificate(args.certificate)
+            said, report["explanation"] = sets.none_report(args.certificate)
+            report.update(said)
+            report["rests_on"] = [[inst.world.node_to_json(v) for v in
+                                   inst.configurations[j][0]] for j in said["rests_on"]]
         except CertificateError as error:
             problem = (f"the certificate just written does not re-check ({error}): this is a "
                        "bug of gather-verify's synthesis, please report it")
@@ -217,6 +238,12 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
               f"views and {tree['leaves']} leaves over {report['counterexamples']} "
               "counterexamples); re-check it with")
         print(f"  gather-verify synthesize --verify {report['certificate']}")
+        if "holds_under" in report:
+            from gather_verify.cli.synthesize_sets import holds_line
+
+            print(holds_line(report["holds_under"], report["scheduler"]))
+        for line in report.get("explanation", []):
+            print(line)
     else:
         print(f"the search stopped at a limit: {report['limit']} (no answer; raise it and run "
               "again)")
@@ -251,6 +278,15 @@ def _verify(args: argparse.Namespace) -> int:
                 f"({got['counterexamples']} counterexamples replayed, {got['views']} views, "
                 f"{got['leaves']} leaves; no search)")
     print(f"certificate holds: none  {what}  {got['seconds']:.2f}s")
+    if not on_plane:
+        from gather_verify.cli.synthesize_sets import holds_line
+
+        print(holds_line(got["holds_under"], inst["scheduler"]))
+        if args.explain:
+            from gather_verify.synthesis.explain import explain_certificate
+
+            for line in explain_certificate(args.verify):
+                print(line)
     return EXIT_OK
 
 
