@@ -121,8 +121,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from gather_verify.cli import check_rings
     from gather_verify.worlds import FINITE, entry_of
 
+    if check_rings.every_size(args.world) is not None:  # ring:N+, every size at once
+        return check_rings.run(args)
     if entry_of(args.world) == FINITE:
         return run_world(args)
     if args.scenario:

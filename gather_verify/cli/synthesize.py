@@ -241,7 +241,7 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
         if "holds_under" in report:
             from gather_verify.cli.synthesize_sets import holds_line
 
-            print(holds_line(report["holds_under"], report["scheduler"]))
+            print(holds_line(report, report["scheduler"]))
         for line in report.get("explanation", []):
             print(line)
     else:
@@ -281,7 +281,7 @@ def _verify(args: argparse.Namespace) -> int:
     if not on_plane:
         from gather_verify.cli.synthesize_sets import holds_line
 
-        print(holds_line(got["holds_under"], inst["scheduler"]))
+        print(holds_line(got, inst["scheduler"]))
         if args.explain:
             from gather_verify.synthesis.explain import explain_certificate
 

@@ -63,17 +63,18 @@ def none_report(path: str) -> tuple[dict[str, Any], list[str]]:
     from gather_verify.synthesis.explain import explain_certificate
 
     got = verify_certificate(path)
-    return ({"holds_under": got["holds_under"], "rests_on": got["rests_on"]},
+    return ({k: got[k] for k in ("holds_under", "found_under", "rests_on")},
             explain_certificate(path))
 
 
-def holds_line(holds: list[str], scheduler: str) -> str:
-    """Where a none holds, in words."""
-    cheaper = [s for s in holds if s != scheduler]
-    if not cheaper:
+def holds_line(got: dict[str, Any], scheduler: str) -> str:
+    """Where a none holds, in words (``got``: what the certificate's re-check says)."""
+    holds = got.get("holds_under", [scheduler])
+    found = got.get("found_under", [scheduler])
+    if holds == [scheduler]:
         return f"holds under {scheduler}"
-    return (f"holds under {', '.join(holds)} (every counterexample is a run of {holds[0]}, "
-            "and so of every stronger adversary)")
+    return (f"holds under {', '.join(holds)}: every counterexample was found under "
+            f"{' or '.join(found)}, and is a run of each of these adversaries")
 
 
 def per_start(args: argparse.Namespace) -> int:
@@ -161,7 +162,7 @@ def one_start(args: argparse.Namespace, inst: Any, witness: str, certificate: st
                           res.tree, certificate_stats(res))
         row["certificate"] = certificate
         try:
-            row["holds_under"] = none_report(certificate)[0]["holds_under"]
+            row.update(none_report(certificate)[0])
         except CertificateError as error:
             trouble = (f"the certificate {certificate} just written does not re-check "
                        f"({error}): this is a bug of gather-verify's synthesis, please report it")
@@ -182,9 +183,7 @@ def _print_rows(report: dict[str, Any]) -> None:
             line += (f"--algorithm {r['witness']}: checker {', '.join(r['checker'])} "
                      f"({r['candidates']} candidates)")
         elif r["answer"] == "none":
-            line += (f"certificate {r['certificate']}, "
-                     + holds_line(r.get("holds_under", [report["scheduler"]]),
-                                  report["scheduler"]))
+            line += f"certificate {r['certificate']}, " + holds_line(r, report["scheduler"])
         else:
             line += f"limit: {r['limit']}"
         print(line)

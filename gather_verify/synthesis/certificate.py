@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from gather_verify.errors import GatherVerifyError, InvalidInput
-from gather_verify.synthesis.lift import LADDER, lift, liftable, rank
+from gather_verify.synthesis.lift import LADDER, lift, liftable
 from gather_verify.synthesis.views import Instance, Views, make_instance
 from schedulers import Event, get_scheduler
 
@@ -444,23 +444,21 @@ def verify_certificate(path: str) -> dict[str, Any]:
                                f"its counterexamples show {holds}")
     return {"answer": "none", "holds": True, "counterexamples": len(cexs),
             "views": len(options), "leaves": leaves, "holds_under": holds,
+            "found_under": sorted({str(c.get("scheduler", inst.scheduler)) for c in cexs}),
             "rests_on": rests_on(tree, cexs), "instance": raw}
 
 
 def holds_under(views: Views, cexs: list[dict[str, Any]], clauses: list[dict[int, int]]
                 ) -> list[str]:
     """The schedulers under which the certificate holds: the instance's, and, when every
-    counterexample was found under a cheaper adversary, each from the strongest of those
-    upwards (a none under FSYNC is one under SSYNC and ASYNC, :mod:`.lift`). Each claim is
+    counterexample was found under a cheaper adversary, every scheduler each of them lifts
+    to (a none under FSYNC is one under SSYNC and ASYNC, :mod:`.lift`). Each claim is
     re-checked: every counterexample, lifted to that scheduler, replays through it and
     relies on no literal its own replay did not (so the tree holds there too)."""
     inst = views.inst
     target, colours = inst.scheduler, inst.lights.colours
     found = [str(c.get("scheduler", target)) for c in cexs]
-    strongest = max(found, key=rank, default=target)
-    if rank(strongest) < 0:
-        return [target]
-    holds = [s for s in LADDER if liftable(strongest, s, colours)]
+    holds = [s for s in LADDER if all(liftable(f, s, colours) for f in found)] or [target]
     for s in holds:
         for j, (cex, own) in enumerate(zip(cexs, found, strict=True)):
             if own == s:

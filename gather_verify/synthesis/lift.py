@@ -1,11 +1,13 @@
-"""The cheapest adversary first: a counterexample found under FSYNC is one under SSYNC and
-ASYNC (SEMANTICS.md §4, §12).
+"""The cheapest adversary first: a counterexample found under FSYNC (or the centralized
+scheduler) is one under SSYNC and ASYNC (SEMANTICS.md §4, §12).
 
-Every FSYNC round is an SSYNC round in which the adversary activates every robot, and every
-SSYNC round is an ASYNC sequence: the Looks of the robots that move, then their Moves. Both
-runs are fair where the first one is: a robot active in a round acts in its events, or, if
-it stayed, is idle in the state before them with staying in its move set. So a violation
-under the weaker adversary is one under the stronger, with the same views and answers.
+Every FSYNC round is an SSYNC round in which the adversary activates every robot; every
+centralized step is an SSYNC round that activates one robot; every SSYNC round is an ASYNC
+sequence: the Looks of the robots that move, then their Moves. The runs are fair where the
+first one is: a robot active in a round acts in its events, or, if it stayed, is idle in the
+state before them with staying in its move set. So a violation under the weaker adversary is
+one under the stronger, with the same views and answers. (FSYNC and the centralized
+scheduler are not comparable: neither's runs are the other's.)
 
 :func:`lift` rewrites a counterexample (its events, the position of its cycle, its stays)
 for a stronger scheduler. Nothing here is trusted: the certificate's re-check replays the
@@ -26,30 +28,24 @@ from __future__ import annotations
 import copy
 from typing import Any
 
-LADDER = ("fsync", "ssync", "async")
-"""The adversaries from the weakest to the strongest: every run of one is a run of the
-next (for ASYNC, without lights)."""
-
-
-def rank(scheduler: str) -> int:
-    """The scheduler's place on :data:`LADDER` (-1: not on it)."""
-    return LADDER.index(scheduler) if scheduler in LADDER else -1
+LADDER = ("fsync", "centralized", "ssync", "async")
+"""The adversaries whose counterexamples lift, cheapest first."""
+STRONGER = {"fsync": ("ssync", "async"), "centralized": ("ssync", "async"),
+            "ssync": ("async",), "async": ()}
+"""Per adversary, those of which each of its runs is a run too (to ASYNC: without lights)."""
 
 
 def liftable(source: str, target: str, colours: int) -> bool:
     """Whether every counterexample under ``source`` is one under ``target``."""
     if source == target:
         return True
-    a, b = rank(source), rank(target)
-    if a < 0 or b < 0 or a > b:
-        return False
-    return target != "async" or colours == 1
+    return target in STRONGER.get(source, ()) and (target != "async" or colours == 1)
 
 
 def rungs(target: str, colours: int) -> list[str]:
     """The schedulers to try a candidate under before ``target``, cheapest first, then
     ``target`` itself: those whose counterexamples lift to it."""
-    return [s for s in LADDER[:max(rank(target), 0)] if liftable(s, target, colours)] + [target]
+    return [s for s in LADDER if s != target and liftable(s, target, colours)] + [target]
 
 
 def lift(cex: dict[str, Any], source: str, target: str, colours: int,
@@ -66,7 +62,7 @@ def lift(cex: dict[str, Any], source: str, target: str, colours: int,
     out = copy.deepcopy(cex)
     out["scheduler"] = target
     if target != "async" or source == "async":
-        return out
+        return out  # a round of FSYNC or the centralized scheduler is one SSYNC may take
     events = cex["events"]
     loop = cex.get("loop")
     pos = [0]

@@ -51,6 +51,7 @@ from gather_verify.synthesis.certificate import (
     tree_size,
 )
 from gather_verify.synthesis.lift import rungs
+from gather_verify.synthesis.restart import restart
 from gather_verify.synthesis.views import Instance, Views
 from gather_verify.tasks import Context, Finding
 from gather_verify.tasks.base import components, fair
@@ -267,7 +268,9 @@ class _Search:
         target = self.parts[p][0].scheduler
         known = {frozenset(c.items()) for c in self.clauses[-len(findings) * 4:]}
         for finding in findings:
-            cex = counterexample(inst, views, choice, idx, s, finding)
+            cex = restart(inst, counterexample(inst, views, choice, idx, s, finding))
+            if inst.task.visits and "loop" in cex:
+                unroll(inst, cex)
             if rung != target:
                 cex["scheduler"] = rung  # the adversary it was found under (lift.py)
             if len(self.parts) > 1:
