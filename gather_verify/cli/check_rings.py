@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import re
+from typing import Any
 
 from gather_verify.cli.common import EXIT_INCOMPLETE, EXIT_OK, EXIT_VIOLATED, UsageError, print_json
 
@@ -55,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
     return EXIT_OK if got["holds"] else EXIT_VIOLATED
 
 
-def _confirm(args: argparse.Namespace, algorithm: object, got: dict, scheduler: str,
+def _confirm(args: argparse.Namespace, algorithm: Any, got: dict, scheduler: str,
              detection: str, frames: str) -> dict:
     """The ordinary checker from the counterexample's configuration, at its size."""
     from gather_verify.world_check import run_world_check

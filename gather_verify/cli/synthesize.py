@@ -138,8 +138,12 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("--box goes with the paper's world (--world grid)")
     from gather_verify.cli import synthesize_sets as sets
 
+    if sets.is_range(args.world):
+        from gather_verify.cli.synthesize_rules import run_range
+
+        return run_range(args)
     if sets.wants_sets(args):
-        return sets.run(args)
+        return sets.per_start(args)
     from gather_verify.synthesis.search import certificate_stats, synthesize
     from gather_verify.synthesis.views import Views, make_instance
 

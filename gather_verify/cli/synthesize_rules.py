@@ -27,6 +27,10 @@ def run_range(args: argparse.Namespace) -> int:
     from gather_verify.synthesis.witness import check_witness
     from gather_verify.worlds import world_specs
 
+    if not args.together:
+        raise UsageError(f"--world {args.world}: a range of rings asks one algorithm for "
+                         "every size, add --together (or --minimum for the least number of "
+                         "robots per size)")
     robots = (args.robots or "").strip()
     if not robots.isdigit():
         raise UsageError("--world ring:A-B --together: --robots is a count (every start of "

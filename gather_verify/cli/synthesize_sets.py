@@ -39,21 +39,9 @@ def is_range(world: str | None) -> bool:
 
 
 def wants_sets(args: argparse.Namespace) -> bool:
-    """Whether this command answers per start (``--start`` without ``--together``) or over a
-    range of rings (``--world ring:A-B``), rather than with one search."""
-    return (args.start is not None and not args.together) or is_range(args.world)
-
-
-def run(args: argparse.Namespace) -> int:
-    if is_range(args.world):
-        if not args.together:
-            raise UsageError(f"--world {args.world}: a range of rings asks one algorithm for "
-                             "every size, add --together (or --minimum for the least number of "
-                             "robots per size)")
-        from gather_verify.cli.synthesize_rules import run_range
-
-        return run_range(args)
-    return per_start(args)
+    """Whether this command answers per start (``--start`` without ``--together``) rather
+    than with one search."""
+    return args.start is not None and not args.together
 
 
 def none_report(path: str) -> tuple[dict[str, Any], list[str]]:

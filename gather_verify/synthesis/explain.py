@@ -91,8 +91,9 @@ def tell(views: Views, cex: dict[str, Any]) -> str:
     inst = views.inst
     w = inst.world
     events = [event_from_json(w, e) for e in cex["events"]]
-    robots = tuple((v, None, c) for v, c in zip(*inst.configurations[int(cex["configuration"])],
-                                                 strict=True))
+    robots: tuple[tuple[int, int | None, int], ...] = tuple(
+        (v, None, c) for v, c in zip(*inst.configurations[int(cex["configuration"])],
+                                     strict=True))
     parts = []
     loop = cex.get("loop")
     for j, e in enumerate(events):

@@ -103,7 +103,7 @@ class GapViews(Views):
         for answer, _ in self.options[k]:
             dests = set()
             for frame, a in readings:
-                said = answer if a == key else MIRROR[answer]
+                said = str(answer) if a == key else MIRROR[str(answer)]
                 label = {"stay": 0, "forward": 1, "back": world.size - 1}[said]
                 dests.add(frame.inverse[label])
             acts.append(frozenset((d, colour) for d in dests))

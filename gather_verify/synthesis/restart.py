@@ -33,7 +33,8 @@ def restart(inst: Instance, cex: dict[str, Any]) -> dict[str, Any]:
              if frozenset(p[v] for v in inst.meeting) == inst.meeting]
     reps = {tuple(r): j for j, (r, _) in enumerate(inst.configurations)}
     robots0, colours0 = inst.configurations[int(cex["configuration"])]
-    state = tuple((v, None, c) for v, c in zip(robots0, colours0, strict=True))
+    state: tuple[tuple[int, int | None, int], ...] = tuple(
+        (v, None, c) for v, c in zip(robots0, colours0, strict=True))
     events = [event_from_json(w, e) for e in cex["events"]]
     # the restart comes before the cycle, or before the last event of an exclusivity
     # violation (a crossing ends on distinct nodes); a final state may be a start itself
@@ -66,6 +67,7 @@ def restart(inst: Instance, cex: dict[str, Any]) -> dict[str, Any]:
 
 def _moved(e: Event, p: tuple[int, ...], rename: dict[int, int]) -> Event:
     """An event moved by the symmetry ``p`` (nodes) and the renaming of the robots."""
+    at: Any = p  # a finite world's nodes are indices (Event types them as Z² nodes)
     return Event(e.kind, tuple(sorted(rename[i] for i in e.robots)),
-                 tuple(sorted((rename[i], p[a], p[b]) for i, a, b in e.moves)),
+                 tuple(sorted((rename[i], at[a], at[b]) for i, a, b in e.moves)),
                  tuple(sorted((rename[i], a, b) for i, a, b in e.lights)))
