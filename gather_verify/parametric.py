@@ -168,6 +168,37 @@ def prove(algorithm: Any, k: int, scheduler: str, *, low: int = 3,
     return out
 
 
+def breaks_at(algorithm: GapRules, gaps: Sequence[int], scheduler: str,
+              frames: str = "all") -> bool:
+    """Whether the formula of :func:`prove` has a round breaking exclusivity from the
+    configuration with these gaps (the tests hold it against the ordinary successors)."""
+    z3 = solver_module()
+    enc = Encoding(z3, algorithm, len(gaps), scheduler, frames, 3)
+    s = z3.Solver()
+    s.add(*enc.facts, *(g == v for g, v in zip(enc.gaps, gaps, strict=True)))
+    s.add(z3.Or([g <= 0 for g in enc.after]))
+    return bool(s.check() == z3.sat)
+
+
+def rounds_at(algorithm: GapRules, gaps: Sequence[int], scheduler: str,
+              frames: str = "all") -> set[tuple[int, ...]]:
+    """Every round the formula allows from the configuration with these gaps, as the robots'
+    displacements (+1 clockwise), the round where nobody moves left out (the tests hold it
+    against the scheduler's own successors)."""
+    z3 = solver_module()
+    enc = Encoding(z3, algorithm, len(gaps), scheduler, frames, 3)
+    s = z3.Solver()
+    s.add(*enc.facts, *(g == v for g, v in zip(enc.gaps, gaps, strict=True)))
+    out = set()
+    while s.check() == z3.sat:
+        model = s.model()
+        got = tuple(model.eval(m, model_completion=True).as_long() for m in enc.moves)
+        out.add(got)
+        s.add(z3.Or([m != v for m, v in zip(enc.moves, got, strict=True)]))
+    out.discard((0,) * len(gaps))
+    return out
+
+
 def round_text(result: dict[str, Any]) -> str:
     """The counterexample's round in words."""
     n = result["n"]

@@ -227,8 +227,9 @@ class _Search:
                     return self.result("unknown", "max-tree (the certificate outgrew it)")
                 return self.result("none", tree=tree)
             model = self.solver.get_model() or []
-            choice = {k: o for k, first in enumerate(self.base)
-                      for o in range(len(views.options[k])) if model[first + o] > 0}
+            choice = Table({k: o for k, first in enumerate(self.base)
+                            for o in range(len(views.options[k])) if model[first + o] > 0},
+                           self.preferred if self.seeds else None)
             self.candidates += 1
             reached: set[int] = set()
             failed = self.judge(choice, reached)
@@ -236,7 +237,7 @@ class _Search:
                 return self.result("unknown", failed)
             if failed is None:
                 return self.result("exists",
-                                   table={k: choice.get(k, 0) for k in sorted(reached)})
+                                   table={k: choice[k] for k in sorted(reached)})
             self.learn(choice, *failed)
 
     def judge(self, choice: dict[int, int], reached: set[int]
@@ -277,7 +278,7 @@ class _Search:
                 cex["part"] = p
             lits = replay(views, cex).literals  # the clause is what the replay shows
             self.register()
-            if not all(choice.get(k, 0) == o for k, o in lits.items()):  # pragma: no cover
+            if not all(choice[k] == o for k, o in lits.items()):  # pragma: no cover
                 raise AssertionError("a counterexample that the candidate does not have")
             if frozenset(lits.items()) in known:
                 continue
@@ -285,6 +286,20 @@ class _Search:
             self.cexs.append(cex)
             self.clauses.append(lits)
             self.solver.add_clause([-(self.base[k] + o + 1) for k, o in sorted(lits.items())])
+
+
+class Table(dict[int, int]):
+    """A candidate: view -> option. A view the exploration meets for the first time takes
+    ``fresh``'s option (the first seed's answer there; option 0 without seeds), and keeps it
+    for the rest of the candidate's check."""
+
+    def __init__(self, chosen: dict[int, int], fresh: Callable[[int], int] | None = None):
+        super().__init__(chosen)
+        self.fresh = fresh
+
+    def __missing__(self, k: int) -> int:
+        o = self[k] = 0 if self.fresh is None else self.fresh(k)
+        return o
 
 
 class _SeedMoves:
@@ -320,7 +335,7 @@ def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
         out = []
         for k, acts in views.robots(state):
             reached.add(k)
-            out.append(acts[choice.get(k, 0)])
+            out.append(acts[choice[k]])
         return out
 
     w = inst.world
@@ -615,7 +630,7 @@ def fair_cycle(inst: Instance, views: Views, choice: dict[int, int], s: WorldSea
             state = s.keys[sid][0]
             for i, (k, acts) in enumerate(views.robots(state)):
                 v, p, c = state[i]
-                other = [a for a in sorted(acts[choice.get(k, 0)]) if a != (v, c)]
+                other = [a for a in sorted(acts[choice[k]]) if a != (v, c)]
                 if p is None and other:
                     busy.append((j, i, other[0][0], other[0][1]))
                     break
