@@ -1,4 +1,4 @@
-"""A safety property of a gap-rule algorithm for every ring size at once (docs/rings.md).
+"""A safety property of a gap-rule algorithm for every ring size at once (docs/howto/rings.md).
 
 The ring's size n is a parameter: Sangnier, Sznajder, Potop-Butucaru and Tixeuil
 ("Parameterized verification of algorithms for oblivious robots on a ring", FMCAD 2017 /
@@ -61,7 +61,7 @@ def check_inputs(algorithm: Any, k: int, scheduler: str, detection: str, frames:
     """One line (:class:`InvalidInput`) for what :func:`prove` cannot decide."""
     if not isinstance(algorithm, GapRules):
         raise InvalidInput("a proof for every ring size reads the algorithm's rules: give a "
-                           "gap-rule algorithm (docs/rings.md), such as a witness of "
+                           "gap-rule algorithm (docs/howto/rings.md), such as a witness of "
                            "synthesize --world ring:A-B --together")
     if scheduler not in SCHEDULERS:
         raise InvalidInput(f"scheduler {scheduler}: safety for every ring size is decided under "
@@ -107,10 +107,14 @@ class Encoding:
         self.after = [self.gaps[i] - self.moves[i] + self.moves[(i + 1) % k] for i in range(k)]
 
     def answer(self, algorithm: GapRules, reading: Sequence[Any]) -> Any:
-        """The displacement (+1 forward, -1 back, 0 stay) the rules answer on ``reading``."""
+        """The displacement (+1 forward, -1 back, 0 stay) the rules answer on ``reading``:
+        the first rule matching it as it is, or the other way round (then mirrored)."""
         z3 = self.z3
         out = _step(algorithm.otherwise)
+        back = list(reading)[::-1]
         for rule in reversed(algorithm.rules):
+            if not rule.one_way:
+                out = z3.If(self.matches(rule, back), -_step(rule.then), out)
             out = z3.If(self.matches(rule, reading), _step(rule.then), out)
         return out
 

@@ -1,4 +1,4 @@
-"""``check --world ring:N+`` (docs/rings.md): exclusivity of a gap-rule algorithm on every
+"""``check --world ring:N+`` (docs/howto/rings.md): exclusivity of a gap-rule algorithm on every
 ring size at once. The formula is held against the ordinary successors, configuration by
 configuration, for random rules; a proof on a known algorithm, a counterexample on a broken
 one that the ordinary checker confirms, and the cases it does not decide say so in one
@@ -59,7 +59,7 @@ def rule_sets(draw: st.DrawFn, k: int) -> GapRules:
         last = "abcd"[k - 1]
         where = draw(st.sampled_from(["", "a<b", f"a={last}", f"b>={last}"]))
         rules.append(Rule(gaps, draw(st.sampled_from(["stay", "forward", "back"])),
-                          where=where))
+                          where=where, one_way=draw(st.booleans())))
     return GapRules(rules, draw(st.sampled_from(["stay", "forward", "back"])))
 
 
@@ -109,7 +109,7 @@ def test_a_smallest_size() -> None:
     """A robot steps into a gap of 2 when the gap behind it is 4 or more. Without a common
     direction the robot at the other end of that gap reads the same and steps too: they meet,
     first on a ring of 6 nodes (gaps 2, 4). With one (chirality) only one of them moves."""
-    algo = GapRules([Rule("2 4+", "forward")])
+    algo = GapRules([Rule("2 4+", "forward", one_way=True)])
     assert prove(algo, 2, "fsync", low=3, frames="chirality")["holds"] is True
     got = prove(algo, 2, "fsync", low=3, frames="all")
     assert got["holds"] is False and got["n"] == 6

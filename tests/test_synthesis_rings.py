@@ -1,4 +1,4 @@
-"""Rings as the papers state them (docs/rings.md): start sets (periodic, aperiodic,
+"""Rings as the papers state them (docs/howto/rings.md): start sets (periodic, aperiodic,
 symmetric, rigid) against an independent reading of the gaps, per-start answers and the
 starts a none rests on, the cheapest adversary first (an FSYNC none holds under SSYNC and
 ASYNC, and its certificate says so and re-checks), counterexamples restarted at a later
@@ -26,7 +26,7 @@ from gather_verify.synthesis.certificate import (  # noqa: E402
     replay,
     verify_certificate,
 )
-from gather_verify.synthesis.gapviews import GapViews, rules_of  # noqa: E402
+from gather_verify.synthesis.gapviews import GapViews, exact_rules, rules_of  # noqa: E402
 from gather_verify.synthesis.restart import restart  # noqa: E402
 from gather_verify.synthesis.search import synthesize  # noqa: E402
 from gather_verify.synthesis.views import Views, make_instance  # noqa: E402
@@ -258,6 +258,32 @@ def test_gap_keys_move_as_the_rules_do(seed: int, n: int, k: int, cap: int,
         for v, c in set(seen):
             key, acts = views.occurrence(seen, v, c)
             assert acts[table[key]] == got[v, c], (seen, v, algo.describe())
+
+
+@settings(max_examples=10, deadline=None)
+@given(seed=st.integers(0, 10**6), n=st.integers(5, 8), k=st.integers(2, 4),
+       detection=st.sampled_from(["global-weak", "global-strong", "local-weak"]))
+def test_an_exact_table_as_gap_rules(seed: int, n: int, k: int, detection: str) -> None:
+    """The gap rules printed for a ring witness are that very algorithm: a random table over
+    the exact views gives each robot the move set the rules give it."""
+    inst = make_instance(f"ring:{n}", str(k), "", "fsync", "gathering", detection)
+    views = Views(inst)
+    rng = random.Random(seed)
+    seen_all = []
+    for nodes in _multisets(n, k, rng):
+        seen = tuple(sorted((v, 0) for v in nodes))
+        seen_all.append(seen)
+        for v in set(nodes):
+            views.occurrence(seen, v, 0)
+    table = {key: rng.randrange(len(views.options[key])) for key in range(len(views.texts))}
+    rules = exact_rules(views, table)
+    assert rules is not None
+    moves = WorldMoves(inst.world, GapRules(rules), frozenset(), detection)
+    for seen in seen_all:
+        got = moves.table(seen)
+        for v, c in set(seen):
+            key, acts = views.occurrence(seen, v, c)
+            assert acts[table[key]] == got[v, c], (seen, v, [str(r) for r in rules])
 
 
 def _multisets(n: int, k: int, rng: random.Random) -> list[tuple[int, ...]]:

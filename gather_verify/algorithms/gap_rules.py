@@ -1,5 +1,5 @@
 """Gap rules: a ring algorithm written on the gaps between robots, the same at every ring
-size (``--world ring:N``; docs/rings.md).
+size (``--world ring:N``; docs/howto/rings.md).
 
 A robot reads the ring from its own node in the direction of its frame: the *gaps*, the
 hops from one occupied node to the next, starting with the gap ahead of it (``a``) and
@@ -12,13 +12,18 @@ A rule is a pattern on those gaps and an answer:
 - ``gaps``: one token per gap, ``2`` (exactly 2), ``3+`` (at least 3) or ``*`` (any);
 - ``where``: relations between gaps by letter, ``a<c``, ``b=c``, ``a>=b`` (comma-separated);
 - ``marks``: one character per occupied node, ``.``, ``T`` or ``*`` (empty: any);
+- ``one_way``: match the reading only as it is (for robots that share a direction,
+  ``--frames chirality``; by default a rule reads the view both ways round, below);
 - ``then``: ``stay``, ``forward`` (a step towards the gap ``a``) or ``back`` (towards the
   last gap).
 
-The first rule that matches answers; a view no rule matches answers :attr:`GapRules.
-otherwise` (``stay``). The frames do the rest, as for every algorithm (SEMANTICS.md §9): the
-robot is handed its view in both directions, and its move set is the union of the answers,
-so a view that reads the same both ways gives the adversary the choice of direction.
+A rule reads the view both ways round: it matches the reading as it is (then it answers
+``then``) or read from the other end (then forward and back swap). The first rule that
+matches answers; a view no rule matches answers :attr:`GapRules.otherwise` (``stay``). The
+frames do the rest, as for every algorithm (SEMANTICS.md §9): the robot is handed its view in
+both directions and its move set is the union of the answers, so a view that one rule
+matches both ways round (one that reads the same both ways, for one) gives the adversary the
+choice of direction.
 
 >>> r = Rule("1 3+ 3+", "forward", where="b<c")
 >>> r.matches((1, 4, 5), ()), r.matches((1, 5, 4), ()), r.matches((2, 4, 5), ())
@@ -37,6 +42,8 @@ from typing import Any
 from gather_verify.errors import InvalidInput
 
 ANSWERS = ("stay", "forward", "back")
+MIRROR = {"stay": "stay", "forward": "back", "back": "forward"}
+"""An answer read the other way round."""
 LETTERS = "abcdefghijklmnopqrstuvwxyz"
 RELATIONS = {"<": lambda x, y: x < y, "<=": lambda x, y: x <= y, "=": lambda x, y: x == y,
              ">=": lambda x, y: x >= y, ">": lambda x, y: x > y}
@@ -67,8 +74,10 @@ class Rule:
     relations: tuple[tuple[int, str, int], ...]
     marks: str
     then: str
+    one_way: bool
 
-    def __init__(self, gaps: str, then: str, *, where: str = "", marks: str = ""):
+    def __init__(self, gaps: str, then: str, *, where: str = "", marks: str = "",
+                 one_way: bool = False):
         object.__setattr__(self, "tokens", tuple(_token(t) for t in gaps.split()))
         object.__setattr__(self, "relations", tuple(_relation(r, len(self.tokens))
                                                     for r in re.split(r"[,\s]+", where)
@@ -80,6 +89,7 @@ class Rule:
             raise InvalidInput(f"gap rule answer {then!r}: use one of {', '.join(ANSWERS)}")
         object.__setattr__(self, "marks", marks)
         object.__setattr__(self, "then", then)
+        object.__setattr__(self, "one_way", bool(one_way))
 
     def matches(self, gaps: Sequence[int], marks: Sequence[int] | Callable[[int], int]) -> bool:
         """Whether the reading (``gaps``, and ``marks``: per occupied node 1 for a tower, 0
@@ -98,12 +108,14 @@ class Rule:
         gaps = " ".join(map(str, self.tokens))
         where = ", ".join(f"{LETTERS[x]}{op}{LETTERS[y]}" for x, op, y in self.relations)
         return (f"Rule({gaps!r}, {self.then!r}" + (f", where={where!r}" if where else "")
-                + (f", marks={self.marks!r}" if self.marks else "") + ")")
+                + (f", marks={self.marks!r}" if self.marks else "")
+                + (", one_way=True" if self.one_way else "") + ")")
 
     def __str__(self) -> str:
         where = ", ".join(f"{LETTERS[x]}{op}{LETTERS[y]}" for x, op, y in self.relations)
         return (" ".join(map(str, self.tokens)) + (f"  where {where}" if where else "")
-                + (f"  marks {self.marks}" if self.marks else "") + f"  -> {self.then}")
+                + (f"  marks {self.marks}" if self.marks else "")
+                + ("  (this way only)" if self.one_way else "") + f"  -> {self.then}")
 
 
 def _token(text: str) -> Token:
@@ -171,18 +183,22 @@ class GapRules:
         if self.otherwise not in ANSWERS:
             raise InvalidInput(f"gap rules: otherwise {self.otherwise!r} is not an answer")
 
-    def rule_for(self, view: Any) -> Rule | None:
-        """The first rule that matches the view (None: :attr:`otherwise`)."""
+    def answer(self, view: Any) -> str:
+        """The answer of the first rule that matches the view, as it reads or the other way
+        round (then mirrored); :attr:`otherwise` when none does."""
         gaps = gaps_of(view)
         nodes = occupied(view)
+        back = gaps[::-1]
         for rule in self.rules:
             if rule.matches(gaps, lambda j: int(view.multiplicity(nodes[j]))):
-                return rule
-        return None
+                return rule.then
+            if not rule.one_way and rule.matches(
+                    back, lambda j: int(view.multiplicity(nodes[-j if j else 0]))):
+                return MIRROR[rule.then]
+        return self.otherwise
 
     def decide(self, view: Any) -> Any:
-        rule = self.rule_for(view)
-        return step(view, self.otherwise if rule is None else rule.then)
+        return step(view, self.answer(view))
 
     def describe(self) -> list[str]:
         """The rules as a person reads them, one a line, then the default."""

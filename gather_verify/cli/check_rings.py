@@ -1,5 +1,5 @@
 """``check --world ring:N+``: a safety property of a gap-rule algorithm on every ring of N
-nodes or more (:mod:`gather_verify.parametric`, docs/rings.md)."""
+nodes or more (:mod:`gather_verify.parametric`, docs/howto/rings.md)."""
 
 from __future__ import annotations
 

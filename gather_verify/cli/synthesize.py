@@ -34,6 +34,8 @@ HELP = ("does any algorithm solve the task, on a finite world or the paper's (gr
         "(with an algorithm file, verified), none (with a certificate) or unknown (with the "
         "limit that stopped it)")
 ANSWER_EXIT = {"exists": EXIT_OK, "none": EXIT_VIOLATED, "unknown": EXIT_INCOMPLETE}
+RULES_SHOWN = 12
+"""Gap rules of a ring witness printed (the file and --json have them all)."""
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -174,9 +176,13 @@ def run(args: argparse.Namespace) -> int:
     code = ANSWER_EXIT[result.answer]
     problem = None
     if result.answer == "exists":
+        from gather_verify.synthesis.gapviews import exact_rules
         from gather_verify.synthesis.witness import check_witness, write_witness
 
         spec = write_witness(args.witness, inst, views, result.table)
+        rules = exact_rules(views, result.table)
+        if rules is not None:
+            report["rules"] = [str(r) for r in rules]
         reports = check_witness(spec, inst, args.max_seconds)
         verdicts = sorted({r["verdict"] for r in reports})
         report["witness"] = spec
@@ -236,6 +242,13 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
               f"table)")
         print(f"checker, every reduction off: {', '.join(checker['verdicts'])} from "
               f"{report['configurations']} configuration(s), {checker['states']} states")
+        rules = report.get("rules")
+        if rules is not None:
+            print(f"as gap rules ({len(rules)} that move; any other view stays):")
+            for rule in rules[:RULES_SHOWN]:
+                print(f"  {rule}")
+            if len(rules) > RULES_SHOWN:
+                print(f"  ... and {len(rules) - RULES_SHOWN} more (the witness file lists them)")
     elif report["answer"] == "none":
         tree = report["tree"]
         print(f"certificate: {report['certificate']} (a decision tree of {tree['nodes']} "

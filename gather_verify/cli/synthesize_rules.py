@@ -1,5 +1,5 @@
 """``synthesize --world ring:A-B --together``: one gap-rule algorithm for every start of every
-ring size of the range, verified by the ordinary checker at each size (docs/rings.md)."""
+ring size of the range, verified by the ordinary checker at each size (docs/howto/rings.md)."""
 
 from __future__ import annotations
 

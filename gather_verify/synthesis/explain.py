@@ -101,7 +101,8 @@ def tell(views: Views, cex: dict[str, Any]) -> str:
             parts.append("then, for ever")
         parts.append(_event(views, robots, e))
         robots = apply_event(robots, e)
-    told = "; ".join(p for p in parts if p)
+    told = "; ".join(p for p in parts if p).replace("then, for ever; ", "for ever: ", 1) \
+        if loop == 0 else "; ".join(p for p in parts if p)
     return (told + "; " if told else "") + _failure(views, cex, robots)
 
 

@@ -1,4 +1,4 @@
-"""Views read as gap rules: one algorithm for every ring size (docs/rings.md).
+"""Views read as gap rules: one algorithm for every ring size (docs/howto/rings.md).
 
 A view's key here is not the view itself (which names the ring's size) but what a gap rule
 (:mod:`gather_verify.algorithms.gap_rules`) can read of it: each gap below the cap ``T``
@@ -27,7 +27,7 @@ from __future__ import annotations
 import json
 from collections import Counter
 
-from gather_verify.algorithms.gap_rules import LETTERS, Rule, gaps_of, occupied
+from gather_verify.algorithms.gap_rules import LETTERS, MIRROR, Rule, gaps_of, occupied
 from gather_verify.errors import InvalidInput
 from gather_verify.model.view import MultiplicityHidden
 from gather_verify.synthesis.views import Instance, Seen, Views
@@ -36,7 +36,6 @@ from gather_verify.worlds.view import WorldView
 Abstract = tuple[tuple[int, ...], tuple[int, ...], tuple[int, ...]]
 """A reading as a gap rule sees it: the gaps capped at T, the ranks of the gaps of T or more
 among themselves (0 for the others), the marks (1 tower, 0 one robot, -1 not shown)."""
-MIRROR = {"stay": "stay", "forward": "back", "back": "forward"}
 
 
 def abstract(gaps: tuple[int, ...], marks: tuple[int, ...], cap: int) -> Abstract:
@@ -133,32 +132,56 @@ def _marks(view: WorldView) -> tuple[int, ...]:
 
 
 def rules_of(views: GapViews, table: dict[int, int]) -> list[Rule]:
-    """The table as gap rules: per key whose answer moves, one rule per reading (the key's,
-    and its mirror with the answer mirrored). Marks are written only where some key shows a
-    tower (otherwise the rules read no multiplicity at all). Staying is the rules' default,
-    so the keys that stay need no rule."""
+    """The table as gap rules: one per key whose answer moves (a rule reads the view both
+    ways round, so the key's reading says it all). Marks are written only where some key
+    shows a tower (otherwise the rules read no multiplicity at all). Staying is the rules'
+    default, so the keys that stay need no rule."""
     towers = any(1 in views.key_abstract(k)[2] for k in table)
     out = []
     for k in sorted(table, key=lambda k: views.key_abstract(k)):
         answer = views.options[k][table[k]][0]
         if answer == "stay":
             continue
-        a = views.key_abstract(k)
-        out.append(rule_of(a, str(answer), marks=towers))
-        if mirror(a) != a:
-            out.append(rule_of(mirror(a), MIRROR[str(answer)], marks=towers))
+        out.append(rule_of(views.key_abstract(k), str(answer), marks=towers))
     return out
 
 
-TEMPLATE = '''"""Gap rules synthesised by gather-verify synthesize (docs/rings.md).
+def exact_rules(views: Views, table: dict[int, int]) -> list[Rule] | None:
+    """An exact table of a ring (views keyed whole, :mod:`.viewkey`) as gap rules with exact
+    gaps: the same algorithm at that size, written as a person reads it; None where gap rules
+    cannot say it (lights, limited visibility, meeting nodes, another world)."""
+    inst = views.inst
+    if inst.world.kind != "ring" or inst.visibility is not None or inst.lights.colours > 1 \
+            or inst.meeting:
+        return None
+    n, strong = inst.world.size, inst.detection.endswith("strong")
+    towers = False
+    readings: list[tuple[Abstract, str]] = []
+    for k in sorted(table):
+        label, _ = views.options[k][table[k]]
+        me, _own, nodes = json.loads(views.texts[k])
+        if me != 0:  # pragma: no cover - a ring's key reads the robot as node 0
+            return None
+        where = sorted(lb for lb, (_m, occ, _c, _l) in nodes if occ and lb != 0)
+        shown = {lb: (-1 if c < 0 else int(c > 1) if strong else c)
+                 for lb, (_m, occ, c, _l) in nodes if occ}
+        gaps = tuple(b - a for a, b in zip([0, *where], [*where, n], strict=True))
+        marks = tuple(shown[lb] for lb in [0, *where])
+        towers = towers or 1 in marks
+        answer = "stay" if label == 0 else "forward" if label == 1 else "back"
+        readings.append(((gaps, (0,) * len(gaps), marks), answer))
+    return [rule_of(a, answer, marks=towers) for a, answer in readings if answer != "stay"]
+
+
+TEMPLATE = '''"""Gap rules synthesised by gather-verify synthesize (docs/howto/rings.md).
 
 {summary}
 
-Read a rule as: the gaps from the robot to the next occupied nodes, in the direction it
-reads, the gap ahead first (a, b, c, ...); "3+" is a gap of 3 or more, "where b<c" compares
-two gaps; forward is a step towards the gap a, back towards the last one. The first rule
-that matches answers; any other view stays. The robot reads its view both ways round (it has
-no sense of direction), so a view that reads the same both ways lets the adversary choose.
+Read a rule as: the gaps from the robot to the next occupied nodes, the gap ahead first
+(a, b, c, ...); "3+" is a gap of 3 or more, "where b<c" compares two gaps; forward is a step
+towards the gap a, back towards the last one. A rule also matches the view read from the
+other end, and then forward and back swap. The first rule that matches answers; any other
+view stays. A view that reads the same both ways lets the adversary choose the direction.
 """
 
 from gather_verify.algorithms.gap_rules import GapRules, Rule
