@@ -281,6 +281,10 @@ def _verify(args: argparse.Namespace) -> int:
               file=sys.stderr)
         return EXIT_VIOLATED
     got["seconds"] = time.perf_counter() - started
+    if args.explain and not on_plane:
+        from gather_verify.synthesis.explain import explain_certificate
+
+        got["explanation"] = list(explain_certificate(args.verify))
     if args.json:
         print_json(got if args.timings else {k: v for k, v in got.items() if k != "seconds"})
         return EXIT_OK
@@ -299,11 +303,8 @@ def _verify(args: argparse.Namespace) -> int:
         from gather_verify.cli.synthesize_sets import holds_line
 
         print(holds_line(got, inst["scheduler"]))
-        if args.explain:
-            from gather_verify.synthesis.explain import explain_certificate
-
-            for line in explain_certificate(args.verify):
-                print(line)
+        for line in got.get("explanation", ()):
+            print(line)
     return EXIT_OK
 
 
