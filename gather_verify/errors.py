@@ -24,8 +24,6 @@ gather_verify.errors.InvalidInput: bad node 'x': expected x,y
 
 from __future__ import annotations
 
-from pathlib import Path
-
 
 class GatherVerifyError(Exception):
     """The root of every exception gather-verify defines: ``except GatherVerifyError``
@@ -44,27 +42,4 @@ class InvalidInput(GatherVerifyError, ValueError):
     it as one line and exits 2."""
 
 
-MAX_INPUT_BYTES = 64 << 20
-"""The largest scenario, trace or graph file read (64 MiB): ``/dev/zero`` is no input."""
-
-
-def read_input(path: str | Path, what: str) -> str:
-    """The text of an input file, read as UTF-8 and at most :data:`MAX_INPUT_BYTES`; one-line
-    :class:`InvalidInput` for a missing, unreadable, oversized or non-UTF-8 file."""
-    try:
-        with open(path, "rb") as handle:
-            data = handle.read(MAX_INPUT_BYTES + 1)
-    except FileNotFoundError:
-        raise InvalidInput(f"{what} {path}: no such file") from None
-    except OSError as error:
-        raise InvalidInput(f"{what} {path}: cannot read it ({error.strerror or error})") from None
-    if len(data) > MAX_INPUT_BYTES:
-        raise InvalidInput(f"{what} {path}: larger than {MAX_INPUT_BYTES >> 20} MiB, not a "
-                           f"{what}")
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as error:
-        raise InvalidInput(f"{what} {path}: not UTF-8 text (byte {error.start})") from None
-
-
-__all__ = ["GatherVerifyError", "InvalidInput", "read_input"]
+__all__ = ["GatherVerifyError", "InvalidInput"]

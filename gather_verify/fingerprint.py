@@ -26,6 +26,7 @@ not recorded); the Python interpreter.
 from __future__ import annotations
 
 import hashlib
+import os
 import sys
 from collections.abc import Iterable, Sequence
 from functools import lru_cache
@@ -72,18 +73,43 @@ _PACKAGE = Path(__file__).resolve().parent.parent
 """The folder holding ``gather_verify`` and ``schedulers``."""
 
 
+_OWN_STAMPS: list[tuple[str, tuple[int, ...]]] = []
+"""The stamps of gather-verify's own files when :func:`own_digest` read them."""
+
+
 @lru_cache(maxsize=1)
 def own_digest() -> str:
     """A digest of gather-verify's own source, read once per process: every ``.py`` file of
     ``gather_verify`` and ``schedulers`` and the viewer page (an edit in a source checkout
     is another verifier, whose results are not this one's)."""
+    from gather_verify.inputs import stamp_of
+
     h = hashlib.sha256()
+    _OWN_STAMPS.clear()
     for top in ("gather_verify", "schedulers"):
         for path in sorted((_PACKAGE / top).rglob("*")):
             if path.suffix in (".py", ".html") and "__pycache__" not in path.parts:
                 h.update(f"{path.relative_to(_PACKAGE).as_posix()}\0".encode())
-                h.update(path.read_bytes())
+                with open(path, "rb") as handle:  # the bytes and the stamp of one reading
+                    _OWN_STAMPS.append((str(path), stamp_of(os.fstat(handle.fileno()))))
+                    h.update(handle.read())
     return h.hexdigest()[:16]
+
+
+def own_code_changed() -> str | None:
+    """The first of gather-verify's own files that is no longer the one :func:`own_digest`
+    read (written since, or gone), else None. A process that imports a module of its own
+    after that may run code its digest does not name."""
+    from gather_verify.inputs import stamp_of
+
+    own_digest()
+    for path, stamp in _OWN_STAMPS:
+        try:
+            if stamp_of(os.stat(path)) != stamp:
+                return path
+        except OSError:
+            return path
+    return None
 
 
 def _named(files: Iterable[Path], home: Path) -> list[tuple[str, Path]]:
@@ -102,9 +128,11 @@ def _named(files: Iterable[Path], home: Path) -> list[tuple[str, Path]]:
 
 
 def source_fingerprint(module_file: str | Path, module_name: str | None = None) -> dict[str, Any]:
-    """``digest`` and ``files`` of a module's file and the local modules it imports."""
-    from gather_verify.algorithms.loading import local_sources
+    """``digest`` and ``files`` of a module's file and the local modules it imports (of the
+    copy of a sweep's snapshot while one is in force)."""
+    from gather_verify.algorithms.loading import local_sources, source_of
 
+    module_file = source_of(str(module_file))
     files = local_sources(module_file, module_name)
     h = hashlib.sha256()
     names = []
@@ -132,41 +160,56 @@ def algorithm_fingerprint(spec: str) -> dict[str, Any]:
     return {"digest": h.hexdigest()[:16], "files": sorted(named), "version": version()}
 
 
-def files_fingerprint(paths: Iterable[str]) -> str:
-    """A digest of the named files' contents, in the order given (``--fingerprint-extra``).
-    InvalidInput when one cannot be read."""
-    from gather_verify.errors import InvalidInput
+def files_fingerprint(paths: Iterable[str], disk: bool = False) -> str:
+    """A digest of the named files' contents, in the order given (``--fingerprint-extra``):
+    the bytes kept when first read (:mod:`gather_verify.inputs`), or with ``disk`` what the
+    disk holds now. InvalidInput when one cannot be read."""
+    from gather_verify.inputs import digest, disk_digest
 
     h = hashlib.sha256()
     for text in paths:
         path = Path(text).expanduser()
-        try:
-            digest = file_digest(path.resolve())
-        except OSError as error:
-            raise InvalidInput(f"--fingerprint-extra {text}: cannot read it "
-                               f"({error.strerror or error})") from None
-        h.update(f"{path.name}\0{digest}\0".encode())
+        got = (disk_digest if disk else digest)(path.resolve(), "--fingerprint-extra")
+        h.update(f"{path.name}\0{got}\0".encode())
     return h.hexdigest()[:16]
 
 
-def sweep_fingerprint(algorithm_digest: str, world: str, properties: Iterable[str],
-                      extra: Iterable[str]) -> str:
-    """A sweep's fingerprint (``SweepSettings.fingerprint``): the algorithm's digest, with
-    the graph file of a ``graph:`` world, the source of every property file and the
-    ``--fingerprint-extra`` files (the algorithm's digest alone when there are none, as every
-    store before property digests)."""
+def sweep_inputs(algorithm_digest: str, world: str, properties: Iterable[str],
+                 extra: Iterable[str], disk: bool = False) -> dict[str, str]:
+    """Every input a sweep's rows depend on, named, with the digest of what this process
+    computes from: the algorithm (its files, spec, version and gather-verify's own source),
+    the graph file of a ``graph:`` world, each property file, the ``--fingerprint-extra``
+    files, and gather-verify's own source.
+
+    The graph, algorithm and property files are read once and run from that snapshot; with
+    ``disk`` (a sweep's worker, after a task), the inputs read from the disk as they are
+    used, the extra files (which your algorithm opens itself) and gather-verify's own source
+    (which a process may import a module of late), are those on the disk now: a task whose
+    inputs changed while it ran is told apart from the key, and its rows are not stored."""
     from gather_verify.algorithms.loading import is_path_spec
+    from gather_verify.inputs import digest
 
     extra = tuple(extra)
-    parts = [algorithm_digest]
+    out = {"algorithm": algorithm_digest}
     if world.startswith("graph:"):  # the graph file is an input like the algorithm
-        parts.append(files_fingerprint((world.partition(":")[2],)))
-    parts += [source_fingerprint(p.rpartition(":")[0])["digest"]
-              for p in properties if is_path_spec(p)]
-    if not parts[1:] and not extra:
-        return parts[0]
-    parts.append(files_fingerprint(extra))
-    return hashlib.sha256("\0".join(parts).encode()).hexdigest()[:16]
+        name = world.partition(":")[2]
+        out[f"graph file {name}"] = digest(Path(name).expanduser().resolve(), "graph file")[:16]
+    for p in properties:
+        if is_path_spec(p):
+            out[f"property file {p.rpartition(':')[0]}"] = source_fingerprint(
+                p.rpartition(":")[0])["digest"]
+    if extra:
+        out[f"--fingerprint-extra {' '.join(extra)}"] = files_fingerprint(extra, disk)
+    changed = own_code_changed() if disk else None
+    out["gather-verify's own source"] = own_digest() if changed is None else f"edited: {changed}"
+    return out
+
+
+def sweep_fingerprint(inputs: dict[str, str]) -> str:
+    """A sweep's fingerprint (``SweepSettings.fingerprint``): one digest of every input of
+    :func:`sweep_inputs`."""
+    text = "\0".join(f"{name}\0{got}" for name, got in sorted(inputs.items()))
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def file_algorithm_digest(spec: str) -> str:
@@ -218,6 +261,6 @@ def disk_fingerprint(settings: dict[str, Any], extra: Sequence[str] | None,
             if not Path(f).is_file() or not (Path(f).resolve().is_relative_to(
                     Path(folder).resolve()) or Path(f).resolve().is_relative_to(Path.cwd())):
                 return None
-        return sweep_fingerprint(digest, world, properties, extra)
+        return sweep_fingerprint(sweep_inputs(digest, world, properties, extra))
     except Exception:  # noqa: BLE001 - a database of another's: never a reason to fail
         return None

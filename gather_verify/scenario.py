@@ -263,10 +263,10 @@ def load_scenario(path: str | Path) -> Scenario:
     or any invalid field.
     """
     where = str(path)
-    from gather_verify.errors import read_input
+    from gather_verify.inputs import read_text
 
     try:
-        text = read_input(path, "scenario")
+        text = read_text(path, "scenario")
     except InvalidInput as error:
         raise ScenarioError(str(error)) from None
     try:
@@ -292,11 +292,13 @@ def _files_relative_to(scenario: Scenario, folder: Path, where: str) -> Scenario
         trace = {**trace, "algorithm": confined_spec(trace["algorithm"], folder, where)}
     if trace is not None:  # a stored trace is whole, for check and test alike
         from gather_verify.trace import load_trace
-        from gather_verify.viewer import is_world_trace
+        from gather_verify.viewer import is_world_trace, world_trace_problem
 
-        try:  # a finite world's trace is read by its replay, when the scenario is tested
-            if not is_world_trace(trace):
+        try:  # a finite world's trace is read by its replay, when the scenario is tested:
+            if not is_world_trace(trace):  # its fields are checked here
                 load_trace(trace)
+            elif (problem := world_trace_problem(trace)) is not None:
+                raise InvalidInput(f"bad trace: {problem}")
         except InvalidInput as error:
             raise ScenarioError(f"{where}: its trace: {error}") from None
     return replace(scenario, algorithm=confined_spec(scenario.algorithm, folder, where),

@@ -257,7 +257,7 @@ def scenario_files(paths: Iterable[str | Path], pattern: str = "*.json") -> list
     for path in map(Path, paths):
         if path.is_dir():
             out += sorted(p for p in path.rglob(pattern) if p.is_file())
-        elif path.is_file():
+        elif path.exists():  # a file, or what is not one: the reader says which
             out.append(path)
         else:
             raise InvalidInput(f"{path}: no such file or folder")

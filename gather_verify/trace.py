@@ -20,7 +20,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
-from gather_verify.errors import InvalidInput, read_input
+from gather_verify.errors import InvalidInput
+from gather_verify.inputs import read_text
 from gather_verify.model.configuration import Configuration, _as_node
 from gather_verify.model.geometry import Node
 from schedulers import SCHEDULERS, Event, State
@@ -117,7 +118,7 @@ def load_trace(source: str | Path | dict[str, Any]) -> dict[str, Any]:
         data = source
     else:
         try:
-            data = json.loads(read_input(source, "trace"))
+            data = json.loads(read_text(source, "trace"))
         except json.JSONDecodeError as error:
             raise InvalidInput(f"bad trace {source}: not JSON ({error.msg} at line {error.lineno})") from None
         except RecursionError:

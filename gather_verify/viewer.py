@@ -263,6 +263,26 @@ def _pending_since(steps: list[dict[str, Any]], n: int) -> list[list[int | None]
 # robots, steps of event and state) so that stepping, the timeline and stale snapshots work
 # the same way on every world.
 
+WORLD_TRACE_TEXT = ("world", "task", "algorithm", "scheduler", "detection", "frames",
+                    "property", "reason")
+WORLD_TRACE_LISTS = ("robots", "meeting_nodes", "steps")
+
+
+def world_trace_problem(trace: dict[str, Any]) -> str | None:
+    """What a finite world's trace lacks (a field, or its type), in words; None when every
+    field a replay and a rendering read is there (a partial trace stored in a scenario is
+    refused by ``check`` and ``test`` alike)."""
+    for key in WORLD_TRACE_TEXT:
+        if not isinstance(trace.get(key), str):
+            return f"{key!r} must be a string"
+    for key in WORLD_TRACE_LISTS:
+        if not isinstance(trace.get(key), list):
+            return f"{key!r} must be a list"
+    if not trace["steps"]:
+        return "'steps' is empty: the first step is the initial state"
+    return None
+
+
 def is_world_trace(trace: Any) -> bool:
     """A trace written by a finite world's check: it names its world (a trace of Z² has a
     ``format`` tag instead, and a ``world`` of ``grid`` or none)."""

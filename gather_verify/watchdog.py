@@ -37,12 +37,13 @@ from __future__ import annotations
 
 import functools
 import math
+import os
 import signal
 import threading
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from typing import Any, TypeVar
+from typing import Any, NoReturn, TypeVar
 
 GRACE_SECONDS = 1.0
 """The least time a check's watchdog adds to its own time limit (``run_check`` arms
@@ -108,7 +109,8 @@ def _ring(signum: int, frame: Any) -> None:
         return
     passed = _ARMED[-1]
     passed.expired = True
-    if _inside and (frame is None or frame.f_code not in _COUNTING):
+    if _inside and (frame is None or (frame.f_code not in _COUNTING
+                                      and frame.f_code not in _QUIET)):
         raise Overtime(passed.seconds)
 
 
@@ -198,5 +200,181 @@ def guards(function: F) -> F:
     return guarded  # type: ignore[return-value]
 
 
-__all__ = ["GRACE_SECONDS", "INTERVAL", "Overtime", "allowance", "available", "deadline", "guards",
-           "watched"]
+# -- the verifier's own setup, bounded --------------------------------------------------
+# Building what a search needs (a world of a million nodes, the automorphisms of a graph
+# file, a synthesis's tables, a certificate's views) is the verifier's own code, but it
+# keeps no state a stop could leave half written (a result is kept only when it is whole):
+# it may be cut anywhere, as the user's code is.
+
+
+class OverMemory(BaseException):
+    """The resident memory passed the limit of a :func:`bounded` block (``limit_mb``).
+
+    Cause: a setup step (building a world, its automorphisms, a synthesis's views) needs
+    more memory than the limit (``--max-memory-mb``) allows. Fix: a smaller world, or a
+    larger limit; the command reports INCOMPLETE (or ``unknown``) with this reason.
+
+    Deliberately *not* a :class:`~gather_verify.errors.GatherVerifyError`: a
+    ``BaseException``, as :class:`Overtime`, so that no ``except Exception`` on the way
+    swallows it."""
+
+    limit_mb = 0.0
+
+
+class bounded:  # noqa: N801 - a context manager used as a function is
+    """Within the block, :class:`Overtime` once ``seconds`` have passed and
+    :class:`OverMemory` once ``rss()`` (MiB) passes ``memory_mb`` (read every
+    :data:`INTERVAL` by a thread), raised wherever the block's code is: it is watched as
+    the user's code is (:func:`watched`). On the main thread only, as :func:`deadline`.
+
+    A class, not a generator: on the way out it leaves the watched region first, in a frame
+    where the alarm never raises (:func:`quiet`), so a second ring cannot cut its own
+    clean-up."""
+
+    def __init__(self, seconds: float | None, memory_mb: float | None,
+                 rss: Callable[[], float]):
+        self.seconds, self.memory_mb, self.rss = seconds, memory_mb, rss
+        self.on = available()
+        self.stop, self.fired = threading.Event(), False
+        self.thread: threading.Thread | None = None
+        self.timer: Any = None
+
+    def _watch(self, here: int) -> None:
+        import ctypes
+
+        while not self.stop.wait(INTERVAL):
+            if self.rss() > self.memory_mb:  # type: ignore[operator]
+                self.fired = True
+                OverMemory.limit_mb = float(self.memory_mb)  # type: ignore[arg-type]
+                ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(here),
+                                                           ctypes.py_object(OverMemory))
+                return
+
+    def __enter__(self) -> None:
+        if not self.on:
+            return
+        global _inside
+        if self.memory_mb is not None and 0 < self.memory_mb < math.inf:
+            self.thread = threading.Thread(target=self._watch, args=(threading.get_ident(),),
+                                           name="gather-verify memory watch", daemon=True)
+            self.thread.start()
+        self.timer = deadline(self.seconds)
+        self.timer.__enter__()
+        _inside += 1
+
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 tb: object) -> None:
+        if not self.on:
+            return
+        global _inside
+        _inside -= 1  # first: no ring raises in this block's clean-up
+        self.timer.__exit__(None, None, None)
+        self.stop.set()
+        if self.thread is not None:
+            self.thread.join()
+            if self.fired:  # raised, or still pending: never delivered after the block
+                import ctypes
+
+                ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(
+                    threading.get_ident()), None)
+        passed = _passed()
+        if passed is not None and error is None:  # the block ended after its deadline
+            raise Overtime(passed.seconds)
+
+
+_QUIET: set[Any] = {bounded.__exit__.__code__}
+"""Code objects in which the alarm never raises (the clean-up of a bounded block)."""
+
+
+def quiet(function: Callable[..., Any]) -> Callable[..., Any]:
+    """Mark ``function`` as a place where the alarm never raises (the ``__exit__`` of a
+    context manager around a :class:`bounded` block: it must run to its end)."""
+    _QUIET.add(function.__code__)
+    return function
+
+
+# -- what ends the verifier: a real Ctrl-C only ------------------------------------------
+# A KeyboardInterrupt, a SystemExit or a call of os._exit raised in the user's code is a bug
+# of that code (the ``crash`` counterexample), never an interrupt of the verifier: only a
+# SIGINT that reached this process is one. The command line counts them.
+
+_interrupts = 0
+"""SIGINTs this process received since :func:`count_interrupts`."""
+_counting = False
+"""Whether SIGINTs are counted here (or cannot reach this code at all)."""
+
+
+def _interrupted(signum: int, frame: Any) -> None:
+    global _interrupts
+    _interrupts += 1
+    raise KeyboardInterrupt
+
+
+def count_interrupts() -> None:
+    """Count the SIGINTs this process receives (the command line, on its main thread), each
+    still raising KeyboardInterrupt as Python's own handler does: a KeyboardInterrupt raised
+    while none was received is the user's code's (:func:`real_interrupt`). Also makes a
+    call of ``os._exit`` in the user's code an exception (:func:`guard_exits`)."""
+    global _counting
+    guard_exits()
+    if threading.current_thread() is not threading.main_thread():
+        return  # (SIGINT reaches the main thread only: there it is counted, or never)
+    try:
+        if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            signal.signal(signal.SIGINT, _interrupted)
+        _counting = _counting or signal.getsignal(signal.SIGINT) is _interrupted
+    except (ValueError, OSError):  # pragma: no cover - an embedding that refuses handlers
+        return
+
+
+def interrupts_unreachable() -> None:
+    """This process (or thread) receives no Ctrl-C: a pool worker ignores SIGINT, a Dask
+    task runs off the main thread. Any KeyboardInterrupt here is the user's code's."""
+    global _counting
+    _counting = True
+    guard_exits()
+
+
+def real_interrupt(error: BaseException) -> bool:
+    """Whether ``error`` is a Ctrl-C the verifier must stop for: a KeyboardInterrupt where a
+    SIGINT was received (or where they are not counted: a library caller's process)."""
+    return isinstance(error, KeyboardInterrupt) and (_interrupts > 0 or not _counting)
+
+
+class ExitCalled(SystemExit):
+    """The user's code called ``os._exit``: in the verifier's process that would end it with
+    no verdict (exit 0 and no output, for ``os._exit(0)``), so inside the user's code it
+    raises this instead, and the check reports the ``crash`` counterexample.
+
+    Cause: an algorithm (or a property) that ends its process. Fix: return a move; raise an
+    exception to report a problem.
+
+    Deliberately *not* a :class:`~gather_verify.errors.GatherVerifyError`: a ``SystemExit``
+    (a ``BaseException``), as what the user's code called would have ended it with."""
+
+    def __init__(self, status: int):
+        super().__init__(f"os._exit({status}) called: it would end the verifier's process")
+        self.status = status
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return ExitCalled, (self.status,)
+
+
+_real_exit = os._exit
+
+
+def _exit(status: int) -> NoReturn:
+    if _inside and threading.current_thread() is threading.main_thread():
+        raise ExitCalled(status)
+    _real_exit(status)
+
+
+def guard_exits() -> None:
+    """Make ``os._exit`` raise :class:`ExitCalled` inside the user's code (:func:`watched`)
+    on the main thread; everywhere else it ends the process as before."""
+    os._exit = _exit
+
+
+__all__ = ["GRACE_SECONDS", "INTERVAL", "ExitCalled", "OverMemory", "Overtime", "allowance",
+           "available", "bounded", "count_interrupts", "deadline", "guard_exits", "guards", "interrupts_unreachable",
+           "quiet", "real_interrupt", "watched"]

@@ -19,11 +19,13 @@ from typing import Any
 
 from gather_verify.algorithms import Algorithm, get_algorithm
 from gather_verify.engine import world_bulk
+from gather_verify.engine.bounds import SetupStopped, setup
 from gather_verify.engine.encoding import (
     DEFAULT_MAX_MEMORY_MB,
     DEFAULT_MAX_SECONDS,
     DEFAULT_MAX_STATES,
     Limits,
+    Stop,
 )
 from gather_verify.engine.world_search import WorldSearch, WorldState, search
 from gather_verify.errors import InvalidInput
@@ -80,39 +82,45 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
     started = time.perf_counter()
     if engine not in ENGINES:
         raise InvalidInput(f"unknown engine {engine!r}: use one of {', '.join(ENGINES)}")
-    w = finite_world(world) if isinstance(world, str) else world
-    r = w.parse_nodes(robots) if isinstance(robots, str) else list(robots)
-    m = w.parse_nodes(meeting) if isinstance(meeting, str) else list(meeting)
-    if not r:
-        raise InvalidInput("no robots: give at least one robot node")
-    if visibility is not None and visibility < 0:
-        raise InvalidInput(f"visibility {visibility} is negative: give a number of hops >= 0")
-    with deadline(allowance(max_seconds)):  # the algorithm's file imports within the time limit
-        algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
-    sched = get_scheduler(scheduler)  # resolved once: the engines take the objects
+    name = world if isinstance(world, str) else world.name
+    try:  # the setup is bounded by the limits too (gather_verify.engine.bounds)
+        with setup(f"building {name} and what its search needs", max_seconds, max_memory_mb):
+            w = finite_world(world) if isinstance(world, str) else world
+            r = w.parse_nodes(robots) if isinstance(robots, str) else list(robots)
+            m = w.parse_nodes(meeting) if isinstance(meeting, str) else list(meeting)
+            if not r:
+                raise InvalidInput("no robots: give at least one robot node")
+            distinct(w, r, "robots", "an initial configuration has robots on distinct nodes")
+            distinct(w, m, "meeting nodes", "give each meeting node once")
+            if visibility is not None and visibility < 0:
+                raise InvalidInput(f"visibility {visibility} is negative: give a number of hops "
+                                   ">= 0")
+            with deadline(allowance(max_seconds)):  # the algorithm's file imports in time
+                algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
+            sched = get_scheduler(scheduler)  # resolved once: the engines take the objects
+            light = parse_lights(lights)
+            check_colours(colours, r, light.colours)
+            t = get_task(task or default_task(m))
+            parts = _parts(t, properties, w)
+            check_task(t, w, m)
+            liveness = any(p in t.liveness for p in parts)
+            reduce = reduction and not liveness
+            symmetries = w.symmetries(frames) if reduce else ()
+            for v in set(r):  # the frames of the first views (a graph file's automorphisms)
+                w.frames(v, visibility, frames)
+    except SetupStopped as stop:
+        nodes, at = [x.split() if isinstance(x, str) else list(x) for x in (robots, meeting)]
+        return stopped_report(stop.stop, stop.reason, name, task or default_task(at),
+                              algorithm, scheduler, detection, frames, visibility, nodes, at,
+                              lights, started)
     stateful = getattr(sched, "stateful", False)
-    light = parse_lights(lights)
-    if colours is not None and (len(colours) != len(r) or any(
-            isinstance(c, bool) or not isinstance(c, int) or not 0 <= c < light.colours
-            for c in colours)):
-        raise InvalidInput(f"initial colours {colours}: one per robot, each in "
-                           f"0..{light.colours - 1}")
-    t = get_task(task or default_task(m))
-    parts = _parts(t, properties, w)
-    if t.needs_meeting and not m:
-        raise InvalidInput(f"task {t.name} needs meeting nodes: give --meeting")
-    if t.visits and w.size > 62:
-        raise InvalidInput(f"task {t.name} tracks visited nodes in the state: {w.name} has "
-                           f"{w.size} nodes, at most 62 are supported")
-    liveness = any(p in t.liveness for p in parts)
-    reduce = reduction and not liveness
     moves = WorldMoves(w, algo, frozenset(m), detection, frames, visibility, light)
-    limits = Limits(max_states=max_states, max_seconds=max_seconds, max_memory_mb=max_memory_mb)
+    limits = Limits(max_states=max_states, max_memory_mb=max_memory_mb,  # the time left
+                    max_seconds=max(0.0, max_seconds - (time.perf_counter() - started)))
     reductions = (reductions_used(stateful) if reduce else
                   "off: liveness needs robot identities" if reduction and liveness
                   else "off")  # (the search reduces exactly when ``reduce`` holds)
     PROGRESS.states = 0
-    symmetries = w.symmetries(frames) if reduce else ()
     fallback = None if engine == "reference" else world_bulk.unsupported(
         w, len(r), sched, light.colours, visits=t.visits, anonymity=reduce,
         symmetries=symmetries, meeting=frozenset(m))
@@ -192,20 +200,66 @@ def run_world_check(world: str | World, robots: str | list[int], meeting: str | 
         with deadline(allowance(max_seconds)):
             return decided()
     except Overtime as stopped:
-        names = [*parts, *PSEUDO]
-        return {
-            "verdict": "INCOMPLETE", "world": w.name, "task": t.name, "algorithm": algo.name,
-            "scheduler": scheduler, "detection": detection, "frames": frames,
-            "visibility": visibility, "robots": [w.node_to_json(v) for v in r],
-            "meeting_nodes": [w.node_to_json(v) for v in m], "property": None,
-            "reason": (f"time (the watchdog stopped your code: still running "
-                       f"{stopped.seconds:g} s into the check)"),
-            "stopped": "time", "states": PROGRESS.states, "transitions": 0,
-            "lights": str(light), "reductions": reductions,
-            "properties": {name: {"holds": None, "reason": "the search stopped (time)"}
-                           for name in names},
-            "trace": None, "seconds": time.perf_counter() - started,
-        }
+        report = stopped_report(
+            Stop.TIME, f"time (the watchdog stopped your code: still running "
+            f"{stopped.seconds:g} s into the check)", w.name, t.name, algo.name, scheduler,
+            detection, frames, visibility, [w.node_to_json(v) for v in r],
+            [w.node_to_json(v) for v in m], str(light), started, parts)
+        report["reductions"] = reductions
+        report["engine"] = "bulk" if engine != "reference" and fallback is None else "reference"
+        if fallback is not None:
+            report["engine_fallback"] = fallback
+        return report
+
+
+def stopped_report(stop: Stop, reason: str, world: str, task: str | None, algorithm: Any,
+                   scheduler: str, detection: str, frames: str, visibility: int | None,
+                   robots: Any, meeting: Any, lights: str | None, started: float,
+                   parts: list[str] | None = None) -> dict[str, Any]:
+    """The INCOMPLETE report of a check a limit stopped before its search could report
+    (the setup, or the watchdog over the user's code): ``reason`` names the limit and the
+    step, every property is unknown, nothing is claimed."""
+    if parts is None:
+        parts = list(get_task(task).parts) if task in TASKS else []
+    names = [*parts, *PSEUDO]
+    return {
+        "verdict": "INCOMPLETE", "world": world, "task": task, "scheduler": scheduler,
+        "algorithm": algorithm if isinstance(algorithm, str) else getattr(algorithm, "name", "?"),
+        "detection": detection, "frames": frames, "visibility": visibility,
+        "robots": robots, "meeting_nodes": meeting, "property": None, "reason": reason,
+        "stopped": str(stop), "states": PROGRESS.states, "transitions": 0,
+        "engine": "none (stopped before the search)", "lights": str(lights or 1),
+        "reductions": "-",
+        "properties": {name: {"holds": None, "reason": f"the check stopped ({stop})"}
+                       for name in names},
+        "trace": None, "seconds": time.perf_counter() - started,
+    }
+
+
+def distinct(world: World, nodes: list[int], what: str, rule: str) -> None:
+    """One line naming the first node given twice (as the paper's world refuses it)."""
+    seen: set[int] = set()
+    for v in nodes:
+        if v in seen:
+            raise InvalidInput(f"{what}: node {world.format_node(v)} is given twice ({rule})")
+        seen.add(v)
+
+
+def check_colours(colours: list[int] | None, robots: list[int], k: int) -> None:
+    """One initial colour per robot, each in ``0 .. k-1`` (one line for anything else)."""
+    if colours is not None and (len(colours) != len(robots) or any(
+            isinstance(c, bool) or not isinstance(c, int) or not 0 <= c < k
+            for c in colours)):
+        raise InvalidInput(f"initial colours {colours}: one per robot, each in 0..{k - 1}")
+
+
+def check_task(task: Task, world: World, meeting: list[int]) -> None:
+    """The task can run here: its meeting nodes given, its visited set small enough."""
+    if task.needs_meeting and not meeting:
+        raise InvalidInput(f"task {task.name} needs meeting nodes: give --meeting")
+    if task.visits and world.size > 62:
+        raise InvalidInput(f"task {task.name} tracks visited nodes in the state: {world.name} "
+                           f"has {world.size} nodes, at most 62 are supported")
 
 
 def reductions_used(stateful: bool) -> str:

@@ -42,8 +42,10 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from gather_verify.algorithms import AlgorithmCrash, Unhandled, get_algorithm
-from gather_verify.errors import InvalidInput, read_input
+from gather_verify.errors import InvalidInput
+from gather_verify.inputs import read_text
 from gather_verify.tasks import get_task
+from gather_verify.viewer import world_trace_problem
 from gather_verify.worlds import finite_world
 from gather_verify.worlds.base import World
 from gather_verify.worlds.moves import WorldMoves, parse_lights
@@ -74,7 +76,7 @@ def read_trace(source: str | Path) -> Any:
     """The JSON of a trace file (a scenario that stores one under ``trace``: that trace), as
     it is; one line when it is not JSON."""
     try:
-        data = json.loads(read_input(source, "trace"))
+        data = json.loads(read_text(source, "trace"))
     except json.JSONDecodeError as error:
         raise InvalidInput(f"bad trace {source}: not JSON ({error.msg} at line "
                            f"{error.lineno})") from None
@@ -118,14 +120,9 @@ class WorldTrace:
 def load_world_trace(trace: dict[str, Any], folder: Path | None = None) -> WorldTrace:
     """A world trace validated and read (one line naming the first problem when it is
     malformed). ``folder``: the trace file's folder, for its algorithm and graph files."""
-    for key in ("world", "task", "algorithm", "scheduler", "detection", "frames", "property"):
-        if not isinstance(trace.get(key), str):
-            _fail(f"{key!r} must be a string")
-    for key in ("robots", "meeting_nodes", "steps"):
-        if not isinstance(trace.get(key), list):
-            _fail(f"{key!r} must be a list")
-    if not trace["steps"]:
-        _fail("'steps' is empty: the first step is the initial state")
+    problem = world_trace_problem(trace)
+    if problem is not None:
+        _fail(problem)
     if not isinstance(trace.get("detail", {}), dict):
         _fail("'detail' must be an object")
     vis = trace.get("visibility")
@@ -136,10 +133,7 @@ def load_world_trace(trace: dict[str, Any], folder: Path | None = None) -> World
 
         trace = {**trace, "algorithm": confined_spec(trace["algorithm"], folder, "the trace")}
     world = world_of(trace["world"], folder)
-    digest = trace.get("graph_digest")
-    if digest is not None and digest != getattr(world, "digest", None):
-        _fail(f"the graph file of {world.name} is not the one the trace was written on "
-              "(its content changed)")
+    _same_graph(trace, world)
 
     def node(value: object, where: str) -> int:
         try:
@@ -191,6 +185,35 @@ def load_world_trace(trace: dict[str, Any], folder: Path | None = None) -> World
                            or not 0 <= cs < len(states)):
         _fail("'cycle_start' must be null or a step index 0..len(steps) - 1")
     return WorldTrace(trace, world, robots, meeting, events, states, visited)
+
+
+def _same_graph(trace: dict[str, Any], world: World) -> None:
+    """A trace of a graph file replays only on the graph it was written on: its
+    ``graph_digest`` names the file's content; a trace without one is compared by its
+    drawing's nodes and edges, and one with neither is refused (it cannot tell)."""
+    mine = getattr(world, "digest", None)
+    if not isinstance(mine, str):
+        return  # a world of its name alone (ring:9): nothing can change under it
+    changed = (f"the graph file of {world.name} is not the one the trace was written on "
+               "(its content changed)")
+    digest = trace.get("graph_digest")
+    if digest is not None:
+        if digest != mine:
+            _fail(changed)
+        return
+    drawing = trace.get("drawing")
+    if not isinstance(drawing, dict):
+        _fail(f"it names no graph_digest and no drawing: it cannot tell whether the graph file "
+              f"of {world.name} is the one it was written on")
+    try:
+        labels = [n["label"] for n in drawing["nodes"]]
+        ends = sorted(tuple(sorted(e["ends"])) for e in drawing["edges"])
+    except (KeyError, TypeError):
+        _fail("'drawing' must hold 'nodes' with a 'label' and 'edges' with 'ends'")
+    now = world.drawing()
+    if labels != [n["label"] for n in now["nodes"]] or \
+            ends != sorted(tuple(sorted(e["ends"])) for e in now["edges"]):
+        _fail(changed)
 
 
 def _event(raw: object, where: str, node: Callable[[object, str], int], n: int) -> Event:

@@ -9,6 +9,13 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
+from hypothesis import settings
+
+settings.register_profile("repeatable", derandomize=True)
+settings.register_profile("explore", derandomize=False)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
+"""The property-based tests draw the same examples on every run (a CI run passes or fails
+alike on every machine); ``HYPOTHESIS_PROFILE=explore`` draws new ones each run."""
 
 CHROMIUM = ("chromium", "chromium-browser", "google-chrome")
 

@@ -9,6 +9,9 @@ import sqlite3
 from pathlib import Path
 from typing import Any
 
+import pytest
+
+from gather_verify.errors import InvalidInput
 from gather_verify.sweeps.report import write_html
 from gather_verify.sweeps.sweep import SweepSettings, run_sweep
 from gather_verify.viewer import write_viewer
@@ -63,13 +66,19 @@ def test_a_hostile_database_shows_as_text_in_the_report(web, tmp_path):
     with con:
         for sweep, settings in con.execute("SELECT id, settings FROM sweeps").fetchall():
             s = json.loads(settings)
-            s.update(robots=PAYLOAD, meeting=PAYLOAD, scheduler=PAYLOAD, algorithm=PAYLOAD)
+            s.update(scheduler=PAYLOAD, algorithm=PAYLOAD)
             con.execute("UPDATE sweeps SET settings = ? WHERE id = ?", (json.dumps(s), sweep))
-        con.execute("UPDATE results SET class = ?, reason = ?, property = ?, max_moves = ?, "
-                    "ratio = ?, cause = ?", (PAYLOAD, PAYLOAD, PAYLOAD, PAYLOAD, PAYLOAD,
-                                             PAYLOAD))
+        con.execute("UPDATE results SET class = ?, reason = ?, property = ?, cause = ?",
+                    (PAYLOAD, PAYLOAD, PAYLOAD, PAYLOAD))
     con.close()
     out = tmp_path / "report.html"
+    for column in ("max_moves", "ratio"):  # a number column holding text: refused, one line
+        damaged = tmp_path / f"{column}.sqlite"
+        damaged.write_bytes(db.read_bytes())
+        with sqlite3.connect(damaged) as con:
+            con.execute(f"UPDATE results SET {column} = ?", (PAYLOAD,))
+        with pytest.raises(InvalidInput, match=f"{column} holds"):
+            write_html(str(damaged), str(out))
     write_html(str(db), str(out))
     web.page.goto(out.as_uri())
     untouched(web)

@@ -381,10 +381,10 @@ def test_a_worker_without_the_file_receives_it(tmp_path: Path) -> None:
     chunk = [(0, TWO)]
     with pytest.raises(ValueError, match="no such file"):
         _run_task((1, settings, chunk))
-    _, rows, *_ = _run_task((1, settings, chunk), sources={moved: sources[path]})
+    _, rows, *_ = _run_task((1, settings, chunk), shipped=({moved: sources[path]}, None))
     assert rows[0]["verdict"] == "VERIFIED"
     edited = {**sources[path], "plug_helper_h.py": "def step(target):\n    return (0, 0)\n"}
-    _, rows, *_ = _run_task((1, settings, chunk), sources={moved: edited})  # a later, edited one
+    _, rows, *_ = _run_task((1, settings, chunk), shipped=({moved: edited}, None))  # a later, edited one
     assert rows[0]["verdict"] == "VIOLATED"
 
 

@@ -295,8 +295,10 @@ def test_an_automorphic_image_has_the_same_verdict(world_name: str, data: st.Dat
     of the initial configuration (and meeting node) under an element of Aut(G) has the same
     verdict, failing part and counts."""
     w = world_of(world_name)
-    n = data.draw(st.integers(2, 3))
-    robots = data.draw(st.lists(st.integers(0, w.size - 1), min_size=n, max_size=n))
+    # three lit robots make the unreduced search too large for a default test (see runs)
+    n = data.draw(st.integers(2, 2 if pick == 2 else 3))
+    robots = data.draw(st.lists(st.integers(0, w.size - 1), min_size=n, max_size=n,
+                                unique=True))
     m = data.draw(st.integers(0, w.size - 1))
     g = data.draw(st.sampled_from(automorphisms(w)))
     algorithm, meeting, kw = [

@@ -29,8 +29,11 @@ MEANINGS = {
                      "gathered or lost the symmetry",
     "EXIT_USAGE": "bad input or usage (``InvalidInput``, or a file that cannot be read or "
                   "written): one line on stderr starting with ``error:``, never a traceback",
-    "EXIT_INCOMPLETE": "INCOMPLETE: a state, time, memory or region limit stopped the search "
-                       "(``sweep``: some configuration was stopped)",
+    "EXIT_INCOMPLETE": "INCOMPLETE: a state, time, memory or region limit stopped the search, "
+                       "or a step before it (building a world, its automorphisms); "
+                       "``sweep``: some configuration was stopped, or the world's census; "
+                       "``synthesize``: ``unknown``; ``synthesize --verify``: the "
+                       "certificate was not re-checked within the limits",
     "EXIT_NOT_APPLICABLE": "NOT-APPLICABLE: the initial configuration is in U or "
                            "UNCLASSIFIED (``impossibility``: it is not in U)",
     "EXIT_NO_LONGER_REPRODUCES": "``replay``: the trace no longer reproduces (the algorithm "

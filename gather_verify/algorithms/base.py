@@ -27,7 +27,7 @@ from gather_verify.errors import GatherVerifyError, InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.view import View
-from gather_verify.watchdog import Overtime, watched
+from gather_verify.watchdog import Overtime, real_interrupt, watched
 
 F = TypeVar("F", bound=Callable[..., object])
 
@@ -92,7 +92,7 @@ class AlgorithmCrash(GatherVerifyError):
         self.view = None if view is None else {
             "robots": [_plain(v) for v in sorted(view.robots)],
             "meeting_nodes": [_plain(v) for v in sorted(view.meeting_nodes)]}
-        self.exception = f"{type(error).__name__}: {error}"
+        self.exception = f"{type(error).__name__}: {error}" if str(error) else type(error).__name__
         frames = traceback.extract_tb(error.__traceback__)
         own = [f for f in frames if not f.filename.startswith(_PACKAGE + os.sep)]
         mine = [f for f in own if not f.filename.startswith(_LIBRARY)]
@@ -144,9 +144,11 @@ def target_of(algorithm: object, configuration: Configuration) -> Node | None:
     try:
         with watched():
             return target(configuration)
-    except (Unhandled, KeyboardInterrupt, Overtime):
+    except (Unhandled, Overtime):  # no rule; the watchdog's stop at the time limit
         raise
-    except BaseException as error:  # SystemExit too: user code never ends the verifier
+    except BaseException as error:  # SystemExit, KeyboardInterrupt, os._exit too
+        if real_interrupt(error):  # only a real Ctrl-C stops the verifier
+            raise
         raise AlgorithmCrash(getattr(algorithm, "name", "?"), "target", error) from None
 
 

@@ -233,8 +233,7 @@ def load_file(path: str) -> ModuleType:
     """The module of a ``.py`` file, executed again when it or a local module it imports
     changed (those are imported afresh too). Its folder goes on ``sys.path`` (as for a
     script), so it imports its neighbours."""
-    if path in _RECEIVED:  # the snapshot taken at the start (:func:`snapshot`), never the disk
-        path = _RECEIVED[path][1]
+    path = source_of(path)  # the snapshot taken at the start (:func:`snapshot`), never the disk
     if not os.path.isfile(path):
         raise InvalidInput(f"algorithm file {path}: no such file")
     known = _FILES.get(path)
@@ -284,19 +283,32 @@ it): the digest of the snapshot and the path of its copy. :func:`load_file` load
 whatever the original file holds now."""
 
 
+def source_of(path: str) -> str:
+    """The file that stands for the code file ``path`` in this process: the copy of the
+    snapshot in force (:func:`snapshot`), else ``path`` itself."""
+    got = _RECEIVED.get(path)
+    return path if got is None else got[1]
+
+
 def ship(specs: set[str]) -> dict[str, dict[str, str]]:
-    """For each file spec, its path and the text of the file and of the local modules it
-    imports (relative to its folder): what a worker on another machine needs to load it."""
+    """For each file spec (an algorithm's, or a property file's ``FILE.py:NAME``), its path
+    and the text of the file and of the local modules it imports (relative to its folder):
+    what a worker on another machine needs to load it."""
     out = {}
     for spec in specs:
         external = split_external(spec) if is_path_spec(spec) else None
         if external is None:
             continue
         path = external[0]
-        source = _RECEIVED[path][1] if path in _RECEIVED else path  # a snapshot: its copy
+        source = source_of(path)  # a snapshot: its copy
+        if not os.path.isfile(source):
+            continue  # (loading it says so, in the words of what it is)
         folder = Path(source).resolve().parent
-        out[path] = {str(f.relative_to(folder)): f.read_text(encoding="utf-8")
-                     for f in local_sources(source) if f.is_relative_to(folder)}
+        try:
+            out[path] = {str(f.relative_to(folder)): f.read_text(encoding="utf-8")
+                         for f in local_sources(source) if f.is_relative_to(folder)}
+        except (OSError, UnicodeDecodeError) as error:
+            raise InvalidInput(f"code file {path}: cannot read it ({error})") from None
     return out
 
 

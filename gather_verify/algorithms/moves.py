@@ -32,7 +32,7 @@ from gather_verify.model.view import (
     View,
     check_detection,
 )
-from gather_verify.watchdog import Overtime, watched
+from gather_verify.watchdog import Overtime, real_interrupt, watched
 
 ANSWERS = frozenset((ORIGIN, *STEPS))
 MAPPED_BACK = tuple({answer: geometry.apply(geometry.inverse(g), answer) for answer in ANSWERS}
@@ -81,9 +81,11 @@ def move_set(
             except MultiplicityHidden as error:  # a rule its robots cannot apply: no rule
                 raise HiddenRead(f"algorithm {algorithm.name!r} reads multiplicity its robots "
                                  f"cannot see: {error}") from None
-            except (Unhandled, KeyboardInterrupt, Overtime):  # no rule; a real Ctrl-C stays
-                raise  # an interrupt, the watchdog's a stop at the time limit
-            except BaseException as error:  # a bug in the algorithm (SystemExit too): a crash
+            except (Unhandled, Overtime):  # no rule; the watchdog's stop at the time limit
+                raise
+            except BaseException as error:  # SystemExit, KeyboardInterrupt, os._exit too
+                if real_interrupt(error):  # only a real Ctrl-C stops the verifier
+                    raise
                 raise AlgorithmCrash(algorithm.name, "decide", error, node, seen) from None
             try:
                 dx, dy = MAPPED_BACK[g][answer]  # the answer, mapped back to global coordinates
@@ -115,9 +117,11 @@ def move_sets(
         try:
             with watched():
                 out = planned(configuration, detection, frames)
-        except (Unhandled, KeyboardInterrupt, Overtime):
+        except (Unhandled, Overtime):  # no rule; the watchdog's stop at the time limit
             raise
-        except BaseException as error:  # SystemExit too: user code never ends the verifier
+        except BaseException as error:  # SystemExit, KeyboardInterrupt, os._exit too
+            if real_interrupt(error):  # only a real Ctrl-C stops the verifier
+                raise
             raise AlgorithmCrash(algorithm.name, "move_sets", error) from None
         if out is not None:
             return out
@@ -150,9 +154,11 @@ def luminous_actions(algorithm: Algorithm, configuration: Configuration,
             except (MultiplicityHidden, LightHidden) as error:
                 raise HiddenRead(f"algorithm {algorithm.name!r} reads what its robots cannot "
                                  f"see: {error}") from None
-            except (Unhandled, KeyboardInterrupt, Overtime):
+            except (Unhandled, Overtime):  # no rule; the watchdog's stop at the time limit
                 raise
-            except BaseException as error:  # SystemExit too: user code never ends the verifier
+            except BaseException as error:  # SystemExit, KeyboardInterrupt, os._exit too
+                if real_interrupt(error):  # only a real Ctrl-C stops the verifier
+                    raise
                 raise AlgorithmCrash(algorithm.name, "decide", error, node, seen) from None
             back, new = MAPPED_BACK[g], colour
             step = _lookup(back, answer)

@@ -30,7 +30,8 @@ from gather_verify.cli.common import (
     UsageError,
 )
 from gather_verify.errors import InvalidInput
-from gather_verify.watchdog import Overtime
+from gather_verify.inputs import kept
+from gather_verify.watchdog import Overtime, count_interrupts
 
 EXIT_BROKEN_PIPE = 141
 """The output pipe was closed by its reader (128 + SIGPIPE, as shells report it)."""
@@ -81,19 +82,25 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the console script; returns the exit code."""
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
+        for text in argv:  # (a shell cannot pass one; a program can, and the OS refuses it)
+            if "\x00" in text:
+                raise UsageError(f"the argument {text!r} holds a NUL byte: no value or file "
+                                 "name has one")
         args = build_parser(argv[0] if argv and argv[0] in COMMANDS else None).parse_args(argv)
         if not getattr(args, "_run", None):
             build_parser().print_help(sys.stderr)
             return EXIT_USAGE
-        return int(args._run(args))
+        count_interrupts()  # a KeyboardInterrupt no Ctrl-C sent is the user's code's
+        with kept():  # every input file is read once (gather_verify.inputs)
+            return int(args._run(args))
     except InvalidInput as error:  # the user's mistake: the message names the bad value
-        print(f"error: {error}", file=sys.stderr)
+        print(f"error: {one_line(str(error))}", file=sys.stderr)
         return EXIT_USAGE
     except BrokenPipeError:  # the reader went away (| head): stop quietly, as cat does
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_BROKEN_PIPE
     except OSError as error:  # unreadable input or unwritable output file
-        print(f"error: {error}", file=sys.stderr)
+        print(f"error: {one_line(str(error))}", file=sys.stderr)
         return EXIT_USAGE
     except AlgorithmCrash as crash:  # outside a search (simulate, impossibility ...)
         print("crash: " + "\n  at ".join([str(crash), *crash.frames]), file=sys.stderr)
@@ -110,8 +117,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         sqlite3 = sys.modules.get("sqlite3")  # imported by the commands that keep results
         if sqlite3 is not None and isinstance(error, sqlite3.DatabaseError):
             # read-only, damaged, or a full disk
-            print(f"error: the results database failed: {error} (every row stored before is "
-                  "kept, and the same command resumes once the database is writable and whole)",
+            print(f"error: the results database failed: {one_line(str(error))} (every row "
+                  "stored before is kept, and the same command resumes once the database is "
+                  "writable and whole)",
                   file=sys.stderr)
             return EXIT_USAGE
         if _interrupted(error):  # Ctrl-C inside C code (numba loading its kernels) comes wrapped
@@ -122,6 +130,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("internal error: this is a bug of gather-verify, not a mistake in your input; "
               "please report it with the command line and the traceback above", file=sys.stderr)
         return EXIT_BUG
+
+
+def one_line(text: str) -> str:
+    """``text`` with every character a terminal or ``str.splitlines`` would not keep on one
+    line (controls, separators) written as its escape: a name taken from the user's input
+    cannot break the one-line error in two.
+
+    >>> one_line("unknown field 'a\\x1eb'")
+    "unknown field 'a\\\\x1eb'"
+    """
+    return "".join(ch if ch.isprintable() or ch == " " else ch.encode("unicode_escape").decode()
+                   for ch in text)
 
 
 def _interrupted(error: BaseException) -> bool:

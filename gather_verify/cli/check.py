@@ -15,6 +15,7 @@ from gather_verify.cli.common import (
     EXIT_VIOLATED,
     VERDICT_EXIT,
     UsageError,
+    Words,
     add_configuration_arguments,
     bounded_float,
     bounded_int,
@@ -51,7 +52,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="luminous robots with K colours, on every world (external: a "
                              "robot does not see its own light; internal: only its own; "
                              "docs/worlds.md)")
-    parser.add_argument("--colours", default=None, metavar="C ...",
+    parser.add_argument("--colours", default=None, metavar="C", nargs="+", action=Words,
                         help="with --lights: each robot's initial colour (default 0)")
     parser.add_argument("--visibility", type=bounded_int(-10**6, 10**6), default=None,
                         metavar="HOPS", help="on a finite world: robots see only the nodes "
@@ -64,8 +65,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--multiplicity", help="multiplicity detection model (default local-weak)")
     parser.add_argument("--frames", choices=("all", "compass", "chirality"))
     parser.add_argument("--property", action="append", dest="properties", metavar="P",
-                        help="property to check, a name or FILE.py:NAME (a Property object "
-                             "defined in that file, docs/properties.md); repeatable; default all")
+                        help="property to check, repeatable, default all: on the paper's world a "
+                             "name or FILE.py:NAME (a Property object defined in that file, "
+                             "docs/properties.md); on a finite world a part of the --task")
     parser.add_argument("--no-reduction", action="store_true",
                         help="switch off the anonymity and Aut(M) reductions")
     parser.add_argument("--engine", choices=("auto", "bulk", "reference"), default="auto",
@@ -73,41 +75,53 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "Python, the engine the bulk one is tested against), or auto "
                              "(default: bulk when it can run the request); both give the same "
                              "states, verdict and trace (docs/explorer.md, docs/worlds.md)")
-    parser.add_argument("--max-states", type=bounded_int(1, 10**10), default=DEFAULT_MAX_STATES)
+    parser.add_argument("--max-states", type=bounded_int(1, 10**10), default=DEFAULT_MAX_STATES,
+                        help="states the search may store (default %(default)s): past it, "
+                        "INCOMPLETE (docs/reliability.md)")
     parser.add_argument("--max-seconds", type=bounded_float(0.001, 10**7),
-                        default=DEFAULT_MAX_SECONDS)
+                        default=DEFAULT_MAX_SECONDS,
+                        help="seconds of the whole check, building the world included "
+                        "(default %(default)g): past it, INCOMPLETE")
     parser.add_argument("--max-memory-mb", "--max-memory", type=bounded_float(1, 10**7),
                         default=None, metavar="MB", dest="max_memory",
-                        help="resident memory limit of the search (default: a share of this "
+                        help="resident memory limit of the check, building the world included "
+                             "(default: a share of this "
                              f"machine's memory, at most {DEFAULT_MAX_MEMORY_MB})")
     parser.add_argument("--margin", type=bounded_int(0, 1000), default=None,
-                        help="region bound: the initial MER grown by this many nodes "
+                        help="the paper's world only: region bound: the initial MER grown by this many nodes "
                              f"(default: {PLANE.initial}, doubled up to {PLANE.maximum} "
                              "while the region stops the search before any violation)")
     parser.add_argument("--keep-growing", action="store_true",
-                        help="grow the region even after a violation is found, up to the "
+                        help="the paper's world only: grow the region even after a violation "
+                             "is found, up to the "
                              "margin whose search the region does not stop, to look for "
                              "violations of other properties (slower: the verdict is the same)")
     parser.add_argument("--keep-going", action="store_true",
-                        help="with --property: search on after every requested property has "
+                        help="the paper's world only, with --property: search on after every "
+                             "requested property has "
                              "its counterexample (by default the search stops there, as SPIN "
                              "stops at its first error)")
-    parser.add_argument("--move-bound-c", type=bounded_float(0, 10**6), default=4.0)
+    parser.add_argument("--move-bound-c", type=bounded_float(0, 10**6), default=None,
+                        metavar="C", help="the paper's world: move-bound holds when the total "
+                        "moves are at most C * D * n (default 4)")
     parser.add_argument("--force", action="store_true",
-                        help="check even when the initial configuration is in U or UNCLASSIFIED")
+                        help="the paper's world only: check even when the initial "
+                             "configuration is in U or UNCLASSIFIED")
     parser.add_argument("--trace-out", metavar="FILE", help="write the counterexample trace (JSON)")
     parser.add_argument("--svg", metavar="FILE", help="write the trace as an SVG storyboard")
     parser.add_argument("--html", metavar="FILE",
                         help="write the trace as an interactive viewer (one self-contained HTML "
                              "file: step through it, stale snapshots, the cycle of a livelock)")
     parser.add_argument("--graph-out", metavar="FILE",
-                        help="write the reachable state graph: GraphML (.graphml) or DOT (.dot, "
+                        help="the paper's world only: write the reachable state graph: GraphML (.graphml) or DOT (.dot, "
                              ".gv); with reductions on, a node is a class of states "
                              "(docs/explorer.md)")
     parser.add_argument("--junit", metavar="FILE",
-                        help="write the verdict as a JUnit XML test case (for CI servers)")
+                        help="the paper's world only: write the verdict as a JUnit XML test "
+                             "case (for CI servers)")
     parser.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
-                        help="run the paper's algorithm under every reading of its ambiguous "
+                        help="the paper's world only: run the paper's algorithm under every "
+                             "reading of its ambiguous "
                              "passages (docs/interpretations.md) and report the robustness")
     parser.add_argument("--progress", type=bounded_float(0, 10**6), default=None,
                         metavar="SECONDS",
@@ -127,7 +141,16 @@ def run(args: argparse.Namespace) -> int:
     if check_rings.every_size(args.world) is not None:  # ring:N+, every size at once
         return check_rings.run(args)
     if entry_of(args.world) == FINITE:
-        return run_world(args)
+        if not args.scenario:
+            return run_world(args)
+        from gather_verify.scenario import load_scenario
+
+        scenario = load_scenario(args.scenario)  # never ignored: it is read, and must agree
+        if scenario.world != args.world.strip():
+            raise UsageError(f"{args.scenario} is a scenario of {scenario.world or 'grid'}, "
+                             f"not of --world {args.world}: give the scenario alone, or "
+                             "--world with --robots")
+        return run_world(args, scenario)
     if args.scenario:
         from gather_verify.scenario import load_scenario
 
@@ -154,7 +177,7 @@ def run(args: argparse.Namespace) -> int:
     scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
     detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")
     frames = args.frames or (scenario.frames if scenario else "all")
-    lights = args.lights or (scenario.lights if scenario else None)
+    lights = args.lights if args.lights is not None else (scenario.lights if scenario else None)
     colours = _colours(args.colours) if args.colours is not None else (
         scenario.colours if scenario else None)
     if colours is not None:  # given robot by robot as written; run_check takes sorted robots
@@ -177,7 +200,8 @@ def run(args: argparse.Namespace) -> int:
                 configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
                 frames=frames, properties=args.properties, reduction=not args.no_reduction,
                 max_states=args.max_states, max_seconds=args.max_seconds,
-                move_bound_c=args.move_bound_c, force=args.force, max_memory_mb=args.max_memory,
+                move_bound_c=4.0 if args.move_bound_c is None else args.move_bound_c,
+                force=args.force, max_memory_mb=args.max_memory,
                 keep_growing=args.keep_growing, keep_going=args.keep_going,
                 engine={"bulk": "fast"}.get(args.engine, args.engine),
                 on_exploration=explored.append if args.graph_out else None,
@@ -255,7 +279,8 @@ def _colours(text: str) -> list[int]:
         raise UsageError(f"--colours {text!r}: write one integer colour per robot") from None
 
 
-PLANE_ONLY = ("readings", "margin", "keep_growing", "force", "graph_out", "junit")
+PLANE_ONLY = ("readings", "margin", "keep_growing", "force", "graph_out", "junit",
+              "move_bound_c", "keep_going")
 """Options of the paper's world (Z²) that a finite world does not take."""
 
 
@@ -289,7 +314,8 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
                 frames=args.frames or (scenario.frames if scenario else "all"),
                 visibility=args.visibility if args.visibility is not None else (
                     scenario.visibility if scenario else None),
-                lights=args.lights or (scenario.lights if scenario else None),
+                lights=args.lights if args.lights is not None else (
+                    scenario.lights if scenario else None),
                 colours=_colours(args.colours) if args.colours is not None else (
                     scenario.colours if scenario else None),
                 reduction=not args.no_reduction, engine=args.engine,

@@ -81,6 +81,15 @@ def load_configuration(args: argparse.Namespace) -> tuple[Configuration, Scenari
     return Configuration(robots, meeting, initial=True), scenario
 
 
+class Words(argparse.Action):
+    """An option that takes one or more words, kept as one text (``--colours 1 0`` and
+    ``--colours "1 0"`` alike): a second word is never taken for a positional argument."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
+                 values: Any, option_string: str | None = None) -> None:
+        setattr(namespace, self.dest, " ".join(values))
+
+
 def bounded_int(low: int, high: int):  # noqa: ANN201 - argparse type factory
     """argparse type: an integer in ``[low, high]``."""
 

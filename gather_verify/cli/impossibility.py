@@ -71,9 +71,6 @@ def algorithms_for(k: int, seed: int, paper: bool = True) -> tuple[list, str]:
 def run(args: argparse.Namespace) -> int:
     from gather_verify.paper.impossibility import check_impossibility
 
-    if args.beyond_u:
-        print("warning: --beyond-u is deprecated and changes nothing (U follows §3.2, so no "
-              "configuration outside U meets Theorem 1's hypothesis); drop it", file=sys.stderr)
     configuration, scenario = load_configuration(args)
     from gather_verify.algorithms import get_algorithm
 
@@ -81,6 +78,9 @@ def run(args: argparse.Namespace) -> int:
     algorithms += [get_algorithm(spec) for spec in args.user_algorithms]
     if not algorithms:
         raise UsageError("no algorithm to play against: give --algorithms K >= 1")
+    if args.beyond_u:  # (after the input is taken: a mistake is still one line)
+        print("warning: --beyond-u is deprecated and changes nothing (U follows §3.2, so no "
+              "configuration outside U meets Theorem 1's hypothesis); drop it", file=sys.stderr)
     detection = scenario.multiplicity if scenario else "local-weak"
     result = check_impossibility(
         configuration, algorithms, steps=args.steps, explore=args.explore,

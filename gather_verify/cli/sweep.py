@@ -7,6 +7,7 @@ import os
 import sys
 
 from gather_verify.cli.common import (
+    EXIT_INCOMPLETE,
     EXIT_INTERRUPTED,
     bounded_float,
     bounded_int,
@@ -71,12 +72,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="local processes (default: the number of cores)")
     p.add_argument("--dask", metavar="local|ADDRESS", default=None,
                    help="run on a Dask cluster: 'local' starts one, else a scheduler address")
-    p.add_argument("--max-states-per-config", type=bounded_int(1, 10**9), default=2_000_000)
-    p.add_argument("--max-seconds-per-config", type=bounded_float(0.001, 86400.0), default=600.0)
+    p.add_argument("--max-states-per-config", type=bounded_int(1, 10**9), default=2_000_000,
+                   help="states of one configuration's search (default %(default)s)")
+    p.add_argument("--max-seconds-per-config", type=bounded_float(0.001, 86400.0), default=600.0,
+                   help="seconds of one configuration's check (default %(default)g); on a "
+                        "finite world they also bound building it and listing its "
+                        "configurations")
     p.add_argument("--max-memory-mb", type=bounded_float(1, 10**7), default=None, metavar="MB",
                    help="resident memory limit of each worker process (default: a share of "
                         "this machine's memory); a configuration that hits it is INCOMPLETE")
-    p.add_argument("--move-bound-c", type=bounded_float(0.0, 1e6), default=4.0)
+    p.add_argument("--move-bound-c", type=bounded_float(0.0, 1e6), default=None, metavar="C",
+                   help="the paper's world: move-bound holds when the total moves are at most "
+                        "C * D * n (default 4)")
     p.add_argument("--engine", choices=("union", "per-config"), default="union",
                    help="union: one state graph per meeting-node set, shared by its "
                         "configurations (default; on a finite world too); per-config: one "
@@ -114,8 +121,25 @@ def count_range(text: str) -> range:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Every input read once, before anything runs: the extra files (which the algorithm may
+    read at import), then the algorithm and property files, copied, so that what is loaded,
+    fingerprinted and shipped to the workers is one snapshot (docs/reliability.md)."""
+    from gather_verify.algorithms.loading import absolute_spec, snapshot
+    from gather_verify.fingerprint import files_fingerprint
+    from gather_verify.properties.registry import absolute_spec as absolute_property
+    from gather_verify.sweeps.store import check_db_path
+
+    check_db_path(args.db)
+    args.fingerprint_extra = [os.path.abspath(f) for f in args.fingerprint_extra]
+    files_fingerprint(args.fingerprint_extra)  # an unreadable file fails before any work
+    args.algorithm = absolute_spec(args.algorithm)  # the workers load the same file
+    args.properties = [absolute_property(p) for p in args.properties or ()] or None
+    with snapshot({args.algorithm, *(args.properties or ())}):
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     from gather_verify.algorithms import get_algorithm
-    from gather_verify.algorithms.loading import absolute_spec
     from gather_verify.algorithms.moves import frames_for
     from gather_verify.model.view import check_detection
     from gather_verify.sweeps.census import validate_census_arguments
@@ -139,7 +163,6 @@ def run(args: argparse.Namespace) -> int:
     if args.readings_types is not None and not args.readings:
         raise InvalidInput("--readings-types needs --readings (it picks which configurations the "
                            "readings run on)")
-    args.algorithm = absolute_spec(args.algorithm)  # the workers load the same file
     with deadline(allowance(args.max_seconds_per_config)):  # an endless import ends (watchdog)
         algorithm = get_algorithm(args.algorithm)  # unknown names fail before any work
     writable_outputs(junit=args.junit)
@@ -149,10 +172,8 @@ def run(args: argparse.Namespace) -> int:
         for m in args.meeting:
             validate_census_arguments(n, m, *args.box)
     if args.properties:
-        from gather_verify.properties.registry import absolute_spec as absolute_property
         from gather_verify.properties.registry import check_property_names
 
-        args.properties = [absolute_property(p) for p in args.properties]  # workers load the file
         with deadline(allowance(args.max_seconds_per_config)):
             check_property_names(args.properties)
         from gather_verify.check import refuse_inapplicable
@@ -164,14 +185,13 @@ def run(args: argparse.Namespace) -> int:
         robots=n, meeting=m, box=args.box, algorithm=args.algorithm,
         scheduler=args.scheduler, detection=args.multiplicity, frames=args.frames,
         properties=tuple(args.properties or ()), max_states=args.max_states_per_config,
-        max_seconds=args.max_seconds_per_config, move_bound_c=args.move_bound_c,
+        max_seconds=args.max_seconds_per_config,
+        move_bound_c=4.0 if args.move_bound_c is None else args.move_bound_c,
         reduction=not args.no_reduction, max_memory_mb=args.max_memory_mb,
         keep_growing=args.keep_growing,
-        fingerprint_extra=tuple(os.path.abspath(f) for f in args.fingerprint_extra),
+        fingerprint_extra=tuple(args.fingerprint_extra),
         force=args.force, lights=args.lights, initial_colours=args.initial_colours,
     ) for n in args.robots for m in args.meeting]
-    if args.fingerprint_extra:
-        settings[0].fingerprint()  # an unreadable file fails before any work
     if args.readings:
         return _readings(args, settings)
     try:
@@ -218,10 +238,24 @@ def _lights(args: argparse.Namespace) -> None:
 
 
 def _worlds(args: argparse.Namespace) -> int:
+    """``sweep --world W``: :func:`_world_sweep`; a limit that stops the setup (building a
+    world, listing its configurations) before any configuration is checked is one line,
+    exit 3 (INCOMPLETE), never a hang."""
+    from gather_verify.engine.bounds import SetupStopped
+
+    try:
+        return _world_sweep(args)
+    except SetupStopped as stop:
+        print(f"INCOMPLETE: {stop.reason}; no configuration was checked (raise "
+              "--max-seconds-per-config or --max-memory-mb, or sweep a smaller world)",
+              file=sys.stderr)
+        return EXIT_INCOMPLETE
+
+
+def _world_sweep(args: argparse.Namespace) -> int:
     """``sweep --world W``: every class of initial configurations of a finite world (or of
     each ring of a range), one search each, into the same store."""
     from gather_verify.algorithms import get_algorithm
-    from gather_verify.algorithms.loading import absolute_spec
     from gather_verify.model.view import check_detection
     from gather_verify.sweeps.sweep import SweepSettings, format_summary, run_sweep
     from gather_verify.tasks import get_task
@@ -229,23 +263,30 @@ def _worlds(args: argparse.Namespace) -> int:
 
     if args.meeting is None:
         args.meeting = [0]
-    for option in ("box", "readings", "readings_types", "junit", "force", "keep_growing"):
+    for option in ("box", "readings", "readings_types", "junit", "force", "keep_growing",
+                   "move_bound_c"):
         if getattr(args, option):
             raise InvalidInput(f"--{option.replace('_', '-')} is an option of the paper's world "
                                f"(Z²), not of {args.world}")
     if 0 in args.robots:
         raise InvalidInput("--robots: at least one robot")
-    args.algorithm = absolute_spec(args.algorithm if args.algorithm != "paper" else
-                                   "go-to-target")
+    if args.algorithm == "paper":
+        args.algorithm = "go-to-target"
     with deadline(allowance(args.max_seconds_per_config)):  # an endless import ends (watchdog)
         get_algorithm(args.algorithm)
     check_detection(args.multiplicity)
     specs = world_specs(args.world)
     if args.world.startswith("graph:"):  # the workers read the same file, wherever they run
         specs = ["graph:" + os.path.abspath(args.world.partition(":")[2])]
-    worlds = [finite_world(spec) for spec in specs]  # a bad world fails before any work
-    for w in worlds:
-        w.symmetries(args.frames)
+    from gather_verify.engine.bounds import setup
+    from gather_verify.engine.resources import memory_budget_mb
+
+    worlds = []
+    for spec in specs:  # a bad world fails before any work; a huge one ends at the limits
+        with setup(f"building {spec}", args.max_seconds_per_config,
+                   args.max_memory_mb or memory_budget_mb()):
+            worlds.append(finite_world(spec))
+            worlds[-1].symmetries(args.frames)
     if args.task is not None:
         get_task(args.task)
     if args.lights is not None:
@@ -260,7 +301,7 @@ def _worlds(args: argparse.Namespace) -> int:
         properties=tuple(args.properties or ()), max_states=args.max_states_per_config,
         max_seconds=args.max_seconds_per_config, reduction=not args.no_reduction,
         max_memory_mb=args.max_memory_mb,
-        fingerprint_extra=tuple(os.path.abspath(f) for f in args.fingerprint_extra),
+        fingerprint_extra=tuple(args.fingerprint_extra),
         world=w.name, task=args.task or ("gathering-on-meeting-nodes" if m else "gathering"),
         visibility=args.visibility, lights=args.lights, initial_colours=args.initial_colours,
     ) for w in worlds for n in args.robots for m in args.meeting]

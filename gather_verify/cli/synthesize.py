@@ -22,6 +22,7 @@ from gather_verify.cli.common import (
     EXIT_OK,
     EXIT_VIOLATED,
     UsageError,
+    Words,
     bounded_float,
     bounded_int,
     print_json,
@@ -64,7 +65,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--lights", default=None, metavar="K[:internal]",
                    help="luminous robots with K colours, all starting at 0; with --minimum, "
                         "a range A-B asks the least number of colours")
-    p.add_argument("--colours", default=None, metavar="C ...",
+    p.add_argument("--colours", default=None, metavar="C", nargs="+", action=Words,
                    help="with lights and one configuration: each robot's initial colour "
                         "(default 0); with --minimum --lights A-B, also 'some': from any "
                         "initial colouring")
@@ -74,13 +75,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="where none writes its certificate (default synthesized.cert.json)")
     p.add_argument("--verify", metavar="CERT",
                    help="re-check a certificate of none without searching, and exit")
-    p.add_argument("--max-seconds", type=bounded_float(0.001, 10**7), default=600.0)
+    p.add_argument("--max-seconds", type=bounded_float(0.001, 10**7), default=600.0,
+                   help="the whole command: the views, the search, the checker's run on a "
+                        "witness, the re-check of a certificate (default %(default)g)")
+    p.add_argument("--max-memory-mb", type=bounded_float(1, 10**7), default=None, metavar="MB",
+                   help="resident memory limit of the whole command (default: a share of "
+                        "this machine's memory, as check's)")
     p.add_argument("--max-candidates", type=bounded_int(1, 10**9), default=1_000_000,
-                   help="tables the solver may propose")
+                   help="tables the solver may propose (default %(default)s)")
     p.add_argument("--max-states", type=bounded_int(1, 10**9), default=2_000_000,
-                   help="states of one exploration of one candidate")
+                   help="states of one exploration of one candidate (default %(default)s)")
     p.add_argument("--max-tree", type=bounded_int(1, 10**9), default=2_000_000,
-                   help="nodes of the certificate's decision tree")
+                   help="nodes of the certificate's decision tree (default %(default)s)")
     p.add_argument("--minimum", action="store_true",
                    help="the least number of robots with an algorithm: --robots A-B (counts), "
                         "or of colours: --lights A-B; --world a size or a range of rings "
@@ -136,9 +142,19 @@ def run(args: argparse.Namespace) -> int:
 
     if entry_of(args.world) == PLANE:
         return _plane(args)
+    from gather_verify.cli import synthesize_sets as sets
+
+    box_only = [o for o, given in (("--select", args.select != "all"),
+                                   ("--classes", args.classes is not None)) if given]
+    if box_only:
+        raise UsageError(f"{box_only[0]} goes with --box on the paper's world (--world grid "
+                         "--box WxH)")
     if args.box is not None:
         raise UsageError("--box goes with the paper's world (--world grid)")
-    from gather_verify.cli import synthesize_sets as sets
+    if args.together and args.start is None and not sets.is_range(args.world):
+        raise UsageError("--together goes with --box on the paper's world (--world grid "
+                         "--box WxH), with --start SET (one algorithm for every start of "
+                         "the set), or with a range of rings (--world ring:A-B)")
 
     if sets.is_range(args.world):
         from gather_verify.cli.synthesize_rules import run_range
@@ -146,76 +162,15 @@ def run(args: argparse.Namespace) -> int:
         return run_range(args)
     if sets.wants_sets(args):
         return sets.per_start(args)
-    from gather_verify.synthesis.search import certificate_stats, synthesize
-    from gather_verify.synthesis.views import Views, make_instance
-
     if not args.witness.endswith(".py"):
         raise UsageError(f"--witness {args.witness}: the algorithm file must end in .py")
     writable_outputs(witness=args.witness, certificate=args.certificate)
-    inst = make_instance(args.world, args.robots, args.meeting, args.scheduler, args.task,
-                         args.multiplicity, args.frames, args.visibility, args.lights,
-                         args.colours, args.start)
-    views = Views(inst)
-    started = time.perf_counter()
     try:
-        result = synthesize(inst, max_seconds=args.max_seconds,
-                            max_candidates=args.max_candidates, max_states=args.max_states,
-                            max_tree=args.max_tree, views=views, seeds=sets.seeds(args))
+        report, problem = _finite(args)
     except KeyboardInterrupt:
         print("interrupted: synthesize keeps no partial results; run the same command again "
               "(it starts over)", file=sys.stderr)
         return EXIT_INTERRUPTED
-    report: dict[str, Any] = {
-        "answer": result.answer, "world": inst.world.name, "task": inst.task.name,
-        "scheduler": inst.scheduler, "detection": inst.detection, "frames": inst.frames,
-        "visibility": inst.visibility, "lights": str(inst.lights),
-        "configurations": len(inst.configurations), "views": result.views,
-        "candidates": result.candidates, "counterexamples": len(result.counterexamples),
-        "states": result.states, "limit": result.limit, "witness": None, "certificate": None,
-    }
-    code = ANSWER_EXIT[result.answer]
-    problem = None
-    if result.answer == "exists":
-        from gather_verify.synthesis.gapviews import exact_rules
-        from gather_verify.synthesis.witness import check_witness, write_witness
-
-        spec = write_witness(args.witness, inst, views, result.table)
-        rules = exact_rules(views, result.table)
-        if rules is not None:
-            report["rules"] = [str(r) for r in rules]
-        reports = check_witness(spec, inst, args.max_seconds)
-        verdicts = sorted({r["verdict"] for r in reports})
-        report["witness"] = spec
-        report["table"] = len(result.table)
-        report["checker"] = {"verdicts": verdicts, "reductions": "off",
-                             "states": sum(r["states"] for r in reports)}
-        if verdicts != ["VERIFIED"]:
-            bad = next(r for r in reports if r["verdict"] != "VERIFIED")
-            problem = (f"the ordinary checker says {bad['verdict']} of the witness from robots "
-                       f"{bad['robots']} ({bad['property']}: {bad['reason']}): this is a bug "
-                       "of gather-verify's synthesis, please report it")
-    elif result.answer == "none":
-        from gather_verify.synthesis.certificate import (
-            CertificateError,
-            verify_certificate,
-            write_certificate,
-        )
-
-        stats = certificate_stats(result)
-        write_certificate(args.certificate, inst, views, result.counterexamples,
-                          result.literals, result.tree, stats)
-        report["certificate"] = args.certificate
-        report["tree"] = {"nodes": stats["tree_nodes"], "leaves": stats["tree_leaves"]}
-        try:
-            verify_certificate(args.certificate)
-            said, report["explanation"] = sets.none_report(args.certificate)
-            report.update(said)
-            report["rests_on"] = [[inst.world.node_to_json(v) for v in
-                                   inst.configurations[j][0]] for j in said["rests_on"]]
-        except CertificateError as error:
-            problem = (f"the certificate just written does not re-check ({error}): this is a "
-                       "bug of gather-verify's synthesis, please report it")
-    report["seconds"] = time.perf_counter() - started
     if args.json:
         print_json(report if args.timings else {k: v for k, v in report.items()
                                                  if k != "seconds"})
@@ -224,7 +179,128 @@ def run(args: argparse.Namespace) -> int:
     if problem is not None:
         print(f"internal error: {problem}", file=sys.stderr)
         return EXIT_BUG
-    return code
+    return ANSWER_EXIT[report["answer"]]
+
+
+def _finite(args: argparse.Namespace) -> tuple[dict[str, Any], str | None]:
+    """``synthesize --world W`` on a finite world: the report and, if any, the bug it found.
+    ``--max-seconds`` and ``--max-memory-mb`` bound the whole command: building the instance
+    and its views, the search, the checker's run on a witness, the re-check of a
+    certificate; a limit met on the way answers ``unknown`` naming the step."""
+    from gather_verify.cli import synthesize_sets
+    from gather_verify.engine.bounds import SetupStopped, setup
+    from gather_verify.synthesis.search import synthesize
+    from gather_verify.synthesis.views import Views, make_instance
+
+    started = time.perf_counter()
+    memory = _memory(args)
+
+    def left() -> float:
+        return max(0.001, args.max_seconds - (time.perf_counter() - started))
+
+    report: dict[str, Any] = {
+        "answer": "unknown", "world": args.world, "scheduler": args.scheduler,
+        "task": args.task or ("gathering-on-meeting-nodes" if args.meeting.strip() else
+                              "gathering"),
+        "detection": args.multiplicity, "frames": args.frames, "visibility": args.visibility,
+        "lights": args.lights or "1", "configurations": 0, "views": 0, "candidates": 0,
+        "counterexamples": 0, "states": 0, "limit": None, "witness": None, "certificate": None}
+    try:
+        with setup(f"building the views of {args.world}", args.max_seconds, memory):
+            inst = make_instance(args.world, args.robots, args.meeting, args.scheduler,
+                                 args.task, args.multiplicity, args.frames, args.visibility,
+                                 args.lights, args.colours, args.start)
+            views = Views(inst)
+            seeds = synthesize_sets.seeds(args)
+        report.update(world=inst.world.name, task=inst.task.name, lights=str(inst.lights),
+                      configurations=len(inst.configurations))
+        with setup("the search over algorithms", None, memory):  # its own clock, and memory
+            result = synthesize(inst, max_seconds=left(), max_candidates=args.max_candidates,
+                                max_states=args.max_states, max_tree=args.max_tree,
+                                views=views, max_memory_mb=memory, seeds=seeds)
+        report.update(answer=result.answer, views=result.views, candidates=result.candidates,
+                      counterexamples=len(result.counterexamples), states=result.states,
+                      limit=result.limit)
+        problem = None
+        if result.answer == "exists":
+            problem = _witnessed(args, inst, views, result, report, left())
+        elif result.answer == "none":
+            problem = _certified(args, inst, views, result, report, left(), memory)
+    except SetupStopped as stop:
+        report.update(answer="unknown", limit=stop.reason)
+        problem = None
+    report["seconds"] = time.perf_counter() - started
+    return report, problem
+
+
+def _memory(args: argparse.Namespace) -> float:
+    """``--max-memory-mb``, or this machine's share (as check's)."""
+    from gather_verify.engine.resources import memory_budget_mb
+
+    return args.max_memory_mb if args.max_memory_mb is not None else memory_budget_mb()
+
+
+def _witnessed(args: argparse.Namespace, inst: Any, views: Any, result: Any,
+               report: dict[str, Any], seconds: float) -> str | None:
+    """Write the witness and run the ordinary checker on it (within ``seconds``): into
+    ``report``; the bug it shows, if the checker finds the witness wrong."""
+    from gather_verify.synthesis.gapviews import exact_rules
+    from gather_verify.synthesis.witness import check_witness, write_witness
+
+    spec = write_witness(args.witness, inst, views, result.table)
+    rules = exact_rules(views, result.table)
+    if rules is not None:
+        report["rules"] = [str(r) for r in rules]
+    reports = check_witness(spec, inst, seconds)
+    verdicts = sorted({r["verdict"] for r in reports})
+    report["witness"] = spec
+    report["table"] = len(result.table)
+    report["checker"] = {"verdicts": verdicts, "reductions": "off",
+                         "states": sum(r["states"] for r in reports)}
+    if verdicts == ["VERIFIED"]:
+        return None
+    bad = next(r for r in reports if r["verdict"] != "VERIFIED")
+    if bad["verdict"] == "INCOMPLETE":  # a limit, not a wrong witness: no answer yet
+        report.update(answer="unknown", limit=f"{bad['reason']} (while the checker verified "
+                      f"the witness {spec})")
+        return None
+    return (f"the ordinary checker says {bad['verdict']} of the witness from robots "
+            f"{bad['robots']} ({bad['property']}: {bad['reason']}): this is a bug of "
+            "gather-verify's synthesis, please report it")
+
+
+def _certified(args: argparse.Namespace, inst: Any, views: Any, result: Any,
+               report: dict[str, Any], seconds: float, memory: float) -> str | None:
+    """Write the certificate and re-check it (within ``seconds`` and ``memory``): into
+    ``report``; the bug it shows, if the certificate just written does not hold."""
+    from gather_verify.engine.bounds import SetupStopped
+    from gather_verify.synthesis.certificate import (
+        CertificateError,
+        verify_certificate,
+        write_certificate,
+    )
+    from gather_verify.synthesis.explain import explain_certificate
+    from gather_verify.synthesis.search import certificate_stats
+
+    stats = certificate_stats(result)
+    write_certificate(args.certificate, inst, views, result.counterexamples,
+                      result.literals, result.tree, stats)
+    report["certificate"] = args.certificate
+    report["tree"] = {"nodes": stats["tree_nodes"], "leaves": stats["tree_leaves"],
+                      "views": stats["tree_views"]}
+    try:
+        got = verify_certificate(args.certificate, seconds, memory)
+        report.update({k: got[k] for k in ("holds_under", "found_under")})
+        report["rests_on"] = [[inst.world.node_to_json(v) for v in inst.configurations[j][0]]
+                              for j in got["rests_on"]]
+        report["explanation"] = explain_certificate(args.certificate)
+    except CertificateError as error:
+        return (f"the certificate just written does not re-check ({error}): this is a "
+                "bug of gather-verify's synthesis, please report it")
+    except SetupStopped as stop:
+        report.update(answer="unknown", limit=f"{stop.reason} (while the certificate "
+                      f"{args.certificate} was re-checked; --verify it with more time)")
+    return None
 
 
 def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
@@ -233,7 +309,7 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
             + ("" if report["visibility"] is None else f"  visibility {report['visibility']}")
             + ("" if report["lights"] == "1" else f"  lights {report['lights']}"))
     print(f"{report['answer']}  {what}")
-    print(f"configurations {report['configurations']}  views {report['views']}  candidates "
+    print(f"configurations {report['configurations']}  views met {report['views']}  candidates "
           f"{report['candidates']}  counterexamples {report['counterexamples']}  states "
           f"{report['states']}  {report['seconds']:.2f}s")
     if report["answer"] == "exists":
@@ -251,9 +327,9 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
                 print(f"  ... and {len(rules) - RULES_SHOWN} more (the witness file lists them)")
     elif report["answer"] == "none":
         tree = report["tree"]
-        print(f"certificate: {report['certificate']} (a decision tree of {tree['nodes']} "
-              f"views and {tree['leaves']} leaves over {report['counterexamples']} "
-              "counterexamples); re-check it with")
+        print(f"certificate: {report['certificate']} ({report['counterexamples']} "
+              f"counterexamples over {tree['views']} views, a decision tree of "
+              f"{tree['nodes']} questions and {tree['leaves']} leaves); re-check it with")
         print(f"  gather-verify synthesize --verify {report['certificate']}")
         if "holds_under" in report:
             from gather_verify.cli.synthesize_sets import holds_line
@@ -269,17 +345,25 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
 def _verify(args: argparse.Namespace) -> int:
     """``--verify CERT``: re-check a certificate of none (a finite world's, or Theorem 1's on
     Z²) without searching; exit 0 when it holds, 1 with the line where it does not."""
+    from gather_verify.engine.bounds import SetupStopped
     from gather_verify.synthesis import certificate, plane
     from gather_verify.synthesis.certificate import CertificateError
 
     started = time.perf_counter()
     on_plane = _plane_certificate(args.verify)
     try:
-        got = (plane if on_plane else certificate).verify_certificate(args.verify)
+        if on_plane:
+            got = plane.verify_certificate(args.verify)
+        else:
+            got = certificate.verify_certificate(args.verify, args.max_seconds, _memory(args))
     except CertificateError as error:
         print(f"certificate REJECTED: {os.path.basename(args.verify)}: {error}",
               file=sys.stderr)
         return EXIT_VIOLATED
+    except SetupStopped as stop:
+        print(f"certificate NOT RE-CHECKED: {os.path.basename(args.verify)}: {stop.reason} "
+              "(raise --max-seconds or --max-memory-mb)", file=sys.stderr)
+        return EXIT_INCOMPLETE
     got["seconds"] = time.perf_counter() - started
     if args.explain and not on_plane:
         from gather_verify.synthesis.explain import explain_certificate
@@ -296,7 +380,8 @@ def _verify(args: argparse.Namespace) -> int:
                 "no search over algorithms)")
     else:
         what = (f"{inst['world']}  task {inst['task']} / {inst['scheduler']}  "
-                f"({got['counterexamples']} counterexamples replayed, {got['views']} views, "
+                f"({got['counterexamples']} counterexamples replayed over {got['views']} "
+                f"views, a decision tree of {got['tree_nodes']} questions and "
                 f"{got['leaves']} leaves; no search)")
     print(f"certificate holds: none  {what}  {got['seconds']:.2f}s")
     if not on_plane:
@@ -355,10 +440,11 @@ def _minimum(args: argparse.Namespace) -> int:
 
     from gather_verify.fingerprint import own_digest
     from gather_verify.sweeps.minimum import format_table, least_cell
-    from gather_verify.sweeps.store import Store
+    from gather_verify.sweeps.store import Store, check_db_path
     from gather_verify.worlds import PLANE, entry_of
     from schedulers import get_scheduler
 
+    check_db_path(args.db)
     colours = _colour_range(args.lights)
     values = _counts(args.robots) if colours is None else colours[0]
     what = "robots" if colours is None else "colours"
@@ -705,12 +791,13 @@ def _plane_certificate(path: str) -> bool:
     format; anything else goes to the finite worlds' verifier, which says what is wrong)."""
     import json
 
+    from gather_verify.inputs import read_text
     from gather_verify.synthesis.plane import FORMAT
 
+    text = read_text(path, "certificate")  # bounded, a regular file, read once
     try:
-        with open(path, encoding="utf-8") as handle:
-            return json.load(handle).get("format") == FORMAT
-    except (OSError, ValueError, AttributeError):
+        return json.loads(text).get("format") == FORMAT
+    except (ValueError, AttributeError, RecursionError):
         return False
 
 
@@ -724,6 +811,9 @@ def _plane(args: argparse.Namespace) -> int:
                          "--lights, --colours and --visibility")
     if not args.witness.endswith(".py"):
         raise UsageError(f"--witness {args.witness}: the algorithm file must end in .py")
+    if args.together and args.box is None:
+        raise UsageError("--together asks one algorithm for every configuration of a box: "
+                         "give --box WxH (with --select outside-u)")
     writable_outputs(witness=args.witness, certificate=args.certificate)
     inst = plane.make_instance(args.robots, args.meeting, args.scheduler, args.task,
                                args.multiplicity, args.frames, args.box, args.select,

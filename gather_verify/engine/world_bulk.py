@@ -51,6 +51,7 @@ from gather_verify.engine.columns import Growing, glibc
 from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop, rss_mb
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.engine.world_search import (
+    EVENT_CUT,
     Halt,
     Relabel,
     SearchArrays,
@@ -463,6 +464,30 @@ class _Edges(Sequence[list[tuple[int, int, Event]]]):
             yield self[sid]
 
 
+BYTES_PER_EVENT = 64
+"""What one event of a bulk step takes while it is made and stored (its state, successor,
+robots, crossing, the index's answer, the edge kept), for the memory limit."""
+
+
+def rounds_taken(counts: np.ndarray, stored: int, limits: Limits) -> tuple[int, Stop | None]:
+    """How many of the leading states (their events ``counts``) a bulk step expands, and the
+    limit that stops the search after them, if any: a state with more than
+    :data:`EVENT_CUT` events that could take the states past ``max_states`` + EVENT_CUT, or
+    whose events would not fit the memory left, is not expanded."""
+    if not len(counts):
+        return 0, None
+    total = np.cumsum(counts)
+    take = int(np.searchsorted(total, EVENTS, side="right")) or 1
+    big = np.flatnonzero((counts[:take] > EVENT_CUT)
+                         & (stored + total[:take] > limits.max_states + EVENT_CUT))
+    if len(big):
+        return int(big[0]), Stop.STATES
+    if take == 1 and counts[0] > EVENTS and \
+            rss_mb() + counts[0] * BYTES_PER_EVENT / 2**20 > limits.max_memory_mb:
+        return 0, Stop.MEMORY
+    return min(take, len(counts)), None
+
+
 def _stored(index: KeyIndex, reps: Growing | None, lo: int, hi: int) -> np.ndarray:
     """The stored states ``lo .. hi - 1`` (as far as there are): the index's keys when they
     are the states themselves (``reps`` None: unreduced), else ``reps``."""
@@ -592,13 +617,22 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
             if cut < len(keys):
                 keys, nodes, slots, cols, rest = (a[:cut] for a in (keys, nodes, slots, cols,
                                                                     rest))
+            if rounds:  # a round's events weighed before they are made (a limit bounds it)
+                counts = kw.world_round_counts(rest // plan.vb, masks, plan.subsets, plan.rr,
+                                               plan.rr_orders, plan.act_node.shape[1],
+                                               float(EVENTS))
+                take, stopped = rounds_taken(counts, index.count, limits)
+                if take < cut:
+                    keys, nodes, slots, cols, rest, masks = (
+                        a[:take] for a in (keys, nodes, slots, cols, rest, masks))
+                    cut, why_halt = take, None  # (a later state's halt: met again later)
             fin, sty = kw.world_facts(nodes, slots, cols, masks, plan.stay_bit)
             vis = rest % plan.vb
             if rounds:
                 src, succ, rmask, cross = kw.world_rounds(
                     keys, nodes, slots, cols, vis, rest // plan.vb, masks, plan.subsets,
                     plan.rr, plan.rr_orders, plan.act_node, plan.act_col, plan.pw, visits,
-                    plan.pend, plan.colours, plan.vb)
+                    plan.pend, plan.colours, plan.vb, int(counts[:cut].sum()))
             else:
                 src, succ, rmask = kw.world_async(
                     keys, nodes, slots, cols, plan.adj, vis, masks, plan.act_node,

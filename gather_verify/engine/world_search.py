@@ -248,6 +248,10 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
                         if p is None and (v, c) in options[i]))
         out: list[tuple[int, int, Event]] = []
         for event, succ, after in sched.luminous(state, extra, options.__getitem__):
+            if len(reps) > limits.max_states + EVENT_CUT or len(out) & 1023 == 1023:
+                stopped = _inside_limit(limits, started, len(reps))  # a round of very many
+                if stopped is not None:  # events: the limits inside it
+                    break
             transitions += 1
             seen = visited
             if visits:
@@ -262,6 +266,8 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
                 parents.append(sid)
             out.append((did, _mask(event.robots), event))
         edges.append(out)
+        if stopped is not None:  # its events cut: the search is INCOMPLETE
+            break
         if watch is not None:
             halt = watch(sid, reps[sid], final[-1], out)
             if halt is not None:
@@ -275,6 +281,22 @@ def search(world: object, robots: Sequence[int], actions: Actions, scheduler: st
                        states=len(reps), transitions=transitions, stopped=stopped, halt=halt,
                        reduced=anonymity or len(symmetries) > 1,
                        seconds=time.perf_counter() - started, canonical=canon)
+
+
+EVENT_CUT = 1024
+"""A state's expansion stops once the states stored pass ``max_states`` by this many."""
+
+
+def _inside_limit(limits: Limits, started: float, stored: int) -> Stop | None:
+    """The limit a state of very many events has passed while it is expanded (its events are
+    then cut there), if any: a round of 20 robots of two moves each makes 2**20 of them."""
+    if stored > limits.max_states + EVENT_CUT:
+        return Stop.STATES
+    if time.perf_counter() - started > limits.max_seconds:
+        return Stop.TIME
+    if rss_mb() > limits.max_memory_mb:
+        return Stop.MEMORY
+    return None
 
 
 def arrays_of(s: WorldSearch) -> SearchArrays:

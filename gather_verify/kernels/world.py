@@ -347,23 +347,20 @@ def world_async_by_node(keys, n, radix, rc_node, rc_slot, rc_col, pair_mask, kno
 
 
 @njit(cache=True, nogil=True)
-def world_rounds(keys, nodes, slots, cols, vis, extra, masks, subsets, rr, rr_orders,
-                 act_node, act_col, pw, visits, pend, colours, vb):  # pragma: no cover - compiled
-    """The events of the round schedulers, in the order of their ``luminous``: per activated
-    subset (the rows of ``subsets``; round-robin: the one robot whose turn it is, by
-    ``extra``), every choice of the activated robots' actions in the order of
-    ``itertools.product`` over their bits; a round that changes no robot is left out (but
-    for round-robin, whose turn moves on). Returns per event its state, its successor's key,
-    its robots' mask and whether it moves two robots across one edge in opposite
-    directions."""
-    s_count, n = nodes.shape
-    width = act_node.shape[1]
-    one = np.int64(1)
+def world_round_counts(extra, masks, subsets, rr, rr_orders, width, cap):  # pragma: no cover
+    """Per leading state, how many events (at most) its rounds make: the sum over the
+    activated subsets of the product of the activated robots' action counts, as a float
+    (40 robots' products pass 2**63). Stops after the first state that takes the sum past
+    ``cap``: the states after it are not counted (a round with very many events is weighed
+    before it is made, so no limit is passed by making it)."""
+    s_count, n = masks.shape
     nsub = 1 if rr else subsets.shape[0]
-    total = 0
+    out = np.zeros(s_count, dtype=np.float64)
+    total = 0.0
     for s in range(s_count):
+        here = 0.0
         for r in range(nsub):
-            prod = 1
+            prod = 1.0
             if rr:
                 o = extra[s] // n
                 t = extra[s] - o * n
@@ -371,7 +368,7 @@ def world_rounds(keys, nodes, slots, cols, vis, extra, masks, subsets, rr, rr_or
                 cnt = 0
                 for b in range(width):
                     cnt += (masks[s, i] >> b) & 1
-                prod = cnt
+                prod = 1.0 * cnt
             else:
                 for i in range(n):
                     if subsets[r, i]:
@@ -379,7 +376,28 @@ def world_rounds(keys, nodes, slots, cols, vis, extra, masks, subsets, rr, rr_or
                         for b in range(width):
                             cnt += (masks[s, i] >> b) & 1
                         prod *= cnt
-            total += prod
+            here += prod
+        out[s] = here
+        total += here
+        if total > cap:
+            return out[:s + 1]
+    return out
+
+
+@njit(cache=True, nogil=True)
+def world_rounds(keys, nodes, slots, cols, vis, extra, masks, subsets, rr, rr_orders,
+                 act_node, act_col, pw, visits, pend, colours, vb, total):  # pragma: no cover
+    """The events of the round schedulers, in the order of their ``luminous``: per activated
+    subset (the rows of ``subsets``; round-robin: the one robot whose turn it is, by
+    ``extra``), every choice of the activated robots' actions in the order of
+    ``itertools.product`` over their bits; a round that changes no robot is left out (but
+    for round-robin, whose turn moves on). ``total``: the events :func:`world_round_counts`
+    counted for these states. Returns per event its state, its successor's key, its robots'
+    mask and whether it moves two robots across one edge in opposite directions."""
+    s_count, n = nodes.shape
+    width = act_node.shape[1]
+    one = np.int64(1)
+    nsub = 1 if rr else subsets.shape[0]
     src = np.empty(total, dtype=np.int64)
     succ = np.empty(total, dtype=np.int64)
     rmask = np.empty(total, dtype=np.int64)

@@ -293,7 +293,7 @@ def verify_readings_one(settings: Any, index: int, c: Configuration) -> dict[str
         "key": configuration_key(c), "index": index,
         "robots": [list(r) for r in c.robots],
         "meeting_nodes": sorted(list(m) for m in c.meeting_nodes),
-        "class": report["class"], "verdict": report["robustness"],
+        "class": report["class"], "verdict": report["robustness"], "n": len(c.robots),
         "property": report.get("property"), "cause": report.get("cause"),
         "reason": f"{len(report['runs'])} runs for {len(report['readings'])} readings",
         "trace": {"runs": report["runs"], **switches}, "failing": failing,

@@ -32,6 +32,8 @@ RESERVED = ("states", "time", "memory", "region")
 
 _REGISTRY: dict[str, Property] = {p.name: p for p in BUILTIN}
 _LOADED: dict[tuple[str, str], Property] = {}
+_FROM: dict[str, str] = {}
+"""The file each loaded property came from, as named (a snapshot of it replaces it)."""
 
 ORDER = tuple(p.name for p in BUILTIN)
 """The built-in properties' names in verdict order (:func:`names` adds registered ones)."""
@@ -101,8 +103,11 @@ def load_property(spec: str) -> Property:
     """The property ``NAME`` defined in ``FILE.py`` (``spec = "FILE.py:NAME"``, the path relative
     to the working directory), registered; the same file and name load once per process.
     InvalidInput (one line) when the file cannot be read or run, or ``NAME`` is no Property."""
+    from gather_verify.algorithms.loading import source_of
+
     text, _, attr = spec.rpartition(":")
-    path = Path(text).expanduser().resolve()
+    # the copy of a sweep's snapshot when one is in force, as for an algorithm file
+    path = Path(source_of(str(Path(text).expanduser().resolve())))
     key = (str(path), attr)
     if key in _LOADED:
         return _LOADED[key]
@@ -137,10 +142,12 @@ def load_property(spec: str) -> Property:
         raise InvalidInput(f"cannot load property {spec!r}: {attr} is a {type(prop).__name__}, "
                          "not a gather_verify.properties.Property")
     prop = _guarded(prop)
-    if _REGISTRY.get(prop.name) is getattr(module, attr):  # the file registered it itself
-        _REGISTRY[prop.name] = prop
+    known = _REGISTRY.get(prop.name)
+    if known is getattr(module, attr) or (known is not None and _FROM.get(prop.name) == text):
+        _REGISTRY[prop.name] = prop  # the file registered it itself, or an earlier read of it
     else:
         register(prop)
+    _FROM[prop.name] = text
     _LOADED[key] = prop
     return prop
 

@@ -63,9 +63,11 @@ def scenario_for(settings: dict[str, Any], row: dict[str, Any],
     digest = hashlib.sha256(json.dumps([algorithm, scheduler, row["key"]]).encode()).hexdigest()
     slug = re.sub(r"[^a-z0-9]+", "-", f"{row['class']}-{row['property']}-{algorithm}-{scheduler}".lower())
     name = f"{slug.strip('-')}-{digest[:8]}"
-    w, h = settings["box"]
-    found_by = (f"gather-verify sweep --robots {settings['robots']} --meeting {settings['meeting']} "
-                f"--box {w}x{h} --algorithm {algorithm} --scheduler {scheduler}")
+    world = settings.get("world", "grid")
+    where = f"--world {world}" if "box" not in settings else \
+        "--box {}x{}".format(*settings["box"])
+    found_by = (f"gather-verify sweep {where} --robots {settings['robots']} --meeting "
+                f"{settings['meeting']} --algorithm {algorithm} --scheduler {scheduler}")
     lit: dict[str, Any] = {}
     robots = row["robots"]
     if settings.get("lights") is not None:  # a luminous sweep: its lights, the row's colours
@@ -74,6 +76,12 @@ def scenario_for(settings: dict[str, Any], row: dict[str, Any],
         colours = [r[1] for r in robots] if every else [0] * len(robots)
         robots = [r[0] for r in robots] if every else robots
         lit = {"lights": settings["lights"], "colours": colours}
+    expect: dict[str, Any] = {"class": row["class"]}
+    if "box" not in settings:  # a finite world's: its world and task (no class of the paper's)
+        lit = {"world": world, "task": settings.get("task"),
+               **({} if settings.get("visibility") is None else
+                  {"visibility": settings["visibility"]}), **lit}
+        expect = {}
     return {
         "name": name,
         "description": (f"Counterexample found by a sweep ({found_by}): {row['class']}, "
@@ -87,7 +95,7 @@ def scenario_for(settings: dict[str, Any], row: dict[str, Any],
         "scheduler": scheduler,
         "multiplicity": settings.get("detection", "local-weak"),
         "frames": settings.get("frames", "all"),
-        "expect": {"class": row["class"], "verdicts": [
+        "expect": {**expect, "verdicts": [
             {"algorithm": here, "scheduler": scheduler, "verdict": "VIOLATED",
              "property": row["property"]}]},
         "trace": row["trace"] if here == algorithm else {**row["trace"], "algorithm": here},

@@ -331,10 +331,12 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
               [(v, "") for v in VERDICTS if v not in ("VERIFIED", "VIOLATED")]
     classes = [c for c in get_fact("class").values if any(k[0] == c for k in cells)]
     classes += sorted({k[0] for k in cells} - set(classes))
-    head = ("<tr><th rowspan=2>class</th><th rowspan=2>configurations</th><th rowspan=2>VERIFIED</th>"
+    plane = _on_plane(common)  # the paper's notions (classes, D·n) on its world only
+    head = (f"<tr><th rowspan=2>{'class' if plane else 'world'}</th><th rowspan=2>"
+            "configurations</th><th rowspan=2>VERIFIED</th>"
             + (f"<th colspan={len(props)} class='bad'>VIOLATED, by failing property</th>" if props else "")
             + "".join(f"<th rowspan=2>{v}</th>" for v, p in columns[1 + len(props):])
-            + "<th rowspan=2>largest moves / (D·n)</th></tr><tr>"
+            + ("<th rowspan=2>largest moves / (D·n)</th>" if plane else "") + "</tr><tr>"
             + "".join(f"<th class='bad'>{_esc(p)}</th>" for p in props) + "</tr>")
     body = []
     lists = []
@@ -352,14 +354,15 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
             kind = "bad" if verdict == "VIOLATED" else "ok" if verdict == "VERIFIED" else ""
             tds.append(f"<td class='{kind}'><a href='#{anchor}'>{len(found)}</a></td>")
             lists.append(_filtered_list(anchor, c, verdict, prop, found, common))
-        body.append(f"<tr><th>{_esc(c)}</th><td>{total}</td>" + "".join(tds)
-                    + f"<td>{_number(max(ratios))}</td></tr>" if ratios else
-                    f"<tr><th>{_esc(c)}</th><td>{total}</td>" + "".join(tds) + "<td>–</td></tr>")
-    parts += ["<h3>Verdicts: class × verdict × failing property</h3>",
+        ratio = "" if not plane else f"<td>{_number(max(ratios))}</td>" if ratios else \
+            "<td>–</td>"
+        body.append(f"<tr><th>{_esc(c)}</th><td>{total}</td>" + "".join(tds) + ratio + "</tr>")
+    named = (f"the first that fails in the order {', '.join(ORDER)}, but a livelock is named "
+             "termination (move-bound fails with it)" if plane else
+             "the first of the task's parts that fails")
+    parts += [f"<h3>Verdicts: {'class' if plane else 'world'} × verdict × failing property</h3>",
               "<p class='note'>Each count opens the list of its configurations. One property is "
-              "named per configuration: the first that fails in the order "
-              f"{', '.join(ORDER)}, but a livelock is named termination (move-bound fails "
-              "with it).</p>",
+              f"named per configuration: {named}.</p>",
               "<table class='verdicts'>" + head + "".join(body) + "</table>"]
     parts += _causes_table(rows)
     # the smallest counterexample of each (class, property), as a thumbnail opening its viewer
@@ -391,7 +394,7 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
                   "<p class='note'>Initial configuration → last state (robots coloured by "
                   "identity, meeting nodes as squares, dashed arrows = pending moves). Click one to "
                   "step through it.</p>", "<div class='thumbs'>" + "".join(figures) + "</div>"]
-    if plot:
+    if plot and plane:
         parts += ["<h3>Moves against D·n</h3>",
                   f"<img class='plot' src='{_esc(plot)}' alt='largest total moves against D·n, "
                   "coloured by verdict, with the line c·D·n'>"]
@@ -404,21 +407,23 @@ def _filtered_list(anchor: str, c: str, verdict: str, prop: str, found: list[dic
                    common: dict[str, Any]) -> str:
     """The configurations of one table cell, each with the command that re-checks it."""
     items = []
+    plane = _on_plane(common)
     for r in found[:LIST_LIMIT]:
         command = _recheck(r, verdict, common)
         ratio = "" if r.get("ratio") is None else _number(r["ratio"])
+        moves = (f"<td>{'' if r.get('max_moves') is None else _esc(r['max_moves'])}</td>"
+                 f"<td>{ratio}</td>") if plane else ""
         items.append(f"<tr><td>{_esc(r['robots_n'])}</td><td>{_esc(r['meeting_m'])}</td>"
                      f"<td>{_esc(_nodes(r['robots'], _lit(common)))}</td>"
-                     f"<td>{_esc(_nodes(r['meeting_nodes']))}</td>"
-                     f"<td>{'' if r.get('max_moves') is None else _esc(r['max_moves'])}</td>"
-                     f"<td>{ratio}</td>"
+                     f"<td>{_esc(_nodes(r['meeting_nodes']))}</td>{moves}"
                      f"<td class='reason'>{_esc(r.get('reason') or '')}</td>"
                      f"<td><code>{_esc(command)}</code></td></tr>")
     what = f"{verdict}" + (f", {prop} fails" if prop else "")
     return (f"<section class='list' id='{anchor}'><h4>{_esc(c)}: {_esc(what)} — {len(found)} "
             "configuration(s) <a href='#top'>↑ back to the table</a></h4>"
-            "<table><tr><th>n</th><th>m</th><th>robots</th><th>meeting nodes</th><th>max moves"
-            "</th><th>moves / (D·n)</th><th>reason</th><th>re-check</th></tr>"
+            "<table><tr><th>n</th><th>m</th><th>robots</th><th>meeting nodes</th>"
+            + ("<th>max moves</th><th>moves / (D·n)</th>" if plane else "")
+            + "<th>reason</th><th>re-check</th></tr>"
             + "".join(items) + "</table>"
             + (f"<p class='note'>The first {LIST_LIMIT} of {len(found)} are listed; "
                "<code>gather-verify report --db DB --json</code> has the totals, the database "
@@ -523,8 +528,12 @@ def write_plot(db_path: str, out: str, algorithm: str | None = None) -> list[str
     when there are several), marker area growing with the number of configurations on a
     point, and the line c·D·n of each batch's move bound (matplotlib); ``algorithm``: only
     its sweeps. Returns the legend."""
-    return _plot([(common, [r for _, rs in sweeps for r in rs])
-                  for common, sweeps in batches(db_path, algorithm)], out)
+    groups = [(common, [r for _, rs in sweeps for r in rs])
+              for common, sweeps in batches(db_path, algorithm) if _on_plane(common)]
+    if not groups:  # a finite world has no D (the paper's MER) to plot moves against
+        raise InvalidInput(f"--plot {out}: no sweep of the paper's world in {db_path} (the "
+                           "plot is of moves against D·n, the paper's notions)")
+    return _plot(groups, out)
 
 
 def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -> list[str]:
@@ -540,6 +549,11 @@ def _plot(groups: list[tuple[dict[str, Any], list[dict[str, Any]]]], out: str) -
     from gather_verify.scenario import VERDICTS
 
     fig, ax = plt.subplots(figsize=(7, 4.8))
+    formats = fig.canvas.get_supported_filetypes()
+    if Path(out).suffix.lower().lstrip(".") not in formats:
+        plt.close(fig)
+        raise InvalidInput(f"--plot {out}: write a picture, one of "
+                           f"{', '.join('.' + f for f in sorted(formats))}")
     top = 1.0
     bounds: set[float] = set()
     for b, (common, rows) in enumerate(groups):

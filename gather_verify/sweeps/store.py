@@ -145,6 +145,81 @@ def utc_now() -> str:
     return now.isoformat().replace("+00:00", "Z")
 
 
+def _json(column: str, kind: str, null: bool = True) -> str:
+    c = f'r."{column}"'  # (json_type raises on malformed text: asked only of valid JSON)
+    test = f"CASE WHEN json_valid({c}) THEN json_type({c}) = '{kind}' ELSE 0 END"
+    return f"{c} IS NULL OR {test}" if null else test
+
+
+STORED_VERDICTS = ("VERIFIED", "VIOLATED", "INCOMPLETE", "NOT-APPLICABLE", "ROBUST-VERIFIED",
+                   "ROBUST-VIOLATED", "READING-DEPENDENT")
+"""What a row's verdict may hold: a check's verdict, or a readings sweep's robustness
+(:data:`gather_verify.paper.readings.ROBUSTNESS`)."""
+_RULES = (
+    ("key", "typeof(r.key) = 'text'"),
+    ("index", "typeof(r.\"index\") = 'integer'"),
+    ("class", "typeof(r.class) = 'text'"),
+    ("verdict", f"r.verdict IN {STORED_VERDICTS}"),
+    ("property", "typeof(r.property) = 'text' OR (r.property IS NULL AND "
+                 "r.verdict IS NOT 'VIOLATED')"),  # a violation names its property
+    *((c, f"r.{c} IS NULL OR typeof(r.{c}) = 'text'") for c in ("reason", "cause")),
+    *((c, f'r."{c}" IS NULL OR typeof(r."{c}") = \'integer\'')
+      for c in ("states", "transitions", "max_moves", "D")),
+    ("n", "typeof(r.n) = 'integer' OR (r.n IS NULL AND r.verdict IN "
+          "('ROBUST-VERIFIED', 'ROBUST-VIOLATED', 'READING-DEPENDENT'))"),
+    # every row counts its robots (a readings row of an earlier version did not)
+    ("ratio", "r.ratio IS NULL OR typeof(r.ratio) IN ('real', 'integer')"),
+    ("robots", _json("robots", "array", null=False)),
+    ("meeting_nodes", _json("meeting_nodes", "array", null=False)),
+    ("failing", _json("failing", "array")),
+    ("trace", _json("trace", "object")),
+)
+"""What each column of a stored row holds (an SQL test per column, NULL allowed where a
+writer leaves it NULL)."""
+_SIDE_RULES = (
+    ("timings", "key", "typeof(r.key) = 'text'", "text"),
+    ("timings", "seconds", "r.seconds IS NULL OR typeof(r.seconds) IN ('real', 'integer')",
+     "a number"),
+    *(("written", c, f"r.{c} IS NULL OR typeof(r.{c}) = 'text'", "a date") for c in
+      ("first", "last")),
+    ("written", "fingerprint_extra", _json("fingerprint_extra", "array"), "a JSON list"),
+)
+"""The tables beside the results: when each sweep's rows took, when they were written."""
+_SWEEP_ONLY = ("class", "verdict", "robots", "meeting_nodes")
+"""Columns every sweep row fills, which ``synthesize --minimum``'s rows leave NULL."""
+_SWEEP_SETTINGS = " AND ".join((
+    *(f"json_type(settings, '$.{k}') = 'text'" for k in ("algorithm", "scheduler")),
+    *(f"json_type(settings, '$.{k}') = 'integer'" for k in ("robots", "meeting")),
+    "(json_type(settings, '$.world') = 'text' OR (json_type(settings, '$.box') = 'array' AND "
+    "json_array_length(settings, '$.box') = 2 AND json_type(settings, '$.box[0]') = 'integer' "
+    "AND json_type(settings, '$.box[1]') = 'integer'))"))
+"""An SQL test of a sweep's settings: the fields every reader of a sweep takes."""
+_RULE_WORDS = {"key": "text", "index": "an integer", "class": "a class or world name",
+               "verdict": "a verdict or a robustness", "property": "the failing property's name", "reason": "text", "cause": "text",
+               "states": "an integer", "transitions": "an integer", "max_moves": "an integer",
+               "D": "an integer", "n": "an integer", "ratio": "a number",
+               "robots": "a JSON list", "meeting_nodes": "a JSON list",
+               "failing": "a JSON list", "trace": "a JSON object"}
+
+
+def check_db_path(path: str) -> None:
+    """A results database given on the command line must be a file that outlives the command:
+    one line for an empty path, ``:memory:`` or a ``file:`` URI (SQLite would keep every row
+    in memory, or read the text as options, and the command would end with nothing written).
+
+    >>> check_db_path("file:x.db?mode=memory")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    gather_verify.errors.InvalidInput: --db 'file:x.db?mode=memory': ...
+    """
+    text = str(path).strip()
+    if not text:
+        raise InvalidInput("--db: the path is empty (give a file, e.g. --db out/results.sqlite)")
+    if text == ":memory:" or text.lower().startswith("file:"):
+        raise InvalidInput(f"--db {path!r}: a results database is a file (SQLite would read this "
+                           "as an in-memory database or a URI, and nothing would be kept): "
+                           "give a file path, e.g. --db out/results.sqlite")
+
+
 class Store:
     """A results database at ``path`` (``:memory:`` for tests). ``read_only``: a reader
     (``report``) never writes: the file must exist and be a results database, and is
@@ -191,6 +266,7 @@ class Store:
                 raise InvalidInput(f"{path}: not a gather-verify results database (table {table} "
                                  f"has no column {missing[0]!r})")
         if read_only:
+            self.refuse_damage(str(path))
             return
         self.db.execute("PRAGMA journal_mode=WAL")
         self.db.execute("PRAGMA synchronous=NORMAL")
@@ -201,6 +277,67 @@ class Store:
 
     def close(self) -> None:
         self.db.close()
+
+    def refuse_damage(self, path: str, sweep: int | None = None) -> None:
+        """One line naming the first value a reader cannot take (a damaged or hand-edited
+        database: settings that are no JSON object, a column of the wrong type, truncated
+        JSON, a sweep's row with no class or verdict), before anything reads the rows. The
+        checks run in SQLite (``typeof``, ``json_valid``): no row is read into Python."""
+        try:
+            self.db.execute("SELECT json_valid('1')")
+            json = True
+        except sqlite3.OperationalError:  # an SQLite without its JSON functions: the types
+            json = False
+        problem = self._first_damage(json, sweep)
+        if problem is not None:
+            self.db.close()
+            raise InvalidInput(f"{path}: a damaged results database: {problem} (written by "
+                               "hand, or damaged: sweep again into a fresh database)")
+
+    def _first_damage(self, json: bool = True, sweep: int | None = None) -> str | None:
+        """The first damaged value (of one ``sweep``'s rows, or of all), in words, or None."""
+        db = self.db
+        only = "" if sweep is None else f" AND r.sweep = {int(sweep)}"
+        bad = db.execute("SELECT id, substr(settings, 1, 40) FROM sweeps WHERE ("
+                         + ("NOT CASE WHEN json_valid(settings) THEN json_type(settings) = "
+                            "'object' ELSE 0 END"
+                            if json else "typeof(settings) != 'text'") + ")"
+                         + ("" if sweep is None else f" AND id = {int(sweep)}")
+                         + " LIMIT 1").fetchone()
+        if bad is not None:
+            return f"sweep {bad[0]}: its settings {bad[1]!r} are not a JSON object"
+        if json:  # a sweep's settings name its algorithm, scheduler, counts and world or box
+            bad = db.execute(f"SELECT id FROM sweeps WHERE json_extract(settings, '$.command') "
+                             f"IS NULL AND NOT IFNULL(({_SWEEP_SETTINGS}), 0)"
+                             + ("" if sweep is None else f" AND id = {int(sweep)}")
+                             + " LIMIT 1").fetchone()
+            if bad is not None:
+                return (f"sweep {bad[0]}: its settings lack a text algorithm and scheduler, "
+                        "integer robots and meeting, or a world or box")
+        for column, rule in _RULES:
+            if not json and "json_" in rule:
+                continue
+            if column in _SWEEP_ONLY:  # a sweep's rows have them; not those of
+                rule = (f"({rule}) OR r.sweep IN (SELECT id FROM sweeps WHERE "  # --minimum
+                        + ("json_extract(settings, '$.command') IS NOT NULL)" if json else
+                           "settings LIKE '%\"command\":%')"))
+            got = db.execute(f'SELECT r.sweep, r.key, substr(r."{column}", 1, 40) FROM results r '
+                             f"WHERE NOT IFNULL(({rule}), 0){only} LIMIT 1").fetchone()
+            if got is not None:
+                value = "NULL" if got[2] is None else repr(got[2])
+                return (f"sweep {got[0]}, row {str(got[1])[:60]!r}: {column} holds {value}, "
+                        f"not {_RULE_WORDS[column]}")
+        tables = {t for (t,) in db.execute("SELECT name FROM sqlite_master WHERE type IN "
+                                           "('table', 'view')")}
+        for table, column, rule, words in _SIDE_RULES:
+            if table not in tables or (not json and "json_" in rule):
+                continue
+            got = db.execute(f'SELECT r.sweep, substr(r."{column}", 1, 40) FROM {table} r '
+                             f"WHERE NOT IFNULL(({rule}), 0){only} LIMIT 1").fetchone()
+            if got is not None:
+                return (f"sweep {got[0]}: its {table} {column} holds "
+                        f"{'NULL' if got[1] is None else repr(got[1])}, not {words}")
+        return None
 
     @staticmethod
     def settings_text(settings: dict[str, Any]) -> str:
@@ -307,6 +444,15 @@ class Store:
             'ORDER BY COALESCE(t.seconds, 0) DESC, r."index" LIMIT ?', (sweep, count))
         return [{"robots": json.loads(robots), "meeting_nodes": json.loads(m), "class": c,
                  "seconds": sec} for robots, m, c, sec in cursor]
+
+    def failing(self, sweep: int, count: int) -> list[dict[str, Any]]:
+        """The first ``count`` VIOLATED rows of a sweep, in enumeration order: their nodes,
+        class and failing property."""
+        cursor = self.db.execute(
+            'SELECT robots, meeting_nodes, class, property FROM results WHERE sweep = ? AND '
+            'verdict = \'VIOLATED\' ORDER BY "index" LIMIT ?', (sweep, count))
+        return [{"robots": json.loads(robots), "meeting_nodes": json.loads(m), "class": c,
+                 "property": p} for robots, m, c, p in cursor]
 
     def forget(self, sweep: int) -> None:
         """Drop every stored row of a sweep (``sweep --fresh``)."""

@@ -10,6 +10,7 @@ the stored results are the same whichever ran them.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import os
 import sys
@@ -20,7 +21,7 @@ from dataclasses import asdict, dataclass, field, replace
 from functools import partial
 from typing import Any
 
-from gather_verify.errors import InvalidInput
+from gather_verify.errors import GatherVerifyError, InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.sweeps.store import CAUSE_UNKNOWN, Store, check_row
 
@@ -101,12 +102,20 @@ class SweepSettings:
 
     def fingerprint(self) -> str:
         """The digest of the code and data behind the rows (:mod:`gather_verify.fingerprint`):
-        the algorithm's, every property file's, the ``fingerprint_extra`` files' and
-        gather-verify's own source."""
-        from gather_verify.fingerprint import algorithm_fingerprint, sweep_fingerprint
+        the algorithm's, the graph file's, every property file's, the ``fingerprint_extra``
+        files' and gather-verify's own source."""
+        from gather_verify.fingerprint import sweep_fingerprint
 
-        return sweep_fingerprint(algorithm_fingerprint(self.algorithm)["digest"], self.world,
-                                 self.properties, self.fingerprint_extra)
+        return sweep_fingerprint(self.inputs())
+
+    def inputs(self, disk: bool = False) -> dict[str, str]:
+        """Each input the rows depend on, with the digest this process computes them from
+        (:func:`gather_verify.fingerprint.sweep_inputs`; ``disk``: as a worker sees them
+        after a task)."""
+        from gather_verify.fingerprint import algorithm_fingerprint, sweep_inputs
+
+        return sweep_inputs(algorithm_fingerprint(self.algorithm)["digest"], self.world,
+                            self.properties, self.fingerprint_extra, disk)
 
 
 def configuration_key(c: Configuration) -> str:
@@ -223,8 +232,9 @@ def run_sweep(
     if verify is not None:
         engine = "per-config"
     from gather_verify.algorithms.loading import snapshot
+    from gather_verify.inputs import kept
 
-    with snapshot({one.algorithm for one in batch}):  # fingerprinted and run: the same text
+    with kept(), snapshot(code_specs(batch)):  # fingerprinted and run: the same text
         summary = _run_sweep(batch, db_path, workers, dask, progress, limit, where, fresh,
                              engine, verify)
     return summary if lit is None else {**summary, "engine_fallback": lit}
@@ -248,21 +258,23 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
             sweep = store.sweep_id(one.key())
             if fresh:
                 store.forget(sweep)
+            store.refuse_damage(db_path, sweep)  # its rows are read back for the summary
             if one.fingerprint_extra:
                 store.note_extra(sweep, one.fingerprint_extra)
             done = store.done_keys(sweep)
             shape = (one.world, one.robots, one.meeting, one.box, one.frames, one.lights,
                      one.initial_colours)
             if shape not in census:  # classes up to the robots' frame group, never more
-                census[shape] = [(index, c, key) for index, (c, key) in itertools.islice(
-                    enumerate(_census(one)), limit)]
+                census[shape] = _listed(one, limit)
             todo = [(index, c) for index, c, key in census[shape]
                     if key not in done and (where is None or where(one, c))]
             plan.append((one, sweep, todo))
         bar = Progress(sum(len(todo) for _, _, todo in plan), progress)
         fallbacks: dict[str, int] = {}
+        expected = {sweep: one.inputs() for one, sweep, _ in plan}
         try:
-            for sweep, rows, why in _execute(plan, workers, dask, engine, verify):
+            for sweep, rows, why, basis in _execute(plan, workers, dask, engine, verify):
+                refuse_changed(expected[sweep], basis, len(rows))
                 store.add(sweep, rows)
                 bar.advance(len(rows))
                 for reason, count in why.items():
@@ -272,13 +284,50 @@ def _run_sweep(batch: list[SweepSettings], db_path: str, workers: int | None, da
         # counted in the store: reading back every row took seconds a whole box
         groups = [group for _, sweep, _ in plan for group in store.totals(sweep)]
         slowest = _slowest(row for _, sweep, _ in plan for row in store.slowest(sweep, SLOWEST))
+        failed = [row for one, sweep, _ in plan if not one.on_plane  # a finite world's: which
+                  for row in store.failing(sweep, FAILING)][:FAILING]
     finally:
         store.close()
-    summary = summarise_totals(groups, slowest, batch[0] if len(batch) == 1 else None)
+    summary = summarise_totals(groups, slowest, batch[0] if len(batch) == 1 else None,
+                               plane=all(one.on_plane for one in batch))
+    if not summary["plane"]:
+        summary["failing_configurations"] = failed
     summary["computed"] = sum(len(todo) for _, _, todo in plan)  # the rest was stored before
     if engine == "union":  # of those computed now: why the union left some to their own checks
         summary["union_fallbacks"] = dict(sorted(fallbacks.items(), key=lambda kv: (-kv[1], kv[0])))
     return summary
+
+
+def refuse_changed(expected: dict[str, str], basis: dict[str, str], rows: int) -> None:
+    """A row is stored only if every input it was computed from is the one its key names:
+    one line naming the first input that is not (edited while the sweep ran, or another on
+    a worker), the rows of the task not stored."""
+    for name in sorted(set(expected) | set(basis)):
+        if expected.get(name) != basis.get(name):
+            raise InvalidInput(
+                f"{name} changed while the sweep ran (or since this process first read it, "
+                f"or it is another on a worker): the {rows} rows computed from it were not "
+                "stored, since their key names the one read at the start; every row stored "
+                "before is kept: run the same command again")
+
+
+def _listed(settings: SweepSettings, limit: int | None) -> list[tuple[int, Any, str]]:
+    """The sweep's configurations (the first ``limit``), with their index and stored key. A
+    finite world's census (its world, its automorphisms, every class) is bounded by the
+    limits of one configuration: past them, :class:`~gather_verify.engine.bounds.SetupStopped`
+    (``ring:10000`` has 10,000 nodes and 20,000 automorphisms of 10,000 entries each)."""
+    def listed() -> list[tuple[int, Any, str]]:
+        return [(index, c, key) for index, (c, key) in itertools.islice(
+            enumerate(_census(settings)), limit)]
+
+    if settings.on_plane:  # the box is at most 64 x 64: its census is bounded by its size
+        return listed()
+    from gather_verify.engine.bounds import setup
+    from gather_verify.engine.resources import memory_budget_mb
+
+    with setup(f"listing the configurations of {settings.world}", settings.max_seconds,
+               settings.max_memory_mb or memory_budget_mb()):
+        return listed()
 
 
 def _census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
@@ -310,11 +359,13 @@ def _census(settings: SweepSettings) -> Iterator[tuple[Any, str]]:
 
 Task = tuple[int, SweepSettings, list[tuple[int, Configuration]]]
 """One unit of work: the sweep's id in the store, its settings, a chunk of configurations."""
-Done = tuple[int, list[dict[str, Any]], list[Task], dict[str, int]]
-"""What a task gives back: the sweep's id, its rows, the tasks it hands off, and how many of
-its configurations the union engine left to their own checks, by reason."""
-Finished = tuple[int, list[dict[str, Any]], dict[str, int]]
-"""What :func:`_execute` yields per task: the sweep's id, its rows, its fallbacks by reason."""
+Done = tuple[int, list[dict[str, Any]], list[Task], dict[str, int], dict[str, str]]
+"""What a task gives back: the sweep's id, its rows, the tasks it hands off, how many of its
+configurations the union engine left to their own checks, by reason, and the digest of each
+input its rows were computed from (:meth:`SweepSettings.inputs`)."""
+Finished = tuple[int, list[dict[str, Any]], dict[str, int], dict[str, str]]
+"""What :func:`_execute` yields per task: the sweep's id, its rows, its fallbacks by reason,
+its inputs' digests."""
 
 def warm_kernels(schedulers: Iterable[str]) -> None:
     """Compile (or load from numba's cache) the bulk engine's kernels before any row is
@@ -382,8 +433,8 @@ def _execute(
         yield from _execute_dask(tasks, dask, workers, run)
     elif local or not tasks:
         for task in tasks:
-            sweep, rows, _, why = run(task)  # nothing is handed off in this process
-            yield sweep, rows, why
+            sweep, rows, _, why, basis = run(task)  # nothing is handed off in this process
+            yield sweep, rows, why, basis
     else:
         yield from _execute_pool(tasks, workers or os.cpu_count() or 1, run)
 
@@ -399,7 +450,8 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
                                                     initargs=(os.getpid(),))
     # the workers as the pool started them, before any task: they live as long as the pool,
     # so one that is gone, or replaced by a new one, was killed
-    started = {p.pid for p in pool._pool}  # noqa: SLF001 - to notice a lost one
+    first = list(pool._pool)  # noqa: SLF001 - to notice a lost one, and how it ended
+    started = {p.pid for p in first}
 
     def lost() -> bool:
         return {p.pid for p in pool._pool if p.exitcode is None} != started  # noqa: SLF001
@@ -418,23 +470,41 @@ def _execute_pool(tasks: list[Task], workers: int, run: Callable[..., Done]
                 # a worker killed never reports the task it held (the pool may have started
                 # another in its place already): say so instead of waiting for ever
                 if lost():
-                    raise InvalidInput(
-                        "a worker process was lost (killed, perhaps by the system for lack "
-                        "of memory); every finished row is kept: run the same command again "
-                        "to resume, perhaps with fewer --workers or a lower --max-memory-mb") from None
+                    raise InvalidInput(_lost_worker(first)) from None
                 continue
             waiting -= 1
             if isinstance(got, BaseException):
                 raise got
-            sweep, rows, more, why = got
+            sweep, rows, more, why, basis = got
             for task in more:
                 submit(_run_task, task)
             waiting += len(more)
-            yield sweep, rows, why
+            yield sweep, rows, why, basis
     finally:
         if lost():
             _abandon(pool)
         pool.terminate()
+
+
+def _lost_worker(processes: list[Any]) -> str:
+    """The line that says a pool worker died, how (a signal, an exit status) and what to do."""
+    how = ""
+    for p in processes:
+        code = p.exitcode
+        if code is not None and code < 0:
+            import signal
+
+            try:
+                how = f" (killed by {signal.Signals(-code).name})"
+            except ValueError:
+                how = f" (killed by signal {-code})"
+        elif code is not None:
+            how = f" (it exited with status {code})"
+    return (f"a worker process died{how} while it checked configurations: killed by the system "
+            "for lack of memory, or ended by the algorithm's code in a way the verifier "
+            "cannot catch (a signal, a crash of C code: docs/reliability.md); every finished "
+            "row is kept: run the same command again to resume, perhaps with fewer --workers "
+            "or a lower --max-memory-mb")
 
 
 def _abandon(pool: Any) -> None:
@@ -459,7 +529,10 @@ def _pool_worker(parent: int) -> None:
     import signal
     import threading
 
+    from gather_verify.watchdog import interrupts_unreachable
+
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    interrupts_unreachable()  # so a KeyboardInterrupt here is the user's code's: a crash
     if sys.platform.startswith("linux"):
         import ctypes
         from contextlib import suppress
@@ -475,42 +548,84 @@ def _pool_worker(parent: int) -> None:
     threading.Thread(target=orphaned, name="gather-verify parent watch", daemon=True).start()
 
 
-def _run_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
-              verify: Verify = verify_one) -> Done:
-    """Worker entry point (picklable for process pools and Dask). ``sources``: the text of
-    the algorithm files (:func:`gather_verify.algorithms.loading.ship`), for a worker that
-    does not see them (a Dask cluster on other machines); ``verify``: the row maker."""
-    sweep, settings, chunk = task
-    if sources:
-        from gather_verify.algorithms.loading import receive
+Shipped = tuple[dict[str, dict[str, str]] | None, dict[str, bytes] | None]
+"""What a worker needs that it may not see: the code files of the sweep's snapshot
+(:func:`gather_verify.algorithms.loading.ship`) and the input files its parent read once
+(:func:`gather_verify.inputs.export`: graph files, extras)."""
 
-        receive(sources)
+
+class WorkerFailed(GatherVerifyError, RuntimeError):
+    """A sweep's worker failed with an exception that is no verdict and no bad input: a bug
+    of gather-verify (the message holds the worker's traceback).
+
+    Cause: an exception escaped the verifier's own code in a worker process. Fix: report it
+    with the command line; every row stored before is kept."""
+
+
+def worker_task(run: Callable[..., tuple[Any, ...]]) -> Callable[..., Done]:
+    """A worker's entry point from ``run(task, **options) -> (sweep, rows, more, why)``:
+    the task runs on the parent's snapshot (``shipped``: the code it ran, the input files it
+    read), reports the digest of every input its rows were computed from
+    (:meth:`SweepSettings.inputs` with ``disk``), and an exception that would end the worker
+    process (with a traceback of its own) comes back to the parent as :class:`WorkerFailed`.
+    Picklable: it is looked up by its module-level name."""
+
+    @functools.wraps(run)
+    def entry(task: Task, shipped: Shipped = (None, None), **options: Any) -> Done:
+        import threading
+        import traceback
+
+        from gather_verify.algorithms.loading import receive
+        from gather_verify.inputs import adopt, kept
+        from gather_verify.watchdog import interrupts_unreachable
+
+        if threading.current_thread() is not threading.main_thread():
+            interrupts_unreachable()  # a Dask task: no Ctrl-C reaches this thread
+        sources, files = shipped
+        settings = task[1]
+        with kept():
+            if sources:
+                receive(sources)
+            adopt(files or {})
+            try:
+                sweep, rows, more, why = run(task, **options)
+                return sweep, Store.encode(rows), more, why, settings.inputs(disk=True)
+            except (GatherVerifyError, OSError):
+                raise  # bad input, one line in the parent as anywhere
+            except BaseException as error:  # never a worker's own traceback on the terminal
+                raise WorkerFailed(f"a sweep worker failed: {type(error).__name__}: {error}\n"
+                                   + "".join(traceback.format_exception(error))) from None
+
+    return entry
+
+
+@worker_task
+def _run_task(task: Task, verify: Verify = verify_one) -> tuple[Any, ...]:
+    """Worker entry point (picklable for process pools and Dask): each configuration of the
+    chunk checked on its own; ``verify``: the row maker."""
+    sweep, settings, chunk = task
     if verify is verify_one and not settings.on_plane:  # handed off by a finite world's class
         from gather_verify.sweeps.world_census import verify_world_one
 
         verify = verify_world_one
-    return sweep, Store.encode(verify_chunk(settings, chunk, verify)), [], {}
+    return sweep, verify_chunk(settings, chunk, verify), [], {}
 
 
-def _run_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
-                    hand_off: float | None = None) -> Done:
-    """Worker entry point of ``engine="union"``: the chunk is one meeting-node class
-    (``sources`` as for :func:`_run_task`); the per-configuration checks left after
-    ``hand_off`` seconds come back as tasks of one configuration each."""
+@worker_task
+def _run_class_task(task: Task, hand_off: float | None = None) -> tuple[Any, ...]:
+    """Worker entry point of ``engine="union"``: the chunk is one meeting-node class; the
+    per-configuration checks left after ``hand_off`` seconds come back as tasks of one
+    configuration each."""
     from gather_verify.sweeps.mclass import verify_class
 
     sweep, settings, chunk = task
-    if sources:
-        from gather_verify.algorithms.loading import receive
-
-        receive(sources)
     fallbacks: dict[str, int] = {}
     rows, rest = verify_class(settings, chunk, verify_one, configuration_key, hand_off, fallbacks)
-    return sweep, Store.encode(rows), [(sweep, settings, [item]) for item in rest], fallbacks
+    return sweep, rows, [(sweep, settings, [item]) for item in rest], fallbacks
 
 
-def _run_world_class_task(task: Task, sources: dict[str, dict[str, str]] | None = None,
-                          hand_off: bool = False) -> Done:
+@worker_task
+def _run_world_class_task(task: Task, hand_off: bool = False) -> tuple[Any, ...]:
     """Worker entry point of a finite world's union sweep: the chunk is one meeting-node
     class (:mod:`gather_verify.sweeps.world_union`); with ``hand_off`` the configurations
     the union leaves to their own checks come back as tasks of ``CHUNK`` each, for the
@@ -518,13 +633,8 @@ def _run_world_class_task(task: Task, sources: dict[str, dict[str, str]] | None 
     from gather_verify.sweeps.world_union import verify_world_class
 
     sweep, settings, chunk = task
-    if sources:
-        from gather_verify.algorithms.loading import receive
-
-        receive(sources)
     rows, rest = verify_world_class(settings, chunk, hand_off)
-    return (sweep, Store.encode(rows), [(sweep, settings, part) for part in _chunks(rest, CHUNK)],
-            {})
+    return sweep, rows, [(sweep, settings, part) for part in _chunks(rest, CHUNK)], {}
 
 
 def _execute_dask(tasks: list[Task], address: str, workers: int | None,
@@ -554,15 +664,18 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None,
                 raise InvalidInput(f"--dask {address}: cannot reach a Dask scheduler there "
                                    f"({type(error).__name__}: {error}); give 'local' or "
                                    "tcp://HOST:PORT") from None
-        from gather_verify.algorithms.loading import ship
-
-        sources = ship({settings.algorithm for _, settings, _ in tasks}) or None
-        pending = as_completed(client.map(run, tasks, sources=sources, pure=False))
+        shipped = _shipped([settings for _, settings, _ in tasks])
+        pending = as_completed(client.map(run, tasks, shipped=shipped, pure=False))
         for future in pending:
-            sweep, rows, more, why = future.result()
+            try:
+                sweep, rows, more, why, basis = future.result()
+            except Exception as error:
+                if type(error).__name__ == "KilledWorker":  # the task's worker died, again
+                    raise InvalidInput(f"Dask: {_lost_worker([])}") from None
+                raise
             for task in more:
-                pending.add(client.submit(_run_task, task, sources=sources, pure=False))
-            yield sweep, rows, why
+                pending.add(client.submit(_run_task, task, shipped=shipped, pure=False))
+            yield sweep, rows, why, basis
     except KeyboardInterrupt:  # stop the workers quietly; the command says what was kept
         _quiet_dask_logs()
         if address == "local" and cluster is None:
@@ -573,6 +686,23 @@ def _execute_dask(tasks: list[Task], address: str, workers: int | None,
             client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _shipped(batch: Iterable[SweepSettings]) -> Shipped:
+    """What workers on other machines need of the sweeps ``batch``: the snapshot of their
+    code files (algorithms, property files) and of the graph and extra files they read."""
+    from gather_verify.algorithms.loading import ship
+    from gather_verify.inputs import export
+
+    batch = list(batch)
+    files = [f for one in batch for f in one.fingerprint_extra]
+    files += [one.world.partition(":")[2] for one in batch if one.world.startswith("graph:")]
+    return ship(code_specs(batch)) or None, export(files) or None
+
+
+def code_specs(batch: Iterable[SweepSettings]) -> set[str]:
+    """The algorithm and property files of the sweeps ``batch`` (what a snapshot copies)."""
+    return {spec for one in batch for spec in (one.algorithm, *one.properties)}
 
 
 @contextmanager
@@ -629,7 +759,16 @@ def summarise(rows: list[dict[str, Any]], settings: SweepSettings | None = None)
     slowest configurations."""
     groups = [(r["class"], r["verdict"], r.get("property"), r.get("failing"), 1, r.get("ratio"),
                r.get("cause")) for r in rows]
-    return summarise_totals(groups, _slowest(rows), settings)
+    from gather_verify.theory import get_fact
+
+    plane = settings.on_plane if settings is not None else all(
+        r["class"] in get_fact("class").values for r in rows)
+    summary = summarise_totals(groups, _slowest(rows), settings, plane=plane)
+    if not plane:  # a finite world's: which configurations failed
+        summary["failing_configurations"] = [
+            {k: r[k] for k in ("robots", "meeting_nodes", "class", "property")}
+            for r in rows if r["verdict"] == "VIOLATED"][:FAILING]
+    return summary
 
 
 SLOWEST = 5
@@ -640,8 +779,13 @@ def _slowest(rows: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
     return sorted(rows, key=lambda r: -(r.get("seconds") or 0.0))[:SLOWEST]
 
 
+FAILING = 20
+"""How many VIOLATED configurations a finite world's summary names (in enumeration order)."""
+
+
 def summarise_totals(groups: Iterable[tuple[Any, ...]], slowest: list[dict[str, Any]],
-                     settings: SweepSettings | None = None) -> dict[str, Any]:
+                     settings: SweepSettings | None = None, plane: bool = True
+                     ) -> dict[str, Any]:
     """:func:`summarise` from rows counted in groups (``Store.totals``: ``(class, verdict,
     property, failing, count, largest ratio, cause)``, in order of first row) and the slowest
     rows. ``causes``: per failing property (the one each configuration names first), its
@@ -649,7 +793,8 @@ def summarise_totals(groups: Iterable[tuple[Any, ...]], slowest: list[dict[str, 
     :data:`~gather_verify.sweeps.store.CAUSE_UNKNOWN`."""
     from gather_verify.theory import get_fact
 
-    classes = dict.fromkeys(get_fact("class").values, 0)
+    # the paper's classes on its world; a finite world's rows are counted by world
+    classes = dict.fromkeys(get_fact("class").values if plane else (), 0)
     verdicts: dict[str, dict[str, int]] = {}
     failing: dict[str, dict[str, int]] = {}
     every: dict[str, dict[str, int]] = {}
@@ -674,6 +819,7 @@ def summarise_totals(groups: Iterable[tuple[Any, ...]], slowest: list[dict[str, 
             worst[name] = max(worst.get(name, 0.0), float(ratio))
     return {
         "settings": settings.key() if settings else None,
+        "plane": plane,
         "total": total,
         "classes": classes,
         "verdicts": verdicts,
@@ -697,8 +843,10 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
           f" ({computed} computed now, {summary['total'] - computed} reused from the database)"))
     from gather_verify.theory import get_fact, preconditions
 
-    worlds = any(k and name not in get_fact("class").values for name, k in summary["classes"].items())
-    header = f"{'world' if worlds else 'class':<13}{'count':>7}" + "".join(f"{v:>16}" for v in VERDICTS) + f"{'max ratio':>11}"
+    worlds = not summary.get("plane", True) or any(
+        k and name not in get_fact("class").values for name, k in summary["classes"].items())
+    header = (f"{'world' if worlds else 'class':<13}{'count':>7}"
+              + "".join(f"{v:>16}" for v in VERDICTS) + ("" if worlds else f"{'max ratio':>11}"))
     write(header)
     write("-" * len(header))
     for name, count in summary["classes"].items():
@@ -707,7 +855,7 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
         by = summary["verdicts"].get(name, {})
         ratio = summary["max_ratio"].get(name)
         write(f"{name:<13}{count:>7}" + "".join(f"{by.get(v, 0):>16}" for v in VERDICTS)
-              + (f"{ratio:>11.2f}" if ratio is not None else f"{'-':>11}"))
+              + ("" if worlds else f"{ratio:>11.2f}" if ratio is not None else f"{'-':>11}"))
     if not worlds:  # and what each precondition's NOT-APPLICABLE means (gather_verify.theory)
         write("; ".join(["max ratio: the largest total moves / (D·n) of the class",
                          *(p.legend for p in preconditions() if p.legend)]))
@@ -736,8 +884,18 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
               "computed now), by reason:")
         for why, k in summary["union_fallbacks"].items():
             write(f"  {k:>6}  {why}")
+    failed = summary.get("failing_configurations")
+    if failed:
+        count = sum(by.get("VIOLATED", 0) for by in summary["verdicts"].values())
+        write("")
+        write(f"failing configurations ({'the first ' + str(len(failed)) + ' of ' if count > len(failed) else ''}"
+              f"{count}, in enumeration order):")
+        for r in failed:
+            write(f"  {r['class']}  robots={r['robots']} meeting={r['meeting_nodes']}: "
+                  f"{r['property']}")
     if summary["slowest"]:
         write("")
         write("slowest configurations:")
         for r in summary["slowest"]:
             write(f"  {r['seconds']:8.3f}s  {r['class']:<5} robots={r['robots']} meeting={r['meeting_nodes']}")
+

@@ -124,7 +124,10 @@ def replay(views: Views, cex: dict[str, Any], scheduler: str | None = None) -> R
     n = len(robots0)
     starts = getattr(sched, "starts", lambda _n: [None])(n)
     start = cex.get("start")
-    extra = None if start is None else (tuple(start[0]), int(start[1]))
+    try:
+        extra = None if start is None else (tuple(start[0]), int(start[1]))
+    except (TypeError, ValueError, IndexError, KeyError):
+        raise CertificateError(f"a malformed start {str(start)[:40]}") from None
     if extra not in starts:
         raise CertificateError(f"the scheduler has no start {start!r}")
     visits = task.visits
@@ -383,67 +386,82 @@ def write_certificate(path: str, inst: Instance, views: Views, cexs: list[dict[s
 
 
 def load_certificate(path: str) -> tuple[dict[str, Any], Instance]:
-    """A certificate file and the instance its text gives today, or :class:`InvalidInput`
-    (not a certificate) / :class:`CertificateError` (its instance does not match)."""
-    from gather_verify.errors import read_input
+    """A certificate file (its fields of the types they must have) and the instance its text
+    gives today, or :class:`InvalidInput` (not a certificate) / :class:`CertificateError`
+    (a malformed one, or its instance does not match)."""
+    doc = _read(path)
+    raw = _fields(doc)[0]
+    return doc, _instance(raw)
+
+
+def _read(path: str) -> dict[str, Any]:
+    """The certificate's JSON, read bounded (its size is checked before it is parsed)."""
+    from gather_verify.inputs import read_text
 
     try:
-        doc = json.loads(read_input(path, "certificate"))
+        doc = json.loads(read_text(path, "certificate"))
     except json.JSONDecodeError as error:
         raise InvalidInput(f"{path}: not JSON ({error})") from None
+    except RecursionError:
+        raise InvalidInput(f"{path}: not JSON (nested too deeply)") from None
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise InvalidInput(f"{path}: not a synthesis certificate ({FORMAT!r})")
-    try:
-        raw = doc["instance"]
-        inst = make_instance(raw["world"], raw["robots"],
-                             " ".join(str(_text(v)) for v in raw["meeting_nodes"]),
-                             raw["scheduler"], raw["task"], raw["detection"], raw["frames"],
-                             raw["visibility"], raw["lights"], raw.get("colours"),
-                             raw.get("start"))
-    except (KeyError, TypeError) as error:
-        raise CertificateError(f"a malformed certificate: missing {error}") from None
+    return doc
+
+
+def _instance(raw: dict[str, Any]) -> Instance:
+    """The instance a certificate's text gives today; it must be the one it names."""
+    inst = make_instance(raw["world"], raw["robots"],
+                         " ".join(str(_text(v)) for v in raw["meeting_nodes"]),
+                         raw["scheduler"], raw["task"], raw["detection"], raw["frames"],
+                         raw["visibility"], raw["lights"], raw.get("colours"),
+                         raw.get("start"))
     if inst.describe() != raw:
-        raise CertificateError("the instance does not match what its text gives today (the "
-                               "configurations or the graph file changed)")
-    return doc, inst
+        raise CertificateError("the instance does not match what its text gives today "
+                               "(the configurations or the graph file changed)")
+    return inst
 
 
-def verify_certificate(path: str) -> dict[str, Any]:
+def verify_certificate(path: str, max_seconds: float | None = None,
+                       max_memory_mb: float | None = None) -> dict[str, Any]:
     """Re-check a certificate without searching; a summary, or :class:`CertificateError`
-    (the certificate does not hold) / :class:`InvalidInput` (not a certificate)."""
-    doc, inst = load_certificate(path)
-    raw = doc["instance"]
-    try:
-        cexs = doc["counterexamples"]
-        tree = doc["tree"]
-        listed = [v["key"] for v in doc["views"]]
-    except (KeyError, TypeError) as error:
-        raise CertificateError(f"a malformed certificate: missing {error}") from None
-    views = Views(inst)
-    clauses = []
-    for j, cex in enumerate(cexs):
-        try:
-            got = replay(views, cex)
-        except CertificateError as error:
-            raise CertificateError(f"counterexample {j}: {error}") from None
-        clauses.append(got.literals)
-    # the certificate names views by its own numbering (its list of key texts)
-    number = {views.index[text]: j for j, text in enumerate(listed) if text in views.index}
-    renamed = []
-    for lits in clauses:
-        try:
-            renamed.append({number[k]: o for k, o in lits.items()})
-        except KeyError as error:
-            raise CertificateError(f"a counterexample meets a view the list leaves out "
-                                   f"({views.texts[error.args[0]][:60]})") from None
-    options = {number[k]: len(views.options[k]) for lits in clauses for k in lits}
-    leaves = check_tree(tree, renamed, options)
-    holds = holds_under(views, cexs, clauses)
+    (the certificate does not hold) / :class:`InvalidInput` (not a certificate). The file is
+    read bounded, and the re-check runs within ``max_seconds`` and ``max_memory_mb``
+    (:class:`~gather_verify.engine.bounds.SetupStopped` past them: a certificate may name a
+    world too large to rebuild in time)."""
+    from gather_verify.engine.bounds import setup
+
+    doc = _read(path)
+    raw, cexs, tree, listed = _fields(doc)
+    with setup(f"re-checking the certificate of {raw['world']}", max_seconds, max_memory_mb):
+        inst = _instance(raw)
+        views = Views(inst)
+        clauses = []
+        for j, cex in enumerate(cexs):
+            try:
+                got = replay(views, cex)
+            except CertificateError as error:
+                raise CertificateError(f"counterexample {j}: {error}") from None
+            clauses.append(got.literals)
+        # the certificate names views by its own numbering (its list of key texts)
+        number = {views.index[text]: j for j, text in enumerate(listed) if text in views.index}
+        renamed = []
+        for lits in clauses:
+            try:
+                renamed.append({number[k]: o for k, o in lits.items()})
+            except KeyError as error:
+                raise CertificateError(f"a counterexample meets a view the list leaves out "
+                                       f"({views.texts[error.args[0]][:60]})") from None
+        options = {number[k]: len(views.options[k]) for lits in clauses for k in lits}
+        leaves = check_tree(tree, renamed, options)
+        holds = holds_under(views, cexs, clauses)
     if "holds_under" in doc and doc["holds_under"] != holds:
         raise CertificateError(f"the certificate says it holds under {doc['holds_under']}; "
                                f"its counterexamples show {holds}")
+    inner = _inner_nodes(tree)
     return {"answer": "none", "holds": True, "counterexamples": len(cexs),
-            "views": len(options), "leaves": leaves, "holds_under": holds,
+            "views": len(options), "leaves": leaves, "tree_nodes": inner,
+            "holds_under": holds,
             "found_under": sorted({str(c.get("scheduler", inst.scheduler)) for c in cexs}),
             "rests_on": rests_on(tree, cexs), "instance": raw}
 
@@ -487,6 +505,53 @@ def rests_on(tree: Any, cexs: list[dict[str, Any]]) -> list[int]:
         else:
             stack.extend(node[1])
     return sorted(out)
+
+
+INSTANCE_FIELDS: dict[str, tuple[type, ...]] = {
+    "world": (str,), "robots": (str,), "meeting_nodes": (list,), "scheduler": (str,),
+    "task": (str, type(None)), "detection": (str,), "frames": (str,),
+    "visibility": (int, type(None)), "lights": (str, type(None)),
+    "colours": (str, type(None)), "configurations": (list,), "start": (str, type(None))}
+"""The fields of a certificate's instance, with the JSON types each may hold."""
+
+
+def _fields(doc: dict[str, Any]) -> tuple[dict[str, Any], list[Any], Any, list[str]]:
+    """The instance, counterexamples, tree and view keys of a certificate, each of the type
+    it must have (:class:`CertificateError` naming the first that is not)."""
+    raw = doc.get("instance")
+    if not isinstance(raw, dict):
+        raise CertificateError("a malformed certificate: 'instance' is not an object")
+    for name, types in INSTANCE_FIELDS.items():
+        value = raw.get(name)
+        if name not in raw and name not in ("colours", "start") or isinstance(value, bool) or \
+                not isinstance(value, types):
+            raise CertificateError(f"a malformed certificate: instance field {name!r} is "
+                                   f"{json.dumps(value)[:40]}, not "
+                                   f"{' or '.join(_json_type(t) for t in types)}")
+    cexs, tree, views = doc.get("counterexamples"), doc.get("tree"), doc.get("views")
+    if not isinstance(cexs, list) or not all(isinstance(c, dict) for c in cexs):
+        raise CertificateError("a malformed certificate: 'counterexamples' is not a list of "
+                               "objects")
+    if not isinstance(views, list) or not all(
+            isinstance(v, dict) and isinstance(v.get("key"), str) for v in views):
+        raise CertificateError("a malformed certificate: 'views' is not a list of objects "
+                               "with a text 'key'")
+    return raw, cexs, tree, [v["key"] for v in views]
+
+
+def _json_type(t: type) -> str:
+    return {str: "text", list: "a list", int: "an integer", type(None): "null"}[t]
+
+
+def _inner_nodes(tree: Any) -> int:
+    """The questions (inner nodes) of a decision tree that :func:`check_tree` accepted."""
+    count, stack = 0, [tree]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, list):
+            count += 1
+            stack.extend(node[1])
+    return count
 
 
 def _text(node: Any) -> str:

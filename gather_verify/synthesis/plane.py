@@ -410,10 +410,10 @@ def write_certificate(path: str, inst: PlaneInstance, entries: list[dict[str, An
 def verify_certificate(path: str) -> dict[str, Any]:
     """Re-check a certificate of none on Z² without any search over algorithms (see the
     module docstring). Returns what it checked; CertificateError says where it fails."""
-    from gather_verify.errors import read_input
+    from gather_verify.inputs import read_text
 
     try:
-        data = json.loads(read_input(path, "certificate"))
+        data = json.loads(read_text(path, "certificate"))
     except ValueError as error:
         raise InvalidInput(f"{path}: not JSON ({error})") from None
     if not isinstance(data, dict) or data.get("format") != FORMAT:

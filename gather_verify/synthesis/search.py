@@ -36,7 +36,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from gather_verify.engine.encoding import Limits
+from gather_verify.engine.encoding import DEFAULT_MAX_MEMORY_MB, Limits
 from gather_verify.engine.world_search import Halt, WorldSearch, search
 from gather_verify.errors import InvalidInput
 from gather_verify.synthesis.certificate import (
@@ -125,7 +125,8 @@ def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
                max_candidates: int = DEFAULT_MAX_CANDIDATES,
                max_states: int = DEFAULT_MAX_STATES, max_tree: int = DEFAULT_MAX_TREE,
                views: Views | None = None, seeds: Sequence[Any] = (), ladder: bool = True,
-               parts: Sequence[tuple[Instance, Views]] | None = None) -> Result:
+               parts: Sequence[tuple[Instance, Views]] | None = None,
+               max_memory_mb: float = DEFAULT_MAX_MEMORY_MB) -> Result:
     """Search for a table that solves ``inst`` from every initial configuration.
 
     ``ladder``: judge each candidate under the cheaper adversaries first (FSYNC, then SSYNC,
@@ -136,8 +137,8 @@ def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
     of keys (the gap rules of :mod:`~gather_verify.synthesis.gapviews`): one table must solve
     every one; their counterexamples name their part."""
     views = views or Views(inst)
-    run = _Search(list(parts) if parts else [(inst, views)], seeds, ladder, max_seconds,
-                  max_candidates, max_states, max_tree)
+    run = _Search(list(parts) if parts else [(inst, views)], seeds, ladder,
+                  (max_seconds, max_candidates, max_states, max_tree, max_memory_mb))
     try:
         with budget(max_seconds):
             return run.loop()
@@ -150,8 +151,7 @@ class _Search:
     shared table, one per option), the counterexamples and their clauses."""
 
     def __init__(self, parts: list[tuple[Instance, Views]], seeds: Sequence[Any],
-                 ladder: bool, max_seconds: float, max_candidates: int, max_states: int,
-                 max_tree: int):
+                 ladder: bool, limits: tuple[float, int, int, int, float]):
         self.started = time.perf_counter()
         self.parts = parts
         self.views = parts[0][1]  # every part's views share its table of keys
@@ -169,7 +169,7 @@ class _Search:
         self.cexs: list[dict[str, Any]] = []
         self.clauses: list[dict[int, int]] = []
         self.candidates = self.explored = 0
-        self.limits = (max_seconds, max_candidates, max_states, max_tree)
+        self.limits = limits  # seconds, candidates, states, tree nodes, memory (MB)
 
     def result(self, answer: str, limit: str | None = None, **more: Any) -> Result:
         self.solver.delete()
@@ -209,7 +209,7 @@ class _Search:
         return 0
 
     def loop(self) -> Result:
-        max_seconds, max_candidates, _, max_tree = self.limits
+        max_seconds, max_candidates, _, max_tree, _ = self.limits
         views = self.views
         while True:
             if time.perf_counter() - self.started > max_seconds:
@@ -245,13 +245,14 @@ class _Search:
         """The candidate from every configuration of every part, under each rung of the
         ladder in turn: the first failure (part, configuration, rung, search, findings),
         a limit's name, or None when it solves them all."""
-        max_seconds, _, max_states, _ = self.limits
+        max_seconds, _, max_states, _, max_memory_mb = self.limits
         for rung in self.rungs:
             for p, idx in self.order:
                 left = max_seconds - (time.perf_counter() - self.started)
                 s, findings = explore(self.insts[p][rung], self.parts[p][1], choice, idx,
                                       reached, Limits(max_states=max_states,
-                                                      max_seconds=max(left, 0.001)))
+                                                      max_seconds=max(left, 0.001),
+                                                      max_memory_mb=max_memory_mb))
                 self.explored += s.states
                 if s.stopped is not None:
                     return {"time": "max-seconds", "states": "max-states",
@@ -644,7 +645,11 @@ def _scheduler(inst: Instance) -> Any:
 
 
 def certificate_stats(result: Result) -> dict[str, Any]:
+    """What a certificate's ``stats`` hold: the views the search met, its candidates, the
+    counterexamples, the decision tree's questions (inner nodes) and leaves, and the views
+    the counterexamples rely on (the certificate's list, what ``--verify`` counts)."""
     inner, leaves = tree_size(result.tree)
     return {"views": result.views, "candidates": result.candidates,
             "counterexamples": len(result.counterexamples), "tree_nodes": inner,
-            "tree_leaves": leaves}
+            "tree_leaves": leaves,
+            "tree_views": len({k for lits in result.literals for k in lits})}

@@ -89,8 +89,9 @@ def make_instance(world: str, robots: str, meeting: str, scheduler: str, task: s
     (:data:`~gather_verify.synthesis.starts.START_SETS`) the configurations come from."""
     w = get_world(world)
     if not isinstance(w, World) or w.entry != FINITE:
-        raise InvalidInput("synthesize runs on a finite world (--world ring:N, grid:WxH, "
-                           "torus:WxH or graph:FILE); the paper's world Z² is not built yet")
+        raise InvalidInput("these views are a finite world's (--world ring:N, grid:WxH, "
+                           "torus:WxH or graph:FILE); the paper's world Z² has its own "
+                           "synthesis: synthesize --world grid")
     check_detection(detection)
     sched = get_scheduler(scheduler)
     light = parse_lights(lights)

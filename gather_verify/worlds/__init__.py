@@ -16,7 +16,7 @@ the text after the colon``).
 >>> get_world("ring:2")  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-gather_verify.errors.InvalidInput: ring:2: a ring has at least 3 nodes
+gather_verify.errors.InvalidInput: world size 2 is out of range [3, 10000] (ring:N: a ring has at least 3 nodes)
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from gather_verify.worlds.base import FINITE, PLANE, AnyWorld, World
 from gather_verify.worlds.graph import FileGraph
 from gather_verify.worlds.grid import FiniteGrid
 from gather_verify.worlds.plane import Plane
-from gather_verify.worlds.ring import Ring
+from gather_verify.worlds.ring import Ring, parse_size
 from gather_verify.worlds.torus import Torus
 
 __all__ = ["DEFAULT_WORLD", "FINITE", "NAMED_WORLDS", "PLANE", "WORLDS", "AnyWorld", "World",
@@ -91,8 +91,9 @@ def world_specs(spec: str) -> list[str]:
     """A range of sizes, ``ring:5-9`` -> ``ring:5 .. ring:9``; anything else as it is."""
     kind, _, arg = spec.strip().partition(":")
     low, dash, high = arg.partition("-")
-    if kind == "ring" and dash and low.isdigit() and high.isdigit():
-        if int(low) > int(high):
+    if kind == "ring" and dash:
+        first, last = (parse_size(x, "ring:A-B: a ring has at least 3 nodes", 3) for x in (low, high))
+        if first > last:
             raise InvalidInput(f"world range {spec!r} is empty")
-        return [f"ring:{k}" for k in range(int(low), int(high) + 1)]
+        return [f"ring:{k}" for k in range(first, last + 1)]
     return [spec.strip()]

@@ -278,10 +278,14 @@ class World:
         return [self.parse_node(part) for part in text.split()]
 
     def node_from_json(self, value: object) -> int:
-        """A node as a scenario or trace file stores it (its label, lists for pairs)."""
+        """A node as a scenario or trace file stores it (its label, lists for pairs). JSON's
+        ``true`` and ``1.0`` are no node, though Python takes them for ``1``."""
         label = tuple(value) if isinstance(value, list) else value
-        if label not in self.index:
-            raise InvalidInput(f"{value!r} is not a node of {self.name}")
+        parts = label if isinstance(label, tuple) else (label,)
+        if not all(isinstance(x, int | str) and not isinstance(x, bool) for x in parts) \
+                or not _hashable(label) or label not in self.index:
+            raise InvalidInput(f"{json_text(value)} is not a node of {self.name} (nodes are "
+                               f"written like {json_text(self.node_to_json(0))})")
         return self.index[label]
 
     def node_to_json(self, v: int) -> object:
@@ -398,6 +402,25 @@ class World:
 
     def __repr__(self) -> str:
         return f"<world {self.name}>"
+
+
+def json_text(value: object) -> str:
+    """A value as JSON writes it, cut at 40 characters (for a message)."""
+    import json
+
+    try:
+        text = json.dumps(value)
+    except (TypeError, ValueError):
+        text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _hashable(value: object) -> bool:
+    try:
+        hash(value)
+    except TypeError:
+        return False
+    return True
 
 
 def _check_frames(frames: str) -> None:

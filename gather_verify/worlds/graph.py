@@ -11,11 +11,13 @@ once per file content with networkx's isomorphism matcher.
 from __future__ import annotations
 
 import hashlib
+import re
 from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from gather_verify.errors import InvalidInput, read_input
+from gather_verify.errors import InvalidInput
+from gather_verify.inputs import read_text
 from gather_verify.worlds.base import Frame, Label, World, enumerate_automorphisms
 
 if TYPE_CHECKING:
@@ -38,32 +40,34 @@ def _parse(text: str, suffix: str) -> nx.Graph:
 class FileGraph(World):
     kind = "graph"
 
-    def __init__(self, path: str):
-        text = read_input(path, "graph file")
-        try:
-            g = _parse(text, Path(path).suffix.lower())
-        except Exception as error:  # networkx raises many kinds on a malformed file
-            raise InvalidInput(f"graph file {path}: not a readable graph "
-                               f"({type(error).__name__}: {error})") from None
-        if g.is_directed():
-            g = g.to_undirected()
-        if g.number_of_nodes() < 2:
-            raise InvalidInput(f"graph file {path}: fewer than 2 nodes")
-        names = sorted(map(str, g.nodes), key=_natural)
-        index = {name: i for i, name in enumerate(names)}
-        edges = [(index[str(a)], index[str(b)]) for a, b in g.edges]
+    def __init__(self, path: str, text: str | None = None):
+        if text is None:
+            text = read_text(path, "graph file")  # read once per command (gather_verify.inputs)
         self.digest = hashlib.sha256(text.encode()).hexdigest()[:16]
+        names, edges = _graph_of(text, path)
         super().__init__(f"graph:{path}", names, edges)
 
     @classmethod
     def from_spec(cls, arg: str) -> FileGraph:
-        return cls(arg)
+        """The graph of the file ``arg`` as it was first read (:mod:`gather_verify.inputs`),
+        built once per content: a sweep's worker asks for it per configuration."""
+        text = read_text(arg, "graph file")
+        key = (arg, hashlib.sha256(text.encode()).hexdigest())
+        got = _BUILT.get(key)
+        if got is None:
+            got = _BUILT[key] = cls(arg, text)
+            while len(_BUILT) > 4:
+                del _BUILT[next(iter(_BUILT))]
+        return got
 
     def parse_label(self, text: str) -> Label:
         return text
 
     def node_from_json(self, value: object) -> int:
-        return super().node_from_json(str(value))
+        """The file's node ids are text: a number stored as JSON's ``1`` names id ``"1"``."""
+        if isinstance(value, int) and not isinstance(value, bool):
+            value = str(value)
+        return super().node_from_json(value)
 
     @property
     def automorphisms(self) -> tuple[tuple[int, ...], ...]:
@@ -108,6 +112,10 @@ class FileGraph(World):
                          for p in self.automorphisms]]
 
 
+_BUILT: dict[tuple[str, str], FileGraph] = {}
+"""The graphs built lately, by file name and content digest (the oldest goes first)."""
+
+
 @cache
 def _automorphisms(digest: str, adjacency: tuple[tuple[int, ...], ...],
                    name: str) -> tuple[tuple[int, ...], ...]:
@@ -119,6 +127,41 @@ def _automorphisms(digest: str, adjacency: tuple[tuple[int, ...], ...],
     return enumerate_automorphisms(g, name)
 
 
+def _graph_of(text: str, path: str) -> tuple[list[str], list[tuple[int, int]]]:
+    """The node ids (in natural order) and the edges (as indices) of a graph file's text;
+    one line for a file that is no simple connected graph of at least 2 nodes."""
+    try:
+        g = _parse(text, Path(path).suffix.lower())
+    except Exception as error:  # networkx raises many kinds on a malformed file
+        raise InvalidInput(f"graph file {path}: not a readable graph "
+                           f"({type(error).__name__}: {error})") from None
+    if g.is_directed():
+        g = g.to_undirected()
+    if g.number_of_nodes() < 2:
+        raise InvalidInput(f"graph file {path}: fewer than 2 nodes")
+    if g.is_multigraph():
+        for a, b in g.edges():
+            if g.number_of_edges(a, b) > 1:
+                raise InvalidInput(f"graph file {path}: more than one edge between {a} and "
+                                   f"{b}: a world is a simple graph (keep one edge)")
+    names: dict[str, object] = {}
+    for node in g.nodes:
+        other = names.setdefault(str(node), node)
+        if other is not node and other != node:
+            raise InvalidInput(f"graph file {path}: two nodes are both written {str(node)!r} "
+                               f"({other!r} and {node!r}): give them distinct ids")
+    order = sorted(names, key=_natural)
+    index = {name: i for i, name in enumerate(order)}
+    return order, [(index[str(a)], index[str(b)]) for a, b in g.edges()]
+
+
+_INTEGER = re.compile(r"-?[0-9]+")
+
+
 def _natural(name: str) -> tuple[int, int | str]:
-    """Numeric ids in numeric order, then the rest."""
-    return (0, int(name)) if name.lstrip("-").isdigit() else (1, name)
+    """Numeric ids (ASCII digits, an optional minus) in numeric order, then the rest.
+
+    >>> sorted(["10", "9", "-1", "b", "²", "--5", "a"], key=_natural)
+    ['-1', '9', '10', '--5', 'a', 'b', '²']
+    """
+    return (0, int(name)) if _INTEGER.fullmatch(name) else (1, name)

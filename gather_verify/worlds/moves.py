@@ -20,7 +20,7 @@ from gather_verify.algorithms.base import Algorithm, AlgorithmCrash, AlgorithmEr
 from gather_verify.algorithms.moves import HiddenRead
 from gather_verify.errors import InvalidInput
 from gather_verify.model.view import MultiplicityHidden, check_detection
-from gather_verify.watchdog import Overtime, watched
+from gather_verify.watchdog import Overtime, real_interrupt, watched
 from gather_verify.worlds.base import World
 from gather_verify.worlds.view import LightHidden, Lights, WorldView
 
@@ -104,9 +104,11 @@ class WorldMoves:
             except (MultiplicityHidden, LightHidden) as error:
                 raise HiddenRead(f"algorithm {algorithm.name!r} reads what its robots cannot "
                                  f"see: {error}") from None
-            except (Unhandled, KeyboardInterrupt, Overtime):
+            except (Unhandled, Overtime):  # no rule; the watchdog's stop at the time limit
                 raise
-            except BaseException as error:  # SystemExit too: user code never ends the verifier
+            except BaseException as error:  # SystemExit, KeyboardInterrupt, os._exit too
+                if real_interrupt(error):  # only a real Ctrl-C stops the verifier
+                    raise
                 raise AlgorithmCrash(algorithm.name, "decide", error,
                                      self.world.label(node), view) from None
             out.add(self._action(answer, frame, node, colour, view))
@@ -149,17 +151,16 @@ def parse_lights(text: str | None) -> Lights:
     """``--lights K`` or ``K:external`` / ``K:internal`` (K >= 1 colours)."""
     if text is None:
         return Lights(1)
-    count, _, variant = text.partition(":")
-    try:
-        k = int(count, 10)
-    except ValueError:
-        raise InvalidInput(f"--lights {text!r}: write K, K:external or K:internal") from None
+    count, colon, variant = text.partition(":")
+    if not (count.isascii() and count.isdigit()):  # int() takes ' 2', '+2', '٢', '2_0'
+        raise InvalidInput(f"--lights {text!r}: write K, K:external or K:internal (K in "
+                           "the digits 0-9)")
+    k = int(count, 10)
     if not 1 <= k <= 64:
         raise InvalidInput(f"--lights {k}: the number of colours must be in [1, 64]")
-    variant = variant or "full"
-    if variant not in ("full", "external", "internal"):
+    if colon and variant not in ("external", "internal"):
         raise InvalidInput(f"--lights {text!r}: the variant is external or internal")
-    return Lights(k, variant)
+    return Lights(k, variant or "full")
 
 
 def _hashable(value: object) -> bool:

@@ -30,13 +30,10 @@ class Ring(World):
 
     @classmethod
     def from_spec(cls, arg: str) -> Ring:
-        return cls(parse_size(arg, "ring:N"))
+        return cls(parse_size(arg, "ring:N: a ring has at least 3 nodes", 3))
 
     def parse_label(self, text: str) -> Label:
         return int(text, 10)
-
-    def node_from_json(self, value: object) -> int:
-        return super().node_from_json(value if isinstance(value, int) else -1)
 
     @property
     def automorphisms(self) -> tuple[tuple[int, ...], ...]:  # the dihedral group, 2N
@@ -78,10 +75,10 @@ def _on_circle(turn: float) -> Point:
 
 def parse_size(arg: str, form: str, low: int = 1, high: int = 10_000) -> int:
     """A positive size from a world's spec (``9`` of ``ring:9``), or one line naming it."""
-    try:
-        value = int(arg, 10)
-    except ValueError:
-        raise InvalidInput(f"world size {arg!r} is not an integer (write {form})") from None
+    if not (arg.isascii() and arg.isdigit()):  # int() takes '５', '٥', ' 5', '+5', '5_0'
+        raise InvalidInput(f"world size {arg!r} is not an integer (write {form} with the "
+                           "digits 0-9)")
+    value = int(arg, 10)
     if not low <= value <= high:
         raise InvalidInput(f"world size {value} is out of range [{low}, {high}] ({form})")
     return value
