@@ -123,6 +123,21 @@ def test_together_none_rests_on_the_periodic_start(tmp_path: Path) -> None:
     assert report["checker"]["verdicts"] == ["VERIFIED"]
 
 
+def test_a_none_in_words_names_each_group_of_robots(tmp_path: Path) -> None:
+    """Four robots on ring:8: the none rests on the periodic start 0 1 4 5; the adversary
+    sends the two pairs apart and back, one group each way."""
+    cert = tmp_path / "c.json"
+    run = cli("--world", "ring:8", "--robots", "4", "--task", "exploration-with-stop",
+              "--multiplicity", "global-weak", "--scheduler", "ssync", "--certificate",
+              str(cert), "--json")
+    report = json.loads(run.stdout)
+    assert run.returncode == 1 and report["rests_on"] == [[0, 1, 4, 5]]
+    told = " ".join(report["explanation"])
+    assert "robots step clockwise (1->2, 5->6)" in told and "robots steps" not in told
+    verified = json.loads(cli("--verify", str(cert), "--explain", "--json").stdout)
+    assert verified["explanation"] == report["explanation"]
+
+
 # -- the cheapest adversary first ------------------------------------------------------------
 
 @pytest.fixture(scope="module")

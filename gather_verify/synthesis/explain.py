@@ -125,8 +125,10 @@ def _event(views: Views, robots: tuple[Any, ...], e: Any) -> str:
     everyone = len(e.moves) == len(robots) and len(ways) == 1
     said = []
     for way, steps in ways.items():
-        who = "every robot" if everyone else ("robot" if len(steps) == 1 else "robots")
-        said.append(f"{who} {way} ({', '.join(steps)})")
+        one = everyone or len(steps) == 1
+        who = "every robot" if everyone else ("robot" if one else "robots")
+        said.append(f"{who} {way if one else way.replace('steps', 'step', 1)} "
+                    f"({', '.join(steps)})")
     text = ("round: " if e.kind == "round" else "") + "; ".join(said)
     if chosen and chosen == len(e.moves):
         text += " [the adversary picks each direction: every moving robot's view is " \
