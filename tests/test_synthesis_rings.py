@@ -138,6 +138,19 @@ def test_a_none_in_words_names_each_group_of_robots(tmp_path: Path) -> None:
     assert verified["explanation"] == report["explanation"]
 
 
+def test_a_none_in_words_says_when_every_robot_stays(tmp_path: Path) -> None:
+    """Two robots never explore ring:8 exclusively: where the algorithm stays, the words say
+    that every robot stays for ever and which node is never visited (not "that cycle")."""
+    run = cli("--world", "ring:8", "--robots", "2", "--start", "aperiodic", "--together",
+              "--task", "exclusive-perpetual-exploration", "--multiplicity", "global-weak",
+              "--scheduler", "fsync", "--certificate", str(tmp_path / "c.json"), "--json")
+    report = json.loads(run.stdout)
+    assert run.returncode == 1 and report["answer"] == "none"
+    stays = [line for line in report["explanation"] if "answers stay: then:" in line]
+    assert stays and all("every robot stays for ever" in line and "is never visited again"
+                         in line and "that cycle" not in line for line in stays)
+
+
 # -- the cheapest adversary first ------------------------------------------------------------
 
 @pytest.fixture(scope="module")

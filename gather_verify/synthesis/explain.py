@@ -103,7 +103,9 @@ def tell(views: Views, cex: dict[str, Any]) -> str:
         robots = apply_event(robots, e)
     told = "; ".join(p for p in parts if p).replace("then, for ever; ", "for ever: ", 1) \
         if loop == 0 else "; ".join(p for p in parts if p)
-    return (told + "; " if told else "") + _failure(views, cex, robots)
+    still = loop is not None and loop == len(events)  # the cycle is every robot staying
+    tail = _failure(views, cex, robots, still)
+    return (told + "; " + ("then " if still else "") if told else "") + tail
 
 
 def _event(views: Views, robots: tuple[Any, ...], e: Any) -> str:
@@ -143,10 +145,15 @@ def _way(w: Any, a: int, b: int) -> str:
     return "steps"
 
 
-def _failure(views: Views, cex: dict[str, Any], robots: tuple[Any, ...]) -> str:
+def _failure(views: Views, cex: dict[str, Any], robots: tuple[Any, ...],
+             still: bool = False) -> str:
+    """How the execution fails; ``still``: its cycle is every robot staying."""
     w = views.inst.world
     prop = cex["property"]
     nodes = " ".join(w.format_node(v) for v, _, _ in robots)
+    if still and prop == "perpetual-exploration":
+        return (f"every robot stays for ever (robots on {nodes}): node {cex.get('node')} is "
+                "never visited again")
     if prop == "exclusivity":
         return f"two robots on one node, or crossing one edge (robots on {nodes})"
     if prop == "termination":
