@@ -90,6 +90,16 @@ def test_a_proof_for_every_size(capsys: pytest.CaptureFixture[str]) -> None:
     assert "not decided here: perpetual-exploration (liveness)" in out
 
 
+def test_the_async_explorer_is_exclusive_on_every_ring_of_four_or_more(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """The gap rules of docs/rings-results.md: exclusivity for every n >= 4 under SSYNC."""
+    algo = str(Path(EXPLORER.rsplit(":", 1)[0]).with_name("explore3async.py")) + ":Synthesized"
+    code, out, _ = check("--world", "ring:4+", "--robots", "3", "--algorithm", algo,
+                         "--scheduler", "ssync", "--task", "exclusive-perpetual-exploration",
+                         capsys=capsys)
+    assert code == 0 and "every ring size n >= 4" in out, out
+
+
 def test_a_counterexample_the_checker_confirms(tmp_path: Path,
                                               capsys: pytest.CaptureFixture[str]) -> None:
     broken = tmp_path / "broken.py"

@@ -343,3 +343,36 @@ def test_one_gap_rule_algorithm_for_a_range(tmp_path: Path) -> None:
 def test_a_range_needs_together() -> None:
     run = cli("--world", "ring:7-9", "--robots", "3", "--task", "gathering")
     assert run.returncode == 2 and "--together" in one_line(run)
+
+
+ASYNC_EXPLORER = Path(__file__).parent / "fixtures" / "rings" / "explore3async.py"
+
+
+def _explores(path: Path, n: int) -> list[str]:
+    from gather_verify.world_check import run_world_check
+
+    return sorted({run_world_check(f"ring:{n}", list(nodes), [], f"{path}:Synthesized",
+                                   "async", task="exclusive-perpetual-exploration",
+                                   detection="global-weak", reduction=False)["verdict"]
+                   for nodes in starts.starts(get_world(f"ring:{n}"), 3, "aperiodic")})
+
+
+@pytest.mark.parametrize("n", [10, 13])
+def test_blins_three_robots_explore_under_async(n: int) -> None:
+    """The gap rules synthesised for ring:10-20 under ASYNC (docs/rings-results.md) explore
+    exclusively and perpetually from every aperiodic start, read by the checker alone."""
+    assert _explores(ASYNC_EXPLORER, n) == ["VERIFIED"]
+
+
+def test_blins_rules_broken_fail(tmp_path: Path) -> None:
+    """The same rules with the robot at the end of a block of three stepping into it."""
+    broken = tmp_path / "broken.py"
+    broken.write_text(ASYNC_EXPLORER.read_text().replace("Rule('1 1 4+', 'back')",
+                                                         "Rule('1 1 4+', 'forward')"))
+    assert "VIOLATED" in _explores(broken, 10)
+
+
+@pytest.mark.slow
+def test_blins_three_robots_explore_at_every_size_of_the_range() -> None:
+    for n in range(10, 21):
+        assert _explores(ASYNC_EXPLORER, n) == ["VERIFIED"], n
