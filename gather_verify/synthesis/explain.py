@@ -105,7 +105,8 @@ def tell(views: Views, cex: dict[str, Any]) -> str:
         if loop == 0 else "; ".join(p for p in parts if p)
     still = loop is not None and loop == len(events)  # the cycle is every robot staying
     tail = _failure(views, cex, robots, still)
-    return (told + "; " + ("then " if still else "") if told else "") + tail
+    then = "then " if tail.startswith("every robot stays") else ""
+    return (told + "; " + then if told else "") + tail
 
 
 def _event(views: Views, robots: tuple[Any, ...], e: Any) -> str:
