@@ -83,6 +83,16 @@ def _kind(mode: int) -> str:
     return "not a regular file"
 
 
+def not_a_file(path: str | Path) -> str:
+    """Why ``path`` is no file to read, for a message once ``os.path.isfile`` said no: "no
+    such file", or what it is instead (a folder, a FIFO, a device)."""
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):
+        return "no such file"
+    return f"{_kind(mode)}, not a file (give a regular file)"
+
+
 def _read(path: str, what: str, limit: int) -> Kept:
     """The bytes of a regular file, at most ``limit``; one line for anything else."""
     try:  # O_NONBLOCK: opening a FIFO with no writer returns at once (then it is refused)
@@ -198,4 +208,4 @@ def adopt(files: dict[str, bytes]) -> None:
 
 
 __all__ = ["MAX_INPUT_BYTES", "Kept", "adopt", "digest", "disk_digest", "export", "kept",
-           "read_bytes", "read_text"]
+           "not_a_file", "read_bytes", "read_text"]

@@ -188,6 +188,23 @@ def test_a_fifo_with_no_writer_is_one_line_not_a_wait(tmp_path, argv, what):
     one_line(done, 2, f"{what} {fifo}: a FIFO")
 
 
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
+@pytest.mark.parametrize("argv, words", [
+    (("check", "--world", "ring:6", "--robots", "0 3", "--meeting", "1", "--algorithm",
+      "{fifo}:A"), "algorithm file {fifo}: a FIFO"),
+    (("sweep", "--world", "ring:6", "--robots", "2", "--algorithm", "{fifo}:A", "--db",
+      "s.sqlite"), "algorithm file {fifo}: a FIFO"),
+    (("check", "--robots", "0,0 2,1", "--meeting", "1,1", "--property", "{fifo}:P"),
+     "{fifo}: a FIFO"),
+])
+def test_a_code_file_that_is_a_fifo_says_so(tmp_path, argv, words):
+    """An algorithm or property file that is a FIFO (or a device) said "no such file"."""
+    fifo = tmp_path / "f.py"
+    os.mkfifo(fifo)
+    done = cli(*(a.format(fifo=fifo) for a in argv), cwd=tmp_path, timeout=60)
+    one_line(done, 2, words.format(fifo=fifo))
+
+
 def test_synthesize_shares_one_time_budget_and_a_memory_limit(tmp_path, monkeypatch, capsys):
     """``synthesize --max-seconds 280`` ran 298 s: the checker's run on the witness had a
     budget of its own. It is given the time left; the memory limit reaches the search."""
@@ -211,6 +228,81 @@ def test_synthesize_shares_one_time_budget_and_a_memory_limit(tmp_path, monkeypa
                  "--witness", str(tmp_path / "w.py"), "--certificate",
                  str(tmp_path / "c.json")]) == 0
     assert 0 < asked["check"] < 50 and asked["memory"] == 4321
+
+
+def test_a_synthesis_stopped_by_the_memory_watch_keeps_its_counts(tmp_path, monkeypatch,
+                                                                  capsys):
+    """``synthesize --world ring:12 --robots 4 --max-memory-mb 300``, stopped by the
+    command's memory watch after 28 s of search, printed "views met 0  candidates 0 ...
+    states 0": the watch's stop (here raised where it lands, in an exploration) is the
+    search's, with what it had done."""
+    from gather_verify.synthesis import search
+    from gather_verify.watchdog import OverMemory
+
+    real, calls = search.explore, [0]
+
+    def explore(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
+        calls[0] += 1
+        if calls[0] == 4:
+            raise OverMemory
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(search, "explore", explore)
+    code = main(["synthesize", "--world", "ring:7", "--robots", "2", "--max-memory-mb",
+                 "99999", "--json", "--witness", str(tmp_path / "w.py"),
+                 "--certificate", str(tmp_path / "c.json")])
+    report = json.loads(capsys.readouterr().out)
+    assert code == 3 and report["answer"] == "unknown"
+    assert report["limit"] == "memory (the search over algorithms: past 99999 MB)"
+    assert report["candidates"] >= 1 and report["views"] > 0 and report["states"] > 0
+
+
+def test_minimum_on_a_finite_world_reads_the_memory_limit(tmp_path, monkeypatch):
+    """``synthesize --minimum`` searched with the default memory limit, whatever
+    ``--max-memory-mb`` said."""
+    from gather_verify.synthesis import search
+
+    asked: list[float] = []
+    real = search.synthesize
+
+    def synth(inst, **options):  # noqa: ANN001, ANN003, ANN202
+        asked.append(options["max_memory_mb"])
+        return real(inst, **options)
+
+    monkeypatch.setattr(search, "synthesize", synth)
+    monkeypatch.chdir(tmp_path)
+    assert main(["synthesize", "--world", "ring:5", "--robots", "2-3", "--minimum",
+                 "--scheduler", "fsync", "--task", "gathering", "--db", "m.sqlite",
+                 "--max-memory-mb", "4321"]) in (0, 1)
+    assert asked and set(asked) == {4321}
+
+
+@pytest.mark.parametrize("argv", [
+    ["--robots", "0,0 2,1", "--meeting", "1,1"],
+    ["--robots", "2", "--meeting", "1", "--box", "2x2"],
+    ["--robots", "2", "--meeting", "1", "--box", "2x2", "--minimum", "--db", "m.sqlite"],
+])
+def test_the_paper_s_world_refuses_a_memory_limit_it_would_not_read(tmp_path, capsys,
+                                                                     monkeypatch, argv):
+    """``synthesize --world grid ... --max-memory-mb 20`` answered exists: the paper's world's
+    synthesis reads no memory limit, so the option is refused there, not ignored."""
+    monkeypatch.chdir(tmp_path)
+    assert main(["synthesize", "--world", "grid", *argv, "--max-memory-mb", "20"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "--max-memory-mb bounds synthesis on a " \
+        "finite world" in err, err
+    assert not list(tmp_path.iterdir())
+
+
+def test_a_plane_certificate_s_re_check_refuses_a_memory_limit(tmp_path, capsys):
+    cert = tmp_path / "u.cert.json"
+    assert main(["synthesize", "--world", "grid", "--robots", "0,1 2,1", "--meeting",
+                 "0,0 2,0", "--scheduler", "fsync", "--rounds", "3", "--certificate",
+                 str(cert), "--witness", str(tmp_path / "w.py")]) == 1
+    assert main(["synthesize", "--verify", str(cert)]) == 0
+    capsys.readouterr()
+    assert main(["synthesize", "--verify", str(cert), "--max-memory-mb", "20"]) == 2
+    assert "--max-memory-mb bounds synthesis on a finite world" in capsys.readouterr().err
 
 
 def test_synthesize_s_limits_are_in_its_help(capsys):

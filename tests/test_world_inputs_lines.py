@@ -213,6 +213,21 @@ def test_a_node_of_the_wrong_json_type_is_named_as_written(tmp_path, capsys, nod
     refused(capsys, ["check", str(scenario)], f"{json.dumps(node)} is not a node of ring:6")
 
 
+@pytest.mark.parametrize("field", ["robots", "meeting_nodes", "step"])
+@pytest.mark.parametrize("node", [1.0, [1], "1", True])
+def test_a_trace_s_node_of_the_wrong_json_type_is_named_as_written(tmp_path, capsys, field,
+                                                                   node):
+    """The same in a world trace given to ``replay``: its robots, meeting nodes or a step."""
+    trace = _world_trace(tmp_path, capsys)
+    if field == "step":
+        trace["steps"][0]["robots"][0][0] = node
+    else:
+        trace[field][0] = node
+    (tmp_path / "t.json").write_text(json.dumps(trace))
+    refused(capsys, ["replay", str(tmp_path / "t.json")],
+            f"{json.dumps(node)} is not a node of ring:6")
+
+
 @pytest.mark.parametrize("argv, words", [
     (["check", "--world", "ring:５", "--robots", "0 1"], "digits 0-9"),
     (["check", "--world", "ring:٥", "--robots", "0 1"], "digits 0-9"),
@@ -227,11 +242,18 @@ def test_a_node_of_the_wrong_json_type_is_named_as_written(tmp_path, capsys, nod
      "--together goes with --box"),
     (["synthesize", "--world", "grid", "--robots", "0,0 1,1", "--meeting", "0,1",
       "--together"], "--together asks one algorithm for every configuration of a box"),
+    (["check", "--world", "ring:12", "--robots", "٠ 1"], "'٠' is not a node of ring:12"),
+    (["check", "--world", "ring:12", "--robots", "1_0 2"], "'1_0' is not a node of ring:12"),
+    (["check", "--world", "grid:3x3", "--robots", "0,٠ 1,1"], "'0,٠' is not a node"),
+    (["check", "--world", "ring:6", "--robots", "0 3", "--lights", "2", "--colours", "١ 0"],
+     "--colours '١ 0'"),
+    (["synthesize", "--world", "ring:6", "--robots", "٢"], "'٢' is not a node of ring:6"),
 ])
 def test_options_taken_silently_are_refused(capsys, argv, words):
     """``ring:５``, ``ring:٥``, ``--lights ''``, ``--lights 2:`` were accepted;
     ``--move-bound-c`` on a world and ``synthesize --together`` without ``--box`` ignored;
-    ``ring:0`` said "out of range [1, 10000]" though a ring needs 3 nodes."""
+    ``ring:0`` said "out of range [1, 10000]" though a ring needs 3 nodes. Likewise a node or
+    a colour written with other digits than 0-9 (``int`` takes ``٠`` and ``1_0``)."""
     refused(capsys, argv, words)
 
 

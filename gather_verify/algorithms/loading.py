@@ -38,6 +38,7 @@ from types import ModuleType
 from typing import Any
 
 from gather_verify.errors import InvalidInput
+from gather_verify.inputs import not_a_file
 from gather_verify.watchdog import Overtime, watched
 
 ENTRY_POINT_GROUP = "gather_verify.algorithms"
@@ -235,7 +236,7 @@ def load_file(path: str) -> ModuleType:
     script), so it imports its neighbours."""
     path = source_of(path)  # the snapshot taken at the start (:func:`snapshot`), never the disk
     if not os.path.isfile(path):
-        raise InvalidInput(f"algorithm file {path}: no such file")
+        raise InvalidInput(f"algorithm file {path}: {not_a_file(path)}")
     known = _FILES.get(path)
     if known is not None and _stamps([Path(f) for f, _, _ in known[0]]) == known[0]:
         return known[1]

@@ -31,6 +31,7 @@ from gather_verify.engine.encoding import (
 )
 from gather_verify.engine.region import PLANE
 from gather_verify.progress import Reporter, default_every
+from gather_verify.worlds.base import decimal
 from schedulers import SCHEDULERS
 
 if TYPE_CHECKING:
@@ -274,7 +275,7 @@ def _progress(args: argparse.Namespace) -> Reporter:
 
 def _colours(text: str) -> list[int]:
     try:
-        return [int(part, 10) for part in text.split()]
+        return [decimal(part) for part in text.split()]
     except ValueError:
         raise UsageError(f"--colours {text!r}: write one integer colour per robot") from None
 

@@ -79,8 +79,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="the whole command: the views, the search, the checker's run on a "
                         "witness, the re-check of a certificate (default %(default)g)")
     p.add_argument("--max-memory-mb", type=bounded_float(1, 10**7), default=None, metavar="MB",
-                   help="resident memory limit of the whole command (default: a share of "
-                        "this machine's memory, as check's)")
+                   help="on a finite world: resident memory limit of the whole command "
+                        "(default: a share of this machine's memory, as check's)")
     p.add_argument("--max-candidates", type=bounded_int(1, 10**9), default=1_000_000,
                    help="tables the solver may propose (default %(default)s)")
     p.add_argument("--max-states", type=bounded_int(1, 10**9), default=2_000_000,
@@ -141,6 +141,7 @@ def run(args: argparse.Namespace) -> int:
     from gather_verify.worlds import PLANE, entry_of
 
     if entry_of(args.world) == PLANE:
+        _no_memory_limit(args)
         return _plane(args)
     from gather_verify.cli import synthesize_sets as sets
 
@@ -231,6 +232,15 @@ def _finite(args: argparse.Namespace) -> tuple[dict[str, Any], str | None]:
         problem = None
     report["seconds"] = time.perf_counter() - started
     return report, problem
+
+
+def _no_memory_limit(args: argparse.Namespace) -> None:
+    """The paper's world's synthesis (and its certificates' re-check) reads no memory limit:
+    ``--max-memory-mb`` is refused there, not ignored."""
+    if args.max_memory_mb is not None:
+        raise UsageError("--max-memory-mb bounds synthesis on a finite world; on the paper's "
+                         "world (--world grid, its certificates) no memory limit is read: "
+                         "drop it")
 
 
 def _memory(args: argparse.Namespace) -> float:
@@ -351,6 +361,8 @@ def _verify(args: argparse.Namespace) -> int:
 
     started = time.perf_counter()
     on_plane = _plane_certificate(args.verify)
+    if on_plane:
+        _no_memory_limit(args)
     try:
         if on_plane:
             got = plane.verify_certificate(args.verify)
@@ -595,7 +607,8 @@ def _finite_search(args: argparse.Namespace, inst: Any, stem: str) -> Answer | s
 
     views = Views(inst)
     res = synthesize(inst, max_seconds=args.max_seconds, max_candidates=args.max_candidates,
-                     max_states=args.max_states, max_tree=args.max_tree, views=views)
+                     max_states=args.max_states, max_tree=args.max_tree, views=views,
+                     max_memory_mb=_memory(args))
     files: dict[str, Any] = {}
     if res.answer == "exists":
         spec = write_witness(f"{stem}.py", inst, views, res.table)
@@ -714,6 +727,7 @@ def _plane_least(args: argparse.Namespace, schedulers: list[str]
     solver of one count and the settings that key the stored rows."""
     from gather_verify.synthesis import plane
 
+    _no_memory_limit(args)
     if args.box is None:
         raise UsageError("--minimum on the paper's world needs --box WxH: the initial "
                          "configurations of k robots on Z² are infinitely many")

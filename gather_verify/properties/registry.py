@@ -23,6 +23,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from gather_verify.errors import InvalidInput
+from gather_verify.inputs import not_a_file
 from gather_verify.properties.base import Property
 from gather_verify.properties.builtin import BUILTIN
 from gather_verify.watchdog import Overtime, guards, watched
@@ -112,7 +113,9 @@ def load_property(spec: str) -> Property:
     if key in _LOADED:
         return _LOADED[key]
     if not path.is_file():
-        raise InvalidInput(f"cannot load property {spec!r}: no file {text}")
+        why = not_a_file(path)
+        raise InvalidInput(f"cannot load property {spec!r}: "
+                           + (f"no file {text}" if why == "no such file" else f"{text}: {why}"))
     module_name = "gather_verify_user_property_" + hashlib.sha1(str(path).encode()).hexdigest()[:12]
     module = sys.modules.get(module_name)
     if module is None:

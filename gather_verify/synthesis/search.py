@@ -55,7 +55,7 @@ from gather_verify.synthesis.restart import restart
 from gather_verify.synthesis.views import Instance, Views
 from gather_verify.tasks import Context, Finding
 from gather_verify.tasks.base import components, fair
-from gather_verify.watchdog import Overtime, deadline, watched
+from gather_verify.watchdog import OverMemory, Overtime, deadline, watched
 
 DEFAULT_MAX_SECONDS = 600.0
 DEFAULT_MAX_CANDIDATES = 1_000_000
@@ -144,6 +144,9 @@ def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
             return run.loop()
     except Overtime:
         return run.result("unknown", f"{TIME_LIMIT} (cut by the watchdog)")
+    except OverMemory:  # the command's memory watch (engine.bounds.setup): keep the counts
+        return run.result("unknown", f"memory (the search over algorithms: past "
+                          f"{max_memory_mb:g} MB)")
 
 
 class _Search:

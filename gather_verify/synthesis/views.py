@@ -28,7 +28,7 @@ from gather_verify.synthesis.starts import starts
 from gather_verify.tasks import Task, get_task
 from gather_verify.world_check import default_task
 from gather_verify.worlds import FINITE, get_world
-from gather_verify.worlds.base import FrameMap, World
+from gather_verify.worlds.base import FrameMap, World, decimal
 from gather_verify.worlds.moves import parse_lights
 from gather_verify.worlds.view import Lights, WorldView
 from schedulers import get_scheduler
@@ -113,7 +113,7 @@ def make_instance(world: str, robots: str, meeting: str, scheduler: str, task: s
     text = robots.strip()
     if not text:
         raise InvalidInput("--robots is empty: give nodes (\"0 2\") or a count (2)")
-    if text.isdigit() and " " not in text:
+    if text.isascii() and text.isdigit():  # a count; int() also takes '٢'
         k = int(text)
         if not 1 <= k <= w.size:
             raise InvalidInput(f"--robots {k}: between 1 and {w.size} robots on {w.name}")
@@ -135,7 +135,7 @@ def make_instance(world: str, robots: str, meeting: str, scheduler: str, task: s
         lit = (0,) * len(r)
         if colours is not None and colours.strip():
             try:
-                lit = tuple(int(c, 10) for c in colours.split())
+                lit = tuple(decimal(c) for c in colours.split())
             except ValueError:
                 raise InvalidInput(f"--colours {colours!r}: one integer colour per robot"
                                    ) from None

@@ -19,6 +19,7 @@ schedulers never ask which world they run.
 from __future__ import annotations
 
 import copy
+import re
 from collections import deque
 from collections.abc import Hashable, Iterable, Iterator, Mapping, Sequence
 from functools import cached_property
@@ -402,6 +403,25 @@ class World:
 
     def __repr__(self) -> str:
         return f"<world {self.name}>"
+
+
+def decimal(text: str) -> int:
+    """An integer written with the digits 0-9 and an optional minus, as a node's text on the
+    command line: ``int`` also takes ``٣``, ``1_0`` and ``+1``, which name no node.
+
+    >>> decimal("12"), decimal("-3")
+    (12, -3)
+    >>> decimal("1_0")
+    Traceback (most recent call last):
+    ...
+    ValueError: '1_0' is not written with the digits 0-9
+    """
+    if not _DECIMAL.fullmatch(text.strip()):
+        raise ValueError(f"{text!r} is not written with the digits 0-9")
+    return int(text, 10)
+
+
+_DECIMAL = re.compile(r"-?[0-9]+", re.ASCII)
 
 
 def json_text(value: object) -> str:

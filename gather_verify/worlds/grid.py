@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
-from gather_verify.worlds.base import Frame, Label, Outline, Point, World
+from gather_verify.worlds.base import Frame, Label, Outline, Point, World, decimal
 from gather_verify.worlds.ring import parse_size
 
 D4_FRAMES = {"all": geometry.ALL, "chirality": geometry.ROTATIONS,
@@ -37,7 +37,7 @@ class GridFamily(World):
 
     def parse_label(self, text: str) -> Label:
         x, y = text.split(",")
-        return (int(x, 10), int(y, 10))
+        return (decimal(x), decimal(y))
 
     def offset(self, u: int, v: int) -> tuple[int, int]:
         """Where ``u`` lies seen from ``v``, before the frame turns it."""

@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 
 from gather_verify.errors import InvalidInput
-from gather_verify.worlds.base import DrawnEdge, Frame, Label, Point, World
+from gather_verify.worlds.base import DrawnEdge, Frame, Label, Point, World, decimal
 
 
 class Ring(World):
@@ -33,7 +33,7 @@ class Ring(World):
         return cls(parse_size(arg, "ring:N: a ring has at least 3 nodes", 3))
 
     def parse_label(self, text: str) -> Label:
-        return int(text, 10)
+        return decimal(text)
 
     @property
     def automorphisms(self) -> tuple[tuple[int, ...], ...]:  # the dihedral group, 2N
