@@ -14,7 +14,7 @@ from gather_verify.algorithms.base import Unhandled
 from gather_verify.check import run_check
 from gather_verify.cli import main
 from gather_verify.model.configuration import Configuration
-from gather_verify.paper.algorithm import DEFAULTS, READINGS, Reading, analyse
+from gather_verify.paper.algorithm import DEFAULTS, READINGS, PaperAlgorithm, Reading, analyse
 from gather_verify.paper.readings import (
     check_readings,
     covering,
@@ -181,14 +181,45 @@ def test_check_readings_reports_every_reading_run():
     c = configuration(F11_ROTATION)
     report = check_readings(c, "all", algorithm="paper", scheduler="async", **LIMITS)
     specs = [r["algorithm"] for r in report["readings"]]
-    assert len(specs) == len(set(specs)) == 768 == len(covering(parse_readings("all"), c))
+    assert len(specs) == len(set(specs)) == 1536 == len(covering(parse_readings("all"), c))
     assert specs[0] == reading_name({o: v[0] for o, v in READINGS.items()})
     assert report["algorithm"] == specs[0] and report["verdict"] == "VIOLATED"
     assert report["robustness"] == "READING-DEPENDENT"
     assert report["readings_not_read"] == {"alpha": ["mer", "mer_f"]}
-    assert sum(r["readings"] for r in report["runs"]) == 768 > len(report["runs"])
+    assert sum(r["readings"] for r in report["runs"]) == 1536 > len(report["runs"])
     removed = {r["algorithm"] for r in report["readings"] if r["verdict"] == "VERIFIED"}
     assert removed and all("metric=euclid" in a or "placement=reachable" in a for a in removed)
+
+
+def test_a_finite_run_over_the_constant_refutes_no_claim(capsys):
+    """Every reading's run goes over c·D·n with c = 0.1 and gathers: move-bound is VIOLATED
+    under each, the robustness is ROBUST-VERIFIED, and the run is over the constant."""
+    c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
+    report = check_readings(c, "all", algorithm="paper", scheduler="async", move_bound_c=0.1,
+                            **LIMITS)
+    assert report["verdict"] == "VIOLATED" and report["property"] == "move-bound"
+    assert report["runs"][0]["fault"] == "VERIFIED"
+    assert report["robustness"] == "ROBUST-VERIFIED"
+    over = report["over_constant"]  # 9 moves, D = 4, n = 3
+    assert over == {"runs": 1, "readings": 1, "moves": 9, "bound": pytest.approx(1.2)}
+    assert main(["check", "--robots", "0,0 3,1 1,4", "--meeting", "2,2", "--readings", "all",
+                 "--move-bound-c", "0.1"]) == 0
+    out = capsys.readouterr().out
+    assert "over the project's constant" in out and "robustness: ROBUST-VERIFIED" in out
+
+
+@pytest.mark.slow
+def test_the_walk_away_over_the_constant_is_not_robust():
+    """The I31 run that walks away under placement=reachable, survivor=off-target: 33 moves
+    over 4·D·n = 32, the search stopped by its region, so its other claims are undecided:
+    INCOMPLETE, never a fault."""
+    c = Configuration([(0, 0), (1, 1), (1, 2), (2, 1)], [(0, 1), (0, 2), (1, 0), (2, 0)],
+                      initial=True)
+    report = check_readings(c, "placement=reachable,survivor=off-target", algorithm="paper",
+                            scheduler="async")
+    assert report["verdict"] == "VIOLATED" and report["property"] == "move-bound"
+    assert report["robustness"] == "INCOMPLETE"
+    assert report["over_constant"] == {"runs": 1, "readings": 1, "moves": 33, "bound": 32.0}
 
 
 def test_check_readings_incomplete_is_never_robust():
@@ -210,7 +241,7 @@ def test_check_cli_readings_json(capsys):
         ("metric=manhattan", "finalize=n1", "VIOLATED"),
         ("metric=euclid", "finalize=closest", "VERIFIED"),
         ("metric=euclid", "finalize=n1", "VIOLATED")]
-    assert set(out["readings"][0]) == {"algorithm", "verdict", "property", "run"}
+    assert set(out["readings"][0]) == {"algorithm", "verdict", "property", "fault", "run"}
     assert main(["check", str(F11_ROTATION), "--readings", "metric=taxicab"]) == 2
     assert "metric" in capsys.readouterr().err
 
@@ -246,6 +277,28 @@ def test_robustness_table_counts_only_complete_coverings():
     assert complete == {"READING-DEPENDENT": 1, "ROBUST-VIOLATED": 1, "DEFAULT-ONLY": 3}
     assert table["I13"] == {"ROBUST-VERIFIED": 1}  # I13 reads no option: one reading is all
     assert table["UNCLASSIFIED"] == {"NOT-APPLICABLE": 1}
+
+
+def test_robustness_table_counts_runs_over_the_constant_beside_the_robustness(capsys):
+    from gather_verify.paper.readings import OVER, format_robustness
+
+    base = {"algorithm": "paper", "extra": {"on": "all"}}
+    dynamic = {"algorithm": "paper", "extra": {"on": "all", "covering": "dynamic"}}
+    over = {"runs": 2, "readings": 80, "moves": 33, "bound": 32.0}
+    rows = [{"key": k, "class": "I31", "verdict": v} for k, v in
+            (("a", "VIOLATED"), ("b", "VIOLATED"), ("c", "VERIFIED"))]
+    robust = [{"key": "a", "class": "I31", "verdict": "INCOMPLETE",
+               "trace": {"over_constant": over}},
+              {"key": "b", "class": "I31", "verdict": "ROBUST-VIOLATED",
+               "trace": {"over_constant": None}},
+              {"key": "c", "class": "I31", "verdict": "ROBUST-VERIFIED",
+               "trace": {"over_constant": over}}]
+    table = robustness_table([(base, rows), (dynamic, robust)])
+    assert table["I31"] == {"INCOMPLETE": 1, "ROBUST-VIOLATED": 1, "ROBUST-VERIFIED": 1,
+                            OVER: 2}
+    format_robustness(table)
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("I31"))
+    assert line.split()[:2] == ["I31", "3"] and line.split()[-1] == "2"
 
 
 def test_sweep_readings_stores_every_reading(tmp_path, capsys):
@@ -355,6 +408,67 @@ def test_hidden_infer_acts_only_where_the_hidden_node_is_known():
         analyse(three, hidden="infer")
 
 
+def _read_unrecorded(monkeypatch, hidden: str) -> None:
+    """Break the tracker on purpose: ``hidden`` is read without being recorded."""
+    def unrecorded(self, option):
+        if option != hidden:
+            self.consulted.add(option)
+        return self.values[option]
+
+    monkeypatch.setattr(Reading, "__getitem__", unrecorded)
+
+
+# -- the proof of Theorem 8: GuardMovement starts when one position is off m ----------------
+
+F4_N2 = ROOT / "scenarios/regressions/i22-final-paper-async-c933bc2a.json"
+I21_PILE_ON_GUARD = [Configuration([(0, 0), (0, 1), (0, 2), (0, 3)], m, initial=True)
+                     for m in ([(1, 0), (1, 1), (2, 2), (3, 2)], [(1, 0), (2, 0), (3, 1), (3, 2)])]
+
+
+def test_movement_proof_removes_the_deadlocks_on_the_guards_node():
+    """F4 with two robots and the two I21 runs whose non-guards all step onto the guard: the
+    pseudo-code leaves every robot there without a move; the proof's GuardMovement walks
+    them to m (every robot on the guard's node, then the multiplicity left behind)."""
+    for c in [configuration(F4_N2), *I21_PILE_ON_GUARD]:
+        assert verdict(c, "paper") == ("VIOLATED", "final"), c
+        assert verdict(c, "paper:movement=proof") == ("VERIFIED", None), c
+
+
+def test_movement_proof_acts_only_where_the_pseudo_code_has_no_rule():
+    """Every robot on the placed guard's node: no move, or towards m. Finalization: the
+    position off the target moves as before; only its robots on a multiplicity, to whom
+    ``survivor=neither`` gives no move, get one; other parses of line 2 are left alone."""
+    pile = Configuration([(0, 0)], [(1, 0), (1, 1), (2, 1), (2, 2)])
+    reading = Reading(DEFAULTS)
+    assert analyse(pile, reading).moves == {(0, 0): {(0, 0)}}
+    assert "movement" in reading.consulted
+    proof = analyse(pile, movement="proof")
+    assert proof.moves == {(0, 0): {(1, 0)}} and proof.target == (1, 0)
+    final = Configuration([(0, 0), (0, 1)], [(0, 1), (2, 1)])
+    reading = Reading(DEFAULTS)
+    plan = analyse(final, reading)
+    assert "movement" not in reading.consulted  # read by the robot on the multiplicity only
+    assert plan.if_multiplicity == {(0, 0): {(0, 0)}} and plan.proof_moves == {(0, 0): {(0, 1)}}
+    for survivor in ("not-both", "off-target"):
+        assert analyse(final, survivor=survivor).proof_moves == {}
+
+
+def test_movement_is_read_when_a_robot_on_the_multiplicity_decides():
+    """The option is consulted by ``allowed``, when a robot sees its own multiplicity at a
+    position of ``proof_moves``; planned move sets and ``decide`` agree on it."""
+    from gather_verify.algorithms.moves import frames_for, move_set
+
+    one_each = Configuration([(0, 0), (0, 1)], [(0, 1), (2, 1)])
+    two_on_guard = Configuration([(0, 0), (0, 0), (0, 1)], [(0, 1), (2, 1)])
+    for movement, expected in (("algorithm", {(0, 0)}), ("proof", {(0, 1)})):
+        algo = PaperAlgorithm(movement=movement)
+        assert algo.move_sets(one_each, "local-weak", frames_for("all"))[(0, 0)] == {(0, 1)}
+        assert "movement" not in algo.consulted
+        planned = algo.move_sets(two_on_guard, "local-weak", frames_for("all"))
+        assert planned[(0, 0)] == expected == move_set(algo, two_on_guard, (0, 0))
+        assert "movement" in algo.consulted
+
+
 def test_every_unhandled_of_paper_starts_with_its_own_rule_label():
     """The text before the first colon names the rule (another tool groups failures by it):
     one label per raise site."""
@@ -417,12 +531,7 @@ def test_readings_equal_on_the_consulted_options_plan_alike():
 
 def test_the_tracker_check_would_catch_an_option_read_unrecorded(monkeypatch):
     """Broken on purpose: ``survivor`` read without being recorded."""
-    def unrecorded(self, option):
-        if option != "survivor":
-            self.consulted.add(option)
-        return self.values[option]
-
-    monkeypatch.setattr(Reading, "__getitem__", unrecorded)
+    _read_unrecorded(monkeypatch, "survivor")
     failures = _tracker_failures(_finalization_snapshots())
     assert failures and all(a["survivor"] != b["survivor"] for _, a, b in failures)
 
@@ -444,19 +553,21 @@ def test_dynamic_covering_gives_every_reading_the_verdict_of_its_own_run():
                                     "async") == []
     assert _dynamic_against_product(F7_I31[0], "finalize,outside,survivor,hidden",
                                     "fsync") == []
+    # movement is read by a robot when it decides, not by a plan
+    assert _dynamic_against_product(F4_N3, "movement,survivor,finalize=closest|literal",
+                                    "async") == []
 
 
-def test_dynamic_covering_check_would_catch_a_broken_tracker(monkeypatch):
-    """Broken on purpose: ``placement`` read without being recorded, so the run under
-    ``placement=closest`` claims the ``reachable`` readings too."""
-    def unrecorded(self, option):
-        if option != "placement":
-            self.consulted.add(option)
-        return self.values[option]
-
-    monkeypatch.setattr(Reading, "__getitem__", unrecorded)
-    wrong = _dynamic_against_product(F11_DIAGONAL, "placement,finalize=closest", "async")
-    assert wrong and all("placement=reachable" in a for a, _, _ in wrong)
+@pytest.mark.parametrize(("option", "path", "readings", "other"), [
+    ("placement", F11_DIAGONAL, "placement,finalize=closest", "placement=reachable"),
+    ("movement", F4_N3, "movement,survivor", "movement=proof")])
+def test_dynamic_covering_check_would_catch_a_broken_tracker(monkeypatch, option, path,
+                                                             readings, other):
+    """Broken on purpose: ``option`` read without being recorded, so the runs under its
+    first value claim the readings of the other too."""
+    _read_unrecorded(monkeypatch, option)
+    wrong = _dynamic_against_product(path, readings, "async")
+    assert wrong and all(other in a for a, _, _ in wrong)
 
 
 def test_check_cli_readings_all_on_the_a4_witness(capsys):
@@ -464,7 +575,7 @@ def test_check_cli_readings_all_on_the_a4_witness(capsys):
     out = json.loads(capsys.readouterr().out)
     assert code == 1 and out["robustness"] == "READING-DEPENDENT"
     by = {r["algorithm"]: r["verdict"] for r in out["readings"]}
-    assert len(by) == 192 and len(out["runs"]) < 192
+    assert len(by) == 384 and len(out["runs"]) < 384
     assert {v for a, v in by.items() if "placement=reachable" in a} == {"VERIFIED"}
     assert {v for a, v in by.items() if "placement=closest" in a} == {"VIOLATED"}
 
@@ -506,3 +617,16 @@ def test_a_readings_sweep_examines_every_configuration_by_the_dynamic_covering(t
         assert row["verdict"] == full["robustness"], row["key"]
     assert main(argv) == 1  # resumed: nothing to compute, the same tables
     assert json.loads(capsys.readouterr().out) == out
+
+
+def test_the_default_readings_verdict_table_says_it_is_one_reading(tmp_path, capsys):
+    """The README's main job: the verdict table of ``paper`` says its counts are the default
+    reading's and points to --readings; another algorithm's table says nothing of it."""
+    argv = ["sweep", "--robots", "2", "--meeting", "2", "--box", "2x2", "--workers", "1"]
+    main([*argv, "--algorithm", "paper", "--db", str(tmp_path / "p.sqlite")])
+    out = capsys.readouterr().out
+    assert "under its default reading" in out and "--readings all" in out
+    main([*argv, "--algorithm", "paper:alpha=mer_f", "--db", str(tmp_path / "f.sqlite")])
+    assert "under the reading paper:alpha=mer_f" in capsys.readouterr().out
+    main([*argv, "--algorithm", "go-to-target", "--db", str(tmp_path / "g.sqlite")])
+    assert "--readings" not in capsys.readouterr().out

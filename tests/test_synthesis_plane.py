@@ -96,9 +96,31 @@ def _meeting_on_axis(cert: dict[str, Any]) -> None:
     raise AssertionError("no phi with a fixed node in the certificate")
 
 
+def _class(cert: dict[str, Any]) -> None:
+    cert["configurations"][0]["class"] = "I41" if cert["configurations"][0]["class"] != "I41" \
+        else "I42"
+
+
+def _not_in_u(cert: dict[str, Any]) -> None:
+    cert["configurations"][0]["in_U"] = False
+
+
+def _describe(cert: dict[str, Any]) -> None:
+    cert["configurations"][0]["phi"]["describe"] = "rotation 90 about (0, 0) [node]"
+
+
+def _order(cert: dict[str, Any]) -> None:
+    cert["configurations"][0]["phi"]["k"] = 4
+
+
+def _claim(cert: dict[str, Any]) -> None:
+    cert["claim"] = cert["claim"].replace("every algorithm", "every algorithm, with lights")
+
+
 @pytest.mark.parametrize("tamper", [_phi_moved, _phi_not_a_frame, _robot_moved, _digest,
                                     _fewer_states, _dropped, _scheduler, _task,
-                                    _meeting_on_axis])
+                                    _meeting_on_axis, _class, _not_in_u, _describe, _order,
+                                    _claim])
 def test_a_broken_certificate_fails_verify(tmp_path: Path, certificate: dict[str, Any],
                                            tamper: Any) -> None:
     broken = copy.deepcopy(certificate)
@@ -108,6 +130,25 @@ def test_a_broken_certificate_fails_verify(tmp_path: Path, certificate: dict[str
     run = cli("--verify", str(path))
     assert run.returncode == 1, (run.returncode, run.stdout, run.stderr)
     assert one_line(run).startswith("certificate REJECTED")
+
+
+def test_a_certificate_of_zero_rounds_is_refused(tmp_path: Path,
+                                                certificate: dict[str, Any]) -> None:
+    """With 0 rounds the adversary's step is checked on no configuration: refused in one
+    line, exit 2, though its states and digest are those of 0 rounds."""
+    zero = copy.deepcopy(certificate)
+    views = plane.PlaneViews("local-weak", "all")
+    for e in zero["configurations"]:
+        c = Configuration([tuple(v) for v in e["robots"]],
+                          [tuple(v) for v in e["meeting_nodes"]], initial=True)
+        phi = Automorphism(e["phi"]["g"], tuple(e["phi"]["t"]))  # type: ignore[arg-type]
+        closure = plane.adversary_closure(c, phi, views, 0)
+        e.update(rounds=0, states=closure.states, digest=closure.digest)
+    path = tmp_path / "zero.json"
+    path.write_text(json.dumps(zero))
+    run = cli("--verify", str(path))
+    assert run.returncode == 2, (run.returncode, run.stdout, run.stderr)
+    assert "rounds 0" in one_line(run)
 
 
 def test_the_adversary_check_fails_on_views_that_break_the_symmetry(

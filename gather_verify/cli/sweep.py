@@ -210,6 +210,7 @@ def _run(args: argparse.Namespace) -> int:
         print_json(summary if args.timings else without_timings(summary))
     else:
         format_summary(summary)
+        _reading_note(args.algorithm)
         print(f"\nresults: {os.path.abspath(args.db)}")
         if summary["settings"]:
             print(f"fingerprint: {summary['settings']['fingerprint']} (the algorithm's source "
@@ -219,6 +220,22 @@ def _run(args: argparse.Namespace) -> int:
     if "VIOLATED" in verdicts:
         return 1
     return 3 if "INCOMPLETE" in verdicts else 0
+
+
+def _reading_note(algorithm: str) -> None:
+    """Under the verdict table of the paper's algorithm: the counts are one reading's, not
+    yet faults of the paper (SEMANTICS.md §8), and how to tell them apart."""
+    from gather_verify.algorithms import parse_name
+
+    name, options = parse_name(algorithm)
+    if name != "paper":
+        return
+    which = "its default reading" if not options else f"the reading {algorithm}"
+    print(f"\nThe verdicts are those of the paper's algorithm under {which} of the paper's "
+          "ambiguous passages (docs/interpretations.md). A VIOLATED count is not yet a fault "
+          "of the paper: another reading removes many of them. Add --readings all to count "
+          "ROBUST-VIOLATED (every reading refutes a claim) apart from READING-DEPENDENT "
+          "(docs/findings.md).")
 
 
 def _lights(args: argparse.Namespace) -> None:

@@ -41,7 +41,9 @@ meeting node, and a robot is *outside* when ``dist > d1``):
    on a corner (guard placed): the target ``m`` is the meeting node closest
    to ``g``, ties by the first in ``O''`` (the lambda scan of MER from
    ``g``'s corner, its lines parallel to the key corner's string direction); the non-guard robots not on ``m``
-   closest to ``m`` step towards it along shortest paths (``MakeMultiplicity``);
+   closest to ``m`` step towards it along shortest paths (``MakeMultiplicity``); none
+   left, every robot on ``g``'s node: everybody stays (``movement=proof``: towards
+   ``m``, below);
 8. asymmetric otherwise (guard selection): among the robots farthest from
    ``L ∪ {c}`` the unique one, or the one with the maximum configuration view,
    steps away from ``L ∪ {c}``; everybody else stays.
@@ -86,7 +88,15 @@ that is farthest from L ∪ {c} and does not lie on a multiplicity is selected a
 guard"; the run started outside U and Lemma 7 says it never enters U, so the snapshot
 hides a multiplicity; with two positions a robot off a multiplicity knows the other
 holds it, is that guard and steps away from ``L ∪ {c}``; with more it cannot tell
-where the multiplicity is: no rule).
+where the multiplicity is: no rule);
+``movement=algorithm`` (default: GuardMovement only as Algorithm 4 names its robot) or
+``proof`` (the proof of Theorem 8: "If there is at most one robot position which is not
+on m at time t', then the execution of GuardMovement() is started", the guard moving
+towards m; applied only where the pseudo-code has no rule: every robot on the placed
+guard's node off M, where Algorithm 3 has no non-guard left to move and Algorithm 4
+needs ``n1 = 2``, and, under ``survivor=neither``, the robots on a multiplicity at the
+position off the target in Finalization, to whom Algorithm 4 line 2 gives no move: they
+step towards the target).
 
 Every ``Unhandled`` message starts with a short label of the rule that has no answer,
 up to the first colon (``I2 guard placement``, ``I41-looking snapshot``,
@@ -131,6 +141,7 @@ READINGS: dict[str, tuple[str, ...]] = {
     "placement": ("closest", "reachable"),
     "survivor": ("neither", "not-both", "off-target"),
     "hidden": ("unhandled", "infer"),
+    "movement": ("algorithm", "proof"),
 }
 """Every option of ``paper``: one ambiguous passage of the paper each, its values, the default
 (the most charitable reading, or the reading before the switch existed) first.
@@ -151,6 +162,11 @@ class Plan:
     ``moves[v]`` is the set of allowed destinations of the robots on ``v``
     (``{v}`` = stay); ``if_multiplicity[v]``, when present, replaces it for
     robots that see their own node as a multiplicity (Algorithm 4 only).
+    ``proof_moves[v]``, when present, replaces ``if_multiplicity[v]`` under
+    ``movement=proof``: the robots on a multiplicity off the target, to whom
+    Algorithm 4 line 2 gives no move, go towards the target as the proof of
+    Theorem 8 has GuardMovement do (:meth:`PaperAlgorithm.allowed` reads the
+    option only when such a robot is met).
     """
 
     phase: str
@@ -158,14 +174,16 @@ class Plan:
     moves: dict[Node, frozenset[Node]]
     if_multiplicity: dict[Node, frozenset[Node]] = field(default_factory=dict)
     guard: Node | None = None
+    proof_moves: dict[Node, frozenset[Node]] = field(default_factory=dict)
 
 
 class Reading(Mapping[str, str]):
     """One reading (a value per option of ``READINGS``) that records which options were read.
 
-    ``analyse`` reads every option through this mapping, and only where a rule needs it, so
-    ``consulted`` is every option a plan depended on: two readings equal on the options
-    consulted over all the plans of a run give the same plans, hence the same run
+    ``analyse`` reads every option through this mapping, and only where a rule needs it
+    (:meth:`PaperAlgorithm.allowed` reads ``movement`` so, when a robot decides), so
+    ``consulted`` is every option a plan or a robot's move depended on: two readings equal
+    on the options consulted over a run give the same plans and moves, hence the same run
     (:mod:`gather_verify.paper.readings`, the dynamic covering).
 
     >>> r = Reading({**DEFAULTS, "finalize": "n1"})
@@ -294,12 +312,16 @@ def _finalization(c: Configuration, o: Mapping[str, str]) -> Plan | None:
     if finalize == "target" and tied and other in strings.corners(c.mer()) and \
             target_meeting_node(c, other, o) != target:  # p placed: O'' breaks the tie
         return None
-    moves, if_multiplicity = _survivors(c, target, o)
-    return Plan("I2 finalization", target, moves, if_multiplicity, guard=other)
+    moves, if_multiplicity, proof = _survivors(c, target, o)
+    return Plan("I2 finalization", target, moves, if_multiplicity, guard=other,
+                proof_moves=proof)
+
+
+Moves = dict[Node, frozenset[Node]]
 
 
 def _survivors(c: Configuration, target: Node | None, o: Mapping[str, str]
-               ) -> tuple[dict[Node, frozenset[Node]], dict[Node, frozenset[Node]]]:
+               ) -> tuple[Moves, Moves, Moves]:
     """Algorithm 4 lines 2-3 with ``n1 = 2``: "Let r be the robot that does not lie on a
     robot multiplicity node and on a meeting node; r moves towards the other robot
     position", as the robots on each position do it, seeing their own multiplicity bit,
@@ -308,7 +330,11 @@ def _survivors(c: Configuration, target: Node | None, o: Mapping[str, str]
     a meeting node; ``not-both``: r is not on a node that is both; ``off-target``: every
     robot not on the target moves (the prose: "the guard moves; the robots on m stay"),
     and with no target (no position a meeting node) every robot moves.
-    ``if_multiplicity`` is what the robots that see their own node as a multiplicity do."""
+    ``if_multiplicity`` is what the robots that see their own node as a multiplicity do;
+    the third map, what they do under ``movement=proof`` where ``survivor=neither`` leaves
+    every robot on the position off the target without a move (the proof of Theorem 8:
+    "If there is at most one robot position which is not on m at time t', then the
+    execution of GuardMovement() is started", the guard moving towards m)."""
     a, b = sorted(c.occupied)
     moves = _stay_all(c)
     if_multiplicity: dict[Node, frozenset[Node]] = {}
@@ -327,7 +353,9 @@ def _survivors(c: Configuration, target: Node | None, o: Mapping[str, str]
     if survivor == "neither" and all(v in c.meeting_nodes for v in (a, b)):
         raise Unhandled("Finalization: no survivor: both positions are meeting nodes, no robot "
                         "qualifies as r (survivor=neither)")
-    return moves, if_multiplicity
+    proof = {} if target is None or survivor != "neither" else {
+        v: closer_steps(v, target) for v in (a, b) if v not in c.meeting_nodes}
+    return moves, if_multiplicity, proof
 
 
 def _literal_finalization(c: Configuration, o: Mapping[str, str]) -> Plan:
@@ -335,10 +363,10 @@ def _literal_finalization(c: Configuration, o: Mapping[str, str]) -> Plan:
     :func:`_survivors` names move towards the other position."""
     on_meeting = sorted(v for v in c.occupied if v in c.meeting_nodes)
     target = on_meeting[0] if len(on_meeting) == 1 else None
-    moves, if_multiplicity = _survivors(c, target, o)
+    moves, if_multiplicity, proof = _survivors(c, target, o)
     movers = sorted(v for v in c.occupied if moves[v] != {v})
     return Plan("I2 finalization (literal)", target, moves, if_multiplicity,
-                guard=movers[0] if len(movers) == 1 else None)
+                guard=movers[0] if len(movers) == 1 else None, proof_moves=proof)
 
 
 def _gathering_asym(c: Configuration, symmetry: Automorphism, o: Mapping[str, str]) -> Plan:
@@ -417,6 +445,12 @@ def _guard_placed_or_placing(c: Configuration, guard: Node, dist, o: Mapping[str
         return Plan("I2 guard placement", None, moves, guard=guard)
     target = target_meeting_node(c, guard, o)
     others = [r for r in c.occupied if r != guard and r != target]
+    if c.occupied == {guard} and o["movement"] == "proof":
+        # every robot on the guard's node, off M: Algorithm 3 has no non-guard left to move
+        # and Algorithm 4 needs n1 = 2; the proof of Theorem 8 starts GuardMovement here
+        # ("at most one robot position which is not on m"): the guard's node goes to m
+        moves[guard] = closer_steps(guard, target)
+        return Plan("I2 guard movement (proof of Theorem 8)", target, moves, guard=guard)
     if others:
         nearest = min(manhattan(r, target) for r in others)
         for r in others:
@@ -555,10 +589,11 @@ class PaperAlgorithm:
     def __init__(self, alpha: str = "mer", unclassified: str = "break",
                  outside: str = "distance", finalize: str = "closest",
                  metric: str = "manhattan", oscan: str = "key", placement: str = "closest",
-                 survivor: str = "neither", hidden: str = "unhandled") -> None:
+                 survivor: str = "neither", hidden: str = "unhandled",
+                 movement: str = "algorithm") -> None:
         given = {"alpha": alpha, "metric": metric, "oscan": oscan, "finalize": finalize,
                  "outside": outside, "unclassified": unclassified, "placement": placement,
-                 "survivor": survivor, "hidden": hidden}
+                 "survivor": survivor, "hidden": hidden, "movement": movement}
         for option, value in given.items():
             if value not in READINGS[option]:
                 raise InvalidInput(f"bad option {option}={value!r}: use "
@@ -566,7 +601,8 @@ class PaperAlgorithm:
         self.reading = {option: given[option] for option in READINGS}
         self.consulted: set[str] = set()
         """Every option read by a plan this instance computed (a plan comes from the cache
-        only if this instance computed it): the dynamic covering of the readings."""
+        only if this instance computed it) or by one of its robots' moves (``allowed``):
+        the dynamic covering of the readings."""
         self.name = "paper"
         self._plan = lru_cache(maxsize=CACHE_SIZE)(self._plan_uncached)
 
@@ -595,7 +631,8 @@ class PaperAlgorithm:
 
         return Plan(plan.phase, None if plan.target is None else unmap(plan.target),
                     unmap_all(plan.moves), unmap_all(plan.if_multiplicity),
-                    None if plan.guard is None else unmap(plan.guard))
+                    None if plan.guard is None else unmap(plan.guard),
+                    unmap_all(plan.proof_moves))
 
     def move_sets(self, configuration: Configuration, detection: str,
                   frames: tuple[int, ...]) -> dict[Node, frozenset[Node]] | None:
@@ -613,13 +650,23 @@ class PaperAlgorithm:
         counts = configuration.counts
         out = {}
         for v in counts:
-            allowed = plan.moves[v]
-            if v in plan.if_multiplicity and counts[v] > 1:
-                allowed = plan.if_multiplicity[v]
+            allowed = self.allowed(plan, v, counts[v] > 1)
             relative = frozenset((x - v[0], y - v[1]) for x, y in allowed)
             out[v] = frozenset((v[0] + dx, v[1] + dy)
                                for dx, dy in (_global_answer(relative, g) for g in frames))
         return out
+
+    def allowed(self, plan: Plan, v: Node, multiplicity: bool) -> frozenset[Node]:
+        """The destinations of a robot on ``v`` that sees its own node as a multiplicity
+        (``multiplicity``) or not. ``movement`` is read here, and only when such a robot is
+        on a node of ``plan.proof_moves``: a run that never meets one stands for both
+        values (the dynamic covering, :mod:`gather_verify.paper.readings`)."""
+        if not multiplicity or v not in plan.if_multiplicity:
+            return plan.moves[v]
+        if v in plan.proof_moves and \
+                Reading(self.reading, self.consulted)["movement"] == "proof":
+            return plan.proof_moves[v]
+        return plan.if_multiplicity[v]
 
     def decide(self, view: View) -> Node:
         key, g, t = view.canonical()
@@ -627,10 +674,7 @@ class PaperAlgorithm:
         if isinstance(plan, Unhandled):
             raise Unhandled(str(plan))
         me = t  # the robot is at the origin of its view: g(0) + t = t
-        allowed = plan.moves[me]
-        if me in plan.if_multiplicity and view.multiplicity():
-            allowed = plan.if_multiplicity[me]
-        return _answer(allowed, me, g)
+        return _answer(self.allowed(plan, me, view.multiplicity()), me, g)
 
     def phase(self, configuration: Configuration) -> str | None:
         """The phase of the plan for ``configuration`` (None where there is no rule)."""

@@ -7,12 +7,19 @@ an option of ``paper`` (:data:`gather_verify.paper.algorithm.READINGS`,
 the configuration under every combination of them that can act on it, and the
 verdicts give its *robustness*:
 
-- ``ROBUST-VIOLATED``: VIOLATED under every reading run;
-- ``ROBUST-VERIFIED``: VERIFIED under every reading run;
-- ``READING-DEPENDENT``: VIOLATED under some reading and VERIFIED under another;
-- ``INCOMPLETE``: some reading INCOMPLETE and the others all agree (never robust on
-  fewer readings than claimed); ``NOT-APPLICABLE``: the configuration is in U or
+- ``ROBUST-VIOLATED``: every reading run refutes a claim of the paper;
+- ``ROBUST-VERIFIED``: no reading run refutes one;
+- ``READING-DEPENDENT``: some reading refutes one and another refutes none;
+- ``INCOMPLETE``: some reading's run is undecided and the others all agree (never robust
+  on fewer readings than claimed); ``NOT-APPLICABLE``: the configuration is in U or
   UNCLASSIFIED (no reading applies the algorithm).
+
+What refutes a claim (:func:`fault`): a safety violation (``defined``,
+``target-invariance``, ``no-ungatherable``), a run that never gathers (``final``,
+``termination``: a deadlock or a fair livelock), any other property asked for, or an
+infinite run (``move-bound`` by a cycle with moves). A finite run over ``c·D·n`` does not:
+the paper claims O(Dn) moves, with no constant, and ``c`` is the project's. Such a run
+is reported *over the project's constant*, beside the robustness, never as a fault.
 
 The covering set. ``M`` never changes during a run, and which options
 :func:`gather_verify.paper.algorithm.analyse` can read depends on ``M`` alone
@@ -29,21 +36,22 @@ product, never one at a time, because they interact: finding F9 disappears only 
 
 ``check --readings`` and ``sweep --readings`` run fewer (:func:`check_readings`, the
 dynamic covering; a sweep runs it per configuration, :func:`verify_readings_one`): the
-plans read every option through a recording :class:`~gather_verify.paper.algorithm.Reading`,
-so after a run the instance knows every option its plans consulted; a reading that agrees
-with the run on those options computes the same plan on every snapshot the run planned,
-hence explores the same graph in the same order to the same verdict, and the run stands
-for it. The next run is the first reading not yet stood for. ``tests/test_readings.py``
+plans (and the robots, for ``movement``) read every option through a recording
+:class:`~gather_verify.paper.algorithm.Reading`, so after a run the instance knows every
+option its plans and moves consulted; a reading that agrees with the run on those options
+computes the same plan on every snapshot the run planned and the same moves, hence
+explores the same graph in the same order to the same verdict, and the run stands for
+it. The next run is the first reading not yet stood for. ``tests/test_readings.py``
 checks both claims on random snapshots, compares the dynamic covering with the full
 product, and fails when either claim is broken on purpose.
 
 >>> varied = parse_readings("all")
 >>> [len(v) for v in varied.values()]
-[2, 2, 2, 4, 2, 2, 2, 3, 2]
+[2, 2, 2, 4, 2, 2, 2, 3, 2, 2]
 >>> from gather_verify.model.configuration import Configuration
 >>> i22 = Configuration([(0, 0), (2, 3)], [(3, 0), (3, 1)])
->>> len(covering(varied, i22))  # every option but alpha: 2*2*4*2*2 * 2*3*2
-768
+>>> len(covering(varied, i22))  # every option but alpha: 2*2*4*2*2 * 2*3*2*2
+1536
 >>> [r.split(",")[0] for r in covering(varied, Configuration([(0, 0)], [(0, 0), (1, 0), (3, 1)]))]
 ['paper:alpha=mer', 'paper:alpha=mer_f']
 >>> robustness(["VIOLATED", "VERIFIED"]), robustness(["VIOLATED", "INCOMPLETE"])
@@ -66,7 +74,11 @@ ROBUSTNESS = ("ROBUST-VIOLATED", "READING-DEPENDENT", "ROBUST-VERIFIED", "INCOMP
               "NOT-APPLICABLE")
 ROBUSTNESS_EXIT = {"ROBUST-VERIFIED": 0, "ROBUST-VIOLATED": 1, "READING-DEPENDENT": 1,
                    "INCOMPLETE": 3, "NOT-APPLICABLE": 4}
-"""Exit codes of ``check --readings``: 1 as soon as some reading violates."""
+"""Exit codes of ``check --readings``: 1 as soon as some reading refutes a claim."""
+OVER = "OVER-CONSTANT"
+"""The column of a robustness table that counts, beside the robustness, the configurations
+with a finite run over ``c·D·n`` under some reading: over the project's constant, which
+no claim of the paper states (it claims O(Dn) moves)."""
 
 M_TYPES = ("I1-ordered", "I13", "reflection", "rotation")
 """What ``M`` alone decides about a run: see :func:`m_type`."""
@@ -78,9 +90,10 @@ CLASS_M_TYPE = {"I11": "I1-ordered", "I12": "I1-ordered", "I13": "I13", "I21": "
 _READ: dict[str, tuple[str, ...]] = {
     "I1-ordered": ("alpha",),
     "I13": (),
-    "reflection": ("oscan", "finalize", "outside", "placement", "survivor", "hidden"),
+    "reflection": ("oscan", "finalize", "outside", "placement", "survivor", "hidden",
+                   "movement"),
     "rotation": ("metric", "oscan", "finalize", "outside", "unclassified", "placement",
-                 "survivor", "hidden"),
+                 "survivor", "hidden", "movement"),
 }
 
 
@@ -162,8 +175,52 @@ def covering(varied: dict[str, tuple[str, ...]], c: Configuration) -> list[str]:
     return covering_for(varied, m_type(c))
 
 
+def fault(report: dict[str, Any]) -> tuple[str, dict[str, Any] | None]:
+    """What one run says of the paper's claims, and its finite run over the project's
+    constant if it has one.
+
+    The first is ``VIOLATED`` when a property other than ``move-bound`` fails, or
+    ``move-bound`` does by an infinite run (a cycle with moves); ``VERIFIED`` when every
+    other property holds, whether or not a finite run goes over ``c·D·n``; ``INCOMPLETE``
+    when one is undecided (a limit, or a search stopped by its region after a finite run
+    over the bound); ``NOT-APPLICABLE`` as the check says. The second, for a finite run
+    over ``c·D·n``: ``{"moves": the moves of that run (None when another property's trace
+    is the one shown), "bound": c·D·n}``.
+
+    >>> over = {"verdict": "VIOLATED", "property": "move-bound", "max_moves": None,
+    ...         "max_moves_infinite": False, "bound": 32.0,
+    ...         "trace": {"detail": {"moves": 33}},
+    ...         "properties": {"move-bound": {"holds": False}, "final": {"holds": None}}}
+    >>> fault(over)
+    ('INCOMPLETE', {'moves': 33, 'bound': 32.0})
+    >>> over["properties"]["final"]["holds"] = True
+    >>> fault(over)[0], fault({**over, "max_moves_infinite": True})
+    ('VERIFIED', ('VIOLATED', None))
+    """
+    verdict = report["verdict"]
+    if verdict in ("NOT-APPLICABLE", "VERIFIED"):
+        return verdict, None
+    properties = report.get("properties") or {}
+    bound = properties.get("move-bound") or {}
+    finite = bound.get("holds") is False and not report.get("max_moves_infinite")
+    over = None
+    if finite:
+        moves = report.get("max_moves")
+        if moves is None and report.get("property") == "move-bound":
+            moves = ((report.get("trace") or {}).get("detail") or {}).get("moves")
+        over = {"moves": moves, "bound": report.get("bound")}
+    others = [r.get("holds") for name, r in properties.items()
+              if not (finite and name == "move-bound")]
+    if False in others or (verdict == "VIOLATED" and not finite):
+        return "VIOLATED", over
+    if verdict == "INCOMPLETE" or None in others:
+        return "INCOMPLETE", over
+    return "VERIFIED", over
+
+
 def robustness(verdicts: Iterable[str]) -> str:
-    """The robustness of one configuration from its verdicts under the readings run."""
+    """The robustness of one configuration from what its runs say of the claims
+    (:func:`fault`) under the readings run."""
     seen = set(verdicts)
     if not seen or seen == {"NOT-APPLICABLE"}:
         return "NOT-APPLICABLE"
@@ -186,12 +243,17 @@ def check_readings(configuration: Configuration, readings: str, *, algorithm: st
                    **check: Any) -> dict[str, Any]:
     """``run_check`` under every reading of the covering set; the first reading's report
     (the base algorithm's when its values are listed) with ``readings`` (one entry per
-    reading of the covering set, with the ``run`` that stands for it), ``runs``,
-    ``robustness`` and ``readings_not_read`` (options the plans of this ``M`` never read).
+    reading of the covering set, with the ``run`` that stands for it and the run's
+    ``fault``), ``runs`` (each with its ``fault`` and, for a finite run over ``c·D·n``,
+    ``over``: :func:`fault`), ``robustness`` (from the faults), ``over_constant`` (the runs
+    over the project's constant, the readings they stand for and their largest run; None
+    when there is none) and ``readings_not_read`` (options the plans of this ``M`` never
+    read).
 
     ``dynamic`` (the default): a run stands for every reading that agrees with it on the
-    options its plans consulted (:class:`~gather_verify.paper.algorithm.Reading`): those
-    readings compute the same plan on every snapshot the run planned, so they explore
+    options its plans and moves consulted (:class:`~gather_verify.paper.algorithm.Reading`):
+    those readings compute the same plan on every snapshot the run planned and the same
+    moves, so they explore
     the same graph, in the same order, and reach the same verdict. The next run is the
     first reading no run stands for yet. ``dynamic=False`` runs every reading."""
     if run is None:
@@ -210,21 +272,44 @@ def check_readings(configuration: Configuration, readings: str, *, algorithm: st
         consulted = sorted(instance.consulted) if dynamic else list(READINGS)
         covered = [r for r in pending if all(r[o] == values[o] for o in consulted)]
         pending = [r for r in pending if r not in covered]
+        claims, over = fault(report)  # a run that refutes a claim: its over is by the way
         runs.append({"algorithm": spec, "verdict": report["verdict"],
-                     "property": report["property"], "consulted": consulted,
+                     "property": report["property"], "fault": claims,
+                     **({"over": over} if over and claims != "VIOLATED" else {}),
+                     "consulted": consulted,
                      "readings": len(covered), "report": report})
         for r in covered:
-            stands[reading_name(r)] = (spec, report)
+            stands[reading_name(r)] = (spec, runs[-1])
     out = dict(runs[0]["report"])
     out["readings"] = [{"algorithm": spec, "verdict": stands[spec][1]["verdict"],
-                        "property": stands[spec][1]["property"], "run": stands[spec][0]}
+                        "property": stands[spec][1]["property"],
+                        "fault": stands[spec][1]["fault"], "run": stands[spec][0]}
                        for spec in specs]
     out["runs"] = [{k: v for k, v in r.items() if k != "report"} for r in runs]
-    out["robustness"] = robustness(r["verdict"] for r in runs)
+    out["robustness"] = robustness(r["fault"] for r in runs)
+    out["over_constant"] = over_constant(out["runs"])
     read = relevant_options(configuration)
     out["readings_not_read"] = {o: list(varied[o]) for o in READINGS
                                 if o not in read and len(varied[o]) > 1}
     return out
+
+
+def over_constant(runs: Iterable[dict[str, Any]]) -> dict[str, Any] | None:
+    """The runs of a :func:`check_readings` report that refute no claim but go over
+    ``c·D·n`` by a finite run: how many runs, the readings they stand for, the most moves
+    such a run shows and the bound; None when there is none."""
+    over = [r for r in runs if r.get("over")]
+    if not over:
+        return None
+    moves = [r["over"]["moves"] for r in over if r["over"]["moves"] is not None]
+    return {"runs": len(over), "readings": sum(r["readings"] for r in over),
+            "moves": max(moves) if moves else None, "bound": over[0]["over"]["bound"]}
+
+
+def _over_text(over: dict[str, Any]) -> str:
+    moves = "a finite run" if over["moves"] is None else f"a finite run of {over['moves']} moves"
+    return (f"{moves} over c·D·n = {over['bound']:g}: over the project's constant, not a "
+            "fault of an O(Dn) claim")
 
 
 def format_readings(report: dict[str, Any], write: Callable[[str], Any] = print) -> None:
@@ -235,6 +320,9 @@ def format_readings(report: dict[str, Any], write: Callable[[str], Any] = print)
           f"{len(report['readings'])} reading{'s' if len(report['readings']) != 1 else ''}):")
     for r in runs:
         write(f"  {r['verdict']:15} {r['property'] or '-':18} {r['algorithm']}")
+        if r.get("over"):
+            write(f"  {'':15} {'':18} {_over_text(r['over'])}; the other claims: "
+                  + {"VERIFIED": "hold", "INCOMPLETE": "undecided"}.get(r["fault"], r["fault"]))
         if r["readings"] > 1:
             read = ", ".join(r["consulted"]) or "none"
             write(f"  {'':15} {'':18} stands for {r['readings']} readings (options read: "
@@ -243,6 +331,10 @@ def format_readings(report: dict[str, Any], write: Callable[[str], Any] = print)
         fixed = "; ".join(f"{o}={values[0]} stands for {'|'.join(values)}"
                           for o, values in report["readings_not_read"].items())
         write(f"  not read by the algorithm on this M: {fixed}")
+    over = report.get("over_constant")
+    if over:
+        write(f"over the project's constant: {over['runs']} run(s) for {over['readings']} "
+              f"reading(s), {_over_text(over)}")
     write(f"robustness: {report['robustness']}")
 
 
@@ -251,11 +343,11 @@ def format_readings(report: dict[str, Any], write: Callable[[str], Any] = print)
 
 def single_switches(report: dict[str, Any]) -> dict[str, list[str]]:
     """The readings of a :func:`check_readings` report that differ from the base (its first
-    reading) in exactly one option and reach the other verdict: ``removed_by`` (VERIFIED
-    where the base is VIOLATED) or ``broken_by`` (VIOLATED where the base is VERIFIED),
-    each as ``option=value``; ``combinations``: true when the configuration is
-    READING-DEPENDENT and no single switch changes the base's verdict."""
-    readings = [(_values(r["algorithm"]), r["verdict"]) for r in report["readings"]]
+    reading) in exactly one option and reach the other verdict on the claims (``fault``):
+    ``removed_by`` (VERIFIED where the base is VIOLATED) or ``broken_by`` (VIOLATED where
+    the base is VERIFIED), each as ``option=value``; ``combinations``: true when the
+    configuration is READING-DEPENDENT and no single switch changes the base's verdict."""
+    readings = [(_values(r["algorithm"]), r["fault"]) for r in report["readings"]]
     (base, verdict), rest = readings[0], readings[1:]
     goal = {"VIOLATED": "VERIFIED", "VERIFIED": "VIOLATED"}.get(verdict)
     switches = []
@@ -273,8 +365,10 @@ def verify_readings_one(settings: Any, index: int, c: Configuration) -> dict[str
     """One row of a readings sweep: the configuration under every reading of its covering
     set (:func:`check_readings`, the dynamic covering), with the sweep's own check settings.
     ``verdict`` holds the robustness, ``property`` and ``cause`` the base reading's, and
-    ``trace`` the evidence: every run with the options it read and the readings it stands
-    for, and the single switches that change the base's verdict."""
+    ``trace`` the evidence: every run with the options it read, the readings it stands for
+    and what it says of the claims, the single switches that change the base's verdict,
+    and ``over_constant`` (:func:`over_constant`). ``failing``: the properties of the runs
+    that refute a claim."""
     import time
 
     from gather_verify.sweeps.sweep import configuration_key
@@ -288,7 +382,7 @@ def verify_readings_one(settings: Any, index: int, c: Configuration) -> dict[str
         move_bound_c=settings.move_bound_c, max_memory_mb=settings.max_memory_mb,
         keep_growing=settings.keep_growing)  # memo off: every run plans its own snapshots
     switches = single_switches(report)
-    failing = sorted({r["property"] for r in report["runs"] if r["verdict"] == "VIOLATED"})
+    failing = sorted({r["property"] for r in report["runs"] if r["fault"] == "VIOLATED"})
     return {
         "key": configuration_key(c), "index": index,
         "robots": [list(r) for r in c.robots],
@@ -296,7 +390,8 @@ def verify_readings_one(settings: Any, index: int, c: Configuration) -> dict[str
         "class": report["class"], "verdict": report["robustness"], "n": len(c.robots),
         "property": report.get("property"), "cause": report.get("cause"),
         "reason": f"{len(report['runs'])} runs for {len(report['readings'])} readings",
-        "trace": {"runs": report["runs"], **switches}, "failing": failing,
+        "trace": {"runs": report["runs"], **switches,
+                  "over_constant": report["over_constant"]}, "failing": failing,
         "seconds": time.perf_counter() - started,
     }
 
@@ -308,9 +403,11 @@ def robustness_table(groups: Sequence[tuple[dict[str, Any], list[dict[str, Any]]
     :func:`verify_readings_one` (``covering: dynamic``). A configuration counts once: by its
     robustness row; ``NOT-APPLICABLE`` where the base says so; ``DEFAULT-ONLY`` where only
     the base ran (``--readings-on violated`` examines only what the base violates);
-    ``PARTIAL`` where an interrupted sweep has not examined it yet. A sweep stored with
-    one stored sweep per reading (``covering`` absent on every sweep of the group) is
-    counted the old way: by the verdicts of every reading its ``M`` type needs."""
+    ``PARTIAL`` where an interrupted sweep has not examined it yet. Beside them, not in the
+    count, :data:`OVER`: the examined configurations with a reading whose finite run goes
+    over ``c·D·n`` (:func:`over_constant`). A sweep stored with one stored sweep per
+    reading (``covering`` absent on every sweep of the group) is counted the old way: by
+    the verdicts of every reading its ``M`` type needs."""
     if not any(s["extra"].get("covering") == "dynamic" for s, _ in groups):
         return _static_table(groups)
     base: dict[str, dict[str, Any]] = {}
@@ -323,15 +420,17 @@ def robustness_table(groups: Sequence[tuple[dict[str, Any], list[dict[str, Any]]
             target[row["key"]] = row
     table: dict[str, dict[str, int]] = {}
     for key, row in base.items():
+        by = table.setdefault(row["class"], {})
         if key in robust:
             label = robust[key]["verdict"]
+            if (robust[key].get("trace") or {}).get("over_constant"):
+                by[OVER] = by.get(OVER, 0) + 1
         elif row["verdict"] == "NOT-APPLICABLE":
             label = "NOT-APPLICABLE"
         elif on == "violated" and row["verdict"] != "VIOLATED":
             label = "DEFAULT-ONLY"
         else:
             label = "PARTIAL"
-        by = table.setdefault(row["class"], {})
         by[label] = by.get(label, 0) + 1
     return table
 
@@ -392,7 +491,7 @@ def format_robustness(table: dict[str, dict[str, int]], write: Callable[[str], A
     READING-DEPENDENT configurations (:func:`switch_table`) when given."""
     from gather_verify.paper.classes import CLASS_NAMES
 
-    columns = [c for c in (*ROBUSTNESS, "DEFAULT-ONLY", "PARTIAL")
+    columns = [c for c in (*ROBUSTNESS, "DEFAULT-ONLY", "PARTIAL", OVER)
                if c in ROBUSTNESS[:3] or any(c in by for by in table.values())]
     header = f"{'class':<13}{'count':>7}" + "".join(f"{c:>19}" for c in columns)
     write(header)
@@ -400,8 +499,13 @@ def format_robustness(table: dict[str, dict[str, int]], write: Callable[[str], A
     for name in CLASS_NAMES:
         by = table.get(name)
         if by:
-            write(f"{name:<13}{sum(by.values()):>7}" + "".join(f"{by.get(c, 0):>19}"
-                                                             for c in columns))
+            count = sum(k for c, k in by.items() if c != OVER)
+            write(f"{name:<13}{count:>7}" + "".join(f"{by.get(c, 0):>19}" for c in columns))
+    write("ROBUST-VIOLATED: every reading refutes a claim (a safety violation, a run that "
+          "never gathers, an infinite run); a finite run over c·D·n refutes none")
+    if OVER in columns:
+        write(f"{OVER} (beside the count): a reading has a finite run over c·D·n, the "
+              "project's constant (the paper claims O(Dn) moves)")
     if "DEFAULT-ONLY" in columns:
         write("DEFAULT-ONLY: not violated by the base reading, the other readings not run "
               "(--readings-on violated)")

@@ -392,17 +392,19 @@ def make_instance(robots: str, meeting: str, scheduler: str, task: str | None,
 
 # -- certificates ----------------------------------------------------------------------------
 
+CLAIM = ("for each configuration and every algorithm (a deterministic function of the view up "
+         "to isomorphism, under these frames and this detection), Theorem 1's FSYNC adversary "
+         "has a run that keeps every configuration symmetric under phi, so it never gathers on "
+         "one meeting node (an FSYNC run is an SSYNC and an ASYNC run too). The adversary's "
+         "step is re-checked with the view code on every configuration it reaches within "
+         "'rounds' rounds (within the initial MER grown by 'rounds' nodes); beyond them it "
+         "carries on by the theorem's induction, as phi's linear part is one of the robots' "
+         "frames.")
+"""What a certificate of none claims; ``--verify`` refuses one that claims anything else."""
+
+
 def write_certificate(path: str, inst: PlaneInstance, entries: list[dict[str, Any]]) -> None:
-    data = {"format": FORMAT, "instance": inst.describe(),
-            "claim": ("for each configuration and every algorithm (a deterministic function "
-                      "of the view up to isomorphism, under these frames and this detection), "
-                      "Theorem 1's FSYNC adversary has a run that keeps every configuration "
-                      "symmetric under phi, so it never gathers on one meeting node (an FSYNC "
-                      "run is an SSYNC and an ASYNC run too). The adversary's step is "
-                      "re-checked with the view code on every configuration it reaches within "
-                      "'rounds' rounds (within the initial MER grown by 'rounds' nodes); "
-                      "beyond them it carries on by the theorem's induction, as phi's linear "
-                      "part is one of the robots' frames."),
+    data = {"format": FORMAT, "instance": inst.describe(), "claim": CLAIM,
             "configurations": entries}
     Path(path).write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
 
@@ -420,12 +422,16 @@ def verify_certificate(path: str) -> dict[str, Any]:
         raise InvalidInput(f"{path}: not a certificate of the paper's world ({FORMAT})")
     try:
         return _verify(data)
+    except InvalidInput as error:  # a certificate that could check nothing: not one at all
+        raise InvalidInput(f"{path}: {error}") from None
     except (KeyError, TypeError, ValueError, IndexError) as error:
         raise CertificateError(f"malformed: {type(error).__name__}: {error}") from None
 
 
 def _verify(data: dict[str, Any]) -> dict[str, Any]:
     inst = data["instance"]
+    if data["claim"] != CLAIM:
+        raise CertificateError("the claim is not the one this verifier checks")
     if inst["task"] != TASK:
         raise CertificateError(f"task {inst['task']!r}: the certificate covers {TASK} only")
     if inst["scheduler"] not in COVERED_SCHEDULERS:
@@ -462,8 +468,10 @@ def _verify(data: dict[str, Any]) -> dict[str, Any]:
             raise CertificateError(f"{where}: phi fixes {[list(v) for v in fixed]}, a robot or "
                                    "a meeting node (Theorem 1 needs V' empty of both)")
         rounds = int(e["rounds"])
-        if not 0 <= rounds <= 1000:
-            raise CertificateError(f"{where}: rounds {rounds} out of range")
+        if not 1 <= rounds <= 1000:  # 0: the adversary's step would be checked nowhere
+            raise InvalidInput(f"{where}: rounds {rounds}: give 1 to 1000 (with 0 the "
+                               "adversary's step is checked on no configuration)")
+        _check_stated(where, e, c, phi)
         closure = adversary_closure(c, phi, views, rounds)
         if (closure.states, closure.digest) != (e["states"], e["digest"]):
             raise CertificateError(f"{where}: the adversary's configurations within {rounds} "
@@ -483,6 +491,20 @@ def _verify(data: dict[str, Any]) -> dict[str, Any]:
             raise CertificateError("the configurations are not those in U of the box it names")
     return {"instance": inst, "configurations": len(entries), "states": states,
             "views": len(views.texts)}
+
+
+def _check_stated(where: str, entry: dict[str, Any], c: Configuration,
+                  phi: Automorphism) -> None:
+    """What an entry states besides what the check re-derives (its class, ``in_U``, and
+    phi's description and order) must be true of the configuration and of ``phi``."""
+    stated = {"class": entry["class"], "in_U": entry["in_U"],
+              "phi describe": entry["phi"]["describe"], "phi k": entry["phi"]["k"]}
+    true = {"class": get_fact("class").of(c), "in_U": get_fact("in_U").of(c),
+            "phi describe": phi.describe(), "phi k": phi.order}
+    wrong = [name for name in stated if stated[name] != true[name]]
+    if wrong:
+        raise CertificateError(f"{where}: it states {wrong[0]} {stated[wrong[0]]!r}, which is "
+                               f"{true[wrong[0]]!r}")
 
 
 def _text(robots: Any, meeting: Any) -> str:
