@@ -267,7 +267,7 @@ def test_mirrored_configurations_get_the_same_answer(robots: set, meeting: set, 
       "u"], "no configuration"),
     (["--world", "grid", "--robots", "0,0 2,1", "--meeting", "1,1", "--seed", "no-such"],
      "no-such"),
-    (["--world", "ring:6", "--robots", "2", "--seed", "paper"], "--seed"),
+    (["--world", "ring:6", "--robots", "2", "--seed", "no-such"], "no-such"),
 ])
 def test_bad_input_is_one_line_and_exit_2(tmp_path: Path, args: list[str], words: str) -> None:
     run = cli(*args, cwd=tmp_path)

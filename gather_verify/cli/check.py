@@ -163,10 +163,13 @@ def _rendezvous_options(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from gather_verify.cli import check_rings
     from gather_verify.worlds import FINITE, entry_of
 
     if _plane_of_lights(args):
         return run_rendezvous(args)
+    if check_rings.every_size(args.world) is not None:  # ring:N+, every size at once
+        return check_rings.run(args)
     if entry_of(args.world) == FINITE:
         if not args.scenario:
             return run_world(args)

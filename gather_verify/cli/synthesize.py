@@ -37,6 +37,8 @@ HELP = ("does any algorithm solve the task, on a finite world or the paper's (gr
         "(with an algorithm file, verified), none (with a certificate) or unknown (with the "
         "limit that stopped it)")
 ANSWER_EXIT = {"exists": EXIT_OK, "none": EXIT_VIOLATED, "unknown": EXIT_INCOMPLETE}
+RULES_SHOWN = 12
+"""Gap rules of a ring witness printed (the file and --json have them all)."""
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -45,6 +47,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--robots", help='one initial configuration ("0 2"), or a count of robots '
                    "(2: every initial configuration of that many, up to the world's "
                    "symmetries)")
+    p.add_argument("--start", default=None, metavar="SET",
+                   choices=("all", "aperiodic", "asymmetric", "rigid", "periodic", "symmetric"),
+                   help="with a count of robots: the initial configurations of that set "
+                        "(all, aperiodic, asymmetric or rigid, periodic, symmetric: "
+                        "docs/synthesis.md), each on its own; with --together, one algorithm "
+                        "for all of them")
     p.add_argument("--meeting", default="", help="meeting nodes, for the task that has them")
     p.add_argument("--task", default=None,
                    help="gathering, gathering-on-meeting-nodes (default with meeting nodes), "
@@ -102,12 +110,20 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="with --box: only the configurations of these classes (I11 ... I42, "
                         "UNCLASSIFIED)")
     p.add_argument("--together", action="store_true",
-                   help="with --box --select outside-u: one algorithm for every selected "
-                        "configuration at once")
+                   help="one algorithm for every configuration at once: with --start, every "
+                        "start of the set; with --world ring:A-B, every start of every size, "
+                        "written as gap rules; with --box --select outside-u, every selected "
+                        "configuration")
     p.add_argument("--seed", action="append", default=None, metavar="ALGORITHM",
-                   help="the paper's world: an algorithm (name or FILE.py:NAME, a witness of "
-                        "an earlier run) whose answers the search tries first, before the "
-                        "paper's and the nearest-meeting-node rule; may be repeated")
+                   help="an algorithm (name or FILE.py:NAME, a witness of an earlier run) "
+                        "whose answers the search tries first (on the paper's world, before "
+                        "the paper's and the nearest-meeting-node rule); may be repeated")
+    p.add_argument("--gap-cap", type=bounded_int(2, 64), default=3, metavar="T",
+                   help="with --world ring:A-B --together: gap rules read a gap below T "
+                        "exactly, and compare the gaps of T or more with each other (default 3)")
+    p.add_argument("--explain", action="store_true",
+                   help="with --verify: the certificate in words (the starts it rests on, the "
+                        "adversary's strategy along each branch)")
     p.add_argument("--rounds", type=bounded_int(0, 1000), default=12,
                    help="the paper's world: rounds of Theorem 1's adversary that a certificate "
                         "of none re-checks with the view code (default 12)")
@@ -135,14 +151,26 @@ def run(args: argparse.Namespace) -> int:
     if entry_of(args.world) == PLANE:
         _no_memory_limit(args)
         return _plane(args)
-    box_only = [o for o, given in (("--together", args.together), ("--select", args.select != "all"),
+    from gather_verify.cli import synthesize_sets as sets
+
+    box_only = [o for o, given in (("--select", args.select != "all"),
                                    ("--classes", args.classes is not None)) if given]
     if box_only:
         raise UsageError(f"{box_only[0]} goes with --box on the paper's world (--world grid "
                          "--box WxH)")
-    if args.box is not None or args.seed:
-        raise UsageError(f"{'--box' if args.box is not None else '--seed'} goes with the "
-                         "paper's world (--world grid)")
+    if args.box is not None:
+        raise UsageError("--box goes with the paper's world (--world grid)")
+    if args.together and args.start is None and not sets.is_range(args.world):
+        raise UsageError("--together goes with --box on the paper's world (--world grid "
+                         "--box WxH), with --start SET (one algorithm for every start of "
+                         "the set), or with a range of rings (--world ring:A-B)")
+
+    if sets.is_range(args.world):
+        from gather_verify.cli.synthesize_rules import run_range
+
+        return run_range(args)
+    if sets.wants_sets(args):
+        return sets.per_start(args)
     if not args.witness.endswith(".py"):
         raise UsageError(f"--witness {args.witness}: the algorithm file must end in .py")
     writable_outputs(witness=args.witness, certificate=args.certificate)
@@ -168,6 +196,7 @@ def _finite(args: argparse.Namespace) -> tuple[dict[str, Any], str | None]:
     ``--max-seconds`` and ``--max-memory-mb`` bound the whole command: building the instance
     and its views, the search, the checker's run on a witness, the re-check of a
     certificate; a limit met on the way answers ``unknown`` naming the step."""
+    from gather_verify.cli import synthesize_sets
     from gather_verify.engine.bounds import SetupStopped, setup
     from gather_verify.synthesis.search import synthesize
     from gather_verify.synthesis.views import Views, make_instance
@@ -189,14 +218,15 @@ def _finite(args: argparse.Namespace) -> tuple[dict[str, Any], str | None]:
         with setup(f"building the views of {args.world}", args.max_seconds, memory):
             inst = make_instance(args.world, args.robots, args.meeting, args.scheduler,
                                  args.task, args.multiplicity, args.frames, args.visibility,
-                                 args.lights, args.colours)
+                                 args.lights, args.colours, args.start)
             views = Views(inst)
+            seeds = synthesize_sets.seeds(args)
         report.update(world=inst.world.name, task=inst.task.name, lights=str(inst.lights),
                       configurations=len(inst.configurations))
         with setup("the search over algorithms", None, memory):  # its own clock, and memory
             result = synthesize(inst, max_seconds=left(), max_candidates=args.max_candidates,
                                 max_states=args.max_states, max_tree=args.max_tree,
-                                views=views, max_memory_mb=memory)
+                                views=views, max_memory_mb=memory, seeds=seeds)
         report.update(answer=result.answer, views=result.views, candidates=result.candidates,
                       counterexamples=len(result.counterexamples), states=result.states,
                       limit=result.limit)
@@ -232,9 +262,13 @@ def _witnessed(args: argparse.Namespace, inst: Any, views: Any, result: Any,
                report: dict[str, Any], seconds: float) -> str | None:
     """Write the witness and run the ordinary checker on it (within ``seconds``): into
     ``report``; the bug it shows, if the checker finds the witness wrong."""
+    from gather_verify.synthesis.gapviews import exact_rules
     from gather_verify.synthesis.witness import check_witness, write_witness
 
     spec = write_witness(args.witness, inst, views, result.table)
+    rules = exact_rules(views, result.table)
+    if rules is not None:
+        report["rules"] = [str(r) for r in rules]
     reports = check_witness(spec, inst, seconds)
     verdicts = sorted({r["verdict"] for r in reports})
     report["witness"] = spec
@@ -263,6 +297,7 @@ def _certified(args: argparse.Namespace, inst: Any, views: Any, result: Any,
         verify_certificate,
         write_certificate,
     )
+    from gather_verify.synthesis.explain import explain_certificate
     from gather_verify.synthesis.search import certificate_stats
 
     stats = certificate_stats(result)
@@ -272,7 +307,11 @@ def _certified(args: argparse.Namespace, inst: Any, views: Any, result: Any,
     report["tree"] = {"nodes": stats["tree_nodes"], "leaves": stats["tree_leaves"],
                       "views": stats["tree_views"]}
     try:
-        verify_certificate(args.certificate, seconds, memory)
+        got = verify_certificate(args.certificate, seconds, memory)
+        report.update({k: got[k] for k in ("holds_under", "found_under")})
+        report["rests_on"] = [[inst.world.node_to_json(v) for v in inst.configurations[j][0]]
+                              for j in got["rests_on"]]
+        report["explanation"] = explain_certificate(args.certificate)
     except CertificateError as error:
         return (f"the certificate just written does not re-check ({error}): this is a "
                 "bug of gather-verify's synthesis, please report it")
@@ -297,12 +336,25 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
               f"table)")
         print(f"checker, every reduction off: {', '.join(checker['verdicts'])} from "
               f"{report['configurations']} configuration(s), {checker['states']} states")
+        rules = report.get("rules")
+        if rules is not None:
+            print(f"as gap rules ({len(rules)} that move; any other view stays):")
+            for rule in rules[:RULES_SHOWN]:
+                print(f"  {rule}")
+            if len(rules) > RULES_SHOWN:
+                print(f"  ... and {len(rules) - RULES_SHOWN} more (the witness file lists them)")
     elif report["answer"] == "none":
         tree = report["tree"]
         print(f"certificate: {report['certificate']} ({report['counterexamples']} "
               f"counterexamples over {tree['views']} views, a decision tree of "
               f"{tree['nodes']} questions and {tree['leaves']} leaves); re-check it with")
         print(f"  gather-verify synthesize --verify {report['certificate']}")
+        if "holds_under" in report:
+            from gather_verify.cli.synthesize_sets import holds_line
+
+            print(holds_line(report, report["scheduler"]))
+        for line in report.get("explanation", []):
+            print(line)
     else:
         print(f"the search stopped at a limit: {report['limit']} (no answer; raise it and run "
               "again)")
@@ -391,6 +443,10 @@ def _verify(args: argparse.Namespace) -> int:
               "(raise --max-seconds or --max-memory-mb)", file=sys.stderr)
         return EXIT_INCOMPLETE
     got["seconds"] = time.perf_counter() - started
+    if args.explain and not on_plane:
+        from gather_verify.synthesis.explain import explain_certificate
+
+        got["explanation"] = list(explain_certificate(args.verify))
     if args.json:
         print_json(got if args.timings else {k: v for k, v in got.items() if k != "seconds"})
         return EXIT_OK
@@ -406,6 +462,12 @@ def _verify(args: argparse.Namespace) -> int:
                 f"views, a decision tree of {got['tree_nodes']} questions and "
                 f"{got['leaves']} leaves; no search)")
     print(f"certificate holds: none  {what}  {got['seconds']:.2f}s")
+    if not on_plane:
+        from gather_verify.cli.synthesize_sets import holds_line
+
+        print(holds_line(got, inst["scheduler"]))
+        for line in got.get("explanation", ()):
+            print(line)
     return EXIT_OK
 
 

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from gather_verify.errors import GatherVerifyError, InvalidInput
+from gather_verify.synthesis.lift import LADDER, lift, liftable
 from gather_verify.synthesis.views import Instance, Views, make_instance
 from schedulers import Event, get_scheduler
 
@@ -91,12 +92,21 @@ def _action(robots: tuple[tuple[int, int | None, int], ...], event: Event, i: in
     return after[0], after[2]
 
 
-def replay(views: Views, cex: dict[str, Any]) -> Replayed:
-    """Replay ``cex`` from scratch: its literals, or :class:`CertificateError` naming what
-    fails (an event the scheduler cannot take, two options for one view, no violation)."""
+def replay(views: Views, cex: dict[str, Any], scheduler: str | None = None) -> Replayed:
+    """Replay ``cex`` from scratch under its scheduler (the instance's, unless it names the
+    cheaper one it was found under, :mod:`~gather_verify.synthesis.lift`; ``scheduler``
+    overrides both): its literals, or :class:`CertificateError` naming what fails (an event
+    the scheduler cannot take, two options for one view, no violation)."""
     inst = views.inst
     world, task = inst.world, inst.task
-    sched = get_scheduler(inst.scheduler)
+    name = scheduler
+    if name is None:
+        name = cex.get("scheduler", inst.scheduler) if isinstance(cex, dict) else None
+        if not isinstance(name, str) or not liftable(name, inst.scheduler,
+                                                     inst.lights.colours):
+            raise CertificateError(f"a counterexample under {name!r} is none under "
+                                   f"{inst.scheduler}")
+    sched = get_scheduler(name)
     try:
         config = inst.configurations[int(cex["configuration"])]
         raw_events = list(cex["events"])
@@ -360,8 +370,11 @@ def write_certificate(path: str, inst: Instance, views: Views, cexs: list[dict[s
         "instance": inst.describe(),
         "covers": ("every algorithm that is a deterministic function of the view up to "
                    "isomorphism (these capabilities, these frames) fails the task from at "
-                   "least one of these initial configurations under this scheduler: each "
-                   "leaf's counterexample is an execution every algorithm on its path has"),
+                   "least one of these initial configurations under this scheduler, and under "
+                   "each scheduler of holds_under: each leaf's counterexample is an execution "
+                   "every algorithm on its path has (found under the adversary it names, a "
+                   "run of every stronger one too)"),
+        "holds_under": holds_under(views, cexs, literals),
         "views": [{"key": views.texts[k], "options": len(views.options[k])} for k in used],
         "counterexamples": cexs,
         "tree": renumber(tree),
@@ -372,15 +385,17 @@ def write_certificate(path: str, inst: Instance, views: Views, cexs: list[dict[s
         f.write("\n")
 
 
-def verify_certificate(path: str, max_seconds: float | None = None,
-                       max_memory_mb: float | None = None) -> dict[str, Any]:
-    """Re-check a certificate without searching; a summary, or :class:`CertificateError`
-    (the certificate does not hold) / :class:`InvalidInput` (not a certificate). The file is
-    read bounded (its size is checked before it is parsed), and the re-check runs within
-    ``max_seconds`` and ``max_memory_mb``
-    (:class:`~gather_verify.engine.bounds.SetupStopped` past them: a certificate may name a
-    world too large to rebuild in time)."""
-    from gather_verify.engine.bounds import setup
+def load_certificate(path: str) -> tuple[dict[str, Any], Instance]:
+    """A certificate file (its fields of the types they must have) and the instance its text
+    gives today, or :class:`InvalidInput` (not a certificate) / :class:`CertificateError`
+    (a malformed one, or its instance does not match)."""
+    doc = _read(path)
+    raw = _fields(doc)[0]
+    return doc, _instance(raw)
+
+
+def _read(path: str) -> dict[str, Any]:
+    """The certificate's JSON, read bounded (its size is checked before it is parsed)."""
     from gather_verify.inputs import read_text
 
     try:
@@ -391,15 +406,35 @@ def verify_certificate(path: str, max_seconds: float | None = None,
         raise InvalidInput(f"{path}: not JSON (nested too deeply)") from None
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise InvalidInput(f"{path}: not a synthesis certificate ({FORMAT!r})")
+    return doc
+
+
+def _instance(raw: dict[str, Any]) -> Instance:
+    """The instance a certificate's text gives today; it must be the one it names."""
+    inst = make_instance(raw["world"], raw["robots"],
+                         " ".join(str(_text(v)) for v in raw["meeting_nodes"]),
+                         raw["scheduler"], raw["task"], raw["detection"], raw["frames"],
+                         raw["visibility"], raw["lights"], raw.get("colours"),
+                         raw.get("start"))
+    if inst.describe() != raw:
+        raise CertificateError("the instance does not match what its text gives today "
+                               "(the configurations or the graph file changed)")
+    return inst
+
+
+def verify_certificate(path: str, max_seconds: float | None = None,
+                       max_memory_mb: float | None = None) -> dict[str, Any]:
+    """Re-check a certificate without searching; a summary, or :class:`CertificateError`
+    (the certificate does not hold) / :class:`InvalidInput` (not a certificate). The file is
+    read bounded, and the re-check runs within ``max_seconds`` and ``max_memory_mb``
+    (:class:`~gather_verify.engine.bounds.SetupStopped` past them: a certificate may name a
+    world too large to rebuild in time)."""
+    from gather_verify.engine.bounds import setup
+
+    doc = _read(path)
     raw, cexs, tree, listed = _fields(doc)
     with setup(f"re-checking the certificate of {raw['world']}", max_seconds, max_memory_mb):
-        inst = make_instance(raw["world"], raw["robots"],
-                             " ".join(str(_text(v)) for v in raw["meeting_nodes"]),
-                             raw["scheduler"], raw["task"], raw["detection"], raw["frames"],
-                             raw["visibility"], raw["lights"], raw.get("colours"))
-        if inst.describe() != raw:
-            raise CertificateError("the instance does not match what its text gives today "
-                                   "(the configurations or the graph file changed)")
+        inst = _instance(raw)
         views = Views(inst)
         clauses = []
         for j, cex in enumerate(cexs):
@@ -419,16 +454,64 @@ def verify_certificate(path: str, max_seconds: float | None = None,
                                        f"({views.texts[error.args[0]][:60]})") from None
         options = {number[k]: len(views.options[k]) for lits in clauses for k in lits}
         leaves = check_tree(tree, renamed, options)
+        holds = holds_under(views, cexs, clauses)
+    if "holds_under" in doc and doc["holds_under"] != holds:
+        raise CertificateError(f"the certificate says it holds under {doc['holds_under']}; "
+                               f"its counterexamples show {holds}")
     inner = _inner_nodes(tree)
     return {"answer": "none", "holds": True, "counterexamples": len(cexs),
-            "views": len(options), "leaves": leaves, "tree_nodes": inner, "instance": raw}
+            "views": len(options), "leaves": leaves, "tree_nodes": inner,
+            "holds_under": holds,
+            "found_under": sorted({str(c.get("scheduler", inst.scheduler)) for c in cexs}),
+            "rests_on": rests_on(tree, cexs), "instance": raw}
+
+
+def holds_under(views: Views, cexs: list[dict[str, Any]], clauses: list[dict[int, int]]
+                ) -> list[str]:
+    """The schedulers under which the certificate holds: the instance's, and, when every
+    counterexample was found under a cheaper adversary, every scheduler each of them lifts
+    to (a none under FSYNC is one under SSYNC and ASYNC, :mod:`.lift`). Each claim is
+    re-checked: every counterexample, lifted to that scheduler, replays through it and
+    relies on no literal its own replay did not (so the tree holds there too)."""
+    inst = views.inst
+    target, colours = inst.scheduler, inst.lights.colours
+    found = [str(c.get("scheduler", target)) for c in cexs]
+    holds = [s for s in LADDER if all(liftable(f, s, colours) for f in found)] or [target]
+    for s in holds:
+        for j, (cex, own) in enumerate(zip(cexs, found, strict=True)):
+            if own == s:
+                continue
+            start = [inst.world.node_to_json(v)
+                     for v in inst.configurations[int(cex["configuration"])][0]]
+            try:
+                got = replay(views, lift(cex, own, s, colours, start), scheduler=s)
+            except (CertificateError, KeyError, ValueError) as error:
+                raise CertificateError(f"counterexample {j}, lifted to {s}: {error}") from None
+            if any(clauses[j].get(k) != o for k, o in got.literals.items()):
+                raise CertificateError(f"counterexample {j}, lifted to {s}, relies on an "
+                                       "answer its own replay does not")
+    return holds
+
+
+def rests_on(tree: Any, cexs: list[dict[str, Any]]) -> list[int]:
+    """The initial configurations (indices) of the counterexamples the tree's leaves use:
+    no one algorithm solves the task from all of them."""
+    out: set[int] = set()
+    stack = [tree]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, int):
+            out.add(int(cexs[node]["configuration"]))
+        else:
+            stack.extend(node[1])
+    return sorted(out)
 
 
 INSTANCE_FIELDS: dict[str, tuple[type, ...]] = {
     "world": (str,), "robots": (str,), "meeting_nodes": (list,), "scheduler": (str,),
     "task": (str, type(None)), "detection": (str,), "frames": (str,),
     "visibility": (int, type(None)), "lights": (str, type(None)),
-    "colours": (str, type(None)), "configurations": (list,)}
+    "colours": (str, type(None)), "configurations": (list,), "start": (str, type(None))}
 """The fields of a certificate's instance, with the JSON types each may hold."""
 
 
@@ -440,7 +523,7 @@ def _fields(doc: dict[str, Any]) -> tuple[dict[str, Any], list[Any], Any, list[s
         raise CertificateError("a malformed certificate: 'instance' is not an object")
     for name, types in INSTANCE_FIELDS.items():
         value = raw.get(name)
-        if name not in raw and name != "colours" or isinstance(value, bool) or \
+        if name not in raw and name not in ("colours", "start") or isinstance(value, bool) or \
                 not isinstance(value, types):
             raise CertificateError(f"a malformed certificate: instance field {name!r} is "
                                    f"{json.dumps(value)[:40]}, not "

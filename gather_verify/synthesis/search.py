@@ -31,9 +31,9 @@ call runs in slices of :data:`SAT_SLICE` conflicts with the clock read between t
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from gather_verify.engine.encoding import DEFAULT_MAX_MEMORY_MB, Limits
@@ -50,6 +50,8 @@ from gather_verify.synthesis.certificate import (
     replay,
     tree_size,
 )
+from gather_verify.synthesis.lift import rungs
+from gather_verify.synthesis.restart import restart
 from gather_verify.synthesis.views import Instance, Views
 from gather_verify.tasks import Context, Finding
 from gather_verify.tasks.base import components, fair
@@ -122,104 +124,208 @@ def solver_class() -> Callable[..., Any]:
 def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
                max_candidates: int = DEFAULT_MAX_CANDIDATES,
                max_states: int = DEFAULT_MAX_STATES, max_tree: int = DEFAULT_MAX_TREE,
-               views: Views | None = None,
+               views: Views | None = None, seeds: Sequence[Any] = (), ladder: bool = True,
+               parts: Sequence[tuple[Instance, Views]] | None = None,
                max_memory_mb: float = DEFAULT_MAX_MEMORY_MB) -> Result:
-    """Search for a table that solves ``inst`` from every initial configuration."""
-    started = time.perf_counter()
+    """Search for a table that solves ``inst`` from every initial configuration.
+
+    ``ladder``: judge each candidate under the cheaper adversaries first (FSYNC, then SSYNC,
+    then the instance's own, :func:`~gather_verify.synthesis.lift.rungs`); a counterexample
+    found there is one under the instance's scheduler too (:mod:`.lift`). ``seeds``:
+    algorithms whose answers the solver tries first on each view (a phase, never a
+    constraint). ``parts``: several instances (one per ring size) whose views share one table
+    of keys (the gap rules of :mod:`~gather_verify.synthesis.gapviews`): one table must solve
+    every one; their counterexamples name their part."""
     views = views or Views(inst)
-    solver = solver_class()(name="cadical153")
-    base: list[int] = []  # per view: its first variable - 1
-    total = [0]
-
-    def register(k: int) -> None:
-        while len(base) <= k:
-            j = len(base)
-            count = len(views.options[j])
-            base.append(total[0])
-            total[0] += count
-            xs = [base[j] + o + 1 for o in range(count)]
-            solver.add_clause(xs)
-            for a in range(count):
-                for b in range(a + 1, count):
-                    solver.add_clause([-xs[a], -xs[b]])
-
-    order = list(range(len(inst.configurations)))
-    cexs: list[dict[str, Any]] = []
-    clauses: list[dict[int, int]] = []
-    candidates = 0
-    explored = 0
-
-    def result(answer: str, limit: str | None = None, **more: Any) -> Result:
-        solver.delete()
-        return Result(answer, len(views.texts), candidates, time.perf_counter() - started,
-                      limit, counterexamples=cexs, literals=clauses, states=explored, **more)
-
+    run = _Search(list(parts) if parts else [(inst, views)], seeds, ladder,
+                  (max_seconds, max_candidates, max_states, max_tree, max_memory_mb))
     try:
         with budget(max_seconds):
-            while True:
-                if time.perf_counter() - started > max_seconds:
-                    return result("unknown", "max-seconds")
-                if candidates >= max_candidates:
-                    return result("unknown", "max-candidates")
-                register(len(views.texts) - 1)
-                sat = solve_within(solver, started + max_seconds)
-                if sat is None:
-                    return result("unknown", f"{TIME_LIMIT} (during the SAT solver's call)")
-                if not sat:
-                    try:
-                        tree = build_tree(clauses, [len(o) for o in views.options], max_tree)
-                    except TreeTooLarge:
-                        return result("unknown", "max-tree (the certificate outgrew it)")
-                    return result("none", tree=tree)
-                model = solver.get_model() or []
-                choice: dict[int, int] = {}
-                for k, first in enumerate(base):
-                    for o in range(len(views.options[k])):
-                        if model[first + o] > 0:
-                            choice[k] = o
-                candidates += 1
-                failed = None
-                reached: set[int] = set()
-                for idx in order:
-                    left = max_seconds - (time.perf_counter() - started)
-                    s, findings = explore(inst, views, choice, idx, reached,
-                                          Limits(max_states=max_states,
-                                                 max_seconds=max(left, 0.001),
-                                                 max_memory_mb=max_memory_mb))
-                    explored += s.states
-                    if s.stopped is not None:
-                        limit = {"time": "max-seconds", "states": "max-states",
-                                 "memory": "memory"}.get(s.stopped, s.stopped)
-                        return result("unknown", limit)
-                    if findings:
-                        failed = (idx, s, findings)
-                        break
-                if failed is None:
-                    return result("exists",
-                                  table={k: choice.get(k, 0) for k in sorted(reached)})
-                idx, s, findings = failed
-                order.remove(idx)
-                order.insert(0, idx)
-                known = {frozenset(c.items()) for c in clauses[-len(findings) * 4:]}
-                for finding in findings:
-                    cex = counterexample(inst, views, choice, idx, s, finding)
-                    lits = replay(views, cex).literals  # the clause is what the replay shows
-                    register(len(views.texts) - 1)
-                    if not all(choice.get(k, 0) == o
-                               for k, o in lits.items()):  # pragma: no cover
-                        raise AssertionError("a counterexample that the candidate does not "
-                                             "have")
-                    if frozenset(lits.items()) in known:
-                        continue
-                    known.add(frozenset(lits.items()))
-                    cexs.append(cex)
-                    clauses.append(lits)
-                    solver.add_clause([-(base[k] + o + 1) for k, o in sorted(lits.items())])
+            return run.loop()
     except Overtime:
-        return result("unknown", f"{TIME_LIMIT} (cut by the watchdog)")
+        return run.result("unknown", f"{TIME_LIMIT} (cut by the watchdog)")
     except OverMemory:  # the command's memory watch (engine.bounds.setup): keep the counts
-        return result("unknown", f"memory (the search over algorithms: past "
-                      f"{max_memory_mb:g} MB)")
+        return run.result("unknown", f"memory (the search over algorithms: past "
+                          f"{max_memory_mb:g} MB)")
+
+
+class _Search:
+    """One run of the loop of :func:`synthesize`: the solver, its variables (per view of the
+    shared table, one per option), the counterexamples and their clauses."""
+
+    def __init__(self, parts: list[tuple[Instance, Views]], seeds: Sequence[Any],
+                 ladder: bool, limits: tuple[float, int, int, int, float]):
+        self.started = time.perf_counter()
+        self.parts = parts
+        self.views = parts[0][1]  # every part's views share its table of keys
+        self.solver = solver_class()(name="cadical153")
+        self.base: list[int] = []  # per view: its first variable - 1
+        self.total = 0
+        self.seeds = [_SeedMoves(seed) for seed in seeds]
+        self.phases: list[int] = []
+        target = parts[0][0].scheduler
+        colours = parts[0][0].lights.colours
+        self.rungs = rungs(target, colours) if ladder else [target]
+        self.insts = [{r: replace(inst, scheduler=r) for r in self.rungs} for inst, _ in parts]
+        self.order = [(p, i) for p, (inst, _) in enumerate(parts)
+                      for i in range(len(inst.configurations))]
+        self.cexs: list[dict[str, Any]] = []
+        self.clauses: list[dict[int, int]] = []
+        self.candidates = self.explored = 0
+        self.limits = limits  # seconds, candidates, states, tree nodes, memory (MB)
+
+    def result(self, answer: str, limit: str | None = None, **more: Any) -> Result:
+        self.solver.delete()
+        return Result(answer, len(self.views.texts), self.candidates,
+                      time.perf_counter() - self.started, limit, counterexamples=self.cexs,
+                      literals=self.clauses, states=self.explored, **more)
+
+    def register(self) -> None:
+        """Variables for every view met so far: one per option, exactly one true; the seeds'
+        answers as the solver's phases."""
+        views = self.views
+        while len(self.base) < len(views.texts):
+            j = len(self.base)
+            count = len(views.options[j])
+            self.base.append(self.total)
+            self.total += count
+            xs = [self.base[j] + o + 1 for o in range(count)]
+            self.solver.add_clause(xs)
+            for a in range(count):
+                for b in range(a + 1, count):
+                    self.solver.add_clause([-xs[a], -xs[b]])
+            if self.seeds:
+                want = self.preferred(j)
+                self.phases += [x if o == want else -x for o, x in enumerate(xs)]
+        if self.seeds:
+            self.solver.set_phases(self.phases)
+
+    def preferred(self, k: int) -> int:
+        """The option of view ``k`` that the first seed with an answer there gives (0: none)."""
+        p, seen, node, colour = self.views.first[k]
+        inst, views = self.parts[p]
+        _, acts = views.occurrence(seen, node, colour)
+        for seed in self.seeds:
+            wanted = seed.actions(inst, seen, node, colour)
+            if wanted in acts:
+                return acts.index(wanted)
+        return 0
+
+    def loop(self) -> Result:
+        max_seconds, max_candidates, _, max_tree, _ = self.limits
+        views = self.views
+        while True:
+            if time.perf_counter() - self.started > max_seconds:
+                return self.result("unknown", "max-seconds")
+            if self.candidates >= max_candidates:
+                return self.result("unknown", "max-candidates")
+            self.register()
+            sat = solve_within(self.solver, self.started + max_seconds)
+            if sat is None:
+                return self.result("unknown", f"{TIME_LIMIT} (during the SAT solver's call)")
+            if not sat:
+                try:
+                    tree = build_tree(self.clauses, [len(o) for o in views.options], max_tree)
+                except TreeTooLarge:
+                    return self.result("unknown", "max-tree (the certificate outgrew it)")
+                return self.result("none", tree=tree)
+            model = self.solver.get_model() or []
+            choice = Table({k: o for k, first in enumerate(self.base)
+                            for o in range(len(views.options[k])) if model[first + o] > 0},
+                           self.preferred if self.seeds else None)
+            self.candidates += 1
+            reached: set[int] = set()
+            failed = self.judge(choice, reached)
+            if isinstance(failed, str):
+                return self.result("unknown", failed)
+            if failed is None:
+                return self.result("exists",
+                                   table={k: choice[k] for k in sorted(reached)})
+            self.learn(choice, *failed)
+
+    def judge(self, choice: dict[int, int], reached: set[int]
+              ) -> tuple[int, int, str, WorldSearch, list[Finding]] | str | None:
+        """The candidate from every configuration of every part, under each rung of the
+        ladder in turn: the first failure (part, configuration, rung, search, findings),
+        a limit's name, or None when it solves them all."""
+        max_seconds, _, max_states, _, max_memory_mb = self.limits
+        for rung in self.rungs:
+            for p, idx in self.order:
+                left = max_seconds - (time.perf_counter() - self.started)
+                s, findings = explore(self.insts[p][rung], self.parts[p][1], choice, idx,
+                                      reached, Limits(max_states=max_states,
+                                                      max_seconds=max(left, 0.001),
+                                                      max_memory_mb=max_memory_mb))
+                self.explored += s.states
+                if s.stopped is not None:
+                    return {"time": "max-seconds", "states": "max-states",
+                            "memory": "memory"}.get(s.stopped, s.stopped)
+                if findings:
+                    self.order.remove((p, idx))
+                    self.order.insert(0, (p, idx))
+                    return p, idx, rung, s, findings
+        return None
+
+    def learn(self, choice: dict[int, int], p: int, idx: int, rung: str, s: WorldSearch,
+              findings: list[Finding]) -> None:
+        """Each finding as a counterexample and its clause: "not all of these options"."""
+        inst, views = self.insts[p][rung], self.parts[p][1]
+        target = self.parts[p][0].scheduler
+        known = {frozenset(c.items()) for c in self.clauses[-len(findings) * 4:]}
+        for finding in findings:
+            cex = restart(inst, counterexample(inst, views, choice, idx, s, finding))
+            if inst.task.visits and "loop" in cex:
+                unroll(inst, cex)
+            if rung != target:
+                cex["scheduler"] = rung  # the adversary it was found under (lift.py)
+            if len(self.parts) > 1:
+                cex["part"] = p
+            lits = replay(views, cex).literals  # the clause is what the replay shows
+            self.register()
+            if not all(choice[k] == o for k, o in lits.items()):  # pragma: no cover
+                raise AssertionError("a counterexample that the candidate does not have")
+            if frozenset(lits.items()) in known:
+                continue
+            known.add(frozenset(lits.items()))
+            self.cexs.append(cex)
+            self.clauses.append(lits)
+            self.solver.add_clause([-(self.base[k] + o + 1) for k, o in sorted(lits.items())])
+
+
+class Table(dict[int, int]):
+    """A candidate: view -> option. A view the exploration meets for the first time takes
+    ``fresh``'s option (the first seed's answer there; option 0 without seeds), and keeps it
+    for the rest of the candidate's check."""
+
+    def __init__(self, chosen: dict[int, int], fresh: Callable[[int], int] | None = None):
+        super().__init__(chosen)
+        self.fresh = fresh
+
+    def __missing__(self, k: int) -> int:
+        o = self[k] = 0 if self.fresh is None else self.fresh(k)
+        return o
+
+
+class _SeedMoves:
+    """A seed algorithm's actions at an occurrence (None where it has no rule or crashes):
+    the option the solver tries first there."""
+
+    def __init__(self, algorithm: Any):
+        self.algorithm = algorithm
+        self.moves: dict[int, Any] = {}
+
+    def actions(self, inst: Instance, seen: Any, node: int, colour: int) -> frozenset | None:
+        from gather_verify.worlds.moves import WorldMoves
+
+        moves = self.moves.get(id(inst.world))
+        if moves is None:
+            moves = self.moves[id(inst.world)] = WorldMoves(
+                inst.world, self.algorithm, inst.meeting, inst.detection, inst.frames,
+                inst.visibility, inst.lights)
+        try:
+            return moves.table(seen)[node, colour]
+        except Exception:  # no rule there, a hidden read or a crash: the seed has no say
+            return None
 
 
 def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
@@ -233,7 +339,7 @@ def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
         out = []
         for k, acts in views.robots(state):
             reached.add(k)
-            out.append(acts[choice.get(k, 0)])
+            out.append(acts[choice[k]])
         return out
 
     w = inst.world
@@ -528,7 +634,7 @@ def fair_cycle(inst: Instance, views: Views, choice: dict[int, int], s: WorldSea
             state = s.keys[sid][0]
             for i, (k, acts) in enumerate(views.robots(state)):
                 v, p, c = state[i]
-                other = [a for a in sorted(acts[choice.get(k, 0)]) if a != (v, c)]
+                other = [a for a in sorted(acts[choice[k]]) if a != (v, c)]
                 if p is None and other:
                     busy.append((j, i, other[0][0], other[0][1]))
                     break

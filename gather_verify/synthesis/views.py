@@ -19,12 +19,12 @@ from __future__ import annotations
 
 from collections import Counter
 from dataclasses import dataclass
-from itertools import combinations
 from typing import Any
 
 from gather_verify.errors import InvalidInput
 from gather_verify.model.view import check_detection
 from gather_verify.synthesis import viewkey
+from gather_verify.synthesis.starts import starts
 from gather_verify.tasks import Task, get_task
 from gather_verify.world_check import default_task
 from gather_verify.worlds import FINITE, get_world
@@ -56,6 +56,9 @@ class Instance:
     configurations: tuple[tuple[tuple[int, ...], tuple[int, ...]], ...]
     robots_text: str
     """The ``--robots`` text: one configuration, or a count (every class of them)."""
+    start: str | None = None
+    """With a count: the start set (:mod:`~gather_verify.synthesis.starts`) the
+    configurations were taken from (None: every one, as ``all``)."""
 
     def describe(self) -> dict[str, object]:
         """The instance as JSON (what a certificate names)."""
@@ -73,15 +76,17 @@ class Instance:
                                for r, c in self.configurations],
             **({"graph_sha256": digest} if isinstance(digest := getattr(w, "digest", None), str)
                else {}),
+            **({"start": self.start} if self.start is not None else {}),
         }
 
 
 def make_instance(world: str, robots: str, meeting: str, scheduler: str, task: str | None,
                   detection: str = "local-weak", frames: str = "all",
                   visibility: int | None = None, lights: str | None = None,
-                  colours: str | None = None) -> Instance:
+                  colours: str | None = None, start: str | None = None) -> Instance:
     """The instance from command-line text; one line (:class:`InvalidInput`) for anything
-    the synthesis cannot take."""
+    the synthesis cannot take. ``start``: with a count of robots, the start set
+    (:data:`~gather_verify.synthesis.starts.START_SETS`) the configurations come from."""
     w = get_world(world)
     if not isinstance(w, World) or w.entry != FINITE:
         raise InvalidInput("these views are a finite world's (--world ring:N, grid:WxH, "
@@ -116,8 +121,15 @@ def make_instance(world: str, robots: str, meeting: str, scheduler: str, task: s
         if colours is not None and colours.strip():
             raise InvalidInput("--colours goes with one configuration (--robots \"0 1\"), not "
                                "a count")
-        configurations = tuple((r, (0,) * k) for r in classes(w, k, frozenset(m), frames))
+        configurations = tuple((r, (0,) * k)
+                               for r in starts(w, k, start or "all", frozenset(m), frames))
+        if not configurations:
+            raise InvalidInput(f"--start {start}: no initial configuration of {k} robots on "
+                               f"{w.name} is {start}")
     else:
+        if start is not None:
+            raise InvalidInput("--start goes with a count of robots (--robots 3), not one "
+                               "configuration")
         r = tuple(w.parse_nodes(text))
         if len(set(r)) != len(r):
             raise InvalidInput("--robots: an initial configuration has robots on distinct nodes")
@@ -135,20 +147,14 @@ def make_instance(world: str, robots: str, meeting: str, scheduler: str, task: s
     if getattr(sched, "stateful", False) and len(configurations[0][0]) > 6:
         raise InvalidInput("round-robin starts from every order of the robots: at most 6")
     return Instance(w, world, detection, frames, visibility, light, scheduler, t, frozenset(m),
-                    configurations, text)
+                    configurations, text, start)
 
 
 def classes(world: World, k: int, meeting: frozenset[int], frames: str) -> list[tuple[int, ...]]:
     """Every initial configuration of ``k`` robots on distinct nodes, one per class under the
     world's symmetries (those the robots' frames move along, §9) that fix the meeting nodes,
     its least member, in lexicographic order (as ``sweep --world`` counts them)."""
-    group = [p for p in world.symmetries(frames)
-             if frozenset(p[v] for v in meeting) == meeting]
-    out = []
-    for robots in combinations(range(world.size), k):
-        if min(tuple(sorted(p[v] for v in robots)) for p in group) == robots:
-            out.append(robots)
-    return out
+    return starts(world, k, "all", meeting, frames)
 
 
 class Views:
@@ -163,8 +169,18 @@ class Views:
         self.index: dict[str, int] = {}
         self.options: list[list[Answer]] = []
         self._labels: list[list[list[object]]] = []  # per key, per option: its labels' orbit
+        self.first: list[tuple[int, Seen, int, int]] = []
+        """Per key: where it was met first (this views' part, the configuration, the node,
+        the colour), for the seeds (:func:`~gather_verify.synthesis.search.synthesize`)."""
+        self.part = 0
         self._memo: dict[Seen, dict[tuple[int, int], tuple[int, tuple[frozenset, ...]]]] = {}
         self._checked: set[int] = set()
+
+    def share(self, other: Views, part: int) -> None:
+        """Key this part's views in ``other``'s table (one variable per key and option for
+        every part of a search); ``part`` names this one in the table's ``first``."""
+        self.texts, self.index, self.options = other.texts, other.index, other.options
+        self._labels, self.first, self.part = other._labels, other.first, part
 
     # -- one occurrence -----------------------------------------------------------------
     def occurrence(self, seen: Seen, node: int, colour: int
@@ -211,6 +227,7 @@ class Views:
         k = self.index.get(text)
         if k is None:
             k = self._new_key(text, key, first_view, first_t, per_frame)
+            self.first.append((self.part, seen, node, colour))
         acts = []
         for labels, (answer, new) in zip(self._labels[k], self.options[k], strict=True):
             # the move set of the answer the witness gives (the option's first label), over

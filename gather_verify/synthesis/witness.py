@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from gather_verify.synthesis import viewkey
+from gather_verify.synthesis.gapviews import exact_rules
 from gather_verify.synthesis.views import Instance, Views
 
 NAME = "Synthesized"
@@ -28,7 +29,7 @@ Instance: {instance}
 A lookup table from views up to isomorphism to answers: {count} views. Load it with
 --algorithm {filename}:{name}. It answers only the views the synthesis met from these
 initial configurations; any other view has no rule (the checker's ``defined``).
-"""
+{rules}"""
 
 from gather_verify.algorithms.base import Unhandled
 
@@ -76,7 +77,13 @@ def write_witness(path: str, inst: Instance, views: Views, table: dict[int, int]
     for k in sorted(table, key=lambda k: views.texts[k]):
         label, colour = views.options[k][table[k]]
         rows.append(f"    {views.texts[k]!r}: ({label!r}, {colour!r}),\n")
+    rules = exact_rules(views, table)
+    said = "" if rules is None else (
+        "\nThe same table as gap rules (docs/howto/rings.md): the gaps from the robot to the "
+        "next robots,\nthe gap ahead first; the views the table stays on, and those it never "
+        "met, are not listed.\n\n" + "".join(f"    {r}\n" for r in rules))
     text = TEMPLATE.format(
+        rules=said,
         instance=json.dumps(inst.describe(), sort_keys=True),
         count=len(table), filename=Path(path).name, name=NAME, viewkey=viewkey_source(),
         group=inst.world.frame_group(inst.frames, inst.visibility),
