@@ -71,7 +71,7 @@ def test_entry_of_asks_the_registry_without_building_a_finite_world() -> None:
 def test_what_needs_a_finite_world_refuses_the_plane_in_one_line() -> None:
     with pytest.raises(InvalidInput, match="world grid needs a size or file: grid:..."):
         finite_world("grid")
-    with pytest.raises(InvalidInput, match="unknown world 'hex': use grid, grid:..., ring:..."):
+    with pytest.raises(InvalidInput, match="unknown world 'hex': use grid, rendezvous, grid:..., ring:..."):
         get_world("hex")
 
 

@@ -238,9 +238,9 @@ MUTANTS: tuple[Mutant, ...] = (
         "mutant-paper-reads-hidden-multiplicity", _P,
         "in Finalization the guard asks whether the other position is a multiplicity, which "
         "local-weak detection does not show",
-        (("        if me in plan.if_multiplicity and view.multiplicity():",
-          "        if me in plan.if_multiplicity and (view.multiplicity() or any(\n"
-          "                view.multiplicity(v) for v in view.robots)):"),),
+        (("        return _answer(self.allowed(plan, me, view.multiplicity()), me, g)",
+          "        return _answer(self.allowed(plan, me, view.multiplicity() or any(\n"
+          "            view.multiplicity(v) for v in view.robots)), me, g)"),),
         ("defined",)),
     # The symmetric classes (Algorithm 1, I12/I13, and SymmetryBreaking, Algorithm 5).
     Mutant(

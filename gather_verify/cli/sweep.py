@@ -312,9 +312,9 @@ def _reading_note(algorithm: str) -> None:
     yet faults of the paper (SEMANTICS.md §8), and how to tell them apart."""
     from gather_verify.algorithms import parse_name
 
-    name, options = parse_name(algorithm)
-    if name != "paper":
+    if algorithm.partition(":")[0] != "paper":  # a file or module spec is never the paper's
         return
+    _, options = parse_name(algorithm)
     which = "its default reading" if not options else f"the reading {algorithm}"
     print(f"\nThe verdicts are those of the paper's algorithm under {which} of the paper's "
           "ambiguous passages (docs/interpretations.md). A VIOLATED count is not yet a fault "

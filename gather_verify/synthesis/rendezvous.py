@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from itertools import product
 from typing import Any, cast
 
-from gather_verify.errors import InvalidInput
+from gather_verify.errors import GatherVerifyError, InvalidInput
 from gather_verify.properties.graph import components_of
 from gather_verify.rendezvous_check import phase_model, run_rendezvous_check
 from gather_verify.worlds.rendezvous import Rendezvous, State
@@ -49,8 +49,9 @@ Answer = tuple[int, int]
 """(move, new colour)."""
 
 
-class Missing(Exception):
-    """A reachable state needs the answer to a view the table does not give yet."""
+class Missing(GatherVerifyError):
+    """A reachable state needs the answer to a view the table does not give yet. Cause:
+    control flow of the search (caught where the states are walked); fix: none needed."""
 
     def __init__(self, view: View):
         super().__init__(view)
@@ -142,14 +143,18 @@ def _fair_outside_goal(states: list[State], edges: list[list[tuple[int, int]]]) 
     return False
 
 
-class Found(Exception):
+class Found(GatherVerifyError):
+    """The case split met a witness: ``table`` verifies. Cause: control flow of the search,
+    never shown to a user (caught in :func:`search`); fix: none needed."""
+
     def __init__(self, table: dict[View, Answer]):
         super().__init__()
         self.table = dict(table)
 
 
-class OutOfTime(Exception):
-    pass
+class OutOfTime(GatherVerifyError):
+    """The case split passed its time budget. Cause: control flow of the search, caught
+    where it becomes the answer ``unknown``; fix: a larger --max-seconds."""
 
 
 def _search(setting: Setting, table: dict[View, Answer], deadline: float,
