@@ -979,19 +979,9 @@ def _plane(args: argparse.Namespace) -> int:
                                   "this is a bug of gather-verify's synthesis, please report it")
     report["seconds"] = time.perf_counter() - started
     report["rows"] = rows
-    if args.json:
-        if not args.timings:
-            report.pop("seconds")
-            for r in rows:
-                r.pop("seconds")
-        print_json(report)
-    else:
-        _print_plane(report)
-    if problem is not None:
-        print(f"internal error: {problem}", file=sys.stderr)
-        return EXIT_BUG
-    return {"none": EXIT_VIOLATED, "exists": EXIT_OK, "mixed": EXIT_OK}.get(answer,
-                                                                              EXIT_INCOMPLETE)
+    from gather_verify.cli.synthesize_sets import finish
+
+    return finish(args, report, rows, _print_plane, problem)
 
 
 def _seeds(args: argparse.Namespace) -> list[Any]:

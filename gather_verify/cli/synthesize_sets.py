@@ -106,6 +106,13 @@ def per_start(args: argparse.Namespace) -> int:
               "answers": {a: sum(r["answer"] == a for r in rows)
                           for a in ("exists", "none", "unknown")},
               "seconds": time.perf_counter() - started, "rows": rows}
+    return finish(args, report, rows, _print_rows, problem)
+
+
+def finish(args: argparse.Namespace, report: dict[str, Any], rows: list[dict[str, Any]],
+           show: Any, problem: str | None) -> int:
+    """Print a synthesis report of many rows (JSON without timings unless asked, else
+    ``show``), an internal problem last, and return the exit code of its answer."""
     if args.json:
         if not args.timings:
             report.pop("seconds")
@@ -113,11 +120,11 @@ def per_start(args: argparse.Namespace) -> int:
                 r.pop("seconds")
         print_json(report)
     else:
-        _print_rows(report)
+        show(report)
     if problem is not None:
         print(f"internal error: {problem}", file=sys.stderr)
         return EXIT_BUG
-    return {"none": EXIT_VIOLATED, "exists": EXIT_OK, "mixed": EXIT_OK}.get(answer,
+    return {"none": EXIT_VIOLATED, "exists": EXIT_OK, "mixed": EXIT_OK}.get(report["answer"],
                                                                               EXIT_INCOMPLETE)
 
 
