@@ -145,7 +145,7 @@ def _fair_outside_goal(states: list[State], edges: list[list[tuple[int, int]]]) 
 
 class Found(GatherVerifyError):
     """The case split met a witness: ``table`` verifies. Cause: control flow of the search,
-    never shown to a user (caught in :func:`search`); fix: none needed."""
+    never shown to a user (caught by the search that raised it); fix: none needed."""
 
     def __init__(self, table: dict[View, Answer]):
         super().__init__()
