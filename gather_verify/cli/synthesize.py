@@ -956,9 +956,9 @@ def _plane(args: argparse.Namespace) -> int:
         print("interrupted: synthesize keeps no partial results; run the same command again "
               "(it starts over)", file=sys.stderr)
         return EXIT_INTERRUPTED
-    answers = {r["answer"] for r in rows}
-    answer = (answers.pop() if len(answers) == 1 else
-              "unknown" if "unknown" in answers else "mixed")
+    from gather_verify.cli.synthesize_sets import finish, overall
+
+    answer = overall(rows)
     report: dict[str, Any] = {"answer": answer, **inst.describe(),
                               "configurations": len(rows),
                               # the views of the certificates, and of each search
@@ -979,8 +979,6 @@ def _plane(args: argparse.Namespace) -> int:
                                   "this is a bug of gather-verify's synthesis, please report it")
     report["seconds"] = time.perf_counter() - started
     report["rows"] = rows
-    from gather_verify.cli.synthesize_sets import finish
-
     return finish(args, report, rows, _print_plane, problem)
 
 

@@ -96,9 +96,7 @@ def per_start(args: argparse.Namespace) -> int:
         print("interrupted: synthesize keeps no partial results; run the same command again "
               "(it starts over)", file=sys.stderr)
         return EXIT_INTERRUPTED
-    answers = {r["answer"] for r in rows}
-    answer = (answers.pop() if len(answers) == 1 else
-              "unknown" if "unknown" in answers else "mixed")
+    answer = overall(rows)
     report = {"answer": answer, "world": w.name, "task": whole.task.name,
               "scheduler": whole.scheduler, "detection": whole.detection,
               "frames": whole.frames, "start": args.start, "robots": len(
@@ -107,6 +105,13 @@ def per_start(args: argparse.Namespace) -> int:
                           for a in ("exists", "none", "unknown")},
               "seconds": time.perf_counter() - started, "rows": rows}
     return finish(args, report, rows, _print_rows, problem)
+
+
+def overall(rows: list[dict[str, Any]]) -> str:
+    """The answer of many rows: theirs when they agree, else ``unknown`` if one is, else
+    ``mixed``."""
+    answers = {r["answer"] for r in rows}
+    return answers.pop() if len(answers) == 1 else "unknown" if "unknown" in answers else "mixed"
 
 
 def finish(args: argparse.Namespace, report: dict[str, Any], rows: list[dict[str, Any]],
