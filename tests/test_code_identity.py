@@ -100,6 +100,29 @@ def test_the_fingerprint_follows_packages_relative_imports_property_files_and_ex
     assert fingerprint(tmp_path, *extra) != after_property
 
 
+def test_the_local_modules_follow_an_edit_even_of_the_same_size_and_time(tmp_path, monkeypatch):
+    """A module's imports are parsed once per text (a sweep's worker asks after every task),
+    keyed by its bytes, never by its size and time: an edit that keeps both still adds the
+    module it now imports; the same text is not parsed again."""
+    import os
+
+    from gather_verify.algorithms import loading
+
+    alg, helper = tmp_path / "alg.py", tmp_path / "helper.py"
+    helper.write_text("X = 1\n")
+    alg.write_text("import json  # none of ours\n")
+    stamp = alg.stat()
+    assert loading.local_sources(alg) == [alg.resolve()]
+    parsed = []
+    monkeypatch.setattr(loading, "_parsed_imports", lambda *a: parsed.append(a) or {("json",)})
+    assert loading.local_sources(alg) == [alg.resolve()] and parsed == []  # not parsed again
+    monkeypatch.undo()
+    alg.write_text("import helper # one of ours\n")
+    os.utime(alg, ns=(stamp.st_atime_ns, stamp.st_mtime_ns))
+    assert alg.stat().st_size == stamp.st_size
+    assert loading.local_sources(alg) == sorted([alg.resolve(), helper.resolve()])
+
+
 def test_gather_verify_s_own_source_is_in_the_fingerprint(monkeypatch):
     """An edit of the verifier (in a source checkout) is another verifier: its digest moves."""
     from gather_verify import fingerprint as fp

@@ -152,8 +152,26 @@ def _imports(path: Path, package: tuple[str, ...] = ()) -> set[tuple[str, ...]]:
     a relative import (``from .impl import f``, ``from . import impl``) is resolved against
     ``package``, the dotted package the module lies in (relative to the search root)."""
     try:
-        tree = ast.parse(path.read_bytes(), filename=str(path))
-    except (OSError, SyntaxError, ValueError):
+        source = path.read_bytes()
+    except OSError:
+        return set()
+    key = (hashlib.sha256(source).digest(), package)
+    if key not in _PARSED:  # a sweep's worker asks after every task: parse each text once
+        _PARSED[key] = frozenset(_parsed_imports(source, str(path), package))
+    return set(_PARSED[key])
+
+
+_PARSED: dict[tuple[bytes, tuple[str, ...]], frozenset[tuple[str, ...]]] = {}
+""":func:`_imports` of each text already parsed, by the SHA-256 of its bytes and its package:
+the same bytes import the same names, so an edited file (other bytes) is parsed afresh."""
+
+
+def _parsed_imports(source: bytes, filename: str, package: tuple[str, ...]
+                    ) -> set[tuple[str, ...]]:
+    """:func:`_imports` of a module's text, parsed."""
+    try:
+        tree = ast.parse(source, filename=filename)
+    except (SyntaxError, ValueError):
         return set()
     out: set[tuple[str, ...]] = set()
     for node in ast.walk(tree):
