@@ -9,10 +9,8 @@ nothing else, and each name below imports its module on first use, so every
 module can be imported alone and the package has no import cycle. ``replay`` and
 ``simulate`` are modules of this package, so their functions are imported from them
 (``from gather_verify.replay import replay``): a lazy name may not shadow a module.
-``check`` is the one exception, on purpose: the API's entry point (docs/api.md). The
-module ``gather_verify.check`` is callable as the function, so ``gather_verify.check(...)``
-is the function :func:`gather_verify.check.check` (the name holds the module, as an
-import of the module would make it).
+``check`` is a plain function, :func:`gather_verify.plane_check.check` (the check of the
+paper's world lives in the module ``plane_check``, so no module shadows the name).
 
 >>> import gather_verify as gv
 >>> gv.check(robots=[(0, 0), (3, 1), (1, 4)], meeting=[(2, 2)], algorithm="go-to-target").verdict
@@ -51,10 +49,10 @@ _PUBLIC: dict[str, str] = {
     "Limits": "gather_verify.engine.explore",
     "explore": "gather_verify.engine.search",
     "to_networkx": "gather_verify.engine.export",
-    "run_check": "gather_verify.check",
-    "check": "gather_verify.check",
-    "CheckReport": "gather_verify.check",
-    "PropertyResult": "gather_verify.check",
+    "run_check": "gather_verify.plane_check",
+    "check": "gather_verify.plane_check",
+    "CheckReport": "gather_verify.plane_check",
+    "PropertyResult": "gather_verify.plane_check",
     "load_trace": "gather_verify.trace",
     "check_impossibility": "gather_verify.paper.impossibility",
     # inputs and sweeps
@@ -75,9 +73,7 @@ def __getattr__(name: str) -> Any:
     module = _PUBLIC.get(name)
     if module is None:
         raise AttributeError(f"module 'gather_verify' has no attribute {name!r}")
-    value = importlib.import_module(module)
-    if name != "check":  # check: the module itself, callable as its function check()
-        value = getattr(value, name)
+    value = getattr(importlib.import_module(module), name)
     globals()[name] = value
     return value
 

@@ -113,7 +113,7 @@ def _child(kind: str, robots: list, meeting: list, max_seconds: float,
 
     c = Configuration([tuple(r) for r in robots], [tuple(m) for m in meeting], initial=True)
     if kind != "explore":  # the check's modules: a fixed cost too, not a per-state one
-        from gather_verify.check import run_check
+        from gather_verify.plane_check import run_check
     get_fact("in_U")  # the theories' modules, which a search imports on first use: the same
     # a fixed cost (numba and the compiled code), not a per-state one
     kernels.warm(RUN_KERNELS["rounds" if kind == "explore" and scheduler != "async" else kind])

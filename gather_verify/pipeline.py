@@ -2,7 +2,7 @@
 checker behind every front-end.
 
 A world supplies a :class:`Checker`: how it searches its state space (the paper's Z² with
-its region growth, :mod:`gather_verify.check`; a finite world,
+its region growth, :mod:`gather_verify.plane_check`; a finite world,
 :mod:`gather_verify.world_check`), how it decides its properties on what it found, and the
 report it writes when the watchdog stops the user's code. :func:`run` drives it: the search
 and the decisions under the watchdog (the user's code that does not return ends the check

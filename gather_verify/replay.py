@@ -13,7 +13,7 @@ transition property re-evaluates its predicate on facts computed here from the
 algorithm; a graph property checks its cycle or its move count); on a finite world by
 its task's part (:mod:`gather_verify.world_replay`).
 
->>> from gather_verify.check import run_check
+>>> from gather_verify.plane_check import run_check
 >>> from gather_verify.model.configuration import Configuration
 >>> r = run_check(Configuration([(0, 0), (2, 1)], [(1, 1)], initial=True), algorithm="go-to-target",
 ...               scheduler="fsync", max_states=1000, max_seconds=10, move_bound_c=0.1)

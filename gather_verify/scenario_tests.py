@@ -42,7 +42,7 @@ CHECK_OPTIONS = {
 
 def run_expectation(scenario: Scenario, expectation: Expectation) -> dict[str, Any]:
     """Run the explorer as the expectation says; the report of :func:`run_check`."""
-    from gather_verify.check import run_check, sorted_colours
+    from gather_verify.plane_check import run_check, sorted_colours
 
     unknown = set(expectation.options) - CHECK_OPTIONS - {"slow"}
     if unknown:

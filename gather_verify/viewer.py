@@ -12,7 +12,7 @@ snapshot it saw then. When the robots have moved since, the decision is
 *stale*: :func:`annotate` names the Look and the snapshot, and the page shows
 that snapshot beside the current configuration.
 
->>> from gather_verify.check import run_check
+>>> from gather_verify.plane_check import run_check
 >>> from gather_verify.model.configuration import Configuration
 >>> r = run_check(Configuration([(0, 0), (2, 1)], [(1, 1)], initial=True), algorithm="go-to-target",
 ...               scheduler="async", max_states=1000, max_seconds=10, move_bound_c=0.1)

@@ -148,8 +148,8 @@ def test_a_lost_worker_is_noticed_not_awaited_for_ever(tmp_path):
 def test_a_property_that_cannot_apply_says_so_instead_of_passing(tmp_path):
     """``target-invariance`` of an algorithm with no ``target()``: listed as not applicable
     (never 'holds'), and one line, exit 2, when asked for by name."""
-    from gather_verify.check import run_check
     from gather_verify.model.configuration import Configuration
+    from gather_verify.plane_check import run_check
 
     c = Configuration([(0, 0), (2, 1)], [(1, 1)], initial=True)
     report = run_check(c, algorithm="random", scheduler="async", margin=2)

@@ -49,7 +49,7 @@ def test_the_site_builds_with_warnings_as_errors(tmp_path):
         assert f'id="command-{command}"' in cli, command
     assert "EXIT_NO_LONGER_REPRODUCES" in cli
     api = html / "reference" / "_generated"
-    assert (api / "gather_verify.check.html").is_file()
+    assert (api / "gather_verify.plane_check.html").is_file()
     assert (api / "schedulers.base.html").is_file()
 
 

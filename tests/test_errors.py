@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from gather_verify import check as check_module
+from gather_verify import plane_check as check_module
 from gather_verify.cli import main
 from gather_verify.errors import InvalidInput
 

@@ -6,10 +6,10 @@ from collections import deque
 
 import pytest
 
-from gather_verify.check import run_check
 from gather_verify.engine.explore import Limits
 from gather_verify.engine.search import explore
 from gather_verify.model.configuration import Configuration
+from gather_verify.plane_check import run_check
 from schedulers import get_scheduler, initial_state
 
 YARD = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)

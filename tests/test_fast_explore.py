@@ -13,10 +13,10 @@ from hypothesis import strategies as st
 from gather_verify.algorithms import Unhandled, get_algorithm
 from gather_verify.algorithms.go_to_target import GoToTarget
 from gather_verify.algorithms.moves import move_sets
-from gather_verify.check import run_check
 from gather_verify.engine.explore import Limits, explore_reference
 from gather_verify.engine.fast_explore import explore_fast, supports
 from gather_verify.model.configuration import Configuration
+from gather_verify.plane_check import run_check
 from gather_verify.properties.base import Property
 from gather_verify.properties.registry import register, unregister
 from gather_verify.scenario import load_scenario

@@ -11,10 +11,10 @@ from pathlib import Path
 
 import pytest
 
-from gather_verify.check import run_check
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import FRAME_SETS
+from gather_verify.plane_check import run_check
 from gather_verify.sweeps.census import enumerate_configurations
 from gather_verify.sweeps.store import Store
 from gather_verify.sweeps.sweep import SweepSettings, configuration_key, run_sweep

@@ -264,8 +264,8 @@ def test_unwritable_outputs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
 
 @pytest.fixture(scope="module")
 def good_trace() -> dict:
-    from gather_verify.check import run_check
     from gather_verify.model.configuration import Configuration
+    from gather_verify.plane_check import run_check
 
     report = run_check(Configuration([(0, 0), (3, 1)], [(2, 2)], initial=True),
                        algorithm="broken-stay", scheduler="async",

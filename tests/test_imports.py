@@ -62,7 +62,7 @@ def test_import_gather_verify_is_cheap_and_lazy() -> None:
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
                          check=True).stdout.splitlines()
     assert out[0] == "['gather_verify'] False"
-    assert out[1] == "gather_verify.check gather_verify.model.configuration"
+    assert out[1] == "gather_verify.plane_check gather_verify.model.configuration"
 
 
 def test_public_names_resolve_and_unknown_names_raise() -> None:
@@ -119,7 +119,7 @@ import json, sys
 heavy = ("networkx", "scipy", "matplotlib", "hypothesis", "gather_verify.synthesis",
          "gather_verify.sweeps.sweep")
 # a finite world's check: none of the paper's world (Z²) engine, properties or tables
-finite = ("gather_verify.paper", "sqlite3", "gather_verify.check", "gather_verify.engine.explore",
+finite = ("gather_verify.paper", "sqlite3", "gather_verify.plane_check", "gather_verify.engine.explore",
           "gather_verify.engine.checks", "gather_verify.properties", "gather_verify.render",
           "gather_verify.scenario_tests", "statistics", "gather_verify.world_replay")
 if sys.argv[1] == "ring":
@@ -127,7 +127,7 @@ if sys.argv[1] == "ring":
     r = run_world_check("ring:9", [0, 3, 5], [7], "go-to-target", "async", reduction=False)
     heavy += finite
 elif sys.argv[1] == "grid":
-    from gather_verify.check import run_check
+    from gather_verify.plane_check import run_check
     from gather_verify.model.configuration import Configuration
     c = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)
     r = run_check(c, algorithm="go-to-target", scheduler="async", reduction=False)

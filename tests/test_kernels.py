@@ -16,13 +16,13 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from gather_verify import kernels
-from gather_verify.check import run_check
 from gather_verify.engine.bulk_step import successor_keys
 from gather_verify.engine.canonical_keys import Canon
 from gather_verify.engine.columns import GrowingBits, GrowingIds, first_sources
 from gather_verify.engine.fast_explore import explore_fast
 from gather_verify.engine.key_index import KeyIndex
 from gather_verify.model.configuration import Configuration
+from gather_verify.plane_check import run_check
 from gather_verify.properties.graph import longest_path, strongly_connected
 from gather_verify.scenario import load_scenario
 from gather_verify.scenario_tests import run_expectation

@@ -120,7 +120,7 @@ def test_a_check_stops_once_every_requested_property_is_settled() -> None:
     """--property P: the search stops at P's first counterexample (the shortest trace, the
     same verdict); --keep-going searches the whole space, and the report never says that a
     property it stopped looking for holds."""
-    from gather_verify.check import SETTLED, run_check
+    from gather_verify.plane_check import SETTLED, run_check
 
     c = Configuration([(0, 0), (4, 0), (0, 4), (4, 4)], [(2, 2), (0, 1)], initial=True)
     kw = {"algorithm": "go-to-target", "scheduler": "async", "properties": ["no-ungatherable"],

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from gather_verify.check import run_check
+from gather_verify.plane_check import run_check
 from gather_verify.replay import replay
 from gather_verify.scenario import parse_scenario
 from tools.mutants import (

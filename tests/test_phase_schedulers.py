@@ -141,8 +141,8 @@ def test_a_changed_command_does_not_replay():
 
 
 def test_what_does_not_run_them_says_so():
-    from gather_verify.check import run_check
     from gather_verify.model.configuration import Configuration
+    from gather_verify.plane_check import run_check
 
     with pytest.raises(InvalidInput, match="phase schedulers"):
         run_check(Configuration([(0, 0), (2, 1)], [(1, 1)], initial=True),

@@ -14,9 +14,9 @@ import pytest
 
 import gather_verify as gv
 from gather_verify.algorithms import AlgorithmCrash, get_algorithm
-from gather_verify.check import run_check
 from gather_verify.cli import main
 from gather_verify.model.configuration import Configuration
+from gather_verify.plane_check import run_check
 from gather_verify.replay import replay
 from gather_verify.simulate import simulate
 

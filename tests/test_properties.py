@@ -10,11 +10,11 @@ from pathlib import Path
 
 import pytest
 
-from gather_verify.check import run_check
 from gather_verify.engine.explore import Limits
 from gather_verify.engine.search import explore
 from gather_verify.model.configuration import Configuration as C
 from gather_verify.model.geometry import manhattan
+from gather_verify.plane_check import run_check
 from gather_verify.properties import (
     ORDER,
     Property,

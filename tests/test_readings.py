@@ -11,7 +11,6 @@ from pathlib import Path
 import pytest
 
 from gather_verify.algorithms.base import Unhandled
-from gather_verify.check import run_check
 from gather_verify.cli import main
 from gather_verify.model.configuration import Configuration
 from gather_verify.paper.algorithm import DEFAULTS, READINGS, PaperAlgorithm, Reading, analyse
@@ -25,6 +24,7 @@ from gather_verify.paper.readings import (
     robustness,
     robustness_table,
 )
+from gather_verify.plane_check import run_check
 from gather_verify.scenario import load_scenario
 from gather_verify.sweeps.census import enumerate_configurations
 

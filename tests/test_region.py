@@ -8,13 +8,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gather_verify.check import AUTO_MARGIN_MAX
 from gather_verify.engine import union
 from gather_verify.engine.encoding import DEFAULT_MARGIN, Limits
 from gather_verify.engine.region import PLANE, RegionPolicy, region_box
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import meeting_automorphisms
+from gather_verify.plane_check import AUTO_MARGIN_MAX
 
 
 def doubling_loop(initial: int, maximum: int) -> list[int]:

@@ -12,10 +12,10 @@ import json
 
 import pytest
 
-from gather_verify.check import AUTO_MARGIN_MAX, run_check
 from gather_verify.cli import main
 from gather_verify.engine import union
 from gather_verify.model.configuration import Configuration
+from gather_verify.plane_check import AUTO_MARGIN_MAX, run_check
 from gather_verify.sweeps.census import enumerate_configurations
 from gather_verify.sweeps.mclass import class_tasks, decide_class
 from gather_verify.sweeps.sweep import SweepSettings, configuration_key

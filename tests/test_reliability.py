@@ -24,9 +24,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gather_verify.check import run_check
 from gather_verify.cli import main
 from gather_verify.model.configuration import Configuration
+from gather_verify.plane_check import run_check
 from gather_verify.sweeps.store import Store
 
 ROOT = Path(__file__).resolve().parent.parent

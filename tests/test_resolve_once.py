@@ -11,11 +11,11 @@ import pytest
 import gather_verify.algorithms as algorithms
 import schedulers
 from gather_verify.algorithms import get_algorithm
-from gather_verify.check import run_check
 from gather_verify.engine import explore as explore_module
 from gather_verify.engine import fast_explore
 from gather_verify.engine.search import explore
 from gather_verify.model.configuration import Configuration
+from gather_verify.plane_check import run_check
 from gather_verify.world_check import run_world_check
 from schedulers import get_scheduler
 

@@ -106,9 +106,9 @@ def _endless(*args: Any, **kwargs: Any) -> dict[str, Any]:
 @pytest.mark.parametrize("where", ["candidate", "witness"])
 def test_an_endless_check_is_cut_by_the_watchdog(monkeypatch: pytest.MonkeyPatch,
                                                  where: str) -> None:
-    import gather_verify.check
+    import gather_verify.plane_check
 
-    monkeypatch.setattr(gather_verify.check, "run_check", _endless)
+    monkeypatch.setattr(gather_verify.plane_check, "run_check", _endless)
     if where == "candidate":
         found = _plane_search(0.5)
         assert (found.answer, found.limit) == ("unknown", "max-seconds (cut by the watchdog)")

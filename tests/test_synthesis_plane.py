@@ -17,10 +17,10 @@ from hypothesis import strategies as st
 
 pytest.importorskip("pysat", reason="synthesize needs python-sat (extra synth)")
 
-from gather_verify.check import run_check  # noqa: E402
 from gather_verify.model.configuration import Configuration  # noqa: E402
 from gather_verify.model.symmetry import Automorphism  # noqa: E402
 from gather_verify.paper.classes import classify_configuration  # noqa: E402
+from gather_verify.plane_check import run_check  # noqa: E402
 from gather_verify.synthesis import plane  # noqa: E402
 from tests.test_synthesis import cli, one_line  # noqa: E402
 

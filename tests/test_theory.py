@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 
 from gather_verify import theory
-from gather_verify.check import run_check
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
+from gather_verify.plane_check import run_check
 
 ROOT = Path(__file__).resolve().parent.parent
 IN_U = Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)], initial=True)  # UNCLASSIFIED, in U
@@ -22,7 +22,7 @@ YARD = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)  # I13
 def test_check_finds_the_paper_without_importing_it_first() -> None:
     """A fresh interpreter that imports only check: the first lookup loads the paper."""
     code = ("import sys\n"
-            "from gather_verify.check import run_check\n"
+            "from gather_verify.plane_check import run_check\n"
             "from gather_verify.model.configuration import Configuration\n"
             "print('gather_verify.paper' in sys.modules)\n"
             "c = Configuration([(0, 1), (2, 1)], [(0, 0), (2, 0)], initial=True)\n"

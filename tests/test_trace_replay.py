@@ -10,8 +10,8 @@ import pytest
 
 from gather_verify.algorithms import get_algorithm
 from gather_verify.algorithms.moves import move_sets
-from gather_verify.check import run_check
 from gather_verify.model.configuration import Configuration as C
+from gather_verify.plane_check import run_check
 from gather_verify.render import render_trace, trace_svg
 from gather_verify.replay import replay
 from schedulers import configuration_of, get_scheduler, initial_state

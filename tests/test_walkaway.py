@@ -10,12 +10,12 @@ from pathlib import Path
 
 import pytest
 
-from gather_verify.check import run_check
 from gather_verify.cli import main
 from gather_verify.engine.explore import Limits
 from gather_verify.engine.search import explore
 from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
+from gather_verify.plane_check import run_check
 from gather_verify.properties.drift import find_drift
 from gather_verify.properties.graph import most_moves, real_edges
 from gather_verify.replay import replay

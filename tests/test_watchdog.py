@@ -27,8 +27,8 @@ from pathlib import Path
 
 import pytest
 
-from gather_verify.check import run_check
 from gather_verify.model.configuration import Configuration
+from gather_verify.plane_check import run_check
 from gather_verify.watchdog import GRACE_SECONDS, Overtime, deadline, guards, watched
 
 ROOT = Path(__file__).resolve().parent.parent

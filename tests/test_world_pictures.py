@@ -381,8 +381,8 @@ def test_browser_torus_lights_and_the_failing_node(web, tmp_path):
     page = open_viewer(web, tmp_path, trace, "inchworm.html")
     assert page.eval_on_selector("#now circle.focus", "c => c.dataset.node") == "2"
     assert page.eval_on_selector_all("#now circle.light", "cs => cs.length") == 2  # lit 0
-    from gather_verify.check import run_check  # the paper's world, lit: its header says so
     from gather_verify.model.configuration import Configuration
+    from gather_verify.plane_check import run_check  # the paper's world, lit: its header says so
 
     start = Configuration([(1, 1), (3, 2)], [(0, 0), (4, 0)], initial=True)
     trace = run_check(start, algorithm="beacon", scheduler="ssync", lights="2")["trace"]

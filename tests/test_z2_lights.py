@@ -20,7 +20,6 @@ from hypothesis import strategies as st
 import schedulers.async_
 import schedulers.base
 from gather_verify import kernels
-from gather_verify.check import run_check, sorted_colours
 from gather_verify.cli import main
 from gather_verify.engine import lit_bulk
 from gather_verify.engine.encoding import Limits
@@ -30,6 +29,7 @@ from gather_verify.errors import InvalidInput
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import LightHidden, Lights, LuminousView, MultiplicityHidden
+from gather_verify.plane_check import run_check, sorted_colours
 from gather_verify.replay import NoLongerReproduces, replay
 from gather_verify.worlds.moves import parse_lights
 

@@ -15,7 +15,6 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gather_verify.check import run_check
 from gather_verify.cli import main
 from gather_verify.engine.encoding import Limits
 from gather_verify.engine.explore import Exploration, explore_reference
@@ -23,6 +22,7 @@ from gather_verify.engine.fast_explore import explore_fast
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.view import Lights
+from gather_verify.plane_check import run_check
 from gather_verify.replay import replay
 
 YARDSTICK = Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True)

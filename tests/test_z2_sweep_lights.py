@@ -13,10 +13,10 @@ from typing import Any
 
 import pytest
 
-from gather_verify.check import run_check
 from gather_verify.cli import main
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
+from gather_verify.plane_check import run_check
 from gather_verify.sweeps.census import enumerate_configurations
 from gather_verify.sweeps.lit_census import verify_lit_one
 from gather_verify.sweeps.store import Store

@@ -48,7 +48,6 @@ from typing import Any
 
 from gather_verify.algorithms import Algorithm, register
 from gather_verify.algorithms import go_to_target as _go_to_target
-from gather_verify.check import run_check
 from gather_verify.cli.common import (
     EXIT_OK,
     EXIT_USAGE,
@@ -58,6 +57,7 @@ from gather_verify.cli.common import (
 )
 from gather_verify.errors import InvalidInput
 from gather_verify.paper import algorithm as _paper
+from gather_verify.plane_check import run_check
 from gather_verify.properties import ORDER
 from gather_verify.scenario import load_scenario
 

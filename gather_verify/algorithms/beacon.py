@@ -12,7 +12,7 @@ sets a light, so the second robot to claim sees the first claim; under SSYNC two
 looking at once may claim two meeting nodes, and then they wait for each other for ever:
 the checker finds that deadlock.
 
->>> from gather_verify.check import run_check
+>>> from gather_verify.plane_check import run_check
 >>> from gather_verify.model.configuration import Configuration
 >>> c = Configuration([(1, 1), (3, 2)], [(0, 0), (4, 0)], initial=True)
 >>> run_check(c, algorithm="beacon", scheduler="async", lights="2")["verdict"]

@@ -1,5 +1,5 @@
 """``gather-verify check``: explore every execution and decide the properties (a thin wrapper
-around :func:`gather_verify.check.run_check`)."""
+around :func:`gather_verify.plane_check.run_check`)."""
 
 from __future__ import annotations
 
@@ -190,8 +190,8 @@ def run(args: argparse.Namespace) -> int:
         if entry_of(scenario.world) == FINITE:
             return run_world(args, scenario)
     # the paper's world (Z²): its engines, imported here, not by a finite world's check
-    from gather_verify.check import drift_line, run_check
     from gather_verify.engine.export import graph_format, write_graph
+    from gather_verify.plane_check import drift_line, run_check
     from gather_verify.render import render_trace
 
     if args.task not in (None, "gathering-on-meeting-nodes") or args.visibility is not None:
@@ -213,8 +213,8 @@ def run(args: argparse.Namespace) -> int:
     colours = _colours(args.colours) if args.colours is not None else (
         scenario.colours if scenario else None)
     if colours is not None:  # given robot by robot as written; run_check takes sorted robots
-        from gather_verify.check import sorted_colours
         from gather_verify.model.geometry import parse_nodes
+        from gather_verify.plane_check import sorted_colours
 
         written = parse_nodes(args.robots) if args.robots is not None else [
             tuple(v) for v in scenario.raw["robots"]]

@@ -266,7 +266,7 @@ def _run(args: argparse.Namespace) -> int:
 
         with deadline(allowance(args.max_seconds_per_config)):
             check_property_names(args.properties)
-        from gather_verify.check import refuse_inapplicable
+        from gather_verify.plane_check import refuse_inapplicable
         from gather_verify.worlds.moves import parse_lights
 
         refuse_inapplicable(args.properties, algorithm, args.frames,

@@ -257,7 +257,7 @@ def check_readings(configuration: Configuration, readings: str, *, algorithm: st
     the same graph, in the same order, and reach the same verdict. The next run is the
     first reading no run stands for yet. ``dynamic=False`` runs every reading."""
     if run is None:
-        from gather_verify.check import run_check as run
+        from gather_verify.plane_check import run_check as run
     varied = parse_readings(readings, algorithm)
     specs = covering(varied, configuration)
     pending = [_values(spec) for spec in specs]

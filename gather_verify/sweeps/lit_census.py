@@ -8,7 +8,7 @@ robots' frame group that maps its robots and meeting nodes onto themselves) are 
 represented by its least member (colours listed as the sorted robots, compared as tuples).
 Such a pair has the same verdict: the automorphism maps every execution of one onto an
 execution of the other. The union engine encodes no colours: each item is checked on its own
-(:func:`gather_verify.check.run_check`), by the bulk engine where it can run it.
+(:func:`gather_verify.plane_check.run_check`), by the bulk engine where it can run it.
 
 >>> from gather_verify.model.configuration import Configuration
 >>> line = Configuration([(0, 0), (2, 0)], [(1, 0)])  # a mirror swaps its two robots
@@ -87,7 +87,7 @@ def verify_lit_one(settings: Any, index: int, lit: LitConfiguration,
     """Classify and check one configuration with its initial colours (``engine`` as
     ``run_check`` takes it: the bulk engine where it can); the row the store keeps (robots
     as ``[node, colour]`` with ``every``)."""
-    from gather_verify.check import run_check
+    from gather_verify.plane_check import run_check
     from gather_verify.sweeps.store import check_row
 
     started = time.perf_counter()

@@ -21,7 +21,6 @@ from gather_verify import properties as props
 from gather_verify.algorithms import Algorithm, get_algorithm
 from gather_verify.algorithms.base import target_commutes_with_translations as commutes
 from gather_verify.algorithms.moves import frames_for
-from gather_verify.check import _safety_trace, cause_of
 from gather_verify.engine import union
 from gather_verify.engine.encoding import Turns
 from gather_verify.engine.explore import (
@@ -39,6 +38,7 @@ from gather_verify.engine.resources import memory_budget_mb
 from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import Automorphism
+from gather_verify.plane_check import _safety_trace, cause_of
 from gather_verify.sweeps.store import row
 from gather_verify.theory import failing, get_fact, scope_of
 from gather_verify.watchdog import Overtime, allowance, deadline

@@ -142,7 +142,7 @@ def configuration_key(c: Configuration) -> str:
 
 def verify_one(settings: SweepSettings, index: int, c: Configuration) -> dict[str, Any]:
     """Classify and check one configuration; the row the store keeps."""
-    from gather_verify.check import run_check
+    from gather_verify.plane_check import run_check
 
     started = time.perf_counter()
     report = run_check(  # the checks of a sweep meet the same configurations again and again
@@ -377,7 +377,7 @@ def warm_kernels(schedulers: Iterable[str]) -> None:
     """Compile (or load from numba's cache) the bulk engine's kernels before any row is
     timed, with a tiny check per scheduler: the first configuration of a sweep is then not
     charged the compile time."""
-    from gather_verify.check import run_check
+    from gather_verify.plane_check import run_check
 
     tiny = Configuration([(0, 0), (2, 1)], [(1, 1)], initial=True)
     for scheduler in sorted(schedulers):

@@ -575,7 +575,7 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
     for :data:`SEED_ROUND` candidates, the next for as many, and round again with twice as
     many. A seed is a phase, never a constraint: every clause holds whichever seed is on,
     and the answer is judged by the checker alone. Default: :func:`default_seeds`."""
-    from gather_verify.check import run_check
+    from gather_verify.plane_check import run_check
     from gather_verify.synthesis.search import TIME_LIMIT, budget, solve_within, solver_class
     from gather_verify.watchdog import Overtime
 
@@ -861,7 +861,7 @@ def check_witness(spec: str, inst: PlaneInstance, c: Configuration,
     """The ordinary checker on the witness file, every reduction off (final, termination),
     within ``max_seconds`` (:func:`~gather_verify.synthesis.search.budget`: past it, the
     verdict is INCOMPLETE with reason ``time``)."""
-    from gather_verify.check import run_check
+    from gather_verify.plane_check import run_check
     from gather_verify.synthesis.search import budget
     from gather_verify.watchdog import Overtime
 

@@ -1,5 +1,6 @@
-"""``run_check``: classify, explore, decide every requested property, build the trace; and
-``check``, the Python API over it (defaults for every limit, a typed :class:`CheckReport`).
+"""The check of the paper's world (Z²): ``run_check`` classifies, explores, decides every
+requested property and builds the trace; ``check`` is the Python API over it,
+``gather_verify.check`` (defaults for every limit, a typed :class:`CheckReport`).
 
 The one entry point behind ``gather-verify check`` and the sweep; it builds a
 :class:`CheckReport` and returns it as the JSON-able dict the CLI prints with ``--json``
@@ -13,13 +14,6 @@ class. Termination needs robot identities: when the reduced graph has a
 cycle, the space is explored again without reductions and the fair
 components are decided there.
 
-``gather_verify.check`` is both this module and the API's entry point: the module is
-callable, as :func:`check` (``import gather_verify as gv; gv.check(robots=..., ...)``),
-because importing a submodule binds its name in the package, so the package attribute
-``check`` holds this module once anything has imported it. The module's class is set to
-:class:`CallableModule` (Python's documented way to customise a module,
-``module.__class__``); ``tests/test_public_api.py`` checks both orders of import.
-
 >>> from gather_verify.model.configuration import Configuration
 >>> r = run_check(Configuration([(0, 0), (3, 1), (1, 4)], [(2, 2)], initial=True),
 ...               algorithm="go-to-target", scheduler="async", max_states=10**5, max_seconds=60)
@@ -29,9 +23,7 @@ because importing a submodule binds its name in the package, so the package attr
 
 from __future__ import annotations
 
-import sys
 import time
-import types
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from functools import wraps
@@ -863,15 +855,3 @@ def check(
     if not isinstance(name, str):
         raise InvalidInput("an algorithm object needs a name (a string attribute)")
     return _check_report(configuration, algorithm=algorithm, scheduler=scheduler, **options)
-
-
-class CallableModule(types.ModuleType):
-    """This module, callable as :func:`check`: ``gather_verify.check(...)`` is the API's
-    entry point whether the package attribute was bound by an import of this module or by
-    the package's lazy names (docs/api.md)."""
-
-    def __call__(self, *args: Any, **kwargs: Any) -> CheckReport:
-        return check(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = CallableModule
