@@ -195,10 +195,10 @@ def _parsed_imports(source: bytes, filename: str, package: tuple[str, ...]
 
 def _module_file(root: Path, parts: tuple[str, ...]) -> Path | None:
     """The file of module ``parts`` under ``root`` (a module or a package's ``__init__``)."""
-    stem = root.joinpath(*parts)
-    for candidate in (stem.with_suffix(".py"), stem / "__init__.py"):
-        if candidate.is_file():
-            return candidate
+    stem = os.path.join(root, *parts)  # os.path: a sweep's worker looks after every task
+    for candidate in (stem + ".py", os.path.join(stem, "__init__.py")):
+        if os.path.isfile(candidate):
+            return Path(candidate)
     return None
 
 
@@ -219,10 +219,12 @@ def local_sources(module_file: str | Path, module_name: str | None = None) -> li
         if str(scope) in _LIBRARY:
             return [first]
     seen, todo = {first}, [first]
+    looked: set[tuple[str, ...]] = set()  # a name imported by many modules is looked up once
     while todo:
         here = todo.pop()
         package = here.parent.relative_to(root).parts if here.is_relative_to(root) else ()
-        for dotted in _imports(here, package):
+        for dotted in _imports(here, package) - looked:
+            looked.add(dotted)
             found = _module_file(root, dotted)
             found = found and found.resolve()
             if found is not None and found.is_relative_to(scope) and found not in seen:
