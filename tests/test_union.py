@@ -21,8 +21,13 @@ from gather_verify.errors import InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import meeting_automorphisms
 from gather_verify.sweeps.census import enumerate_configurations
-from gather_verify.sweeps.mclass import class_tasks, decide_class, verify_class
+from gather_verify.sweeps.classes import ClassDecision, verify_class
+from gather_verify.sweeps.mclass import class_tasks, decide_class
 from gather_verify.sweeps.sweep import SweepSettings, configuration_key, verify_one
+
+
+def plane_decision(settings: SweepSettings, members: list) -> ClassDecision:
+    return decide_class(settings, members, configuration_key)
 
 
 def _without_seconds(row: dict) -> dict:
@@ -47,10 +52,10 @@ def assert_rows_equal(n: int, m: int, box: tuple[int, int], algorithm: str,
         fallback += len(decided.fallback)
         for why in decided.reasons.values():
             reasons[why] = reasons.get(why, 0) + 1
-        rows, rest = verify_class(s, members, verify_one, configuration_key)
+        rows, rest = verify_class(s, members, plane_decision, verify_one)
         assert [r["index"] for r in rows] == sorted(i for i, _ in members) and rest == []
         # handed off at once: the union's rows here, every fallback left to other workers
-        kept, handed = verify_class(s, members, verify_one, configuration_key, hand_off=0.0)
+        kept, handed = verify_class(s, members, plane_decision, verify_one, hand_off=0.0)
         assert handed == decided.fallback and len(kept) == len(decided.rows)
         seen.update((r["index"], r) for r in rows)
     assert sorted(seen) == [i for i, _ in items]

@@ -13,13 +13,10 @@ import pytest
 
 from gather_verify.cli import main
 from gather_verify.sweeps import world_union
+from gather_verify.sweeps.classes import verify_class
 from gather_verify.sweeps.sweep import SweepSettings
 from gather_verify.sweeps.world_census import verify_world_one, world_configurations
-from gather_verify.sweeps.world_union import (
-    decide_world_class,
-    verify_world_class,
-    world_class_tasks,
-)
+from gather_verify.sweeps.world_union import decide_world_class, world_class_tasks
 from gather_verify.worlds import get_world
 from gather_verify.worlds.moves import parse_lights
 
@@ -47,11 +44,14 @@ def assert_rows_equal(world: str, n: int, m: int, algorithm: str, scheduler: str
     seen: dict[int, dict] = {}
     settled = 0
     for members in world_class_tasks(s, items):
-        settled += len(decide_world_class(s, members))
-        rows, rest = verify_world_class(s, members)
+        decided = decide_world_class(s, members)
+        settled += len(decided.rows)
+        assert sorted(decided.reasons) == [i for i, _ in decided.fallback]  # each with why
+        rows, rest = verify_class(s, members, decide_world_class, verify_world_one)
         assert [r["index"] for r in rows] == [i for i, _ in members] and rest == []
-        kept, handed = verify_world_class(s, members, hand_off=0.0)
-        assert len(kept) == len(decide_world_class(s, members))
+        kept, handed = verify_class(s, members, decide_world_class, verify_world_one,
+                                    hand_off=0.0)
+        assert len(kept) == len(decided.rows)
         assert [i for i, _ in handed] == [i for i, _ in members if i not in
                                           {r["index"] for r in kept}]
         seen.update((r["index"], r) for r in rows)

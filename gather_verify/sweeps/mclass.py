@@ -1,10 +1,10 @@
-"""A sweep's unit of work as one meeting-node class (``sweep --engine union``).
+"""The paper's world's union engine in a sweep (``sweep --engine union``).
 
-:func:`verify_class` gives the rows of every configuration of one class, the
-same rows :func:`gather_verify.sweeps.sweep.verify_one` gives one at a time:
-most from one union graph (:mod:`gather_verify.engine.union`, which documents
-the rules), the others (NOT-APPLICABLE ones, and those the union does not
-settle exactly) from the per-configuration check. :func:`class_tasks` cuts a
+:func:`decide_class` settles most configurations of one class from one union graph
+(:mod:`gather_verify.engine.union`, which documents the rules), with the rows
+:func:`gather_verify.sweeps.sweep.verify_one` gives one at a time; the others
+(NOT-APPLICABLE ones, and those the union does not settle exactly) are left to the
+per-configuration check (:func:`gather_verify.sweeps.classes.verify_class` runs them). :func:`class_tasks` cuts a
 sweep's configurations into classes, largest first, so a pool starts the long
 ones early.
 """
@@ -14,7 +14,6 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 from typing import Any
 
 from gather_verify import properties as props
@@ -39,6 +38,7 @@ from gather_verify.model import geometry
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.symmetry import Automorphism
 from gather_verify.plane_check import _safety_trace, cause_of
+from gather_verify.sweeps.classes import ClassDecision
 from gather_verify.sweeps.store import row
 from gather_verify.theory import failing, get_fact, scope_of
 from gather_verify.watchdog import Overtime, allowance, deadline
@@ -46,33 +46,6 @@ from schedulers import initial_state
 
 ENGINES = ("union", "per-config")
 Row = dict[str, Any]
-
-
-def verify_class(settings: Any, members: Sequence[tuple[int, Configuration]],
-                 verify_one: Callable[[Any, int, Configuration], Row],
-                 configuration_key: Callable[[Configuration], str],
-                 hand_off: float | None = None, fallbacks: dict[str, int] | None = None,
-                 ) -> tuple[list[Row], list[tuple[int, Configuration]]]:
-    """The rows of ``members`` (configurations whose ``M`` have one shape, as
-    :func:`class_tasks` makes them), in index order; ``verify_one`` checks one configuration
-    on its own (the sweep's). With ``hand_off`` (seconds), the per-configuration checks left
-    once the task has run that long are not run here but returned, for other workers (a
-    few runs that walk away from ``M`` would otherwise make one class the whole sweep's
-    floor); without it the second list is empty. ``fallbacks``: counts, by reason
-    (:attr:`ClassDecision.reasons`), of the members the union left to their own checks,
-    added to (those checked here and those handed off)."""
-    started = time.perf_counter()
-    decided = decide_class(settings, members, configuration_key)
-    rows, rest = decided.rows, decided.fallback
-    done = 0
-    while done < len(rest) and (hand_off is None or time.perf_counter() - started < hand_off):
-        rows.append(verify_one(settings, *rest[done]))
-        done += 1
-    if fallbacks is not None:
-        for index, _ in rest:
-            why = decided.reasons[index]
-            fallbacks[why] = fallbacks.get(why, 0) + 1
-    return sorted(rows, key=lambda r: r["index"]), rest[done:]
 
 
 def class_tasks(todo: Sequence[tuple[int, Configuration]], frames: str = "all"
@@ -86,23 +59,6 @@ def class_tasks(todo: Sequence[tuple[int, Configuration]], frames: str = "all"
         shape = union.shape_key(members[0][1], frames)
         shapes.setdefault(shape, []).extend(members)
     return sorted(shapes.values(), key=lambda members: (-len(members), members[0][0]))
-
-
-@dataclass
-class ClassDecision:
-    """Rows decided from the union graph, and the members left to the per-configuration check."""
-
-    rows: list[dict[str, Any]]
-    fallback: list[tuple[int, Configuration]]
-    union_states: int = 0
-    reasons: dict[int, str] = field(default_factory=dict)
-    """Per member of ``fallback`` (by index): why the union left it to its own check."""
-
-    def fall_back(self, items: Sequence[tuple[int, Configuration]], why: str) -> ClassDecision:
-        """``items`` added to ``fallback``, each with the reason ``why``; ``self``."""
-        self.fallback.extend(items)
-        self.reasons.update((index, why) for index, _ in items)
-        return self
 
 
 def decide_class(settings: Any, members: Sequence[tuple[int, Configuration]],

@@ -23,6 +23,7 @@ from typing import Any
 
 from gather_verify.errors import GatherVerifyError, InvalidInput
 from gather_verify.model.configuration import Configuration
+from gather_verify.sweeps.classes import ClassDecision, Item, verify_class
 from gather_verify.sweeps.store import CAUSE_UNKNOWN, Store, check_row
 
 CHUNK = 8
@@ -391,7 +392,8 @@ meeting-node class (:mod:`gather_verify.sweeps.world_union`)."""
 
 HAND_OFF_SECONDS = 30.0
 """With several workers, a meeting-node class that has run this long hands its remaining
-per-configuration checks to the other workers, one task each (``mclass.verify_class``)."""
+per-configuration checks to the other workers, one task each
+(:func:`gather_verify.sweeps.classes.verify_class`)."""
 
 
 def _execute(
@@ -612,7 +614,8 @@ def _run_class_task(task: Task, hand_off: float | None = None) -> tuple[Any, ...
     sweep, settings, chunk = task
     fallbacks: dict[str, int] = {}
     face = face_of(settings)
-    rows, rest = face.verify_class(settings, chunk, hand_off, fallbacks)
+    rows, rest = verify_class(settings, chunk, face.decide_class, face.verify_one, hand_off,
+                              fallbacks)
     return sweep, rows, [(sweep, settings, part) for part in _chunks(rest, face.hand_off_chunk)], \
         fallbacks
 
@@ -880,26 +883,21 @@ def format_summary(summary: dict[str, Any], write: Callable[[str], Any] = print)
             write(f"  {r['seconds']:8.3f}s  {r['class']:<5} robots={r['robots']} meeting={r['meeting_nodes']}")
 
 
-Item = tuple[int, Any]
-"""A configuration of a sweep with its index in the enumeration."""
-Rows = tuple[list[dict[str, Any]], list[Item]]
-"""The rows a union task decided, and the configurations it leaves to their own checks."""
-
-
 @dataclass(frozen=True)
 class SweepFace:
     """What a world supplies to the one sweep (its ``entry`` names it,
     :func:`~gather_verify.worlds.entry_of`): its census (the configurations with their stored
     keys, in enumeration order), the row of one configuration, and its union engine (the
-    configurations grouped by meeting-node class, the largest first, and a class's rows from
-    one state graph, the rest left to their own checks after ``hand_off`` seconds, handed
+    configurations grouped by meeting-node class, the largest first, and what one state
+    graph of a class decides, :class:`~gather_verify.sweeps.classes.ClassDecision`: the rest
+    are checked on their own, by :func:`~gather_verify.sweeps.classes.verify_class`, handed
     off ``hand_off_chunk`` at a time); ``warm``: its checks run the compiled kernels, to be
     compiled before the first row is timed."""
 
     census: Callable[[SweepSettings], Iterator[tuple[Any, str]]]
     verify_one: Verify
     class_tasks: Callable[[SweepSettings, list[Item]], list[list[Item]]]
-    verify_class: Callable[[SweepSettings, list[Item], float | None, dict[str, int]], Rows]
+    decide_class: Callable[[SweepSettings, Sequence[Item]], ClassDecision]
     hand_off_chunk: int
     warm: bool
 
@@ -910,11 +908,10 @@ def _plane_class_tasks(settings: SweepSettings, todo: list[Item]) -> list[list[I
     return class_tasks(todo, settings.frames)
 
 
-def _plane_class(settings: SweepSettings, chunk: list[Item], hand_off: float | None,
-                 fallbacks: dict[str, int]) -> Rows:
-    from gather_verify.sweeps.mclass import verify_class
+def _plane_class(settings: SweepSettings, chunk: Sequence[Item]) -> ClassDecision:
+    from gather_verify.sweeps.mclass import decide_class
 
-    return verify_class(settings, chunk, verify_one, configuration_key, hand_off, fallbacks)
+    return decide_class(settings, chunk, configuration_key)
 
 
 def _world_one(settings: SweepSettings, index: int, c: Any) -> dict[str, Any]:
@@ -929,11 +926,10 @@ def _world_class_tasks(settings: SweepSettings, todo: list[Item]) -> list[list[I
     return world_class_tasks(settings, todo)
 
 
-def _world_class(settings: SweepSettings, chunk: list[Item], hand_off: float | None,
-                 fallbacks: dict[str, int]) -> Rows:
-    from gather_verify.sweeps.world_union import verify_world_class
+def _world_class(settings: SweepSettings, chunk: Sequence[Item]) -> ClassDecision:
+    from gather_verify.sweeps.world_union import decide_world_class
 
-    return verify_world_class(settings, chunk, hand_off)
+    return decide_world_class(settings, chunk)
 
 
 SWEEP_FACES: dict[str, SweepFace] = {

@@ -38,8 +38,9 @@ from typing import Any
 import numpy as np
 
 from gather_verify.errors import InvalidInput
+from gather_verify.sweeps.classes import ClassDecision
 from gather_verify.sweeps.store import row
-from gather_verify.sweeps.world_census import WorldConfiguration, verify_world_one, world_key
+from gather_verify.sweeps.world_census import WorldConfiguration, world_key
 from gather_verify.watchdog import Overtime, allowance, deadline
 from gather_verify.worlds import finite_world
 from gather_verify.worlds.base import World
@@ -75,39 +76,31 @@ def world_class_tasks(settings: Any, items: list[Item]) -> list[list[Item]]:
     return sorted(classes.values(), key=lambda members: -len(members))
 
 
-def verify_world_class(settings: Any, items: list[Item], hand_off: float | None = None
-                       ) -> tuple[list[dict[str, Any]], list[Item]]:
-    """The rows of the configurations ``items`` (one meeting-node class), in order: from one
-    union search where it decides them, else from their own checks; with ``hand_off``
-    (seconds), the checks left once the task has run that long are returned instead, for
-    other workers (as :func:`gather_verify.sweeps.mclass.verify_class` does)."""
-    started = time.perf_counter()
-    decided = decide_world_class(settings, items)
-    share = (time.perf_counter() - started) / max(1, len(decided))
-    rows = list(decided.values())
-    for one in rows:
-        one["seconds"] = share
-    rest = [(index, c) for index, c in items if index not in decided]
-    done = 0
-    while done < len(rest) and (hand_off is None or time.perf_counter() - started < hand_off):
-        rows.append(verify_world_one(settings, *rest[done]))
-        done += 1
-    return sorted(rows, key=lambda r: r["index"]), rest[done:]
-
-
-def decide_world_class(settings: Any, items: list[Item]) -> dict[int, dict[str, Any]]:
+def decide_world_class(settings: Any, items: Sequence[Item]) -> ClassDecision:
     """The rows the union graph of the class decides (VERIFIED, with their own search's
-    counts), by index; the other configurations are left out."""
+    counts, the union's time shared among them); the other configurations left to their own
+    checks, each with why."""
+    out = ClassDecision([], [])
     if not items:
-        return {}
+        return out
+    started = time.perf_counter()
     try:  # the user's code that does not return: the per-configuration checks decide (each
         # stops at its own time limit, INCOMPLETE), as on the paper's world
         with deadline(allowance(settings.max_seconds)):
-            return _Union(settings, items).rows()
-    except InvalidInput:  # each configuration's own check says it in its own words
-        return {}
+            union = _Union(settings, list(items))
+            decided = union.rows()
+    except InvalidInput as error:  # each configuration's own check says it in its own words
+        return out.fall_back(items, f"the union cannot run this class: {error}")
     except Overtime:
-        return {}
+        return out.fall_back(items, "the union search ran past the time limit")
+    share = (time.perf_counter() - started) / max(1, len(decided))
+    for index, c in items:
+        if index in decided:
+            decided[index]["seconds"] = share
+            out.rows.append(decided[index])
+        else:
+            out.fall_back([(index, c)], union.why_not(index))
+    return out
 
 
 class _Union:
@@ -123,6 +116,8 @@ class _Union:
         from schedulers import get_scheduler
 
         self.settings, self.items = settings, items
+        self.unfinished: str | None = None
+        self.reasons: dict[int, str] = {}
         w = self.world = finite_world(settings.world)
         group = w.symmetries(settings.frames)
         m0, _ = class_of(w, group, items[0][1])
@@ -166,8 +161,10 @@ class _Union:
                                         meeting=frozenset(m0), limits=limits, seeds=seeds)
 
     def rows(self) -> dict[int, dict[str, Any]]:
+        """The rows the union decides, by index (:meth:`why_not` says why of the others)."""
         s = self.search
         if not s.complete or s.halt is not None or s.arrays is None or s.seed_ids is None:
+            self.unfinished = "the union search did not finish (a crash, no rule or a limit)"
             return {}
         a = s.arrays
         offsets = np.asarray(a.offsets, dtype=np.int64)
@@ -181,10 +178,12 @@ class _Union:
         for (index, c), ids in zip(self.items, s.seed_ids, strict=True):
             starts = np.unique(np.asarray(ids, dtype=np.int64))
             if doomed[starts].any():
+                self.reasons[index] = "a failing state is reachable"
                 continue
             seen = _reachable(starts, *forward)
             states = int(seen.size)
             if states > settings.max_states:
+                self.reasons[index] = "more states than max-states"
                 continue
             transitions = int((offsets[seen + 1] - offsets[seen]).sum())
             out[index] = row(
@@ -195,6 +194,10 @@ class _Union:
                 meeting_nodes=[w.node_to_json(v) for v in c.meeting],
                 states=states, transitions=transitions, n=len(c.robots), seconds=0.0)
         return out
+
+    def why_not(self, index: int) -> str:
+        """Why the union left the configuration ``index`` to its own check."""
+        return self.unfinished or self.reasons[index]
 
     def _bad(self, sources: np.ndarray, targets: np.ndarray) -> np.ndarray:
         """Per state of the union: whether a part of the task fails there (the states a
