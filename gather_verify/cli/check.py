@@ -189,10 +189,14 @@ def run(args: argparse.Namespace) -> int:
             return run_rendezvous(args, scenario)
         if entry_of(scenario.world) == FINITE:
             return run_world(args, scenario)
-    # the paper's world (Z²): its engines, imported here, not by a finite world's check
+    return _run_plane(args)
+
+
+def _run_plane(args: argparse.Namespace) -> int:
+    """``check`` on the paper's world (Z²): its engines, imported here, not by a finite
+    world's check."""
     from gather_verify.engine.export import graph_format, write_graph
-    from gather_verify.plane_check import drift_line, run_check
-    from gather_verify.render import render_trace
+    from gather_verify.plane_check import run_check
 
     if args.task not in (None, "gathering-on-meeting-nodes") or args.visibility is not None:
         raise UsageError("--task and --visibility need a finite world "
@@ -203,22 +207,7 @@ def run(args: argparse.Namespace) -> int:
                      graph_out=args.graph_out)
     if args.graph_out:
         graph_format(args.graph_out)  # refuse an unknown suffix before the search
-    if args.algorithm is not None and not args.algorithm.strip():
-        raise UsageError("--algorithm is empty: name an algorithm (e.g. paper, or FILE.py:NAME)")
-    algorithm = args.algorithm or (scenario.algorithm if scenario else "paper")
-    scheduler = args.scheduler or (scenario.scheduler if scenario else "async")
-    detection = args.multiplicity or (scenario.multiplicity if scenario else "local-weak")
-    frames = args.frames or (scenario.frames if scenario else "all")
-    lights = args.lights if args.lights is not None else (scenario.lights if scenario else None)
-    colours = _colours(args.colours) if args.colours is not None else (
-        scenario.colours if scenario else None)
-    if colours is not None:  # given robot by robot as written; run_check takes sorted robots
-        from gather_verify.model.geometry import parse_nodes
-        from gather_verify.plane_check import sorted_colours
-
-        written = parse_nodes(args.robots) if args.robots is not None else [
-            tuple(v) for v in scenario.raw["robots"]]
-        colours = sorted_colours(written, colours)
+    options = _plane_options(args, scenario)
     explored: list[Exploration] = []
     if args.readings:  # every reading (gather_verify.paper.readings), the first one reported in full
         from functools import partial
@@ -229,26 +218,22 @@ def run(args: argparse.Namespace) -> int:
     try:
         with _progress(args):
             report = run_check(
-                configuration, algorithm=algorithm, scheduler=scheduler, detection=detection,
-                frames=frames, properties=args.properties, reduction=not args.no_reduction,
+                configuration, properties=args.properties, reduction=not args.no_reduction,
                 max_states=args.max_states, max_seconds=args.max_seconds,
                 move_bound_c=4.0 if args.move_bound_c is None else args.move_bound_c,
                 force=args.force, max_memory_mb=args.max_memory,
                 keep_growing=args.keep_growing, keep_going=args.keep_going,
                 engine={"bulk": "fast"}.get(args.engine, args.engine),
-                on_exploration=explored.append if args.graph_out else None,
-                **({} if lights is None else {"lights": lights}),
-                **({} if colours is None else {"colours": colours}),
-                **({} if args.margin is None else {"margin": args.margin}))
+                on_exploration=explored.append if args.graph_out else None, **options)
     except KeyboardInterrupt:
         print("interrupted: check keeps no partial results (nothing was written); run the same "
               "command again to start over, with --max-seconds or --max-states to stop with "
               "INCOMPLETE and the statistics so far", file=sys.stderr)
         return EXIT_INTERRUPTED
+    algorithm, scheduler = options["algorithm"], options["scheduler"]
     expected = _expectation(scenario, algorithm, scheduler, report)
     if expected is not None:
         report["expectation"] = expected
-    trace = report["trace"]
     if args.graph_out:
         if explored:
             write_graph(explored[-1], args.graph_out)
@@ -265,29 +250,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json(report if args.timings else without_timings(report))
     else:
-        ratio = "-" if report["ratio"] is None else f"{report['ratio']:.3f}"
-        moves = ("infinite" if report["max_moves_infinite"] else
-                 "-" if report["max_moves"] is None else report["max_moves"])  # never 'None'
-        print(f"{report['verdict']}  class {report['class']}  {algorithm} / {scheduler}")
-        if report["property"]:
-            print(f"property {report['property']}: {report['reason']}")
-            print(f"cause: {report['cause']}")
-        elif report["reason"]:
-            print(f"reason: {report['reason']}")
-        if report.get("drift"):
-            print(drift_line(report["drift"]))
-        print(f"states {report['states']}  transitions {report['transitions']}  max_moves {moves}"
-              f"  D {report['D']}  n {report['n']}  ratio {ratio}  {report['seconds']:.2f}s")
-        for name, result in report["properties"].items():
-            holds = {True: "holds", False: "FAILS", None: "unknown"}[result["holds"]]
-            print(f"  {name:18} {holds}  {result.get('reason', '')}".rstrip())
-        for name, why in report.get("not_applicable", {}).items():
-            print(f"  {name:18} not applicable: {why}")
-        if trace is not None:
-            print(render_trace(trace))
-        if expected is not None:
-            print(f"expectation of {args.scenario}: "
-                  + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
+        _print_plane(args, report, f"{algorithm} / {scheduler}", expected)
     if args.readings:
         from gather_verify.paper.readings import ROBUSTNESS_EXIT, format_readings
 
@@ -297,6 +260,66 @@ def run(args: argparse.Namespace) -> int:
     if expected is not None:  # a scenario test: matched is success, whatever the verdict
         return EXIT_OK if expected["matched"] else EXIT_VIOLATED
     return VERDICT_EXIT[report["verdict"]]
+
+
+def _plane_options(args: argparse.Namespace, scenario: Any) -> dict[str, Any]:
+    """The algorithm, adversary, multiplicity detection, frames, lights and colours of a
+    check on Z²: each as given, else the scenario's, else the default."""
+    if args.algorithm is not None and not args.algorithm.strip():
+        raise UsageError("--algorithm is empty: name an algorithm (e.g. paper, or FILE.py:NAME)")
+    out = dict(algorithm=args.algorithm or (scenario.algorithm if scenario else "paper"),
+               scheduler=args.scheduler or (scenario.scheduler if scenario else "async"),
+               detection=args.multiplicity or (scenario.multiplicity if scenario
+                                               else "local-weak"),
+               frames=args.frames or (scenario.frames if scenario else "all"))
+    lights = args.lights if args.lights is not None else (scenario.lights if scenario else None)
+    colours = _colours(args.colours) if args.colours is not None else (
+        scenario.colours if scenario else None)
+    if colours is not None:  # given robot by robot as written; run_check takes sorted robots
+        from gather_verify.model.geometry import parse_nodes
+        from gather_verify.plane_check import sorted_colours
+
+        written = parse_nodes(args.robots) if args.robots is not None else [
+            tuple(v) for v in scenario.raw["robots"]]
+        colours = sorted_colours(written, colours)
+    if lights is not None:
+        out["lights"] = lights
+    if colours is not None:
+        out["colours"] = colours
+    if args.margin is not None:
+        out["margin"] = args.margin
+    return out
+
+
+def _print_plane(args: argparse.Namespace, report: dict[str, Any], what: str,
+                 expected: dict[str, Any] | None) -> None:
+    """The text report of a check on Z²: verdict, counts, each property, the trace."""
+    from gather_verify.plane_check import drift_line
+    from gather_verify.render import render_trace
+
+    ratio = "-" if report["ratio"] is None else f"{report['ratio']:.3f}"
+    moves = ("infinite" if report["max_moves_infinite"] else
+             "-" if report["max_moves"] is None else report["max_moves"])  # never 'None'
+    print(f"{report['verdict']}  class {report['class']}  {what}")
+    if report["property"]:
+        print(f"property {report['property']}: {report['reason']}")
+        print(f"cause: {report['cause']}")
+    elif report["reason"]:
+        print(f"reason: {report['reason']}")
+    if report.get("drift"):
+        print(drift_line(report["drift"]))
+    print(f"states {report['states']}  transitions {report['transitions']}  max_moves {moves}"
+          f"  D {report['D']}  n {report['n']}  ratio {ratio}  {report['seconds']:.2f}s")
+    for name, result in report["properties"].items():
+        holds = {True: "holds", False: "FAILS", None: "unknown"}[result["holds"]]
+        print(f"  {name:18} {holds}  {result.get('reason', '')}".rstrip())
+    for name, why in report.get("not_applicable", {}).items():
+        print(f"  {name:18} not applicable: {why}")
+    if report["trace"] is not None:
+        print(render_trace(report["trace"]))
+    if expected is not None:
+        print(f"expectation of {args.scenario}: "
+              + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
 
 
 def _plane_of_lights(args: argparse.Namespace) -> bool:
