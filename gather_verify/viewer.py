@@ -384,6 +384,72 @@ def world_event_text(event: dict[str, Any], name: Any) -> str:
     return f"{event['kind']}({robots}): " + (", ".join(parts) or "all stay")
 
 
+class _WorldTraceReader:
+    """A finite world's trace read against its drawing: nodes by their label, robots by
+    their index, each step's robots, colours, visited nodes and event; every mistake one
+    line (:func:`_bad`)."""
+
+    def __init__(self, trace: dict[str, Any], drawing: dict[str, Any]):
+        self.index = {json.dumps(node["label"], sort_keys=True): i
+                      for i, node in enumerate(drawing["nodes"])}
+        self.names = [node["text"] for node in drawing["nodes"]]
+        self.n = len(trace["robots"])
+        # with lights, a step whose colours are all 0 leaves them out: every robot is lit 0
+        self.luminous = str(trace.get("lights", "1")).partition(":")[0] not in ("", "1")
+
+    def node(self, value: Any) -> int:
+        found = self.index.get(json.dumps(value, sort_keys=True))
+        if found is None:
+            raise _bad(f"{json.dumps(value)[:40]} is not a node of the drawing")
+        return found
+
+    def robot(self, i: Any) -> int:
+        i = _int(i, "a robot")
+        if not 0 <= i < self.n:
+            raise _bad(f"robot {i} is not one of the {self.n} robots")
+        return i
+
+    def robots_of(self, raw: Any, k: int) -> list[dict[str, Any]]:
+        if not isinstance(raw, list) or len(raw) != self.n or not all(
+                isinstance(r, list) and len(r) == 2 for r in raw):
+            raise _bad(f"step {k}: 'robots' must list {self.n} pairs [node, pending]")
+        return [{"node": self.node(v), "pending": None if p is None else self.node(p)}
+                for v, p in raw]
+
+    def colours_of(self, raw: dict[str, Any], k: int) -> list[int] | None:
+        c = raw.get("colours")
+        if c is not None and (not isinstance(c, list) or len(c) != self.n):
+            raise _bad(f"step {k}: 'colours' must list {self.n} colours")
+        return ([_int(x, "a colour") for x in c] if c is not None else
+                [0] * self.n if self.luminous else None)
+
+    def visited_of(self, raw: dict[str, Any], k: int) -> list[int] | None:
+        seen = raw.get("visited")
+        if seen is not None and not isinstance(seen, list):
+            raise _bad(f"step {k}: 'visited' must be a list of nodes")
+        return None if seen is None else sorted({self.node(v) for v in seen})
+
+    def event_of(self, ev: Any, k: int) -> dict[str, Any]:
+        if not isinstance(ev, dict) or ev.get("kind") not in KINDS \
+                or not isinstance(ev.get("robots"), list) or not isinstance(ev.get("moves"), list):
+            raise _bad(f"step {k}: an event has a 'kind' ({', '.join(KINDS)}), 'robots' and "
+                       "'moves'")
+        event: dict[str, Any] = {"kind": ev["kind"],
+                                 "robots": [self.robot(i) for i in ev["robots"]], "moves": []}
+        for m in ev["moves"]:
+            if not isinstance(m, list) or len(m) != 3:
+                raise _bad(f"step {k}: a move is [robot, from, to]")
+            event["moves"].append([self.robot(m[0]), self.node(m[1]), self.node(m[2])])
+        lights = ev.get("lights", [])
+        if not isinstance(lights, list) or not all(isinstance(x, list) and len(x) == 3
+                                                   for x in lights):
+            raise _bad(f"step {k}: 'lights' is a list of [robot, old, new]")
+        if lights:
+            event["lights"] = [[self.robot(i), _int(a, "a colour"), _int(b, "a colour")]
+                               for i, a, b in lights]
+        return event
+
+
 def annotate_world(trace: dict[str, Any]) -> dict[str, Any]:
     """The data the viewer embeds for a trace of a finite world: the trace in Z² shape with
     node indices of the drawing (``trace``, with the states under ``robots``), the
@@ -399,88 +465,18 @@ def annotate_world(trace: dict[str, Any]) -> dict[str, Any]:
         if not isinstance(trace.get(key), str):
             raise _bad(f"{key!r} must be a string")
     drawing = world_drawing(trace)
-    index = {json.dumps(node["label"], sort_keys=True): i
-             for i, node in enumerate(drawing["nodes"])}
-    names = [node["text"] for node in drawing["nodes"]]
-    n = len(trace["robots"])
-    # with lights, a step whose colours are all 0 leaves them out: every robot is lit 0
-    luminous = str(trace.get("lights", "1")).partition(":")[0] not in ("", "1")
-
-    def node(value: Any) -> int:
-        found = index.get(json.dumps(value, sort_keys=True))
-        if found is None:
-            raise _bad(f"{json.dumps(value)[:40]} is not a node of the drawing")
-        return found
-
-    def robots_of(raw: Any, k: int) -> list[dict[str, Any]]:
-        if not isinstance(raw, list) or len(raw) != n or not all(
-                isinstance(r, list) and len(r) == 2 for r in raw):
-            raise _bad(f"step {k}: 'robots' must list {n} pairs [node, pending]")
-        return [{"node": node(v), "pending": None if p is None else node(p)} for v, p in raw]
-
-    def robot(i: Any) -> int:
-        i = _int(i, "a robot")
-        if not 0 <= i < n:
-            raise _bad(f"robot {i} is not one of the {n} robots")
-        return i
-
+    read = _WorldTraceReader(trace, drawing)
+    n, names = read.n, read.names
     states, colours, visited, steps = [], [], [], []
     for k, raw in enumerate(trace["steps"]):
         if not isinstance(raw, dict):
             raise _bad(f"step {k} must be an object")
-        states.append(robots_of(raw.get("robots"), k))
-        c = raw.get("colours")
-        if c is not None and (not isinstance(c, list) or len(c) != n):
-            raise _bad(f"step {k}: 'colours' must list {n} colours")
-        colours.append([_int(x, "a colour") for x in c] if c is not None else
-                       [0] * n if luminous else None)
-        seen = raw.get("visited")
-        if seen is not None and not isinstance(seen, list):
-            raise _bad(f"step {k}: 'visited' must be a list of nodes")
-        visited.append(None if seen is None else sorted({node(v) for v in seen}))
-        if k == 0:
-            continue
-        ev = raw.get("event")
-        if not isinstance(ev, dict) or ev.get("kind") not in KINDS \
-                or not isinstance(ev.get("robots"), list) or not isinstance(ev.get("moves"), list):
-            raise _bad(f"step {k}: an event has a 'kind' ({', '.join(KINDS)}), 'robots' and "
-                       "'moves'")
-        event: dict[str, Any] = {"kind": ev["kind"], "robots": [robot(i) for i in ev["robots"]],
-                                 "moves": []}
-        for m in ev["moves"]:
-            if not isinstance(m, list) or len(m) != 3:
-                raise _bad(f"step {k}: a move is [robot, from, to]")
-            event["moves"].append([robot(m[0]), node(m[1]), node(m[2])])
-        lights = ev.get("lights", [])
-        if not isinstance(lights, list) or not all(isinstance(x, list) and len(x) == 3
-                                                   for x in lights):
-            raise _bad(f"step {k}: 'lights' is a list of [robot, old, new]")
-        if lights:
-            event["lights"] = [[robot(i), _int(a, "a colour"), _int(b, "a colour")]
-                               for i, a, b in lights]
-        steps.append({"event": event, "state": states[-1]})
-    cs = trace.get("cycle_start")
-    if cs is not None and (isinstance(cs, bool) or not isinstance(cs, int)
-                           or not 0 <= cs <= len(steps)):
-        raise _bad("'cycle_start' must be null or a state index")
-    meeting = trace.get("meeting_nodes", [])
-    if not isinstance(meeting, list):
-        raise _bad("'meeting_nodes' must be a list")
-    detail = trace.get("detail") or {}
-    if not isinstance(detail, dict):
-        raise _bad("'detail' must be an object")
-    named = detail.get("node", detail.get("robot_node"))  # the node, or the crashed robot's
-    focus = None if named is None else node(named)
-    shown = {k: (names[focus] if k == "node" and focus is not None else v)
-             for k, v in detail.items() if k != "drift"}  # drift: a Z² notion
-    normal = {
-        "initial": {"robots": [r["node"] for r in states[0]],
-                    "meeting_nodes": sorted({node(m) for m in meeting})},
-        "steps": steps, "cycle_start": cs, "detail": shown,
-        **{key: trace[key] for key in ("algorithm", "scheduler", "detection", "frames",
-                                       "property")},
-        "reason": str(trace.get("reason") or ""),
-    }
+        states.append(read.robots_of(raw.get("robots"), k))
+        colours.append(read.colours_of(raw, k))
+        visited.append(read.visited_of(raw, k))
+        if k:
+            steps.append({"event": read.event_of(raw.get("event"), k), "state": states[-1]})
+    normal, focus = _world_normal(trace, read, states, steps)
 
     def text(ev: dict[str, Any]) -> str:
         return world_event_text(ev, lambda v: names[v])
@@ -511,6 +507,36 @@ def annotate_world(trace: dict[str, Any]) -> dict[str, Any]:
         "focus": focus,
         "n": n,
     }
+
+
+def _world_normal(trace: dict[str, Any], read: _WorldTraceReader,
+                  states: list[list[dict[str, Any]]], steps: list[dict[str, Any]]
+                  ) -> tuple[dict[str, Any], int | None]:
+    """A finite world's trace in Z² shape (node indices of the drawing), and the node its
+    failing property names (``focus``), if any."""
+    cs = trace.get("cycle_start")
+    if cs is not None and (isinstance(cs, bool) or not isinstance(cs, int)
+                           or not 0 <= cs <= len(steps)):
+        raise _bad("'cycle_start' must be null or a state index")
+    meeting = trace.get("meeting_nodes", [])
+    if not isinstance(meeting, list):
+        raise _bad("'meeting_nodes' must be a list")
+    detail = trace.get("detail") or {}
+    if not isinstance(detail, dict):
+        raise _bad("'detail' must be an object")
+    named = detail.get("node", detail.get("robot_node"))  # the node, or the crashed robot's
+    focus = None if named is None else read.node(named)
+    shown = {k: (read.names[focus] if k == "node" and focus is not None else v)
+             for k, v in detail.items() if k != "drift"}  # drift: a Z² notion
+    normal = {
+        "initial": {"robots": [r["node"] for r in states[0]],
+                    "meeting_nodes": sorted({read.node(m) for m in meeting})},
+        "steps": steps, "cycle_start": cs, "detail": shown,
+        **{key: trace[key] for key in ("algorithm", "scheduler", "detection", "frames",
+                                       "property")},
+        "reason": str(trace.get("reason") or ""),
+    }
+    return normal, focus
 
 
 def _template() -> str:
