@@ -524,17 +524,33 @@ def world_svg(pic: WorldPicture, data: dict[str, Any], k: int, ox: float = 0, oy
     (grey), the robots (labelled with their identity, side by side on a shared node with the
     count, a numbered light badge), pending moves as dashed arrows along their edge. Returns
     (elements, width, height)."""
+    state = data["robots"][k]
+    by_node: dict[int, list[int]] = {}
+    for i, r in enumerate(state):
+        by_node.setdefault(r["node"], []).append(i)
+    out = _world_ground(pic, data, k, ox, oy)
+    out += _world_moves(pic, data, k, ox, oy, uid)
+    out += _world_robots(pic, data, k, by_node, ox, oy)
+    for i, r in enumerate(state):  # the pending moves, as dashed arrows along their edge
+        if r["pending"] is None or r["pending"] == r["node"]:
+            continue
+        stop = 0.3 if r["pending"] in by_node else 0.08
+        lines = pic.route(r["node"], r["pending"], pic.unit * 0.28, pic.unit * stop)
+        for j, line in enumerate(lines):
+            last = j == len(lines) - 1
+            out.append(_poly(line, ox, oy, f'stroke="{PALETTE[i % 8]}" stroke-width="2.5" '
+                             f'stroke-dasharray="5 2" class="{"pending" if last else "pending-part"}"'
+                             + (f' marker-end="url(#{uid}-m{i % 8})"' if last else "")))
+    return "\n".join(out), pic.width, pic.height
+
+
+def _world_ground(pic: WorldPicture, data: dict[str, Any], k: int, ox: float, oy: float
+                  ) -> list[str]:
+    """What state ``k`` of :func:`world_svg` stands on: the outline, the edges, the nodes
+    (visited ones green) and their names, the focus ring and the meeting nodes."""
     d, u = pic.drawing, pic.unit
     nodes = d["nodes"]
-    names = [n["text"] for n in nodes]
-    trace = data["trace"]
-    state, info = data["robots"][k], data["states"][k]
     out = []
-
-    def at(v: int) -> tuple[float, float]:
-        x, y = pic.at(v)
-        return x + ox, y + oy
-
     if d["outline"]:
         o = d["outline"]
         points = " ".join(f"{_f(x + ox)},{_f(y + oy)}" for x, y in map(pic.place, o["points"]))
@@ -546,41 +562,61 @@ def world_svg(pic: WorldPicture, data: dict[str, Any], k: int, ox: float = 0, oy
         style = ('stroke="#9b87d6" stroke-width="2" stroke-dasharray="4 3" class="edge wrap"'
                  if e.get("wraps") else 'stroke="#cfcfcf" stroke-width="2.5" class="edge"')
         out += [_poly(line, ox, oy, style) for line in pic.routes[tuple(e["ends"])]]
-    visited = set(info["visited"] or ())
+    visited = set(data["states"][k]["visited"] or ())
     for v in range(len(nodes)):
-        x, y = at(v)
+        x, y = _at(pic, v, ox, oy)
         fill, stroke = ("#bfe3c0", "#3d8b40") if v in visited else ("#fff", "#9a9a9a")
         out.append(f'<circle cx="{_f(x)}" cy="{_f(y)}" r="{_f(max(2.5, u * 0.1))}" fill="{fill}" '
                    f'stroke="{stroke}" stroke-width="1.2" class="node'
-                   f'{" visited" if v in visited else ""}" data-node="{_attr(names[v])}"/>')
+                   f'{" visited" if v in visited else ""}" data-node="{_attr(nodes[v]["text"])}"/>')
         if pic.names:  # on the side the drawing gives (away from the edges)
             (dx, dy), off = nodes[v]["side"], u * 0.36 + 8
             out.append(f'<text x="{_f(x + dx * off)}" y="{_f(y - dy * off + 3)}" '
-                       f'font-size="9" fill="#777" text-anchor="middle">{_esc(names[v])}</text>')
+                       f'font-size="9" fill="#777" text-anchor="middle">'
+                       f'{_esc(nodes[v]["text"])}</text>')
     if data.get("focus") is not None:
-        x, y = at(data["focus"])
+        x, y = _at(pic, data["focus"], ox, oy)
         out.append(f'<circle cx="{_f(x)}" cy="{_f(y)}" r="{_f(u * 0.46)}" fill="none" '
                    'stroke="#b3261e" stroke-width="2" stroke-dasharray="4 2" class="focus"/>')
     s = u * 0.36
-    for m in trace["initial"]["meeting_nodes"]:
-        x, y = at(m)
+    for m in data["trace"]["initial"]["meeting_nodes"]:
+        x, y = _at(pic, m, ox, oy)
         out.append(f'<rect x="{_f(x - s)}" y="{_f(y - s)}" width="{_f(2 * s)}" height="{_f(2 * s)}" '
                    'rx="2" fill="#ffe9a8" stroke="#c9a227" stroke-width="1.2" class="meeting"/>')
-    event = trace["steps"][k - 1]["event"] if k else None
+    return out
+
+
+def _at(pic: WorldPicture, v: int, ox: float, oy: float) -> tuple[float, float]:
+    """Where node ``v`` is drawn, the picture moved by ``(ox, oy)``."""
+    x, y = pic.at(v)
+    return x + ox, y + oy
+
+
+def _world_moves(pic: WorldPicture, data: dict[str, Any], k: int, ox: float, oy: float,
+                 uid: str) -> list[str]:
+    """The moves of the event that led to state ``k`` (grey arrows), for :func:`world_svg`."""
+    event = data["trace"]["steps"][k - 1]["event"] if k else None
+    out: list[str] = []
     if event and event["kind"] != "look":
         for _, a, b in event["moves"]:
             if a == b:
                 continue
-            lines = pic.route(a, b, 0, u * 0.38)
+            lines = pic.route(a, b, 0, pic.unit * 0.38)
             out += [_poly(line, ox, oy, 'stroke="#999" stroke-width="2"' +
                           (f' marker-end="url(#{uid}-m-done)"' if j == len(lines) - 1 else ""))
                     for j, line in enumerate(lines)]
-    by_node: dict[int, list[int]] = {}
-    for i, r in enumerate(state):
-        by_node.setdefault(r["node"], []).append(i)
-    colours = info["colours"]
+    return out
+
+
+def _world_robots(pic: WorldPicture, data: dict[str, Any], k: int,
+                  by_node: dict[int, list[int]], ox: float, oy: float) -> list[str]:
+    """The robots of state ``k`` for :func:`world_svg`: labelled with their identity, side
+    by side on a shared node with the count, a numbered light badge."""
+    u, names = pic.unit, [n["text"] for n in pic.drawing["nodes"]]
+    colours = data["states"][k]["colours"]
+    out = []
     for v, ids in by_node.items():
-        cx, cy = at(v)
+        cx, cy = _at(pic, v, ox, oy)
         radius, spots = robot_spots(len(ids), u)
         for i, (dx, dy) in zip(ids, spots, strict=True):
             x, y = cx + dx, cy + dy
@@ -605,17 +641,7 @@ def world_svg(pic: WorldPicture, data: dict[str, Any], k: int, ox: float = 0, oy
                        'font-weight="bold" fill="#333" stroke="#fff" stroke-width="2.5" '
                        f'paint-order="stroke" text-anchor="middle" class="count">'
                        f'\u00d7{len(ids)}</text>')
-    for i, r in enumerate(state):
-        if r["pending"] is None or r["pending"] == r["node"]:
-            continue
-        stop = 0.3 if r["pending"] in by_node else 0.08
-        lines = pic.route(r["node"], r["pending"], u * 0.28, u * stop)
-        for j, line in enumerate(lines):
-            last = j == len(lines) - 1
-            out.append(_poly(line, ox, oy, f'stroke="{PALETTE[i % 8]}" stroke-width="2.5" '
-                             f'stroke-dasharray="5 2" class="{"pending" if last else "pending-part"}"'
-                             + (f' marker-end="url(#{uid}-m{i % 8})"' if last else "")))
-    return "\n".join(out), pic.width, pic.height
+    return out
 
 
 def _world_caption(data: dict[str, Any], k: int) -> tuple[str, list[str]]:
