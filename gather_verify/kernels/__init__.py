@@ -85,27 +85,42 @@ def warm(names: Iterable[str] = KERNELS) -> None:
     if unknown:
         raise ValueError(f"no kernel named {', '.join(sorted(unknown))} "
                          f"(known: {', '.join(KERNELS)})")
+    from gather_verify.kernels import compiled as k
+
+    _warm_index(k, wanted)
+    if wanted - {"find_or_add", "place", "longest_path", "tarjan_csr"}:
+        _warm_steps(k, wanted)
+    _warm_graphs(k, wanted)
+
+
+def _warm_index(k: Any, wanted: set[str]) -> None:
+    """:func:`warm` of the hash index's kernels."""
     import numpy as np
 
-    from gather_verify.kernels import compiled as k
-    from gather_verify.kernels.codes import OUTSIDE, Z2_DEGREE, Z2_SLOTS
-
-    table = np.zeros(16, dtype=np.int32)
-    keys = np.empty(16, dtype=np.uint64)
     if wanted & {"find_or_add", "place"}:
+        table = np.zeros(16, dtype=np.int32)
+        keys = np.empty(16, dtype=np.uint64)
         ids, first = np.empty(2, dtype=np.int32), np.empty(2, dtype=np.int32)
         q = np.array([3, 3], dtype=np.uint64)
         count, _ = k.find_or_add(table, keys, 0, np.uint64(60), 24, q, ids, first,
                                  np.empty(16, dtype=np.int32))
         if "place" in wanted:
             k.place(np.zeros(16, dtype=np.int32), keys, 0, count, np.uint64(60), 24)
+
+
+def _warm_steps(k: Any, wanted: set[str]) -> None:
+    """:func:`warm` of the kernels of a bulk step on Z²: a chunk decoded, its successors
+    (asynchronous events and rounds) and their keys."""
+    import numpy as np
+
+    from gather_verify.kernels.codes import OUTSIDE, Z2_DEGREE, Z2_SLOTS
+
     k7 = np.array([7], dtype=np.uint64)
     weights = np.array([1, 9], dtype=np.int64)
     masks = np.ones((1, 2), dtype=np.uint8)
     neighbour = np.full((9, Z2_DEGREE), OUTSIDE, dtype=np.int64)
     powers = np.array([1, 45], dtype=np.uint64)
-    if wanted - {"find_or_add", "place", "longest_path", "tarjan_csr"}:
-        codes, cells, srt, ck, idle, rank = k.decode_chunk(k7, 45, 2, weights)
+    codes, cells, srt, ck, idle, rank = k.decode_chunk(k7, 45, 2, weights)
     if wanted & {"async_successors", "successor_keys", "event_keys", "event_canonical_keys",
                  "successor_canonical_keys", "pair_keys", "successor_rows"}:
         src, weight, robot, new = k.async_successors(codes, masks, neighbour,
@@ -145,6 +160,12 @@ def warm(names: Iterable[str] = KERNELS) -> None:
             k.round_keys(k7, codes, masks, neighbour, subsets, nth, count, s, powers,
                          np.empty(e, dtype=np.int64), np.empty(e, dtype=np.int8),
                          np.empty(e, dtype=np.uint64))
+
+
+def _warm_graphs(k: Any, wanted: set[str]) -> None:
+    """:func:`warm` of the kernels that read a finished state graph."""
+    import numpy as np
+
     off = np.array([0, 1, 1], dtype=np.int32)
     tgt = np.array([1], dtype=np.int32)
     packed = np.array([1, 0, 0], dtype=np.uint8)  # target ids three bytes each
