@@ -575,47 +575,11 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
     for :data:`SEED_ROUND` candidates, the next for as many, and round again with twice as
     many. A seed is a phase, never a constraint: every clause holds whichever seed is on,
     and the answer is judged by the checker alone. Default: :func:`default_seeds`."""
-    from gather_verify.plane_check import run_check
-    from gather_verify.synthesis.search import TIME_LIMIT, budget, solve_within, solver_class
+    from gather_verify.synthesis.search import TIME_LIMIT, budget
     from gather_verify.watchdog import Overtime
 
     started = time.perf_counter()
-    solver = solver_class()(name="cadical153")
-    base: list[int] = []
-    total = [0]
-
-    seeds = default_seeds() if seeds is None else seeds
-    best: list[list[int]] = [[] for _ in seeds]  # per seed, per view: the option tried first
-    on = [0, SEED_ROUND, 1]  # the seed in use, the candidate at which the next takes over,
-    # and how many turns have begun
-
-    def register() -> None:
-        while len(base) < len(views.texts):
-            j = len(base)
-            xs = [total[0] + o + 1 for o in range(len(views.options[j]))]
-            base.append(total[0])
-            total[0] += len(xs)
-            solver.add_clause(xs)
-            for a, b in combinations(xs, 2):
-                solver.add_clause([-a, -b])
-        if candidates >= on[1]:
-            on[0] = (on[0] + 1) % len(seeds)
-            on[1] = candidates + SEED_ROUND * 2 ** (on[2] // len(seeds))
-            on[2] += 1
-        mine = best[on[0]]
-        while len(mine) < len(base):
-            mine.append(preferred(views, len(mine), seeds[on[0]]))
-
-        solver.set_phases([base[k] + o + 1 if o == mine[k] else -(base[k] + o + 1)
-                           for k in range(len(base)) for o in range(len(views.options[k]))])
-
-    def fresh(k: int) -> int:
-        """The option of a view met during an exploration that follows the seed."""
-        mine = best[on[0]]
-        while len(mine) <= k:
-            mine.append(preferred(views, len(mine), seeds[on[0]]))
-        return mine[k]
-
+    cegis = _Cegis(views, default_seeds() if seeds is None else seeds)
     spans = []
     for c in configurations:
         x0, y0, x1, y1 = geometry.bounding_box([*c.robots, *c.meeting_nodes])
@@ -623,12 +587,10 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
         # with a rule lies within span of the MER: the checker's region (span + 1) holds it
         spans.append(max(x1 - x0, y1 - y0) + margin)
     order = list(range(len(configurations)))
-    candidates = 0
-    heuristic = False
 
     def result(answer: str, limit: str | None = None, **more: Any) -> SearchResult:
-        solver.delete()
-        return SearchResult(answer, candidates, len(views.texts),
+        cegis.solver.delete()
+        return SearchResult(answer, cegis.candidates, len(views.texts),
                             time.perf_counter() - started, limit, **more)
 
     try:
@@ -637,82 +599,154 @@ def search_algorithm(configurations: list[Configuration], inst: PlaneInstance,
                 for v in sorted(c.occupied):
                     views.occurrence(c, v)
             while True:
-                left = max_seconds - (time.perf_counter() - started)
-                if left <= 0:
-                    return result("unknown", TIME_LIMIT)
-                if candidates >= max_candidates:
-                    return result("unknown", "max-candidates")
-                register()
-                sat = solve_within(solver, started + max_seconds)
-                if sat is None:
-                    return result("unknown", f"{TIME_LIMIT} (during the SAT solver's call)")
-                if not sat:
-                    return result("unknown", "region (every table left is excluded; the "
-                                  "clauses that exclude tables leaving the region or taking "
-                                  "too long are heuristics, so this is no none)" if heuristic
-                                  else "search exhausted without a certificate")
-                model = solver.get_model() or []
-                choice = {k: o for k, first in enumerate(base)
-                          for o in range(len(views.options[k])) if model[first + o] > 0}
-                candidates += 1
-                failed = None
-                for idx in order:
-                    c = configurations[idx]
-                    left = max_seconds - (time.perf_counter() - started)
-                    cap = min(left, max(CANDIDATE_SECONDS, left / 4))
-                    # a view met for the first time takes the seed's answer and the
-                    # exploration goes on: one exploration settles a configuration the seed
-                    # gathers from
-                    table = TableAlgorithm(views, choice, spans[idx], fresh)
-                    report = run_check(c, algorithm=table,
-                                       scheduler=inst.scheduler, detection=inst.detection,
-                                       frames=inst.frames, properties=["final", "termination"],
-                                       reduction=False, max_states=max_states,
-                                       max_seconds=max(cap, 0.001), margin=spans[idx] + 1,
-                                       force=True)
-                    if report["verdict"] != "VERIFIED":
-                        failed = idx
-                        break
+                choice = cegis.propose(started + max_seconds, max_candidates)
+                if isinstance(choice, str):
+                    return result("unknown", choice)
+                failed, report, cap, left = _judge(configurations, order, inst, cegis, choice,
+                                                   spans, max_states, started + max_seconds)
                 if failed is None:
                     return result("exists", table=choice)
                 order.remove(failed)
                 order.insert(0, failed)
-                c = configurations[failed]
-                trace = report.get("trace")
-                if report["verdict"] == "INCOMPLETE" and not trace and cap < left:
-                    # one candidate took its share of the time: exclude this very table (a
-                    # heuristic, as for the region) and go on
-                    heuristic = True
-                    register()
-                    solver.add_clause([-(base[k] + o + 1) for k, o in sorted(choice.items())])
-                    continue
-                if report["verdict"] == "INCOMPLETE" and report.get("reason") == "time":
-                    return result("unknown", "max-seconds (during a candidate's check)")
-                if report["verdict"] != "VIOLATED" or not trace:
-                    return result("unknown", f"the checker says {report['verdict']} "
-                                  f"({report.get('reason')}) of a candidate")
-                before = len(views.texts)
-                configs, exact = literals(views, trace, c.meeting_nodes, choice)
-                used: set[int] = set()
-                for d in configs:
-                    for v in d.occupied:
-                        used.add(views.occurrence(d, v)[0])
-                reason = str(report.get("reason", ""))
-                if report.get("property") == "defined" and "region" not in reason:
-                    if len(views.texts) == before:
-                        return result("unknown", f"the checker found no rule for a view it cannot "
-                                      f"name ({reason})")
-                    continue  # a new view: the table grows
-                heuristic = heuristic or report.get("property") == "defined"
-                register()
-                clause = [-(base[k] + choice[k] + 1) for k in sorted(exact if exact is not None
-                                                                       else used) if k in choice]
-                if not clause:
-                    return result("unknown", "a violation that no view of the table causes")
-                solver.add_clause(clause)
-
+                stop = cegis.learn(report, configurations[failed], choice, cap < left)
+                if stop is not None:
+                    return result("unknown", stop)
     except Overtime:  # the views may be half filled: the caller drops them with the answer
         return result("unknown", f"{TIME_LIMIT} (cut by the watchdog)")
+
+
+def _judge(configurations: list[Configuration], order: list[int], inst: PlaneInstance,
+           cegis: _Cegis, choice: dict[int, int], spans: list[int], max_states: int,
+           end: float) -> tuple[int | None, dict[str, Any], float, float]:
+    """The candidate table ``choice`` checked from each configuration in ``order`` (every
+    reduction off, properties final and termination), until one is not VERIFIED: that one
+    (None if every one is), its report, the seconds it was given and those that were left."""
+    from gather_verify.plane_check import run_check
+
+    report: dict[str, Any] = {}
+    cap = left = 0.0
+    for idx in order:
+        c = configurations[idx]
+        left = end - time.perf_counter()
+        cap = min(left, max(CANDIDATE_SECONDS, left / 4))
+        # a view met for the first time takes the seed's answer and the exploration goes
+        # on: one exploration settles a configuration the seed gathers from
+        table = TableAlgorithm(cegis.views, choice, spans[idx], cegis.fresh)
+        report = run_check(c, algorithm=table,
+                           scheduler=inst.scheduler, detection=inst.detection,
+                           frames=inst.frames, properties=["final", "termination"],
+                           reduction=False, max_states=max_states,
+                           max_seconds=max(cap, 0.001), margin=spans[idx] + 1, force=True)
+        if report["verdict"] != "VERIFIED":
+            return idx, report, cap, left
+    return None, report, cap, left
+
+
+class _Cegis:
+    """The solver of :func:`search_algorithm`: one variable per option of each view met,
+    exactly one option a view; the seeds' answers as its phases; the candidates proposed
+    and the clauses learnt from their counterexamples."""
+
+    def __init__(self, views: PlaneViews, seeds: list[Any]):
+        from gather_verify.synthesis.search import solver_class
+
+        self.views, self.seeds = views, seeds
+        self.solver = solver_class()(name="cadical153")
+        self.base: list[int] = []  # per view: its first variable, less one
+        self.total = 0
+        self.best: list[list[int]] = [[] for _ in seeds]  # per seed, per view: tried first
+        # the seed in use, the candidate at which the next takes over, the turns begun
+        self.on = [0, SEED_ROUND, 1]
+        self.candidates = 0
+        self.heuristic = False
+
+    def register(self) -> None:
+        """The views met since, as variables; the next seed's phases when its turn came."""
+        views, solver, base = self.views, self.solver, self.base
+        while len(base) < len(views.texts):
+            j = len(base)
+            xs = [self.total + o + 1 for o in range(len(views.options[j]))]
+            base.append(self.total)
+            self.total += len(xs)
+            solver.add_clause(xs)
+            for a, b in combinations(xs, 2):
+                solver.add_clause([-a, -b])
+        on = self.on
+        if self.candidates >= on[1]:
+            on[0] = (on[0] + 1) % len(self.seeds)
+            on[1] = self.candidates + SEED_ROUND * 2 ** (on[2] // len(self.seeds))
+            on[2] += 1
+        mine = self.best[on[0]]
+        while len(mine) < len(base):
+            mine.append(preferred(views, len(mine), self.seeds[on[0]]))
+        solver.set_phases([base[k] + o + 1 if o == mine[k] else -(base[k] + o + 1)
+                           for k in range(len(base)) for o in range(len(views.options[k]))])
+
+    def fresh(self, k: int) -> int:
+        """The option of a view met during an exploration that follows the seed."""
+        mine = self.best[self.on[0]]
+        while len(mine) <= k:
+            mine.append(preferred(self.views, len(mine), self.seeds[self.on[0]]))
+        return mine[k]
+
+    def propose(self, end: float, max_candidates: int) -> dict[int, int] | str:
+        """The next candidate table (view to option), or the limit that ends the search."""
+        from gather_verify.synthesis.search import TIME_LIMIT, solve_within
+
+        if end - time.perf_counter() <= 0:
+            return TIME_LIMIT
+        if self.candidates >= max_candidates:
+            return "max-candidates"
+        self.register()
+        sat = solve_within(self.solver, end)
+        if sat is None:
+            return f"{TIME_LIMIT} (during the SAT solver's call)"
+        if not sat:
+            return ("region (every table left is excluded; the clauses that exclude tables "
+                    "leaving the region or taking too long are heuristics, so this is no none)"
+                    if self.heuristic else "search exhausted without a certificate")
+        model = self.solver.get_model() or []
+        self.candidates += 1
+        return {k: o for k, first in enumerate(self.base)
+                for o in range(len(self.views.options[k])) if model[first + o] > 0}
+
+    def learn(self, report: dict[str, Any], c: Configuration, choice: dict[int, int],
+              cut: bool) -> str | None:
+        """The clause a failed candidate's report gives (None: the search goes on), or why
+        the search ends there; ``cut``: its check was given less than the time left."""
+        views = self.views
+        trace = report.get("trace")
+        if report["verdict"] == "INCOMPLETE" and not trace and cut:
+            # one candidate took its share of the time: exclude this very table (a
+            # heuristic, as for the region) and go on
+            self.heuristic = True
+            self.register()
+            self.solver.add_clause([-(self.base[k] + o + 1) for k, o in sorted(choice.items())])
+            return None
+        if report["verdict"] == "INCOMPLETE" and report.get("reason") == "time":
+            return "max-seconds (during a candidate's check)"
+        if report["verdict"] != "VIOLATED" or not trace:
+            return f"the checker says {report['verdict']} ({report.get('reason')}) of a candidate"
+        before = len(views.texts)
+        configs, exact = literals(views, trace, c.meeting_nodes, choice)
+        used: set[int] = set()
+        for d in configs:
+            for v in d.occupied:
+                used.add(views.occurrence(d, v)[0])
+        reason = str(report.get("reason", ""))
+        if report.get("property") == "defined" and "region" not in reason:
+            if len(views.texts) == before:
+                return f"the checker found no rule for a view it cannot name ({reason})"
+            return None  # a new view: the table grows
+        self.heuristic = self.heuristic or report.get("property") == "defined"
+        self.register()
+        clause = [-(self.base[k] + choice[k] + 1)
+                  for k in sorted(exact if exact is not None else used) if k in choice]
+        if not clause:
+            return "a violation that no view of the table causes"
+        self.solver.add_clause(clause)
+        return None
+
 
 def default_seeds() -> list[Any]:
     """The seeds of :func:`search_algorithm`: the paper's ``Gathering()`` (default reading),
