@@ -197,7 +197,6 @@ def adversary_closure(c0: Configuration, phi: Automorphism, views: PlaneViews,
     on ``V'``, each option's move set is closed under ``phi`` and the count is a multiple
     of k. And it checks the theorem's invariant: ``phi`` still maps the configuration onto
     itself, and not every robot is on one meeting node. Any failure: CertificateError."""
-    k = phi.order
     meeting = c0.meeting_nodes
     x0, y0, x1, y1 = geometry.bounding_box(c0.robots)
     seen: dict[tuple[tuple[int, int, int], ...], int] = {_state(c0): 0}
@@ -216,47 +215,7 @@ def adversary_closure(c0: Configuration, phi: Automorphism, views: PlaneViews,
             radius = max(radius, x0 - x, x - x1, y0 - y, y - y1)
         if depth >= rounds:
             continue
-        counts = Counter(c.robots)
-        choices: list[list[list[Node]]] = []  # per group, per choice: the robots' destinations
-        done: set[Node] = set()
-        for v in sorted(counts):
-            if v in done:
-                continue
-            key, opts = views.occurrence(c, v)
-            anything = sorted(set().union(*opts))
-            if phi(v) == v:  # a node of V': reached by a multiplicity only
-                done.add(v)
-                if counts[v] % k:
-                    raise CertificateError(f"{counts[v]} robots on {list(v)} in V' do not split "
-                                           f"over orbits of {k} nodes")
-                for o, dests in enumerate(opts):
-                    if {phi(d) for d in dests} != dests:
-                        raise CertificateError(f"option {o} of the view on {list(v)} in V' is "
-                                               "not closed under phi")
-                group = []
-                for u in anything:
-                    if phi(u) == u:
-                        group.append([u] * counts[v])
-                    else:
-                        group.append([w for w in phi.orbit(u) for _ in range(counts[v] // k)])
-                choices.append(group)
-                continue
-            orbit = phi.orbit(v)
-            if len(orbit) != k:
-                raise CertificateError(f"the orbit of {list(v)} has {len(orbit)} nodes, not {k}")
-            done.update(orbit)
-            for j, w in enumerate(orbit[1:], start=1):
-                key_w, opts_w = views.occurrence(c, w)
-                if key_w != key:
-                    raise CertificateError(f"the views on {list(v)} and on its image {list(w)} "
-                                           "have different keys: phi is not a symmetry the "
-                                           "robots cannot tell apart")
-                for o, dests in enumerate(opts):
-                    if opts_w[o] != {_power(phi, j, d) for d in dests}:
-                        raise CertificateError(f"option {o} moves the robots on {list(v)} and "
-                                               f"{list(w)} asymmetrically")
-            choices.append([[_power(phi, j, u) for j, w in enumerate(orbit)
-                             for _ in range(counts[w])] for u in anything])
+        choices = _adversary_choices(c, phi, views)
         for pick in itertools.product(*choices):
             robots = tuple(sorted(d for group in pick for d in group))
             d = Configuration.trusted(robots, meeting)
@@ -266,6 +225,65 @@ def adversary_closure(c0: Configuration, phi: Automorphism, views: PlaneViews,
                 queue.append((d, depth + 1))
     digest = hashlib.sha256(json.dumps(sorted(seen.items())).encode()).hexdigest()
     return Closure(rounds, len(seen), digest, radius)
+
+
+def _adversary_choices(c: Configuration, phi: Automorphism, views: PlaneViews
+                       ) -> list[list[list[Node]]]:
+    """Per group of robots of ``c`` (the robots on one node of ``V'``, or an orbit of
+    ``<phi>``), per destination some answer of its view gives: the group's destinations, as
+    :func:`adversary_closure` moves them; CertificateError where the views let the algorithm
+    break the symmetry."""
+    k = phi.order
+    counts = Counter(c.robots)
+    choices: list[list[list[Node]]] = []
+    done: set[Node] = set()
+    for v in sorted(counts):
+        if v in done:
+            continue
+        key, opts = views.occurrence(c, v)
+        anything = sorted(set().union(*opts))
+        if phi(v) == v:  # a node of V': reached by a multiplicity only
+            done.add(v)
+            choices.append(_fixed_group(phi, v, counts[v], opts, anything))
+            continue
+        orbit = phi.orbit(v)
+        if len(orbit) != k:
+            raise CertificateError(f"the orbit of {list(v)} has {len(orbit)} nodes, not {k}")
+        done.update(orbit)
+        for j, w in enumerate(orbit[1:], start=1):
+            key_w, opts_w = views.occurrence(c, w)
+            if key_w != key:
+                raise CertificateError(f"the views on {list(v)} and on its image {list(w)} "
+                                       "have different keys: phi is not a symmetry the "
+                                       "robots cannot tell apart")
+            for o, dests in enumerate(opts):
+                if opts_w[o] != {_power(phi, j, d) for d in dests}:
+                    raise CertificateError(f"option {o} moves the robots on {list(v)} and "
+                                           f"{list(w)} asymmetrically")
+        choices.append([[_power(phi, j, u) for j, w in enumerate(orbit)
+                         for _ in range(counts[w])] for u in anything])
+    return choices
+
+
+def _fixed_group(phi: Automorphism, v: Node, count: int, opts: Any, anything: list[Node]
+                 ) -> list[list[Node]]:
+    """The choices of the ``count`` robots on ``v``, a node of ``V'``: each option's move
+    set closed under ``phi``, the robots split evenly over each destination's orbit."""
+    k = phi.order
+    if count % k:
+        raise CertificateError(f"{count} robots on {list(v)} in V' do not split "
+                               f"over orbits of {k} nodes")
+    for o, dests in enumerate(opts):
+        if {phi(d) for d in dests} != dests:
+            raise CertificateError(f"option {o} of the view on {list(v)} in V' is "
+                                   "not closed under phi")
+    group = []
+    for u in anything:
+        if phi(u) == u:
+            group.append([u] * count)
+        else:
+            group.append([w for w in phi.orbit(u) for _ in range(count // k)])
+    return group
 
 
 def theorem1_entry(c: Configuration, phi: Automorphism, views: PlaneViews,
