@@ -24,7 +24,7 @@ MADV_NOHUGEPAGE = 15
 
 class IntColumn(Sequence[int]):
     """A read-only view of a numpy column that hands out Python ints (for the
-    per-element code in :mod:`properties` and :mod:`check`)."""
+    per-element code in :mod:`properties` and :mod:`plane_check`)."""
 
     __slots__ = ("_array",)
 

@@ -5,7 +5,7 @@ Z² is infinite, so a search runs in a box: the MER of the initial configuration
 leaves the box stops (``Stop.REGION``, never VERIFIED), and ``run_check`` runs it again in a
 larger box. :class:`RegionPolicy` is that rule, read by every part that needs it: the
 default margin of :class:`~gather_verify.engine.encoding.Limits`, the growth loop of
-``check.run_check``, and the margin a configuration's own search would end with, which the
+``plane_check.run_check``, and the margin a configuration's own search would end with, which the
 union engine (:mod:`gather_verify.engine.union`, :mod:`gather_verify.sweeps.mclass`)
 computes without running it (:meth:`RegionPolicy.needed`).
 

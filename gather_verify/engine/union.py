@@ -33,7 +33,7 @@ configuration's row from it:
   would count (the orbits it reaches and their events) come from one pass of
   64-bit sets of seeds.
 
-The region rule (:data:`~gather_verify.engine.region.PLANE`: ``check.run_check`` searches
+The region rule (:data:`~gather_verify.engine.region.PLANE`: ``plane_check.run_check`` searches
 the MER grown by a margin of 2, doubled while the region stops the search, up to 32): the union is explored
 in the union of the configurations' regions with margin ``UNION_MARGIN``; a
 configuration's own search ends at the least margin of 2, 4, 8, 16, 32 whose

@@ -260,7 +260,7 @@ def witness_trace(u: union.UnionGraph, seed: int, c: Configuration, back: Automo
     """The trace ``run_check`` reports for the safety property ``prop`` from ``c`` (seed
     ``seed`` of ``u``, ``back`` the map from the union's ``M0`` to ``c``'s ``M``): its
     first witness and BFS path found in the
-    union graph, mapped back and concretised as the check does (:func:`check._safety_trace`,
+    union graph, mapped back and concretised as the check does (:func:`plane_check._safety_trace`,
     on the keys of the check's own encoding, margin ``margin``). ``facts``: the facts
     caches of the class's traces, by meeting-node set, filled here (a configuration's
     facts do not depend on the initial configuration they carry, which only a property
