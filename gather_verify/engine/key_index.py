@@ -150,18 +150,32 @@ class KeyIndex:
         index lists and arithmetic."""
         m = len(q)
         self._fit(self.count + m, 0.9)  # never full during the pass
-        if self.compiled:  # int32: an id is below the table's int32 ids, a position below m
-            ids = np.empty(m, dtype=np.int32)
-            first = np.empty(m, dtype=np.int32)
-            q = np.ascontiguousarray(q, dtype=np.uint64)
-            if len(self.local) < 2 * m:
-                self.local = np.empty(1 << max(10, (2 * m - 1).bit_length()), dtype=np.int32)
-            self.count, added = kernels.find_or_add(self.table, self.keys, self.count,
-                                                    self.shift, self.idbits, q, ids, first,
-                                                    self.local)
-            if self.count > LOAD * len(self.table):
-                self._fit(self.count, LOAD)
-            return ids, first[:added]
+        if self.compiled:
+            return self._find_or_add_compiled(q)
+        ids, rep, claimed = self._probe_all(q)
+        return self._add_claimed(q, ids, rep, claimed)
+
+    def _find_or_add_compiled(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`find_or_add` by the compiled kernel (int32: an id is below the table's
+        int32 ids, a position below ``len(q)``)."""
+        m = len(q)
+        ids = np.empty(m, dtype=np.int32)
+        first = np.empty(m, dtype=np.int32)
+        q = np.ascontiguousarray(q, dtype=np.uint64)
+        if len(self.local) < 2 * m:
+            self.local = np.empty(1 << max(10, (2 * m - 1).bit_length()), dtype=np.int32)
+        self.count, added = kernels.find_or_add(self.table, self.keys, self.count,
+                                                self.shift, self.idbits, q, ids, first,
+                                                self.local)
+        if self.count > LOAD * len(self.table):
+            self._fit(self.count, LOAD)
+        return ids, first[:added]
+
+    def _probe_all(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`find_or_add`'s probing pass in numpy: per position of ``q``, the id of a
+        stored key (``ids``), else the position that claimed its slot (``rep``, -1 for a
+        stored key), and per claimer the slot it claimed (``claimed``)."""
+        m = len(q)
         table, tags, keys, mask = self.table, self.tags, self.keys, self.mask
         ids = np.empty(m, dtype=np.int64)
         rep = np.full(m, -1, dtype=np.int64)  # absent key: the position that claimed its slot
@@ -218,6 +232,14 @@ class KeyIndex:
             i = np.flatnonzero(more)
             a = i if a is None else a[i]
             slot, qa, ta = at[i], q[a], rtag[a]
+        return ids, rep, claimed
+
+    def _add_claimed(self, q: np.ndarray, ids: np.ndarray, rep: np.ndarray,
+                     claimed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The keys the probing pass claimed slots for, added with the next ids in order of
+        first occurrence; :meth:`find_or_add`'s answer."""
+        m = len(q)
+        table, keys = self.table, self.keys
         news = np.flatnonzero(rep >= 0)
         r = rep[news]
         winners = news[r == news]  # ascending
@@ -237,7 +259,7 @@ class KeyIndex:
         keys[base:base + k] = q[first]
         self.count = base + k
         if self.count > LOAD * len(table):
-            del table, tags  # the old table goes before the new one is filled
+            del table  # the old table goes before the new one is filled
             self._fit(self.count, LOAD)
         return ids.astype(np.int32), first.astype(np.int32)  # the compiled path's types
 
