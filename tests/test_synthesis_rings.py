@@ -111,7 +111,7 @@ def test_together_none_rests_on_the_periodic_start(tmp_path: Path) -> None:
     run = cli("--world", "ring:9", "--robots", "3", "--task", "gathering", "--multiplicity",
               "global-weak", "--scheduler", "ssync", "--certificate", str(cert))
     assert run.returncode == 1, run.stderr
-    assert "rests on 1 of 7 start(s): 0 3 6 (periodic)" in run.stdout
+    assert "rests on 1 of 7 starts: 0 3 6 (periodic)" in run.stdout
     assert "mirror-symmetric" in run.stdout and "holds under fsync, ssync, async" in run.stdout
     verified = cli("--verify", str(cert), "--explain")
     assert verified.returncode == 0 and "rests on 1 of 7" in verified.stdout

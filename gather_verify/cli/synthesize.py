@@ -31,6 +31,7 @@ from gather_verify.cli.common import (
     writable_outputs,
 )
 from gather_verify.errors import InvalidInput
+from gather_verify.words import counted
 from schedulers import SCHEDULERS
 
 HELP = ("does any algorithm solve the task, on a finite world or the paper's (grid)? exists "
@@ -332,22 +333,25 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
           f"{report['states']}  {report['seconds']:.2f}s")
     if report["answer"] == "exists":
         checker = report["checker"]
-        print(f"witness: --algorithm {report['witness']} ({report['table']} views in its "
-              f"table)")
+        print(f"witness: --algorithm {report['witness']} ({counted(report['table'], 'view')} "
+              f"in its table)")
         print(f"checker, every reduction off: {', '.join(checker['verdicts'])} from "
-              f"{report['configurations']} configuration(s), {checker['states']} states")
+              f"{counted(report['configurations'], 'configuration')}, "
+              f"{counted(checker['states'], 'state')}")
         rules = report.get("rules")
         if rules is not None:
-            print(f"as gap rules ({len(rules)} that move; any other view stays):")
+            print(f"as gap rules ({counted(len(rules), 'rule')} for the views that move; any "
+                  "other view stays):")
             for rule in rules[:RULES_SHOWN]:
                 print(f"  {rule}")
             if len(rules) > RULES_SHOWN:
                 print(f"  ... and {len(rules) - RULES_SHOWN} more (the witness file lists them)")
     elif report["answer"] == "none":
         tree = report["tree"]
-        print(f"certificate: {report['certificate']} ({report['counterexamples']} "
-              f"counterexamples over {tree['views']} views, a decision tree of "
-              f"{tree['nodes']} questions and {tree['leaves']} leaves); re-check it with")
+        print(f"certificate: {report['certificate']} "
+              f"({counted(report['counterexamples'], 'counterexample')} over "
+              f"{counted(tree['views'], 'view')}, {tree_text(tree['nodes'], tree['leaves'])}); "
+              "re-check it with")
         print(f"  gather-verify synthesize --verify {report['certificate']}")
         if "holds_under" in report:
             from gather_verify.cli.synthesize_sets import holds_line
@@ -358,6 +362,14 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
     else:
         print(f"the search stopped at a limit: {report['limit']} (no answer; raise it and run "
               "again)")
+
+
+def tree_text(questions: int, leaves: int) -> str:
+    """A decision tree's size in words: a tree of one leaf asks nothing."""
+    if questions == 0:
+        return "a decision tree of one leaf (no question)"
+    return (f"a decision tree of {counted(questions, 'question')} and "
+            f"{counted(leaves, 'leaf', 'leaves')}")
 
 
 def _rendezvous_certificate(path: str) -> bool:
@@ -453,14 +465,14 @@ def _verify(args: argparse.Namespace) -> int:
     inst = got["instance"]
     if on_plane:
         what = (f"grid (Z²)  task {inst['task']} / {inst['scheduler']}  "
-                f"({got['configurations']} configuration(s): Theorem 1's automorphism and its "
-                f"adversary re-checked, {got['states']} configurations, {got['views']} views; "
-                "no search over algorithms)")
+                f"({counted(got['configurations'], 'configuration')}: Theorem 1's automorphism "
+                f"and its adversary re-checked, {counted(got['states'], 'configuration')}, "
+                f"{counted(got['views'], 'view')}; no search over algorithms)")
     else:
         what = (f"{inst['world']}  task {inst['task']} / {inst['scheduler']}  "
-                f"({got['counterexamples']} counterexamples replayed over {got['views']} "
-                f"views, a decision tree of {got['tree_nodes']} questions and "
-                f"{got['leaves']} leaves; no search)")
+                f"({counted(got['counterexamples'], 'counterexample')} replayed over "
+                f"{counted(got['views'], 'view')}, {tree_text(got['tree_nodes'], got['leaves'])}"
+                "; no search)")
     print(f"certificate holds: none  {what}  {got['seconds']:.2f}s")
     if not on_plane:
         from gather_verify.cli.synthesize_sets import holds_line
@@ -1061,13 +1073,15 @@ def _plane_together(args: argparse.Namespace, inst: Any) -> int:
                                                  if k != "seconds"})
     else:
         box = report["box"]
-        print(f"{report['answer']}  grid (Z²)  one algorithm for {len(inst.configurations)} "
-              f"configuration(s) of the {box['width']}x{box['height']} box outside U  "
+        print(f"{report['answer']}  grid (Z²)  one algorithm for "
+              f"{counted(len(inst.configurations), 'configuration')} of the "
+              f"{box['width']}x{box['height']} box outside U  "
               f"task {report['task']} / {report['scheduler']}")
         print(f"views {found.views}  candidates {found.candidates}  "
               f"{report['seconds']:.2f}s")
         if report["answer"] == "exists":
-            print(f"witness: --algorithm {report['witness']} ({report['table']} views); "
+            print(f"witness: --algorithm {report['witness']} "
+                  f"({counted(report['table'], 'view')}); "
                   f"checker, every reduction off, from each configuration: "
                   f"{', '.join(report['checker']['verdicts'])}")
         else:

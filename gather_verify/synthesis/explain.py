@@ -21,6 +21,7 @@ from gather_verify.synthesis.certificate import (
 )
 from gather_verify.synthesis.starts import describe
 from gather_verify.synthesis.views import Views
+from gather_verify.words import counted
 
 MAX_LEAVES = 6
 """Leaves told in full; a larger tree is summed up after them."""
@@ -41,7 +42,7 @@ def explain(doc: dict[str, Any], views: Views, max_leaves: int = MAX_LEAVES) -> 
     for cex in cexs:  # every view the tree names gets its number in ``views``
         replay(views, cex)
     used = sorted({int(cexs[leaf]["configuration"]) for leaf in _leaves(doc["tree"])})
-    lines = [f"rests on {len(used)} of {len(inst.configurations)} start(s): "
+    lines = [f"rests on {len(used)} of {counted(len(inst.configurations), 'start')}: "
              + "; ".join(_start(views, j) for j in used)]
     if len(used) == 1 and len(inst.configurations) > 1:
         lines.append("  no algorithm solves the task from that start alone")
@@ -61,7 +62,8 @@ def explain(doc: dict[str, Any], views: Views, max_leaves: int = MAX_LEAVES) -> 
             walk(child, depth + 1, f"if {name} answers {answer}: ")
     walk(doc["tree"], 0, "")
     if told[0] > max_leaves:
-        lines.append(f"... and {told[0] - max_leaves} more leaves (--json has them all)")
+        lines.append(f"... and {counted(told[0] - max_leaves, 'more leaf', 'more leaves')} "
+                     "(--json has them all)")
     return lines
 
 
