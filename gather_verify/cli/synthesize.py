@@ -91,7 +91,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-states", type=bounded_int(1, 10**9), default=2_000_000,
                    help="states of one exploration of one candidate (default %(default)s)")
     p.add_argument("--max-tree", type=bounded_int(1, 10**9), default=2_000_000,
-                   help="nodes of the certificate's decision tree (default %(default)s)")
+                   help="nodes of the certificate's decision tree; past it, the certificate "
+                        "is a resolution proof (default %(default)s)")
     p.add_argument("--minimum", action="store_true",
                    help="the least number of robots with an algorithm: --robots A-B (counts), "
                         "or of colours: --lights A-B; --world a size or a range of rings "
@@ -307,6 +308,8 @@ def _certified(args: argparse.Namespace, inst: Any, views: Any, result: Any,
     report["certificate"] = args.certificate
     report["tree"] = {"nodes": stats["tree_nodes"], "leaves": stats["tree_leaves"],
                       "views": stats["tree_views"]}
+    if "proof_lemmas" in stats:
+        report["proof"] = {"lemmas": stats["proof_lemmas"], "steps": stats["proof_steps"]}
     try:
         got = verify_certificate(args.certificate, seconds, memory)
         report.update({k: got[k] for k in ("holds_under", "found_under")})
@@ -350,7 +353,9 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
         tree = report["tree"]
         print(f"certificate: {report['certificate']} "
               f"({counted(report['counterexamples'], 'counterexample')} over "
-              f"{counted(tree['views'], 'view')}, {tree_text(tree['nodes'], tree['leaves'])}); "
+              f"{counted(tree['views'], 'view')}, "
+              f"{tree_text(tree['nodes'], tree['leaves'], report.get('proof', {}).get('lemmas'))}"
+              "); "
               "re-check it with")
         print(f"  gather-verify synthesize --verify {report['certificate']}")
         if "holds_under" in report:
@@ -364,8 +369,11 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
               "again)")
 
 
-def tree_text(questions: int, leaves: int) -> str:
-    """A decision tree's size in words: a tree of one leaf asks nothing."""
+def tree_text(questions: int, leaves: int, lemmas: int | None = None) -> str:
+    """A certificate's refutation in words: its decision tree's size (a tree of one leaf
+    asks nothing), or its resolution proof's lemmas."""
+    if lemmas is not None:
+        return f"a resolution proof of {counted(lemmas, 'lemma')}"
     if questions == 0:
         return "a decision tree of one leaf (no question)"
     return (f"a decision tree of {counted(questions, 'question')} and "
@@ -471,8 +479,9 @@ def _verify(args: argparse.Namespace) -> int:
     else:
         what = (f"{inst['world']}  task {inst['task']} / {inst['scheduler']}  "
                 f"({counted(got['counterexamples'], 'counterexample')} replayed over "
-                f"{counted(got['views'], 'view')}, {tree_text(got['tree_nodes'], got['leaves'])}"
-                "; no search)")
+                f"{counted(got['views'], 'view')}, "
+                f"{tree_text(got['tree_nodes'], got['leaves'], got.get('proof_lemmas'))}; "
+                "no search)")
     print(f"certificate holds: none  {what}  {got['seconds']:.2f}s")
     if not on_plane:
         from gather_verify.cli.synthesize_sets import holds_line
