@@ -53,6 +53,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="with a count of robots: the initial configurations of that set "
                         "(all, aperiodic, asymmetric or rigid, periodic, symmetric: "
                         "docs/synthesis.md), each on its own; with --together, one algorithm "
+                        "for all of them; with --minimum, the least count with one algorithm "
                         "for all of them")
     p.add_argument("--meeting", default="", help="meeting nodes, for the task that has them")
     p.add_argument("--task", default=None,
@@ -551,6 +552,10 @@ def _minimum(args: argparse.Namespace) -> int:
     for name in schedulers:
         get_scheduler(name)
     solve: Any
+    if args.start is not None and (colours is not None or entry_of(args.world) == PLANE):
+        raise UsageError("--start with --minimum goes with a count of robots on a finite world "
+                         "(--robots A-B: the least k with one algorithm for every start of the "
+                         "set)")
     if entry_of(args.world) == PLANE:
         if colours is not None:
             raise UsageError("--minimum --lights A-B: the least number of colours is asked on "
@@ -578,6 +583,7 @@ def _minimum(args: argparse.Namespace) -> int:
                     "meeting": args.meeting, "max_seconds": args.max_seconds,
                     "max_candidates": args.max_candidates, "max_states": args.max_states,
                     "gather_verify": own_digest(), **more,
+                    **({"start": args.start} if args.start is not None else {}),
                 }
                 sweep = store.sweep_id(settings)
                 stored = {r["key"]: r for r in store.results(sweep)}
@@ -626,6 +632,7 @@ def _minimum(args: argparse.Namespace) -> int:
     else:
         print(f"least {what} with an algorithm  task {args.task or 'default'}  detection "
               f"{args.multiplicity}  frames {args.frames}"
+              + ("" if args.start is None else f"  start {args.start}")
               + ("" if args.visibility is None else f"  visibility {args.visibility}")
               + ("" if args.lights is None or colours is not None else f"  lights {args.lights}")
               + ("" if colours is None else f"  robots {args.robots.strip()}  initial colours "
@@ -655,19 +662,35 @@ def _finite_least(args: argparse.Namespace, counts: range, schedulers: list[str]
     return worlds
 
 
+def _start_set(world: str, k: int, args: argparse.Namespace) -> bool:
+    """Whether ``--start`` (with ``--minimum``) leaves any start of ``k`` robots on ``world``
+    (always, without it)."""
+    from gather_verify.synthesis.starts import starts
+    from gather_verify.worlds import get_world
+
+    w = get_world(world)
+    if args.start is None or not 1 <= k <= w.size:  # make_instance says why
+        return True
+    meeting = frozenset(w.parse_nodes(args.meeting)) if args.meeting.strip() else frozenset()
+    return bool(starts(w, k, args.start, meeting, args.frames))
+
+
 Answer = tuple[str, str | None, int, int, dict[str, Any]]
 """One count's answer for ``--minimum``: answer, limit, states, candidates, files."""
 
 
 def _finite_one(args: argparse.Namespace, world: str, sched: str, k: int,
                 stem: str) -> Answer | str | None:
-    """``synthesize`` for every initial configuration of ``k`` robots on a finite world
-    (None: more robots than nodes; a string: a fault of ours, to report)."""
+    """``synthesize`` for every initial configuration of ``k`` robots on a finite world (with
+    ``--start``, every one of that set: ``empty`` when it has none), one algorithm for all of
+    them (None: more robots than nodes; a string: a fault of ours, to report)."""
     from gather_verify.synthesis.views import make_instance
 
     try:
+        if not _start_set(world, k, args):
+            return "empty", f"no start of {counted(k, 'robot')} is {args.start}", 0, 0, {}
         inst = make_instance(world, str(k), args.meeting, sched, args.task, args.multiplicity,
-                             args.frames, args.visibility, args.lights)
+                             args.frames, args.visibility, args.lights, start=args.start)
     except InvalidInput:  # more robots than nodes
         return None
     got = _finite_search(args, inst, stem)
