@@ -91,7 +91,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="tables the solver may propose (default %(default)s)")
     p.add_argument("--max-states", type=bounded_int(1, 10**9), default=2_000_000,
                    help="states of one exploration of one candidate (default %(default)s)")
-    p.add_argument("--max-tree", type=bounded_int(1, 10**9), default=2_000_000,
+    p.add_argument("--max-tree", type=bounded_int(1, 10**9), default=100_000,
                    help="nodes of the certificate's decision tree; past it, the certificate "
                         "is a resolution proof (default %(default)s)")
     p.add_argument("--minimum", action="store_true",

@@ -278,8 +278,9 @@ class TreeTooLarge(GatherVerifyError):
     """The certificate's decision tree outgrew its limit of nodes.
 
     Cause: the counterexamples refute every algorithm, but only through a tree larger than
-    ``--max-tree``. Fix: ``synthesize`` answers ``unknown`` naming ``max-tree``; raise it and
-    run again."""
+    ``--max-tree``. Fix: none needed: ``synthesize`` certifies the ``none`` with a resolution
+    proof instead (:mod:`.refute`), and answers ``unknown`` naming ``max-tree`` only when
+    that proof does not come within the time left (raise ``--max-seconds``)."""
 
 
 def build_tree(clauses: list[dict[int, int]], options: list[int], limit: int) -> Any:
