@@ -667,9 +667,11 @@ def _start_set(world: str, k: int, args: argparse.Namespace) -> bool:
     (always, without it)."""
     from gather_verify.synthesis.starts import starts
     from gather_verify.worlds import get_world
+    from gather_verify.worlds.base import World
 
     w = get_world(world)
-    if args.start is None or not 1 <= k <= w.size:  # make_instance says why
+    if args.start is None or not isinstance(w, World) or not 1 <= k <= w.size:
+        return True  # make_instance says why, if anything is wrong
         return True
     meeting = frozenset(w.parse_nodes(args.meeting)) if args.meeting.strip() else frozenset()
     return bool(starts(w, k, args.start, meeting, args.frames))

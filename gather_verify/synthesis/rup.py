@@ -37,12 +37,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-ADD, DELETE = 1, 2
-"""The kinds of step the kernel reads (0: a deletion of no clause, skipped)."""
-NOT_RUP, NO_EMPTY, FULL = 1, 2, 3
-"""The kernel's answers beside 0 (the empty clause was derived): a step that is not RUP, a
-proof that ends without the empty clause, the dependency buffer full (grown and rerun)."""
-
 
 @dataclass
 class Checked:
@@ -80,6 +74,8 @@ def _steps(base: Sequence[Sequence[int]], steps: Sequence[Sequence[int]]
     """Every clause (base, then each lemma) and, per step, its kind and its clause: a
     deletion names the latest live clause with the same literals (one that matches none is
     left out: keeping a clause only keeps what follows)."""
+    from gather_verify.synthesis.rup_kernel import ADD, DELETE
+
     clauses = [list(c) for c in base]
     live: dict[frozenset[int], list[int]] = {}
     for j, c in enumerate(clauses):
@@ -108,7 +104,7 @@ def check(nvars: int, base: Sequence[Sequence[int]], steps: Sequence[Sequence[in
     unsatisfiable: each lemma must follow by unit propagation, and one must be the empty
     clause (the check stops there). ``deps``: also record what each lemma used
     (:func:`trim`). :class:`ValueError` for a literal out of range."""
-    from gather_verify.synthesis.rup_kernel import check_steps
+    from gather_verify.synthesis.rup_kernel import ADD, FULL, NO_EMPTY, NOT_RUP, check_steps
 
     clauses, kinds, ids = _steps(base, steps)
     lits, starts = _encode(nvars, clauses)

@@ -9,7 +9,11 @@ low bit). Imported only when a proof is checked: numba costs a quarter of a seco
 import numpy as np
 from numba import njit
 
-from gather_verify.synthesis.rup import ADD, DELETE, FULL, NO_EMPTY, NOT_RUP
+ADD, DELETE = 1, 2
+"""The kinds of step (0: a deletion that matches no clause, skipped)."""
+NOT_RUP, NO_EMPTY, FULL = 1, 2, 3
+"""The answers beside 0 (the empty clause was derived): a step that is not RUP, a proof that
+ends without the empty clause, the dependency buffer full (grown and rerun)."""
 
 
 @njit(cache=True, nogil=True)
