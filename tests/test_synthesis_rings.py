@@ -400,32 +400,3 @@ def test_minimum_over_a_start_set(tmp_path: Path) -> None:
     run = cli("--minimum", "--world", "ring:6", "--robots", "0 1", "--lights", "1-2",
               "--start", "aperiodic")
     assert run.returncode == 2 and "--start with --minimum" in one_line(run)
-
-
-def test_a_pass_remembered_is_the_same_search(monkeypatch: pytest.MonkeyPatch) -> None:
-    """A candidate that answers as an earlier one did on every view that one's exploration
-    met, from a start it passed, passes there without exploring: the run is the same
-    (candidates, counterexamples, witness) as the one that explores every time."""
-    from gather_verify.synthesis import search
-
-    inst = make_instance("ring:7", "3", "", "ssync", "gathering", "global-weak")
-    runs = []
-    for kept in (search.PASSES_KEPT, 0):
-        monkeypatch.setattr(search, "PASSES_KEPT", kept)
-        seen: list[Any] = []
-        judge = search._Search.judge
-
-        def spy(self: Any, choice: Any, reached: Any, judge: Any = judge,
-                seen: list[Any] = seen) -> Any:
-            seen.append(self)
-            return judge(self, choice, reached)
-
-        monkeypatch.setattr(search._Search, "judge", spy)
-        res = synthesize(inst, max_seconds=120)
-        monkeypatch.setattr(search._Search, "judge", judge)
-        runs.append((res, seen[-1].reused))
-    (remembered, reused), (plain, none_reused) = runs
-    assert reused > 0 and none_reused == 0
-    assert remembered.answer == plain.answer == "exists"
-    assert remembered.candidates == plain.candidates and remembered.table == plain.table
-    assert remembered.counterexamples == plain.counterexamples

@@ -178,10 +178,7 @@ class _Search:
                       for i in range(len(inst.configurations))]
         self.cexs: list[dict[str, Any]] = []
         self.clauses: list[dict[int, int]] = []
-        self.candidates = self.explored = self.reused = 0
-        self.passed: dict[tuple[int, int, str], list[dict[int, int]]] = {}
-        """Per (part, configuration, rung): the answers on the views met by the last
-        candidates that passed there (:meth:`passed_before`)."""
+        self.candidates = self.explored = 0
         self.limits = limits  # seconds, candidates, states, tree nodes, memory (MB)
 
     def result(self, answer: str, limit: str | None = None, **more: Any) -> Result:
@@ -276,15 +273,11 @@ class _Search:
         max_seconds, _, max_states, _, max_memory_mb = self.limits
         for rung in self.rungs:
             for p, idx in self.order:
-                if self.passed_before(p, idx, rung, choice, reached):
-                    continue
                 left = max_seconds - (time.perf_counter() - self.started)
-                met: set[int] = set()
                 s, findings = explore(self.insts[p][rung], self.parts[p][1], choice, idx,
-                                      met, Limits(max_states=max_states,
-                                                  max_seconds=max(left, 0.001),
-                                                  max_memory_mb=max_memory_mb))
-                reached |= met
+                                      reached, Limits(max_states=max_states,
+                                                      max_seconds=max(left, 0.001),
+                                                      max_memory_mb=max_memory_mb))
                 self.explored += s.states
                 if s.stopped is not None:
                     return {"time": "max-seconds", "states": "max-states",
@@ -293,22 +286,7 @@ class _Search:
                     self.order.remove((p, idx))
                     self.order.insert(0, (p, idx))
                     return p, idx, rung, s, findings
-                records = self.passed.setdefault((p, idx, rung), [])
-                records.append({k: choice[k] for k in met})
-                del records[:max(len(records) - PASSES_KEPT, 0)]
         return None
-
-    def passed_before(self, p: int, idx: int, rung: str, choice: dict[int, int],
-                      reached: set[int]) -> bool:
-        """Whether an earlier candidate passed this configuration under this rung with the
-        same answers on every view its exploration met: this one then explores the same
-        states, step by step, and passes too (its views join ``reached``)."""
-        for record in reversed(self.passed.get((p, idx, rung), ())):
-            if all(choice[k] == o for k, o in record.items()):
-                reached.update(record)
-                self.reused += 1
-                return True
-        return False
 
     def learn(self, choice: dict[int, int], p: int, idx: int, rung: str, s: WorldSearch,
               findings: list[Finding]) -> None:
@@ -467,8 +445,6 @@ def livelocks(s: WorldSearch, ctx: Context, prop: str, node: int | None = None
     return out
 
 
-PASSES_KEPT = 32
-"""Passes remembered per configuration and rung (:meth:`_Search.passed_before`)."""
 TERMINATION_FIRST = True
 """Terminating exploration: decide termination (on the states without the visited set)
 before the safety part (measured: fewer candidates, as counterexamples of termination name
