@@ -162,3 +162,15 @@ def test_a_broken_proof_fails_verify(tmp_path: Path, proved: dict, tamper) -> No
     path = rejected(proved, tamper, tmp_path)
     with pytest.raises(CertificateError):
         verify_certificate(str(path))
+
+
+def test_no_proof_in_time_is_unknown_naming_max_tree(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Past --max-tree, a none is given only with its proof: none found, ``unknown``."""
+    from gather_verify.synthesis import search
+    from gather_verify.synthesis.views import make_instance
+
+    monkeypatch.setattr(search, "refutation", lambda *_args: None)
+    inst = make_instance("ring:6", "2", "", "ssync", "gathering", "global-weak")
+    res = search.synthesize(inst, max_tree=1)
+    assert res.answer == "unknown" and res.limit.startswith("max-tree")
+    assert search.synthesize(inst, max_tree=10).answer == "none"
