@@ -77,7 +77,7 @@ def naive_check(base: list[list[int]], steps: list[list[int]]) -> bool:
     return False
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=80, deadline=None)
 @given(cnf, proof)
 def test_the_compiled_check_is_the_naive_one_and_never_proves_a_satisfiable_cnf(
         base: list[list[int]], steps: list[list[int]]) -> None:
@@ -87,7 +87,7 @@ def test_the_compiled_check_is_the_naive_one_and_never_proves_a_satisfiable_cnf(
         assert not satisfiable(base)
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=40, deadline=None)
 @given(cnf)
 def test_the_solver_s_proof_trimmed_still_holds_and_uses_only_what_it_keeps(
         base: list[list[int]]) -> None:
