@@ -41,8 +41,7 @@ import os
 import signal
 import threading
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
 from typing import Any, NoReturn, TypeVar
 
 GRACE_SECONDS = 1.0
@@ -106,9 +105,16 @@ def available() -> bool:
 
 def _may_raise(frame: Any) -> bool:
     """Whether a ring may raise here: inside the user's code (or a bounded block), never in
-    the watchdog's own bookkeeping (:data:`_COUNTING`) or a clean-up (:data:`_QUIET`)."""
-    return bool(_inside) and (frame is None or (frame.f_code not in _COUNTING
-                                                and frame.f_code not in _QUIET))
+    the watchdog's own bookkeeping (:data:`_COUNTING`) or a clean-up (:data:`_QUIET`), nor
+    in anything they call (a thread's join, an event's set: an outer block's ring there
+    would leave this one's alarm armed or its watch running)."""
+    if not _inside:
+        return False
+    while frame is not None:
+        if frame.f_code in _COUNTING or frame.f_code in _QUIET:
+            return False
+        frame = frame.f_back
+    return True
 
 
 def _ring(signum: int, frame: Any) -> None:
@@ -125,36 +131,49 @@ def _passed() -> _Deadline | None:
     return _ARMED[-1] if _ARMED and _ARMED[-1].expired else None
 
 
-@contextmanager
-def deadline(seconds: float | None) -> Iterator[None]:
+class deadline:  # noqa: N801 - a context manager used as a function is
     """Within the block, the user's code (:func:`watched`) raises :class:`Overtime` once
     ``seconds`` have passed. None, an infinite or a non-positive value: no deadline; nor
-    where :func:`available` is false."""
-    if seconds is None or not 0 < seconds < math.inf or not available():
-        yield
-        return
-    left, interval = signal.getitimer(signal.ITIMER_REAL)
-    if left and left <= seconds:  # an alarm set before rings first: it stays in charge
-        yield
-        return
-    try:
-        previous = signal.signal(signal.SIGALRM, _ring)
-    except (ValueError, OSError):  # pragma: no cover - an embedding that refuses handlers
-        yield
-        return
-    armed = _Deadline(seconds)
-    _ARMED.append(armed)
-    began = time.monotonic()
-    signal.setitimer(signal.ITIMER_REAL, seconds, INTERVAL)
-    try:
-        yield
-    finally:
+    where :func:`available` is false.
+
+    A class, not a generator: its entry and exit are the watchdog's bookkeeping
+    (:data:`_COUNTING`), where the alarm never raises, so a ring cannot leave an alarm armed
+    or a handler not put back, even inside an outer watched block."""
+
+    def __init__(self, seconds: float | None):
+        self.seconds = seconds
+        self.armed: _Deadline | None = None
+        self.previous: Any = None
+        self.left = self.interval = self.began = 0.0
+
+    def __enter__(self) -> None:
+        seconds = self.seconds
+        if seconds is None or not 0 < seconds < math.inf or not available():
+            return
+        self.left, self.interval = signal.getitimer(signal.ITIMER_REAL)
+        if self.left and self.left <= seconds:  # an alarm set before rings first: it stays
+            return
+        try:
+            self.previous = signal.signal(signal.SIGALRM, _ring)
+        except (ValueError, OSError):  # pragma: no cover - an embedding that refuses handlers
+            return
+        self.armed = _Deadline(seconds)
+        _ARMED.append(self.armed)
+        self.began = time.monotonic()
+        signal.setitimer(signal.ITIMER_REAL, seconds, INTERVAL)
+
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 tb: object) -> None:
+        if self.armed is None:
+            return
         signal.setitimer(signal.ITIMER_REAL, 0)
-        _ARMED.remove(armed)
-        signal.signal(signal.SIGALRM, signal.SIG_DFL if previous is None else previous)
-        if left:  # the alarm set before, with the time it has left
+        _ARMED.remove(self.armed)
+        self.armed = None
+        signal.signal(signal.SIGALRM, signal.SIG_DFL if self.previous is None else self.previous)
+        if self.left:  # the alarm set before, with the time it has left
             signal.setitimer(signal.ITIMER_REAL,
-                             max(left - (time.monotonic() - began), 1e-6), interval)
+                             max(self.left - (time.monotonic() - self.began), 1e-6),
+                             self.interval)
 
 
 class _Watched:
@@ -181,8 +200,8 @@ class _Watched:
 
 
 _WATCHED = _Watched()
-_COUNTING = frozenset((_Watched.__enter__.__code__, _Watched.__exit__.__code__,
-                       deadline.__wrapped__.__code__))  # type: ignore[attr-defined]
+_COUNTING: set[Any] = {_Watched.__enter__.__code__, _Watched.__exit__.__code__,
+                      deadline.__enter__.__code__, deadline.__exit__.__code__}
 """Where the alarm never raises: an exception between the count's change and the block's
 start or end would leave the count wrong (the block checks the deadline itself), and one in
 :func:`deadline`'s own code would leave an alarm armed or not put back (a block of the
@@ -275,15 +294,20 @@ class bounded:  # noqa: N801 - a context manager used as a function is
         if not self.on:
             return
         global _inside
-        if (self.memory_mb is not None and 0 < self.memory_mb < math.inf
-                and MEMORY_SIGNAL is not None):
-            self.previous = signal.signal(MEMORY_SIGNAL, _ring_memory)
-            _WATCHING.append(self)
-            self.thread = threading.Thread(target=self._watch, args=(threading.get_ident(),),
-                                           name="gather-verify memory watch", daemon=True)
-            self.thread.start()
-        self.timer = deadline(self.seconds)
-        self.timer.__enter__()
+        try:
+            if (self.memory_mb is not None and 0 < self.memory_mb < math.inf
+                    and MEMORY_SIGNAL is not None):
+                self.previous = signal.signal(MEMORY_SIGNAL, _ring_memory)
+                _WATCHING.append(self)
+                self.thread = threading.Thread(target=self._watch,
+                                               args=(threading.get_ident(),),
+                                               name="gather-verify memory watch", daemon=True)
+                self.thread.start()
+            self.timer = deadline(self.seconds)
+            self.timer.__enter__()
+        except BaseException:  # (a KeyboardInterrupt): nothing left armed or running
+            self._release()
+            raise
         _inside += 1
 
     def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
@@ -292,20 +316,25 @@ class bounded:  # noqa: N801 - a context manager used as a function is
             return
         global _inside
         _inside -= 1  # first: no ring raises in this block's clean-up
+        self._release()
+        passed = _passed()
+        if passed is not None and error is None:  # the block ended after its deadline
+            raise Overtime(passed.seconds)
+
+    def _release(self) -> None:
         if self in _WATCHING:
             _WATCHING.remove(self)  # a late memory ring is this block's: it raises nowhere
-        self.timer.__exit__(None, None, None)
+        if self.timer is not None:
+            self.timer.__exit__(None, None, None)
         self.stop.set()
         if self.thread is not None:
             self.thread.join()
             signal.signal(MEMORY_SIGNAL,  # type: ignore[arg-type]
                           signal.SIG_DFL if self.previous is None else self.previous)
-        passed = _passed()
-        if passed is not None and error is None:  # the block ended after its deadline
-            raise Overtime(passed.seconds)
 
 
-_QUIET: set[Any] = {bounded.__exit__.__code__}
+_QUIET: set[Any] = {bounded.__exit__.__code__, bounded._release.__code__}
+_COUNTING.add(bounded.__enter__.__code__)
 """Code objects in which the alarm never raises (the clean-up of a bounded block)."""
 
 

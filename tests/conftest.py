@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 from collections.abc import Iterator
 from typing import Any
 
@@ -16,6 +17,25 @@ settings.register_profile("explore", derandomize=False)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 """The property-based tests draw the same examples on every run (a CI run passes or fails
 alike on every machine); ``HYPOTHESIS_PROFILE=explore`` draws new ones each run."""
+
+
+@pytest.fixture(autouse=True)
+def _the_watchdog_is_left_idle() -> Iterator[None]:
+    """Every test leaves the watchdog as it found it: no user-code count, no armed deadline,
+    no memory watch. One left behind would ring in the next test's (or pytest's own) code, far
+    from its cause; here the test that left it fails, and the next one starts clean."""
+    from gather_verify import watchdog
+
+    yield
+    left = (watchdog._inside, len(watchdog._ARMED), len(watchdog._WATCHING))
+    if left != (0, 0, 0):
+        watchdog._inside = 0
+        watchdog._ARMED.clear()
+        watchdog._WATCHING.clear()
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        pytest.fail(f"the watchdog was left busy (user-code depth, deadlines, memory watches):"
+                    f" {left}")
+
 
 CHROMIUM = ("chromium", "chromium-browser", "google-chrome")
 

@@ -17,6 +17,7 @@ import pytest
 
 from gather_verify.cli import main
 from gather_verify.engine.encoding import rss_mb
+from gather_verify.words import counted
 from gather_verify.world_check import run_world_check
 
 
@@ -325,6 +326,7 @@ def test_a_certificate_s_view_counts_agree(tmp_path, capsys):
     assert main(["synthesize", "--verify", str(cert)]) == 0
     checked = capsys.readouterr().out
     stats = json.loads(cert.read_text())["stats"]
-    said = f"over {stats['tree_views']} views, a decision tree of {stats['tree_nodes']} questions"
+    said = (f"over {counted(stats['tree_views'], 'view')}, a decision tree of "
+            f"{counted(stats['tree_nodes'], 'question')}")
     assert said in made and said in checked, (made, checked)
     assert f"views met {stats['views']}" in made

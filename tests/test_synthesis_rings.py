@@ -111,7 +111,7 @@ def test_together_none_rests_on_the_periodic_start(tmp_path: Path) -> None:
     run = cli("--world", "ring:9", "--robots", "3", "--task", "gathering", "--multiplicity",
               "global-weak", "--scheduler", "ssync", "--certificate", str(cert))
     assert run.returncode == 1, run.stderr
-    assert "rests on 1 of 7 start(s): 0 3 6 (periodic)" in run.stdout
+    assert "rests on 1 of 7 starts: 0 3 6 (periodic)" in run.stdout
     assert "mirror-symmetric" in run.stdout and "holds under fsync, ssync, async" in run.stdout
     verified = cli("--verify", str(cert), "--explain")
     assert verified.returncode == 0 and "rests on 1 of 7" in verified.stdout
@@ -376,3 +376,27 @@ def test_blins_rules_broken_fail(tmp_path: Path) -> None:
 def test_blins_three_robots_explore_at_every_size_of_the_range() -> None:
     for n in range(10, 21):
         assert _explores(ASYNC_EXPLORER, n) == ["VERIFIED"], n
+
+
+def _least(tmp_path: Path, robots: str, *more: str) -> tuple[str, list[dict[str, Any]]]:
+    run = cli("--minimum", "--world", "ring:6", "--robots", robots, "--task", "gathering",
+              "--multiplicity", "global-weak", "--scheduler", "fsync", "--db",
+              str(tmp_path / "m.sqlite"), "--out", str(tmp_path / "out"), "--json", *more)
+    assert run.returncode == 0, run.stderr
+    got = json.loads(run.stdout)
+    return got["minimum"][0]["least"], got["rows"]
+
+
+def test_minimum_over_a_start_set(tmp_path: Path) -> None:
+    """Three robots gather on ring:6 from every aperiodic start (Klasing et al.), not from
+    every start ({0, 2, 4} is periodic): --minimum asks the least count for the set given;
+    a count with no start in the set is ``empty``, never ``exists``."""
+    assert _least(tmp_path, "2-3")[0] == ">3"
+    least, rows = _least(tmp_path, "2-3", "--start", "aperiodic")
+    assert least == "3" and [r["answer"] for r in rows] == ["none", "exists"]
+    least, rows = _least(tmp_path, "1-3", "--start", "asymmetric")
+    assert least == "3" and [r["answer"] for r in rows] == ["empty", "empty", "exists"]
+    assert rows[0]["limit"] == "no start of 1 robot is asymmetric"
+    run = cli("--minimum", "--world", "ring:6", "--robots", "0 1", "--lights", "1-2",
+              "--start", "aperiodic")
+    assert run.returncode == 2 and "--start with --minimum" in one_line(run)

@@ -31,6 +31,7 @@ from gather_verify.cli.common import (
     writable_outputs,
 )
 from gather_verify.errors import InvalidInput
+from gather_verify.words import counted
 from schedulers import SCHEDULERS
 
 HELP = ("does any algorithm solve the task, on a finite world or the paper's (grid)? exists "
@@ -52,6 +53,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="with a count of robots: the initial configurations of that set "
                         "(all, aperiodic, asymmetric or rigid, periodic, symmetric: "
                         "docs/synthesis.md), each on its own; with --together, one algorithm "
+                        "for all of them; with --minimum, the least count with one algorithm "
                         "for all of them")
     p.add_argument("--meeting", default="", help="meeting nodes, for the task that has them")
     p.add_argument("--task", default=None,
@@ -89,8 +91,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="tables the solver may propose (default %(default)s)")
     p.add_argument("--max-states", type=bounded_int(1, 10**9), default=2_000_000,
                    help="states of one exploration of one candidate (default %(default)s)")
-    p.add_argument("--max-tree", type=bounded_int(1, 10**9), default=2_000_000,
-                   help="nodes of the certificate's decision tree (default %(default)s)")
+    p.add_argument("--max-tree", type=bounded_int(1, 10**9), default=100_000,
+                   help="nodes of the certificate's decision tree; past it, the certificate "
+                        "is a resolution proof (default %(default)s)")
     p.add_argument("--minimum", action="store_true",
                    help="the least number of robots with an algorithm: --robots A-B (counts), "
                         "or of colours: --lights A-B; --world a size or a range of rings "
@@ -306,6 +309,8 @@ def _certified(args: argparse.Namespace, inst: Any, views: Any, result: Any,
     report["certificate"] = args.certificate
     report["tree"] = {"nodes": stats["tree_nodes"], "leaves": stats["tree_leaves"],
                       "views": stats["tree_views"]}
+    if "proof_lemmas" in stats:
+        report["proof"] = {"lemmas": stats["proof_lemmas"], "steps": stats["proof_steps"]}
     try:
         got = verify_certificate(args.certificate, seconds, memory)
         report.update({k: got[k] for k in ("holds_under", "found_under")})
@@ -332,22 +337,27 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
           f"{report['states']}  {report['seconds']:.2f}s")
     if report["answer"] == "exists":
         checker = report["checker"]
-        print(f"witness: --algorithm {report['witness']} ({report['table']} views in its "
-              f"table)")
+        print(f"witness: --algorithm {report['witness']} ({counted(report['table'], 'view')} "
+              f"in its table)")
         print(f"checker, every reduction off: {', '.join(checker['verdicts'])} from "
-              f"{report['configurations']} configuration(s), {checker['states']} states")
+              f"{counted(report['configurations'], 'configuration')}, "
+              f"{counted(checker['states'], 'state')}")
         rules = report.get("rules")
         if rules is not None:
-            print(f"as gap rules ({len(rules)} that move; any other view stays):")
+            print(f"as gap rules ({counted(len(rules), 'rule')} for the views that move; any "
+                  "other view stays):")
             for rule in rules[:RULES_SHOWN]:
                 print(f"  {rule}")
             if len(rules) > RULES_SHOWN:
                 print(f"  ... and {len(rules) - RULES_SHOWN} more (the witness file lists them)")
     elif report["answer"] == "none":
         tree = report["tree"]
-        print(f"certificate: {report['certificate']} ({report['counterexamples']} "
-              f"counterexamples over {tree['views']} views, a decision tree of "
-              f"{tree['nodes']} questions and {tree['leaves']} leaves); re-check it with")
+        print(f"certificate: {report['certificate']} "
+              f"({counted(report['counterexamples'], 'counterexample')} over "
+              f"{counted(tree['views'], 'view')}, "
+              f"{tree_text(tree['nodes'], tree['leaves'], report.get('proof', {}).get('lemmas'))}"
+              "); "
+              "re-check it with")
         print(f"  gather-verify synthesize --verify {report['certificate']}")
         if "holds_under" in report:
             from gather_verify.cli.synthesize_sets import holds_line
@@ -358,6 +368,17 @@ def _print(report: dict[str, Any], args: argparse.Namespace) -> None:
     else:
         print(f"the search stopped at a limit: {report['limit']} (no answer; raise it and run "
               "again)")
+
+
+def tree_text(questions: int, leaves: int, lemmas: int | None = None) -> str:
+    """A certificate's refutation in words: its decision tree's size (a tree of one leaf
+    asks nothing), or its resolution proof's lemmas."""
+    if lemmas is not None:
+        return f"a resolution proof of {counted(lemmas, 'lemma')}"
+    if questions == 0:
+        return "a decision tree of one leaf (no question)"
+    return (f"a decision tree of {counted(questions, 'question')} and "
+            f"{counted(leaves, 'leaf', 'leaves')}")
 
 
 def _rendezvous_certificate(path: str) -> bool:
@@ -453,14 +474,15 @@ def _verify(args: argparse.Namespace) -> int:
     inst = got["instance"]
     if on_plane:
         what = (f"grid (Z²)  task {inst['task']} / {inst['scheduler']}  "
-                f"({got['configurations']} configuration(s): Theorem 1's automorphism and its "
-                f"adversary re-checked, {got['states']} configurations, {got['views']} views; "
-                "no search over algorithms)")
+                f"({counted(got['configurations'], 'configuration')}: Theorem 1's automorphism "
+                f"and its adversary re-checked, {counted(got['states'], 'configuration')}, "
+                f"{counted(got['views'], 'view')}; no search over algorithms)")
     else:
         what = (f"{inst['world']}  task {inst['task']} / {inst['scheduler']}  "
-                f"({got['counterexamples']} counterexamples replayed over {got['views']} "
-                f"views, a decision tree of {got['tree_nodes']} questions and "
-                f"{got['leaves']} leaves; no search)")
+                f"({counted(got['counterexamples'], 'counterexample')} replayed over "
+                f"{counted(got['views'], 'view')}, "
+                f"{tree_text(got['tree_nodes'], got['leaves'], got.get('proof_lemmas'))}; "
+                "no search)")
     print(f"certificate holds: none  {what}  {got['seconds']:.2f}s")
     if not on_plane:
         from gather_verify.cli.synthesize_sets import holds_line
@@ -530,6 +552,10 @@ def _minimum(args: argparse.Namespace) -> int:
     for name in schedulers:
         get_scheduler(name)
     solve: Any
+    if args.start is not None and (colours is not None or entry_of(args.world) == PLANE):
+        raise UsageError("--start with --minimum goes with a count of robots on a finite world "
+                         "(--robots A-B: the least k with one algorithm for every start of the "
+                         "set)")
     if entry_of(args.world) == PLANE:
         if colours is not None:
             raise UsageError("--minimum --lights A-B: the least number of colours is asked on "
@@ -557,6 +583,7 @@ def _minimum(args: argparse.Namespace) -> int:
                     "meeting": args.meeting, "max_seconds": args.max_seconds,
                     "max_candidates": args.max_candidates, "max_states": args.max_states,
                     "gather_verify": own_digest(), **more,
+                    **({"start": args.start} if args.start is not None else {}),
                 }
                 sweep = store.sweep_id(settings)
                 stored = {r["key"]: r for r in store.results(sweep)}
@@ -605,6 +632,7 @@ def _minimum(args: argparse.Namespace) -> int:
     else:
         print(f"least {what} with an algorithm  task {args.task or 'default'}  detection "
               f"{args.multiplicity}  frames {args.frames}"
+              + ("" if args.start is None else f"  start {args.start}")
               + ("" if args.visibility is None else f"  visibility {args.visibility}")
               + ("" if args.lights is None or colours is not None else f"  lights {args.lights}")
               + ("" if colours is None else f"  robots {args.robots.strip()}  initial colours "
@@ -634,19 +662,37 @@ def _finite_least(args: argparse.Namespace, counts: range, schedulers: list[str]
     return worlds
 
 
+def _start_set(world: str, k: int, args: argparse.Namespace) -> bool:
+    """Whether ``--start`` (with ``--minimum``) leaves any start of ``k`` robots on ``world``
+    (always, without it)."""
+    from gather_verify.synthesis.starts import starts
+    from gather_verify.worlds import get_world
+    from gather_verify.worlds.base import World
+
+    w = get_world(world)
+    if args.start is None or not isinstance(w, World) or not 1 <= k <= w.size:
+        return True  # make_instance says why, if anything is wrong
+        return True
+    meeting = frozenset(w.parse_nodes(args.meeting)) if args.meeting.strip() else frozenset()
+    return bool(starts(w, k, args.start, meeting, args.frames))
+
+
 Answer = tuple[str, str | None, int, int, dict[str, Any]]
 """One count's answer for ``--minimum``: answer, limit, states, candidates, files."""
 
 
 def _finite_one(args: argparse.Namespace, world: str, sched: str, k: int,
                 stem: str) -> Answer | str | None:
-    """``synthesize`` for every initial configuration of ``k`` robots on a finite world
-    (None: more robots than nodes; a string: a fault of ours, to report)."""
+    """``synthesize`` for every initial configuration of ``k`` robots on a finite world (with
+    ``--start``, every one of that set: ``empty`` when it has none), one algorithm for all of
+    them (None: more robots than nodes; a string: a fault of ours, to report)."""
     from gather_verify.synthesis.views import make_instance
 
     try:
+        if not _start_set(world, k, args):
+            return "empty", f"no start of {counted(k, 'robot')} is {args.start}", 0, 0, {}
         inst = make_instance(world, str(k), args.meeting, sched, args.task, args.multiplicity,
-                             args.frames, args.visibility, args.lights)
+                             args.frames, args.visibility, args.lights, start=args.start)
     except InvalidInput:  # more robots than nodes
         return None
     got = _finite_search(args, inst, stem)
@@ -1061,13 +1107,15 @@ def _plane_together(args: argparse.Namespace, inst: Any) -> int:
                                                  if k != "seconds"})
     else:
         box = report["box"]
-        print(f"{report['answer']}  grid (Z²)  one algorithm for {len(inst.configurations)} "
-              f"configuration(s) of the {box['width']}x{box['height']} box outside U  "
+        print(f"{report['answer']}  grid (Z²)  one algorithm for "
+              f"{counted(len(inst.configurations), 'configuration')} of the "
+              f"{box['width']}x{box['height']} box outside U  "
               f"task {report['task']} / {report['scheduler']}")
         print(f"views {found.views}  candidates {found.candidates}  "
               f"{report['seconds']:.2f}s")
         if report["answer"] == "exists":
-            print(f"witness: --algorithm {report['witness']} ({report['table']} views); "
+            print(f"witness: --algorithm {report['witness']} "
+                  f"({counted(report['table'], 'view')}); "
                   f"checker, every reduction off, from each configuration: "
                   f"{', '.join(report['checker']['verdicts'])}")
         else:

@@ -17,6 +17,7 @@ from gather_verify.cli.common import (
     print_json,
     writable_outputs,
 )
+from gather_verify.words import counted
 
 
 def run_range(args: argparse.Namespace) -> int:
@@ -107,7 +108,8 @@ def run_range(args: argparse.Namespace) -> int:
 
 
 def _print(report: dict[str, Any]) -> None:
-    print(f"{report['answer']}  {report['world']} ({report['sizes']} sizes), one gap-rule "
+    print(f"{report['answer']}  {report['world']} ({counted(report['sizes'], 'size')}), one "
+          "gap-rule "
           f"algorithm  task {report['task']} / {report['scheduler']}  detection "
           f"{report['detection']}  frames {report['frames']}  start {report['start']} "
           f"({report['robots']} robots)")
@@ -116,7 +118,8 @@ def _print(report: dict[str, Any]) -> None:
           f"counterexamples {report['counterexamples']}  states {report['states']}  "
           f"{report['seconds']:.2f}s")
     if report["answer"] == "exists":
-        print(f"witness: --algorithm {report['witness']} ({len(report['rules'])} rules); "
+        print(f"witness: --algorithm {report['witness']} "
+              f"({counted(len(report['rules']), 'rule')}); "
               f"checker at every size, every reduction off: "
               f"{', '.join(report['checker']['verdicts'])}, {report['checker']['states']} "
               "states")

@@ -11,6 +11,7 @@ from typing import Any
 from gather_verify.errors import InvalidInput
 from gather_verify.sweeps.store import Store, algorithm_matches
 from gather_verify.sweeps.sweep import summarise
+from gather_verify.words import counted
 
 
 def load_sweeps(db_path: str, algorithm: str | None = None
@@ -419,8 +420,8 @@ def _filtered_list(anchor: str, c: str, verdict: str, prop: str, found: list[dic
                      f"<td class='reason'>{_esc(r.get('reason') or '')}</td>"
                      f"<td><code>{_esc(command)}</code></td></tr>")
     what = f"{verdict}" + (f", {prop} fails" if prop else "")
-    return (f"<section class='list' id='{anchor}'><h4>{_esc(c)}: {_esc(what)} — {len(found)} "
-            "configuration(s) <a href='#top'>↑ back to the table</a></h4>"
+    return (f"<section class='list' id='{anchor}'><h4>{_esc(c)}: {_esc(what)} — "
+            f"{counted(len(found), 'configuration')} <a href='#top'>↑ back to the table</a></h4>"
             "<table><tr><th>n</th><th>m</th><th>robots</th><th>meeting nodes</th>"
             + ("<th>max moves</th><th>moves / (D·n)</th>" if plane else "")
             + "<th>reason</th><th>re-check</th></tr>"

@@ -13,7 +13,9 @@ names a view and has one child per option of it, each leaf names a counterexampl
 literals all hold on the path to it. Following the tree with any algorithm's answers ends
 at a leaf, so every algorithm fails. :func:`verify_certificate` checks that with no search:
 it replays each counterexample through the schedulers and the views (the same code the
-checker runs), recomputes its literals and walks the tree.
+checker runs), recomputes its literals and walks the tree. Where the tree would be too
+large, the certificate holds a resolution proof instead (``proof``, :mod:`.refute`), over
+the same clauses; the re-check runs it step by step (:mod:`.rup`).
 """
 
 from __future__ import annotations
@@ -30,6 +32,11 @@ from gather_verify.synthesis.views import Instance, Views, make_instance
 from schedulers import Event, get_scheduler
 
 FORMAT = "gather-verify synthesis certificate 1"
+PROOF_FORMAT = ("drup: per view of 'views', in order, one variable per option (numbered on "
+                "from 1); the clauses are, per view, at least one option and at most one, then "
+                "per counterexample 'not all of its literals'; each step adds a clause that "
+                "follows by unit propagation, or (led by 0) deletes one; the empty clause ends "
+                "it")
 SAFETY_FINAL = ("gathered-when-final", "final", "explored-when-final")
 LIVENESS = ("termination", "perpetual-exploration")
 State = tuple[Any, int, object]
@@ -271,8 +278,9 @@ class TreeTooLarge(GatherVerifyError):
     """The certificate's decision tree outgrew its limit of nodes.
 
     Cause: the counterexamples refute every algorithm, but only through a tree larger than
-    ``--max-tree``. Fix: ``synthesize`` answers ``unknown`` naming ``max-tree``; raise it and
-    run again."""
+    ``--max-tree``. Fix: none needed: ``synthesize`` certifies the ``none`` with a resolution
+    proof instead (:mod:`.refute`), and answers ``unknown`` naming ``max-tree`` only when
+    that proof does not come within the time left (raise ``--max-seconds``)."""
 
 
 def build_tree(clauses: list[dict[int, int]], options: list[int], limit: int) -> Any:
@@ -357,8 +365,13 @@ def write_certificate(path: str, inst: Instance, views: Views, cexs: list[dict[s
                       ) -> None:
     """The certificate as JSON: the instance, the views the counterexamples meet (by key
     text, with their number of options), the counterexamples and the tree."""
+    from gather_verify.synthesis.refute import Refutation
+
     used = sorted({k for lits in literals for k in lits})
     number = {k: j for j, k in enumerate(used)}
+    proof = tree if isinstance(tree, Refutation) else None
+    if proof is not None and proof.views != used:  # pragma: no cover - refute numbers so
+        raise AssertionError("a proof numbered over other views than its counterexamples'")
 
     def renumber(node: Any) -> Any:
         return node if isinstance(node, int) else [number[node[0]],
@@ -377,7 +390,8 @@ def write_certificate(path: str, inst: Instance, views: Views, cexs: list[dict[s
         "holds_under": holds_under(views, cexs, literals),
         "views": [{"key": views.texts[k], "options": len(views.options[k])} for k in used],
         "counterexamples": cexs,
-        "tree": renumber(tree),
+        "tree": None if proof is not None else renumber(tree),
+        **({"proof": {"format": PROOF_FORMAT, "steps": proof.steps}} if proof else {}),
         "stats": stats,
     }
     with open(path, "w", encoding="utf-8") as f:
@@ -453,17 +467,44 @@ def verify_certificate(path: str, max_seconds: float | None = None,
                 raise CertificateError(f"a counterexample meets a view the list leaves out "
                                        f"({views.texts[error.args[0]][:60]})") from None
         options = {number[k]: len(views.options[k]) for lits in clauses for k in lits}
-        leaves = check_tree(tree, renamed, options)
+        if "proof" in doc:
+            lemmas = check_proof(doc["proof"], renamed, options, len(listed))
+            leaves, inner, more = 0, 0, {"proof_lemmas": lemmas}
+        else:
+            leaves, inner, more = check_tree(tree, renamed, options), _inner_nodes(tree), {}
         holds = holds_under(views, cexs, clauses)
     if "holds_under" in doc and doc["holds_under"] != holds:
         raise CertificateError(f"the certificate says it holds under {doc['holds_under']}; "
                                f"its counterexamples show {holds}")
-    inner = _inner_nodes(tree)
     return {"answer": "none", "holds": True, "counterexamples": len(cexs),
-            "views": len(options), "leaves": leaves, "tree_nodes": inner,
+            "views": len(options), "leaves": leaves, "tree_nodes": inner, **more,
             "holds_under": holds,
             "found_under": sorted({str(c.get("scheduler", inst.scheduler)) for c in cexs}),
-            "rests_on": rests_on(tree, cexs), "instance": raw}
+            "rests_on": rests_on(None if "proof" in doc else tree, cexs), "instance": raw}
+
+
+def check_proof(proof: Any, clauses: list[dict[int, int]], options: dict[int, int],
+                listed: int) -> int:
+    """Run a certificate's resolution proof (:mod:`.refute`'s clauses over the ``listed``
+    views, :func:`~gather_verify.synthesis.rup.check`): its number of lemmas, or
+    :class:`CertificateError` naming the step that does not follow."""
+    from gather_verify.synthesis import refute, rup
+
+    steps = proof.get("steps") if isinstance(proof, dict) else None
+    if not isinstance(steps, list) or not all(
+            isinstance(s, list) and all(type(x) is int for x in s) for s in steps):
+        raise CertificateError("a malformed proof: 'steps' is not a list of lists of integers")
+    if set(options) != set(range(listed)):
+        raise CertificateError("the list of views names one that no counterexample meets")
+    nvars, cnf = refute.clauses([options[j] for j in range(listed)], clauses)
+    try:
+        got = rup.check(nvars, cnf, steps)
+    except ValueError as error:
+        raise CertificateError(f"the proof: {error}") from None
+    if not got.holds:
+        where = "" if got.step < 0 else f" (step {got.step})"
+        raise CertificateError(f"the proof does not hold{where}: {got.why}")
+    return sum(1 for s in steps[:got.last + 1] if not s or s[0] != 0)
 
 
 def holds_under(views: Views, cexs: list[dict[str, Any]], clauses: list[dict[int, int]]
@@ -494,8 +535,11 @@ def holds_under(views: Views, cexs: list[dict[str, Any]], clauses: list[dict[int
 
 
 def rests_on(tree: Any, cexs: list[dict[str, Any]]) -> list[int]:
-    """The initial configurations (indices) of the counterexamples the tree's leaves use:
-    no one algorithm solves the task from all of them."""
+    """The initial configurations (indices) of the counterexamples the tree's leaves use (a
+    proof's: all of them, it keeps those it uses): no one algorithm solves the task from
+    all of them."""
+    if tree is None:
+        return sorted({int(c["configuration"]) for c in cexs})
     out: set[int] = set()
     stack = [tree]
     while stack:

@@ -21,6 +21,7 @@ from gather_verify.synthesis.certificate import (
 )
 from gather_verify.synthesis.starts import describe
 from gather_verify.synthesis.views import Views
+from gather_verify.words import counted
 
 MAX_LEAVES = 6
 """Leaves told in full; a larger tree is summed up after them."""
@@ -38,13 +39,26 @@ def explain(doc: dict[str, Any], views: Views, max_leaves: int = MAX_LEAVES) -> 
     inst = views.inst
     cexs = doc["counterexamples"]
     listed = [v["key"] for v in doc["views"]]
-    for cex in cexs:  # every view the tree names gets its number in ``views``
-        replay(views, cex)
-    used = sorted({int(cexs[leaf]["configuration"]) for leaf in _leaves(doc["tree"])})
-    lines = [f"rests on {len(used)} of {len(inst.configurations)} start(s): "
+    proof = "proof" in doc
+    leaves = list(range(len(cexs))) if proof else _leaves(doc["tree"])
+    used = sorted({int(cexs[leaf]["configuration"]) for leaf in leaves})
+    lines = [f"rests on {len(used)} of {counted(len(inst.configurations), 'start')}: "
              + "; ".join(_start(views, j) for j in used)]
     if len(used) == 1 and len(inst.configurations) > 1:
         lines.append("  no algorithm solves the task from that start alone")
+    if proof:
+        lemmas = sum(1 for s in doc["proof"]["steps"] if not s or s[0] != 0)
+        lines.append(f"  every algorithm has one of these {counted(len(cexs), 'execution')}: "
+                     f"a resolution proof of {counted(lemmas, 'lemma')} shows it (a decision "
+                     "tree would be too large); the first ones:")
+        lines += [f"  from {_start(views, int(c['configuration']))}: {tell(views, c)}"
+                  for c in cexs[:max_leaves]]
+        if len(cexs) > max_leaves:
+            lines.append(f"... and {counted(len(cexs) - max_leaves, 'more execution')} "
+                         "(--json has them all)")
+        return lines
+    for cex in cexs:  # every view the tree names gets its number in ``views``
+        replay(views, cex)
     told = [0]
 
     def walk(node: Any, depth: int, path: str) -> None:
@@ -61,7 +75,8 @@ def explain(doc: dict[str, Any], views: Views, max_leaves: int = MAX_LEAVES) -> 
             walk(child, depth + 1, f"if {name} answers {answer}: ")
     walk(doc["tree"], 0, "")
     if told[0] > max_leaves:
-        lines.append(f"... and {told[0] - max_leaves} more leaves (--json has them all)")
+        lines.append(f"... and {counted(told[0] - max_leaves, 'more leaf', 'more leaves')} "
+                     "(--json has them all)")
     return lines
 
 

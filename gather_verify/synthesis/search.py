@@ -14,7 +14,8 @@ Boolean variable says "view k takes option o"; exactly one holds per view. The l
    relies on, and the clause "not all of these" is added. Every table with those literals
    has that execution, so no algorithm that works is ever excluded;
 4. no table is left (the solver says unsatisfiable): ``none``, and the clauses become the
-   certificate's decision tree.
+   certificate's decision tree, or where that outgrows ``max_tree`` nodes, a resolution
+   proof (:mod:`~gather_verify.synthesis.refute`).
 
 A limit (time, candidates, states of one exploration) stops the loop with ``unknown``,
 naming it; a truncated search never answers ``none``.
@@ -51,6 +52,7 @@ from gather_verify.synthesis.certificate import (
     tree_size,
 )
 from gather_verify.synthesis.lift import rungs
+from gather_verify.synthesis.refute import Refutation, refutation
 from gather_verify.synthesis.restart import restart
 from gather_verify.synthesis.views import Instance, Views
 from gather_verify.tasks import Context, Finding
@@ -60,7 +62,11 @@ from gather_verify.watchdog import OverMemory, Overtime, deadline, watched
 DEFAULT_MAX_SECONDS = 600.0
 DEFAULT_MAX_CANDIDATES = 1_000_000
 DEFAULT_MAX_STATES = 2_000_000
-DEFAULT_MAX_TREE = 2_000_000
+DEFAULT_MAX_TREE = 100_000
+"""Nodes of a certificate's decision tree, past which it is a resolution proof instead
+(measured: six robots on ring:11 under SSYNC, 14,455 counterexamples, reach 2,000,000 nodes in
+150 s and no tree below 10,000,000; their proof takes 10 s to find and 37 s to trim, and a
+tree this large is no more readable than a proof)."""
 SAT_SLICE = 10_000
 """Conflicts of one slice of a SAT call: the clock is read between slices (CaDiCaL, as
 python-sat ships it, ignores ``interrupt()``). A call that ends within its first slice is
@@ -108,6 +114,7 @@ class Result:
     counterexamples: list[dict[str, Any]] = field(default_factory=list)
     literals: list[dict[int, int]] = field(default_factory=list)
     tree: Any = None
+    """The certificate's decision tree, or its :class:`~.refute.Refutation`."""
     states: int = 0
     """States explored, over every candidate."""
 
@@ -224,11 +231,7 @@ class _Search:
             if sat is None:
                 return self.result("unknown", f"{TIME_LIMIT} (during the SAT solver's call)")
             if not sat:
-                try:
-                    tree = build_tree(self.clauses, [len(o) for o in views.options], max_tree)
-                except TreeTooLarge:
-                    return self.result("unknown", "max-tree (the certificate outgrew it)")
-                return self.result("none", tree=tree)
+                return self.refuted(max_tree)
             model = self.solver.get_model() or []
             choice = Table({k: o for k, first in enumerate(self.base)
                             for o in range(len(views.options[k])) if model[first + o] > 0},
@@ -242,6 +245,25 @@ class _Search:
                 return self.result("exists",
                                    table={k: choice[k] for k in sorted(reached)})
             self.learn(choice, *failed)
+
+    def refuted(self, max_tree: int) -> Result:
+        """``none``, with its certificate: the decision tree, or where that outgrows
+        ``max_tree`` nodes, a resolution proof (:mod:`.refute`) and the counterexamples it
+        uses; ``unknown`` (max-tree) when neither comes within the time left."""
+        options = [len(o) for o in self.views.options]
+        try:
+            return self.result("none", tree=build_tree(self.clauses, options, max_tree))
+        except TreeTooLarge:
+            pass
+        left = self.limits[0] - (time.perf_counter() - self.started)
+        got = refutation(self.clauses, options, max(left, 0.001))
+        if got is None:
+            return self.result("unknown", "max-tree (the certificate's decision tree outgrew "
+                               "it, and no resolution proof came in the time left)")
+        kept, proof = got
+        self.cexs = [self.cexs[j] for j in kept]
+        self.clauses = [self.clauses[j] for j in kept]
+        return self.result("none", tree=proof)
 
     def judge(self, choice: dict[int, int], reached: set[int]
               ) -> tuple[int, int, str, WorldSearch, list[Finding]] | str | None:
@@ -649,10 +671,14 @@ def _scheduler(inst: Instance) -> Any:
 
 def certificate_stats(result: Result) -> dict[str, Any]:
     """What a certificate's ``stats`` hold: the views the search met, its candidates, the
-    counterexamples, the decision tree's questions (inner nodes) and leaves, and the views
-    the counterexamples rely on (the certificate's list, what ``--verify`` counts)."""
-    inner, leaves = tree_size(result.tree)
+    counterexamples, the decision tree's questions (inner nodes) and leaves (0 and 0 for a
+    resolution proof, with its lemmas and steps), and the views the counterexamples rely on
+    (the certificate's list, what ``--verify`` counts)."""
+    proof = result.tree if isinstance(result.tree, Refutation) else None
+    inner, leaves = (0, 0) if proof is not None else tree_size(result.tree)
     return {"views": result.views, "candidates": result.candidates,
             "counterexamples": len(result.counterexamples), "tree_nodes": inner,
             "tree_leaves": leaves,
-            "tree_views": len({k for lits in result.literals for k in lits})}
+            "tree_views": len({k for lits in result.literals for k in lits}),
+            **({"proof_lemmas": proof.lemmas, "proof_steps": len(proof.steps)} if proof
+               else {})}
