@@ -13,6 +13,13 @@ verifies. When every branch fails, the answer is ``none`` with a certificate: th
 split (a view, and a subtree per answer) down to each refuted partial table, which
 :func:`verify` re-checks without searching.
 
+Colours are names: renaming them in an algorithm renames its states, so a table and its
+renamings succeed or fail together (:func:`renamings` says which renamings keep the
+initial states; every one of them does for ``all`` and ``same``). The search therefore
+skips a partial table whose renaming it has already searched to the end with no witness;
+the certificate marks such a node ``renamed`` and :func:`verify` re-checks that an
+earlier subtree, already verified, holds a renaming of its table.
+
 >>> synthesize(1, "full", "fsync", "rigid", "all")["answer"]
 'exists'
 >>> r = synthesize(1, "full", "async", "rigid", "all")
@@ -23,8 +30,8 @@ split (a view, and a subtree per answer) down to each refuted partial table, whi
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
-from itertools import product
+from dataclasses import dataclass, field
+from itertools import permutations, product
 from typing import Any, cast
 
 from gather_verify.errors import GatherVerifyError, InvalidInput
@@ -47,6 +54,10 @@ View = tuple[int | None, int | None, int]
 """(own colour or None, other's colour or None, position): what a robot sees."""
 Answer = tuple[int, int]
 """(move, new colour)."""
+Renaming = tuple[int, ...]
+"""A permutation of the colours: colour c becomes renaming[c]."""
+Canon = tuple[tuple[tuple[int, int, int], Answer], ...]
+"""The least of a table's renamings, as sorted rows (a hidden colour written -1)."""
 
 
 class Missing(GatherVerifyError):
@@ -124,6 +135,35 @@ class Setting:
             edges.append(out)
         return _fair_outside_goal(states, edges), need
 
+    def renamings(self) -> list[Renaming]:
+        """The renamings of colours that map the set of initial states onto itself. The
+        rules of the plane and the reads (atomic, regular, and a safe read's every colour)
+        name no colour, so under such a renaming a table's state graph is its renaming's,
+        state for state, and the verdict is the same. Up to 5 colours (120 renamings);
+        beyond, the identity alone."""
+        if self.colours > 5:
+            return [tuple(range(self.colours))]
+        starts = Rendezvous(cast(RendezvousAlgorithm, Partial(self.colours, self.lights, {}))
+                            ).starts(self.movement, self.initial_colours)
+        kept = set(starts)
+        return [r for r in permutations(range(self.colours))
+                if {_renamed_state(s, r) for s in starts} == kept]
+
+    def canonical(self, table: dict[View, Answer], renamings: list[Renaming]) -> Canon:
+        """One name for a table and all its renamings: the least renamed table."""
+        return min(tuple(sorted(((_name(v[0], r), _name(v[1], r), v[2]), (a[0], r[a[1]]))
+                                for v, a in table.items())) for r in renamings)
+
+
+def _name(colour: int | None, renaming: Renaming) -> int:
+    return -1 if colour is None else renaming[colour]
+
+
+def _renamed_state(state: State, renaming: Renaming) -> State:
+    position, *robots = state
+    return cast(State, (position, *((phase, renaming[c], renaming[n], pending)
+                                    for phase, c, n, pending in robots)))
+
 
 def _fair_outside_goal(states: list[State], edges: list[list[tuple[int, int]]]) -> bool:
     """A strongly connected component of decided states, none gathered, with an edge of each
@@ -157,23 +197,40 @@ class OutOfTime(GatherVerifyError):
     where it becomes the answer ``unknown``; fix: a larger --max-seconds."""
 
 
-def _search(setting: Setting, table: dict[View, Answer], deadline: float,
-            count: list[int]) -> dict[str, Any]:
-    """The case split below ``table`` (raises :class:`Found` at a witness)."""
-    if time.perf_counter() > deadline:
-        raise OutOfTime
-    count[0] += 1
-    refuted, need = setting.explore(table)
-    if refuted:
-        return {"refuted": True}
-    if need is None:
-        raise Found(table)
-    children = []
-    for answer in answers(setting.colours):
-        table[need] = answer
-        children.append(_search(setting, table, deadline, count))
-        del table[need]
-    return {"view": list(need), "children": children}
+@dataclass
+class Search:
+    """One case split: its setting, deadline, the renamings it may skip by (none: every
+    table searched) and the renamed tables already searched to the end with no witness."""
+
+    setting: Setting
+    deadline: float
+    renamings: list[Renaming]
+    tables: int = 0
+    done: set[Canon] = field(default_factory=set)
+
+    def below(self, table: dict[View, Answer]) -> dict[str, Any]:
+        """The case split below ``table`` (raises :class:`Found` at a witness)."""
+        if time.perf_counter() > self.deadline:
+            raise OutOfTime
+        canon = self.setting.canonical(table, self.renamings) if self.renamings else None
+        if canon in self.done:
+            return {"renamed": True}
+        self.tables += 1
+        refuted, need = self.setting.explore(table)
+        if refuted:
+            node: dict[str, Any] = {"refuted": True}
+        elif need is None:
+            raise Found(table)
+        else:
+            children = []
+            for answer in answers(self.setting.colours):
+                table[need] = answer
+                children.append(self.below(table))
+                del table[need]
+            node = {"view": list(need), "children": children}
+        if canon is not None:
+            self.done.add(canon)
+        return node
 
 
 def algorithm_of(setting: Setting, table: dict[View, Answer], name: str) -> RendezvousAlgorithm:
@@ -184,39 +241,44 @@ def algorithm_of(setting: Setting, table: dict[View, Answer], name: str) -> Rend
 
 
 def synthesize(colours: int, lights: str, scheduler: str, movement: str = "non-rigid",
-               initial_colours: str = "all", max_seconds: float = 600.0) -> dict[str, Any]:
+               initial_colours: str = "all", max_seconds: float = 600.0,
+               symmetry: bool = True) -> dict[str, Any]:
     """``exists`` (with the witness's table, verified by the ordinary check), ``none`` (with a
-    certificate) or ``unknown`` (the time ran out)."""
+    certificate) or ``unknown`` (the time ran out). ``symmetry=False`` searches every table,
+    renamings included."""
     if lights not in LIGHTS or not 1 <= colours <= 8:
         raise InvalidInput(f"lights {colours}:{lights}: 1 to 8 colours, full, external or "
                            "internal")
     setting = Setting(colours, lights, scheduler, movement, initial_colours)
     phase_model(scheduler)  # an unknown model: one line
-    count = [0]
+    search = Search(setting, time.perf_counter() + max_seconds,
+                    setting.renamings() if symmetry else [])
     head = {"world": "rendezvous", "colours": colours, "lights": lights,
             "scheduler": scheduler, "movement": movement, "initial_colours": initial_colours}
     try:
-        tree = _search(setting, {}, time.perf_counter() + max_seconds, count)
+        tree = search.below({})
     except Found as found:
         witness = algorithm_of(setting, found.table, f"synthesized-{colours}-{lights}")
         check = run_rendezvous_check(witness, scheduler, movement=movement,
                                      initial_colours=initial_colours)
         if check["verdict"] != "VERIFIED":  # pragma: no cover - the search and check agree
             raise AssertionError(f"the witness fails the check: {check['reason']}") from None
-        return {**head, "answer": "exists", "tables": count[0],
+        return {**head, "answer": "exists", "tables": search.tables,
                 "witness": [[list(v), list(a)] for v, a in sorted(
                     found.table.items(), key=lambda x: [(-1 if y is None else y) for y in x[0]])],
                 "witness_verdict": check["verdict"]}
     except OutOfTime:
         return {**head, "answer": "unknown", "reason": f"time ({max_seconds:g} s)",
-                "tables": count[0]}
-    return {**head, "answer": "none", "tables": count[0],
+                "tables": search.tables}
+    return {**head, "answer": "none", "tables": search.tables,
             "certificate": {**head, "tree": tree}}
 
 
 def verify(certificate: dict[str, Any]) -> bool:
     """Whether a ``none`` certificate holds: every inner node splits on one view over every
-    answer, and every leaf's partial table is refuted (a fair run that never gathers)."""
+    answer, every ``refuted`` leaf's partial table is refuted (a fair run that never
+    gathers), and every ``renamed`` leaf's table is a renaming (one that keeps the initial
+    states) of a table whose subtree, earlier in the tree, already holds."""
     try:
         setting = Setting(certificate["colours"], certificate["lights"],
                           certificate["scheduler"], certificate["movement"],
@@ -226,15 +288,25 @@ def verify(certificate: dict[str, Any]) -> bool:
         assert setting.initial_colours in INITIAL_COLOURS
         phase_model(str(setting.scheduler))
         all_views = set(views(setting.colours, setting.lights))
+        renamings = setting.renamings()
     except (KeyError, TypeError, AssertionError):
         raise InvalidInput("bad certificate: a rendezvous certificate names colours (1 to 8), "
                            "lights, scheduler, movement and initial_colours") from None
 
+    done: set[Canon] = set()
+
     def holds(node: Any, table: dict[View, Answer]) -> bool:
         if not isinstance(node, dict):
             return False
-        if node.get("refuted") is True:
-            return setting.explore(table)[0]
+        canon = setting.canonical(table, renamings)
+        if node.get("renamed") is True:
+            return canon in done
+        ok = setting.explore(table)[0] if node.get("refuted") is True else split(node, table)
+        if ok:
+            done.add(canon)
+        return ok
+
+    def split(node: dict[str, Any], table: dict[View, Answer]) -> bool:
         view = tuple(node.get("view", ()))
         children = node.get("children")
         if view not in all_views or view in table or not isinstance(children, list) \
