@@ -30,6 +30,7 @@ earlier subtree, already verified, holds a renaming of its table.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from itertools import permutations, product
 from typing import Any, cast
@@ -60,22 +61,15 @@ Canon = tuple[tuple[tuple[int, int, int], Answer], ...]
 """The least of a table's renamings, as sorted rows (a hidden colour written -1)."""
 
 
-class Missing(GatherVerifyError):
-    """A reachable state needs the answer to a view the table does not give yet. Cause:
-    control flow of the search (caught where the states are walked); fix: none needed."""
-
-    def __init__(self, view: View):
-        super().__init__(view)
-        self.view = view
-
-
 @dataclass
 class Partial:
-    """A table being built, as the rendezvous world asks an algorithm."""
+    """A table being built, as the rendezvous world asks an algorithm: each view asked is
+    appended to ``asked`` and answered by ``given``."""
 
     colours: int
     lights: str
-    table: dict[View, Answer]
+    asked: list[View] = field(default_factory=list)
+    given: Callable[[View], Answer] = lambda view: (STAY, 0)
 
     def view(self, own: int, other: int, position: int) -> View:
         return (None if self.lights == "external" else own,
@@ -83,9 +77,8 @@ class Partial:
 
     def answer(self, own: int, other: int, position: int) -> Answer:
         key = self.view(own, other, position)
-        if key not in self.table:
-            raise Missing(key)
-        return self.table[key]
+        self.asked.append(key)
+        return self.given(key)
 
 
 def views(colours: int, lights: str) -> list[View]:
@@ -108,32 +101,63 @@ class Setting:
     scheduler: str
     movement: str
     initial_colours: str
+    _memo: dict[State, tuple[tuple[View, ...], dict[tuple[Answer, ...], list[tuple[
+        State, int]]]]] = field(default_factory=dict, compare=False, repr=False)
 
     def explore(self, table: dict[View, Answer]) -> tuple[bool, View | None]:
         """What ``table`` decides so far: whether a fair run of decided states never gathers
         (refuted), and the first view an open state needs (None: every state decided)."""
-        alg = Partial(self.colours, self.lights, table)
-        world = Rendezvous(cast(RendezvousAlgorithm, alg))
-        model = phase_model(self.scheduler)
-        states: list[State] = world.starts(self.movement, self.initial_colours)
+        states = self.starts()
         index = {s: i for i, s in enumerate(states)}
         edges: list[list[tuple[int, int]]] = []
         need: View | None = None
         for state in states:  # grows as it goes: breadth first
-            try:
-                events = list(phase_events(model, world, state))
-            except Missing as missing:
-                need = need or missing.view
+            out = self._steps(state, table)
+            if not isinstance(out, list):
+                need = need or out
                 edges.append([])
                 continue
-            out = []
-            for event, succ in events:
+            targets = []
+            for succ, mask in out:
                 if succ not in index:
                     index[succ] = len(states)
                     states.append(succ)
-                out.append((index[succ], sum(1 << i for i in event.robots)))
-            edges.append(out)
+                targets.append((index[succ], mask))
+            edges.append(targets)
         return _fair_outside_goal(states, edges), need
+
+    def _steps(self, state: State, table: dict[View, Answer]
+               ) -> list[tuple[State, int]] | View:
+        """A state's successors with the robots of each step, or the first view its Looks
+        need that ``table`` does not give. Remembered per state and per answer to the views
+        its Looks read (which the state alone fixes: asserted), so that a table's states
+        are stepped once in the whole search."""
+        memo = self._memo.get(state)
+        if memo is None:
+            asked: list[View] = []
+            self._stepped(state, asked, lambda view: (STAY, 0))
+            memo = self._memo[state] = (tuple(asked), {})
+        needed, known = memo
+        for view in needed:
+            if view not in table:
+                return view
+        key = tuple(table[view] for view in needed)
+        if key not in known:
+            asked = []
+            known[key] = self._stepped(state, asked, table.__getitem__)
+            assert tuple(asked) == needed, "a state's Looks read views the state does not fix"
+        return known[key]
+
+    def _stepped(self, state: State, asked: list[View], answer: Callable[[View], Answer]
+                 ) -> list[tuple[State, int]]:
+        alg = Partial(self.colours, self.lights, asked, answer)
+        return [(succ, sum(1 << i for i in event.robots)) for event, succ in phase_events(
+            phase_model(self.scheduler), Rendezvous(cast(RendezvousAlgorithm, alg)), state)]
+
+    def starts(self) -> list[State]:
+        """The initial states (all robots idle; no view asked)."""
+        return Rendezvous(cast(RendezvousAlgorithm, Partial(self.colours, self.lights))
+                          ).starts(self.movement, self.initial_colours)
 
     def renamings(self) -> list[Renaming]:
         """The renamings of colours that map the set of initial states onto itself. The
@@ -143,8 +167,7 @@ class Setting:
         beyond, the identity alone."""
         if self.colours > 5:
             return [tuple(range(self.colours))]
-        starts = Rendezvous(cast(RendezvousAlgorithm, Partial(self.colours, self.lights, {}))
-                            ).starts(self.movement, self.initial_colours)
+        starts = self.starts()
         kept = set(starts)
         return [r for r in permutations(range(self.colours))
                 if {_renamed_state(s, r) for s in starts} == kept]
