@@ -13,6 +13,7 @@ import sys
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_rendezvous_world import graph_of
 
 from gather_verify.rendezvous_check import run_rendezvous_check
 from gather_verify.synthesis.rendezvous import (
@@ -152,13 +153,11 @@ def renamed(draw):
             rr.RendezvousAlgorithm("renamed", k, tuple(moved.items()), lights=light), r)
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=20, deadline=None)
 @given(pair=renamed(), model=st.sampled_from(list(MODELS)),
        movement=st.sampled_from(rr.MOVEMENTS), colours=st.sampled_from(rr.INITIAL_COLOURS))
 def test_a_renamed_algorithm_has_the_renamed_states_and_the_same_verdict(pair, model, movement,
                                                                          colours):
-    from test_rendezvous_world import graph_of
-
     alg, other, r = pair
     states, edges, _ = graph_of(alg, model, movement, colours)
     states2, edges2, _ = graph_of(other, model, movement, colours)
@@ -239,3 +238,29 @@ def test_a_renamed_leaf_needs_an_earlier_verified_renaming():
         parent = parent["children"][answers(2).index(answer)]
     parent["children"][answers(2).index(path[-1])] = {"renamed": True}  # the original, gone
     assert not verify(cut)
+
+
+def _reached(graph):
+    """The states a partial table reached and its edges, as states (open states: none)."""
+    return ({graph.states[v] for v in range(len(graph.states))},
+            {(graph.states[v], graph.states[w], m) for v in range(len(graph.states))
+             for w, m in zip(graph.edges[v], graph.masks[v], strict=True)},
+            {graph.states[v] for v in graph.open})
+
+
+@settings(max_examples=20, deadline=None)
+@given(model=st.sampled_from(list(MODELS)), lights=st.sampled_from(rr.LIGHTS),
+       data=st.data())
+def test_going_on_from_the_parent_reaches_what_a_search_from_scratch_reaches(model, lights,
+                                                                             data):
+    """The search explores a child table from its parent's states: the same states, edges,
+    open states and verdict as exploring the child from the initial states."""
+    setting = Setting(2, lights, model, "non-rigid", "all")
+    table = {}
+    refuted, need, graph = setting.explore(table)
+    while need is not None and not refuted:
+        table[need] = data.draw(st.sampled_from(answers(2)))
+        refuted, need, graph = setting.explore(table, graph)
+        again, need2, fresh = Setting(2, lights, model, "non-rigid", "all").explore(table)
+        assert again == refuted and _reached(graph) == _reached(fresh)
+        assert (need is None) == (need2 is None)

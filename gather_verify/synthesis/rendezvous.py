@@ -4,8 +4,8 @@ with lights meet under a synchrony model (SEMANTICS.md §12, §13)?
 An algorithm is a table from a view (own colour, other's colour, as far as the lights show
 them; the relative position) to a move and a colour. The search assigns a view's answer
 only when a reachable state needs it (lazily, depth first), and after each assignment
-explores what the table decides so far: the states that need an unassigned view are left
-open. A fair strongly connected component of decided states outside the goal (both robots
+explores what the table decides so far, going on from what its parent reached: the states
+that need an unassigned view are left open. A fair strongly connected component of decided states outside the goal (both robots
 step in it, it never gathers) is in the state graph of every completion, so the whole
 subtree fails there. A table with no open state and no such component is a witness, which
 the ordinary check (:func:`~gather_verify.rendezvous_check.run_rendezvous_check`) then
@@ -14,7 +14,7 @@ split (a view, and a subtree per answer) down to each refuted partial table, whi
 :func:`verify` re-checks without searching.
 
 Colours are names: renaming them in an algorithm renames its states, so a table and its
-renamings succeed or fail together (:func:`renamings` says which renamings keep the
+renamings succeed or fail together (:meth:`Setting.renamings` says which renamings keep the
 initial states; every one of them does for ``all`` and ``same``). The search therefore
 skips a partial table whose renaming it has already searched to the end with no witness;
 the certificate marks such a node ``renamed`` and :func:`verify` re-checks that an
@@ -104,27 +104,41 @@ class Setting:
     _memo: dict[State, tuple[tuple[View, ...], dict[tuple[Answer, ...], list[tuple[
         State, int]]]]] = field(default_factory=dict, compare=False, repr=False)
 
-    def explore(self, table: dict[View, Answer]) -> tuple[bool, View | None]:
+    def explore(self, table: dict[View, Answer], below: Explored | None = None
+                ) -> tuple[bool, View | None, Explored]:
         """What ``table`` decides so far: whether a fair run of decided states never gathers
-        (refuted), and the first view an open state needs (None: every state decided)."""
-        states = self.starts()
-        index = {s: i for i, s in enumerate(states)}
-        edges: list[list[tuple[int, int]]] = []
-        need: View | None = None
-        for state in states:  # grows as it goes: breadth first
-            out = self._steps(state, table)
+        (refuted), the first view an open state needs (None: every state decided), and the
+        states it reaches. ``below``: what a sub-table of ``table`` reached, from which the
+        search goes on (a state it stepped has the same successors under ``table``, so only
+        its open states are stepped again; the reached states are those of a search from
+        scratch)."""
+        graph = Explored.of(self.starts()) if below is None else below.copy()
+        work = list(range(len(graph.states))) if below is None else list(below.open)
+        graph.open = []
+        at = 0
+        while at < len(work):
+            v = work[at]
+            at += 1
+            out = self._steps(graph.states[v], table)
             if not isinstance(out, list):
-                need = need or out
-                edges.append([])
+                graph.open.append(v)
                 continue
             targets = []
             for succ, mask in out:
-                if succ not in index:
-                    index[succ] = len(states)
-                    states.append(succ)
-                targets.append((index[succ], mask))
-            edges.append(targets)
-        return _fair_outside_goal(states, edges), need
+                w = graph.index.get(succ)
+                if w is None:
+                    w = graph.add(succ)
+                    work.append(w)
+                targets.append(w)
+                graph.masks[v].append(mask)
+            graph.edges[v] = targets
+        graph.open.sort()
+        need = None
+        if graph.open:
+            first = self._steps(graph.states[graph.open[0]], table)
+            assert not isinstance(first, list)
+            need = first
+        return _fair_outside_goal(graph), need, graph
 
     def _steps(self, state: State, table: dict[View, Answer]
                ) -> list[tuple[State, int]] | View:
@@ -188,17 +202,50 @@ def _renamed_state(state: State, renaming: Renaming) -> State:
                                     for phase, c, n, pending in robots)))
 
 
-def _fair_outside_goal(states: list[State], edges: list[list[tuple[int, int]]]) -> bool:
+@dataclass
+class Explored:
+    """The states a partial table reaches: per state its successors and the robots of each
+    edge (none for an open state, which needs a view the table does not give), whether it
+    is gathered, and the open states."""
+
+    states: list[State]
+    index: dict[State, int]
+    edges: list[list[int]]
+    masks: list[list[int]]
+    gathered: list[bool]
+    open: list[int]
+
+    @staticmethod
+    def of(starts: list[State]) -> Explored:
+        graph = Explored([], {}, [], [], [], [])
+        for state in starts:
+            graph.add(state)
+        return graph
+
+    def add(self, state: State) -> int:
+        self.index[state] = len(self.states)
+        self.states.append(state)
+        self.edges.append([])
+        self.masks.append([])
+        self.gathered.append(Rendezvous.goal(state))
+        return len(self.states) - 1
+
+    def copy(self) -> Explored:
+        """A copy to go on from (a stepped state's lists are never changed again)."""
+        return Explored(self.states.copy(), self.index.copy(), self.edges.copy(),
+                        [m if e else [] for m, e in zip(self.masks, self.edges, strict=True)],
+                        self.gathered.copy(), self.open.copy())
+
+
+def _fair_outside_goal(graph: Explored) -> bool:
     """A strongly connected component of decided states, none gathered, with an edge of each
     robot inside it (open states have no edge, so they are in none)."""
-    def inside(v: int) -> bool:
-        return not Rendezvous.goal(states[v])
-
-    for comp in components_of(len(states), lambda v: [w for w, _ in edges[v]], inside):
+    edges, masks, gathered = graph.edges, graph.masks, graph.gathered
+    for comp in components_of(len(edges), edges.__getitem__, lambda v: not gathered[v]):
         members = set(comp)
         robots = 0
         for v in comp:
-            for w, mask in edges[v]:
+            for w, mask in zip(edges[v], masks[v], strict=True):
                 if w in members:
                     robots |= mask
         if robots == 3:
@@ -231,15 +278,17 @@ class Search:
     tables: int = 0
     done: set[Canon] = field(default_factory=set)
 
-    def below(self, table: dict[View, Answer]) -> dict[str, Any]:
-        """The case split below ``table`` (raises :class:`Found` at a witness)."""
+    def below(self, table: dict[View, Answer], reached: Explored | None = None
+              ) -> dict[str, Any]:
+        """The case split below ``table`` (raises :class:`Found` at a witness); ``reached``:
+        what the parent's table reached."""
         if time.perf_counter() > self.deadline:
             raise OutOfTime
         canon = self.setting.canonical(table, self.renamings) if self.renamings else None
         if canon in self.done:
             return {"renamed": True}
         self.tables += 1
-        refuted, need = self.setting.explore(table)
+        refuted, need, graph = self.setting.explore(table, reached)
         if refuted:
             node: dict[str, Any] = {"refuted": True}
         elif need is None:
@@ -248,7 +297,7 @@ class Search:
             children = []
             for answer in answers(self.setting.colours):
                 table[need] = answer
-                children.append(self.below(table))
+                children.append(self.below(table, graph))
                 del table[need]
             node = {"view": list(need), "children": children}
         if canon is not None:
