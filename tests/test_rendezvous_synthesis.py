@@ -264,3 +264,16 @@ def test_going_on_from_the_parent_reaches_what_a_search_from_scratch_reaches(mod
         again, need2, fresh = Setting(2, lights, model, "non-rigid", "all").explore(table)
         assert again == refuted and _reached(graph) == _reached(fresh)
         assert (need is None) == (need2 is None)
+
+
+def test_the_least_colours_tool_reads_k_at_least_k_and_more_than_the_bound():
+    from tools.rendezvous_minimum import least, markdown
+
+    two = least("ssync", "full", "non-rigid", "all", 3, 10.0)
+    assert two["cell"] == "**2**" and two["rows"][0]["certificate_holds"]
+    assert [r["answer"] for r in two["rows"]] == ["none", "exists"]
+    none = least("async", "internal", "rigid", "all", 2, 10.0)
+    assert none["cell"] == "> 2" and all(r["certificate_holds"] for r in none["rows"])
+    late = least("async-regular", "full", "non-rigid", "all", 3, 0.01)
+    assert late["cell"].startswith("≥ ")
+    assert "| `ssync` | **2** |  |  |" in markdown([two])
