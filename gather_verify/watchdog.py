@@ -104,13 +104,19 @@ def available() -> bool:
     return hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
 
 
+def _may_raise(frame: Any) -> bool:
+    """Whether a ring may raise here: inside the user's code (or a bounded block), never in
+    the watchdog's own bookkeeping (:data:`_COUNTING`) or a clean-up (:data:`_QUIET`)."""
+    return bool(_inside) and (frame is None or (frame.f_code not in _COUNTING
+                                                and frame.f_code not in _QUIET))
+
+
 def _ring(signum: int, frame: Any) -> None:
     if not _ARMED:
         return
     passed = _ARMED[-1]
     passed.expired = True
-    if _inside and (frame is None or (frame.f_code not in _COUNTING
-                                      and frame.f_code not in _QUIET)):
+    if _may_raise(frame):
         raise Overtime(passed.seconds)
 
 
@@ -221,11 +227,30 @@ class OverMemory(BaseException):
     limit_mb = 0.0
 
 
+MEMORY_SIGNAL = getattr(signal, "SIGUSR1", None)
+"""The signal by which a :class:`bounded` block's memory watch rings the main thread."""
+_WATCHING: list[bounded] = []
+"""The bounded blocks whose memory is watched, innermost last."""
+
+
+def _ring_memory(signum: int, frame: Any) -> None:
+    over = next((block for block in reversed(_WATCHING) if block.fired), None)
+    if over is not None and _may_raise(frame):
+        OverMemory.limit_mb = float(over.memory_mb)  # type: ignore[arg-type]
+        raise OverMemory
+
+
 class bounded:  # noqa: N801 - a context manager used as a function is
     """Within the block, :class:`Overtime` once ``seconds`` have passed and
     :class:`OverMemory` once ``rss()`` (MiB) passes ``memory_mb`` (read every
     :data:`INTERVAL` by a thread), raised wherever the block's code is: it is watched as
     the user's code is (:func:`watched`). On the main thread only, as :func:`deadline`.
+
+    Both limits ring as signals (the alarm; :data:`MEMORY_SIGNAL` sent by the watching
+    thread), handled where the alarm's rules apply (never in the watchdog's bookkeeping or a
+    clean-up), and both ring again every :data:`INTERVAL` until the block ends: a stop that
+    lands where Python ignores exceptions (a garbage collector's callback, a ``__del__``)
+    or that code catches is raised again.
 
     A class, not a generator: on the way out it leaves the watched region first, in a frame
     where the alarm never raises (:func:`quiet`), so a second ring cannot cut its own
@@ -238,23 +263,22 @@ class bounded:  # noqa: N801 - a context manager used as a function is
         self.stop, self.fired = threading.Event(), False
         self.thread: threading.Thread | None = None
         self.timer: Any = None
+        self.previous: Any = None
 
-    def _watch(self, here: int) -> None:
-        import ctypes
-
+    def _watch(self, main: int) -> None:
         while not self.stop.wait(INTERVAL):
-            if self.rss() > self.memory_mb:  # type: ignore[operator]
+            if self.fired or self.rss() > self.memory_mb:  # type: ignore[operator]
                 self.fired = True
-                OverMemory.limit_mb = float(self.memory_mb)  # type: ignore[arg-type]
-                ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(here),
-                                                           ctypes.py_object(OverMemory))
-                return
+                signal.pthread_kill(main, MEMORY_SIGNAL)  # type: ignore[arg-type]
 
     def __enter__(self) -> None:
         if not self.on:
             return
         global _inside
-        if self.memory_mb is not None and 0 < self.memory_mb < math.inf:
+        if (self.memory_mb is not None and 0 < self.memory_mb < math.inf
+                and MEMORY_SIGNAL is not None):
+            self.previous = signal.signal(MEMORY_SIGNAL, _ring_memory)
+            _WATCHING.append(self)
             self.thread = threading.Thread(target=self._watch, args=(threading.get_ident(),),
                                            name="gather-verify memory watch", daemon=True)
             self.thread.start()
@@ -268,15 +292,14 @@ class bounded:  # noqa: N801 - a context manager used as a function is
             return
         global _inside
         _inside -= 1  # first: no ring raises in this block's clean-up
+        if self in _WATCHING:
+            _WATCHING.remove(self)  # a late memory ring is this block's: it raises nowhere
         self.timer.__exit__(None, None, None)
         self.stop.set()
         if self.thread is not None:
             self.thread.join()
-            if self.fired:  # raised, or still pending: never delivered after the block
-                import ctypes
-
-                ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(
-                    threading.get_ident()), None)
+            signal.signal(MEMORY_SIGNAL,  # type: ignore[arg-type]
+                          signal.SIG_DFL if self.previous is None else self.previous)
         passed = _passed()
         if passed is not None and error is None:  # the block ended after its deadline
             raise Overtime(passed.seconds)

@@ -19,6 +19,7 @@ needs_spin = pytest.mark.skipif(not (shutil.which("spin") and shutil.which("gcc"
                                 reason="spin and gcc are not installed (apt-get install spin gcc)")
 
 
+@pytest.mark.slow  # the bench itself: the default run keeps the quick rows of each part
 def test_bench_quick_prints_every_field():
     out = subprocess.run([sys.executable, "-m", "gather_verify", "bench", "--quick", "--no-spin"],
                          capture_output=True, text=True, check=True).stdout

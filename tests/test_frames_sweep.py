@@ -188,7 +188,8 @@ def test_the_symmetries_a_search_merges_by_are_in_the_frame_group():
                                                                  geometry.ROTATIONS[2]}
 
 
-@pytest.mark.parametrize("frames", ["chirality", "compass"])
+@pytest.mark.parametrize("frames", [pytest.param("chirality", marks=pytest.mark.slow),
+                                    "compass"])
 def test_a_search_merges_states_only_by_the_symmetries_of_M_its_frames_allow(frames):
     """The Aut(M) reduction inside one search: with chirality a reflection of ``M`` is no
     symmetry of the problem, with a compass nor is a rotation; every verdict with the

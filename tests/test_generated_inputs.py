@@ -294,7 +294,7 @@ COLUMNS = {"results": ["key", "index", "robots", "meeting_nodes", "class", "verd
            "written": ["first", "last", "fingerprint_extra"]}
 
 
-@settings(max_examples=100, deadline=None,
+@settings(max_examples=50, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(which=st.sampled_from(["database", "world database"]), data=st.data())
 def test_damaged_databases(which, data, samples, tmp_path, capsys, monkeypatch):

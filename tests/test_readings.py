@@ -580,6 +580,7 @@ def test_check_cli_readings_all_on_the_a4_witness(capsys):
     assert {v for a, v in by.items() if "placement=closest" in a} == {"VIOLATED"}
 
 
+@pytest.mark.slow  # a long sweep: the default run keeps a shorter test of the same property
 def test_a_readings_sweep_examines_every_configuration_by_the_dynamic_covering(tmp_path, capsys):
     """``sweep --readings``: every configuration the base reading applies to gets a
     robustness row, and each equals the robustness of the full product of its readings

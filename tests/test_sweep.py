@@ -83,6 +83,7 @@ def test_the_summary_counted_in_the_store_is_the_summary_of_its_rows(tmp_path: P
     assert json.dumps(summary) == json.dumps(expected)
 
 
+@pytest.mark.slow  # a pool, one process and a Dask cluster: the watchdog tests start Dask by default
 def test_pool_and_dask_give_identical_results(tmp_path: Path) -> None:
     """A batch of sweeps (one pool or cluster runs them all, its workers sharing the
     configuration facts and the paper's plans) stores what one process stores."""
@@ -98,6 +99,7 @@ def test_pool_and_dask_give_identical_results(tmp_path: Path) -> None:
     assert len(pool) > 10
 
 
+@pytest.mark.slow  # a long sweep: the default run keeps a shorter test of the same property
 def test_handed_off_checks_store_the_same_rows(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
                                                ) -> None:
     """A class that hands its per-configuration checks to the other workers (here all of
@@ -117,6 +119,7 @@ def test_handed_off_checks_store_the_same_rows(tmp_path: Path, monkeypatch: pyte
     assert any(row[7] == "NOT-APPLICABLE" for row in one)
 
 
+@pytest.mark.slow  # a long sweep: the default run keeps a shorter test of the same property
 def test_sigkill_then_resume_equals_clean_run(tmp_path: Path) -> None:
     """Kill a running sweep with SIGKILL once some rows are committed; the resumed
     store ends with exactly the rows of an uninterrupted run."""

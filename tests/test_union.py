@@ -79,13 +79,19 @@ def test_union_rows_equal_per_config_rows_every_small_box(n: int, m: int, algori
 FIXTURES = Path(__file__).parent / "fixtures"
 
 
-@pytest.mark.parametrize("frames", ["chirality", "compass"])
-@pytest.mark.parametrize("n,m,box,algorithm", [
-    (2, 2, (3, 3), "paper"), (3, 1, (3, 3), "go-to-target"), (2, 2, (3, 3), "go-to-target"),
-    (2, 2, (3, 3), "min_sum_compass.py:MinSumCompass"),
-    (3, 2, (3, 2), "min_sum_compass.py:MinSumCompass"),
-    (2, 2, (3, 3), "counterclockwise.py:Counterclockwise"),
-    (3, 2, (3, 2), "counterclockwise.py:Counterclockwise"),
+@pytest.mark.parametrize("n,m,box,algorithm,frames", [
+    (n, m, box, algorithm, frames) if fast else
+    pytest.param(n, m, box, algorithm, frames, marks=pytest.mark.slow)
+    for n, m, box, algorithm, fast_frames in [
+        (2, 2, (3, 3), "paper", ("chirality", "compass")),
+        (3, 1, (3, 3), "go-to-target", ("chirality",)),
+        (2, 2, (3, 3), "go-to-target", ("chirality",)),
+        (2, 2, (3, 3), "min_sum_compass.py:MinSumCompass", ("compass",)),
+        (3, 2, (3, 2), "min_sum_compass.py:MinSumCompass", ()),
+        (2, 2, (3, 3), "counterclockwise.py:Counterclockwise", ("chirality",)),
+        (3, 2, (3, 2), "counterclockwise.py:Counterclockwise", ()),
+    ]
+    for frames in ("chirality", "compass") for fast in [frames in fast_frames]
 ])
 def test_union_rows_equal_per_config_rows_under_a_compass_or_chirality(
         n: int, m: int, box: tuple[int, int], algorithm: str, frames: str) -> None:
@@ -343,7 +349,8 @@ def test_union_rows_under_rounds_with_a_compass_or_chirality(scheduler: str, fra
                              scheduler=scheduler)["settled"] > 0
 
 
-@pytest.mark.parametrize("scheduler", ROUNDS)
+@pytest.mark.parametrize("scheduler", ["fsync", *(pytest.param(s, marks=pytest.mark.slow)
+                                                    for s in ROUNDS if s != "fsync")])
 def test_round_sweeps_store_the_same_rows_under_both_engines(
         tmp_path: Path, capsys: pytest.CaptureFixture[str], scheduler: str) -> None:
     """A whole sweep under FSYNC or SSYNC: the union engine's store is the per-configuration

@@ -15,6 +15,7 @@ Each command runs in a subprocess with a generous timeout; no assertion is on a 
 
 from __future__ import annotations
 
+import gc
 import json
 import os
 import signal
@@ -29,7 +30,16 @@ import pytest
 
 from gather_verify.check import run_check
 from gather_verify.model.configuration import Configuration
-from gather_verify.watchdog import GRACE_SECONDS, Overtime, deadline, guards, watched
+from gather_verify.watchdog import (
+    GRACE_SECONDS,
+    MEMORY_SIGNAL,
+    OverMemory,
+    Overtime,
+    bounded,
+    deadline,
+    guards,
+    watched,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -292,6 +302,47 @@ def test_no_deadline_off_the_main_thread_nor_without_a_bound() -> None:
     with deadline(float("inf")):
         assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
     assert GRACE_SECONDS >= 1
+
+
+def busy(seconds: float) -> None:
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        pass
+
+
+@pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
+def test_a_memory_stop_that_is_swallowed_is_raised_again() -> None:
+    """A stop that lands in a garbage collector's callback (where Python only prints an
+    exception) or that code catches is raised again: the watch rings until the block ends.
+    A memory stop that landed once in Hypothesis's gc callback ended a check on the
+    engine's own limit instead, without the step's name."""
+    over = lambda: 10.0**9  # noqa: E731 - always past the limit
+    caught, rang_in_gc = [0], [0]
+
+    def slow_callback(phase: str, info: object) -> None:
+        if phase == "start" and not rang_in_gc[0]:
+            try:
+                busy(1.0)
+            except OverMemory:
+                rang_in_gc[0] += 1
+                raise
+
+    gc.callbacks.append(slow_callback)
+    try:
+        with pytest.raises(OverMemory), bounded(None, 1.0, over):
+            gc.collect()  # the first ring lands in the callback, and is ignored there
+            busy(10.0)
+    finally:
+        gc.callbacks.remove(slow_callback)
+    assert rang_in_gc == [1]
+    with pytest.raises(OverMemory), bounded(None, 1.0, over):
+        try:
+            busy(10.0)
+        except OverMemory:
+            caught[0] += 1  # caught once, as the user's code may
+        busy(10.0)
+    assert caught == [1]
+    assert signal.getsignal(MEMORY_SIGNAL) in (signal.SIG_DFL, None)  # put back
 
 
 # -- Ctrl-C and a killed parent under a sweep's workers -----------------------------------
