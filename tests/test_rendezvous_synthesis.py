@@ -5,14 +5,27 @@ least colours per model and light kind, witnesses verified by the ordinary check
 from __future__ import annotations
 
 import copy
+import itertools
 import json
 import subprocess
 import sys
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from test_rendezvous_world import graph_of
 
 from gather_verify.rendezvous_check import run_rendezvous_check
-from gather_verify.synthesis.rendezvous import Setting, algorithm_of, synthesize, verify
+from gather_verify.synthesis.rendezvous import (
+    Setting,
+    _renamed_state,
+    algorithm_of,
+    answers,
+    synthesize,
+    verify,
+)
+from gather_verify.worlds import rendezvous_rules as rr
+from schedulers.phases import MODELS
 
 
 def witness_verdict(r):
@@ -115,3 +128,152 @@ def test_a_malformed_certificate_is_one_line_or_refused():
         verify({**cert, "scheduler": "nope"})
     assert not verify({**cert, "tree": {"view": 5, "children": []}})
     assert not verify({**cert, "tree": [1, 2]})
+
+
+# Colour renaming: a renamed algorithm's states are its states renamed, so the search may skip
+# a partial table whose renaming it has searched to the end; the reduced search answers as
+# the unreduced one, and a certificate's renamed leaf must point at a verified renaming.
+
+@st.composite
+def renamed(draw):
+    """A random algorithm of two or three colours, and a renaming of its colours."""
+    k, light = draw(st.integers(2, 3)), draw(st.sampled_from(rr.LIGHTS))
+    own = [None] if light == "external" else range(k)
+    other = [None] if light == "internal" else range(k)
+    answer = st.tuples(st.sampled_from((rr.STAY, rr.TO_HALF, rr.TO_OTHER)),
+                       st.integers(0, k - 1))
+    rules = {(a, b, p): draw(answer) for a in own for b in other for p in range(3)}
+    r = draw(st.permutations(range(k)))
+
+    def name(c):
+        return None if c is None else r[c]
+
+    moved = {(name(a), name(b), p): (m, r[c]) for (a, b, p), (m, c) in rules.items()}
+    return (rr.RendezvousAlgorithm("t", k, tuple(rules.items()), lights=light),
+            rr.RendezvousAlgorithm("renamed", k, tuple(moved.items()), lights=light), r)
+
+
+@settings(max_examples=20, deadline=None)
+@given(pair=renamed(), model=st.sampled_from(list(MODELS)),
+       movement=st.sampled_from(rr.MOVEMENTS), colours=st.sampled_from(rr.INITIAL_COLOURS))
+def test_a_renamed_algorithm_has_the_renamed_states_and_the_same_verdict(pair, model, movement,
+                                                                         colours):
+    alg, other, r = pair
+    states, edges, _ = graph_of(alg, model, movement, colours)
+    states2, edges2, _ = graph_of(other, model, movement, colours)
+    assert {_renamed_state(s, r) for s in states} == states2
+    assert {(_renamed_state(a, r), _renamed_state(b, r), m) for a, b, m in edges} == edges2
+    assert run_rendezvous_check(alg, model, movement=movement, initial_colours=colours)[
+        "verdict"] == run_rendezvous_check(other, model, movement=movement,
+                                           initial_colours=colours)["verdict"]
+
+
+def test_only_renamings_that_keep_the_initial_states_are_used(monkeypatch):
+    """Every renaming keeps every colour pair and one colour for both; were the robots to
+    start with colour 0 only, a renaming would have to keep 0."""
+    setting = Setting(3, "full", "async", "non-rigid", "all")
+    assert len(setting.renamings()) == 6
+    assert len(Setting(3, "full", "async", "rigid", "same").renamings()) == 6
+    starts = [s for s in setting.starts() if s[1][1] == s[2][1] == 0]
+    monkeypatch.setattr(Setting, "starts", lambda self: starts)
+    assert sorted(setting.renamings()) == [(0, 1, 2), (0, 2, 1)]
+
+
+def _same_answers(k, lights, model, movement, colours, seconds=600.0):
+    """Both searches answer the same, the reduced one with no more tables; an answer that
+    the unreduced search does not reach in ``seconds`` is not compared."""
+    plain = synthesize(k, lights, model, movement, colours, seconds, symmetry=False)
+    reduced = synthesize(k, lights, model, movement, colours, seconds)
+    if plain["answer"] == "unknown" and seconds < 600:
+        return None
+    assert plain["answer"] == reduced["answer"] != "unknown"
+    assert reduced["tables"] <= plain["tables"]
+    if reduced["answer"] == "none":
+        assert verify(plain["certificate"]) and verify(reduced["certificate"])
+    else:
+        assert witness_verdict(plain) == witness_verdict(reduced) == "VERIFIED"
+    return reduced
+
+
+@pytest.mark.parametrize("cell", [
+    (2, "internal", "ssync", "non-rigid", "all"), (2, "external", "async-lc-atomic", "rigid", "same"),
+    (2, "internal", "async-move-safe", "rigid", "same"), (2, "external", "fsync", "non-rigid", "same"),
+    (2, "external", "async-lc-strict", "rigid", "all")])
+def test_the_reduced_search_answers_as_the_unreduced_one(cell):
+    _same_answers(*cell)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("cell", list(itertools.product(
+    (1, 2), rr.LIGHTS, list(MODELS), rr.MOVEMENTS, rr.INITIAL_COLOURS)))
+def test_the_reduced_search_answers_as_the_unreduced_one_on_every_small_cell(cell):
+    """One and two colours, every light kind, model, movement and initial colours (the
+    cells the unreduced search answers in 20 seconds)."""
+    _same_answers(*cell, seconds=20.0)
+
+
+def _nodes(node, table, setting, path=()):
+    """Every node of a certificate's tree in the order verify reads it: (path, its table's
+    renaming class, the node)."""
+    yield path, setting.canonical(table, setting.renamings()), node
+    for answer, child in zip(answers(setting.colours), node.get("children", ()), strict=False):
+        table[tuple(node["view"])] = answer
+        yield from _nodes(child, table, setting, (*path, answer))
+        del table[tuple(node["view"])]
+
+
+def test_a_renamed_leaf_needs_an_earlier_verified_renaming():
+    cert = synthesize(2, "internal", "ssync")["certificate"]
+    setting = Setting(2, "internal", "ssync", "non-rigid", "all")
+    assert verify(cert)
+    first = copy.deepcopy(cert)
+    first["tree"]["children"][0] = {"renamed": True}  # nothing verified before it
+    assert not verify(first)
+    nodes = list(_nodes(cert["tree"], {}, setting))
+    canon = next(c for _, c, node in nodes if node.get("renamed"))
+    path = next(p for p, c, node in nodes if c == canon and not node.get("renamed"))
+    cut = copy.deepcopy(cert)
+    parent = cut["tree"]
+    for answer in path[:-1]:
+        parent = parent["children"][answers(2).index(answer)]
+    parent["children"][answers(2).index(path[-1])] = {"renamed": True}  # the original, gone
+    assert not verify(cut)
+
+
+def _reached(graph):
+    """The states a partial table reached and its edges, as states (open states: none)."""
+    return ({graph.states[v] for v in range(len(graph.states))},
+            {(graph.states[v], graph.states[w], m) for v in range(len(graph.states))
+             for w, m in zip(graph.edges[v], graph.masks[v], strict=True)},
+            {graph.states[v] for v in graph.open})
+
+
+@settings(max_examples=20, deadline=None)
+@given(model=st.sampled_from(list(MODELS)), lights=st.sampled_from(rr.LIGHTS),
+       data=st.data())
+def test_going_on_from_the_parent_reaches_what_a_search_from_scratch_reaches(model, lights,
+                                                                             data):
+    """The search explores a child table from its parent's states: the same states, edges,
+    open states and verdict as exploring the child from the initial states."""
+    setting = Setting(2, lights, model, "non-rigid", "all")
+    table = {}
+    refuted, need, graph = setting.explore(table)
+    while need is not None and not refuted:
+        table[need] = data.draw(st.sampled_from(answers(2)))
+        refuted, need, graph = setting.explore(table, graph)
+        again, need2, fresh = Setting(2, lights, model, "non-rigid", "all").explore(table)
+        assert again == refuted and _reached(graph) == _reached(fresh)
+        assert (need is None) == (need2 is None)
+
+
+def test_the_least_colours_tool_reads_k_at_least_k_and_more_than_the_bound():
+    from tools.rendezvous_minimum import least, markdown
+
+    two = least("ssync", "full", "non-rigid", "all", 3, 10.0)
+    assert two["cell"] == "**2**" and two["rows"][0]["certificate_holds"]
+    assert [r["answer"] for r in two["rows"]] == ["none", "exists"]
+    none = least("async", "internal", "rigid", "all", 2, 10.0)
+    assert none["cell"] == "> 2" and all(r["certificate_holds"] for r in none["rows"])
+    late = least("async-regular", "full", "non-rigid", "all", 3, 0.01)
+    assert late["cell"].startswith("≥ ")
+    assert "| `ssync` | **2** |  |  |" in markdown([two])

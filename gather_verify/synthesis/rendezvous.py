@@ -4,14 +4,21 @@ with lights meet under a synchrony model (SEMANTICS.md §12, §13)?
 An algorithm is a table from a view (own colour, other's colour, as far as the lights show
 them; the relative position) to a move and a colour. The search assigns a view's answer
 only when a reachable state needs it (lazily, depth first), and after each assignment
-explores what the table decides so far: the states that need an unassigned view are left
-open. A fair strongly connected component of decided states outside the goal (both robots
+explores what the table decides so far, going on from what its parent reached: the states
+that need an unassigned view are left open. A fair strongly connected component of decided states outside the goal (both robots
 step in it, it never gathers) is in the state graph of every completion, so the whole
 subtree fails there. A table with no open state and no such component is a witness, which
 the ordinary check (:func:`~gather_verify.rendezvous_check.run_rendezvous_check`) then
 verifies. When every branch fails, the answer is ``none`` with a certificate: the case
 split (a view, and a subtree per answer) down to each refuted partial table, which
 :func:`verify` re-checks without searching.
+
+Colours are names: renaming them in an algorithm renames its states, so a table and its
+renamings succeed or fail together (:meth:`Setting.renamings` says which renamings keep the
+initial states; every one of them does for ``all`` and ``same``). The search therefore
+skips a partial table whose renaming it has already searched to the end with no witness;
+the certificate marks such a node ``renamed`` and :func:`verify` re-checks that an
+earlier subtree, already verified, holds a renaming of its table.
 
 >>> synthesize(1, "full", "fsync", "rigid", "all")["answer"]
 'exists'
@@ -23,8 +30,9 @@ split (a view, and a subtree per answer) down to each refuted partial table, whi
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
-from itertools import product
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from itertools import permutations, product
 from typing import Any, cast
 
 from gather_verify.errors import GatherVerifyError, InvalidInput
@@ -47,24 +55,21 @@ View = tuple[int | None, int | None, int]
 """(own colour or None, other's colour or None, position): what a robot sees."""
 Answer = tuple[int, int]
 """(move, new colour)."""
-
-
-class Missing(GatherVerifyError):
-    """A reachable state needs the answer to a view the table does not give yet. Cause:
-    control flow of the search (caught where the states are walked); fix: none needed."""
-
-    def __init__(self, view: View):
-        super().__init__(view)
-        self.view = view
+Renaming = tuple[int, ...]
+"""A permutation of the colours: colour c becomes renaming[c]."""
+Canon = tuple[tuple[tuple[int, int, int], Answer], ...]
+"""The least of a table's renamings, as sorted rows (a hidden colour written -1)."""
 
 
 @dataclass
 class Partial:
-    """A table being built, as the rendezvous world asks an algorithm."""
+    """A table being built, as the rendezvous world asks an algorithm: each view asked is
+    appended to ``asked`` and answered by ``given``."""
 
     colours: int
     lights: str
-    table: dict[View, Answer]
+    asked: list[View] = field(default_factory=list)
+    given: Callable[[View], Answer] = lambda view: (STAY, 0)
 
     def view(self, own: int, other: int, position: int) -> View:
         return (None if self.lights == "external" else own,
@@ -72,9 +77,8 @@ class Partial:
 
     def answer(self, own: int, other: int, position: int) -> Answer:
         key = self.view(own, other, position)
-        if key not in self.table:
-            raise Missing(key)
-        return self.table[key]
+        self.asked.append(key)
+        return self.given(key)
 
 
 def views(colours: int, lights: str) -> list[View]:
@@ -97,45 +101,151 @@ class Setting:
     scheduler: str
     movement: str
     initial_colours: str
+    _memo: dict[State, tuple[tuple[View, ...], dict[tuple[Answer, ...], list[tuple[
+        State, int]]]]] = field(default_factory=dict, compare=False, repr=False)
 
-    def explore(self, table: dict[View, Answer]) -> tuple[bool, View | None]:
+    def explore(self, table: dict[View, Answer], below: Explored | None = None
+                ) -> tuple[bool, View | None, Explored]:
         """What ``table`` decides so far: whether a fair run of decided states never gathers
-        (refuted), and the first view an open state needs (None: every state decided)."""
-        alg = Partial(self.colours, self.lights, table)
-        world = Rendezvous(cast(RendezvousAlgorithm, alg))
-        model = phase_model(self.scheduler)
-        states: list[State] = world.starts(self.movement, self.initial_colours)
-        index = {s: i for i, s in enumerate(states)}
-        edges: list[list[tuple[int, int]]] = []
-        need: View | None = None
-        for state in states:  # grows as it goes: breadth first
-            try:
-                events = list(phase_events(model, world, state))
-            except Missing as missing:
-                need = need or missing.view
-                edges.append([])
+        (refuted), the first view an open state needs (None: every state decided), and the
+        states it reaches. ``below``: what a sub-table of ``table`` reached, from which the
+        search goes on (a state it stepped has the same successors under ``table``, so only
+        its open states are stepped again; the reached states are those of a search from
+        scratch)."""
+        graph = Explored.of(self.starts()) if below is None else below.copy()
+        work = list(range(len(graph.states))) if below is None else list(below.open)
+        graph.open = []
+        at = 0
+        while at < len(work):
+            v = work[at]
+            at += 1
+            out = self._steps(graph.states[v], table)
+            if not isinstance(out, list):
+                graph.open.append(v)
                 continue
-            out = []
-            for event, succ in events:
-                if succ not in index:
-                    index[succ] = len(states)
-                    states.append(succ)
-                out.append((index[succ], sum(1 << i for i in event.robots)))
-            edges.append(out)
-        return _fair_outside_goal(states, edges), need
+            targets = []
+            for succ, mask in out:
+                w = graph.index.get(succ)
+                if w is None:
+                    w = graph.add(succ)
+                    work.append(w)
+                targets.append(w)
+                graph.masks[v].append(mask)
+            graph.edges[v] = targets
+        graph.open.sort()
+        need = None
+        if graph.open:
+            first = self._steps(graph.states[graph.open[0]], table)
+            assert not isinstance(first, list)
+            need = first
+        return _fair_outside_goal(graph), need, graph
+
+    def _steps(self, state: State, table: dict[View, Answer]
+               ) -> list[tuple[State, int]] | View:
+        """A state's successors with the robots of each step, or the first view its Looks
+        need that ``table`` does not give. Remembered per state and per answer to the views
+        its Looks read (which the state alone fixes: asserted), so that a table's states
+        are stepped once in the whole search."""
+        memo = self._memo.get(state)
+        if memo is None:
+            asked: list[View] = []
+            self._stepped(state, asked, lambda view: (STAY, 0))
+            memo = self._memo[state] = (tuple(asked), {})
+        needed, known = memo
+        for view in needed:
+            if view not in table:
+                return view
+        key = tuple(table[view] for view in needed)
+        if key not in known:
+            asked = []
+            known[key] = self._stepped(state, asked, table.__getitem__)
+            assert tuple(asked) == needed, "a state's Looks read views the state does not fix"
+        return known[key]
+
+    def _stepped(self, state: State, asked: list[View], answer: Callable[[View], Answer]
+                 ) -> list[tuple[State, int]]:
+        alg = Partial(self.colours, self.lights, asked, answer)
+        return [(succ, sum(1 << i for i in event.robots)) for event, succ in phase_events(
+            phase_model(self.scheduler), Rendezvous(cast(RendezvousAlgorithm, alg)), state)]
+
+    def starts(self) -> list[State]:
+        """The initial states (all robots idle; no view asked)."""
+        return Rendezvous(cast(RendezvousAlgorithm, Partial(self.colours, self.lights))
+                          ).starts(self.movement, self.initial_colours)
+
+    def renamings(self) -> list[Renaming]:
+        """The renamings of colours that map the set of initial states onto itself. The
+        rules of the plane and the reads (atomic, regular, and a safe read's every colour)
+        name no colour, so under such a renaming a table's state graph is its renaming's,
+        state for state, and the verdict is the same. Up to 5 colours (120 renamings);
+        beyond, the identity alone."""
+        if self.colours > 5:
+            return [tuple(range(self.colours))]
+        starts = self.starts()
+        kept = set(starts)
+        return [r for r in permutations(range(self.colours))
+                if {_renamed_state(s, r) for s in starts} == kept]
+
+    def canonical(self, table: dict[View, Answer], renamings: list[Renaming]) -> Canon:
+        """One name for a table and all its renamings: the least renamed table."""
+        return min(tuple(sorted(((_name(v[0], r), _name(v[1], r), v[2]), (a[0], r[a[1]]))
+                                for v, a in table.items())) for r in renamings)
 
 
-def _fair_outside_goal(states: list[State], edges: list[list[tuple[int, int]]]) -> bool:
+def _name(colour: int | None, renaming: Renaming) -> int:
+    return -1 if colour is None else renaming[colour]
+
+
+def _renamed_state(state: State, renaming: Renaming) -> State:
+    position, *robots = state
+    return cast(State, (position, *((phase, renaming[c], renaming[n], pending)
+                                    for phase, c, n, pending in robots)))
+
+
+@dataclass
+class Explored:
+    """The states a partial table reaches: per state its successors and the robots of each
+    edge (none for an open state, which needs a view the table does not give), whether it
+    is gathered, and the open states."""
+
+    states: list[State]
+    index: dict[State, int]
+    edges: list[list[int]]
+    masks: list[list[int]]
+    gathered: list[bool]
+    open: list[int]
+
+    @staticmethod
+    def of(starts: list[State]) -> Explored:
+        graph = Explored([], {}, [], [], [], [])
+        for state in starts:
+            graph.add(state)
+        return graph
+
+    def add(self, state: State) -> int:
+        self.index[state] = len(self.states)
+        self.states.append(state)
+        self.edges.append([])
+        self.masks.append([])
+        self.gathered.append(Rendezvous.goal(state))
+        return len(self.states) - 1
+
+    def copy(self) -> Explored:
+        """A copy to go on from (a stepped state's lists are never changed again)."""
+        return Explored(self.states.copy(), self.index.copy(), self.edges.copy(),
+                        [m if e else [] for m, e in zip(self.masks, self.edges, strict=True)],
+                        self.gathered.copy(), self.open.copy())
+
+
+def _fair_outside_goal(graph: Explored) -> bool:
     """A strongly connected component of decided states, none gathered, with an edge of each
     robot inside it (open states have no edge, so they are in none)."""
-    def inside(v: int) -> bool:
-        return not Rendezvous.goal(states[v])
-
-    for comp in components_of(len(states), lambda v: [w for w, _ in edges[v]], inside):
+    edges, masks, gathered = graph.edges, graph.masks, graph.gathered
+    for comp in components_of(len(edges), edges.__getitem__, lambda v: not gathered[v]):
         members = set(comp)
         robots = 0
         for v in comp:
-            for w, mask in edges[v]:
+            for w, mask in zip(edges[v], masks[v], strict=True):
                 if w in members:
                     robots |= mask
         if robots == 3:
@@ -157,23 +267,42 @@ class OutOfTime(GatherVerifyError):
     where it becomes the answer ``unknown``; fix: a larger --max-seconds."""
 
 
-def _search(setting: Setting, table: dict[View, Answer], deadline: float,
-            count: list[int]) -> dict[str, Any]:
-    """The case split below ``table`` (raises :class:`Found` at a witness)."""
-    if time.perf_counter() > deadline:
-        raise OutOfTime
-    count[0] += 1
-    refuted, need = setting.explore(table)
-    if refuted:
-        return {"refuted": True}
-    if need is None:
-        raise Found(table)
-    children = []
-    for answer in answers(setting.colours):
-        table[need] = answer
-        children.append(_search(setting, table, deadline, count))
-        del table[need]
-    return {"view": list(need), "children": children}
+@dataclass
+class Search:
+    """One case split: its setting, deadline, the renamings it may skip by (none: every
+    table searched) and the renamed tables already searched to the end with no witness."""
+
+    setting: Setting
+    deadline: float
+    renamings: list[Renaming]
+    tables: int = 0
+    done: set[Canon] = field(default_factory=set)
+
+    def below(self, table: dict[View, Answer], reached: Explored | None = None
+              ) -> dict[str, Any]:
+        """The case split below ``table`` (raises :class:`Found` at a witness); ``reached``:
+        what the parent's table reached."""
+        if time.perf_counter() > self.deadline:
+            raise OutOfTime
+        canon = self.setting.canonical(table, self.renamings) if self.renamings else None
+        if canon in self.done:
+            return {"renamed": True}
+        self.tables += 1
+        refuted, need, graph = self.setting.explore(table, reached)
+        if refuted:
+            node: dict[str, Any] = {"refuted": True}
+        elif need is None:
+            raise Found(table)
+        else:
+            children = []
+            for answer in answers(self.setting.colours):
+                table[need] = answer
+                children.append(self.below(table, graph))
+                del table[need]
+            node = {"view": list(need), "children": children}
+        if canon is not None:
+            self.done.add(canon)
+        return node
 
 
 def algorithm_of(setting: Setting, table: dict[View, Answer], name: str) -> RendezvousAlgorithm:
@@ -184,39 +313,44 @@ def algorithm_of(setting: Setting, table: dict[View, Answer], name: str) -> Rend
 
 
 def synthesize(colours: int, lights: str, scheduler: str, movement: str = "non-rigid",
-               initial_colours: str = "all", max_seconds: float = 600.0) -> dict[str, Any]:
+               initial_colours: str = "all", max_seconds: float = 600.0,
+               symmetry: bool = True) -> dict[str, Any]:
     """``exists`` (with the witness's table, verified by the ordinary check), ``none`` (with a
-    certificate) or ``unknown`` (the time ran out)."""
+    certificate) or ``unknown`` (the time ran out). ``symmetry=False`` searches every table,
+    renamings included."""
     if lights not in LIGHTS or not 1 <= colours <= 8:
         raise InvalidInput(f"lights {colours}:{lights}: 1 to 8 colours, full, external or "
                            "internal")
     setting = Setting(colours, lights, scheduler, movement, initial_colours)
     phase_model(scheduler)  # an unknown model: one line
-    count = [0]
+    search = Search(setting, time.perf_counter() + max_seconds,
+                    setting.renamings() if symmetry else [])
     head = {"world": "rendezvous", "colours": colours, "lights": lights,
             "scheduler": scheduler, "movement": movement, "initial_colours": initial_colours}
     try:
-        tree = _search(setting, {}, time.perf_counter() + max_seconds, count)
+        tree = search.below({})
     except Found as found:
         witness = algorithm_of(setting, found.table, f"synthesized-{colours}-{lights}")
         check = run_rendezvous_check(witness, scheduler, movement=movement,
                                      initial_colours=initial_colours)
         if check["verdict"] != "VERIFIED":  # pragma: no cover - the search and check agree
             raise AssertionError(f"the witness fails the check: {check['reason']}") from None
-        return {**head, "answer": "exists", "tables": count[0],
+        return {**head, "answer": "exists", "tables": search.tables,
                 "witness": [[list(v), list(a)] for v, a in sorted(
                     found.table.items(), key=lambda x: [(-1 if y is None else y) for y in x[0]])],
                 "witness_verdict": check["verdict"]}
     except OutOfTime:
         return {**head, "answer": "unknown", "reason": f"time ({max_seconds:g} s)",
-                "tables": count[0]}
-    return {**head, "answer": "none", "tables": count[0],
+                "tables": search.tables}
+    return {**head, "answer": "none", "tables": search.tables,
             "certificate": {**head, "tree": tree}}
 
 
 def verify(certificate: dict[str, Any]) -> bool:
     """Whether a ``none`` certificate holds: every inner node splits on one view over every
-    answer, and every leaf's partial table is refuted (a fair run that never gathers)."""
+    answer, every ``refuted`` leaf's partial table is refuted (a fair run that never
+    gathers), and every ``renamed`` leaf's table is a renaming (one that keeps the initial
+    states) of a table whose subtree, earlier in the tree, already holds."""
     try:
         setting = Setting(certificate["colours"], certificate["lights"],
                           certificate["scheduler"], certificate["movement"],
@@ -226,15 +360,25 @@ def verify(certificate: dict[str, Any]) -> bool:
         assert setting.initial_colours in INITIAL_COLOURS
         phase_model(str(setting.scheduler))
         all_views = set(views(setting.colours, setting.lights))
+        renamings = setting.renamings()
     except (KeyError, TypeError, AssertionError):
         raise InvalidInput("bad certificate: a rendezvous certificate names colours (1 to 8), "
                            "lights, scheduler, movement and initial_colours") from None
 
+    done: set[Canon] = set()
+
     def holds(node: Any, table: dict[View, Answer]) -> bool:
         if not isinstance(node, dict):
             return False
-        if node.get("refuted") is True:
-            return setting.explore(table)[0]
+        canon = setting.canonical(table, renamings)
+        if node.get("renamed") is True:
+            return canon in done
+        ok = setting.explore(table)[0] if node.get("refuted") is True else split(node, table)
+        if ok:
+            done.add(canon)
+        return ok
+
+    def split(node: dict[str, Any], table: dict[View, Answer]) -> bool:
         view = tuple(node.get("view", ()))
         children = node.get("children")
         if view not in all_views or view in table or not isinstance(children, list) \
