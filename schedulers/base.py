@@ -59,12 +59,18 @@ class Event:
 
     def to_json(self) -> dict[str, object]:
         out: dict[str, object] = {"kind": self.kind, "robots": list(self.robots),
-                                  "moves": [[i, list(a), list(b)] for i, a, b in self.moves]}
+                                  "moves": [[i, _json(a), _json(b)] for i, a, b in self.moves]}
         if self.lights:
             out["lights"] = [list(change) for change in self.lights]
         if self.chosen:
             out["chosen"] = [[i, d, c, list(read)] for i, d, c, read in self.chosen]
         return out
+
+
+def _json(place: Any) -> object:
+    """A place as a trace writes it: a node of Z² as a list, any other (a position of the
+    rendezvous world, ``near``) as it is."""
+    return list(place) if isinstance(place, tuple) else place
 
 
 class Frontier(NamedTuple):

@@ -117,6 +117,10 @@ def test_a_broken_algorithm_fails_with_a_trace_that_replays():
     assert r["verdict"] == "VIOLATED" and r["property"] == "rendezvous"
     done = replay_rendezvous(r["trace"])
     assert done.confirmed and done.steps == len(r["trace"]["steps"]) - 1
+    # a move's ends are written as positions, never spelled out letter by letter
+    ends = {end for step in r["trace"]["steps"][1:]
+            for _, *pair in step["event"]["moves"] for end in pair}
+    assert ends and ends <= {"far", "near", "same"}, ends
 
 
 def test_a_trace_that_does_not_match_itself_is_one_line():
