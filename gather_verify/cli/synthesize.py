@@ -43,6 +43,15 @@ RULES_SHOWN = 12
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The question, the outputs and limits, and the many-answer forms, in that order."""
+    _question_arguments(p)
+    _output_and_limit_arguments(p)
+    _many_answer_arguments(p)
+
+
+def _question_arguments(p: argparse.ArgumentParser) -> None:
+    """What is asked: the world, the robots and their starts, the task, the adversary, what
+    the robots see and carry."""
     p.add_argument("--world", help="a finite world (ring:N, grid:WxH, torus:WxH, graph:FILE) "
                    "or the paper's world Z² with meeting nodes (grid)")
     p.add_argument("--robots", help='one initial configuration ("0 2"), or a count of robots '
@@ -75,6 +84,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "initial colouring")
     p.add_argument("--movement", choices=("rigid", "non-rigid"), help="rendezvous world")
     p.add_argument("--initial-colours", choices=("all", "same"), help="rendezvous world")
+
+
+def _output_and_limit_arguments(p: argparse.ArgumentParser) -> None:
+    """Where the answer goes, the re-check of a certificate, and the limits."""
     p.add_argument("--witness", default="synthesized.py", metavar="FILE.py",
                    help="where exists writes the algorithm (default synthesized.py)")
     p.add_argument("--certificate", default="synthesized.cert.json", metavar="FILE",
@@ -94,6 +107,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-tree", type=bounded_int(1, 10**9), default=100_000,
                    help="nodes of the certificate's decision tree; past it, the certificate "
                         "is a resolution proof (default %(default)s)")
+
+
+def _many_answer_arguments(p: argparse.ArgumentParser) -> None:
+    """The least count (--minimum), the paper's box, one algorithm for many starts, seeds,
+    explanations and the output's form."""
     p.add_argument("--minimum", action="store_true",
                    help="the least number of robots with an algorithm: --robots A-B (counts), "
                         "or of colours: --lights A-B; --world a size or a range of rings "

@@ -20,12 +20,12 @@ from gather_verify.cli.common import (
 from gather_verify.words import counted
 
 
-def run_range(args: argparse.Namespace) -> int:
-    from gather_verify.cli.synthesize_sets import seeds
-    from gather_verify.synthesis.gapviews import GapViews, rules_of, write_rules
-    from gather_verify.synthesis.search import synthesize
+def _range_parts(args: argparse.Namespace) -> list[tuple[Any, Any]]:
+    """The question of ``--world ring:A-B --together`` checked, and one part per ring size:
+    its instance and its gap views, the views shared with the first size's (one algorithm
+    written as gap rules for every size)."""
+    from gather_verify.synthesis.gapviews import GapViews
     from gather_verify.synthesis.views import make_instance
-    from gather_verify.synthesis.witness import check_witness
     from gather_verify.worlds import world_specs
 
     if not args.together:
@@ -49,6 +49,16 @@ def run_range(args: argparse.Namespace) -> int:
         if parts:
             views.share(parts[0][1], j)
         parts.append((inst, views))
+    return parts
+
+
+def run_range(args: argparse.Namespace) -> int:
+    from gather_verify.cli.synthesize_sets import seeds
+    from gather_verify.synthesis.gapviews import rules_of, write_rules
+    from gather_verify.synthesis.search import synthesize
+    from gather_verify.synthesis.witness import check_witness
+
+    parts = _range_parts(args)
     started = time.perf_counter()
     try:
         res = synthesize(parts[0][0], parts=parts, max_seconds=args.max_seconds,
@@ -60,9 +70,9 @@ def run_range(args: argparse.Namespace) -> int:
         return EXIT_INTERRUPTED
     first = parts[0][0]
     report: dict[str, Any] = {
-        "answer": res.answer, "world": args.world, "sizes": len(worlds),
+        "answer": res.answer, "world": args.world, "sizes": len(parts),
         "task": first.task.name, "scheduler": first.scheduler, "detection": first.detection,
-        "frames": first.frames, "start": args.start or "all", "robots": int(robots),
+        "frames": first.frames, "start": args.start or "all", "robots": int(args.robots),
         "gap_cap": args.gap_cap, "configurations": sum(len(i.configurations) for i, _ in parts),
         "views": res.views, "candidates": res.candidates,
         "counterexamples": len(res.counterexamples), "states": res.states,
@@ -78,7 +88,7 @@ def run_range(args: argparse.Namespace) -> int:
         rules = rules_of(parts[0][1], res.table)
         summary = (f"One algorithm for every ring of {args.world.partition(':')[2]} nodes: "
                    f"task {first.task.name}, scheduler {first.scheduler}, detection "
-                   f"{first.detection}, frames {first.frames}, {robots} robots from every "
+                   f"{first.detection}, frames {first.frames}, {int(args.robots)} robots from every "
                    f"{'' if (args.start or 'all') == 'all' else args.start + ' '}start. The "
                    "ordinary checker verified it at every size, every reduction off.")
         spec = write_rules(args.witness, rules, summary)
