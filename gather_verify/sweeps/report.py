@@ -306,10 +306,8 @@ def _code_tag(batch: Batch) -> str:
 def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
                 plot: str | None, batch: Batch | None = None) -> str:
     from gather_verify.properties import ORDER
-    from gather_verify.render import thumbnail_svg
     from gather_verify.scenario import VERDICTS
     from gather_verify.theory import get_fact
-    from gather_verify.viewer import write_viewer
 
     rows = [dict(r, robots_n=s.get("robots"), meeting_m=s.get("meeting"))
             for s, rs in sweeps for r in rs]
@@ -366,7 +364,24 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
               f"named per configuration: {named}.</p>",
               "<table class='verdicts'>" + head + "".join(body) + "</table>"]
     parts += _causes_table(rows)
-    # the smallest counterexample of each (class, property), as a thumbnail opening its viewer
+    parts += _smallest_figures(number, classes, props, cells, folder, common)
+    if plot and plane:
+        parts += ["<h3>Moves against D·n</h3>",
+                  f"<img class='plot' src='{_esc(plot)}' alt='largest total moves against D·n, "
+                  "coloured by verdict, with the line c·D·n'>"]
+    parts += ["<h3>Configurations</h3><p class='note'>The list of a count in the table above "
+              "shows here when you click it.</p>", *lists]
+    return "\n".join(parts)
+
+
+def _smallest_figures(number: int, classes: list[str], props: list[str],
+                      cells: dict[tuple[str, str, str], list[dict[str, Any]]], folder: Path,
+                      common: dict[str, Any]) -> list[str]:
+    """The smallest counterexample of each (class, property), as a thumbnail opening its
+    viewer (written into ``folder``)."""
+    from gather_verify.render import thumbnail_svg
+    from gather_verify.viewer import write_viewer
+
     figures = []
     for c in classes:
         for p in props:
@@ -390,18 +405,12 @@ def _batch_page(number: int, common: dict[str, Any], sweeps: list, folder: Path,
                 f"<a href='{_esc(folder.name)}/{name}'>open the viewer</a> · "
                 f"<a href='#{_slug('list', number, c, 'VIOLATED', p)}'>all "
                 f"{len(cells[(c, 'VIOLATED', p)])}</a></figcaption></figure>")
-    if figures:
-        parts += ["<h3>Smallest counterexample of each class and property</h3>",
-                  "<p class='note'>Initial configuration → last state (robots coloured by "
-                  "identity, meeting nodes as squares, dashed arrows = pending moves). Click one to "
-                  "step through it.</p>", "<div class='thumbs'>" + "".join(figures) + "</div>"]
-    if plot and plane:
-        parts += ["<h3>Moves against D·n</h3>",
-                  f"<img class='plot' src='{_esc(plot)}' alt='largest total moves against D·n, "
-                  "coloured by verdict, with the line c·D·n'>"]
-    parts += ["<h3>Configurations</h3><p class='note'>The list of a count in the table above "
-              "shows here when you click it.</p>", *lists]
-    return "\n".join(parts)
+    if not figures:
+        return []
+    return ["<h3>Smallest counterexample of each class and property</h3>",
+            "<p class='note'>Initial configuration → last state (robots coloured by "
+            "identity, meeting nodes as squares, dashed arrows = pending moves). Click one to "
+            "step through it.</p>", "<div class='thumbs'>" + "".join(figures) + "</div>"]
 
 
 def _filtered_list(anchor: str, c: str, verdict: str, prop: str, found: list[dict[str, Any]],
