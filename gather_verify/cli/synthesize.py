@@ -972,7 +972,6 @@ def _plane(args: argparse.Namespace) -> int:
     views = plane.PlaneViews(inst.detection, inst.frames)
     rows: list[dict[str, Any]] = []
     entries: list[dict[str, Any]] = []
-    stem = args.witness[:-3]
     problem = None
     try:
         for i, c in enumerate(inst.configurations):
@@ -987,33 +986,9 @@ def _plane(args: argparse.Namespace) -> int:
                                                                    "rounds")},
                            phi=entry["phi"]["describe"])
             else:
-                # a fresh table per configuration: the views of the others do not matter
-                own = plane.PlaneViews(inst.detection, inst.frames)
-                found = plane.search_algorithm([c], inst, own, max_seconds=args.max_seconds,
-                                               max_candidates=args.max_candidates,
-                                               max_states=args.max_states, seeds=seeds)
-                from gather_verify.paper.classes import classify_configuration
-
-                cl = classify_configuration(c)
-                row.update(answer=found.answer, limit=found.limit, candidates=found.candidates,
-                           views=found.views,
-                           **{"class": cl.name, "in_U": cl.in_U})
-                if found.answer == "exists":
-                    path = args.witness if len(inst.configurations) == 1 else f"{stem}-{i}.py"
-                    spec = plane.write_witness(path, inst, c, own, found.table)
-                    # the witness's check is part of the configuration's budget
-                    checked = plane.check_witness(
-                        spec, inst, c, args.max_seconds - (time.perf_counter() - t0))
-                    row.update(witness=spec, table=len(found.table),
-                               checker={"verdict": checked["verdict"],
-                                        "states": checked["states"], "reductions": "off"})
-                    if plane.out_of_time(checked):
-                        row.update(answer="unknown", limit="max-seconds (during the checker's "
-                                   "run on the witness)")
-                    elif checked["verdict"] != "VERIFIED" and problem is None:
-                        problem = (f"the ordinary checker says {checked['verdict']} of the "
-                                   f"witness {spec} ({checked.get('reason')}): this is a bug of "
-                                   "gather-verify's synthesis, please report it")
+                fields, bug = _plane_search(args, inst, c, i, seeds, t0)
+                row.update(fields)
+                problem = problem or bug
             row["seconds"] = time.perf_counter() - t0
             rows.append(row)
     except KeyboardInterrupt:
@@ -1044,6 +1019,43 @@ def _plane(args: argparse.Namespace) -> int:
     report["seconds"] = time.perf_counter() - started
     report["rows"] = rows
     return finish(args, report, rows, _print_plane, problem)
+
+
+def _plane_search(args: argparse.Namespace, inst: Any, c: Any, i: int, seeds: list[Any],
+                  t0: float) -> tuple[dict[str, Any], str | None]:
+    """One configuration of the paper's world that Theorem 1 does not settle: the search,
+    then the ordinary checker's run on a witness within what is left of the configuration's
+    budget. The row's fields, and the bug of the synthesis if the checker refutes its
+    witness."""
+    from gather_verify.paper.classes import classify_configuration
+    from gather_verify.synthesis import plane
+
+    # a fresh table per configuration: the views of the others do not matter
+    own = plane.PlaneViews(inst.detection, inst.frames)
+    found = plane.search_algorithm([c], inst, own, max_seconds=args.max_seconds,
+                                   max_candidates=args.max_candidates,
+                                   max_states=args.max_states, seeds=seeds)
+    cl = classify_configuration(c)
+    row: dict[str, Any] = dict(answer=found.answer, limit=found.limit,
+                               candidates=found.candidates, views=found.views,
+                               **{"class": cl.name, "in_U": cl.in_U})
+    if found.answer != "exists":
+        return row, None
+    path = args.witness if len(inst.configurations) == 1 else f"{args.witness[:-3]}-{i}.py"
+    spec = plane.write_witness(path, inst, c, own, found.table)
+    # the witness's check is part of the configuration's budget
+    checked = plane.check_witness(spec, inst, c, args.max_seconds - (time.perf_counter() - t0))
+    row.update(witness=spec, table=len(found.table),
+               checker={"verdict": checked["verdict"], "states": checked["states"],
+                        "reductions": "off"})
+    if plane.out_of_time(checked):
+        row.update(answer="unknown", limit="max-seconds (during the checker's run on the "
+                   "witness)")
+    elif checked["verdict"] != "VERIFIED":
+        return row, (f"the ordinary checker says {checked['verdict']} of the witness {spec} "
+                     f"({checked.get('reason')}): this is a bug of gather-verify's synthesis, "
+                     "please report it")
+    return row, None
 
 
 def _seeds(args: argparse.Namespace) -> list[Any]:
