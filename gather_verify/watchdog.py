@@ -241,7 +241,9 @@ class OverMemory(BaseException):
 
     Deliberately *not* a :class:`~gather_verify.errors.GatherVerifyError`: a
     ``BaseException``, as :class:`Overtime`, so that no ``except Exception`` on the way
-    swallows it."""
+    swallows it; raised in the user's code, it is a limit, never that code's crash (the
+    handlers that make what ``decide`` or an import raises a crash or bad input let both
+    through)."""
 
     limit_mb = 0.0
 

@@ -347,6 +347,40 @@ def test_a_memory_stop_that_is_swallowed_is_raised_again() -> None:
     assert signal.getsignal(MEMORY_SIGNAL) in (signal.SIG_DFL, None)  # put back
 
 
+def test_a_limit_that_stops_the_users_code_is_no_crash_of_it() -> None:
+    """A memory stop (or a time stop) that lands in ``decide``, ``target`` or an algorithm's
+    constructor goes through as the limit it is: never a crash counterexample (a VIOLATED
+    out of a search stopped by a limit) nor bad input."""
+    from gather_verify.algorithms.base import target_of
+    from gather_verify.algorithms.loading import instantiate
+    from gather_verify.algorithms.moves import ask
+
+    class Stopped:
+        name = "stopped"
+
+        def __init__(self, stop: BaseException) -> None:
+            self.stop = stop
+
+        def decide(self, view: object) -> None:
+            raise self.stop
+
+        def target(self, configuration: object) -> None:
+            raise self.stop
+
+    class Builds:
+        def __init__(self) -> None:
+            raise OverMemory
+
+    for stop in (OverMemory(), Overtime(1.0)):
+        algorithm = Stopped(stop)
+        with pytest.raises((OverMemory, Overtime)):
+            ask(algorithm, algorithm.decide, None, None)  # type: ignore[arg-type]
+        with pytest.raises((OverMemory, Overtime)):
+            target_of(algorithm, None)  # type: ignore[arg-type]
+    with pytest.raises(OverMemory):
+        instantiate(Builds, {}, "builds")
+
+
 # -- Ctrl-C and a killed parent under a sweep's workers -----------------------------------
 
 

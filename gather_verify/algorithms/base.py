@@ -27,7 +27,7 @@ from gather_verify.errors import GatherVerifyError, InvalidInput
 from gather_verify.model.configuration import Configuration
 from gather_verify.model.geometry import Node
 from gather_verify.model.view import View
-from gather_verify.watchdog import Overtime, real_interrupt, watched
+from gather_verify.watchdog import OverMemory, Overtime, real_interrupt, watched
 
 F = TypeVar("F", bound=Callable[..., object])
 
@@ -144,7 +144,7 @@ def target_of(algorithm: object, configuration: Configuration) -> Node | None:
     try:
         with watched():
             return target(configuration)
-    except (Unhandled, Overtime):  # no rule; the watchdog's stop at the time limit
+    except (Unhandled, Overtime, OverMemory):  # no rule; the watchdog's stop at a limit
         raise
     except BaseException as error:  # SystemExit, KeyboardInterrupt, os._exit too
         if real_interrupt(error):  # only a real Ctrl-C stops the verifier

@@ -39,7 +39,7 @@ from typing import Any
 
 from gather_verify.errors import InvalidInput
 from gather_verify.inputs import not_a_file
-from gather_verify.watchdog import Overtime, watched
+from gather_verify.watchdog import OverMemory, Overtime, watched
 
 ENTRY_POINT_GROUP = "gather_verify.algorithms"
 _LIBRARY = {os.path.abspath(sysconfig.get_paths()[k])
@@ -283,7 +283,7 @@ def load_file(path: str) -> ModuleType:
     try:
         with watched():  # an endless loop at import ends with the time limit (watchdog)
             loader_spec.loader.exec_module(module)
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, OverMemory):  # a real Ctrl-C; the memory limit
         del sys.modules[name]
         raise
     except Overtime as error:
@@ -370,7 +370,7 @@ def load_module(name: str) -> ModuleType:
     try:
         with watched():
             return importlib.import_module(name)
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, OverMemory):  # a real Ctrl-C; the memory limit
         raise
     except Overtime as error:
         raise InvalidInput(f"algorithm module {name!r}: did not finish importing within "
@@ -389,7 +389,7 @@ def entry_point_factory(name: str) -> Any | None:
             try:
                 with watched():
                     return point.load()
-            except KeyboardInterrupt:
+            except (KeyboardInterrupt, OverMemory):  # a real Ctrl-C; the memory limit
                 raise
             except Overtime as error:
                 raise InvalidInput(f"algorithm {name!r} (entry point {point.value}): loading "
@@ -418,7 +418,7 @@ def instantiate(target: Any, options: dict[str, str], spec: str) -> Any:
                 algorithm = target(**options)
         except TypeError as error:
             raise InvalidInput(f"bad options for algorithm {spec!r}: {error}") from None
-        except KeyboardInterrupt:
+        except (KeyboardInterrupt, OverMemory):  # a real Ctrl-C; the memory limit
             raise
         except Overtime as error:
             raise InvalidInput(f"algorithm {spec!r}: constructing it did not finish within "

@@ -33,7 +33,7 @@ from gather_verify.model.view import (
     View,
     check_detection,
 )
-from gather_verify.watchdog import Overtime, real_interrupt, watched
+from gather_verify.watchdog import OverMemory, Overtime, real_interrupt, watched
 
 ANSWERS = frozenset((ORIGIN, *STEPS))
 MAPPED_BACK = tuple({answer: geometry.apply(geometry.inverse(g), answer) for answer in ANSWERS}
@@ -74,7 +74,7 @@ def ask(algorithm: Algorithm, decide: Callable[[Any], Any], seen: Any, where: An
         return decide(seen)
     except hidden[0] as error:
         raise HiddenRead(f"algorithm {algorithm.name!r} reads {hidden[1]}: {error}") from None
-    except (Unhandled, Overtime):
+    except (Unhandled, Overtime, OverMemory):
         raise
     except BaseException as error:
         if real_interrupt(error):
@@ -133,7 +133,7 @@ def move_sets(
         try:
             with watched():
                 out = planned(configuration, detection, frames)
-        except (Unhandled, Overtime):  # no rule; the watchdog's stop at the time limit
+        except (Unhandled, Overtime, OverMemory):  # no rule; the watchdog's stop at a limit
             raise
         except BaseException as error:  # SystemExit, KeyboardInterrupt, os._exit too
             if real_interrupt(error):  # only a real Ctrl-C stops the verifier

@@ -26,7 +26,7 @@ from gather_verify.errors import InvalidInput
 from gather_verify.inputs import not_a_file
 from gather_verify.properties.base import Property
 from gather_verify.properties.builtin import BUILTIN
-from gather_verify.watchdog import Overtime, guards, watched
+from gather_verify.watchdog import OverMemory, Overtime, guards, watched
 
 RESERVED = ("states", "time", "memory", "region")
 """Names a search's ``stopped`` uses for its limits: no property may take them."""
@@ -129,7 +129,7 @@ def load_property(spec: str) -> Property:
                 loader_spec.loader.exec_module(module)
         except BaseException as error:  # the user's file: any failure is bad input
             del sys.modules[module_name]
-            if isinstance(error, KeyboardInterrupt):
+            if isinstance(error, KeyboardInterrupt | OverMemory):  # Ctrl-C; the memory limit
                 raise
             if isinstance(error, Overtime):
                 raise InvalidInput(f"cannot load property {spec!r}: {text} did not finish "
