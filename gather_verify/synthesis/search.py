@@ -37,7 +37,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from gather_verify.engine.encoding import DEFAULT_MAX_MEMORY_MB, Limits
+from gather_verify.engine.encoding import DEFAULT_MAX_MEMORY_MB, Limits, Stop
 from gather_verify.engine.world_search import Halt, WorldSearch, search
 from gather_verify.errors import InvalidInput
 from gather_verify.synthesis.certificate import (
@@ -354,7 +354,9 @@ def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
             reached: set[int], limits: Limits) -> tuple[WorldSearch, list[Finding]]:
     """Every execution of the table ``choice`` from configuration ``idx``, and the task's
     violations there: a few of its safety parts (the search stops soon after the first),
-    else its first liveness failure (on the whole space, unreduced); none when it holds."""
+    else its first liveness failure (unreduced); none when it holds. The liveness parts are
+    looked for in stages (:func:`staged`): a fair component among the first states of the
+    breadth-first search is one of the whole space."""
     robots, colours = inst.configurations[idx]
 
     def actions(state: tuple[tuple[int, int | None, int], ...]) -> list[frozenset]:
@@ -367,37 +369,43 @@ def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
     w = inst.world
     ctx = Context(len(robots), w.size, inst.meeting, inst.scheduler,
                   tuple(w.format_node(v) for v in range(w.size)))
+
+    def plain(watched: bool) -> Callable[[Limits], tuple[WorldSearch, list[Halt]]]:
+        def run(lim: Limits) -> tuple[WorldSearch, list[Halt]]:
+            found: list[Halt] = []
+            return search(w, robots, actions, inst.scheduler, colours=colours, limits=lim,
+                          watch=watcher(inst, found) if watched else None), found
+        return run
+
+    def termination(s: WorldSearch) -> list[Finding]:
+        return livelocks(s, ctx, "termination")
+
     if inst.task.visits:
-        # the safety part first, on the reduced states (sound for safety, §4: a BFS parent's
-        # stored state is the concrete predecessor, so the path is a concrete run), stopping
-        # at the first final state that has not seen every node. Under round-robin too: the
-        # search relabels identical robots as the scheduler says (its order made the first
-        # start) and the symmetries leave its order and turn alone, as the checker reduces;
-        # the path then runs from that first start, a real start the counterexample names
-        if TERMINATION_FIRST:
-            s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits)
-            if not s.complete:
-                return s, []
-            loops = livelocks(s, ctx, "termination")
-            if loops:
-                return s, loops
+        # termination first, on the states without the visited set (measured: fewer
+        # candidates, as its counterexamples name the views of the moves that matter); then
+        # the safety part, on the reduced states (sound for safety, §4: a
+        # BFS parent's stored state is the concrete predecessor, so the path is a concrete
+        # run), stopping at the first final state that has not seen every node. Under
+        # round-robin too: the search relabels identical robots as the scheduler says (its
+        # order made the first start) and the symmetries leave its order and turn alone, as
+        # the checker reduces; the path then runs from that first start, a real start the
+        # counterexample names
+        s, _, loops = staged(plain(False), limits, termination)
+        if loops or not s.complete:
+            return s, loops
         found: list[Halt] = []
         s = search(w, robots, actions, inst.scheduler, colours=colours, visits=True,
                    limits=limits, watch=watcher(inst, found), anonymity=True,
                    symmetries=w.symmetries(inst.frames), meeting=inst.meeting)
         if not found:
-            if not s.complete or TERMINATION_FIRST:
-                return s, []
-            # termination on the states without the visited nodes, unreduced: a fair cycle
-            # there repeats into one of the full states (the visited set only grows)
-            s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits)
-            if not s.complete:
-                return s, []
-            return s, livelocks(s, ctx, "termination")
+            return s, []
     else:
-        found = []
-        s = search(w, robots, actions, inst.scheduler, colours=colours, limits=limits,
-                   watch=watcher(inst, found))
+        def liveness(s: WorldSearch) -> list[Finding]:
+            return termination(s) if "termination" in inst.task.parts else exploring(s, ctx)
+
+        s, found, loops = staged(plain(True), limits, liveness)
+        if loops:
+            return s, loops
     if found:
         if s.stopped == "watch":
             s.stopped, s.halt = None, None  # violations, not a limit
@@ -407,16 +415,50 @@ def explore(inst: Instance, views: Views, choice: dict[int, int], idx: int,
                    for h in found]
     if s.halt is not None:  # pragma: no cover - a table answers every view
         raise AssertionError(f"a table halted the search: {s.halt.reason}")
-    if not s.complete:
-        return s, []
-    if "termination" in inst.task.parts:
-        return s, livelocks(s, ctx, "termination")
+    return s, []
+
+
+def staged(run: Callable[[Limits], tuple[WorldSearch, list[Halt]]], limits: Limits,
+           liveness: Callable[[WorldSearch], list[Finding]]
+           ) -> tuple[WorldSearch, list[Halt], list[Finding]]:
+    """``run`` (a search, and the safety violations its watch found) within
+    :data:`STAGE_STATES` states, then :data:`STAGE_GROWTH` times as many, and so on up to
+    ``limits``; after each stage its liveness failures (``liveness``). A stage cut by its own
+    bound is a prefix of the whole breadth-first search, and a fair component of its expanded
+    states is a fair component's worth of the whole space (the same states, edges and stays;
+    a run can stay in it for ever), so its failure is one of the table. Most candidates fail
+    near their start: they are refuted at a fraction of the whole space's cost; one that
+    holds pays its earlier stages (at most 1 / (growth - 1) more). Returns the deciding
+    search (``stopped`` None when a stage's bound cut it and a failure was found), the
+    watch's violations and the liveness failures (those of the complete search, or none
+    after a limit)."""
+    started = time.perf_counter()
+    bound = STAGE_STATES
+    while True:
+        last = bound >= limits.max_states
+        left = max(limits.max_seconds - (time.perf_counter() - started), 0.001)
+        s, found = run(replace(limits, max_seconds=left) if last else
+                       replace(limits, max_states=bound, max_seconds=left))
+        if found and s.stopped == Stop.STATES and not last:
+            s.stopped = Stop.WATCH  # the stage's bound, not a limit: its violations stand
+        if last or found or s.stopped != Stop.STATES:
+            return s, found, liveness(s) if s.complete and not found else []
+        loops = liveness(s)
+        if loops:
+            s.stopped = None  # the stage's bound, not a limit: its failure stands
+            return s, found, loops
+        bound *= STAGE_GROWTH
+
+
+def exploring(s: WorldSearch, ctx: Context) -> list[Finding]:
+    """Perpetual exploration's failures: per node, a fair component where it stays empty
+    (as the task checks it)."""
     out: list[Finding] = []
-    for v in range(w.size):  # perpetual exploration: per node, as the task checks it
+    for v in range(ctx.size):
         out += livelocks(s, ctx, "perpetual-exploration", v)
         if len(out) >= LIVENESS_FINDINGS:
             break
-    return s, out[:LIVENESS_FINDINGS]
+    return out[:LIVENESS_FINDINGS]
 
 
 def livelocks(s: WorldSearch, ctx: Context, prop: str, node: int | None = None
@@ -445,10 +487,10 @@ def livelocks(s: WorldSearch, ctx: Context, prop: str, node: int | None = None
     return out
 
 
-TERMINATION_FIRST = True
-"""Terminating exploration: decide termination (on the states without the visited set)
-before the safety part (measured: fewer candidates, as counterexamples of termination name
-the views of the moves that matter)."""
+STAGE_STATES = 1_000
+"""States of the first stage of a candidate's exploration (:func:`staged`)."""
+STAGE_GROWTH = 8
+"""Each stage of :func:`staged` is this many times the one before."""
 SAFETY_FINDINGS = 8
 """Safety violations collected from one exploration (one clause each)."""
 LIVENESS_FINDINGS = 1
