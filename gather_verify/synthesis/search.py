@@ -178,6 +178,9 @@ class _Search:
                       for i in range(len(inst.configurations))]
         self.cexs: list[dict[str, Any]] = []
         self.clauses: list[dict[int, int]] = []
+        self.passes: dict[tuple[int, int, str], list[tuple[tuple[int, int], ...]]] = {}
+        """Per (part, start, rung): the answers of the views that recent passing
+        explorations read (:meth:`passed`)."""
         self.candidates = self.explored = 0
         self.limits = limits  # seconds, candidates, states, tree nodes, memory (MB)
 
@@ -273,11 +276,16 @@ class _Search:
         max_seconds, _, max_states, _, max_memory_mb = self.limits
         for rung in self.rungs:
             for p, idx in self.order:
+                passes = self.passes.setdefault((p, idx, rung), [])
+                if self.passed(choice, passes, reached):
+                    continue
                 left = max_seconds - (time.perf_counter() - self.started)
+                read: set[int] = set()
                 s, findings = explore(self.insts[p][rung], self.parts[p][1], choice, idx,
-                                      reached, Limits(max_states=max_states,
-                                                      max_seconds=max(left, 0.001),
-                                                      max_memory_mb=max_memory_mb))
+                                      read, Limits(max_states=max_states,
+                                                   max_seconds=max(left, 0.001),
+                                                   max_memory_mb=max_memory_mb))
+                reached |= read
                 self.explored += s.states
                 if s.stopped is not None:
                     return {"time": "max-seconds", "states": "max-states",
@@ -286,7 +294,24 @@ class _Search:
                     self.order.remove((p, idx))
                     self.order.insert(0, (p, idx))
                     return p, idx, rung, s, findings
+                if s.complete:
+                    passes.insert(0, tuple((k, choice[k]) for k in sorted(read)))
+                    del passes[PASSES:]
         return None
+
+    @staticmethod
+    def passed(choice: dict[int, int], passes: list[tuple[tuple[int, int], ...]],
+               reached: set[int]) -> bool:
+        """Whether ``choice`` answers as one of ``passes`` (the answers an earlier candidate's
+        passing exploration of this start read, most recent first) on every view it read:
+        its exploration would be that one, step for step, so it passes too; its views count
+        as reached (the witness's table holds them)."""
+        for j, reads in enumerate(passes):
+            if all(choice[k] == o for k, o in reads):
+                passes.insert(0, passes.pop(j))
+                reached.update(k for k, _ in reads)
+                return True
+        return False
 
     def learn(self, choice: dict[int, int], p: int, idx: int, rung: str, s: WorldSearch,
               findings: list[Finding]) -> None:
@@ -487,6 +512,8 @@ def livelocks(s: WorldSearch, ctx: Context, prop: str, node: int | None = None
     return out
 
 
+PASSES = 8
+"""Passing explorations remembered per start and rung (:meth:`_Search.passed`)."""
 STAGE_STATES = 1_000
 """States of the first stage of a candidate's exploration (:func:`staged`)."""
 STAGE_GROWTH = 8
