@@ -514,7 +514,7 @@ def livelocks(s: WorldSearch, ctx: Context, prop: str, node: int | None = None
 
 PASSES = 8
 """Passing explorations remembered per start and rung (:meth:`_Search.passed`)."""
-STAGE_STATES = 1_000
+STAGE_STATES = 200
 """States of the first stage of a candidate's exploration (:func:`staged`)."""
 STAGE_GROWTH = 8
 """Each stage of :func:`staged` is this many times the one before."""
