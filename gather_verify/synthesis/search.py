@@ -8,7 +8,9 @@ Boolean variable says "view k takes option o"; exactly one holds per view. The l
 2. the ordinary search (:func:`~gather_verify.engine.world_search.search`) explores every
    execution of that table from each initial configuration and the task's tests judge them:
    the safety parts as states are expanded (the search stops soon after the first
-   violation), the liveness parts on the whole space with every reduction off (§5, §11);
+   violation), the liveness parts with every reduction off (§5, §11), in stages: a fair
+   component among the first states is one of the whole space (:func:`staged`). A start
+   a recent candidate passed with the same answers on the views it read is skipped;
 3. all pass: the table is the witness (``exists``). A part fails: its counterexample is
    replayed (:func:`~gather_verify.synthesis.certificate.replay`) into the literals it
    relies on, and the clause "not all of these" is added. Every table with those literals
