@@ -22,6 +22,9 @@ EXIT_BUG = 70
 """An unexpected exception: a bug of gather-verify (``EX_SOFTWARE`` of ``sysexits.h``)."""
 EXIT_INTERRUPTED = 130
 """Ctrl-C (SIGINT): 128 + 2, as shells report it; one line on stderr says what was kept."""
+ANSWER_EXIT = {"exists": EXIT_OK, "none": EXIT_VIOLATED, "unknown": EXIT_INCOMPLETE,
+               "mixed": EXIT_OK}
+"""``synthesize``'s exit code of its answer (``mixed``: some starts exist, some are none)."""
 TIMING_KEYS = ("seconds", "search_seconds", "peak_rss_mb", "computed", "written",
                "union_fallbacks")
 """Report fields that vary from run to run (``computed``: how many rows a sweep computed

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from gather_verify.cli.common import (
+    ANSWER_EXIT,
     EXIT_BUG,
     EXIT_INCOMPLETE,
     EXIT_INTERRUPTED,
@@ -37,7 +38,6 @@ from schedulers import SCHEDULERS
 HELP = ("does any algorithm solve the task, on a finite world or the paper's (grid)? exists "
         "(with an algorithm file, verified), none (with a certificate) or unknown (with the "
         "limit that stopped it)")
-ANSWER_EXIT = {"exists": EXIT_OK, "none": EXIT_VIOLATED, "unknown": EXIT_INCOMPLETE}
 RULES_SHOWN = 12
 """Gap rules of a ring witness printed (the file and --json have them all)."""
 
