@@ -14,7 +14,6 @@ A luminous robot's code is an oblivious one's with its colour as one more digit,
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -25,6 +24,7 @@ from gather_verify import kernels
 from gather_verify.engine.bulk_step import successor_keys
 from gather_verify.engine.canonical_keys import Canon, decode_keys
 from gather_verify.engine.checks import Checks, ColumnChecks
+from gather_verify.engine.chunks import drive
 from gather_verify.engine.columns import (
     Growing,
     GrowingBits,
@@ -150,7 +150,7 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
     ``seeds`` first keys of ``index``: the limits, the properties evaluated on each chunk,
     the graph's columns (``reserve`` states and ``edges`` transitions reserved up front) and
     the stop; ``face`` does what oblivious and luminous robots do differently. Each chunk is
-    one :meth:`_Run.step`.
+    one :meth:`_Run.step`, driven by :func:`~gather_verify.engine.chunks.drive`.
 
     With the graph kept, what a state costs is mostly its edges: each is its target's id,
     three bytes while the ids fit (below ``2**24``), else four, and its weight, one bit while
@@ -159,19 +159,9 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
     them once the search is over and the hash table freed; no parents are stored (the
     edges give them, :func:`first_sources`)."""
     run = _Run(face, checks, columns, index, seeds, graph, reserve, edges,
-               min(limits.max_states, MAX_IDS))
+               min(limits.max_states, MAX_IDS), settle)
     PROGRESS.states = 1
-    sid = 0
-    while sid < index.count and run.stopped is None:
-        run.stopped = run.over_limits(limits, started)
-        if run.stopped is not None:
-            break
-        sid = run.step(sid)  # the chunk's arrays are gone when it returns
-        if run.stopped is not None:
-            break
-        PROGRESS.states = index.count  # read by a progress line (check --progress)
-        if settle and checks.settled():
-            run.stopped = Stop.SETTLED
+    drive(run, limits, started)
     return run.searched()
 
 
@@ -212,14 +202,16 @@ class _Chunk:
 
 
 class _Run:
-    """One bulk search between its chunks: the graph's columns (out-degrees, targets,
-    weights) or, without the graph, the parents; the transitions and changed self-loops
-    counted, the chunk size, the peak memory and why it stopped."""
+    """One bulk search on the paper's world between its chunks (:class:`~gather_verify.
+    engine.chunks.Chunks`): the graph's columns (out-degrees, targets, weights) or, without
+    the graph, the parents; the transitions and changed self-loops counted, where the next
+    chunk starts and its size, the peak memory and why it stopped."""
 
     def __init__(self, face: Face, checks: Checks, columns: ColumnChecks, index: KeyIndex,
-                 seeds: int, graph: bool, reserve: int, edges: int, max_states: int):
+                 seeds: int, graph: bool, reserve: int, edges: int, max_states: int,
+                 settle: bool):
         self.face, self.checks, self.columns, self.index = face, checks, columns, index
-        self.seeds, self.graph, self.max_states = seeds, graph, max_states
+        self.seeds, self.graph, self.max_states, self.settle = seeds, graph, max_states, settle
         self.parents = None if graph else Growing(np.int32, reserve)
         if self.parents is not None:
             self.parents.extend(np.full(seeds, -1, dtype=np.int32))
@@ -237,18 +229,28 @@ class _Run:
         self.stopped: Stop | str | None = None
         self.peak = rss_mb()
         self.chunk = face.chunk
+        self.sid = 0
 
-    def over_limits(self, limits: Limits, started: float) -> Stop | None:
-        """The time or memory limit passed before the next chunk, if one is."""
-        if time.perf_counter() - started > limits.max_seconds:
-            return Stop.TIME
+    def pending(self) -> bool:
+        """Whether stored states are left to expand."""
+        return self.sid < self.index.count
+
+    def rss(self) -> float:
+        """The memory in use now (MB), the peak kept."""
         self.peak = max(self.peak, rss_mb())
-        return Stop.MEMORY if self.peak > limits.max_memory_mb else None
+        return self.peak
 
-    def step(self, sid: int) -> int:
+    def chunk_done(self) -> None:
+        """The progress line's count; with ``settle``, stop once every property settled."""
+        PROGRESS.states = self.index.count  # read by a progress line (check --progress)
+        if self.settle and self.checks.settled():
+            self.stopped = Stop.SETTLED
+
+    def step(self, limits: Limits) -> None:
         """Expand the chunk of stored states from ``sid``: their events, the successors'
-        ids, the graph's columns, the properties; returns where the next chunk starts
-        (``stopped`` set when the search stops in this one)."""
+        ids, the graph's columns, the properties (``stopped`` set when the search stops in
+        it); the chunk's arrays are gone when it returns."""
+        sid = self.sid
         c = self._events(sid)
         self._cut(c)
         ids, first = self._identify(c)
@@ -257,7 +259,8 @@ class _Run:
         self._properties(c, sid, first)
         if c.stop is not None:
             self.stopped = c.stop
-        return c.hi
+        else:
+            self.sid = c.hi
 
     def _events(self, sid: int) -> _Chunk:
         """The chunk decoded, its halting and expansion properties evaluated, and the

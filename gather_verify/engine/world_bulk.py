@@ -48,6 +48,7 @@ import numpy as np
 from gather_verify import kernels
 from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
 from gather_verify.engine.bfs import EVENT_CUT
+from gather_verify.engine.chunks import drive
 from gather_verify.engine.columns import Growing, glibc
 from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop, rss_mb
 from gather_verify.engine.key_index import KeyIndex
@@ -534,7 +535,8 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
     ``robots`` and ``colours`` only give the number of robots): the union of their spaces,
     one state graph for them all (:mod:`gather_verify.sweeps.world_union`). The search's
     ``seed_ids`` give each seed's state ids (one per start of the scheduler). Each chunk of
-    stored states is one :meth:`_WorldRun.step`."""
+    stored states is one :meth:`_WorldRun.step`, driven by
+    :func:`~gather_verify.engine.chunks.drive`."""
     started = time.perf_counter()
     sched = as_scheduler(scheduler)
     n = len(robots)
@@ -545,20 +547,13 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
     if seeds is None:
         seeds = [(robots, tuple(colours) if colours is not None else (0,) * n)]
     run = _WorldRun(world, n, moves, sched, visits, anonymity, symmetries, meeting, seeds)
-    while run.expanded < run.stored_count():
-        if time.perf_counter() - started > limits.max_seconds:
-            run.stopped = Stop.TIME
-            break
-        if rss_mb() > limits.max_memory_mb:
-            run.stopped = Stop.MEMORY
-            break
-        if not run.step(limits):
-            break
+    drive(run, limits, started)
     return run.result(started)
 
 
 class _WorldRun:
-    """One bulk search of a finite world between its chunks: the plan of its keys, the
+    """One bulk search of a finite world between its chunks (:class:`~gather_verify.engine.
+    chunks.Chunks`): the plan of its keys, the
     reductions, the index of the stored states (and their representatives when reduced),
     the columns kept as chunks (parents, offsets, targets, robots' masks, crossings, final,
     stay), the transitions counted, the chunk size and why it stopped."""
@@ -623,14 +618,21 @@ class _WorldRun:
                               self.visits, self.n, self.world.size, plan.radix, plan.pend,
                               plan.colours, plan.adj, plan.vb, plan.pw)
 
-    def stored_count(self) -> int:
-        """How many states are stored so far."""
-        return self.index.count if self.reps is None else self.reps.size
+    def pending(self) -> bool:
+        """Whether stored states are left to expand."""
+        return self.expanded < (self.index.count if self.reps is None else self.reps.size)
 
-    def step(self, limits: Limits) -> bool:
+    def rss(self) -> float:
+        """The memory in use now (MB)."""
+        return rss_mb()
+
+    def chunk_done(self) -> None:
+        """Nothing between a finite world's chunks."""
+
+    def step(self, limits: Limits) -> None:
         """Expand the next chunk of stored states: their events, the successors' ids (cut
-        after the first state whose expansion passes the states limit), the columns, a halt;
-        False when the search stops in it."""
+        after the first state whose expansion passes the states limit), the columns, a halt
+        (``stopped`` set when the search stops in it)."""
         lo = self.expanded
         keys = _stored(self.index, self.reps, lo, lo + self.chunk)
         if not self.rounds and isinstance(self.configs, _Nodes):  # ASYNC by node: one pass
@@ -667,14 +669,13 @@ class _WorldRun:
         self.transitions += e_end
         self.expanded = lo + cut
         if self.stopped is not None:
-            return False
+            return
         if why_halt is not None:
             kind, reason, detail = why_halt
             self.halt = Halt(kind, self.expanded, reason, detail)
             self.stopped = kind
-            return False
+            return
         self.chunk = max(1, self.chunk // 2) if e_end > EVENTS else min(MAX_CHUNK, self.chunk * 2)
-        return True
 
     def _events(self, keys: np.ndarray, limits: Limits) -> tuple[Any, ...]:
         """The chunk's states decoded, their configurations' actions (up to the first that
