@@ -17,6 +17,7 @@ from gather_verify.cli.common import (
     UsageError,
     Words,
     add_configuration_arguments,
+    add_json_arguments,
     bounded_float,
     bounded_int,
     load_configuration,
@@ -154,10 +155,7 @@ def _output_arguments(parser: argparse.ArgumentParser) -> None:
                         help="print a progress line on stderr every SECONDS (states so far, "
                              "seconds, what is being done); default: every 2 s when stderr is "
                              "a terminal, never otherwise; 0: never")
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
-    parser.add_argument("--timings", action="store_true",
-                        help="with --json, also print the wall-clock seconds and peak memory "
-                             "(left out by default so the output is byte-for-byte reproducible)")
+    add_json_arguments(parser, "print one JSON object", "the wall-clock seconds and peak memory")
 
 
 def _rendezvous_options(parser: argparse.ArgumentParser) -> None:

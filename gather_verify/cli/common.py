@@ -43,6 +43,17 @@ class UsageError(InvalidInput):
     Fix: the message names the option; change it (``gather-verify COMMAND --help``)."""
 
 
+def add_json_arguments(parser: argparse.ArgumentParser, json_help: str | None, timings: str,
+                       reproducible: bool = True) -> None:
+    """``--json`` (``json_help``: what it prints) and ``--timings`` (``timings``: what it adds
+    to the JSON, left out by default so that the output is byte for byte reproducible)."""
+    parser.add_argument("--json", action="store_true", help=json_help)
+    parser.add_argument("--timings", action="store_true",
+                        help=f"with --json, also print {timings}" + (
+                            " (left out by default so the output is byte-for-byte "
+                            "reproducible)" if reproducible else ""))
+
+
 def writable_outputs(**paths: str | None) -> None:
     """Fail before any work when an output file could not be written afterwards, so a long
     check or sweep never ends in an unwritable path."""

@@ -26,6 +26,7 @@ from gather_verify.cli.common import (
     EXIT_VIOLATED,
     UsageError,
     Words,
+    add_json_arguments,
     bounded_float,
     bounded_int,
     print_json,
@@ -148,10 +149,7 @@ def _many_answer_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--rounds", type=bounded_int(0, 1000), default=12,
                    help="the paper's world: rounds of Theorem 1's adversary that a certificate "
                         "of none re-checks with the view code (default 12)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument("--timings", action="store_true",
-                   help="with --json, also print the seconds (left out by default so the "
-                        "output is byte-for-byte reproducible)")
+    add_json_arguments(p, "print one JSON object", "the seconds")
 
 
 def run(args: argparse.Namespace) -> int:
