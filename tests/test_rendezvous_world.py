@@ -288,6 +288,38 @@ def test_the_viewer_draws_every_step(tmp_path):
     assert "<img" not in viewer_html(hostile)  # a trace is data, never markup
 
 
+def test_browser_steps_through_a_rendezvous_trace(web, tmp_path):
+    """In a browser the viewer steps through a rendezvous trace state by state: the picture
+    shows both robots with the state's lights, the position, the robots' table changes with
+    the state; the cycle plays in a loop; nothing fails, nothing is fetched."""
+    from gather_verify.viewer import write_viewer
+
+    trace = run_rendezvous_check("vig-2cols", "async", movement="rigid")["trace"]
+    path = tmp_path / "v.html"
+    write_viewer(trace, str(path))
+    page = web.page
+    page.clock.install()  # timers run only when the test says so
+    page.goto(path.as_uri())
+    for k, step in enumerate(trace["steps"]):
+        if k:
+            page.keyboard.press("ArrowRight")
+        assert int(page.eval_on_selector("body", "b => b.dataset.step")) == k
+        state = step["state"]
+        assert page.eval_on_selector_all("#now g.robot", "gs => gs.map(g => g.dataset.light)") \
+            == [rr.colour_name(r["colour"]) for r in state["robots"]], k
+        assert page.eval_on_selector_all("#now .pending", "ls => ls.length") == sum(
+            r["pending"] != "stay" for r in state["robots"])
+        assert state["position"] in page.inner_text("#info")
+        rows = page.inner_text("#robots")
+        assert all(r["pending"] in rows for r in state["robots"])
+    assert "rendezvous fails" in page.inner_text("#end")
+    page.keyboard.press("End")
+    page.keyboard.press("l")  # loop the cycle: past the last state comes state cycle_start + 1
+    page.clock.run_for(1000)
+    assert int(page.eval_on_selector("body", "b => b.dataset.step")) == trace["cycle_start"] + 1
+    assert not web.errors and not web.remote
+
+
 def test_a_rendezvous_scenario_is_checked_and_tested(tmp_path):
     """A scenario of the rendezvous world: its expectations run through the one check, its
     stored trace replays; a wrong expectation fails; fields of other worlds are refused."""
