@@ -68,7 +68,7 @@ def test_no_two_colour_external_algorithm(scheduler):
 
 
 def test_a_tampered_certificate_is_refused():
-    cert = synthesize(1, "full", "ssync")["certificate"]
+    cert = synthesize(1, "full", "ssync", backjump=False)["certificate"]
     assert verify(cert)
     other = {**cert, "scheduler": "fsync"}  # to the midpoint gathers under fsync
     assert not verify(other)
@@ -78,6 +78,36 @@ def test_a_tampered_certificate_is_refused():
     lying = copy.deepcopy(cert)
     lying["tree"] = {"refuted": True}  # the empty table refutes nothing
     assert not verify(lying)
+    few = copy.deepcopy(cert)
+    few["tree"]["children"][0]["reads"] = []  # its failure reads a view
+    assert not verify(few)
+
+
+def _alone_nodes(node):
+    if "alone" in node:
+        yield node
+        yield from _alone_nodes(node["alone"])
+    for child in node.get("children", ()):
+        yield from _alone_nodes(child)
+
+
+@pytest.mark.parametrize("cell", [
+    (1, "full", "ssync", "non-rigid", "all"), (2, "internal", "ssync", "non-rigid", "all"),
+    pytest.param((3, "external", "async", "rigid", "all"), marks=pytest.mark.slow)])
+def test_backjumping_answers_as_the_full_split(cell):
+    """A split whose answer's failure does not read the view stands on that answer alone:
+    the same answer as splitting every view over every answer, no more tables, both
+    certificates re-checked; an ``alone`` node whose subtree reads its view is refused."""
+    plain = synthesize(*cell, backjump=False)
+    jumped = synthesize(*cell)
+    assert plain["answer"] == jumped["answer"] == "none"
+    assert jumped["tables"] <= plain["tables"]
+    assert verify(plain["certificate"]) and verify(jumped["certificate"])
+    assert list(_alone_nodes(jumped["certificate"]["tree"]))
+    root = plain["certificate"]["tree"]  # its first answer's failure reads the root's view
+    forged = {**plain["certificate"], "tree": {"view": root["view"], "answer": list(
+        answers(cell[0])[0]), "alone": root["children"][0]}}
+    assert not verify(forged)
 
 
 def test_the_time_limit_says_unknown():
@@ -223,7 +253,7 @@ def _nodes(node, table, setting, path=()):
 
 
 def test_a_renamed_leaf_needs_an_earlier_verified_renaming():
-    cert = synthesize(2, "internal", "ssync")["certificate"]
+    cert = synthesize(2, "internal", "ssync", backjump=False)["certificate"]
     setting = Setting(2, "internal", "ssync", "non-rigid", "all")
     assert verify(cert)
     first = copy.deepcopy(cert)
