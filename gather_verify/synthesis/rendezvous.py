@@ -319,30 +319,58 @@ class Search:
     done: set[Canon] = field(default_factory=set)
     order: list[Canon] = field(default_factory=list)
     """``done`` in the order it grew (a backjump forgets the subtrees it drops)."""
+    failures: dict[tuple[View, Answer], list[tuple[tuple[View, Answer], ...]]] = field(
+        default_factory=dict)
+    """The answers a refuted table's failure reads (:meth:`Setting.core`), under each of
+    them: any table that gives them all is refuted, unexplored."""
+    learned: int = 0
 
-    def below(self, table: dict[View, Answer], reached: Explored | None = None
-              ) -> tuple[dict[str, Any], frozenset[View]]:
+    def below(self, table: dict[View, Answer], reached: Explored | None = None,
+              last: tuple[View, Answer] | None = None) -> tuple[dict[str, Any], frozenset[View]]:
         """The case split below ``table`` (raises :class:`Found` at a witness) and the views
         its failure reads (every table that answers them as ``table`` does fails);
-        ``reached``: what the parent's table reached."""
+        ``reached``: what the parent's table reached; ``last``: the answer it added."""
         if time.perf_counter() > self.deadline:
             raise OutOfTime
         canon = self.setting.canonical(table, self.renamings) if self.renamings else None
         if canon in self.done:
             return {"renamed": True}, frozenset(table)
         self.tables += 1
-        refuted, need, graph = self.setting.explore(table, reached)
-        if refuted:
-            core = self.setting.core(graph)
-            node: dict[str, Any] = {"refuted": True, "reads": _sorted_views(core)}
-        elif need is None:
-            raise Found(table)
+        known = self.known(table, last)
+        if known is not None:
+            node: dict[str, Any] = {"refuted": True, "reads": _sorted_views(known)}
+            core = known
         else:
-            node, core = self.split(table, need, graph)
+            refuted, need, graph = self.setting.explore(table, reached)
+            if refuted:
+                core = self.setting.core(graph)
+                self.learn(table, core)
+                node = {"refuted": True, "reads": _sorted_views(core)}
+            elif need is None:
+                raise Found(table)
+            else:
+                node, core = self.split(table, need, graph)
         if canon is not None:
             self.done.add(canon)
             self.order.append(canon)
         return node, core
+
+    def learn(self, table: dict[View, Answer], reads: frozenset[View]) -> None:
+        """Remember the answers a refuted table's failure reads."""
+        if self.backjump:
+            failure = tuple((view, table[view]) for view in reads)
+            for given in failure:
+                self.failures.setdefault(given, []).append(failure)
+
+    def known(self, table: dict[View, Answer], last: tuple[View, Answer] | None
+              ) -> frozenset[View] | None:
+        """The views of a failure remembered by :meth:`learn` that ``table`` gives, with its
+        ``last`` answer (the others it gave were no failure), or None."""
+        for failure in self.failures.get(last, ()) if last is not None else ():
+            if all(table.get(view) == answer for view, answer in failure):
+                self.learned += 1
+                return frozenset(view for view, _ in failure)
+        return None
 
     def split(self, table: dict[View, Answer], need: View, graph: Explored
               ) -> tuple[dict[str, Any], frozenset[View]]:
@@ -355,7 +383,7 @@ class Search:
         for answer in answers(self.setting.colours):
             mark = len(self.order)
             table[need] = answer
-            child, reads = self.below(table, graph)
+            child, reads = self.below(table, graph, (need, answer))
             del table[need]
             if self.backjump and need not in reads:
                 # the children before it leave the certificate: a renamed leaf may not
