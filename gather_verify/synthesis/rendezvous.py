@@ -317,8 +317,6 @@ class Search:
     backjump: bool = True
     tables: int = 0
     done: set[Canon] = field(default_factory=set)
-    order: list[Canon] = field(default_factory=list)
-    """``done`` in the order it grew (a backjump forgets the subtrees it drops)."""
     failures: dict[tuple[View, Answer], list[tuple[tuple[View, Answer], ...]]] = field(
         default_factory=dict)
     """The answers a refuted table's failure reads (:meth:`Setting.core`), under each of
@@ -352,7 +350,6 @@ class Search:
                 node, core = self.split(table, need, graph)
         if canon is not None:
             self.done.add(canon)
-            self.order.append(canon)
         return node, core
 
     def learn(self, table: dict[View, Answer], reads: frozenset[View]) -> None:
@@ -375,23 +372,18 @@ class Search:
     def split(self, table: dict[View, Answer], need: View, graph: Explored
               ) -> tuple[dict[str, Any], frozenset[View]]:
         """One child per answer to ``need``. Backjumping: as soon as a child's failure does
-        not read ``need``, the table fails whatever ``need`` answers, and that child alone
-        stands for the split (``{"view", "answer", "alone"}``)."""
+        not read ``need``, the table fails whatever ``need`` answers, and the split ends
+        there (``"jump": true``; the children before stay, a renamed leaf may stand on
+        them)."""
         children: list[dict[str, Any]] = []
         core: set[View] = set()
-        first = len(self.order)
         for answer in answers(self.setting.colours):
-            mark = len(self.order)
             table[need] = answer
             child, reads = self.below(table, graph, (need, answer))
             del table[need]
-            if self.backjump and need not in reads:
-                # the children before it leave the certificate: a renamed leaf may not
-                # stand on them
-                self.done.difference_update(self.order[first:mark])
-                del self.order[first:mark]
-                return {"view": list(need), "answer": list(answer), "alone": child}, reads
             children.append(child)
+            if self.backjump and need not in reads:
+                return {"view": list(need), "children": children, "jump": True}, reads
             core |= reads - {need}
         return {"view": list(need), "children": children}, frozenset(core)
 
@@ -439,8 +431,8 @@ def synthesize(colours: int, lights: str, scheduler: str, movement: str = "non-r
 
 def verify(certificate: dict[str, Any]) -> bool:
     """Whether a ``none`` certificate holds: every inner node splits on one view over every
-    answer, or stands on one answer whose subtree's failure does not read the view
-    (``alone``: the views a failure reads are worked out here again, from the refuted
+    answer, or (``jump``) over the first answers up to one whose subtree's failure does not
+    read the view (the views a failure reads are worked out here again, from the refuted
     leaves up); every ``refuted`` leaf's partial table is refuted (a fair run that never
     gathers), and every ``renamed`` leaf's table is a renaming (one that keeps the initial
     states) of a table whose subtree, earlier in the tree, already holds."""
@@ -479,8 +471,6 @@ class _Verifier:
             return frozenset(table) if canon in self.done else None
         if node.get("refuted") is True:
             reads = self.refuted(node, table)
-        elif "alone" in node:
-            reads = self.alone(node, table)
         else:
             reads = self.split(node, table)
         if reads is not None:
@@ -506,25 +496,22 @@ class _Verifier:
         return cast(View, view) if known and view not in table else None
 
     def split(self, node: dict[str, Any], table: dict[View, Answer]) -> frozenset[View] | None:
+        """Every answer's child holds; or (``jump``) the children hold up to one whose
+        failure does not read the view, which then stands for every answer."""
         view, children = self.view(node, table), node.get("children")
-        if view is None or not isinstance(children, list) \
-                or len(children) != len(answers(self.setting.colours)):
+        jump, every = node.get("jump") is True, answers(self.setting.colours)
+        if view is None or not isinstance(children, list) or not (
+                1 <= len(children) <= len(every) if jump else len(children) == len(every)):
             return None
         reads: set[View] = set()
-        for answer, child in zip(answers(self.setting.colours), children, strict=True):
+        below: frozenset[View] | None = None
+        for answer, child in zip(every, children, strict=False):
             table[view] = answer
             below = self.holds(child, table)
             del table[view]
             if below is None:
                 return None
             reads |= below - {view}
+        if jump:
+            return below if below is not None and view not in below else None
         return frozenset(reads)
-
-    def alone(self, node: dict[str, Any], table: dict[View, Answer]) -> frozenset[View] | None:
-        view, answer = self.view(node, table), tuple(node.get("answer", ()))
-        if view is None or answer not in answers(self.setting.colours):
-            return None
-        table[view] = answer
-        below = self.holds(node["alone"], table)
-        del table[view]
-        return below if below is not None and view not in below else None
