@@ -306,3 +306,30 @@ def test_the_least_colours_tool_reads_k_at_least_k_and_more_than_the_bound():
     late = least("async-regular", "full", "non-rigid", "all", 3, 0.01)
     assert late["cell"].startswith("≥ ")
     assert "| `ssync` | **2** |  |  |" in markdown([two])
+
+
+def test_the_combined_table_carries_answers_to_the_variants_they_bound():
+    """A ``none`` under rigid moves from one colour holds in every variant, a witness under
+    non-rigid moves from every pair too; answers sharpened so are marked ``*``; one entry
+    where the four agree; an uncertified ``none`` counts for nothing."""
+    from tools.rendezvous_minimum import combined
+
+    def cell(movement, initial, *rows, lights="full"):
+        return {"model": "async", "lights": lights, "movement": movement,
+                "initial_colours": initial,
+                "rows": [{"colours": k, "answer": a, "certificate_holds": a == "none"}
+                         for k, a in rows]}
+
+    cells = [cell("rigid", "same", (1, "none"), (2, "none"), (3, "unknown")),
+             cell("non-rigid", "all", (1, "unknown")),
+             cell("rigid", "all", (1, "none"), (2, "none"), (3, "exists")),
+             cell("rigid", "same", (1, "none"), lights="external"),
+             cell("rigid", "all", (1, "none"), (2, "exists"), lights="external"),
+             cell("non-rigid", "all", (1, "none"), (2, "exists"), lights="external")]
+    row = combined(cells, 4).splitlines()[2]
+    assert row == ("| `async` | ≥ 3\\* / **3** / ≥ 3\\* / **3**\\* | "
+                   "**2** / **2** / **2**\\* / **2**\\* |  |"), row
+    assert "| **1** |  |" in combined([cell(*v, (1, "exists")) for v in (
+        ("rigid", "same"), ("rigid", "all"), ("non-rigid", "same"), ("non-rigid", "all"))], 4)
+    cells[0]["rows"][1]["certificate_holds"] = False
+    assert "≥ 2\\* / **3** / ≥ 2\\* / 2–3\\*" in combined(cells, 4)
