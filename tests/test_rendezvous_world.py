@@ -300,18 +300,18 @@ def test_browser_steps_through_a_rendezvous_trace(web, tmp_path):
     page = web.page
     page.clock.install()  # timers run only when the test says so
     page.goto(path.as_uri())
+    shown = """() => [Number(document.body.dataset.step),
+        [...document.querySelectorAll('#now g.robot')].map(g => g.dataset.light),
+        document.querySelectorAll('#now .pending').length,
+        document.getElementById('info').innerText, document.getElementById('robots').innerText]"""
     for k, step in enumerate(trace["steps"]):
         if k:
             page.keyboard.press("ArrowRight")
-        assert int(page.eval_on_selector("body", "b => b.dataset.step")) == k
+        at, lights, pending, info, rows = page.evaluate(shown)
         state = step["state"]
-        assert page.eval_on_selector_all("#now g.robot", "gs => gs.map(g => g.dataset.light)") \
-            == [rr.colour_name(r["colour"]) for r in state["robots"]], k
-        assert page.eval_on_selector_all("#now .pending", "ls => ls.length") == sum(
-            r["pending"] != "stay" for r in state["robots"])
-        assert state["position"] in page.inner_text("#info")
-        rows = page.inner_text("#robots")
-        assert all(r["pending"] in rows for r in state["robots"])
+        assert at == k and lights == [rr.colour_name(r["colour"]) for r in state["robots"]], k
+        assert pending == sum(r["pending"] != "stay" for r in state["robots"])
+        assert state["position"] in info and all(r["pending"] in rows for r in state["robots"])
     assert "rendezvous fails" in page.inner_text("#end")
     page.keyboard.press("End")
     page.keyboard.press("l")  # loop the cycle: past the last state comes state cycle_start + 1
