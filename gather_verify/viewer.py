@@ -297,15 +297,20 @@ def is_world_trace(trace: Any) -> bool:
 
 
 def world_pictures(trace: Any) -> Any:
-    """The world's own ``viewer_data`` for a trace of a world that draws its states itself
-    (it has no nodes to draw: the rendezvous world), or None. The page then shows the
-    world's picture of each state, its rows and its settings (``pictures``, ``states``,
+    """The annotation of a trace whose world draws its states itself, or None: the
+    rendezvous world's entry (two robots in the plane have no nodes to draw) has
+    :func:`gather_verify.rendezvous_picture.annotate`. The page then shows the world's
+    picture of each state, its rows and its settings (``pictures``, ``states``,
     ``columns``, ``meta``, ``legend``)."""
-    from gather_verify.worlds import NAMED_WORLDS
+    from gather_verify.worlds import NAMED_WORLDS, entry_of
+    from gather_verify.worlds.rendezvous import RENDEZVOUS
 
     name = trace.get("world") if isinstance(trace, dict) and "format" not in trace else None
-    world = NAMED_WORLDS.get(name) if isinstance(name, str) else None
-    return None if world is None else getattr(world(), "viewer_data", None)
+    if not isinstance(name, str) or name not in NAMED_WORLDS or entry_of(name) != RENDEZVOUS:
+        return None
+    from gather_verify.rendezvous_picture import annotate as pictured
+
+    return pictured
 
 
 def _bad(message: str) -> InvalidInput:

@@ -184,11 +184,3 @@ class RendezvousWorld:
     def drawing(self) -> None:
         return None
 
-    @staticmethod
-    def viewer_data(trace: dict[str, Any]) -> dict[str, Any]:
-        """What the viewer embeds for one of this world's traces: a picture per state (the
-        world draws its own states: two robots in the plane have no graph to draw)."""
-        from gather_verify.rendezvous_picture import annotate
-
-        return annotate(trace)
-
