@@ -455,9 +455,9 @@ def run_rendezvous(args: argparse.Namespace, scenario: Scenario | None = None) -
         Path(args.trace_out).write_text(json.dumps(report["trace"], indent=1) + "\n",
                                         encoding="utf-8")
     if args.html and report["trace"] is not None:
-        from gather_verify.rendezvous_picture import trace_html
+        from gather_verify.viewer import write_viewer
 
-        Path(args.html).write_text(trace_html(report["trace"]), encoding="utf-8")
+        write_viewer(report["trace"], args.html)
     expected = _expectation(scenario, algorithm, scheduler, report)
     _show(args, report, expected, lambda: _print_rendezvous(report))
     return _exit_code(report, expected)
