@@ -185,9 +185,13 @@ def annotate(trace: dict[str, Any], load_code: bool = True) -> dict[str, Any]:
     stale or not; for an event in the cycle of a livelock also the Look it executes when the
     cycle repeats, which can be a different one); ``provides``: which of the rows phase,
     guard and target the algorithm gives (:func:`provides`), and ``loaded``: whether the
-    algorithm was loaded at all. A trace of a finite world: :func:`annotate_world`."""
+    algorithm was loaded at all. A trace of a finite world: :func:`annotate_world`; of a
+    world that draws its own states: :func:`world_pictures`."""
     if is_world_trace(trace):
         return annotate_world(trace)
+    pictured = world_pictures(trace)
+    if pictured is not None:
+        return pictured(trace)
     trace = load_trace(trace)
     states = _states(trace)
     algorithm = _load_algorithm(trace["algorithm"], load_code)
@@ -290,6 +294,23 @@ def is_world_trace(trace: Any) -> bool:
 
     return isinstance(trace, dict) and "format" not in trace and isinstance(
         trace.get("world"), str) and entry_of(trace["world"]) == FINITE
+
+
+def world_pictures(trace: Any) -> Any:
+    """The annotation of a trace whose world draws its states itself, or None: the
+    rendezvous world's entry (two robots in the plane have no nodes to draw) has
+    :func:`gather_verify.rendezvous_picture.annotate`. The page then shows the world's
+    picture of each state, its rows and its settings (``pictures``, ``states``,
+    ``columns``, ``meta``, ``legend``)."""
+    from gather_verify.worlds import NAMED_WORLDS, entry_of
+    from gather_verify.worlds.rendezvous import RENDEZVOUS
+
+    name = trace.get("world") if isinstance(trace, dict) and "format" not in trace else None
+    if not isinstance(name, str) or name not in NAMED_WORLDS or entry_of(name) != RENDEZVOUS:
+        return None
+    from gather_verify.rendezvous_picture import annotate as pictured
+
+    return pictured
 
 
 def _bad(message: str) -> InvalidInput:
@@ -551,7 +572,8 @@ def viewer_html(trace: dict[str, Any], title: str | None = None, load_code: bool
     # "<" only occurs inside JSON strings; as \u003c it cannot end the <script> element
     text = text.replace("<", "\\u003c")
     name = title or (f"{trace['property']} fails: {trace['algorithm']} / {trace['scheduler']}"
-                     + (f" on {trace['world']}" if is_world_trace(trace) else ""))
+                     + (f" on {trace['world']}" if "format" not in trace
+                        and isinstance(trace.get("world"), str) else ""))
     return (_template().replace("/*DATA*/null", text)
             .replace("<!--TITLE-->", html.escape(name)))
 

@@ -68,7 +68,7 @@ def test_no_two_colour_external_algorithm(scheduler):
 
 
 def test_a_tampered_certificate_is_refused():
-    cert = synthesize(1, "full", "ssync")["certificate"]
+    cert = synthesize(1, "full", "ssync", backjump=False)["certificate"]
     assert verify(cert)
     other = {**cert, "scheduler": "fsync"}  # to the midpoint gathers under fsync
     assert not verify(other)
@@ -78,6 +78,35 @@ def test_a_tampered_certificate_is_refused():
     lying = copy.deepcopy(cert)
     lying["tree"] = {"refuted": True}  # the empty table refutes nothing
     assert not verify(lying)
+    few = copy.deepcopy(cert)
+    few["tree"]["children"][0]["reads"] = []  # its failure reads a view
+    assert not verify(few)
+
+
+def _jumps(node):
+    if node.get("jump"):
+        yield node
+    for child in node.get("children", ()):
+        yield from _jumps(child)
+
+
+@pytest.mark.parametrize("cell", [
+    (1, "full", "ssync", "non-rigid", "all"), (2, "internal", "ssync", "non-rigid", "all"),
+    pytest.param((3, "external", "async", "rigid", "all"), marks=pytest.mark.slow)])
+def test_backjumping_answers_as_the_full_split(cell):
+    """A split ends at an answer whose failure does not read the split view: the same answer
+    as splitting every view over every answer, no more tables, both certificates
+    re-checked; a split cut short at a child whose failure reads the view is refused."""
+    plain = synthesize(*cell, backjump=False)
+    jumped = synthesize(*cell)
+    assert plain["answer"] == jumped["answer"] == "none"
+    assert jumped["tables"] <= plain["tables"]
+    assert verify(plain["certificate"]) and verify(jumped["certificate"])
+    assert list(_jumps(jumped["certificate"]["tree"]))
+    root = plain["certificate"]["tree"]  # its first answer's failure reads the root's view
+    forged = {**plain["certificate"], "tree": {"view": root["view"], "jump": True,
+                                               "children": root["children"][:1]}}
+    assert not verify(forged)
 
 
 def test_the_time_limit_says_unknown():
@@ -223,7 +252,7 @@ def _nodes(node, table, setting, path=()):
 
 
 def test_a_renamed_leaf_needs_an_earlier_verified_renaming():
-    cert = synthesize(2, "internal", "ssync")["certificate"]
+    cert = synthesize(2, "internal", "ssync", backjump=False)["certificate"]
     setting = Setting(2, "internal", "ssync", "non-rigid", "all")
     assert verify(cert)
     first = copy.deepcopy(cert)
@@ -277,3 +306,30 @@ def test_the_least_colours_tool_reads_k_at_least_k_and_more_than_the_bound():
     late = least("async-regular", "full", "non-rigid", "all", 3, 0.01)
     assert late["cell"].startswith("≥ ")
     assert "| `ssync` | **2** |  |  |" in markdown([two])
+
+
+def test_the_combined_table_carries_answers_to_the_variants_they_bound():
+    """A ``none`` under rigid moves from one colour holds in every variant, a witness under
+    non-rigid moves from every pair too; answers sharpened so are marked ``*``; one entry
+    where the four agree; an uncertified ``none`` counts for nothing."""
+    from tools.rendezvous_minimum import combined
+
+    def cell(movement, initial, *rows, lights="full"):
+        return {"model": "async", "lights": lights, "movement": movement,
+                "initial_colours": initial,
+                "rows": [{"colours": k, "answer": a, "certificate_holds": a == "none"}
+                         for k, a in rows]}
+
+    cells = [cell("rigid", "same", (1, "none"), (2, "none"), (3, "unknown")),
+             cell("non-rigid", "all", (1, "unknown")),
+             cell("rigid", "all", (1, "none"), (2, "none"), (3, "exists")),
+             cell("rigid", "same", (1, "none"), lights="external"),
+             cell("rigid", "all", (1, "none"), (2, "exists"), lights="external"),
+             cell("non-rigid", "all", (1, "none"), (2, "exists"), lights="external")]
+    row = combined(cells, 4).splitlines()[2]
+    assert row == ("| `async` | ≥ 3\\* / **3** / ≥ 3\\* / **3**\\* | "
+                   "**2** / **2** / **2**\\* / **2**\\* |  |"), row
+    assert "| **1** |  |" in combined([cell(*v, (1, "exists")) for v in (
+        ("rigid", "same"), ("rigid", "all"), ("non-rigid", "same"), ("non-rigid", "all"))], 4)
+    cells[0]["rows"][1]["certificate_holds"] = False
+    assert "≥ 3\\* / **3** / ≥ 2\\* / 2–3\\*" in combined(cells, 4)

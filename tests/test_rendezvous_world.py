@@ -240,22 +240,84 @@ def test_the_sweep_command_rebuilds_the_table(tmp_path):
     assert done.returncode == 2 and "--robots" in done.stderr
 
 
-def test_the_picture_draws_every_step(tmp_path):
-    """``--html`` draws one frame per step: the segment, both robots with their lights, the
-    pending moves (a miss dashed and crossed), the robots of the step outlined."""
-    from gather_verify.rendezvous_picture import trace_html
+def test_the_viewer_draws_every_step(tmp_path):
+    """The viewer's page of a rendezvous trace carries one picture per state: the segment as
+    long as the position, both robots filled with their lights, a pending move as an arrow
+    (a miss dashed and crossed), the robots of the step outlined; ``check --html`` and
+    ``replay --html`` write that page; a damaged trace is one line."""
+    from gather_verify.rendezvous_picture import SPAN
+    from gather_verify.viewer import annotate, viewer_html
 
     trace = run_rendezvous_check("vig-2cols", "async", movement="rigid")["trace"]
-    page = trace_html(trace)
-    assert page.count("<svg class='step'") == len(trace["steps"])
-    misses = [k for k, s in enumerate(trace["steps"])
-              if any(r["pending"] == "miss" for r in s["state"]["robots"])]
-    assert misses and page.count("stroke-dasharray") >= len(misses)
-    out = tmp_path / "v.html"
+    data = annotate(trace)
+    assert len(data["pictures"]) == len(trace["steps"]) == len(data["events"]) + 1
+    for k, (step, picture) in enumerate(zip(trace["steps"], data["pictures"], strict=True)):
+        body, state = picture["body"], step["state"]
+        assert body.count("class='robot'") == 2 and data["states"][k]["summary"] == \
+            state["position"]
+        lights = [rr.colour_name(r["colour"]) for r in state["robots"]]
+        assert [body.split(f"data-robot='{n}' data-light='")[1].split("'")[0]
+                for n in "AB"] == lights
+        x1, x2 = (float(body.split("class='segment' ")[1].split(f"{a}='")[1].split("'")[0])
+                  for a in ("x1", "x2"))
+        assert x2 - x1 == SPAN[state["position"]]
+        pending = [r["pending"] for r in state["robots"] if r["pending"] != "stay"]
+        assert body.count("class='pending'") == len(pending)
+        assert body.count("stroke-dasharray") == pending.count("miss")
+        outlined = body.count("stroke='#1f77b4'")
+        assert outlined == (len(step["event"]["robots"]) if step["event"] else 0)
+    page = viewer_html(trace)
+    assert '"pictures":[' in page and "<script src" not in page
+    out, again = tmp_path / "v.html", tmp_path / "r.html"
+    stored = tmp_path / "t.json"
+    stored.write_text(json.dumps(trace))
     done = _cli("check", "--world", "rendezvous", "--algorithm", "vig-2cols", "--scheduler",
                 "async", "--movement", "rigid", "--html", str(out))
-    assert done.returncode == 1 and out.read_text().count("<svg class='step'") == len(
-        trace["steps"])
+    assert done.returncode == 1 and out.read_text() == page
+    done = _cli("replay", str(stored), "--html", str(again))
+    assert done.returncode == 1 and again.read_text() == page
+    broken = copy.deepcopy(trace)
+    broken["steps"][3]["event"]["robots"] = [2]
+    with pytest.raises(InvalidInput, match="step 3: an event's robots"):
+        annotate(broken)
+    broken = copy.deepcopy(trace)
+    broken["steps"][2]["state"]["robots"][0]["colour"] = "<b>"
+    with pytest.raises(InvalidInput, match="step 2"):
+        annotate(broken)
+    hostile = {**trace, "algorithm": "</script><img src=x onerror=alert(1)>"}
+    assert "<img" not in viewer_html(hostile)  # a trace is data, never markup
+
+
+def test_browser_steps_through_a_rendezvous_trace(web, tmp_path):
+    """In a browser the viewer steps through a rendezvous trace state by state: the picture
+    shows both robots with the state's lights, the position, the robots' table changes with
+    the state; the cycle plays in a loop; nothing fails, nothing is fetched."""
+    from gather_verify.viewer import write_viewer
+
+    trace = run_rendezvous_check("vig-2cols", "async", movement="rigid")["trace"]
+    path = tmp_path / "v.html"
+    write_viewer(trace, str(path))
+    page = web.page
+    page.clock.install()  # timers run only when the test says so
+    page.goto(path.as_uri())
+    shown = """() => [Number(document.body.dataset.step),
+        [...document.querySelectorAll('#now g.robot')].map(g => g.dataset.light),
+        document.querySelectorAll('#now .pending').length,
+        document.getElementById('info').innerText, document.getElementById('robots').innerText]"""
+    for k, step in enumerate(trace["steps"]):
+        if k:
+            page.keyboard.press("ArrowRight")
+        at, lights, pending, info, rows = page.evaluate(shown)
+        state = step["state"]
+        assert at == k and lights == [rr.colour_name(r["colour"]) for r in state["robots"]], k
+        assert pending == sum(r["pending"] != "stay" for r in state["robots"])
+        assert state["position"] in info and all(r["pending"] in rows for r in state["robots"])
+    assert "rendezvous fails" in page.inner_text("#end")
+    page.keyboard.press("End")
+    page.keyboard.press("l")  # loop the cycle: past the last state comes state cycle_start + 1
+    page.clock.run_for(1000)
+    assert int(page.eval_on_selector("body", "b => b.dataset.step")) == trace["cycle_start"] + 1
+    assert not web.errors and not web.remote
 
 
 def test_a_rendezvous_scenario_is_checked_and_tested(tmp_path):

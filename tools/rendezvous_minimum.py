@@ -12,6 +12,16 @@ repository's root::
 A cell reads ``K`` (a verified witness with K colours and a re-checked ``none`` for every
 smaller number), ``≥ K`` (re-checked ``none`` below K, K unknown within the budget) or
 ``> B`` (``none`` up to the bound B).
+
+``--combine FILE...`` reads the JSON of such runs (any number, for any movements and
+initial colours; a longer run of one cell adds its answers) and prints the table of four
+answers per cell: non-rigid moves from every colour pair, rigid from every pair, non-rigid
+from one colour for both, rigid from one colour. The answers bound one another: a rigid
+run is a non-rigid run and one colour for both is one of the pairs, so a ``none`` under
+rigid moves or from one colour holds under non-rigid moves or from every pair, and a
+witness goes the other way. An answer that such a consequence sharpens is marked ``*``::
+
+    python -m tools.rendezvous_minimum --combine out/minimum-*.json
 """
 
 from __future__ import annotations
@@ -69,6 +79,59 @@ def markdown(cells: list[dict[str, Any]]) -> str:
     return "\n".join(lines) + "\n"
 
 
+VARIANTS = (("non-rigid", "all"), ("rigid", "all"), ("non-rigid", "same"), ("rigid", "same"))
+"""The four answers of a cell, in the order the combined table gives them."""
+
+
+def _implies(weak: tuple[str, str], strong: tuple[str, str]) -> bool:
+    """Whether a witness under ``weak`` (movement, initial colours) is one under ``strong``
+    (every run of ``strong`` is a run of ``weak``), and so a ``none`` goes the other way."""
+    return all(w in (s, wide) for w, s, wide in zip(weak, strong, ("non-rigid", "all"),
+                                                        strict=True))
+
+
+def _text(none: set[int], exists: set[int], bound: int) -> str:
+    low = next(k for k in range(1, bound + 2) if k not in none)
+    least = min(exists, default=None)
+    if least is not None and least <= low:
+        return f"**{least}**"
+    if low > bound:
+        return f"> {bound}"
+    return f"≥ {low}" if least is None else f"{low}–{least}"
+
+
+def combined(cells: list[dict[str, Any]], bound: int) -> str:
+    """The table of four answers per cell (see the module's text), with ``*`` where another
+    variant's answers sharpen a cell's own; one entry where the four agree."""
+    facts: dict[tuple[str, str], dict[tuple[str, str], tuple[set[int], set[int]]]] = {}
+    for c in cells:
+        own = facts.setdefault((c["model"], c["lights"]), {}).setdefault(
+            (c["movement"], c["initial_colours"]), (set(), set()))
+        for r in c["rows"]:
+            if r["answer"] == "none" and r.get("certificate_holds"):
+                own[0].add(r["colours"])
+            if r["answer"] == "exists":
+                own[1].add(r["colours"])
+    lines = ["| model | " + " | ".join(LIGHTS) + " |", "|---|" + "---|" * len(LIGHTS)]
+    for model in MODELS:
+        row = []
+        for kind in LIGHTS:
+            known = facts.get((model, kind), {})
+            texts = []
+            for v in VARIANTS:
+                none, exists = known.get(v, (set(), set()))
+                every_none = set().union(*(n for u, (n, _) in known.items() if _implies(v, u)))
+                every_exists = set().union(*(e for u, (_, e) in known.items()
+                                             if _implies(u, v)))
+                text = _text(every_none, every_exists, bound)
+                texts.append(text + ("\\*" if text != _text(none, exists, bound) else ""))
+            row.append(texts[0].replace("\\*", "") if len(set(texts)) == 1 and known
+                       else " / ".join(texts) if known else "")
+        if any(row):
+            lines.append(f"| `{model}` | " + " | ".join(row) + " |")
+    return "\n".join(lines) + "\n"
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m tools.rendezvous_minimum",
                                 description=__doc__.split("\n\n")[0])
@@ -80,7 +143,13 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--lights", default=",".join(LIGHTS))
     p.add_argument("--out", help="JSON of every cell's rows")
     p.add_argument("--markdown", help="the table")
+    p.add_argument("--combine", nargs="+", metavar="FILE",
+                   help="print the table of four answers per cell from these runs' JSON")
     args = p.parse_args(argv)
+    if args.combine:
+        cells = [c for f in args.combine for c in json.loads(Path(f).read_text("utf-8"))]
+        sys.stdout.write(combined(cells, args.bound))
+        return 0
     cells = []
     for model in args.models.split(","):
         for kind in args.lights.split(","):

@@ -6,13 +6,13 @@
     python docs/img/screenshots.py --worlds    # the pictures of finite worlds only
     python -m sphinx -W -n --keep-going -b html docs docs/_build/html
     python docs/img/screenshots.py --site      # the built site's landing and findings pages
-    python docs/img/screenshots.py --rendezvous  # the rendezvous world's picture only
+    python docs/img/screenshots.py --rendezvous  # a rendezvous counterexample in the viewer only
 
 Writes viewer-f4-deadlock.png, viewer-f6-livelock.png, viewer-async-stale.png, report.png,
 trace-svg.png and moves.png next to this file, and the pictures of finite worlds
 (docs/worlds.md): world-viewer-ring.png, world-viewer-graph.png, world-viewer-lights.png,
 z2-viewer-lights.png and world-svg-torus.png, and the rendezvous world's step-by-step
-picture (docs/rendezvous.md): rendezvous-vig2-async-miss.png (PNG, palette-reduced to stay
+picture in the viewer (docs/rendezvous.md): rendezvous-vig2-async-miss.png (PNG, palette-reduced to stay
 small). ``--site`` builds nothing: it photographs the landing page
 and the findings page of a site already built in docs/_build/html (site-index.png,
 site-findings.png, 1200 pixels wide, the top of each page).
@@ -131,8 +131,9 @@ def worlds() -> None:
 
 
 def rendezvous() -> None:
-    """The rendezvous world's picture (its own page: two robots on a segment), at step 15 of
-    vig-2cols's ASYNC counterexample (rigid moves): A moving to B, B's move a miss."""
+    """A rendezvous counterexample in the viewer (two robots on a segment, their lights and
+    pending moves), at event 15 of vig-2cols's ASYNC counterexample (rigid moves): A moving
+    to B, B's move a miss."""
     page_file = Path(tempfile.mkdtemp()) / "vig2.html"
     gv("check", "--world", "rendezvous", "--algorithm", "vig-2cols", "--scheduler", "async",
        "--movement", "rigid", "--html", str(page_file))
@@ -140,9 +141,10 @@ def rendezvous() -> None:
     chromium = shutil.which("chromium") or "/usr/bin/chromium"
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=chromium, args=["--disable-gpu", "--no-sandbox"])
-        page = browser.new_page(viewport={"width": 640, "height": 420})
-        page.goto(page_file.as_uri() + "?step=15")
-        page.screenshot(path=HERE / out, full_page=True)
+        page = browser.new_page(viewport={"width": 1100, "height": 640})
+        page.goto(page_file.as_uri())
+        page.evaluate("window.viewer.go(15)")
+        page.screenshot(path=HERE / out)
         browser.close()
     small(HERE / out)
     print(f"{out}: {(HERE / out).stat().st_size // 1024} KB")

@@ -17,6 +17,7 @@ from gather_verify.cli.common import (
     UsageError,
     Words,
     add_configuration_arguments,
+    add_json_arguments,
     bounded_float,
     bounded_int,
     load_configuration,
@@ -35,6 +36,8 @@ from gather_verify.worlds.base import decimal
 from schedulers import SCHEDULERS
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from gather_verify.engine.explore import Exploration
     from gather_verify.scenario import Scenario
 
@@ -124,21 +127,25 @@ def _limit_arguments(parser: argparse.ArgumentParser) -> None:
                              "configuration is in U or UNCLASSIFIED")
 
 
+_FILE_OUTPUTS = (
+    ("--trace-out", "write the counterexample trace (JSON)"),
+    ("--svg", "write the trace as an SVG storyboard"),
+    ("--html", "write the trace as an interactive viewer (one self-contained HTML file: step "
+               "through it, stale snapshots, the cycle of a livelock)"),
+    ("--graph-out", "the paper's world only: write the reachable state graph: GraphML "
+                    "(.graphml) or DOT (.dot, .gv); with reductions on, a node is a class of "
+                    "states (docs/explorer.md)"),
+    ("--junit", "the paper's world only: write the verdict as a JUnit XML test case (for CI "
+                "servers)"),
+)
+"""The files a check writes, with the help of each (``--FLAG FILE``)."""
+
+
 def _output_arguments(parser: argparse.ArgumentParser) -> None:
     """What the check writes: the trace and its pictures, the graph, JUnit, the readings'
     table, progress lines, JSON."""
-    parser.add_argument("--trace-out", metavar="FILE", help="write the counterexample trace (JSON)")
-    parser.add_argument("--svg", metavar="FILE", help="write the trace as an SVG storyboard")
-    parser.add_argument("--html", metavar="FILE",
-                        help="write the trace as an interactive viewer (one self-contained HTML "
-                             "file: step through it, stale snapshots, the cycle of a livelock)")
-    parser.add_argument("--graph-out", metavar="FILE",
-                        help="the paper's world only: write the reachable state graph: GraphML (.graphml) or DOT (.dot, "
-                             ".gv); with reductions on, a node is a class of states "
-                             "(docs/explorer.md)")
-    parser.add_argument("--junit", metavar="FILE",
-                        help="the paper's world only: write the verdict as a JUnit XML test "
-                             "case (for CI servers)")
+    for flag, text in _FILE_OUTPUTS:
+        parser.add_argument(flag, metavar="FILE", help=text)
     parser.add_argument("--readings", metavar="all|OPTION[=V1|V2],...",
                         help="the paper's world only: run the paper's algorithm under every "
                              "reading of its ambiguous "
@@ -148,10 +155,7 @@ def _output_arguments(parser: argparse.ArgumentParser) -> None:
                         help="print a progress line on stderr every SECONDS (states so far, "
                              "seconds, what is being done); default: every 2 s when stderr is "
                              "a terminal, never otherwise; 0: never")
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
-    parser.add_argument("--timings", action="store_true",
-                        help="with --json, also print the wall-clock seconds and peak memory "
-                             "(left out by default so the output is byte-for-byte reproducible)")
+    add_json_arguments(parser, "print one JSON object", "the wall-clock seconds and peak memory")
 
 
 def _rendezvous_options(parser: argparse.ArgumentParser) -> None:
@@ -232,8 +236,6 @@ def _run_plane(args: argparse.Namespace) -> int:
         return EXIT_INTERRUPTED
     algorithm, scheduler = options["algorithm"], options["scheduler"]
     expected = _expectation(scenario, algorithm, scheduler, report)
-    if expected is not None:
-        report["expectation"] = expected
     if args.graph_out:
         if explored:
             write_graph(explored[-1], args.graph_out)
@@ -247,19 +249,14 @@ def _run_plane(args: argparse.Namespace) -> int:
         name = (f"{report['class']} robots={sorted(map(list, configuration.robots))} "
                 f"meeting={sorted(map(list, configuration.meeting_nodes))}")
         write_junit(args.junit, f"check.{algorithm}.{scheduler}", [{**report, "name": name}])
-    if args.json:
-        print_json(report if args.timings else without_timings(report))
-    else:
-        _print_plane(args, report, f"{algorithm} / {scheduler}", expected)
+    _show(args, report, expected, lambda: _print_plane(report, f"{algorithm} / {scheduler}"))
     if args.readings:
         from gather_verify.paper.readings import ROBUSTNESS_EXIT, format_readings
 
         if not args.json:
             format_readings(report)
         return ROBUSTNESS_EXIT[report["robustness"]]
-    if expected is not None:  # a scenario test: matched is success, whatever the verdict
-        return EXIT_OK if expected["matched"] else EXIT_VIOLATED
-    return VERDICT_EXIT[report["verdict"]]
+    return _exit_code(report, expected)
 
 
 def _plane_options(args: argparse.Namespace, scenario: Any) -> dict[str, Any]:
@@ -291,8 +288,7 @@ def _plane_options(args: argparse.Namespace, scenario: Any) -> dict[str, Any]:
     return out
 
 
-def _print_plane(args: argparse.Namespace, report: dict[str, Any], what: str,
-                 expected: dict[str, Any] | None) -> None:
+def _print_plane(report: dict[str, Any], what: str) -> None:
     """The text report of a check on Z²: verdict, counts, each property, the trace."""
     from gather_verify.plane_check import drift_line
     from gather_verify.render import render_trace
@@ -317,9 +313,6 @@ def _print_plane(args: argparse.Namespace, report: dict[str, Any], what: str,
         print(f"  {name:18} not applicable: {why}")
     if report["trace"] is not None:
         print(render_trace(report["trace"]))
-    if expected is not None:
-        print(f"expectation of {args.scenario}: "
-              + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
 
 
 def _plane_of_lights(args: argparse.Namespace) -> bool:
@@ -355,7 +348,7 @@ PLANE_ONLY = ("readings", "margin", "keep_growing", "force", "graph_out", "junit
 def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int:
     """``check --world W`` (or a scenario file with a ``world``): the finite-world search
     (:mod:`gather_verify.world_check`)."""
-    from gather_verify.world_check import render_world_trace, run_world_check
+    from gather_verify.world_check import run_world_check
     from gather_verify.worlds import FINITE, entry_of
 
     world = args.world if entry_of(args.world) == FINITE else scenario.raw["world"]
@@ -394,34 +387,31 @@ def run_world(args: argparse.Namespace, scenario: Scenario | None = None) -> int
               file=sys.stderr)
         return EXIT_INTERRUPTED
     expected = _expectation(scenario, algorithm, scheduler, report)
-    if expected is not None:
-        report["expectation"] = expected
-    trace = report["trace"]
     _write_pictures(args, report)
-    if args.json:
-        print_json(report if args.timings else without_timings(report))
-    else:
-        print(f"{report['verdict']}  {report['world']}  task {report['task']}  "
-              f"{report['algorithm']} / {report['scheduler']}")
-        if report["reason"]:
-            print(f"{'property ' + report['property'] if report['property'] else 'reason'}: "
-                  f"{report['reason']}")
-        print(f"states {report['states']}  transitions {report['transitions']}  "
-              f"reductions {report['reductions']}  {report['seconds']:.2f}s  "
-              f"engine {report['engine']}")
-        if report.get("engine_fallback"):
-            print(f"(the bulk engine cannot run this check: {report['engine_fallback']})")
-        for name, result in report["properties"].items():
-            holds = {True: "holds", False: "FAILS", None: "unknown"}[result["holds"]]
-            print(f"  {name:24} {holds}  {result.get('reason', '')}".rstrip())
-        if trace is not None:
-            print(render_world_trace(trace))
-        if expected is not None:
-            print(f"expectation of {args.scenario}: "
-                  + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
-    if expected is not None:
-        return EXIT_OK if expected["matched"] else EXIT_VIOLATED
-    return VERDICT_EXIT[report["verdict"]]
+    _show(args, report, expected, lambda: _print_world(report))
+    return _exit_code(report, expected)
+
+
+def _print_world(report: dict[str, Any]) -> None:
+    """The text report of a check on a finite world: verdict, counts, each property, the
+    trace."""
+    from gather_verify.world_check import render_world_trace
+
+    print(f"{report['verdict']}  {report['world']}  task {report['task']}  "
+          f"{report['algorithm']} / {report['scheduler']}")
+    if report["reason"]:
+        print(f"{'property ' + report['property'] if report['property'] else 'reason'}: "
+              f"{report['reason']}")
+    print(f"states {report['states']}  transitions {report['transitions']}  "
+          f"reductions {report['reductions']}  {report['seconds']:.2f}s  "
+          f"engine {report['engine']}")
+    if report.get("engine_fallback"):
+        print(f"(the bulk engine cannot run this check: {report['engine_fallback']})")
+    for name, result in report["properties"].items():
+        holds = {True: "holds", False: "FAILS", None: "unknown"}[result["holds"]]
+        print(f"  {name:24} {holds}  {result.get('reason', '')}".rstrip())
+    if report["trace"] is not None:
+        print(render_world_trace(report["trace"]))
 
 
 RENDEZVOUS_TAKES = ("algorithm", "scheduler", "movement", "initial_colours", "max_states",
@@ -433,7 +423,7 @@ RENDEZVOUS_TAKES = ("algorithm", "scheduler", "movement", "initial_colours", "ma
 def run_rendezvous(args: argparse.Namespace, scenario: Scenario | None = None) -> int:
     """``check --world rendezvous`` (or a rendezvous scenario file): two robots with lights in
     the plane under one of §13's synchrony models (:mod:`gather_verify.rendezvous_check`)."""
-    from gather_verify.rendezvous_check import render_rendezvous_trace, run_rendezvous_check
+    from gather_verify.rendezvous_check import run_rendezvous_check
 
     defaults = {"engine": "auto", "max_states": DEFAULT_MAX_STATES,
                 "max_seconds": DEFAULT_MAX_SECONDS, "move_bound_c": 4.0}
@@ -465,35 +455,33 @@ def run_rendezvous(args: argparse.Namespace, scenario: Scenario | None = None) -
         Path(args.trace_out).write_text(json.dumps(report["trace"], indent=1) + "\n",
                                         encoding="utf-8")
     if args.html and report["trace"] is not None:
-        from gather_verify.rendezvous_picture import trace_html
+        from gather_verify.viewer import write_viewer
 
-        Path(args.html).write_text(trace_html(report["trace"]), encoding="utf-8")
+        write_viewer(report["trace"], args.html)
     expected = _expectation(scenario, algorithm, scheduler, report)
-    if expected is not None:
-        report["expectation"] = expected
-    if args.json:
-        print_json(report if args.timings else without_timings(report))
-    else:
-        print(f"{report['verdict']}  rendezvous  {report['algorithm']} / {report['scheduler']}  "
-              f"{report['movement']}, initial colours {report['initial_colours']}")
-        if report["reason"]:
-            print(f"reason: {report['reason']}")
-        print(f"states {report['states']}  transitions {report['transitions']}  "
-              f"initial states {report['initial_states']}  {report['seconds']:.2f}s")
-        if report["trace"] is not None:
-            print(render_rendezvous_trace(report["trace"]))
-        if expected is not None:
-            print(f"expectation of {args.scenario}: "
-                  + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
-    if expected is not None:
-        return EXIT_OK if expected["matched"] else EXIT_VIOLATED
-    return VERDICT_EXIT[report["verdict"]]
+    _show(args, report, expected, lambda: _print_rendezvous(report))
+    return _exit_code(report, expected)
+
+
+def _print_rendezvous(report: dict[str, Any]) -> None:
+    """The text report of a check on the rendezvous world: verdict, counts, the trace."""
+    from gather_verify.rendezvous_check import render_rendezvous_trace
+
+    print(f"{report['verdict']}  rendezvous  {report['algorithm']} / {report['scheduler']}  "
+          f"{report['movement']}, initial colours {report['initial_colours']}")
+    if report["reason"]:
+        print(f"reason: {report['reason']}")
+    print(f"states {report['states']}  transitions {report['transitions']}  "
+          f"initial states {report['initial_states']}  {report['seconds']:.2f}s")
+    if report["trace"] is not None:
+        print(render_rendezvous_trace(report["trace"]))
 
 
 def _expectation(scenario: Scenario | None, algorithm: str, scheduler: str,
                  report: dict[str, Any]) -> dict[str, Any] | None:
     """Whether ``report`` meets the scenario's expectation for this algorithm and scheduler
-    (and its expected class); None when the scenario has none."""
+    (and its expected class), also kept in the report as ``expectation``; None when the
+    scenario has none."""
     if scenario is None:
         return None
     from gather_verify.scenario_tests import expectation_for, expectation_mismatch
@@ -504,8 +492,30 @@ def _expectation(scenario: Scenario | None, algorithm: str, scheduler: str,
     why = expectation_mismatch(expectation, report)
     if why is None and scenario.expected_class not in (None, report.get("class")):
         why = f"expected class {scenario.expected_class}, got {report['class']}"
-    return {"matched": why is None, "mismatch": why, "verdict": expectation.verdict,
-            "property": expectation.property}
+    report["expectation"] = {"matched": why is None, "mismatch": why,
+                             "verdict": expectation.verdict, "property": expectation.property}
+    return report["expectation"]
+
+
+def _show(args: argparse.Namespace, report: dict[str, Any], expected: dict[str, Any] | None,
+          text: Callable[[], None]) -> None:
+    """Print the report: one JSON object, or ``text``'s lines and the scenario's expectation
+    met or not."""
+    if args.json:
+        print_json(report if args.timings else without_timings(report))
+        return
+    text()
+    if expected is not None:
+        print(f"expectation of {args.scenario}: "
+              + ("matched" if expected["matched"] else f"NOT matched: {expected['mismatch']}"))
+
+
+def _exit_code(report: dict[str, Any], expected: dict[str, Any] | None) -> int:
+    """The verdict's exit code; on a scenario with an expectation, met is success whatever
+    the verdict."""
+    if expected is not None:
+        return EXIT_OK if expected["matched"] else EXIT_VIOLATED
+    return VERDICT_EXIT[report["verdict"]]
 
 
 def _write_pictures(args: argparse.Namespace, report: dict[str, Any]) -> None:

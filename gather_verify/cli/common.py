@@ -22,6 +22,9 @@ EXIT_BUG = 70
 """An unexpected exception: a bug of gather-verify (``EX_SOFTWARE`` of ``sysexits.h``)."""
 EXIT_INTERRUPTED = 130
 """Ctrl-C (SIGINT): 128 + 2, as shells report it; one line on stderr says what was kept."""
+ANSWER_EXIT = {"exists": EXIT_OK, "none": EXIT_VIOLATED, "unknown": EXIT_INCOMPLETE,
+               "mixed": EXIT_OK}
+"""``synthesize``'s exit code of its answer (``mixed``: some starts exist, some are none)."""
 TIMING_KEYS = ("seconds", "search_seconds", "peak_rss_mb", "computed", "written",
                "union_fallbacks")
 """Report fields that vary from run to run (``computed``: how many rows a sweep computed
@@ -38,6 +41,17 @@ class UsageError(InvalidInput):
 
     Cause: options that contradict each other, or an output path that cannot be written.
     Fix: the message names the option; change it (``gather-verify COMMAND --help``)."""
+
+
+def add_json_arguments(parser: argparse.ArgumentParser, json_help: str | None, timings: str,
+                       reproducible: bool = True) -> None:
+    """``--json`` (``json_help``: what it prints) and ``--timings`` (``timings``: what it adds
+    to the JSON, left out by default so that the output is byte for byte reproducible)."""
+    parser.add_argument("--json", action="store_true", help=json_help)
+    parser.add_argument("--timings", action="store_true",
+                        help=f"with --json, also print {timings}" + (
+                            " (left out by default so the output is byte-for-byte "
+                            "reproducible)" if reproducible else ""))
 
 
 def writable_outputs(**paths: str | None) -> None:

@@ -110,11 +110,6 @@ def run_rendezvous(args: argparse.Namespace, trace: dict[str, Any]) -> int:
     except NoLongerReproduces as error:
         result = Replayed(False, str(error), len(trace["steps"]) - 1)
         why = "step-not-taken"
-    if args.html:
-        from gather_verify.rendezvous_picture import trace_html
-
-        Path(args.html).write_text(trace_html(trace), encoding="utf-8")
-        args.html = None  # drawn here: the graph worlds' viewer does not draw the plane
     return _answer(args, trace, result, why, render_rendezvous_trace, {"world": "rendezvous"})
 
 

@@ -6,7 +6,7 @@ import argparse
 import sys
 from typing import Any
 
-from gather_verify.cli.common import print_json, without_timings
+from gather_verify.cli.common import add_json_arguments, print_json, without_timings
 from gather_verify.errors import InvalidInput
 
 HELP = "render the sweeps stored in a results database"
@@ -25,9 +25,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--algorithm", metavar="NAME",
                    help="only the sweeps of this algorithm: its spec, or its name with any "
                         "options (paper names paper:alpha=mer_f), or the NAME of FILE.py:NAME")
-    p.add_argument("--json", action="store_true")
-    p.add_argument("--timings", action="store_true",
-                   help="with --json, also print the slowest configurations and their seconds")
+    add_json_arguments(p, None, "the slowest configurations and their seconds",
+                       reproducible=False)
 
 
 def run(args: argparse.Namespace) -> int:

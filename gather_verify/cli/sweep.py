@@ -12,6 +12,7 @@ from typing import Any
 from gather_verify.cli.common import (
     EXIT_INCOMPLETE,
     EXIT_INTERRUPTED,
+    add_json_arguments,
     bounded_float,
     bounded_int,
     parse_box,
@@ -40,10 +41,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--readings-types", default=None, metavar="TYPE,...",
                    help="with --readings: only configurations whose M is of these types "
                         "(I1-ordered, I13, reflection, rotation; default all)")
-    p.add_argument("--json", action="store_true", help="print the summary as JSON")
-    p.add_argument("--timings", action="store_true",
-                   help="with --json, also print the slowest configurations and their seconds "
-                        "(left out by default so the output is byte-for-byte reproducible)")
+    add_json_arguments(p, "print the summary as JSON",
+                       "the slowest configurations and their seconds")
 
 
 def _what_arguments(p: argparse.ArgumentParser) -> None:

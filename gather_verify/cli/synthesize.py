@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from gather_verify.cli.common import (
+    ANSWER_EXIT,
     EXIT_BUG,
     EXIT_INCOMPLETE,
     EXIT_INTERRUPTED,
@@ -25,6 +26,7 @@ from gather_verify.cli.common import (
     EXIT_VIOLATED,
     UsageError,
     Words,
+    add_json_arguments,
     bounded_float,
     bounded_int,
     print_json,
@@ -37,7 +39,6 @@ from schedulers import SCHEDULERS
 HELP = ("does any algorithm solve the task, on a finite world or the paper's (grid)? exists "
         "(with an algorithm file, verified), none (with a certificate) or unknown (with the "
         "limit that stopped it)")
-ANSWER_EXIT = {"exists": EXIT_OK, "none": EXIT_VIOLATED, "unknown": EXIT_INCOMPLETE}
 RULES_SHOWN = 12
 """Gap rules of a ring witness printed (the file and --json have them all)."""
 
@@ -148,10 +149,7 @@ def _many_answer_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--rounds", type=bounded_int(0, 1000), default=12,
                    help="the paper's world: rounds of Theorem 1's adversary that a certificate "
                         "of none re-checks with the view code (default 12)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument("--timings", action="store_true",
-                   help="with --json, also print the seconds (left out by default so the "
-                        "output is byte-for-byte reproducible)")
+    add_json_arguments(p, "print one JSON object", "the seconds")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -547,6 +545,46 @@ def _colour_range(text: str | None) -> tuple[range, str] | None:
     return range(a, b + 1), colon + variant
 
 
+class _Least:
+    """The question of ``--minimum``: the resource counted (robots or colours) and its
+    values, the worlds and schedulers, the solver of one value and the settings that key the
+    stored rows."""
+
+    def __init__(self, args: argparse.Namespace) -> None:
+        from gather_verify.worlds import PLANE, entry_of
+        from schedulers import get_scheduler
+
+        self.colours = _colour_range(args.lights)
+        self.values = _counts(args.robots) if self.colours is None else self.colours[0]
+        self.what = "robots" if self.colours is None else "colours"
+        self.schedulers = [x.strip() for x in args.scheduler.split(",") if x.strip()]
+        for name in self.schedulers:
+            get_scheduler(name)
+        self.robot_count: int | None = None
+        self.solve: Any
+        if args.start is not None and (self.colours is not None
+                                       or entry_of(args.world) == PLANE):
+            raise UsageError("--start with --minimum goes with a count of robots on a finite "
+                             "world (--robots A-B: the least k with one algorithm for every "
+                             "start of the set)")
+        if entry_of(args.world) == PLANE:
+            if self.colours is not None:
+                raise UsageError("--minimum --lights A-B: the least number of colours is asked "
+                                 "on the finite worlds only (synthesis on Z² has no lights)")
+            self.worlds, self.solve, self.more = _plane_least(args, self.schedulers)
+        elif self.colours is not None:
+            self.worlds, self.solve, self.more = _colours_least(args, self.colours,
+                                                                self.schedulers)
+            self.robot_count = self.more.pop("n")
+        else:
+            self.worlds = _finite_least(args, self.values, self.schedulers)
+            self.solve, self.more = _finite_one, {}
+
+    def key(self, k: int) -> str:
+        """The stored row's key of the value ``k``."""
+        return f"k={k}" if self.colours is None else f"K={k}"
+
+
 def _minimum(args: argparse.Namespace) -> int:
     """``--minimum``: per world and scheduler, synthesize for k = A, A+1, ... robots (every
     initial configuration of k), or with ``--lights A-B`` for K = A, A+1, ... colours (the
@@ -554,114 +592,109 @@ def _minimum(args: argparse.Namespace) -> int:
     store keyed by the settings and gather-verify's own fingerprint, so a rerun resumes and
     an edited verifier computes again. On the paper's world (``--world grid``) the
     configurations of k robots are those of ``--box`` (:func:`_plane_least`)."""
-    from pathlib import Path
-
-    from gather_verify.fingerprint import own_digest
-    from gather_verify.sweeps.minimum import format_table, least_cell
+    from gather_verify.sweeps.minimum import least_cell
     from gather_verify.sweeps.store import Store, check_db_path
-    from gather_verify.worlds import PLANE, entry_of
-    from schedulers import get_scheduler
 
     check_db_path(args.db)
-    colours = _colour_range(args.lights)
-    values = _counts(args.robots) if colours is None else colours[0]
-    what = "robots" if colours is None else "colours"
-    schedulers = [x.strip() for x in args.scheduler.split(",") if x.strip()]
-    for name in schedulers:
-        get_scheduler(name)
-    solve: Any
-    if args.start is not None and (colours is not None or entry_of(args.world) == PLANE):
-        raise UsageError("--start with --minimum goes with a count of robots on a finite world "
-                         "(--robots A-B: the least k with one algorithm for every start of the "
-                         "set)")
-    if entry_of(args.world) == PLANE:
-        if colours is not None:
-            raise UsageError("--minimum --lights A-B: the least number of colours is asked on "
-                             "the finite worlds only (synthesis on Z² has no lights)")
-        worlds, solve, more = _plane_least(args, schedulers)
-    elif colours is not None:
-        worlds, solve, more = _colours_least(args, colours, schedulers)
-        robot_count = more.pop("n")
-    else:
-        worlds, solve = _finite_least(args, values, schedulers), _finite_one
-        more = {}
+    least = _Least(args)
     out = Path(args.out) if args.out else Path(args.db).resolve().parent / "synthesis"
     out.mkdir(parents=True, exist_ok=True)
     store = Store(args.db)
     table: dict[tuple[str, str], str] = {}
-    rows_out = []
-    unknown = False
+    rows_out: list[dict[str, Any]] = []
     try:
-        for world in worlds:
-            for sched in schedulers:
-                settings = {
-                    "command": "synthesize --minimum", "world": world, "scheduler": sched,
-                    "task": args.task, "detection": args.multiplicity, "frames": args.frames,
-                    "visibility": args.visibility, "lights": args.lights,
-                    "meeting": args.meeting, "max_seconds": args.max_seconds,
-                    "max_candidates": args.max_candidates, "max_states": args.max_states,
-                    "gather_verify": own_digest(), **more,
-                    **({"start": args.start} if args.start is not None else {}),
-                }
-                sweep = store.sweep_id(settings)
-                stored = {r["key"]: r for r in store.results(sweep)}
-                answers: list[tuple[int, str]] = []
-                for k in values:
-                    key = f"k={k}" if colours is None else f"K={k}"
-                    row = stored.get(key)
-                    if row is None:
-                        started = time.perf_counter()
-                        # the sweep's id: another question's files never take these names
-                        stem = out / (world.replace(':', '-').replace('/', '_').replace(' ', '-')
-                                      + f"-{sched}-" + (f"k{k}" if colours is None else f"K{k}")
-                                      + f"-s{sweep}")
-                        got = solve(args, world, sched, k, str(stem))
-                        if got is None:  # more robots than nodes
-                            break
-                        if isinstance(got, str):
-                            print(f"internal error: {got}", file=sys.stderr)
-                            return EXIT_BUG
-                        answer, limit, states, candidates, files = got
-                        # the world is the sweep's (its settings), not a class of the row
-                        row = {"key": key, "index": k, "class": None,
-                               "verdict": answer, "reason": limit,
-                               "n": k if colours is None else robot_count,
-                               "states": states, "transitions": candidates,
-                               "trace": files, "seconds": time.perf_counter() - started}
-                        store.add(sweep, [dict(row)])  # (the store encodes its copy)
-                    rows_out.append({"world": world, "scheduler": sched, what: k,
-                                     "answer": row["verdict"], "limit": row["reason"],
-                                     "files": row["trace"]})
-                    answers.append((k, row["verdict"]))
-                    if row["verdict"] == "exists":
-                        break
+        for world in least.worlds:
+            for sched in least.schedulers:
+                answers = _least_answers(args, least, store, out, world, sched, rows_out)
+                if isinstance(answers, str):
+                    print(f"internal error: {answers}", file=sys.stderr)
+                    return EXIT_BUG
                 table[world, sched] = least_cell(answers)
-                unknown = unknown or "?" in table[world, sched]
     except KeyboardInterrupt:
         print("interrupted; run the same command again (every answer stored is kept, and it "
               "resumes)", file=sys.stderr)
         return EXIT_INTERRUPTED
     finally:
         store.close()
+    _print_least(args, least, table, rows_out)
+    return EXIT_INCOMPLETE if any("?" in cell for cell in table.values()) else EXIT_OK
+
+
+def _least_answers(args: argparse.Namespace, least: _Least, store: Any, out: Path,
+                   world: str, sched: str, rows_out: list[dict[str, Any]]
+                   ) -> list[tuple[int, str]] | str:
+    """The answers for k = A, A+1, ... on one world under one scheduler, up to the first
+    ``exists`` (stored rows reused, new ones stored), each added to ``rows_out``; an
+    internal problem's text instead."""
+    from gather_verify.fingerprint import own_digest
+
+    settings = {
+        "command": "synthesize --minimum", "world": world, "scheduler": sched,
+        "task": args.task, "detection": args.multiplicity, "frames": args.frames,
+        "visibility": args.visibility, "lights": args.lights,
+        "meeting": args.meeting, "max_seconds": args.max_seconds,
+        "max_candidates": args.max_candidates, "max_states": args.max_states,
+        "gather_verify": own_digest(), **least.more,
+        **({"start": args.start} if args.start is not None else {}),
+    }
+    sweep = store.sweep_id(settings)
+    stored = {r["key"]: r for r in store.results(sweep)}
+    answers: list[tuple[int, str]] = []
+    for k in least.values:
+        row = stored.get(least.key(k))
+        if row is None:
+            started = time.perf_counter()
+            # the sweep's id: another question's files never take these names
+            stem = out / (world.replace(':', '-').replace('/', '_').replace(' ', '-')
+                          + f"-{sched}-" + (f"k{k}" if least.colours is None else f"K{k}")
+                          + f"-s{sweep}")
+            got = least.solve(args, world, sched, k, str(stem))
+            if got is None:  # more robots than nodes
+                break
+            if isinstance(got, str):
+                return got
+            answer, limit, states, candidates, files = got
+            # the world is the sweep's (its settings), not a class of the row
+            row = {"key": least.key(k), "index": k, "class": None,
+                   "verdict": answer, "reason": limit,
+                   "n": k if least.colours is None else least.robot_count,
+                   "states": states, "transitions": candidates,
+                   "trace": files, "seconds": time.perf_counter() - started}
+            store.add(sweep, [dict(row)])  # (the store encodes its copy)
+        rows_out.append({"world": world, "scheduler": sched, least.what: k,
+                         "answer": row["verdict"], "limit": row["reason"],
+                         "files": row["trace"]})
+        answers.append((k, row["verdict"]))
+        if row["verdict"] == "exists":
+            break
+    return answers
+
+
+def _print_least(args: argparse.Namespace, least: _Least, table: dict[tuple[str, str], str],
+                 rows_out: list[dict[str, Any]]) -> None:
+    """``--minimum``'s report: one JSON object, or the heading and the least-count table."""
+    from gather_verify.sweeps.minimum import format_table
+
+    what, colours, values = least.what, least.colours, least.values
     if args.json:
         print_json({"resource": what,
                     "minimum": [{"world": w, "scheduler": sc, "least": table[w, sc]}
-                                for w in worlds for sc in schedulers], "rows": rows_out})
-    else:
-        print(f"least {what} with an algorithm  task {args.task or 'default'}  detection "
-              f"{args.multiplicity}  frames {args.frames}"
-              + ("" if args.start is None else f"  start {args.start}")
-              + ("" if args.visibility is None else f"  visibility {args.visibility}")
-              + ("" if args.lights is None or colours is not None else f"  lights {args.lights}")
-              + ("" if colours is None else f"  robots {args.robots.strip()}  initial colours "
-                 f"{more['colours'] or '0'}" + (f"  lights K{colours[1]}" if colours[1] else ""))
-              + ("" if args.box is None else f"  meeting {args.meeting}  select {args.select}"
-                 + (f"  classes {args.classes}" if args.classes else ""))
-              + f"  ({what} {values[0]}-{values[-1]}; ?: some "
-              + ("count" if colours is None else "number of colours") + " below is unknown)")
-        for line in format_table(worlds, schedulers, table):
-            print(line)
-    return EXIT_INCOMPLETE if unknown else EXIT_OK
+                                for w in least.worlds for sc in least.schedulers],
+                    "rows": rows_out})
+        return
+    print(f"least {what} with an algorithm  task {args.task or 'default'}  detection "
+          f"{args.multiplicity}  frames {args.frames}"
+          + ("" if args.start is None else f"  start {args.start}")
+          + ("" if args.visibility is None else f"  visibility {args.visibility}")
+          + ("" if args.lights is None or colours is not None else f"  lights {args.lights}")
+          + ("" if colours is None else f"  robots {args.robots.strip()}  initial colours "
+             f"{least.more['colours'] or '0'}" + (f"  lights K{colours[1]}" if colours[1] else ""))
+          + ("" if args.box is None else f"  meeting {args.meeting}  select {args.select}"
+             + (f"  classes {args.classes}" if args.classes else ""))
+          + f"  ({what} {values[0]}-{values[-1]}; ?: some "
+          + ("count" if colours is None else "number of colours") + " below is unknown)")
+    for line in format_table(least.worlds, least.schedulers, table):
+        print(line)
 
 
 def _finite_least(args: argparse.Namespace, counts: range, schedulers: list[str]) -> list[str]:

@@ -11,11 +11,9 @@ import time
 from typing import Any
 
 from gather_verify.cli.common import (
+    ANSWER_EXIT,
     EXIT_BUG,
-    EXIT_INCOMPLETE,
     EXIT_INTERRUPTED,
-    EXIT_OK,
-    EXIT_VIOLATED,
     UsageError,
     print_json,
     writable_outputs,
@@ -129,8 +127,7 @@ def finish(args: argparse.Namespace, report: dict[str, Any], rows: list[dict[str
     if problem is not None:
         print(f"internal error: {problem}", file=sys.stderr)
         return EXIT_BUG
-    return {"none": EXIT_VIOLATED, "exists": EXIT_OK, "mixed": EXIT_OK}.get(report["answer"],
-                                                                              EXIT_INCOMPLETE)
+    return ANSWER_EXIT[report["answer"]]
 
 
 def one_start(args: argparse.Namespace, inst: Any, witness: str, certificate: str

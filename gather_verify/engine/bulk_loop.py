@@ -14,7 +14,6 @@ A luminous robot's code is an oblivious one's with its colour as one more digit,
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -25,6 +24,7 @@ from gather_verify import kernels
 from gather_verify.engine.bulk_step import successor_keys
 from gather_verify.engine.canonical_keys import Canon, decode_keys
 from gather_verify.engine.checks import Checks, ColumnChecks
+from gather_verify.engine.chunks import drive
 from gather_verify.engine.columns import (
     Growing,
     GrowingBits,
@@ -149,7 +149,8 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
     """The breadth-first search of both bulk engines, a chunk of states at a time, from the
     ``seeds`` first keys of ``index``: the limits, the properties evaluated on each chunk,
     the graph's columns (``reserve`` states and ``edges`` transitions reserved up front) and
-    the stop; ``face`` does what oblivious and luminous robots do differently.
+    the stop; ``face`` does what oblivious and luminous robots do differently. Each chunk is
+    one :meth:`_Run.step`, driven by :func:`~gather_verify.engine.chunks.drive`.
 
     With the graph kept, what a state costs is mostly its edges: each is its target's id,
     three bytes while the ids fit (below ``2**24``), else four, and its weight, one bit while
@@ -157,196 +158,301 @@ def bulk_search(face: Face, checks: Checks, columns: ColumnChecks, index: KeyInd
     state's out-degree is a byte (wider when one is larger), the offsets are summed from
     them once the search is over and the hash table freed; no parents are stored (the
     edges give them, :func:`first_sources`)."""
-    enc, n, turns = face.enc, face.n, face.turns
-    max_states = min(limits.max_states, MAX_IDS)
-    parents = None if graph else Growing(np.int32, reserve)
-    if parents is not None:
-        parents.extend(np.full(seeds, -1, dtype=np.int32))
-    degrees = Growing(np.uint8, reserve if graph else 1 << 16)
-    targets = GrowingIds(edges if graph else 1 << 16)
-    weight_type = np.int8 if n <= 127 else np.int16  # a weight is at most n edges
-    bits = GrowingBits(edges if graph else 1 << 16)
-    weights: Growing | GrowingBits = bits
-    # the reserved columns are written from their start: small pages, only that is resident
-    for column in (degrees, targets.data, bits.data) + (() if parents is None else (parents,)):
-        small_pages(column.data)
-    on_chunk = checks.halting + checks.on_expansion
-    transitions = changed_loops = 0
-    stopped: Stop | str | None = None
-    peak = rss_mb()
-    sid = 0
-    chunk = face.chunk
-    # a chunk's changes (a view of its events'), released at the chunk's end with the rest
-    robot: Any
-    new: Any
-    event: Any
-    old: Any
-    after: Any
-    counts: Any
+    run = _Run(face, checks, columns, index, seeds, graph, reserve, edges,
+               min(limits.max_states, MAX_IDS), settle)
     PROGRESS.states = 1
-    while sid < index.count and stopped is None:
-        if time.perf_counter() - started > limits.max_seconds:
-            stopped = Stop.TIME
-            break
-        peak = max(peak, rss_mb())
-        if peak > limits.max_memory_mb:
-            stopped = Stop.MEMORY
-            break
-        hi = min(index.count, sid + chunk)
-        K, codes, cells, rows, idle, rank = face.decode(index.keys[sid:hi].copy())
+    drive(run, limits, started)
+    return run.searched()
+
+
+class _Chunk:
+    """One chunk's arrays as :meth:`_Run.step`'s phases hand them on, let go together when
+    the step returns (so the next chunk's arrays reuse their room in the heap): its keys,
+    codes, cells, configuration rows, idle flags and ranks; the properties' failures and the
+    first halting one; the scheduler's events (``keyed`` when they come with their keys) and
+    their changes; where the events are cut (region, halt, states limit) and why."""
+
+    hi: int
+    K: Any
+    codes: Any
+    cells: Any
+    rows: Any
+    idle: Any
+    rank: Any
+    failing: Any
+    halt: Any
+    limit_src: int
+    keyed: Any
+    bulk: Any
+    src: Any
+    weight: Any
+    robot: Any = None
+    new: Any = None
+    event: Any = None
+    old: Any = None
+    single: bool
+    cut: int
+    stop_src: int
+    stop: Stop | str | None
+    succ_codes: Any
+    known: int
+    fresh_src: Any
+    fresh_keys: Any
+    expanded: int
+
+
+class _Run:
+    """One bulk search on the paper's world between its chunks (:class:`~gather_verify.
+    engine.chunks.Chunks`): the graph's columns (out-degrees, targets, weights) or, without
+    the graph, the parents; the transitions and changed self-loops counted, where the next
+    chunk starts and its size, the peak memory and why it stopped."""
+
+    def __init__(self, face: Face, checks: Checks, columns: ColumnChecks, index: KeyIndex,
+                 seeds: int, graph: bool, reserve: int, edges: int, max_states: int,
+                 settle: bool):
+        self.face, self.checks, self.columns, self.index = face, checks, columns, index
+        self.seeds, self.graph, self.max_states, self.settle = seeds, graph, max_states, settle
+        self.parents = None if graph else Growing(np.int32, reserve)
+        if self.parents is not None:
+            self.parents.extend(np.full(seeds, -1, dtype=np.int32))
+        self.degrees = Growing(np.uint8, reserve if graph else 1 << 16)
+        self.targets = GrowingIds(edges if graph else 1 << 16)
+        self.weight_type = np.int8 if face.n <= 127 else np.int16  # a weight: at most n edges
+        bits = GrowingBits(edges if graph else 1 << 16)
+        self.weights: Growing | GrowingBits = bits
+        # the reserved columns are written from their start: small pages, only that resident
+        for column in (self.degrees, self.targets.data, bits.data) + (
+                () if self.parents is None else (self.parents,)):
+            small_pages(column.data)
+        self.on_chunk = checks.halting + checks.on_expansion
+        self.transitions = self.changed_loops = 0
+        self.stopped: Stop | str | None = None
+        self.peak = rss_mb()
+        self.chunk = face.chunk
+        self.sid = 0
+
+    def pending(self) -> bool:
+        """Whether stored states are left to expand."""
+        return self.sid < self.index.count
+
+    def rss(self) -> float:
+        """The memory in use now (MB), the peak kept."""
+        self.peak = max(self.peak, rss_mb())
+        return self.peak
+
+    def chunk_done(self) -> None:
+        """The progress line's count; with ``settle``, stop once every property settled."""
+        PROGRESS.states = self.index.count  # read by a progress line (check --progress)
+        if self.settle and self.checks.settled():
+            self.stopped = Stop.SETTLED
+
+    def step(self, limits: Limits) -> None:
+        """Expand the chunk of stored states from ``sid``: their events, the successors'
+        ids, the graph's columns, the properties (``stopped`` set when the search stops in
+        it); the chunk's arrays are gone when it returns."""
+        sid = self.sid
+        c = self._events(sid)
+        self._cut(c)
+        ids, first = self._identify(c)
+        self._record(c, sid, ids)
+        del ids  # the graph has them: gone before the properties' arrays come
+        self._properties(c, sid, first)
+        if c.stop is not None:
+            self.stopped = c.stop
+        else:
+            self.sid = c.hi
+
+    def _events(self, sid: int) -> _Chunk:
+        """The chunk decoded, its halting and expansion properties evaluated, and the
+        scheduler's events of its states up to the first that halts (fewer states when the
+        scheduler takes fewer: the rest waits, and the chunk size follows)."""
+        face, checks, c = self.face, self.checks, _Chunk()
+        c.hi = min(self.index.count, sid + self.chunk)
+        c.K, c.codes, c.cells, c.rows, c.idle, c.rank = face.decode(
+            self.index.keys[sid:c.hi].copy())
         # the last source state to expand: a halting property stops before the state it fails in
-        limit_src = len(K)
+        c.limit_src = len(c.K)
         # the halting and the expansion properties, evaluated together on the whole chunk
-        failing = columns.failures(on_chunk, rows, idle, gate=len(checks.halting))
-        halt = columns.first_failure(checks.halting, failing[:, :len(checks.halting)])
-        if halt is not None:
-            limit_src = halt[0]
-        assert not face.no_actions(rows[:limit_src]).any(), \
+        c.failing = self.columns.failures(self.on_chunk, c.rows, c.idle,
+                                          gate=len(checks.halting))
+        c.halt = self.columns.first_failure(checks.halting,
+                                            c.failing[:, :len(checks.halting)])
+        if c.halt is not None:
+            c.limit_src = c.halt[0]
+        lim = c.limit_src
+        assert not face.no_actions(c.rows[:lim]).any(), \
             "a state without actions needs a halting property"
         # no transition property to feed: a round scheduler's events come with their keys
-        keyed = None if checks.open(checks.on_transition) else \
-            face.round_keys(K[:limit_src], codes[:limit_src], rows[:limit_src], rank[:limit_src])
-        bulk: Any = keyed if keyed is not None else \
-            face.events(codes[:limit_src], rows[:limit_src], rank[:limit_src],
-                        None if turns is None else turns.of_keys(K[:limit_src]))
-        if bulk.states < limit_src:  # the scheduler took fewer states: the rest waits
-            hi = sid + bulk.states
-            K, codes, rows = K[:bulk.states], codes[:bulk.states], rows[:bulk.states]
-            if cells is not None:
-                cells = cells[:bulk.states]
-            limit_src = bulk.states
-            chunk = max(1, bulk.states)
-        elif chunk < face.chunk:
-            chunk = min(face.chunk, 2 * chunk)
-        src, weight = bulk.source, bulk.weight
-        stop: Stop | str | None
-        if keyed is not None:  # no changes listed; the last event may leave the region
-            single, leaving = False, keyed.leaves
-            cut = len(src) - leaving
+        c.keyed = None if checks.open(checks.on_transition) else \
+            face.round_keys(c.K[:lim], c.codes[:lim], c.rows[:lim], c.rank[:lim])
+        turns = face.turns
+        c.bulk = c.keyed if c.keyed is not None else \
+            face.events(c.codes[:lim], c.rows[:lim], c.rank[:lim],
+                        None if turns is None else turns.of_keys(c.K[:lim]))
+        taken = c.bulk.states
+        if taken < lim:  # the scheduler took fewer states: the rest waits
+            c.hi = sid + taken
+            c.K, c.codes, c.rows = c.K[:taken], c.codes[:taken], c.rows[:taken]
+            if c.cells is not None:
+                c.cells = c.cells[:taken]
+            c.limit_src = taken
+            self.chunk = max(1, taken)
+        elif self.chunk < face.chunk:
+            self.chunk = min(face.chunk, 2 * self.chunk)
+        return c
+
+    def _cut(self, c: _Chunk) -> None:
+        """Where the chunk's events end: at the first that leaves the region (a limit), else
+        all of them (a halt stops after its state's predecessors); the transitions counted."""
+        c.src, c.weight = c.bulk.source, c.bulk.weight
+        if c.keyed is not None:  # no changes listed; the last event may leave the region
+            c.single, leaving = False, c.keyed.leaves
+            c.cut = len(c.src) - leaving
         else:
-            robot, new, event = bulk.robot, bulk.code, bulk.event  # the changes
-            single = event is None  # one change per event (event c is change c)
-            outside = np.flatnonzero(new == OUTSIDE)  # a move out of the region: a limit
+            c.robot, c.new, c.event = c.bulk.robot, c.bulk.code, c.bulk.event  # the changes
+            c.single = c.event is None  # one change per event (event c is change c)
+            outside = np.flatnonzero(c.new == OUTSIDE)  # a move out of the region: a limit
             leaving = len(outside) > 0
-            cut = len(src) if not leaving else int(outside[0]) if single else \
-                int(event[outside[0]])
+            c.cut = len(c.src) if not leaving else int(outside[0]) if c.single else \
+                int(c.event[outside[0]])
         if leaving:
-            stop_src = int(src[cut])
-            stop = Stop.REGION
-            transitions += cut + 1
+            c.stop_src = int(c.src[c.cut])
+            c.stop = Stop.REGION
+            self.transitions += c.cut + 1
         else:
-            stop_src = limit_src
-            stop = halt[1].name if halt is not None and halt[0] == limit_src else None
-            transitions += cut
-        src, weight = src[:cut], weight[:cut]
-        if keyed is not None:
-            succ, succ_codes = keyed.keys[:cut], None
+            c.stop_src = c.limit_src
+            c.stop = c.halt[1].name if c.halt is not None and c.halt[0] == c.limit_src else None
+            self.transitions += c.cut
+        c.src, c.weight = c.src[:c.cut], c.weight[:c.cut]
+
+    def _identify(self, c: _Chunk) -> tuple[np.ndarray, np.ndarray]:
+        """The successors' keys and their ids (new states get the next ids in order of first
+        occurrence: the BFS order), cut after the first source whose expansion passes the
+        states limit; returns the ids and where each new state first occurs."""
+        face, index = self.face, self.index
+        if c.keyed is not None:
+            succ, c.succ_codes = c.keyed.keys[:c.cut], None
         else:
-            changes = cut if single else int(np.searchsorted(event, cut))
-            robot, new = robot[:changes], new[:changes]
-            if not single:
-                event = event[:changes]
-            succ, old, succ_codes = successor_keys(K, codes, src, robot, new, event, face.canon,
-                                                   face.reduced, face.compiled)
-        if turns is not None:
-            succ = with_turns(succ, bulk.extra, turns)
-        # new states get the next ids in order of first occurrence: the BFS order
-        known = index.count
+            changes = c.cut if c.single else int(np.searchsorted(c.event, c.cut))
+            c.robot, c.new = c.robot[:changes], c.new[:changes]
+            if not c.single:
+                c.event = c.event[:changes]
+            succ, c.old, c.succ_codes = successor_keys(c.K, c.codes, c.src, c.robot, c.new,
+                                                       c.event, face.canon, face.reduced,
+                                                       face.compiled)
+        if face.turns is not None:
+            succ = with_turns(succ, c.bulk.extra, face.turns)
+        c.known = index.count
         ids, first = index.find_or_add(succ)
-        fresh_src = src[first]
-        # the states limit: after the first source whose expansion passes it
-        if index.count > max_states:
-            after = known + np.searchsorted(fresh_src, np.arange(stop_src), side="right")
-            over = np.flatnonzero(after > max_states)
-            if len(over):
-                stop_src, stop = int(over[0]), Stop.STATES
-                keep = int(np.searchsorted(src, stop_src, side="right"))
-                transitions -= cut - keep
-                cut = keep
-                src, weight, succ, ids = src[:cut], weight[:cut], succ[:cut], ids[:cut]
-                if keyed is None and single:
-                    robot, new, old = robot[:cut], new[:cut], old[:cut]
-                elif keyed is None:
-                    changes = int(np.searchsorted(event, cut))
-                    robot, new, old, event = (a[:changes] for a in (robot, new, old, event))
-                if succ_codes is not None:
-                    succ_codes = succ_codes[:cut]
-                m = int(np.searchsorted(fresh_src, stop_src, side="right"))
-                fresh_src = fresh_src[:m]
-                index.truncate(known + m)
         del succ  # its ids are what the rest reads
-        fresh_keys = index.keys[known:index.count]
-        expanded = stop_src + (stop in (Stop.REGION, Stop.STATES))
-        columns.record(sid, checks.on_expansion, failing[:expanded, len(checks.halting):],
-                       rows, idle)
-        if keyed is not None:  # a round's step always changes its robot's code
-            changed = weight > 0
-        elif single:
-            changed = new != old
+        c.fresh_src = c.src[first]
+        if index.count > self.max_states:
+            ids = self._states_limit(c, ids)
+        c.fresh_keys = index.keys[c.known:index.count]
+        c.expanded = c.stop_src + (c.stop in (Stop.REGION, Stop.STATES))
+        return ids, first
+
+    def _states_limit(self, c: _Chunk, ids: np.ndarray) -> np.ndarray:
+        """The chunk cut after the first source whose expansion passes the states limit (if
+        one does): its events, changes and new states; returns the ids kept."""
+        after = c.known + np.searchsorted(c.fresh_src, np.arange(c.stop_src), side="right")
+        over = np.flatnonzero(after > self.max_states)
+        if not len(over):
+            return ids
+        c.stop_src, c.stop = int(over[0]), Stop.STATES
+        keep = int(np.searchsorted(c.src, c.stop_src, side="right"))
+        self.transitions -= c.cut - keep
+        c.cut = keep
+        c.src, c.weight, ids = c.src[:keep], c.weight[:keep], ids[:keep]
+        if c.keyed is None and c.single:
+            c.robot, c.new, c.old = c.robot[:keep], c.new[:keep], c.old[:keep]
+        elif c.keyed is None:
+            changes = int(np.searchsorted(c.event, keep))
+            c.robot, c.new, c.old, c.event = (a[:changes] for a in (c.robot, c.new, c.old,
+                                                                     c.event))
+        if c.succ_codes is not None:
+            c.succ_codes = c.succ_codes[:keep]
+        m = int(np.searchsorted(c.fresh_src, c.stop_src, side="right"))
+        c.fresh_src = c.fresh_src[:m]
+        self.index.truncate(c.known + m)
+        return ids
+
+    def _record(self, c: _Chunk, sid: int, ids: np.ndarray) -> None:
+        """The expansion properties' failures of the states expanded, the changed
+        self-loops, and the graph's columns (or the new states' parents)."""
+        checks = self.checks
+        self.columns.record(sid, checks.on_expansion,
+                            c.failing[:c.expanded, len(checks.halting):], c.rows, c.idle)
+        if c.keyed is not None:  # a round's step always changes its robot's code
+            changed = c.weight > 0
+        elif c.single:
+            changed = c.new != c.old
         else:
-            changed = np.zeros(cut, dtype=bool)
-            changed[event[new != old]] = True
-        changed_loops += int(np.count_nonzero((ids == sid + src) & changed))
-        if graph:
-            # (src is sorted: no widened copy of it, as bincount makes of int32 sources)
-            counts = np.diff(np.searchsorted(src, np.arange(expanded + 1, dtype=src.dtype)))
-            if len(counts) and counts.max() > np.iinfo(degrees.data.dtype).max:
-                degrees.widen(np.int64)
-            degrees.extend(counts)
-            targets.extend(ids, index.count)
-            if isinstance(weights, GrowingBits) and len(weight) and weight.max() > 1:
-                wide = Growing(weight_type, len(weights.data.data) * 8)  # a weight over 1
-                wide.extend(weights.array().astype(weight_type))
-                weights = wide
-            weights.extend(weight.astype(weight_type) if isinstance(weights, Growing) else weight)
-        else:
-            assert parents is not None
-            parents.extend((sid + fresh_src).astype(np.int32))
-        del ids, changed  # the graph has them: gone before the properties' arrays come
-        open_transition = checks.open(checks.on_transition) and cut
-        open_discovery = checks.open(checks.on_discovery) and len(fresh_keys)
+            changed = np.zeros(c.cut, dtype=bool)
+            changed[c.event[c.new != c.old]] = True
+        self.changed_loops += int(np.count_nonzero((ids == sid + c.src) & changed))
+        del changed
+        if not self.graph:
+            assert self.parents is not None
+            self.parents.extend((sid + c.fresh_src).astype(np.int32))
+            return
+        # (src is sorted: no widened copy of it, as bincount makes of int32 sources)
+        counts = np.diff(np.searchsorted(c.src, np.arange(c.expanded + 1, dtype=c.src.dtype)))
+        if len(counts) and counts.max() > np.iinfo(self.degrees.data.dtype).max:
+            self.degrees.widen(np.int64)
+        self.degrees.extend(counts)
+        self.targets.extend(ids, self.index.count)
+        weight, weights = c.weight, self.weights
+        if isinstance(weights, GrowingBits) and len(weight) and weight.max() > 1:
+            wide = Growing(self.weight_type, len(weights.data.data) * 8)  # a weight over 1
+            wide.extend(weights.array().astype(self.weight_type))
+            self.weights = weights = wide
+        weights.extend(weight.astype(self.weight_type) if isinstance(weights, Growing)
+                       else weight)
+
+    def _properties(self, c: _Chunk, sid: int, first: np.ndarray) -> None:
+        """The transition and discovery properties on the chunk's transitions and new
+        states (the configurations they reach found once), and the halting property's
+        failure where the search stops at it."""
+        face, checks, columns = self.face, self.checks, self.columns
+        open_transition = checks.open(checks.on_transition) and c.cut
+        open_discovery = checks.open(checks.on_discovery) and len(c.fresh_keys)
         paired = None
-        if single and (open_transition or open_discovery):
+        if c.single and (open_transition or open_discovery):
             # the configuration each transition reaches, once per (row, cell, destination)
-            paired = face.pair_after(rows, cells, rank, src, robot, old, new)
+            paired = face.pair_after(c.rows, c.cells, c.rank, c.src, c.robot, c.old, c.new)
         if open_transition:
-            after, succ_codes = (paired, succ_codes) if paired is not None else \
-                face.after_rows(codes, cells, src, robot, new, event, succ_codes)
-            columns.transitions(sid, src, rows, after, face.witness(K, src, succ_codes))
+            after, succ_codes = (paired, c.succ_codes) if paired is not None else \
+                face.after_rows(c.codes, c.cells, c.src, c.robot, c.new, c.event, c.succ_codes)
+            columns.transitions(sid, c.src, c.rows, after, face.witness(c.K, c.src, succ_codes))
         if open_discovery:
-            fresh = decode_keys(fresh_keys, enc.base, n)
+            fresh = decode_keys(c.fresh_keys, face.enc.base, face.n)
             fresh_rows = face.rows_of(fresh) if paired is None else \
-                paired[first[:len(fresh_keys)]]
-            columns.states(known, fresh_rows, face.idle(fresh), checks.on_discovery)
-        if halt is not None and stop == halt[1].name and halt[0] == stop_src:
-            columns.record_halt(sid + stop_src, int(rows[stop_src]), bool(idle[stop_src]), halt[1])
-        if stop is not None:
-            stopped = stop
-            break
-        sid = hi
-        # the chunk's arrays go before the next chunk makes its own, so the heap reuses their
-        # room: two chunks' arrays alive at once grow it, fragmented, by as much again
-        del K, codes, cells, rows, idle, rank, failing, bulk, keyed, src, weight, \
-            succ_codes, first, fresh_src, fresh_keys, paired
-        robot = new = event = old = after = counts = None
-        PROGRESS.states = index.count  # read by a progress line (check --progress)
-        if settle and checks.settled():
-            stopped = Stop.SETTLED
-            break
-    peak = max(peak, rss_mb())
-    index.drop_table()  # the search is over: its hash table goes before the offsets come
-    offsets = np.empty(0, dtype=np.int32)
-    if graph:
-        offsets = np.zeros(degrees.size + 1, dtype=np.int32 if targets.size <= MAX_IDS
-                           else np.int64)
-        degree, step = degrees.array(), 1 << 16
-        for lo in range(0, len(degree), step):  # in slices: numpy widens each to a copy
-            hi = min(len(degree), lo + step)
-            np.cumsum(degree[lo:hi], dtype=offsets.dtype, out=offsets[lo + 1:hi + 1])
-            offsets[lo + 1:hi + 1] += offsets[lo]
-    del degrees
-    return Searched(index, parents, offsets, targets, weights, seeds, transitions,
-                    changed_loops, stopped, peak)
+                paired[first[:len(c.fresh_keys)]]
+            columns.states(c.known, fresh_rows, face.idle(fresh), checks.on_discovery)
+        halt = c.halt
+        if halt is not None and c.stop == halt[1].name and halt[0] == c.stop_src:
+            columns.record_halt(sid + c.stop_src, int(c.rows[c.stop_src]),
+                                bool(c.idle[c.stop_src]), halt[1])
+
+    def searched(self) -> Searched:
+        """The search's result: the hash table freed first, then the offsets summed from
+        the out-degrees (in slices: numpy widens each to a copy)."""
+        self.peak = max(self.peak, rss_mb())
+        self.index.drop_table()  # the search is over: its hash table goes before the offsets
+        offsets = np.empty(0, dtype=np.int32)
+        if self.graph:
+            offsets = np.zeros(self.degrees.size + 1, dtype=np.int32
+                               if self.targets.size <= MAX_IDS else np.int64)
+            degree, step = self.degrees.array(), 1 << 16
+            for lo in range(0, len(degree), step):
+                hi = min(len(degree), lo + step)
+                np.cumsum(degree[lo:hi], dtype=offsets.dtype, out=offsets[lo + 1:hi + 1])
+                offsets[lo + 1:hi + 1] += offsets[lo]
+        del self.degrees
+        return Searched(self.index, self.parents, offsets, self.targets, self.weights,
+                        self.seeds, self.transitions, self.changed_loops, self.stopped,
+                        self.peak)
 
 
 def with_turns(succ: np.ndarray, extra: np.ndarray | None, turns: Any) -> np.ndarray:

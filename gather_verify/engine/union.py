@@ -374,7 +374,6 @@ def explore_union(
     started = time.perf_counter()
     algo = get_algorithm(algorithm) if isinstance(algorithm, str) else algorithm
     sched = get_scheduler(scheduler)
-    frame_elements = frames_for(frames)
     n = len(seeds[0])
     group = symmetry_group(Configuration.trusted(seeds[0], meeting), frames)
     stateful = getattr(sched, "stateful", False)
@@ -383,96 +382,22 @@ def explore_union(
     if (enc.base ** n >= 2**63) if turns is None else not turns.fits():
         return None
     wanted = {property_fact(p) for p in properties}
-    table = FactsTable(enc, n, algo, meeting, detection, frame_elements, group,
+    table = FactsTable(enc, n, algo, meeting, detection, frames_for(frames), group,
                        facts_memo(algo, detection, frames), targets="target-change" in wanted)
-    equivariance = _Equivariance(table, group, orientations)
-    canon = Canon(enc, n)
-    compiled = kernels.enabled()
-    index = KeyIndex()
+    run = _UnionRun(table, sched, turns, wanted, _Equivariance(table, group, orientations))
     starts = [seed_starts(enc, turns, r, None if labels is None else labels[j])
               for j, r in enumerate(seeds)]
     seed_off = np.zeros(len(seeds) + 1, dtype=np.int64)
     np.cumsum([len(k) for k, _ in starts], out=seed_off[1:])
-    seed_ids, _ = index.find_or_add(np.array([key for k, _ in starts for key in k],
-                                             dtype=np.uint64))
-    e_src, e_tgt, e_w = Growing(np.int32), Growing(np.int32), Growing(np.int8)
-    flags, events = Growing(np.uint8), Growing(np.int32)
-    boxes_rows: list[np.ndarray] = []
-    sid, chunk = 0, CHUNK
-    while sid < index.count:
-        hi = min(index.count, sid + chunk)
-        step = decode_chunk(index.keys[sid:hi].copy(), table, compiled)
-        K, codes, cells, rows = step.keys, step.codes, step.cells, step.rows
-        f = np.zeros(len(K), dtype=np.uint8)
-        f[table.flags[rows, 0] != 0] |= DEFINED  # no rule, or a crash: the per-config check's
-        ok = np.flatnonzero(table.flags[rows, 0] == 0)
-        masks = move_masks(table, rows, step.rank, flat=compiled)
-        frontier = enc.frontier(codes[ok], masks[ok])
-        got = (sched.bulk_successors(frontier, EVENTS) if turns is None else
-               cast(Any, sched).bulk_successors(frontier, EVENTS, extra=turns.of_keys(K[ok])))
-        assert got.states or not len(ok), f"{scheduler}: bulk_successors took no state"
-        if got.states < len(ok):  # more events than the budget (rounds): fewer states at a time
-            chunk = int(ok[got.states])
-            continue
-        chunk = min(CHUNK, 2 * chunk)
-        src, robot, new, weight, event = got.source, got.robot, got.code, got.weight, got.event
-        src = ok[src]
-        events.extend(np.bincount(src, minlength=len(K)).astype(np.int32))
-        gone, (src, weight, robot, new, event, after) = _inside(src, weight, robot, new, event,
-                                                                got.extra)
-        f[gone] |= TAINT
-        succ, old, succ_codes = successor_keys(K, codes, src, robot, new, event, canon, True,
-                                               compiled)
-        if turns is not None:  # the scheduler's state after each event, above the robots
-            succ = with_turns(succ, after, turns)
-        ids, _ = index.find_or_add(succ)
-        if index.count > max_states:
-            return None
-        if "deadlock" in wanted:
-            dead = (table.flags[rows, 1] == 1) & (table.flags[rows, 2] == 0) & step.idle
-            f[dead] |= FINAL
-        if turns is not None and n > 1:  # (one robot: its turn is a self-loop)
-            f[(table.flags[rows, 1] == 1) & step.idle] |= RING
-        if "in-u" in wanted:
-            f[table.need_in_u(rows)] |= UNGATHERABLE
-        if "target-change" in wanted and len(src):
-            f[equivariance.broken(rows)] |= ASYMMETRIC
-            before = table.need_target(rows[src])
-            maybe = np.flatnonzero(before >= 0)
-            if len(maybe):
-                if succ_codes is None:  # the compiled keys left the codes out
-                    succ_codes = successor_codes(codes, src, robot, new, event)
-                s2, k2 = table.config_keys(succ_codes[maybe] // SLOTS)
-                after = table.need_target(table.rows(k2, s2))
-                bad = (after >= 0) & (after != before[maybe])
-                f[src[maybe[bad]]] |= TARGET
-        loop = ids == sid + src
-        changed = new != old
-        if event is not None:  # several changes per event: one that changes a robot
-            changed = np.zeros(len(src), dtype=bool)
-            changed[event[new != old]] = True
-        f[src[loop & changed]] |= CYCLE  # a changed self-loop lifts to a real cycle
-        edge = ~loop
-        e_src.extend((sid + src[edge]).astype(np.int32))
-        e_tgt.extend(ids[edge].astype(np.int32))
-        e_w.extend(weight[edge])
-        flags.extend(f)
-        xs, ys = enc.x0 + cells // enc.height, enc.y0 + cells % enc.height
-        boxes_rows.append(np.stack([xs.min(axis=1), ys.min(axis=1), xs.max(axis=1),
-                                    ys.max(axis=1)], axis=1))
-        sid = hi
-    S = index.count
-    own_box = _closed_boxes(np.concatenate(boxes_rows).astype(np.int64), group)
-    src_all, tgt_all = e_src.array().astype(np.int64), e_tgt.array().astype(np.int64)
-    w_all, events_all = e_w.array().astype(np.int64), events.array().astype(np.int64)
-    ring_of, sizes = _rings(S, src_all, tgt_all, flags.array())
-    if ring_of is None:
-        graph = _analyse(S, src_all, tgt_all, w_all, flags.array(), own_box)
-    else:  # each ring one state, for the pass and the counts; the witness paths walk them
-        keep = (flags.array()[src_all] & RING) == 0
-        graph = _analyse(S, src_all[keep], ring_of[tgt_all[keep]], w_all[keep], flags.array(),
-                         own_box)
-        events_all = np.bincount(ring_of, weights=events_all, minlength=S).astype(np.int64)
+    seed_ids, _ = run.index.find_or_add(np.array([key for k, _ in starts for key in k],
+                                                 dtype=np.uint64))
+    sid: int | None = 0
+    while sid is not None and sid < run.index.count:
+        sid = run.step(sid, max_states)
+    if sid is None:  # past max_states
+        return None
+    S = run.index.count
+    graph, ring_of, sizes, events_all, tgt_all, src_all = run.analysed(group)
     reach, best, reach_box, rounds, pred_off, pred_src, out_off, out_tgt = graph
     count_ids = seed_ids
     if ring_of is not None:
@@ -482,12 +407,24 @@ def explore_union(
         out_off = np.zeros(S + 1, dtype=np.int64)  # the whole graph, for the witness paths
         np.cumsum(np.bincount(src_all, minlength=S), out=out_off[1:])
         out_tgt = tgt_all
-    counts = np.full(len(seeds), -1, dtype=np.int64)
-    transitions = np.full(len(seeds), -1, dtype=np.int64)
     wanted_seeds = np.ones(len(seeds), dtype=bool) if count_seeds is None else count_seeds
     seed_reach = np.bitwise_or.reduceat(reach[seed_ids], seed_off[:-1])
-    wanted_seeds = wanted_seeds & ((seed_reach & CYCLE) == 0)
-    which = np.flatnonzero(wanted_seeds)
+    which = np.flatnonzero(wanted_seeds & ((seed_reach & CYCLE) == 0))
+    counts, transitions = _seed_counts(graph, count_ids, which, seed_off, events_all, sizes, S)
+    return UnionGraph(seed_ids, S, reach, best, reach_box, counts, transitions,
+                      time.perf_counter() - started, enc, run.index.keys[:S].copy(),
+                      run.flags.array(), out_off, out_tgt, table, run.index, scheduler, frames,
+                      seed_off, [st for _, st in starts], turns)
+
+
+def _seed_counts(graph: tuple[Any, ...], count_ids: np.ndarray, which: np.ndarray,
+                 seed_off: np.ndarray, events_all: np.ndarray, sizes: Any, S: int
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """The states and transitions each seed of ``which`` reaches (-1 for the others): the
+    compiled pass over the graph's rounds, else :func:`_count`."""
+    rounds, pred_off, pred_src = graph[3], graph[4], graph[5]
+    counts = np.full(len(seed_off) - 1, -1, dtype=np.int64)
+    transitions = np.full(len(seed_off) - 1, -1, dtype=np.int64)
     if kernels.enabled() and len(which):
         topo = np.concatenate([r[::-1] for r in rounds[::-1]]) if rounds else np.zeros(0, np.int64)
         members = np.concatenate([np.arange(seed_off[j], seed_off[j + 1]) for j in which])
@@ -497,10 +434,123 @@ def explore_union(
     else:
         _count(count_ids, which, rounds, pred_off, pred_src, events_all, S, counts,
                transitions, seed_off, sizes)
-    return UnionGraph(seed_ids, S, reach, best, reach_box, counts, transitions,
-                      time.perf_counter() - started, enc, index.keys[:S].copy(), flags.array(),
-                      out_off, out_tgt, table, index, scheduler, frames, seed_off,
-                      [st for _, st in starts], turns)
+    return counts, transitions
+
+
+class _UnionRun:
+    """One search of a union of seeds' spaces between its chunks: the facts table, the
+    scheduler, the index of the stored states, the edges kept (self-loops left out), each
+    state's flags and events counted, its box, and the chunk size."""
+
+    def __init__(self, table: FactsTable, sched: Any, turns: Turns | None, wanted: set[str],
+                 equivariance: _Equivariance):
+        self.table, self.enc, self.sched, self.turns = table, table.enc, sched, turns
+        self.wanted, self.equivariance = wanted, equivariance
+        self.canon = Canon(table.enc, table.n)
+        self.compiled = kernels.enabled()
+        self.index = KeyIndex()
+        self.e_src, self.e_tgt, self.e_w = Growing(np.int32), Growing(np.int32), Growing(np.int8)
+        self.flags, self.events = Growing(np.uint8), Growing(np.int32)
+        self.boxes_rows: list[np.ndarray] = []
+        self.chunk = CHUNK
+
+    def step(self, sid: int, max_states: int) -> int | None:
+        """Expand the chunk of stored states from ``sid``: their definedness, events,
+        successors' ids, facts and edges; returns where the next chunk starts (``sid``
+        again with a smaller chunk when the events pass the budget), None past
+        ``max_states``."""
+        table, enc, index, turns = self.table, self.enc, self.index, self.turns
+        hi = min(index.count, sid + self.chunk)
+        step = decode_chunk(index.keys[sid:hi].copy(), table, self.compiled)
+        K, codes, rows = step.keys, step.codes, step.rows
+        f = np.zeros(len(K), dtype=np.uint8)
+        f[table.flags[rows, 0] != 0] |= DEFINED  # no rule, or a crash: the per-config check's
+        ok = np.flatnonzero(table.flags[rows, 0] == 0)
+        masks = move_masks(table, rows, step.rank, flat=self.compiled)
+        frontier = enc.frontier(codes[ok], masks[ok])
+        got = (self.sched.bulk_successors(frontier, EVENTS) if turns is None else
+               cast(Any, self.sched).bulk_successors(frontier, EVENTS,
+                                                     extra=turns.of_keys(K[ok])))
+        assert got.states or not len(ok), f"{self.sched.name}: bulk_successors took no state"
+        if got.states < len(ok):  # more events than the budget (rounds): fewer states at a time
+            self.chunk = int(ok[got.states])
+            return sid
+        self.chunk = min(CHUNK, 2 * self.chunk)
+        src, robot, new, weight, event = got.source, got.robot, got.code, got.weight, got.event
+        src = ok[src]
+        self.events.extend(np.bincount(src, minlength=len(K)).astype(np.int32))
+        gone, (src, weight, robot, new, event, after) = _inside(src, weight, robot, new, event,
+                                                                got.extra)
+        f[gone] |= TAINT
+        succ, old, succ_codes = successor_keys(K, codes, src, robot, new, event, self.canon,
+                                               True, self.compiled)
+        if turns is not None:  # the scheduler's state after each event, above the robots
+            succ = with_turns(succ, after, turns)
+        ids, _ = index.find_or_add(succ)
+        if index.count > max_states:
+            return None
+        self._facts(f, step, src, robot, new, event, succ_codes)
+        loop = ids == sid + src
+        changed = new != old
+        if event is not None:  # several changes per event: one that changes a robot
+            changed = np.zeros(len(src), dtype=bool)
+            changed[event[new != old]] = True
+        f[src[loop & changed]] |= CYCLE  # a changed self-loop lifts to a real cycle
+        edge = ~loop
+        self.e_src.extend((sid + src[edge]).astype(np.int32))
+        self.e_tgt.extend(ids[edge].astype(np.int32))
+        self.e_w.extend(weight[edge])
+        self.flags.extend(f)
+        cells = step.cells
+        xs, ys = enc.x0 + cells // enc.height, enc.y0 + cells % enc.height
+        self.boxes_rows.append(np.stack([xs.min(axis=1), ys.min(axis=1), xs.max(axis=1),
+                                         ys.max(axis=1)], axis=1))
+        return hi
+
+    def _facts(self, f: np.ndarray, step: Any, src: np.ndarray, robot: np.ndarray,
+               new: np.ndarray, event: np.ndarray | None, succ_codes: np.ndarray | None
+               ) -> None:
+        """The chunk's flags of the wanted facts: final (deadlock), a ring's turn, in U, an
+        asymmetric target or one that changes along a transition."""
+        table, rows, wanted = self.table, step.rows, self.wanted
+        if "deadlock" in wanted:
+            dead = (table.flags[rows, 1] == 1) & (table.flags[rows, 2] == 0) & step.idle
+            f[dead] |= FINAL
+        if self.turns is not None and table.n > 1:  # (one robot: its turn is a self-loop)
+            f[(table.flags[rows, 1] == 1) & step.idle] |= RING
+        if "in-u" in wanted:
+            f[table.need_in_u(rows)] |= UNGATHERABLE
+        if "target-change" in wanted and len(src):
+            f[self.equivariance.broken(rows)] |= ASYMMETRIC
+            before = table.need_target(rows[src])
+            maybe = np.flatnonzero(before >= 0)
+            if len(maybe):
+                if succ_codes is None:  # the compiled keys left the codes out
+                    succ_codes = successor_codes(step.codes, src, robot, new, event)
+                s2, k2 = table.config_keys(succ_codes[maybe] // SLOTS)
+                after = table.need_target(table.rows(k2, s2))
+                bad = (after >= 0) & (after != before[maybe])
+                f[src[maybe[bad]]] |= TARGET
+
+    def analysed(self, group: Sequence[Automorphism]) -> tuple[Any, ...]:
+        """The graph's pass (:func:`_analyse`) over the edges kept, each ring (a round
+        robin's turns) one state; returns the pass's columns, the rings and their sizes, the
+        events per state (per ring), and the edges' targets and sources."""
+        S = self.index.count
+        own_box = _closed_boxes(np.concatenate(self.boxes_rows).astype(np.int64), group)
+        src_all = self.e_src.array().astype(np.int64)
+        tgt_all = self.e_tgt.array().astype(np.int64)
+        w_all, events_all = self.e_w.array().astype(np.int64), self.events.array().astype(np.int64)
+        flags = self.flags.array()
+        ring_of, sizes = _rings(S, src_all, tgt_all, flags)
+        if ring_of is None:
+            graph = _analyse(S, src_all, tgt_all, w_all, flags, own_box)
+        else:  # each ring one state, for the pass and the counts; the witness paths walk them
+            keep = (flags[src_all] & RING) == 0
+            graph = _analyse(S, src_all[keep], ring_of[tgt_all[keep]], w_all[keep], flags,
+                             own_box)
+            events_all = np.bincount(ring_of, weights=events_all, minlength=S).astype(np.int64)
+        return graph, ring_of, sizes, events_all, tgt_all, src_all
 
 
 def seed_starts(enc: Encoding, turns: Turns | None, robots: tuple[Node, ...],

@@ -48,6 +48,7 @@ import numpy as np
 from gather_verify import kernels
 from gather_verify.algorithms.base import AlgorithmCrash, Unhandled
 from gather_verify.engine.bfs import EVENT_CUT
+from gather_verify.engine.chunks import drive
 from gather_verify.engine.columns import Growing, glibc
 from gather_verify.engine.encoding import NO_LIMITS, Limits, Stop, rss_mb
 from gather_verify.engine.key_index import KeyIndex
@@ -533,166 +534,215 @@ def search(world: World, robots: Sequence[int], moves: WorldMoves, scheduler: st
     ``seeds``: several initial states searched at once, each ``(robots, colours)`` (then
     ``robots`` and ``colours`` only give the number of robots): the union of their spaces,
     one state graph for them all (:mod:`gather_verify.sweeps.world_union`). The search's
-    ``seed_ids`` give each seed's state ids (one per start of the scheduler)."""
-    from gather_verify.kernels import world as kw
-
+    ``seed_ids`` give each seed's state ids (one per start of the scheduler). Each chunk of
+    stored states is one :meth:`_WorldRun.step`, driven by
+    :func:`~gather_verify.engine.chunks.drive`."""
     started = time.perf_counter()
     sched = as_scheduler(scheduler)
     n = len(robots)
-    k_colours = moves.lights.colours
-    why = unsupported(world, n, sched, k_colours, visits=visits, anonymity=anonymity,
-                      symmetries=symmetries, meeting=meeting)
+    why = unsupported(world, n, sched, moves.lights.colours, visits=visits,
+                      anonymity=anonymity, symmetries=symmetries, meeting=meeting)
     if why is not None:
         raise ValueError(f"the bulk engine cannot run this search: {why}")
-    starts = getattr(sched, "starts", lambda _n: [None])(n)
-    plan = _Plan(world, n, k_colours, visits, sched, starts)
-    rounds = sched.activations(n) is not None
-    group = _group(symmetries, meeting)
-    reduce = anonymity or len(group) > 1
-    perms = np.array(group if len(group) > 1 else [list(range(world.size))],
-                     dtype=np.int64).reshape(-1, world.size)
-
-    relabel = relabeller(sched, n) if anonymity else None
-    named = _Relabelled(plan, relabel) if relabel is not None else None
-
-    def canon(keys: np.ndarray) -> np.ndarray:
-        if not reduce:
-            return keys
-        if named is not None:  # anonymity as the scheduler relabels: no sorting after it
-            keys = named(keys)
-            if len(group) <= 1:
-                return keys
-        return kw.world_canon(keys, perms, anonymity and named is None, visits, n, world.size,
-                              plan.radix, plan.pend, plan.colours, plan.adj, plan.vb, plan.pw)
-
-    lights = tuple(colours) if colours is not None else (0,) * n
     if seeds is None:
-        seeds = [(robots, lights)]
-    first_keys = np.array([plan.pack([(v, None, c) for v, c in zip(nodes, lit, strict=True)],
-                                     sum(1 << v for v in set(nodes)) if visits else 0,
-                                     plan.sched.state_index(starts[r], n) if plan.rr else 0)
-                           for nodes, lit in seeds for r in range(len(starts))],
-                          dtype=np.int64)
-    index = KeyIndex()
-    seed_ids, first = index.find_or_add(canon(first_keys).view(np.uint64))
-    # robots' masks as the smallest unsigned type that holds them (and int64 past 32)
-    mask_type = next((t for t, bits in ((np.uint8, 8), (np.uint16, 16), (np.uint32, 32))
-                      if n <= bits), np.int64)
-    # unreduced, a state's key is the state itself: the index's key column is the stored
-    # states, read back a chunk at a time (else the stored states are a column of their own)
-    reps = None if not reduce else Growing(np.int64, 1 << 20)
-    if reps is not None:
-        reps.extend(first_keys[first])
+        seeds = [(robots, tuple(colours) if colours is not None else (0,) * n)]
+    run = _WorldRun(world, n, moves, sched, visits, anonymity, symmetries, meeting, seeds)
+    drive(run, limits, started)
+    return run.result(started)
 
-    # the other columns are only appended to: kept as chunks, joined once at the end
-    parents: list[np.ndarray] = [np.full(len(first), -1, dtype=np.int32)]
-    configs = (_Nodes if moves.by_node else _Configurations)(plan, moves)
-    offsets: list[np.ndarray] = [np.zeros(1, dtype=np.int64)]
-    targets: list[np.ndarray] = []
-    rmasks: list[np.ndarray] = []
-    crossing: list[np.ndarray] = []
-    final: list[np.ndarray] = []
-    stay: list[np.ndarray] = []
-    transitions = 0
-    stopped: Stop | str | None = None
-    halt: Halt | None = None
-    expanded = 0
-    chunk = CHUNK
-    while expanded < (index.count if reps is None else reps.size):
-        if time.perf_counter() - started > limits.max_seconds:
-            stopped = Stop.TIME
-            break
-        if rss_mb() > limits.max_memory_mb:
-            stopped = Stop.MEMORY
-            break
-        lo = expanded
-        keys = _stored(index, reps, lo, lo + chunk)
-        ends: np.ndarray | None = None
-        cross = None
-        if not rounds and isinstance(configs, _Nodes):  # ASYNC by node: one compiled pass
-            src, succ, rmask, ends, fin, sty, cut, why_halt = configs.expand(keys)
+
+class _WorldRun:
+    """One bulk search of a finite world between its chunks (:class:`~gather_verify.engine.
+    chunks.Chunks`): the plan of its keys, the
+    reductions, the index of the stored states (and their representatives when reduced),
+    the columns kept as chunks (parents, offsets, targets, robots' masks, crossings, final,
+    stay), the transitions counted, the chunk size and why it stopped."""
+
+    def __init__(self, world: World, n: int, moves: WorldMoves, sched: Scheduler,
+                 visits: bool, anonymity: bool, symmetries: Sequence[Sequence[int]],
+                 meeting: frozenset[int], seeds: Sequence[tuple[Sequence[int], Sequence[int]]]):
+        self.world, self.n, self.sched, self.visits = world, n, sched, visits
+        self.anonymity, self.symmetries, self.meeting = anonymity, symmetries, meeting
+        self.starts = getattr(sched, "starts", lambda _n: [None])(n)
+        plan = self.plan = _Plan(world, n, moves.lights.colours, visits, sched, self.starts)
+        self.rounds = sched.activations(n) is not None
+        self.group = _group(symmetries, meeting)
+        self.reduce = anonymity or len(self.group) > 1
+        self.perms = np.array(self.group if len(self.group) > 1 else [list(range(world.size))],
+                              dtype=np.int64).reshape(-1, world.size)
+        self.relabel = relabeller(sched, n) if anonymity else None
+        self.named = _Relabelled(plan, self.relabel) if self.relabel is not None else None
+        self.seeds = seeds
+        first_keys = np.array([plan.pack([(v, None, c) for v, c in zip(nodes, lit, strict=True)],
+                                         sum(1 << v for v in set(nodes)) if visits else 0,
+                                         plan.sched.state_index(self.starts[r], n)
+                                         if plan.rr else 0)
+                               for nodes, lit in seeds for r in range(len(self.starts))],
+                              dtype=np.int64)
+        self.index = KeyIndex()
+        self.seed_ids, first = self.index.find_or_add(self.canon(first_keys).view(np.uint64))
+        # robots' masks as the smallest unsigned type that holds them (and int64 past 32)
+        self.mask_type = next((t for t, bits in ((np.uint8, 8), (np.uint16, 16),
+                                                 (np.uint32, 32)) if n <= bits), np.int64)
+        # unreduced, a state's key is the state itself: the index's key column is the stored
+        # states, read back a chunk at a time (else the stored states are a column of their own)
+        self.reps = None if not self.reduce else Growing(np.int64, 1 << 20)
+        if self.reps is not None:
+            self.reps.extend(first_keys[first])
+        # the other columns are only appended to: kept as chunks, joined once at the end
+        self.parents: list[np.ndarray] = [np.full(len(first), -1, dtype=np.int32)]
+        self.configs = (_Nodes if moves.by_node else _Configurations)(plan, moves)
+        self.offsets: list[np.ndarray] = [np.zeros(1, dtype=np.int64)]
+        self.targets: list[np.ndarray] = []
+        self.rmasks: list[np.ndarray] = []
+        self.crossing: list[np.ndarray] = []
+        self.final: list[np.ndarray] = []
+        self.stay: list[np.ndarray] = []
+        self.transitions = self.expanded = 0
+        self.stopped: Stop | str | None = None
+        self.halt: Halt | None = None
+        self.chunk = CHUNK
+
+    def canon(self, keys: np.ndarray) -> np.ndarray:
+        """The keys' canonical keys under the reductions (the keys themselves without)."""
+        from gather_verify.kernels import world as kw
+
+        if not self.reduce:
+            return keys
+        if self.named is not None:  # anonymity as the scheduler relabels: no sorting after it
+            keys = self.named(keys)
+            if len(self.group) <= 1:
+                return keys
+        plan = self.plan
+        return kw.world_canon(keys, self.perms, self.anonymity and self.named is None,
+                              self.visits, self.n, self.world.size, plan.radix, plan.pend,
+                              plan.colours, plan.adj, plan.vb, plan.pw)
+
+    def pending(self) -> bool:
+        """Whether stored states are left to expand."""
+        return self.expanded < (self.index.count if self.reps is None else self.reps.size)
+
+    def rss(self) -> float:
+        """The memory in use now (MB)."""
+        return rss_mb()
+
+    def chunk_done(self) -> None:
+        """Nothing between a finite world's chunks."""
+
+    def step(self, limits: Limits) -> None:
+        """Expand the next chunk of stored states: their events, the successors' ids (cut
+        after the first state whose expansion passes the states limit), the columns, a halt
+        (``stopped`` set when the search stops in it)."""
+        lo = self.expanded
+        keys = _stored(self.index, self.reps, lo, lo + self.chunk)
+        if not self.rounds and isinstance(self.configs, _Nodes):  # ASYNC by node: one pass
+            src, succ, rmask, ends, fin, sty, cut, why_halt = self.configs.expand(keys)
+            cross = None
         else:
-            nodes, slots, cols, rest, ckey, pos = kw.world_decode(
-                keys, n, plan.radix, plan.rc_node, plan.rc_slot, plan.rc_col, plan.colours,
-                plan.cfg_base)
-            masks, cut, why_halt = configs.chunk(nodes, cols, ckey, pos)
-            if cut < len(keys):
-                keys, nodes, slots, cols, rest = (a[:cut] for a in (keys, nodes, slots, cols,
-                                                                    rest))
-            if rounds:  # a round's events weighed before they are made (a limit bounds it)
-                counts = kw.world_round_counts(rest // plan.vb, masks, plan.subsets, plan.rr,
-                                               plan.rr_orders, plan.act_node.shape[1],
-                                               float(EVENTS))
-                take, stopped = rounds_taken(counts, index.count, limits)
-                if take < cut:
-                    keys, nodes, slots, cols, rest, masks = (
-                        a[:take] for a in (keys, nodes, slots, cols, rest, masks))
-                    cut, why_halt = take, None  # (a later state's halt: met again later)
-            fin, sty = kw.world_facts(nodes, slots, cols, masks, plan.stay_bit)
-            vis = rest % plan.vb
-            if rounds:
-                src, succ, rmask, cross = kw.world_rounds(
-                    keys, nodes, slots, cols, vis, rest // plan.vb, masks, plan.subsets,
-                    plan.rr, plan.rr_orders, plan.act_node, plan.act_col, plan.pw, visits,
-                    plan.pend, plan.colours, plan.vb, int(counts[:cut].sum()))
-            else:
-                src, succ, rmask = kw.world_async(
-                    keys, nodes, slots, cols, plan.adj, vis, masks, plan.act_node,
-                    plan.act_col, plan.act_slot, plan.pw, visits, plan.pend, plan.colours)
-            del nodes, slots, cols, rest, ckey, pos, masks
+            src, succ, rmask, cross, fin, sty, cut, why_halt = self._events(keys, limits)
+            ends = None
         del keys
-        before = index.count
-        ids, first = index.find_or_add(canon(succ).view(np.uint64))
+        before = self.index.count
+        ids, first = self.index.find_or_add(self.canon(succ).view(np.uint64))
         if ends is None:  # per state: its events' end
             ends = np.searchsorted(src, np.arange(cut), side="right")
         if cut and before + len(first) > limits.max_states:
             # the reference stops after the first state whose expansion passes the limit
             grown = before + np.searchsorted(first, ends, side="left")
             k = int(np.argmax(grown > limits.max_states))
-            cut, stopped = k + 1, Stop.STATES
+            cut, self.stopped = k + 1, Stop.STATES
             first = first[:grown[k] - before]
             ends = ends[:cut]
-            index.truncate(int(grown[k]))
+            self.index.truncate(int(grown[k]))
         e_end = int(ends[-1]) if cut else 0
-        if reps is not None:
-            reps.extend(succ[first])
-        parents.append((lo + src[first]).astype(np.int32))
-        offsets.append(transitions + ends)
-        targets.append(ids[:e_end].astype(np.int32))
-        rmasks.append(rmask[:e_end].astype(mask_type))
+        if self.reps is not None:
+            self.reps.extend(succ[first])
+        self.parents.append((lo + src[first]).astype(np.int32))
+        self.offsets.append(self.transitions + ends)
+        self.targets.append(ids[:e_end].astype(np.int32))
+        self.rmasks.append(rmask[:e_end].astype(self.mask_type))
         if cross is not None:
-            crossing.append(cross[:e_end])
-        final.append(fin[:cut])
-        stay.append(sty[:cut].astype(mask_type))
+            self.crossing.append(cross[:e_end])
+        self.final.append(fin[:cut])
+        self.stay.append(sty[:cut].astype(self.mask_type))
         del src, succ, rmask, ids, first, fin, sty, cross
-        transitions += e_end
-        expanded = lo + cut
-        if stopped is not None:
-            break
+        self.transitions += e_end
+        self.expanded = lo + cut
+        if self.stopped is not None:
+            return
         if why_halt is not None:
             kind, reason, detail = why_halt
-            halt = Halt(kind, expanded, reason, detail)
-            stopped = kind
-            break
-        chunk = max(1, chunk // 2) if e_end > EVENTS else min(MAX_CHUNK, chunk * 2)
-    all_reps = _stored(index, reps, 0, index.count)
-    del index  # its table; its key column lives on as the stored states when unreduced
+            self.halt = Halt(kind, self.expanded, reason, detail)
+            self.stopped = kind
+            return
+        self.chunk = max(1, self.chunk // 2) if e_end > EVENTS else min(MAX_CHUNK, self.chunk * 2)
 
-    def nodes_of() -> np.ndarray:
-        return kw.world_nodes(all_reps, n, plan.radix, plan.pend, plan.colours)[0]
+    def _events(self, keys: np.ndarray, limits: Limits) -> tuple[Any, ...]:
+        """The chunk's states decoded, their configurations' actions (up to the first that
+        halts), a round scheduler's events weighed first (a limit may take fewer states,
+        ``stopped`` set), and their events: sources, successors, robots' masks, crossings
+        (rounds), each state's final flag and stay mask, the states taken, the halt."""
+        from gather_verify.kernels import world as kw
 
-    arrays = SearchArrays(_join(offsets, np.int64), _join(targets, np.int32),
-                          _join(rmasks, mask_type),
-                          _join(crossing, np.bool_) if rounds else None,
-                          _join(final, np.bool_), _join(stay, mask_type), nodes_of)
-    keys_col = _Keys(all_reps, plan)
-    return WorldSearch(
-        keys=keys_col, parents=_Column(_join(parents, np.int32)),  # type: ignore[arg-type]
-        edges=_Edges(arrays, keys_col, sched, configs.actions),  # type: ignore[arg-type]
-        final=_Column(arrays.final), stay=_Column(arrays.stay),  # type: ignore[arg-type]
-        states=len(all_reps), transitions=transitions, stopped=stopped, halt=halt,
-        reduced=anonymity or len(symmetries) > 1, seconds=time.perf_counter() - started,
-        canonical=canonicaliser(symmetries, meeting, anonymity, visits, relabel),
-        engine="bulk",
-        arrays=arrays, seed_ids=seed_ids.reshape(len(seeds), len(starts)))
+        plan = self.plan
+        nodes, slots, cols, rest, ckey, pos = kw.world_decode(
+            keys, self.n, plan.radix, plan.rc_node, plan.rc_slot, plan.rc_col, plan.colours,
+            plan.cfg_base)
+        masks, cut, why_halt = self.configs.chunk(nodes, cols, ckey, pos)
+        del ckey, pos
+        if cut < len(keys):
+            keys, nodes, slots, cols, rest = (a[:cut] for a in (keys, nodes, slots, cols, rest))
+        if self.rounds:  # a round's events weighed before they are made (a limit bounds it)
+            counts = kw.world_round_counts(rest // plan.vb, masks, plan.subsets, plan.rr,
+                                           plan.rr_orders, plan.act_node.shape[1],
+                                           float(EVENTS))
+            take, self.stopped = rounds_taken(counts, self.index.count, limits)
+            if take < cut:
+                keys, nodes, slots, cols, rest, masks = (
+                    a[:take] for a in (keys, nodes, slots, cols, rest, masks))
+                cut, why_halt = take, None  # (a later state's halt: met again later)
+        fin, sty = kw.world_facts(nodes, slots, cols, masks, plan.stay_bit)
+        vis = rest % plan.vb
+        cross = None
+        if self.rounds:
+            src, succ, rmask, cross = kw.world_rounds(
+                keys, nodes, slots, cols, vis, rest // plan.vb, masks, plan.subsets,
+                plan.rr, plan.rr_orders, plan.act_node, plan.act_col, plan.pw, self.visits,
+                plan.pend, plan.colours, plan.vb, int(counts[:cut].sum()))
+        else:
+            src, succ, rmask = kw.world_async(
+                keys, nodes, slots, cols, plan.adj, vis, masks, plan.act_node,
+                plan.act_col, plan.act_slot, plan.pw, self.visits, plan.pend, plan.colours)
+        return src, succ, rmask, cross, fin, sty, cut, why_halt
 
+    def result(self, started: float) -> WorldSearch:
+        """The search's result: its columns joined (each chunk let go once copied), the
+        index's table let go first (its key column lives on as the stored states when
+        unreduced)."""
+        from gather_verify.kernels import world as kw
+
+        plan, n = self.plan, self.n
+        all_reps = _stored(self.index, self.reps, 0, self.index.count)
+        del self.index
+
+        def nodes_of() -> np.ndarray:
+            return kw.world_nodes(all_reps, n, plan.radix, plan.pend, plan.colours)[0]
+
+        mask_type = self.mask_type
+        arrays = SearchArrays(_join(self.offsets, np.int64), _join(self.targets, np.int32),
+                              _join(self.rmasks, mask_type),
+                              _join(self.crossing, np.bool_) if self.rounds else None,
+                              _join(self.final, np.bool_), _join(self.stay, mask_type),
+                              nodes_of)
+        keys_col = _Keys(all_reps, plan)
+        return WorldSearch(
+            keys=keys_col, parents=_Column(_join(self.parents, np.int32)),  # type: ignore[arg-type]
+            edges=_Edges(arrays, keys_col, self.sched, self.configs.actions),  # type: ignore[arg-type]
+            final=_Column(arrays.final), stay=_Column(arrays.stay),  # type: ignore[arg-type]
+            states=len(all_reps), transitions=self.transitions, stopped=self.stopped,
+            halt=self.halt, reduced=self.anonymity or len(self.symmetries) > 1,
+            seconds=time.perf_counter() - started,
+            canonical=canonicaliser(self.symmetries, self.meeting, self.anonymity, self.visits,
+                                    self.relabel),
+            engine="bulk",
+            arrays=arrays, seed_ids=self.seed_ids.reshape(len(self.seeds), len(self.starts)))

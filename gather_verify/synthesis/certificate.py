@@ -105,30 +105,71 @@ def replay(views: Views, cex: dict[str, Any], scheduler: str | None = None) -> R
     overrides both): its literals, or :class:`CertificateError` naming what fails (an event
     the scheduler cannot take, two options for one view, no violation)."""
     inst = views.inst
-    world, task = inst.world, inst.task
-    name = scheduler
-    if name is None:
-        name = cex.get("scheduler", inst.scheduler) if isinstance(cex, dict) else None
-        if not isinstance(name, str) or not liftable(name, inst.scheduler,
-                                                     inst.lights.colours):
-            raise CertificateError(f"a counterexample under {name!r} is none under "
-                                   f"{inst.scheduler}")
-    sched = get_scheduler(name)
-    try:
-        config = inst.configurations[int(cex["configuration"])]
-        raw_events = list(cex["events"])
-        loop = cex.get("loop")
-        stays = [(int(s), int(i)) for s, i in cex.get("stays", [])]
-        busy = [(int(s), int(i), world.node_from_json(d), int(c))
-                for s, i, d, c in cex.get("busy", [])]
-        final = bool(cex.get("final", False))
-        prop = str(cex["property"])
-    except (KeyError, TypeError, ValueError, IndexError) as error:
-        raise CertificateError(f"a malformed counterexample: {error!r}") from None
-    except InvalidInput as error:
-        raise CertificateError(f"a malformed counterexample: {error}") from None
-    robots0, colours0 = config
+    sched = get_scheduler(_scheduler_name(inst, cex, scheduler))
+    got = _Fields.of(inst, cex)
+    robots0, colours0 = got.config
     n = len(robots0)
+    extra = _start(sched, n, cex)
+    robots = tuple((v, None, c) for v, c in zip(robots0, colours0, strict=True))
+    visited = _bits(robots0) if inst.task.visits else 0
+    states: list[State] = [(robots, visited, extra)]
+    events = [event_from_json(inst.world, e) for e in got.raw_events]
+    literals: dict[int, int] = {}
+    # pass 1: the states and the literals the events, stays, busy robots and the end rely on
+    _walk_events(views, states, events, literals, n)
+    _pin_stays(views, states, literals, got, n)
+    # pass 2: each event is one the scheduler takes, with the move sets of those literals
+    _schedule(sched, views, states, events, literals)
+    _violation(views, inst, got.prop, cex, states, events, got.loop, got.stays, got.busy,
+               got.final)
+    return Replayed(literals, states)
+
+
+def _scheduler_name(inst: Instance, cex: dict[str, Any], scheduler: str | None) -> str:
+    """The scheduler a counterexample is replayed under: ``scheduler`` if given, else the
+    one it names if the instance's lifts it, else :class:`CertificateError`."""
+    if scheduler is not None:
+        return scheduler
+    name = cex.get("scheduler", inst.scheduler) if isinstance(cex, dict) else None
+    if not isinstance(name, str) or not liftable(name, inst.scheduler, inst.lights.colours):
+        raise CertificateError(f"a counterexample under {name!r} is none under "
+                               f"{inst.scheduler}")
+    return name
+
+
+@dataclass(frozen=True)
+class _Fields:
+    """A counterexample's fields, read: its configuration, events (as written), loop,
+    stays, busy robots, whether it ends final, and the property it violates."""
+
+    config: Any
+    raw_events: list[Any]
+    loop: Any
+    stays: list[tuple[int, int]]
+    busy: list[tuple[int, int, Any, int]]
+    final: bool
+    prop: str
+
+    @staticmethod
+    def of(inst: Instance, cex: dict[str, Any]) -> _Fields:
+        """Read ``cex``'s fields, or :class:`CertificateError` naming a malformed one."""
+        try:
+            return _Fields(
+                config=inst.configurations[int(cex["configuration"])],
+                raw_events=list(cex["events"]), loop=cex.get("loop"),
+                stays=[(int(s), int(i)) for s, i in cex.get("stays", [])],
+                busy=[(int(s), int(i), inst.world.node_from_json(d), int(c))
+                      for s, i, d, c in cex.get("busy", [])],
+                final=bool(cex.get("final", False)), prop=str(cex["property"]))
+        except (KeyError, TypeError, ValueError, IndexError) as error:
+            raise CertificateError(f"a malformed counterexample: {error!r}") from None
+        except InvalidInput as error:
+            raise CertificateError(f"a malformed counterexample: {error}") from None
+
+
+def _start(sched: Any, n: int, cex: dict[str, Any]) -> Any:
+    """The scheduler's start the counterexample names (None for a stateless scheduler), or
+    :class:`CertificateError` when the scheduler has no such start."""
     starts = getattr(sched, "starts", lambda _n: [None])(n)
     start = cex.get("start")
     try:
@@ -137,47 +178,55 @@ def replay(views: Views, cex: dict[str, Any], scheduler: str | None = None) -> R
         raise CertificateError(f"a malformed start {str(start)[:40]}") from None
     if extra not in starts:
         raise CertificateError(f"the scheduler has no start {start!r}")
-    visits = task.visits
-    robots = tuple((v, None, c) for v, c in zip(robots0, colours0, strict=True))
-    visited = _bits(robots0) if visits else 0
-    states: list[State] = [(robots, visited, extra)]
-    events = [event_from_json(world, e) for e in raw_events]
-    literals: dict[int, int] = {}
+    return extra
 
-    def need(state: State, i: int, action: tuple[int, int], why: str) -> None:
-        rs = state[0]
-        k, acts = views.robots(rs)[i]
-        hits = [o for o, a in enumerate(acts) if action in a]
-        if len(hits) != 1:
-            raise CertificateError(f"{why}: robot {i} cannot do {action} there")
-        if literals.setdefault(k, hits[0]) != hits[0]:
-            raise CertificateError(f"{why}: view {k} would need two answers")
 
-    # pass 1: the states and the literals the events rely on
+def _need(views: Views, literals: dict[int, int], state: State, i: int,
+          action: tuple[int, int], why: str) -> None:
+    """Fix the literal of robot ``i``'s view in ``state`` to the option holding ``action``,
+    or :class:`CertificateError` when no option or two answers for one view."""
+    k, acts = views.robots(state[0])[i]
+    hits = [o for o, a in enumerate(acts) if action in a]
+    if len(hits) != 1:
+        raise CertificateError(f"{why}: robot {i} cannot do {action} there")
+    if literals.setdefault(k, hits[0]) != hits[0]:
+        raise CertificateError(f"{why}: view {k} would need two answers")
+
+
+def _walk_events(views: Views, states: list[State], events: list[Event],
+                 literals: dict[int, int], n: int) -> None:
+    """Apply the events in turn, appending each state (its scheduler's part filled in by
+    :func:`_schedule`) and fixing the literals of the robots that act."""
+    visits = views.inst.task.visits
     for step, event in enumerate(events):
         rs = states[-1][0]
         if any(not 0 <= i < n for i in event.robots):
             raise CertificateError(f"step {step}: no such robot")
         if event.kind in ("round", "look"):
             for i in event.robots:
-                need(states[-1], i, _action(rs, event, i), f"step {step}")
+                _need(views, literals, states[-1], i, _action(rs, event, i), f"step {step}")
         nxt = apply_event(rs, event)
         seen = states[-1][1]
         if visits:
             seen |= _bits(v for v, _, _ in nxt)
-        states.append((nxt, seen, None))  # the scheduler's state is filled in by pass 2
-    for s, i in stays:
+        states.append((nxt, seen, None))
+
+
+def _pin_stays(views: Views, states: list[State], literals: dict[int, int], got: _Fields,
+               n: int) -> None:
+    """Fix the literals the stays, the busy robots and a final last state rely on."""
+    for s, i in got.stays:
         if not 0 <= s < len(states) or not 0 <= i < n or states[s][0][i][1] is not None:
             raise CertificateError(f"stay ({s}, {i}): no idle robot {i} in state {s}")
         v, _, c = states[s][0][i]
-        need(states[s], i, (v, c), f"stay ({s}, {i})")
-    for s, i, d, c in busy:
+        _need(views, literals, states[s], i, (v, c), f"stay ({s}, {i})")
+    for s, i, d, c in got.busy:
         if not 0 <= s < len(states) or not 0 <= i < n or states[s][0][i][1] is not None:
             raise CertificateError(f"busy ({s}, {i}): no idle robot {i} in state {s}")
         if (d, c) == (states[s][0][i][0], states[s][0][i][2]):
             raise CertificateError(f"busy ({s}, {i}): staying does not make a state busy")
-        need(states[s], i, (d, c), f"busy ({s}, {i})")
-    if final:
+        _need(views, literals, states[s], i, (d, c), f"busy ({s}, {i})")
+    if got.final:
         last = states[-1]
         for i, (v, p, c) in enumerate(last[0]):
             if p is not None:
@@ -186,7 +235,12 @@ def replay(views: Views, cex: dict[str, Any], scheduler: str | None = None) -> R
             stay = views.stay_option(k, acts, v, c)
             if stay < 0 or literals.setdefault(k, stay) != stay:
                 raise CertificateError(f"the last state: robot {i} cannot be made to stay")
-    # pass 2: each event is one the scheduler takes, with the move sets of those literals
+
+
+def _schedule(sched: Any, views: Views, states: list[State], events: list[Event],
+              literals: dict[int, int]) -> None:
+    """Check that each event is one the scheduler takes with the move sets of ``literals``,
+    filling in each state's scheduler part."""
     for step, event in enumerate(events):
         rs, _, now = states[step]
         per = views.robots(rs)
@@ -201,8 +255,6 @@ def replay(views: Views, cex: dict[str, Any], scheduler: str | None = None) -> R
                 break
         else:
             raise CertificateError(f"step {step}: the scheduler has no such event")
-    _violation(views, inst, prop, cex, states, events, loop, stays, busy, final)
-    return Replayed(literals, states)
 
 
 def _violation(views: Views, inst: Instance, prop: str, cex: dict[str, Any],

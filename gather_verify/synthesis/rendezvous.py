@@ -30,6 +30,7 @@ earlier subtree, already verified, holds a renaming of its table.
 from __future__ import annotations
 
 import time
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from itertools import permutations, product
@@ -138,7 +139,8 @@ class Setting:
             first = self._steps(graph.states[graph.open[0]], table)
             assert not isinstance(first, list)
             need = first
-        return _fair_outside_goal(graph), need, graph
+        graph.fair = _fair_outside_goal(graph)
+        return graph.fair is not None, need, graph
 
     def _steps(self, state: State, table: dict[View, Answer]
                ) -> list[tuple[State, int]] | View:
@@ -173,6 +175,34 @@ class Setting:
         return Rendezvous(cast(RendezvousAlgorithm, Partial(self.colours, self.lights))
                           ).starts(self.movement, self.initial_colours)
 
+    def core(self, graph: Explored) -> frozenset[View]:
+        """The views a refuted table's refutation reads: those of the states on a shortest
+        path from an initial state into its fair component, and of the component's states.
+        A state's successors depend only on the answers to the views its Looks read, so
+        every table that answers these views alike reaches the same component and is
+        refuted too."""
+        assert graph.fair is not None
+        inside = set(graph.fair)
+        parent: dict[int, int | None] = dict.fromkeys(range(graph.starts))
+        end = next((v for v in range(graph.starts) if v in inside), None)
+        queue = deque(range(graph.starts))
+        while end is None:
+            v = queue.popleft()
+            for w in graph.edges[v]:
+                if w not in parent:
+                    parent[w] = v
+                    queue.append(w)
+                    if w in inside:
+                        end = w
+                        break
+        path: list[int] = []
+        at: int | None = end
+        while at is not None:
+            path.append(at)
+            at = parent[at]
+        return frozenset(view for v in (*path, *graph.fair)
+                         for view in self._memo[graph.states[v]][0])
+
     def renamings(self) -> list[Renaming]:
         """The renamings of colours that map the set of initial states onto itself. The
         rules of the plane and the reads (atomic, regular, and a safe read's every colour)
@@ -190,6 +220,10 @@ class Setting:
         """One name for a table and all its renamings: the least renamed table."""
         return min(tuple(sorted(((_name(v[0], r), _name(v[1], r), v[2]), (a[0], r[a[1]]))
                                 for v, a in table.items())) for r in renamings)
+
+
+def _sorted_views(views: frozenset[View]) -> list[list[int | None]]:
+    return sorted((list(v) for v in views), key=lambda v: [-1 if x is None else x for x in v])
 
 
 def _name(colour: int | None, renaming: Renaming) -> int:
@@ -214,10 +248,13 @@ class Explored:
     masks: list[list[int]]
     gathered: list[bool]
     open: list[int]
+    starts: int = 0
+    fair: list[int] | None = None
+    """A fair component of decided states outside the goal, if any (the table is refuted)."""
 
     @staticmethod
     def of(starts: list[State]) -> Explored:
-        graph = Explored([], {}, [], [], [], [])
+        graph = Explored([], {}, [], [], [], [], len(starts))
         for state in starts:
             graph.add(state)
         return graph
@@ -234,12 +271,13 @@ class Explored:
         """A copy to go on from (a stepped state's lists are never changed again)."""
         return Explored(self.states.copy(), self.index.copy(), self.edges.copy(),
                         [m if e else [] for m, e in zip(self.masks, self.edges, strict=True)],
-                        self.gathered.copy(), self.open.copy())
+                        self.gathered.copy(), self.open.copy(), self.starts)
 
 
-def _fair_outside_goal(graph: Explored) -> bool:
+def _fair_outside_goal(graph: Explored) -> list[int] | None:
     """A strongly connected component of decided states, none gathered, with an edge of each
-    robot inside it (open states have no edge, so they are in none)."""
+    robot inside it (open states have no edge, so they are in none); None if there is
+    none."""
     edges, masks, gathered = graph.edges, graph.masks, graph.gathered
     for comp in components_of(len(edges), edges.__getitem__, lambda v: not gathered[v]):
         members = set(comp)
@@ -249,8 +287,8 @@ def _fair_outside_goal(graph: Explored) -> bool:
                 if w in members:
                     robots |= mask
         if robots == 3:
-            return True
-    return False
+            return comp
+    return None
 
 
 class Found(GatherVerifyError):
@@ -270,39 +308,84 @@ class OutOfTime(GatherVerifyError):
 @dataclass
 class Search:
     """One case split: its setting, deadline, the renamings it may skip by (none: every
-    table searched) and the renamed tables already searched to the end with no witness."""
+    table searched), the renamed tables already searched to the end with no witness, and
+    whether it backjumps (:meth:`split`)."""
 
     setting: Setting
     deadline: float
     renamings: list[Renaming]
+    backjump: bool = True
     tables: int = 0
     done: set[Canon] = field(default_factory=set)
+    failures: dict[tuple[View, Answer], list[tuple[tuple[View, Answer], ...]]] = field(
+        default_factory=dict)
+    """The answers a refuted table's failure reads (:meth:`Setting.core`), under each of
+    them: any table that gives them all is refuted, unexplored."""
+    learned: int = 0
 
-    def below(self, table: dict[View, Answer], reached: Explored | None = None
-              ) -> dict[str, Any]:
-        """The case split below ``table`` (raises :class:`Found` at a witness); ``reached``:
-        what the parent's table reached."""
+    def below(self, table: dict[View, Answer], reached: Explored | None = None,
+              last: tuple[View, Answer] | None = None) -> tuple[dict[str, Any], frozenset[View]]:
+        """The case split below ``table`` (raises :class:`Found` at a witness) and the views
+        its failure reads (every table that answers them as ``table`` does fails);
+        ``reached``: what the parent's table reached; ``last``: the answer it added."""
         if time.perf_counter() > self.deadline:
             raise OutOfTime
         canon = self.setting.canonical(table, self.renamings) if self.renamings else None
         if canon in self.done:
-            return {"renamed": True}
+            return {"renamed": True}, frozenset(table)
         self.tables += 1
-        refuted, need, graph = self.setting.explore(table, reached)
-        if refuted:
-            node: dict[str, Any] = {"refuted": True}
-        elif need is None:
-            raise Found(table)
+        known = self.known(table, last)
+        if known is not None:
+            node: dict[str, Any] = {"refuted": True, "reads": _sorted_views(known)}
+            core = known
         else:
-            children = []
-            for answer in answers(self.setting.colours):
-                table[need] = answer
-                children.append(self.below(table, graph))
-                del table[need]
-            node = {"view": list(need), "children": children}
+            refuted, need, graph = self.setting.explore(table, reached)
+            if refuted:
+                core = self.setting.core(graph)
+                self.learn(table, core)
+                node = {"refuted": True, "reads": _sorted_views(core)}
+            elif need is None:
+                raise Found(table)
+            else:
+                node, core = self.split(table, need, graph)
         if canon is not None:
             self.done.add(canon)
-        return node
+        return node, core
+
+    def learn(self, table: dict[View, Answer], reads: frozenset[View]) -> None:
+        """Remember the answers a refuted table's failure reads."""
+        if self.backjump:
+            failure = tuple((view, table[view]) for view in reads)
+            for given in failure:
+                self.failures.setdefault(given, []).append(failure)
+
+    def known(self, table: dict[View, Answer], last: tuple[View, Answer] | None
+              ) -> frozenset[View] | None:
+        """The views of a failure remembered by :meth:`learn` that ``table`` gives, with its
+        ``last`` answer (the others it gave were no failure), or None."""
+        for failure in self.failures.get(last, ()) if last is not None else ():
+            if all(table.get(view) == answer for view, answer in failure):
+                self.learned += 1
+                return frozenset(view for view, _ in failure)
+        return None
+
+    def split(self, table: dict[View, Answer], need: View, graph: Explored
+              ) -> tuple[dict[str, Any], frozenset[View]]:
+        """One child per answer to ``need``. Backjumping: as soon as a child's failure does
+        not read ``need``, the table fails whatever ``need`` answers, and the split ends
+        there (``"jump": true``; the children before stay, a renamed leaf may stand on
+        them)."""
+        children: list[dict[str, Any]] = []
+        core: set[View] = set()
+        for answer in answers(self.setting.colours):
+            table[need] = answer
+            child, reads = self.below(table, graph, (need, answer))
+            del table[need]
+            children.append(child)
+            if self.backjump and need not in reads:
+                return {"view": list(need), "children": children, "jump": True}, reads
+            core |= reads - {need}
+        return {"view": list(need), "children": children}, frozenset(core)
 
 
 def algorithm_of(setting: Setting, table: dict[View, Answer], name: str) -> RendezvousAlgorithm:
@@ -314,21 +397,21 @@ def algorithm_of(setting: Setting, table: dict[View, Answer], name: str) -> Rend
 
 def synthesize(colours: int, lights: str, scheduler: str, movement: str = "non-rigid",
                initial_colours: str = "all", max_seconds: float = 600.0,
-               symmetry: bool = True) -> dict[str, Any]:
+               symmetry: bool = True, backjump: bool = True) -> dict[str, Any]:
     """``exists`` (with the witness's table, verified by the ordinary check), ``none`` (with a
     certificate) or ``unknown`` (the time ran out). ``symmetry=False`` searches every table,
-    renamings included."""
+    renamings included; ``backjump=False`` splits every view over every answer."""
     if lights not in LIGHTS or not 1 <= colours <= 8:
         raise InvalidInput(f"lights {colours}:{lights}: 1 to 8 colours, full, external or "
                            "internal")
     setting = Setting(colours, lights, scheduler, movement, initial_colours)
     phase_model(scheduler)  # an unknown model: one line
     search = Search(setting, time.perf_counter() + max_seconds,
-                    setting.renamings() if symmetry else [])
+                    setting.renamings() if symmetry else [], backjump)
     head = {"world": "rendezvous", "colours": colours, "lights": lights,
             "scheduler": scheduler, "movement": movement, "initial_colours": initial_colours}
     try:
-        tree = search.below({})
+        tree = search.below({})[0]
     except Found as found:
         witness = algorithm_of(setting, found.table, f"synthesized-{colours}-{lights}")
         check = run_rendezvous_check(witness, scheduler, movement=movement,
@@ -348,7 +431,9 @@ def synthesize(colours: int, lights: str, scheduler: str, movement: str = "non-r
 
 def verify(certificate: dict[str, Any]) -> bool:
     """Whether a ``none`` certificate holds: every inner node splits on one view over every
-    answer, every ``refuted`` leaf's partial table is refuted (a fair run that never
+    answer, or (``jump``) over the first answers up to one whose subtree's failure does not
+    read the view (the views a failure reads are worked out here again, from the refuted
+    leaves up); every ``refuted`` leaf's partial table is refuted (a fair run that never
     gathers), and every ``renamed`` leaf's table is a renaming (one that keeps the initial
     states) of a table whose subtree, earlier in the tree, already holds."""
     try:
@@ -359,41 +444,74 @@ def verify(certificate: dict[str, Any]) -> bool:
         assert setting.lights in LIGHTS and setting.movement in MOVEMENTS
         assert setting.initial_colours in INITIAL_COLOURS
         phase_model(str(setting.scheduler))
-        all_views = set(views(setting.colours, setting.lights))
         renamings = setting.renamings()
     except (KeyError, TypeError, AssertionError):
         raise InvalidInput("bad certificate: a rendezvous certificate names colours (1 to 8), "
                            "lights, scheduler, movement and initial_colours") from None
-
-    done: set[Canon] = set()
-
-    def holds(node: Any, table: dict[View, Answer]) -> bool:
-        if not isinstance(node, dict):
-            return False
-        canon = setting.canonical(table, renamings)
-        if node.get("renamed") is True:
-            return canon in done
-        ok = setting.explore(table)[0] if node.get("refuted") is True else split(node, table)
-        if ok:
-            done.add(canon)
-        return ok
-
-    def split(node: dict[str, Any], table: dict[View, Answer]) -> bool:
-        view = tuple(node.get("view", ()))
-        children = node.get("children")
-        if view not in all_views or view in table or not isinstance(children, list) \
-                or len(children) != len(answers(setting.colours)):
-            return False
-        key: View = view
-        for answer, child in zip(answers(setting.colours), children, strict=True):
-            table[key] = answer
-            ok = holds(child, table)
-            del table[key]
-            if not ok:
-                return False
-        return True
-
     try:
-        return holds(certificate.get("tree"), {})
+        return _Verifier(setting, renamings).holds(certificate.get("tree"), {}) is not None
     except (TypeError, ValueError, RecursionError):
         return False  # a tree that is no case split holds nothing
+
+
+@dataclass
+class _Verifier:
+    """A certificate's tree read against its setting: :meth:`holds` gives the views a
+    node's failure reads, or None where the node does not hold."""
+
+    setting: Setting
+    renamings: list[Renaming]
+    done: set[Canon] = field(default_factory=set)
+
+    def holds(self, node: Any, table: dict[View, Answer]) -> frozenset[View] | None:
+        if not isinstance(node, dict):
+            return None
+        canon = self.setting.canonical(table, self.renamings)
+        if node.get("renamed") is True:
+            return frozenset(table) if canon in self.done else None
+        if node.get("refuted") is True:
+            reads = self.refuted(node, table)
+        else:
+            reads = self.split(node, table)
+        if reads is not None:
+            self.done.add(canon)
+        return reads
+
+    def refuted(self, node: dict[str, Any], table: dict[View, Answer]) -> frozenset[View] | None:
+        """A refuted leaf: the table answering only the views the leaf says its failure
+        reads (all of them, if it says none) is refuted, so every table that answers them
+        alike is."""
+        if "reads" not in node:
+            refuted, _, graph = self.setting.explore(table)
+            return self.setting.core(graph) if refuted else None
+        reads = frozenset(tuple(v) for v in node["reads"])
+        if not reads <= table.keys():
+            return None
+        return reads if self.setting.explore({v: table[v] for v in reads})[0] else None
+
+    def view(self, node: dict[str, Any], table: dict[View, Answer]) -> View | None:
+        """The node's view, if it is one of the setting's and the table does not answer it."""
+        view = tuple(node.get("view", ()))
+        known = view in views(self.setting.colours, self.setting.lights)
+        return cast(View, view) if known and view not in table else None
+
+    def split(self, node: dict[str, Any], table: dict[View, Answer]) -> frozenset[View] | None:
+        """Every answer's child holds; or (``jump``) the children hold up to one whose
+        failure does not read the view, which then stands for every answer."""
+        view, children = self.view(node, table), node.get("children")
+        jump, every = node.get("jump") is True, answers(self.setting.colours)
+        if view is None or not isinstance(children, list) or not (
+                1 <= len(children) <= len(every) if jump else len(children) == len(every)):
+            return None
+        reads: set[View] = set()
+        below: frozenset[View] | None = None
+        for answer, child in zip(every, children, strict=False):
+            table[view] = answer
+            below = self.holds(child, table)
+            del table[view]
+            if below is None:
+                return None
+            reads |= below - {view}
+        if jump:
+            return below if below is not None and view not in below else None
+        return frozenset(reads)
