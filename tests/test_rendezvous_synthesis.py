@@ -13,7 +13,7 @@ import sys
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_rendezvous_world import graph_of
+from test_rendezvous_world import draw_rules, graph_of
 
 from gather_verify.rendezvous_check import run_rendezvous_check
 from gather_verify.synthesis.rendezvous import (
@@ -167,11 +167,7 @@ def test_a_malformed_certificate_is_one_line_or_refused():
 def renamed(draw):
     """A random algorithm of two or three colours, and a renaming of its colours."""
     k, light = draw(st.integers(2, 3)), draw(st.sampled_from(rr.LIGHTS))
-    own = [None] if light == "external" else range(k)
-    other = [None] if light == "internal" else range(k)
-    answer = st.tuples(st.sampled_from((rr.STAY, rr.TO_HALF, rr.TO_OTHER)),
-                       st.integers(0, k - 1))
-    rules = {(a, b, p): draw(answer) for a in own for b in other for p in range(3)}
+    rules = draw_rules(draw, k, light)
     r = draw(st.permutations(range(k)))
 
     def name(c):

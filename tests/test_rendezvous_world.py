@@ -90,15 +90,21 @@ def test_the_world_is_the_referee_on_every_cell(cell):
     same_cell(*cell)
 
 
-@st.composite
-def tables(draw):
-    """A random algorithm of one or two colours: one answer per view its lights show."""
-    k, light = draw(st.integers(1, 2)), draw(st.sampled_from(rr.LIGHTS))
+def draw_rules(draw, k: int, light: str) -> dict:
+    """One random answer (a move and a colour) per view that ``light`` shows with ``k``
+    colours: (own colour, other's colour, position) -> (move, colour)."""
     own = [None] if light == "external" else range(k)
     other = [None] if light == "internal" else range(k)
     answer = st.tuples(st.sampled_from((rr.STAY, rr.TO_HALF, rr.TO_OTHER)),
                        st.integers(0, k - 1))
-    rules = tuple(((a, b, p), draw(answer)) for a in own for b in other for p in range(3))
+    return {(a, b, p): draw(answer) for a in own for b in other for p in range(3)}
+
+
+@st.composite
+def tables(draw):
+    """A random algorithm of one or two colours: one answer per view its lights show."""
+    k, light = draw(st.integers(1, 2)), draw(st.sampled_from(rr.LIGHTS))
+    rules = tuple(draw_rules(draw, k, light).items())
     return rr.RendezvousAlgorithm("random", k, rules, lights=light)
 
 
