@@ -120,3 +120,14 @@ def test_the_line():
     PROGRESS.begin("searching the longest walk (move-bound)")
     PROGRESS.states = 12
     assert progress_line(PROGRESS, 3.4) == "… 12 states, 3 s, searching the longest walk (move-bound)"
+
+
+@pytest.mark.parametrize("reduction", [[], ["--no-reduction"]])
+def test_the_finite_world_bulk_search_counts_its_states_for_the_line(reduction, capsys):
+    """The progress line's count on a finite world is the bulk search's stored states, chunk
+    by chunk (it stayed 0 there once)."""
+    PROGRESS.begin("a test")
+    out, _ = _check(capsys, "--world", "ring:9", "--robots", "0 3 5", "--meeting", "7",
+                    "--algorithm", "go-to-target", "--scheduler", "async", "--engine", "bulk",
+                    "--progress", "0", "--json", *reduction)
+    assert PROGRESS.states == json.loads(out)["states"] > 0

@@ -62,6 +62,7 @@ from gather_verify.engine.world_search import (
     relabeller,
 )
 from gather_verify.kernels.codes import NO_EDGE
+from gather_verify.progress import PROGRESS
 from schedulers import Event, Scheduler, as_scheduler
 
 if TYPE_CHECKING:
@@ -618,16 +619,21 @@ class _WorldRun:
                               self.visits, self.n, self.world.size, plan.radix, plan.pend,
                               plan.colours, plan.adj, plan.vb, plan.pw)
 
+    def stored(self) -> int:
+        """The states stored so far (the orbit representatives, with a reduction)."""
+        return self.index.count if self.reps is None else int(self.reps.size)
+
     def pending(self) -> bool:
         """Whether stored states are left to expand."""
-        return self.expanded < (self.index.count if self.reps is None else self.reps.size)
+        return self.expanded < self.stored()
 
     def rss(self) -> float:
         """The memory in use now (MB)."""
         return rss_mb()
 
     def chunk_done(self) -> None:
-        """Nothing between a finite world's chunks."""
+        """The progress line's count (check --progress)."""
+        PROGRESS.states = self.stored()
 
     def step(self, limits: Limits) -> None:
         """Expand the next chunk of stored states: their events, the successors' ids (cut
