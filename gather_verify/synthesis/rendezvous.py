@@ -4,10 +4,12 @@ with lights meet under a synchrony model (SEMANTICS.md §12, §13)?
 An algorithm is a table from a view (own colour, other's colour, as far as the lights show
 them; the relative position) to a move and a colour. The search assigns a view's answer
 only when a reachable state needs it (lazily, depth first), and after each assignment
-explores what the table decides so far, going on from what its parent reached: the states
-that need an unassigned view are left open. A fair strongly connected component of decided states outside the goal (both robots
-step in it, it never gathers) is in the state graph of every completion, so the whole
-subtree fails there. A table with no open state and no such component is a witness, which
+explores what the table decides so far, going on from what its parent reached: a state
+that needs an unassigned view is *open*, and only its steps that read no unassigned view
+are taken (every completion of the table has them). A fair strongly connected component
+of these known steps outside the goal (both robots step in it, it never gathers) is in the
+state graph of every completion, so the whole subtree fails there. A table with no open
+state and no such component is a witness, which
 the ordinary check (:func:`~gather_verify.rendezvous_check.run_rendezvous_check`) then
 verifies. When every branch fails, the answer is ``none`` with a certificate: the case
 split (a view, and a subtree per answer) down to each refuted partial table, which
@@ -89,6 +91,11 @@ def views(colours: int, lights: str) -> list[View]:
     return [(a, b, p) for a, b, p in product(own, other, range(len(POSITIONS)))]
 
 
+UNASSIGNED: Answer = (STAY, -1)
+"""The answer a partial table's Look gets for a view it does not give: colour -1 marks
+the successor as unknown (:meth:`Setting._steps` drops it)."""
+
+
 def answers(colours: int) -> list[Answer]:
     return [(m, c) for m in (STAY, TO_HALF, TO_OTHER) for c in range(colours)]
 
@@ -107,12 +114,12 @@ class Setting:
 
     def explore(self, table: dict[View, Answer], below: Explored | None = None
                 ) -> tuple[bool, View | None, Explored]:
-        """What ``table`` decides so far: whether a fair run of decided states never gathers
+        """What ``table`` decides so far: whether a fair run of known steps never gathers
         (refuted), the first view an open state needs (None: every state decided), and the
-        states it reaches. ``below``: what a sub-table of ``table`` reached, from which the
-        search goes on (a state it stepped has the same successors under ``table``, so only
-        its open states are stepped again; the reached states are those of a search from
-        scratch)."""
+        states it reaches by known steps (an open state's steps that read no unassigned
+        view). ``below``: what a sub-table of ``table`` reached, from which the search goes
+        on (a decided state has the same successors under ``table``, so only its open states
+        are stepped again; the reached states are those of a search from scratch)."""
         graph = Explored.of(self.starts()) if below is None else below.copy()
         work = list(range(len(graph.states))) if below is None else list(below.open)
         graph.open = []
@@ -120,49 +127,45 @@ class Setting:
         while at < len(work):
             v = work[at]
             at += 1
-            out = self._steps(graph.states[v], table)
-            if not isinstance(out, list):
+            out, missing = self._steps(graph.states[v], table)
+            if missing is not None:
                 graph.open.append(v)
-                continue
             targets = []
-            for succ, mask in out:
+            for succ, _ in out:
                 w = graph.index.get(succ)
                 if w is None:
                     w = graph.add(succ)
                     work.append(w)
                 targets.append(w)
-                graph.masks[v].append(mask)
-            graph.edges[v] = targets
+            graph.edges[v], graph.masks[v] = targets, [mask for _, mask in out]
         graph.open.sort()
-        need = None
-        if graph.open:
-            first = self._steps(graph.states[graph.open[0]], table)
-            assert not isinstance(first, list)
-            need = first
+        need = self._steps(graph.states[graph.open[0]], table)[1] if graph.open else None
         graph.fair = _fair_outside_goal(graph)
         return graph.fair is not None, need, graph
 
     def _steps(self, state: State, table: dict[View, Answer]
-               ) -> list[tuple[State, int]] | View:
-        """A state's successors with the robots of each step, or the first view its Looks
-        need that ``table`` does not give. Remembered per state and per answer to the views
-        its Looks read (which the state alone fixes: asserted), so that a table's states
-        are stepped once in the whole search."""
+               ) -> tuple[list[tuple[State, int]], View | None]:
+        """A state's known successors with the robots of each step (those of its steps that
+        read no view ``table`` leaves unassigned), and the first view its Looks need that
+        ``table`` does not give (None: all its steps are known). A Look of an unassigned
+        view chooses colour -1, which stays in the successor to the event's end, and such
+        successors are dropped. Remembered per state and per answer to the views its Looks
+        read (which the state alone fixes: asserted), so that a state is stepped once per
+        answer in the whole search."""
         memo = self._memo.get(state)
         if memo is None:
             asked: list[View] = []
             self._stepped(state, asked, lambda view: (STAY, 0))
             memo = self._memo[state] = (tuple(asked), {})
         needed, known = memo
-        for view in needed:
-            if view not in table:
-                return view
-        key = tuple(table[view] for view in needed)
+        key = tuple(table.get(view) for view in needed)
         if key not in known:
             asked = []
-            known[key] = self._stepped(state, asked, table.__getitem__)
+            known[key] = [(succ, mask) for succ, mask in self._stepped(
+                state, asked, lambda view: table.get(view, UNASSIGNED)) if min(
+                    succ[1][1], succ[1][2], succ[2][1], succ[2][2]) >= 0]
             assert tuple(asked) == needed, "a state's Looks read views the state does not fix"
-        return known[key]
+        return known[key], next((view for view in needed if view not in table), None)
 
     def _stepped(self, state: State, asked: list[View], answer: Callable[[View], Answer]
                  ) -> list[tuple[State, int]]:
@@ -175,12 +178,12 @@ class Setting:
         return Rendezvous(cast(RendezvousAlgorithm, Partial(self.colours, self.lights))
                           ).starts(self.movement, self.initial_colours)
 
-    def core(self, graph: Explored) -> frozenset[View]:
-        """The views a refuted table's refutation reads: those of the states on a shortest
-        path from an initial state into its fair component, and of the component's states.
-        A state's successors depend only on the answers to the views its Looks read, so
-        every table that answers these views alike reaches the same component and is
-        refuted too."""
+    def core(self, graph: Explored, table: dict[View, Answer]) -> frozenset[View]:
+        """The views a refuted table's refutation reads: those ``table`` gives of the states
+        on a shortest path from an initial state into its fair component, and of the
+        component's states. A known step depends only on the answers to the given views its
+        Look read, so every table that answers these views alike reaches the same component
+        by the same steps and is refuted too."""
         assert graph.fair is not None
         inside = set(graph.fair)
         parent: dict[int, int | None] = dict.fromkeys(range(graph.starts))
@@ -201,7 +204,7 @@ class Setting:
             path.append(at)
             at = parent[at]
         return frozenset(view for v in (*path, *graph.fair)
-                         for view in self._memo[graph.states[v]][0])
+                         for view in self._memo[graph.states[v]][0] if view in table)
 
     def renamings(self) -> list[Renaming]:
         """The renamings of colours that map the set of initial states onto itself. The
@@ -238,9 +241,9 @@ def _renamed_state(state: State, renaming: Renaming) -> State:
 
 @dataclass
 class Explored:
-    """The states a partial table reaches: per state its successors and the robots of each
-    edge (none for an open state, which needs a view the table does not give), whether it
-    is gathered, and the open states."""
+    """The states a partial table reaches: per state its known successors and the robots of
+    each edge (an open state, which needs a view the table does not give, has those of its
+    steps that read no such view), whether it is gathered, and the open states."""
 
     states: list[State]
     index: dict[State, int]
@@ -250,7 +253,7 @@ class Explored:
     open: list[int]
     starts: int = 0
     fair: list[int] | None = None
-    """A fair component of decided states outside the goal, if any (the table is refuted)."""
+    """A fair component of known steps outside the goal, if any (the table is refuted)."""
 
     @staticmethod
     def of(starts: list[State]) -> Explored:
@@ -268,16 +271,15 @@ class Explored:
         return len(self.states) - 1
 
     def copy(self) -> Explored:
-        """A copy to go on from (a stepped state's lists are never changed again)."""
+        """A copy to go on from (a state's lists are replaced when it is stepped again,
+        never changed)."""
         return Explored(self.states.copy(), self.index.copy(), self.edges.copy(),
-                        [m if e else [] for m, e in zip(self.masks, self.edges, strict=True)],
-                        self.gathered.copy(), self.open.copy(), self.starts)
+                        self.masks.copy(), self.gathered.copy(), self.open.copy(), self.starts)
 
 
 def _fair_outside_goal(graph: Explored) -> list[int] | None:
-    """A strongly connected component of decided states, none gathered, with an edge of each
-    robot inside it (open states have no edge, so they are in none); None if there is
-    none."""
+    """A strongly connected component of known steps, none of its states gathered, with an
+    edge of each robot inside it; None if there is none."""
     edges, masks, gathered = graph.edges, graph.masks, graph.gathered
     for comp in components_of(len(edges), edges.__getitem__, lambda v: not gathered[v]):
         members = set(comp)
@@ -341,7 +343,7 @@ class Search:
         else:
             refuted, need, graph = self.setting.explore(table, reached)
             if refuted:
-                core = self.setting.core(graph)
+                core = self.setting.core(graph, table)
                 self.learn(table, core)
                 node = {"refuted": True, "reads": _sorted_views(core)}
             elif need is None:
@@ -483,7 +485,7 @@ class _Verifier:
         alike is."""
         if "reads" not in node:
             refuted, _, graph = self.setting.explore(table)
-            return self.setting.core(graph) if refuted else None
+            return self.setting.core(graph, table) if refuted else None
         reads = frozenset(tuple(v) for v in node["reads"])
         if not reads <= table.keys():
             return None
