@@ -13,6 +13,7 @@ import sys
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from rendezvous_referee import check as referee_check
 from test_rendezvous_world import draw_rules, graph_of
 
 from gather_verify.rendezvous_check import run_rendezvous_check
@@ -289,6 +290,36 @@ def test_going_on_from_the_parent_reaches_what_a_search_from_scratch_reaches(mod
         again, need2, fresh = Setting(2, lights, model, "non-rigid", "all").explore(table)
         assert again == refuted and _reached(graph) == _reached(fresh)
         assert (need is None) == (need2 is None)
+
+
+@settings(max_examples=30, deadline=None)
+@given(model=st.sampled_from(list(MODELS)), lights=st.sampled_from(rr.LIGHTS),
+       movement=st.sampled_from(rr.MOVEMENTS), initial=st.sampled_from(rr.INITIAL_COLOURS),
+       k=st.integers(1, 2), data=st.data())
+def test_an_open_states_known_steps_are_steps_of_every_completion(model, lights, movement,
+                                                                  initial, k, data):
+    """A partial table's exploration against one completion's whole state graph (the
+    product's): every state it reaches is a state of the completion, every step it takes
+    (an open state's too) is a step of the completion, a decided state has all its steps;
+    and when it refutes the partial table, the completion fails the ordinary check and the
+    naive referee's."""
+    full = draw_rules(data.draw, k, lights)
+    table = {v: a for v, a in full.items() if data.draw(st.booleans())}
+    refuted, _, graph = Setting(k, lights, model, movement, initial).explore(table)
+    alg = rr.RendezvousAlgorithm("completion", k, tuple(full.items()), lights=lights)
+    states, edges, _ = graph_of(alg, model, movement, initial)
+    opened = set(graph.open)
+    for v, state in enumerate(graph.states):
+        assert state in states
+        taken = {(state, graph.states[w], m) for w, m in zip(graph.edges[v], graph.masks[v],
+                                                             strict=True)}
+        assert taken <= edges
+        if v not in opened:
+            assert taken == {e for e in edges if e[0] == state}
+    if refuted:
+        assert run_rendezvous_check(alg, model, movement=movement,
+                                    initial_colours=initial)["verdict"] == "VIOLATED"
+        assert referee_check(alg, model, movement, initial).verdict != "PASS"
 
 
 def test_the_least_colours_tool_reads_k_at_least_k_and_more_than_the_bound():
