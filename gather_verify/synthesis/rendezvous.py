@@ -118,11 +118,21 @@ class Setting:
         (refuted), the first view an open state needs (None: every state decided), and the
         states it reaches by known steps (an open state's steps that read no unassigned
         view). ``below``: what a sub-table of ``table`` reached, from which the search goes
-        on (a decided state has the same successors under ``table``, so only its open states
-        are stepped again; the reached states are those of a search from scratch)."""
-        graph = Explored.of(self.starts()) if below is None else below.copy()
-        work = list(range(len(graph.states))) if below is None else list(below.open)
-        graph.open = []
+        on (a state has the same known successors as long as no view its Looks read is
+        added, so only the open states that read an added view are stepped again; the
+        reached states are those of a search from scratch)."""
+        if below is None:
+            graph = Explored.of(self.starts())
+            work = list(range(len(graph.states)))
+            graph.open = []
+        else:
+            graph = below.copy()
+            added = table.keys() - below.given
+            work, graph.open = [], []
+            for v in below.open:
+                again = not added.isdisjoint(self._memo[graph.states[v]][0])
+                (work if again else graph.open).append(v)
+        graph.given = frozenset(table)
         at = 0
         while at < len(work):
             v = work[at]
@@ -252,6 +262,8 @@ class Explored:
     gathered: list[bool]
     open: list[int]
     starts: int = 0
+    given: frozenset[View] = frozenset()
+    """The views of the table explored."""
     fair: list[int] | None = None
     """A fair component of known steps outside the goal, if any (the table is refuted)."""
 
@@ -274,7 +286,8 @@ class Explored:
         """A copy to go on from (a state's lists are replaced when it is stepped again,
         never changed)."""
         return Explored(self.states.copy(), self.index.copy(), self.edges.copy(),
-                        self.masks.copy(), self.gathered.copy(), self.open.copy(), self.starts)
+                        self.masks.copy(), self.gathered.copy(), self.open.copy(), self.starts,
+                        self.given)
 
 
 def _fair_outside_goal(graph: Explored) -> list[int] | None:
