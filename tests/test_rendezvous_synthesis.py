@@ -7,6 +7,7 @@ from __future__ import annotations
 import copy
 import itertools
 import json
+import random
 import subprocess
 import sys
 
@@ -24,6 +25,7 @@ from gather_verify.synthesis.rendezvous import (
     answers,
     synthesize,
     verify,
+    views,
 )
 from gather_verify.worlds import rendezvous_rules as rr
 from schedulers.phases import MODELS
@@ -320,6 +322,40 @@ def test_an_open_states_known_steps_are_steps_of_every_completion(model, lights,
         assert run_rendezvous_check(alg, model, movement=movement,
                                     initial_colours=initial)["verdict"] == "VIOLATED"
         assert referee_check(alg, model, movement, initial).verdict != "PASS"
+
+
+def _refuted_leaves(node, table, k):
+    """Each refuted leaf of a certificate's tree: the table of the views its failure reads."""
+    if node.get("refuted"):
+        yield {tuple(v): table[tuple(v)] for v in node["reads"]}
+    for answer, child in zip(answers(k), node.get("children", ()), strict=False):
+        yield from _refuted_leaves(child, {**table, tuple(node["view"]): answer}, k)
+
+
+def _leaves_fail_under_the_referee(k, lights, model, movement, initial, sample):
+    """A ``none`` against the naive referee: random completions of refuted leaves fail."""
+    r = synthesize(k, lights, model, movement, initial)
+    assert r["answer"] == "none" and verify(r["certificate"])
+    rng = random.Random(k)
+    leaves = list(_refuted_leaves(r["certificate"]["tree"], {}, k))
+    for leaf in rng.sample(leaves, min(sample, len(leaves))):
+        full = {v: leaf.get(v) or rng.choice(answers(k)) for v in views(k, lights)}
+        alg = rr.RendezvousAlgorithm("completion", k, tuple(full.items()), lights=lights)
+        assert referee_check(alg, model, movement, initial).verdict != "PASS", leaf
+
+
+def test_a_none_by_known_steps_fails_under_the_referee_leaf_by_leaf():
+    _leaves_fail_under_the_referee(3, "internal", "async-move-atomic", "rigid", "same", 20)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("cell", [(4, "internal", "async-move-atomic"),
+                                  (4, "external", "async-move-atomic"),
+                                  (3, "full", "async-safe"), (3, "full", "async-move-safe")])
+def test_the_cells_settled_by_known_steps_fail_under_the_referee(cell):
+    """The least-colours cells the search settled once it took open states' known steps
+    (rigid moves, one colour for both: the variant whose ``none`` bounds the others)."""
+    _leaves_fail_under_the_referee(*cell, "rigid", "same", 100)
 
 
 def test_the_least_colours_tool_reads_k_at_least_k_and_more_than_the_bound():
