@@ -133,6 +133,7 @@ class Setting:
                 again = not added.isdisjoint(self._memo[graph.states[v]][0])
                 (work if again else graph.open).append(v)
         graph.given = frozenset(table)
+        since = None if below is None or below.fair is not None else work  # grows below
         at = 0
         while at < len(work):
             v = work[at]
@@ -150,7 +151,7 @@ class Setting:
             graph.edges[v], graph.masks[v] = targets, [mask for _, mask in out]
         graph.open.sort()
         need = self._steps(graph.states[graph.open[0]], table)[1] if graph.open else None
-        graph.fair = _fair_outside_goal(graph)
+        graph.fair = _fair_outside_goal(graph, since)
         return graph.fair is not None, need, graph
 
     def _steps(self, state: State, table: dict[View, Answer]
@@ -290,11 +291,23 @@ class Explored:
                         self.given)
 
 
-def _fair_outside_goal(graph: Explored) -> list[int] | None:
+def _fair_outside_goal(graph: Explored, stepped: list[int] | None = None) -> list[int] | None:
     """A strongly connected component of known steps, none of its states gathered, with an
-    edge of each robot inside it; None if there is none."""
+    edge of each robot inside it; None if there is none. ``stepped``: the states stepped
+    since a graph that had none (the others' steps unchanged): a new one has one of them,
+    so only the states they reach are searched."""
     edges, masks, gathered = graph.edges, graph.masks, graph.gathered
-    for comp in components_of(len(edges), edges.__getitem__, lambda v: not gathered[v]):
+    inside: Callable[[int], bool] = lambda v: not gathered[v]  # noqa: E731
+    if stepped is not None:
+        reached = {v for v in stepped if not gathered[v]}
+        work = list(reached)
+        while work:
+            for w in edges[work.pop()]:
+                if w not in reached and not gathered[w]:
+                    reached.add(w)
+                    work.append(w)
+        inside = reached.__contains__
+    for comp in components_of(len(edges), edges.__getitem__, inside):
         members = set(comp)
         robots = 0
         for v in comp:
