@@ -358,6 +358,31 @@ def test_the_cells_settled_by_known_steps_fail_under_the_referee(cell):
     _leaves_fail_under_the_referee(*cell, "rigid", "same", 100)
 
 
+REGULAR_3 = (((0, 0, 0), (0, 1)), ((0, 0, 1), (0, 1)), ((0, 0, 2), (0, 0)),
+             ((0, 1, None), (0, 0)), ((0, 2, None), (0, 0)),
+             ((1, 0, 0), (0, 2)), ((1, 0, 1), (1, 2)), ((1, 0, 2), (0, 0)),
+             ((1, 1, 0), (0, 2)), ((1, 1, 1), (1, 2)), ((1, 1, 2), (0, 0)),
+             ((1, 2, None), (0, 0)),
+             ((2, 0, 0), (1, 0)), ((2, 0, 1), (2, 2)), ((2, 0, 2), (0, 0)),
+             ((2, 1, None), (0, 2)),
+             ((2, 2, 0), (1, 0)), ((2, 2, 1), (2, 1)), ((2, 2, 2), (0, 2)))
+"""The 3-colour full-light witness synthesis finds for move-regular ASYNC from every colour
+pair under non-rigid moves (docs/rendezvous.md)."""
+
+
+def test_three_full_colours_suffice_under_regular_reads_by_the_referee_too():
+    """The witness gathers under regular reads (ASYNC and move-regular), rigid and non-rigid,
+    from every colour pair, by the check and by the independent referee; safe reads break
+    it."""
+    alg = rr.RendezvousAlgorithm("regular-3", 3, REGULAR_3)
+    for model, movement in itertools.product(("async-regular", "async-move-regular"),
+                                             rr.MOVEMENTS):
+        assert run_rendezvous_check(alg, model, movement=movement)["verdict"] == "VERIFIED"
+        assert referee_check(alg, model, movement).verdict == "PASS"
+    assert run_rendezvous_check(alg, "async-safe")["verdict"] == "VIOLATED"
+    assert referee_check(alg, "async-safe").verdict != "PASS"
+
+
 def test_the_least_colours_tool_reads_k_at_least_k_and_more_than_the_bound():
     from tools.rendezvous_minimum import least, markdown
 
