@@ -109,7 +109,7 @@ class Setting:
     scheduler: str
     movement: str
     initial_colours: str
-    _memo: dict[State, tuple[tuple[View, ...], dict[tuple[Answer, ...], list[tuple[
+    _memo: dict[State, tuple[tuple[View, ...], dict[tuple[Answer | None, ...], list[tuple[
         State, int]]]]] = field(default_factory=dict, compare=False, repr=False)
 
     def explore(self, table: dict[View, Answer], below: Explored | None = None
