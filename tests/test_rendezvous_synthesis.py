@@ -208,19 +208,21 @@ def test_only_renamings_that_keep_the_initial_states_are_used(monkeypatch):
 
 
 def _same_answers(k, lights, model, movement, colours, seconds=600.0):
-    """Both searches answer the same, the reduced one with no more tables; an answer that
-    the unreduced search does not reach in ``seconds`` is not compared."""
+    """Both searches answer the same (certificates re-checked, witnesses verified); an
+    answer that the unreduced search does not reach in ``seconds`` is not compared. The
+    number of tables is not compared here: a ``renamed`` leaf reads its whole table, so a
+    split above it cannot backjump, and the reduced search may then search more tables
+    (351 against 209 for 2 full colours, ``async-regular``, non-rigid, one colour)."""
     plain = synthesize(k, lights, model, movement, colours, seconds, symmetry=False)
     reduced = synthesize(k, lights, model, movement, colours, seconds)
     if plain["answer"] == "unknown" and seconds < 600:
         return None
     assert plain["answer"] == reduced["answer"] != "unknown"
-    assert reduced["tables"] <= plain["tables"]
     if reduced["answer"] == "none":
         assert verify(plain["certificate"]) and verify(reduced["certificate"])
     else:
         assert witness_verdict(plain) == witness_verdict(reduced) == "VERIFIED"
-    return reduced
+    return plain, reduced
 
 
 @pytest.mark.parametrize("cell", [
@@ -228,7 +230,8 @@ def _same_answers(k, lights, model, movement, colours, seconds=600.0):
     (2, "internal", "async-move-safe", "rigid", "same"), (2, "external", "fsync", "non-rigid", "same"),
     (2, "external", "async-lc-strict", "rigid", "all")])
 def test_the_reduced_search_answers_as_the_unreduced_one(cell):
-    _same_answers(*cell)
+    plain, reduced = _same_answers(*cell)
+    assert reduced["tables"] <= plain["tables"]
 
 
 @pytest.mark.slow
