@@ -20,7 +20,8 @@ renamings succeed or fail together (:meth:`Setting.renamings` says which renamin
 initial states; every one of them does for ``all`` and ``same``). The search therefore
 skips a partial table whose renaming it has already searched to the end with no witness;
 the certificate marks such a node ``renamed`` and :func:`verify` re-checks that an
-earlier subtree, already verified, holds a renaming of its table.
+earlier subtree, already verified, holds a renaming of its table. Such a node's failure
+reads what its twin's reads, renamed, so a split above it may still backjump.
 
 >>> synthesize(1, "full", "fsync", "rigid", "all")["answer"]
 'exists'
@@ -232,12 +233,25 @@ class Setting:
 
     def canonical(self, table: dict[View, Answer], renamings: list[Renaming]) -> Canon:
         """One name for a table and all its renamings: the least renamed table."""
-        return min(tuple(sorted(((_name(v[0], r), _name(v[1], r), v[2]), (a[0], r[a[1]]))
-                                for v, a in table.items())) for r in renamings)
+        return self.least(table, renamings)[0]
+
+    def least(self, table: dict[View, Answer], renamings: list[Renaming]
+              ) -> tuple[Canon, Renaming]:
+        """The least renamed table (:meth:`canonical`) and the first renaming that gives it."""
+        return min((tuple(sorted(((_name(v[0], r), _name(v[1], r), v[2]), (a[0], r[a[1]]))
+                                 for v, a in table.items())), r) for r in renamings)
 
 
 def _sorted_views(views: frozenset[View]) -> list[list[int | None]]:
     return sorted((list(v) for v in views), key=lambda v: [-1 if x is None else x for x in v])
+
+
+def _renamed_views(views: frozenset[View], renaming: Renaming, back: bool = False
+                   ) -> frozenset[View]:
+    """Views with their colours renamed (``back``: by the inverse renaming)."""
+    r = tuple(sorted(range(len(renaming)), key=renaming.__getitem__)) if back else renaming
+    return frozenset((None if a is None else r[a], None if b is None else r[b], p)
+                     for a, b, p in views)
 
 
 def _name(colour: int | None, renaming: Renaming) -> int:
@@ -344,7 +358,9 @@ class Search:
     renamings: list[Renaming]
     backjump: bool = True
     tables: int = 0
-    done: set[Canon] = field(default_factory=set)
+    done: dict[Canon, frozenset[View]] = field(default_factory=dict)
+    """Per renamed table searched to the end, the views its failure reads, renamed as the
+    table is to its canonical name."""
     failures: dict[tuple[View, Answer], list[tuple[tuple[View, Answer], ...]]] = field(
         default_factory=dict)
     """The answers a refuted table's failure reads (:meth:`Setting.core`), under each of
@@ -358,9 +374,10 @@ class Search:
         ``reached``: what the parent's table reached; ``last``: the answer it added."""
         if time.perf_counter() > self.deadline:
             raise OutOfTime
-        canon = self.setting.canonical(table, self.renamings) if self.renamings else None
-        if canon in self.done:
-            return {"renamed": True}, frozenset(table)
+        canon, renaming = self.setting.least(table, self.renamings) if self.renamings else (
+            None, ())
+        if canon is not None and canon in self.done:  # its twin's reads, renamed back
+            return {"renamed": True}, _renamed_views(self.done[canon], renaming, back=True)
         self.tables += 1
         known = self.known(table, last)
         if known is not None:
@@ -377,7 +394,7 @@ class Search:
             else:
                 node, core = self.split(table, need, graph)
         if canon is not None:
-            self.done.add(canon)
+            self.done[canon] = _renamed_views(core, renaming)
         return node, core
 
     def learn(self, table: dict[View, Answer], reads: frozenset[View]) -> None:
@@ -463,7 +480,8 @@ def verify(certificate: dict[str, Any]) -> bool:
     read the view (the views a failure reads are worked out here again, from the refuted
     leaves up); every ``refuted`` leaf's partial table is refuted (a fair run that never
     gathers), and every ``renamed`` leaf's table is a renaming (one that keeps the initial
-    states) of a table whose subtree, earlier in the tree, already holds."""
+    states) of a table whose subtree, earlier in the tree, already holds (its failure reads
+    what that subtree's reads, renamed)."""
     try:
         setting = Setting(certificate["colours"], certificate["lights"],
                           certificate["scheduler"], certificate["movement"],
@@ -489,20 +507,21 @@ class _Verifier:
 
     setting: Setting
     renamings: list[Renaming]
-    done: set[Canon] = field(default_factory=set)
+    done: dict[Canon, frozenset[View]] = field(default_factory=dict)
 
     def holds(self, node: Any, table: dict[View, Answer]) -> frozenset[View] | None:
         if not isinstance(node, dict):
             return None
-        canon = self.setting.canonical(table, self.renamings)
+        canon, renaming = self.setting.least(table, self.renamings)
         if node.get("renamed") is True:
-            return frozenset(table) if canon in self.done else None
+            twin = self.done.get(canon)
+            return None if twin is None else _renamed_views(twin, renaming, back=True)
         if node.get("refuted") is True:
             reads = self.refuted(node, table)
         else:
             reads = self.split(node, table)
         if reads is not None:
-            self.done.add(canon)
+            self.done[canon] = _renamed_views(reads, renaming)
         return reads
 
     def refuted(self, node: dict[str, Any], table: dict[View, Answer]) -> frozenset[View] | None:
