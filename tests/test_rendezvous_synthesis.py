@@ -95,7 +95,7 @@ def _jumps(node):
 
 @pytest.mark.parametrize("cell", [
     (1, "full", "ssync", "non-rigid", "all"), (2, "internal", "ssync", "non-rigid", "all"),
-    pytest.param((3, "external", "async", "rigid", "all"), marks=pytest.mark.slow)])
+    (2, "full", "async-regular", "non-rigid", "same")])
 def test_backjumping_answers_as_the_full_split(cell):
     """A split ends at an answer whose failure does not read the split view: the same answer
     as splitting every view over every answer, no more tables, both certificates
