@@ -5,6 +5,7 @@ table), with a certificate that re-checks."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from unittest import mock
 
@@ -59,7 +60,7 @@ def _movers_hold(views: Views, table: dict[int, int], upto: int) -> bool:
 def test_the_first_phase_proposes_only_tables_with_one_class_of_movers() -> None:
     """Every candidate of the first phase keeps the restriction on every configuration met
     before it was proposed, and the search meets such configurations (the check bites)."""
-    inst = _instance(("ring:7", "3", "centralized", "exploration-with-stop"))
+    inst = _instance(("ring:7", "3", "async", "exclusive-perpetual-exploration"))
     views = Views(inst)
     seen: list[tuple[bool, int]] = []
     judge = S._Search.judge
@@ -125,3 +126,20 @@ def test_a_first_phase_out_of_time_never_answers_none() -> None:
     with mock.patch.object(S, "ONE_MOVER_SHARE", 0.0):
         got = S.synthesize(inst, max_seconds=60, one_mover=True)
     assert got.answer == "none" and got.one_mover == "time"
+
+
+def test_the_command_says_how_the_first_phase_ended(tmp_path: Path) -> None:
+    """On by default (its witness verified by the checker); ``--no-one-mover`` has none."""
+    from tests.test_synthesis import cli
+
+    common = ("--task", "gathering", "--multiplicity", "global-weak", "--scheduler", "async",
+              "--witness", str(tmp_path / "w.py"), "--certificate", str(tmp_path / "c.json"),
+              "--json")
+    run = cli("--world", "ring:7", "--robots", "3", *common)
+    assert run.returncode == 0, run.stderr
+    report = json.loads(run.stdout)
+    assert report["answer"] == "exists" and report["one_mover"] == "witness"
+    assert report["checker"]["verdicts"] == ["VERIFIED"]
+    run = cli("--world", "ring:5", "--robots", "2", "--no-one-mover", *common)
+    report = json.loads(run.stdout)
+    assert report["answer"] == "none" and report["one_mover"] is None
