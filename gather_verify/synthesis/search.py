@@ -121,7 +121,8 @@ class Result:
     """States explored, over every candidate."""
     one_mover: str | None = None
     """How the first phase (one class of movers, :class:`_Search`) ended: ``witness``,
-    ``exhausted``, ``time``, or None when there was none."""
+    ``exhausted``, ``time``, ``running`` (a limit stopped the search during it), or None
+    when there was none."""
 
 
 def solver_class() -> Callable[..., Any]:
