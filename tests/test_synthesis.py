@@ -5,6 +5,7 @@ and the view keys do not change under the world's symmetries."""
 
 from __future__ import annotations
 
+import ast
 import contextlib
 import copy
 import io
@@ -93,6 +94,7 @@ def test_exists_witness_passes_the_ordinary_checker(tmp_path: Path, world: str, 
     assert report["checker"] == {"verdicts": ["VERIFIED"], "reductions": "off",
                                  "states": report["checker"]["states"]}
     assert report["witness"] == f"{witness}:Synthesized" and "seconds" not in report
+    assert imports_first(witness)
     # the file stands on its own: the plain checker loads it and verifies it again
     inst = make_instance(world, robots, _opt(more, "--meeting", ""), scheduler, task,
                          _opt(more, "--multiplicity", "local-weak"),
@@ -102,6 +104,17 @@ def test_exists_witness_passes_the_ordinary_checker(tmp_path: Path, world: str, 
                               scheduler, task=task, detection=inst.detection,
                               frames=inst.frames, reduction=False)
         assert got["verdict"] == "VERIFIED", got["reason"]
+
+
+def imports_first(path: Path) -> bool:
+    """A witness file's imports come before its code, the standard library's before
+    gather-verify's, as import-order linters want."""
+    body = ast.parse(path.read_text(encoding="utf-8")).body[1:]  # after the docstring
+    kinds = [isinstance(node, (ast.Import, ast.ImportFrom)) for node in body]
+    ours = [(node.module or "").startswith("gather_verify") if isinstance(node, ast.ImportFrom)
+            else node.names[0].name.startswith("gather_verify")
+            for node in body if isinstance(node, (ast.Import, ast.ImportFrom))]
+    return (any(kinds) and kinds == sorted(kinds, reverse=True) and ours == sorted(ours))
 
 
 def _opt(more: list[str], name: str, default: str) -> str:

@@ -22,7 +22,7 @@ from gather_verify.model.symmetry import Automorphism  # noqa: E402
 from gather_verify.paper.classes import classify_configuration  # noqa: E402
 from gather_verify.plane_check import run_check  # noqa: E402
 from gather_verify.synthesis import plane  # noqa: E402
-from tests.test_synthesis import cli, one_line  # noqa: E402
+from tests.test_synthesis import cli, imports_first, one_line  # noqa: E402
 
 U_ROBOTS, U_MEETING = "0,1 2,1", "0,0 2,0"  # UNCLASSIFIED, in U: the axis x = 1 is empty
 
@@ -193,7 +193,7 @@ def test_exists_outside_u_and_the_checker_verifies_the_witness(tmp_path: Path) -
               "async", "--json", "--witness", "w.py", cwd=tmp_path)
     assert run.returncode == 0, run.stderr
     report = json.loads(run.stdout)
-    assert report["answer"] == "exists"
+    assert report["answer"] == "exists" and imports_first(tmp_path / "w.py")
     assert report["rows"][0]["checker"] == {"verdict": "VERIFIED", "states":
                                             report["rows"][0]["checker"]["states"],
                                             "reductions": "off"}

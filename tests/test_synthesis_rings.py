@@ -400,3 +400,27 @@ def test_minimum_over_a_start_set(tmp_path: Path) -> None:
     run = cli("--minimum", "--world", "ring:6", "--robots", "0 1", "--lights", "1-2",
               "--start", "aperiodic")
     assert run.returncode == 2 and "--start with --minimum" in one_line(run)
+
+
+GATHER5 = Path(__file__).parent / "fixtures" / "rings" / "gather5ring7async.py"
+"""Five robots gathering on ring:7 under ASYNC, synthesised (docs/rings-results.md)."""
+
+
+def _gathers(path: Path) -> list[str]:
+    from gather_verify.world_check import run_world_check
+
+    return sorted({run_world_check("ring:7", list(nodes), [], f"{path}:Synthesized", "async",
+                                   task="gathering", detection="global-weak",
+                                   reduction=False)["verdict"]
+                   for nodes in starts.starts(get_world("ring:7"), 5, "all")})
+
+
+def test_five_robots_gather_on_ring_seven_under_async(tmp_path: Path) -> None:
+    """The witness's gap rules gather from every start, read by the checker alone; without
+    their first rule (that view then stays), they do not."""
+    assert _gathers(GATHER5) == ["VERIFIED"]
+    text = GATHER5.read_text()
+    first = next(line for line in text.splitlines() if line.startswith("    Rule("))
+    broken = tmp_path / "broken.py"
+    broken.write_text(text.replace(first + "\n", "", 1))
+    assert _gathers(broken) == ["VIOLATED"]

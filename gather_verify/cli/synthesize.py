@@ -108,6 +108,10 @@ def _output_and_limit_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-tree", type=bounded_int(1, 10**9), default=100_000,
                    help="nodes of the certificate's decision tree; past it, the certificate "
                         "is a resolution proof (default %(default)s)")
+    p.add_argument("--one-mover", action=argparse.BooleanOptionalAction, default=None,
+                   help="on a finite world: try first the tables in which one class of robots "
+                        "(one view) moves per configuration, then every table; only the "
+                        "second phase answers none (default: on; docs/synthesis.md)")
 
 
 def _many_answer_arguments(p: argparse.ArgumentParser) -> None:
@@ -245,10 +249,11 @@ def _finite(args: argparse.Namespace) -> tuple[dict[str, Any], str | None]:
         with setup("the search over algorithms", None, memory):  # its own clock, and memory
             result = synthesize(inst, max_seconds=left(), max_candidates=args.max_candidates,
                                 max_states=args.max_states, max_tree=args.max_tree,
-                                views=views, max_memory_mb=memory, seeds=seeds)
+                                views=views, max_memory_mb=memory, seeds=seeds,
+                                one_mover=args.one_mover)
         report.update(answer=result.answer, views=result.views, candidates=result.candidates,
                       counterexamples=len(result.counterexamples), states=result.states,
-                      limit=result.limit)
+                      limit=result.limit, one_mover=result.one_mover)
         problem = None
         if result.answer == "exists":
             problem = _witnessed(args, inst, views, result, report, left())
@@ -771,7 +776,7 @@ def _finite_search(args: argparse.Namespace, inst: Any, stem: str) -> Answer | s
     views = Views(inst)
     res = synthesize(inst, max_seconds=args.max_seconds, max_candidates=args.max_candidates,
                      max_states=args.max_states, max_tree=args.max_tree, views=views,
-                     max_memory_mb=_memory(args))
+                     max_memory_mb=_memory(args), one_mover=args.one_mover)
     files: dict[str, Any] = {}
     if res.answer == "exists":
         spec = write_witness(f"{stem}.py", inst, views, res.table)

@@ -63,7 +63,7 @@ def run_range(args: argparse.Namespace) -> int:
     try:
         res = synthesize(parts[0][0], parts=parts, max_seconds=args.max_seconds,
                          max_candidates=args.max_candidates, max_states=args.max_states,
-                         max_tree=args.max_tree, seeds=seeds(args))
+                         max_tree=args.max_tree, seeds=seeds(args), one_mover=args.one_mover)
     except KeyboardInterrupt:
         print("interrupted: synthesize keeps no partial results; run the same command again "
               "(it starts over)", file=sys.stderr)

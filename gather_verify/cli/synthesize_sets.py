@@ -143,7 +143,7 @@ def one_start(args: argparse.Namespace, inst: Any, witness: str, certificate: st
     views = Views(inst)
     res = synthesize(inst, max_seconds=args.max_seconds, max_candidates=args.max_candidates,
                      max_states=args.max_states, max_tree=args.max_tree, views=views,
-                     seeds=seeds(args))
+                     seeds=seeds(args), one_mover=args.one_mover)
     row: dict[str, Any] = {"answer": res.answer, "limit": res.limit,
                            "candidates": res.candidates, "views": res.views}
     trouble = None

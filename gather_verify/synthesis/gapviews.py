@@ -96,6 +96,7 @@ class GapViews(Views):
             answers = ["stay", "forward"] + ([] if mirror(key) == key else ["back"])
             self.options.append([(a, None) for a in answers])
             self._labels.append([[a] for a in answers])
+            self.still.append([0])  # "stay"
             self.abstracts.append(key)
             self.first.append((self.part, seen, node, colour))
         acts = []

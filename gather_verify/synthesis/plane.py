@@ -865,6 +865,7 @@ A lookup table from views up to isomorphism to answers: {count} views. Load it w
 initial configuration; any other view has no rule (the checker's ``defined``).
 """
 
+{imports}
 from gather_verify.algorithms.base import Unhandled
 
 # -- how a view is keyed (a copy of gather_verify/synthesis/viewkey.py) --------------------
@@ -900,9 +901,10 @@ def write_witness(path: str, inst: PlaneInstance, c: Configuration, views: Plane
                    for k, o in sorted(table.items(), key=lambda kv: views.texts[kv[0]]))
     instance = {**inst.describe(), "robots": [list(v) for v in c.robots],
                 "meeting_nodes": [list(v) for v in sorted(c.meeting_nodes)]}
+    imports, viewkey = viewkey_source()
     Path(path).write_text(WITNESS.format(
         instance=json.dumps(instance, sort_keys=True), count=len(table),
-        filename=Path(path).name, name=WITNESS_NAME, viewkey=viewkey_source(),
+        filename=Path(path).name, name=WITNESS_NAME, imports=imports, viewkey=viewkey,
         group=group_description(inst.frames), detection=inst.detection, table=rows),
         encoding="utf-8")
     return f"{path}:{WITNESS_NAME}"

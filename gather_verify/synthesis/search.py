@@ -79,13 +79,13 @@ checks end it first, at the budget)."""
 TIME_LIMIT = "max-seconds"
 
 
-def solve_within(solver: Any, until: float) -> bool | None:
-    """``solver.solve()``, in slices of :data:`SAT_SLICE` conflicts until ``until`` (a
-    ``time.perf_counter()`` value) has passed: True (a model), False (unsatisfiable), or
-    None (the time ran out first)."""
+def solve_within(solver: Any, until: float, assumptions: Sequence[int] = ()) -> bool | None:
+    """``solver.solve()`` (under ``assumptions``), in slices of :data:`SAT_SLICE` conflicts
+    until ``until`` (a ``time.perf_counter()`` value) has passed: True (a model), False
+    (unsatisfiable), or None (the time ran out first)."""
     while True:
         solver.conf_budget(SAT_SLICE)
-        got = solver.solve_limited()
+        got = solver.solve_limited(assumptions=list(assumptions))
         if got is not None:
             return bool(got)
         if time.perf_counter() >= until:
@@ -119,6 +119,10 @@ class Result:
     """The certificate's decision tree, or its :class:`~.refute.Refutation`."""
     states: int = 0
     """States explored, over every candidate."""
+    one_mover: str | None = None
+    """How the first phase (one class of movers, :class:`_Search`) ended: ``witness``,
+    ``exhausted``, ``time``, ``running`` (a limit stopped the search during it), or None
+    when there was none."""
 
 
 def solver_class() -> Callable[..., Any]:
@@ -135,7 +139,8 @@ def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
                max_states: int = DEFAULT_MAX_STATES, max_tree: int = DEFAULT_MAX_TREE,
                views: Views | None = None, seeds: Sequence[Any] = (), ladder: bool = True,
                parts: Sequence[tuple[Instance, Views]] | None = None,
-               max_memory_mb: float = DEFAULT_MAX_MEMORY_MB) -> Result:
+               max_memory_mb: float = DEFAULT_MAX_MEMORY_MB,
+               one_mover: bool | None = None) -> Result:
     """Search for a table that solves ``inst`` from every initial configuration.
 
     ``ladder``: judge each candidate under the cheaper adversaries first (FSYNC, then SSYNC,
@@ -144,10 +149,13 @@ def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
     algorithms whose answers the solver tries first on each view (a phase, never a
     constraint). ``parts``: several instances (one per ring size) whose views share one table
     of keys (the gap rules of :mod:`~gather_verify.synthesis.gapviews`): one table must solve
-    every one; their counterexamples name their part."""
+    every one; their counterexamples name their part. ``one_mover``: propose first the tables
+    in which one class of robots moves per configuration (:class:`_Search`), then any (None:
+    :data:`ONE_MOVER`)."""
     views = views or Views(inst)
     run = _Search(list(parts) if parts else [(inst, views)], seeds, ladder,
-                  (max_seconds, max_candidates, max_states, max_tree, max_memory_mb))
+                  (max_seconds, max_candidates, max_states, max_tree, max_memory_mb),
+                  ONE_MOVER if one_mover is None else one_mover)
     try:
         with budget(max_seconds):
             return run.loop()
@@ -160,16 +168,32 @@ def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
 
 class _Search:
     """One run of the loop of :func:`synthesize`: the solver, its variables (per view of the
-    shared table, one per option), the counterexamples and their clauses."""
+    shared table, one per option), the counterexamples and their clauses.
+
+    With ``one_mover``, the search has two phases. In the first, the solver proposes only
+    tables in which, in every configuration met so far, the robots that leave their node all
+    have one view (one robot, or one symmetric class of them: the shape of most of the
+    field's algorithms, and one under which the adversaries differ least): per pair of
+    distinct views of one configuration, "one of the two stays", each clause guarded by the
+    variable :attr:`gate` that the solver assumes true. The clauses of counterexamples hold
+    for every table, so they stay. When the restricted tables are exhausted (unsatisfiable
+    under the assumption), or after :data:`ONE_MOVER_SHARE` of the time, the gate is set
+    false and the search goes on over every table: only that second phase ever answers
+    ``none``. A witness of either phase is checked as any other."""
 
     def __init__(self, parts: list[tuple[Instance, Views]], seeds: Sequence[Any],
-                 ladder: bool, limits: tuple[float, int, int, int, float]):
+                 ladder: bool, limits: tuple[float, int, int, int, float],
+                 one_mover: bool = False):
         self.started = time.perf_counter()
         self.parts = parts
         self.views = parts[0][1]  # every part's views share its table of keys
         self.solver = solver_class()(name="cadical153")
         self.base: list[int] = []  # per view: its first variable - 1
-        self.total = 0
+        self.gate = 1 if one_mover else 0
+        """The first phase's variable (0: no first phase, or it has ended)."""
+        self.phase: str | None = "running" if one_mover else None
+        self.movers_done = 0  # configurations of views.movers restricted so far
+        self.total = self.gate
         self.seeds = [_SeedMoves(seed) for seed in seeds]
         self.phases: list[int] = []
         target = parts[0][0].scheduler
@@ -188,9 +212,12 @@ class _Search:
 
     def result(self, answer: str, limit: str | None = None, **more: Any) -> Result:
         self.solver.delete()
+        if answer == "exists" and self.gate:
+            self.phase = "witness"
         return Result(answer, len(self.views.texts), self.candidates,
                       time.perf_counter() - self.started, limit, counterexamples=self.cexs,
-                      literals=self.clauses, states=self.explored, **more)
+                      literals=self.clauses, states=self.explored, one_mover=self.phase,
+                      **more)
 
     def register(self) -> None:
         """Variables for every view met so far: one per option, exactly one true; the seeds'
@@ -211,6 +238,24 @@ class _Search:
                 self.phases += [x if o == want else -x for o, x in enumerate(xs)]
         if self.seeds:
             self.solver.set_phases(self.phases)
+        if self.gate:
+            self.restrict()
+
+    def restrict(self) -> None:
+        """The first phase's clauses for the configurations met since the last call: of two
+        distinct views of one configuration, one stays (:class:`_Search`)."""
+        views = self.views
+        for keys in views.movers[self.movers_done:]:
+            stays = [[self.base[k] + o + 1 for o in views.still[k]] for k in keys]
+            for a in range(len(keys)):
+                for b in range(a + 1, len(keys)):
+                    self.solver.add_clause([-self.gate, *stays[a], *stays[b]])
+        self.movers_done = len(views.movers)
+
+    def end_phase(self, why: str) -> None:
+        """The first phase is over (``why``: exhausted, time): every table from now on."""
+        self.solver.add_clause([-self.gate])
+        self.gate, self.phase = 0, why
 
     def preferred(self, k: int) -> int:
         """The option of view ``k`` that the first seed with an answer there gives (0: none)."""
@@ -232,7 +277,14 @@ class _Search:
             if self.candidates >= max_candidates:
                 return self.result("unknown", "max-candidates")
             self.register()
-            sat = solve_within(self.solver, self.started + max_seconds)
+            end = self.started + max_seconds * (ONE_MOVER_SHARE if self.gate else 1.0)
+            if self.gate and time.perf_counter() >= end:
+                self.end_phase("time")
+                continue
+            sat = solve_within(self.solver, end, [self.gate] if self.gate else [])
+            if sat is not True and self.gate:
+                self.end_phase("time" if sat is None else "exhausted")
+                continue
             if sat is None:
                 return self.result("unknown", f"{TIME_LIMIT} (during the SAT solver's call)")
             if not sat:
@@ -514,6 +566,11 @@ def livelocks(s: WorldSearch, ctx: Context, prop: str, node: int | None = None
     return out
 
 
+ONE_MOVER = True
+"""Whether :func:`synthesize` runs its first phase (one class of movers) by default."""
+ONE_MOVER_SHARE = 0.5
+"""The share of the time budget the first phase may take before the search goes on over
+every table."""
 PASSES = 8
 """Passing explorations remembered per start and rung (:meth:`_Search.passed`)."""
 STAGE_STATES = 200

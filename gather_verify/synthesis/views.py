@@ -172,6 +172,13 @@ class Views:
         self.first: list[tuple[int, Seen, int, int]] = []
         """Per key: where it was met first (this views' part, the configuration, the node,
         the colour), for the seeds (:func:`~gather_verify.synthesis.search.synthesize`)."""
+        self.still: list[list[int]] = []
+        """Per key: its options that leave the robot on its node (a colour change at most)."""
+        self.movers: list[tuple[int, ...]] = []
+        """The distinct keys of the robots of each configuration met that has more than one
+        (in the order met, once each): what a search that lets one class move restricts
+        (:mod:`~gather_verify.synthesis.search`)."""
+        self._movers_met: set[tuple[int, ...]] = set()
         self.part = 0
         self._memo: dict[Seen, dict[tuple[int, int], tuple[int, tuple[frozenset, ...]]]] = {}
         self._checked: set[int] = set()
@@ -181,6 +188,7 @@ class Views:
         every part of a search); ``part`` names this one in the table's ``first``."""
         self.texts, self.index, self.options = other.texts, other.index, other.options
         self._labels, self.first, self.part = other._labels, other.first, part
+        self.still, self.movers, self._movers_met = other.still, other.movers, other._movers_met
 
     # -- one occurrence -----------------------------------------------------------------
     def occurrence(self, seen: Seen, node: int, colour: int
@@ -201,7 +209,14 @@ class Views:
                ) -> list[tuple[int, tuple[frozenset[tuple[int, int]], ...]]]:
         """Per robot of a state, its key and its options' actions."""
         seen = tuple(sorted((v, c) for v, _, c in robots))
-        return [self.occurrence(seen, v, c) for v, _, c in robots]
+        new = seen not in self._memo
+        got = [self.occurrence(seen, v, c) for v, _, c in robots]
+        if new:
+            keys = tuple(sorted({k for k, _ in got}))
+            if len(keys) > 1 and keys not in self._movers_met:
+                self._movers_met.add(keys)
+                self.movers.append(keys)
+        return got
 
     def _compute(self, seen: Seen, node: int, colour: int
                  ) -> tuple[int, tuple[frozenset[tuple[int, int]], ...]]:
@@ -262,6 +277,7 @@ class Views:
         self.index[text] = k
         self.options.append([(ls[0], c) for ls in groups for c in colours])
         self._labels.append([ls for ls in groups for _ in colours])
+        self.still.append([o for o, ls in enumerate(self._labels[k]) if me in ls])
         return k
 
     def _check_frames(self, node: int) -> None:

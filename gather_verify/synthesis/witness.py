@@ -31,6 +31,7 @@ A lookup table from views up to isomorphism to answers: {count} views. Load it w
 initial configurations; any other view has no rule (the checker's ``defined``).
 {rules}"""
 
+{imports}
 from gather_verify.algorithms.base import Unhandled
 
 # -- how a view is keyed (a copy of gather_verify/synthesis/viewkey.py) --------------------
@@ -61,14 +62,22 @@ class {name}:
 '''
 
 
-def viewkey_source() -> str:
-    """viewkey's code without its module docstring."""
+def viewkey_source() -> tuple[str, str]:
+    """viewkey's code without its module docstring, split as (its import lines, the rest),
+    so that a witness file lists every import at its top (ruff-clean)."""
     source = inspect.getsource(viewkey)
+    lines = source.splitlines()
     tree = ast.parse(source)
-    first = tree.body[0]
-    if isinstance(first, ast.Expr) and isinstance(getattr(first, "value", None), ast.Constant):
-        source = "\n".join(source.splitlines()[first.end_lineno:])
-    return source.strip("\n") + "\n"
+    drop: set[int] = set()
+    for node in tree.body:
+        is_doc = node is tree.body[0] and isinstance(node, ast.Expr) and isinstance(
+            getattr(node, "value", None), ast.Constant)
+        if is_doc or isinstance(node, (ast.Import, ast.ImportFrom)):
+            drop.update(range(node.lineno - 1, node.end_lineno or node.lineno))
+    imports = "".join(lines[i] + "\n" for i in sorted(drop)
+                      if lines[i].startswith(("import ", "from ")))
+    body = "\n".join(line for i, line in enumerate(lines) if i not in drop)
+    return imports, body.strip("\n") + "\n"
 
 
 def write_witness(path: str, inst: Instance, views: Views, table: dict[int, int]) -> str:
@@ -82,10 +91,11 @@ def write_witness(path: str, inst: Instance, views: Views, table: dict[int, int]
         "\nThe same table as gap rules (docs/howto/rings.md): the gaps from the robot to the "
         "next robots,\nthe gap ahead first; the views the table stays on, and those it never "
         "met, are not listed.\n\n" + "".join(f"    {r}\n" for r in rules))
+    imports, viewkey = viewkey_source()
     text = TEMPLATE.format(
         rules=said,
         instance=json.dumps(inst.describe(), sort_keys=True),
-        count=len(table), filename=Path(path).name, name=NAME, viewkey=viewkey_source(),
+        count=len(table), filename=Path(path).name, name=NAME, imports=imports, viewkey=viewkey,
         group=inst.world.frame_group(inst.frames, inst.visibility),
         detection=inst.detection, colours=inst.lights.colours, variant=inst.lights.variant,
         table="".join(rows))

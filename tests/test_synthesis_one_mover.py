@@ -1,0 +1,145 @@
+"""The search's first phase, one class of movers (synthesis/search.py, ``_Search``): it
+answers as the search over every table does, its candidates keep the restriction on every
+configuration met before them, and a ``none`` only ever comes from the second phase (every
+table), with a certificate that re-checks."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from unittest import mock
+
+import pytest
+
+pytest.importorskip("pysat", reason="synthesize needs python-sat (extra synth)")
+
+from gather_verify.synthesis import search as S  # noqa: E402
+from gather_verify.synthesis.certificate import (  # noqa: E402
+    verify_certificate,
+    write_certificate,
+)
+from gather_verify.synthesis.views import Views, make_instance  # noqa: E402
+from gather_verify.synthesis.witness import check_witness, write_witness  # noqa: E402
+
+CASES = [  # (world, robots, scheduler, task): answer
+    (("ring:5", "2", "async", "gathering"), "none"),
+    (("ring:6", "3", "ssync", "gathering"), "none"),
+    (("ring:7", "3", "async", "gathering"), "exists"),
+    (("ring:6", "3", "fsync", "exclusive-perpetual-exploration"), "none"),
+    (("ring:7", "3", "async", "exclusive-perpetual-exploration"), "none"),
+    (("ring:6", "2", "ssync", "exploration-with-stop"), "none"),
+    (("ring:9", "3", "ssync", "exploration-with-stop"), "none"),
+]
+
+
+def _instance(case: tuple[str, ...]):
+    world, robots, sched, task = case
+    return make_instance(world, robots, "", sched, task, "global-weak")
+
+
+@pytest.mark.parametrize(("case", "answer"), CASES, ids=lambda c: "-".join(c)
+                         if isinstance(c, tuple) else c)
+def test_the_answer_is_the_same_with_and_without_the_first_phase(
+        case: tuple[str, ...], answer: str) -> None:
+    inst = _instance(case)
+    on = S.synthesize(inst, max_seconds=60, one_mover=True)
+    off = S.synthesize(inst, max_seconds=60, one_mover=False)
+    assert on.answer == off.answer == answer
+    assert off.one_mover is None
+    # a none comes only once the restricted tables are exhausted, from the second phase
+    assert on.one_mover == ("witness" if answer == "exists" else "exhausted")
+
+
+def _movers_hold(views: Views, table: dict[int, int], upto: int) -> bool:
+    """In each of the first ``upto`` configurations with several views, at most one of its
+    views leaves its node."""
+    return all(sum(table[k] not in views.still[k] for k in keys) <= 1
+               for keys in views.movers[:upto])
+
+
+def test_the_first_phase_proposes_only_tables_with_one_class_of_movers() -> None:
+    """Every candidate of the first phase keeps the restriction on every configuration met
+    before it was proposed, and the search meets such configurations (the check bites)."""
+    inst = _instance(("ring:7", "3", "async", "exclusive-perpetual-exploration"))
+    views = Views(inst)
+    seen: list[tuple[bool, int]] = []
+    judge = S._Search.judge
+
+    def spy(self: S._Search, choice: dict[int, int], reached: set[int]):
+        if self.gate:
+            seen.append((_movers_hold(views, choice, self.movers_done), self.movers_done))
+        return judge(self, choice, reached)
+
+    with mock.patch.object(S._Search, "judge", spy):
+        got = S.synthesize(inst, views=views, max_seconds=60, one_mover=True)
+    assert got.answer == "none" and got.one_mover == "exhausted"
+    assert len(seen) > 10 and all(ok for ok, _ in seen)
+    assert max(n for _, n in seen) >= 5
+    # without the phase, some candidate moves two classes at once
+    free: list[bool] = []
+    views = Views(inst)
+
+    def spy_free(self: S._Search, choice: dict[int, int], reached: set[int]):
+        free.append(_movers_hold(views, choice, len(views.movers)))
+        return judge(self, choice, reached)
+
+    with mock.patch.object(S._Search, "judge", spy_free):
+        S.synthesize(inst, views=views, max_seconds=60, one_mover=False)
+    assert not all(free)
+
+
+def test_an_empty_first_phase_goes_on_over_every_table(tmp_path: Path) -> None:
+    """With no view allowed to stay, the restricted space is empty as soon as a
+    configuration has two views: the search still finds the witness in the second phase, and
+    the checker verifies it."""
+    inst = _instance(("ring:7", "3", "async", "gathering"))
+    views = Views(inst)
+    new_key = Views._new_key
+
+    def no_stay(self: Views, *args):
+        k = new_key(self, *args)
+        self.still[k] = []
+        return k
+
+    with mock.patch.object(Views, "_new_key", no_stay):
+        got = S.synthesize(inst, views=views, max_seconds=60, one_mover=True)
+    assert got.answer == "exists" and got.one_mover == "exhausted"
+    spec = write_witness(str(tmp_path / "w.py"), inst, views, got.table)
+    assert {r["verdict"] for r in check_witness(spec, inst, 60)} == {"VERIFIED"}
+
+
+def test_a_none_after_the_first_phase_has_a_certificate_that_rechecks(tmp_path: Path) -> None:
+    inst = _instance(("ring:6", "3", "ssync", "gathering"))
+    views = Views(inst)
+    got = S.synthesize(inst, views=views, max_seconds=60, one_mover=True)
+    assert got.answer == "none" and got.one_mover == "exhausted"
+    path = str(tmp_path / "c.json")
+    write_certificate(path, inst, views, got.counterexamples, got.literals, got.tree,
+                      S.certificate_stats(got))
+    verify_certificate(path)
+
+
+def test_a_first_phase_out_of_time_never_answers_none() -> None:
+    """A first phase given no time ends at once ("time"), and the answer is the second
+    phase's."""
+    inst = _instance(("ring:6", "3", "ssync", "gathering"))
+    with mock.patch.object(S, "ONE_MOVER_SHARE", 0.0):
+        got = S.synthesize(inst, max_seconds=60, one_mover=True)
+    assert got.answer == "none" and got.one_mover == "time"
+
+
+def test_the_command_says_how_the_first_phase_ended(tmp_path: Path) -> None:
+    """On by default (its witness verified by the checker); ``--no-one-mover`` has none."""
+    from tests.test_synthesis import cli
+
+    common = ("--task", "gathering", "--multiplicity", "global-weak", "--scheduler", "async",
+              "--witness", str(tmp_path / "w.py"), "--certificate", str(tmp_path / "c.json"),
+              "--json")
+    run = cli("--world", "ring:7", "--robots", "3", *common)
+    assert run.returncode == 0, run.stderr
+    report = json.loads(run.stdout)
+    assert report["answer"] == "exists" and report["one_mover"] == "witness"
+    assert report["checker"]["verdicts"] == ["VERIFIED"]
+    run = cli("--world", "ring:5", "--robots", "2", "--no-one-mover", *common)
+    report = json.loads(run.stdout)
+    assert report["answer"] == "none" and report["one_mover"] is None
