@@ -143,3 +143,14 @@ def test_the_command_says_how_the_first_phase_ended(tmp_path: Path) -> None:
     run = cli("--world", "ring:5", "--robots", "2", "--no-one-mover", *common)
     report = json.loads(run.stdout)
     assert report["answer"] == "none" and report["one_mover"] is None
+
+
+@pytest.mark.parametrize("world", [["--world", "rendezvous", "--lights", "1"],
+                                   ["--world", "grid", "--robots", "0,0 2,1", "--meeting", "1,1"]])
+def test_one_mover_is_refused_where_no_search_has_it(world: list[str]) -> None:
+    """The rendezvous world and the infinite grid have no first phase: the flag is an error
+    there (one line, exit 2), not silently ignored."""
+    from tests.test_synthesis import cli, one_line
+
+    run = cli(*world, "--scheduler", "fsync", "--one-mover")
+    assert run.returncode == 2 and "--one-mover" in one_line(run)

@@ -158,6 +158,7 @@ def _many_answer_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     if args.world == "rendezvous" or (args.verify and _rendezvous_certificate(args.verify)):
+        _no_one_mover(args, "the rendezvous world")
         return _rendezvous(args)
     if args.movement or args.initial_colours:
         raise UsageError("--movement and --initial-colours are options of the rendezvous world")
@@ -173,6 +174,7 @@ def run(args: argparse.Namespace) -> int:
 
     if entry_of(args.world) == PLANE:
         _no_memory_limit(args)
+        _no_one_mover(args, "the infinite grid")
         return _plane(args)
     from gather_verify.cli import synthesize_sets as sets
 
@@ -400,6 +402,12 @@ def tree_text(questions: int, leaves: int, lemmas: int | None = None) -> str:
         return "a decision tree of one leaf (no question)"
     return (f"a decision tree of {counted(questions, 'question')} and "
             f"{counted(leaves, 'leaf', 'leaves')}")
+
+
+def _no_one_mover(args: argparse.Namespace, world: str) -> None:
+    """``--one-mover`` steers the finite worlds' search only: refused elsewhere, not ignored."""
+    if args.one_mover is not None:
+        raise UsageError(f"--one-mover is an option of the finite worlds' search, not of {world}")
 
 
 def _rendezvous_certificate(path: str) -> bool:
