@@ -231,13 +231,10 @@ class Setting:
         return [r for r in permutations(range(self.colours))
                 if {_renamed_state(s, r) for s in starts} == kept]
 
-    def canonical(self, table: dict[View, Answer], renamings: list[Renaming]) -> Canon:
-        """One name for a table and all its renamings: the least renamed table."""
-        return self.least(table, renamings)[0]
-
     def least(self, table: dict[View, Answer], renamings: list[Renaming]
               ) -> tuple[Canon, Renaming]:
-        """The least renamed table (:meth:`canonical`) and the first renaming that gives it."""
+        """One name for a table and all its renamings, the least renamed table, and the first
+        renaming that gives it."""
         return min((tuple(sorted(((_name(v[0], r), _name(v[1], r), v[2]), (a[0], r[a[1]]))
                                  for v, a in table.items())), r) for r in renamings)
 

@@ -63,21 +63,18 @@ class {name}:
 
 
 def viewkey_source() -> tuple[str, str]:
-    """viewkey's code without its module docstring, split as (its import lines, the rest),
-    so that a witness file lists every import at its top (ruff-clean)."""
+    """viewkey's code without its module docstring, split as (its imports, the rest), so
+    that a witness file lists every import at its top (ruff-clean)."""
     source = inspect.getsource(viewkey)
     lines = source.splitlines()
     tree = ast.parse(source)
-    drop: set[int] = set()
-    for node in tree.body:
-        is_doc = node is tree.body[0] and isinstance(node, ast.Expr) and isinstance(
-            getattr(node, "value", None), ast.Constant)
-        if is_doc or isinstance(node, (ast.Import, ast.ImportFrom)):
-            drop.update(range(node.lineno - 1, node.end_lineno or node.lineno))
-    imports = "".join(lines[i] + "\n" for i in sorted(drop)
-                      if lines[i].startswith(("import ", "from ")))
+    doc = tree.body[0] if isinstance(tree.body[0], ast.Expr) else None
+    imports = [node for node in tree.body if isinstance(node, (ast.Import, ast.ImportFrom))]
+    drop = {i for node in [*imports, *([doc] if doc else [])]
+            for i in range(node.lineno - 1, node.end_lineno or node.lineno)}
     body = "\n".join(line for i, line in enumerate(lines) if i not in drop)
-    return imports, body.strip("\n") + "\n"
+    return ("".join(f"{ast.get_source_segment(source, node)}\n" for node in imports),
+            body.strip("\n") + "\n")
 
 
 def write_witness(path: str, inst: Instance, views: Views, table: dict[int, int]) -> str:
