@@ -146,7 +146,9 @@ def test_the_command_says_how_the_first_phase_ended(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("world", [["--world", "rendezvous", "--lights", "1"],
-                                   ["--world", "grid", "--robots", "0,0 2,1", "--meeting", "1,1"]])
+                                   ["--world", "grid", "--robots", "0,0 2,1", "--meeting", "1,1"],
+                                   ["--world", "grid", "--box", "2x2", "--robots", "2",
+                                    "--meeting", "1", "--minimum"]])
 def test_one_mover_is_refused_where_no_search_has_it(world: list[str]) -> None:
     """The rendezvous world and the infinite grid have no first phase: the flag is an error
     there (one line, exit 2), not silently ignored."""

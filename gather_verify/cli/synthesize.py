@@ -581,6 +581,7 @@ class _Least:
                              "world (--robots A-B: the least k with one algorithm for every "
                              "start of the set)")
         if entry_of(args.world) == PLANE:
+            _no_one_mover(args, "the infinite grid")
             if self.colours is not None:
                 raise UsageError("--minimum --lights A-B: the least number of colours is asked "
                                  "on the finite worlds only (synthesis on Z² has no lights)")
