@@ -1,7 +1,8 @@
-"""The search's first phase, one class of movers (synthesis/search.py, ``_Search``): it
-answers as the search over every table does, its candidates keep the restriction on every
-configuration met before them, and a ``none`` only ever comes from the second phase (every
-table), with a certificate that re-checks."""
+"""The search's first phase, one class of movers, and its first step, one robot
+(synthesis/search.py, ``_Search``): it answers as the search over every table does, its
+candidates keep the restriction on every configuration met before them, a first step's
+candidate answers alike under FSYNC and ASYNC, and a ``none`` only ever comes from the second
+phase (every table), with a certificate that re-checks."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ import pytest
 
 pytest.importorskip("pysat", reason="synthesize needs python-sat (extra synth)")
 
+from gather_verify.engine.encoding import Limits  # noqa: E402
 from gather_verify.synthesis import search as S  # noqa: E402
 from gather_verify.synthesis.certificate import (  # noqa: E402
     verify_certificate,
@@ -47,7 +49,7 @@ def test_the_answer_is_the_same_with_and_without_the_first_phase(
     assert on.answer == off.answer == answer
     assert off.one_mover is None
     # a none comes only once the restricted tables are exhausted, from the second phase
-    assert on.one_mover == ("witness" if answer == "exists" else "exhausted")
+    assert on.one_mover == on.one_robot == ("witness" if answer == "exists" else "exhausted")
 
 
 def _movers_hold(views: Views, table: dict[int, int], upto: int) -> bool:
@@ -66,7 +68,7 @@ def test_the_first_phase_proposes_only_tables_with_one_class_of_movers() -> None
     judge = S._Search.judge
 
     def spy(self: S._Search, choice: dict[int, int], reached: set[int]):
-        if self.gate:
+        if "one class" in self.gates:
             seen.append((_movers_hold(views, choice, self.movers_done), self.movers_done))
         return judge(self, choice, reached)
 
@@ -156,3 +158,70 @@ def test_one_mover_is_refused_where_no_search_has_it(world: list[str]) -> None:
 
     run = cli(*world, "--scheduler", "fsync", "--one-mover")
     assert run.returncode == 2 and "--one-mover" in one_line(run)
+
+
+def _solves(inst, views: Views, table: dict[int, int], scheduler: str) -> tuple[bool, ...]:
+    """Per start: whether ``table`` (its unmet views staying) solves the task under
+    ``scheduler``."""
+    out = []
+    for idx in range(len(inst.configurations)):
+        s, findings = S.explore(S.replace(inst, scheduler=scheduler), views, S.Table(table),
+                                idx, set(), Limits(max_states=200_000, max_seconds=60))
+        assert s.stopped is None
+        out.append(not findings)
+    return tuple(out)
+
+
+def _verdicts(task: str, step: str, share: float
+              ) -> list[tuple[tuple[bool, ...], tuple[bool, ...]]]:
+    """Per candidate of the first phase's ``step`` (``task``, 3 robots, ring:7): its
+    answers from every start under FSYNC and under ASYNC."""
+    inst = _instance(("ring:7", "3", "async", task))
+    views = Views(inst)
+    got: list[tuple[tuple[bool, ...], tuple[bool, ...]]] = []
+    judge = S._Search.judge
+
+    def spy(self: S._Search, choice: dict[int, int], reached: set[int]):
+        if next(iter(self.gates), None) == step:
+            table = dict(choice)
+            got.append((_solves(inst, views, table, "fsync"),
+                        _solves(inst, views, table, "async")))
+        return judge(self, choice, reached)
+
+    with mock.patch.object(S._Search, "judge", spy), \
+            mock.patch.object(S, "ONE_ROBOT_SHARE", share):
+        S.synthesize(inst, views=views, max_seconds=60, one_mover=True)
+    return got
+
+
+def test_a_first_step_candidate_answers_alike_under_fsync_and_async() -> None:
+    """When one robot moves per configuration the robots act one at a time whatever the
+    adversary: every candidate of the first step solves the task from a start under ASYNC
+    exactly when it does under FSYNC. The second step's candidates (twins may move) do not
+    (the check bites)."""
+    first = _verdicts("gathering", "one robot", S.ONE_ROBOT_SHARE)
+    assert len(first) > 3 and any(all(f) for f, _ in first) and not all(all(f) for f, _ in first)
+    assert all(f == a for f, a in first)
+    second = _verdicts("exclusive-perpetual-exploration", "one class", 0.0)
+    assert any(f != a for f, a in second)
+
+
+def test_the_first_step_proposes_only_tables_where_one_robot_moves() -> None:
+    """A view two robots of its configuration hold (twins, a tower) stays in every candidate
+    of the first step, and the search meets such views."""
+    inst = _instance(("ring:7", "3", "async", "exclusive-perpetual-exploration"))
+    views = Views(inst)
+    seen: list[int] = []
+    judge = S._Search.judge
+
+    def spy(self: S._Search, choice: dict[int, int], reached: set[int]):
+        if "one robot" in self.gates:
+            crowded = views.crowded[:self.crowded_done]
+            assert all(choice[k] in views.still[k] for k in crowded)
+            seen.append(len(crowded))
+        return judge(self, choice, reached)
+
+    with mock.patch.object(S._Search, "judge", spy):
+        got = S.synthesize(inst, views=views, max_seconds=60, one_mover=True)
+    assert got.answer == "none" and got.one_robot == "exhausted"
+    assert seen and max(seen) >= 1

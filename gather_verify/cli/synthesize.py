@@ -255,7 +255,8 @@ def _finite(args: argparse.Namespace) -> tuple[dict[str, Any], str | None]:
                                 one_mover=args.one_mover)
         report.update(answer=result.answer, views=result.views, candidates=result.candidates,
                       counterexamples=len(result.counterexamples), states=result.states,
-                      limit=result.limit, one_mover=result.one_mover)
+                      limit=result.limit, one_mover=result.one_mover,
+                      one_robot=result.one_robot)
         problem = None
         if result.answer == "exists":
             problem = _witnessed(args, inst, views, result, report, left())

@@ -123,6 +123,9 @@ class Result:
     """How the first phase (one class of movers, :class:`_Search`) ended: ``witness``,
     ``exhausted``, ``time``, ``running`` (a limit stopped the search during it), or None
     when there was none."""
+    one_robot: str | None = None
+    """How the first phase's first step (one robot moves, :class:`_Search`) ended, in the
+    same words."""
 
 
 def solver_class() -> Callable[..., Any]:
@@ -150,8 +153,8 @@ def synthesize(inst: Instance, *, max_seconds: float = DEFAULT_MAX_SECONDS,
     constraint). ``parts``: several instances (one per ring size) whose views share one table
     of keys (the gap rules of :mod:`~gather_verify.synthesis.gapviews`): one table must solve
     every one; their counterexamples name their part. ``one_mover``: propose first the tables
-    in which one class of robots moves per configuration (:class:`_Search`), then any (None:
-    :data:`ONE_MOVER`)."""
+    in which one robot moves per configuration, then those in which one class of robots does
+    (:class:`_Search`), then any (None: :data:`ONE_MOVER`)."""
     views = views or Views(inst)
     run = _Search(list(parts) if parts else [(inst, views)], seeds, ladder,
                   (max_seconds, max_candidates, max_states, max_tree, max_memory_mb),
@@ -174,12 +177,17 @@ class _Search:
     tables in which, in every configuration met so far, the robots that leave their node all
     have one view (one robot, or one symmetric class of them: the shape of most of the
     field's algorithms, and one under which the adversaries differ least): per pair of
-    distinct views of one configuration, "one of the two stays", each clause guarded by the
-    variable :attr:`gate` that the solver assumes true. The clauses of counterexamples hold
-    for every table, so they stay. When the restricted tables are exhausted (unsatisfiable
-    under the assumption), or after :data:`ONE_MOVER_SHARE` of the time, the gate is set
-    false and the search goes on over every table: only that second phase ever answers
-    ``none``. A witness of either phase is checked as any other."""
+    distinct views of one configuration, "one of the two stays". Its first step asks more:
+    one robot, so a view that two robots of its configuration hold (twins across an axis, or
+    a tower) stays. When one robot moves per configuration, the robots act one at a time
+    whatever the adversary, so a table that solves the task under FSYNC solves it under
+    SSYNC and ASYNC too: the step finds asynchronous algorithms at the cost of synchronous
+    ones. Each restriction's clauses are guarded by a variable of :attr:`gates` that the
+    solver assumes true; the clauses of counterexamples hold for every table, so they stay.
+    When a step's tables are exhausted (unsatisfiable under the assumptions), or after its
+    share of the time (:data:`ONE_ROBOT_SHARE`, :data:`ONE_MOVER_SHARE`), its variable is
+    set false and the search goes on with the next: only the second phase, over every
+    table, ever answers ``none``. A witness of any step is checked as any other."""
 
     def __init__(self, parts: list[tuple[Instance, Views]], seeds: Sequence[Any],
                  ladder: bool, limits: tuple[float, int, int, int, float],
@@ -189,11 +197,12 @@ class _Search:
         self.views = parts[0][1]  # every part's views share its table of keys
         self.solver = solver_class()(name="cadical153")
         self.base: list[int] = []  # per view: its first variable - 1
-        self.gate = 1 if one_mover else 0
-        """The first phase's variable (0: no first phase, or it has ended)."""
-        self.phase: str | None = "running" if one_mover else None
-        self.movers_done = 0  # configurations of views.movers restricted so far
-        self.total = self.gate
+        self.gates = dict(zip(STEPS, (1, 2), strict=True)) if one_mover else {}
+        """The first phase's steps still running, strictest first, and their variables."""
+        self.ended: dict[str, str] = dict.fromkeys(self.gates, "running")
+        """How each step of the first phase ended (``running`` until it does)."""
+        self.movers_done = self.crowded_done = 0  # views.movers, views.crowded restricted
+        self.total = len(self.gates)
         self.seeds = [_SeedMoves(seed) for seed in seeds]
         self.phases: list[int] = []
         target = parts[0][0].scheduler
@@ -212,12 +221,13 @@ class _Search:
 
     def result(self, answer: str, limit: str | None = None, **more: Any) -> Result:
         self.solver.delete()
-        if answer == "exists" and self.gate:
-            self.phase = "witness"
+        if answer == "exists":  # every running step's tables hold the witness
+            self.ended.update(dict.fromkeys(self.gates, "witness"))
         return Result(answer, len(self.views.texts), self.candidates,
                       time.perf_counter() - self.started, limit, counterexamples=self.cexs,
-                      literals=self.clauses, states=self.explored, one_mover=self.phase,
-                      **more)
+                      literals=self.clauses, states=self.explored,
+                      one_mover=self.ended.get("one class"),
+                      one_robot=self.ended.get("one robot"), **more)
 
     def register(self) -> None:
         """Variables for every view met so far: one per option, exactly one true; the seeds'
@@ -238,24 +248,42 @@ class _Search:
                 self.phases += [x if o == want else -x for o, x in enumerate(xs)]
         if self.seeds:
             self.solver.set_phases(self.phases)
-        if self.gate:
+        if self.gates:
             self.restrict()
+
+    def stays(self, k: int) -> list[int]:
+        """The literals of view ``k``'s options that leave its robot on its node."""
+        return [self.base[k] + o + 1 for o in self.views.still[k]]
 
     def restrict(self) -> None:
         """The first phase's clauses for the configurations met since the last call: of two
-        distinct views of one configuration, one stays (:class:`_Search`)."""
+        distinct views of one configuration, one stays; in the first step, a view two robots
+        hold stays too (:class:`_Search`)."""
         views = self.views
+        one_class, one_robot = self.gates["one class"], self.gates.get("one robot")
         for keys in views.movers[self.movers_done:]:
-            stays = [[self.base[k] + o + 1 for o in views.still[k]] for k in keys]
+            stays = [self.stays(k) for k in keys]
             for a in range(len(keys)):
                 for b in range(a + 1, len(keys)):
-                    self.solver.add_clause([-self.gate, *stays[a], *stays[b]])
+                    self.solver.add_clause([-one_class, *stays[a], *stays[b]])
         self.movers_done = len(views.movers)
+        if one_robot:
+            for k in views.crowded[self.crowded_done:]:
+                self.solver.add_clause([-one_robot, *self.stays(k)])
+        self.crowded_done = len(views.crowded)
 
-    def end_phase(self, why: str) -> None:
-        """The first phase is over (``why``: exhausted, time): every table from now on."""
-        self.solver.add_clause([-self.gate])
-        self.gate, self.phase = 0, why
+    def share(self) -> float:
+        """The share of the time budget the current step may take (1 past the first phase)."""
+        if not self.gates:
+            return 1.0
+        return ONE_ROBOT_SHARE if "one robot" in self.gates else ONE_MOVER_SHARE
+
+    def end_step(self, why: str) -> None:
+        """The first phase's current step is over (``why``: exhausted, time): the next
+        step's tables, or every table, from now on."""
+        step = next(iter(self.gates))
+        self.solver.add_clause([-self.gates.pop(step)])
+        self.ended[step] = why
 
     def preferred(self, k: int) -> int:
         """The option of view ``k`` that the first seed with an answer there gives (0: none)."""
@@ -277,13 +305,13 @@ class _Search:
             if self.candidates >= max_candidates:
                 return self.result("unknown", "max-candidates")
             self.register()
-            end = self.started + max_seconds * (ONE_MOVER_SHARE if self.gate else 1.0)
-            if self.gate and time.perf_counter() >= end:
-                self.end_phase("time")
+            end = self.started + max_seconds * self.share()
+            if self.gates and time.perf_counter() >= end:
+                self.end_step("time")
                 continue
-            sat = solve_within(self.solver, end, [self.gate] if self.gate else [])
-            if sat is not True and self.gate:
-                self.end_phase("time" if sat is None else "exhausted")
+            sat = solve_within(self.solver, end, list(self.gates.values()))
+            if sat is not True and self.gates:
+                self.end_step("time" if sat is None else "exhausted")
                 continue
             if sat is None:
                 return self.result("unknown", f"{TIME_LIMIT} (during the SAT solver's call)")
@@ -568,9 +596,14 @@ def livelocks(s: WorldSearch, ctx: Context, prop: str, node: int | None = None
 
 ONE_MOVER = True
 """Whether :func:`synthesize` runs its first phase (one class of movers) by default."""
+ONE_ROBOT_SHARE = 0.25
+"""The share of the time budget the first phase's first step (one robot) may take before
+the search goes on with the second (one class)."""
 ONE_MOVER_SHARE = 0.5
 """The share of the time budget the first phase may take before the search goes on over
 every table."""
+STEPS = ("one robot", "one class")
+"""The first phase's steps, strictest first (:class:`_Search`)."""
 PASSES = 8
 """Passing explorations remembered per start and rung (:meth:`_Search.passed`)."""
 STAGE_STATES = 200

@@ -179,6 +179,11 @@ class Views:
         (in the order met, once each): what a search that lets one class move restricts
         (:mod:`~gather_verify.synthesis.search`)."""
         self._movers_met: set[tuple[int, ...]] = set()
+        self.crowded: list[int] = []
+        """The keys held by more than one robot of their configuration (the twins of a
+        symmetric configuration, or the robots of a tower), in the order met: what a search
+        that lets one robot move restricts (:mod:`~gather_verify.synthesis.search`)."""
+        self._crowded_met: set[int] = set()
         self.part = 0
         self._memo: dict[Seen, dict[tuple[int, int], tuple[int, tuple[frozenset, ...]]]] = {}
         self._checked: set[int] = set()
@@ -189,6 +194,7 @@ class Views:
         self.texts, self.index, self.options = other.texts, other.index, other.options
         self._labels, self.first, self.part = other._labels, other.first, part
         self.still, self.movers, self._movers_met = other.still, other.movers, other._movers_met
+        self.crowded, self._crowded_met = other.crowded, other._crowded_met
 
     # -- one occurrence -----------------------------------------------------------------
     def occurrence(self, seen: Seen, node: int, colour: int
@@ -212,10 +218,15 @@ class Views:
         new = seen not in self._memo
         got = [self.occurrence(seen, v, c) for v, _, c in robots]
         if new:
-            keys = tuple(sorted({k for k, _ in got}))
+            held = Counter(k for k, _ in got)
+            keys = tuple(sorted(held))
             if len(keys) > 1 and keys not in self._movers_met:
                 self._movers_met.add(keys)
                 self.movers.append(keys)
+            for k in keys:
+                if held[k] > 1 and k not in self._crowded_met:
+                    self._crowded_met.add(k)
+                    self.crowded.append(k)
         return got
 
     def _compute(self, seen: Seen, node: int, colour: int
