@@ -402,25 +402,33 @@ def test_minimum_over_a_start_set(tmp_path: Path) -> None:
     assert run.returncode == 2 and "--start with --minimum" in one_line(run)
 
 
-GATHER5 = Path(__file__).parent / "fixtures" / "rings" / "gather5ring7async.py"
+FIXTURES = Path(__file__).parent / "fixtures" / "rings"
+GATHER5 = FIXTURES / "gather5ring7async.py"
 """Five robots gathering on ring:7 under ASYNC, synthesised (docs/rings-results.md)."""
+EXPLORE5 = FIXTURES / "explore5ring9async.py"
+"""Lamani et al.'s five robots exploring ring:9 and stopping under ASYNC, synthesised."""
 
 
-def _gathers(path: Path) -> list[str]:
+def _verdicts(path: Path, world: str, task: str) -> list[str]:
+    """The gap rules' verdicts under ASYNC from every start of five robots on ``world``."""
     from gather_verify.world_check import run_world_check
 
-    return sorted({run_world_check("ring:7", list(nodes), [], f"{path}:Synthesized", "async",
-                                   task="gathering", detection="global-weak",
+    return sorted({run_world_check(world, list(nodes), [], f"{path}:Synthesized", "async",
+                                   task=task, detection="global-weak",
                                    reduction=False)["verdict"]
-                   for nodes in starts.starts(get_world("ring:7"), 5, "all")})
+                   for nodes in starts.starts(get_world(world), 5, "all")})
 
 
-def test_five_robots_gather_on_ring_seven_under_async(tmp_path: Path) -> None:
-    """The witness's gap rules gather from every start, read by the checker alone; without
-    their first rule (that view then stays), they do not."""
-    assert _gathers(GATHER5) == ["VERIFIED"]
-    text = GATHER5.read_text()
+@pytest.mark.parametrize(("path", "world", "task"), [
+    (GATHER5, "ring:7", "gathering"), (EXPLORE5, "ring:9", "exploration-with-stop")],
+    ids=["gathering", "exploration-with-stop"])
+def test_five_robots_solve_the_field_s_tasks_under_async(tmp_path: Path, path: Path,
+                                                        world: str, task: str) -> None:
+    """The witness's gap rules solve the task from every start, read by the checker alone;
+    without their first rule (that view then stays), they do not."""
+    assert _verdicts(path, world, task) == ["VERIFIED"]
+    text = path.read_text()
     first = next(line for line in text.splitlines() if line.startswith("    Rule("))
     broken = tmp_path / "broken.py"
     broken.write_text(text.replace(first + "\n", "", 1))
-    assert _gathers(broken) == ["VIOLATED"]
+    assert "VIOLATED" in _verdicts(broken, world, task)
