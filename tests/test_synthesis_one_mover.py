@@ -141,10 +141,27 @@ def test_the_command_says_how_the_first_phase_ended(tmp_path: Path) -> None:
     assert run.returncode == 0, run.stderr
     report = json.loads(run.stdout)
     assert report["answer"] == "exists" and report["one_mover"] == "witness"
+    assert report["one_robot"] == "witness"
     assert report["checker"]["verdicts"] == ["VERIFIED"]
     run = cli("--world", "ring:5", "--robots", "2", "--no-one-mover", *common)
     report = json.loads(run.stdout)
-    assert report["answer"] == "none" and report["one_mover"] is None
+    assert report["answer"] == "none" and report["one_mover"] is report["one_robot"] is None
+
+
+@pytest.mark.parametrize("n", [9, pytest.param(11, marks=pytest.mark.slow),
+                               pytest.param(12, marks=pytest.mark.slow)])
+def test_lamani_s_five_robots_explore_and_stop_under_async(n: int, tmp_path: Path) -> None:
+    """Lamani, Potop-Butucaru and Tixeuil's five robots on a ring whose size is coprime with
+    5: the first step finds an algorithm for every start under ASYNC, and the checker, every
+    reduction off, verifies it (docs/rings-results.md)."""
+    from tests.test_synthesis import cli
+
+    run = cli("--world", f"ring:{n}", "--robots", "5", "--task", "exploration-with-stop",
+              "--multiplicity", "global-weak", "--scheduler", "async", "--json", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    report = json.loads(run.stdout)
+    assert report["answer"] == "exists" and report["one_robot"] == "witness"
+    assert report["checker"]["verdicts"] == ["VERIFIED"]
 
 
 @pytest.mark.parametrize("world", [["--world", "rendezvous", "--lights", "1"],
