@@ -109,9 +109,10 @@ def _output_and_limit_arguments(p: argparse.ArgumentParser) -> None:
                    help="nodes of the certificate's decision tree; past it, the certificate "
                         "is a resolution proof (default %(default)s)")
     p.add_argument("--one-mover", action=argparse.BooleanOptionalAction, default=None,
-                   help="on a finite world: try first the tables in which one class of robots "
-                        "(one view) moves per configuration, then every table; only the "
-                        "second phase answers none (default: on; docs/synthesis.md)")
+                   help="on a finite world: try first the tables in which one robot moves "
+                        "per configuration, then those in which one class of robots (one "
+                        "view) does, then every table; only the last answers none (default: "
+                        "on; docs/synthesis.md)")
 
 
 def _many_answer_arguments(p: argparse.ArgumentParser) -> None:
