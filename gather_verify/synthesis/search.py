@@ -179,10 +179,10 @@ class _Search:
     field's algorithms, and one under which the adversaries differ least): per pair of
     distinct views of one configuration, "one of the two stays". Its first step asks more:
     one robot, so a view that two robots of its configuration hold (twins across an axis, or
-    a tower) stays. When one robot moves per configuration, the robots act one at a time
-    whatever the adversary, so a table that solves the task under FSYNC solves it under
-    SSYNC and ASYNC too: the step finds asynchronous algorithms at the cost of synchronous
-    ones. Each restriction's clauses are guarded by a variable of :attr:`gates` that the
+    a tower) stays. When one robot moves per configuration (and the robots have no lights,
+    whose changes are not moves), the robots act one at a time whatever the adversary, so a
+    table that solves the task under FSYNC solves it under SSYNC and ASYNC too: the step
+    finds asynchronous algorithms at the cost of synchronous ones. Each restriction's clauses are guarded by a variable of :attr:`gates` that the
     solver assumes true; the clauses of counterexamples hold for every table, so they stay.
     When a step's tables are exhausted (unsatisfiable under the assumptions), or after its
     share of the time (:data:`ONE_ROBOT_SHARE`, :data:`ONE_MOVER_SHARE`), its variable is
