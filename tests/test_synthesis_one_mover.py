@@ -7,10 +7,14 @@ phase (every table), with a certificate that re-checks."""
 from __future__ import annotations
 
 import json
+import random
+from collections import Counter
 from pathlib import Path
 from unittest import mock
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 pytest.importorskip("pysat", reason="synthesize needs python-sat (extra synth)")
 
@@ -242,3 +246,77 @@ def test_the_first_step_proposes_only_tables_where_one_robot_moves() -> None:
         got = S.synthesize(inst, views=views, max_seconds=60, one_mover=True)
     assert got.answer == "none" and got.one_robot == "exhausted"
     assert seen and max(seen) >= 1
+
+
+def _random_table(views: Views, seed: int, crowded_move: bool) -> S.Table:
+    """A random table, decided configuration by configuration as the exploration meets
+    them: at most one view of each moves (one robot; with ``crowded_move``, the view may be
+    one that twins or a tower hold, so several robots move)."""
+    decided: dict[int, int] = {}
+
+    def fresh(k: int) -> int:
+        if k not in decided:
+            _, seen, _, _ = views.first[k]
+            held = Counter(views.occurrence(seen, v, c)[0] for v, c in seen)
+            keys = sorted(held)
+            rng = random.Random(f"{seed}:{[views.texts[j] for j in keys]}")
+            movers = [j for j in keys if crowded_move or held[j] == 1]
+            mover = rng.choice(movers) if movers and rng.random() < 0.9 else None
+            for j in keys:
+                moves = [o for o in range(len(views.options[j])) if o not in views.still[j]]
+                decided[j] = (rng.choice(moves) if j == mover and moves
+                              else views.still[j][0])
+        return decided[k]
+
+    return S.Table({}, fresh)
+
+
+RANDOM_CASES = [("ring:6", "3", "gathering"), ("ring:7", "3", "gathering"),
+                ("ring:7", "4", "gathering"), ("ring:8", "4", "exploration-with-stop"),
+                ("ring:9", "5", "exploration-with-stop")]
+
+
+def _moves(case: tuple[str, str, str], seed: int, crowded_move: bool, scheduler: str
+           ) -> list[set[tuple[tuple[int, ...], tuple[int, ...]]]]:
+    """Per start, the moves between configurations (the robots' nodes, as sets with
+    repetition) of every execution of a random table under ``scheduler``; a configuration
+    where no robot moves any more steps to itself."""
+    from gather_verify.engine.world_search import search
+
+    world, robots, task = case
+    inst = _instance((world, robots, scheduler, task))
+    views = Views(inst)
+    table = _random_table(views, seed, crowded_move)
+
+    def actions(state):  # noqa: ANN001, ANN202
+        return [acts[table[k]] for k, acts in views.robots(state)]
+
+    out = []
+    for start, colours in inst.configurations:
+        s = search(inst.world, start, actions, scheduler, colours=colours,
+                   limits=Limits(max_states=200_000, max_seconds=60))
+        assert s.stopped is None
+        nodes = [tuple(sorted(v for v, _, _ in robots)) for robots, _, _ in s.keys]
+        steps = {(nodes[a], nodes[b]) for a, edges in enumerate(s.edges)
+                 for b, _, _ in edges if nodes[a] != nodes[b]}
+        steps |= {(nodes[a], nodes[a]) for a in range(len(nodes)) if s.final[a]}
+        out.append(steps)
+    return out
+
+
+@settings(max_examples=25, deadline=None)
+@given(case=st.sampled_from(RANDOM_CASES), seed=st.integers(0, 10**6))
+def test_a_random_one_robot_table_moves_alike_under_fsync_and_async(
+        case: tuple[str, str, str], seed: int) -> None:
+    """Any table in which at most one robot moves per configuration (not only the search's
+    candidates) makes the same moves between configurations, and ends in the same ones,
+    under ASYNC as under FSYNC, from every start: its executions are the FSYNC ones with
+    pauses, so it solves a task under one exactly when it does under the other."""
+    assert _moves(case, seed, False, "async") == _moves(case, seed, False, "fsync")
+
+
+def test_random_tables_where_twins_move_do_not_move_alike() -> None:
+    """The property above needs the restriction: let a view that two robots hold move, and
+    some random table makes moves under ASYNC that it never makes under FSYNC."""
+    assert any(_moves(case, seed, True, "async") != _moves(case, seed, True, "fsync")
+               for case in RANDOM_CASES[:3] for seed in range(5))
