@@ -100,6 +100,7 @@ def test_per_start_answers(tmp_path: Path) -> None:
     rows = {r["robots"]: r for r in report["rows"]}
     assert rows["0 3 6"]["answer"] == "none" and rows["0 3 6"]["kind"] == "periodic"
     assert rows["0 3 6"]["holds_under"] == ["fsync", "ssync", "async"]
+    assert rows["0 3 6"]["one_mover"] == rows["0 3 6"]["one_robot"] == "exhausted"
     verify_certificate(rows["0 3 6"]["certificate"])
     for robots, row in rows.items():
         if robots != "0 3 6":
@@ -327,6 +328,7 @@ def test_one_gap_rule_algorithm_for_a_range(tmp_path: Path) -> None:
     assert run.returncode == 0, run.stderr
     report = json.loads(run.stdout)
     assert report["answer"] == "exists" and report["sizes"] == 3
+    assert report["one_mover"] == "witness"  # how the first phase ended, as for one size
     assert report["checker"]["verdicts"] == ["VERIFIED"] and report["rules"]
     text = witness.read_text()
     assert "from gather_verify.algorithms.gap_rules import GapRules, Rule" in text

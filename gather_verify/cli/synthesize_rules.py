@@ -76,7 +76,8 @@ def run_range(args: argparse.Namespace) -> int:
         "gap_cap": args.gap_cap, "configurations": sum(len(i.configurations) for i, _ in parts),
         "views": res.views, "candidates": res.candidates,
         "counterexamples": len(res.counterexamples), "states": res.states,
-        "limit": res.limit, "witness": None, "rules": None}
+        "limit": res.limit, "one_mover": res.one_mover, "one_robot": res.one_robot,
+        "witness": None, "rules": None}
     problem = None
     if res.answer == "none":
         report["answer"] = "unknown"

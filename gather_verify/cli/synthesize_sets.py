@@ -145,7 +145,8 @@ def one_start(args: argparse.Namespace, inst: Any, witness: str, certificate: st
                      max_states=args.max_states, max_tree=args.max_tree, views=views,
                      seeds=seeds(args), one_mover=args.one_mover)
     row: dict[str, Any] = {"answer": res.answer, "limit": res.limit,
-                           "candidates": res.candidates, "views": res.views}
+                           "candidates": res.candidates, "views": res.views,
+                           "one_mover": res.one_mover, "one_robot": res.one_robot}
     trouble = None
     if res.answer == "exists":
         spec = write_witness(witness, inst, views, res.table)
