@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import json
 import sys
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -365,6 +365,37 @@ def build_tree(clauses: list[dict[int, int]], options: list[int], limit: int) ->
         return [k, children]
 
     return grow({}, list(range(len(clauses))))
+
+
+def prune(tree: Any, clauses: list[dict[int, int]]) -> tuple[Any, list[int]]:
+    """The tree of :func:`build_tree` without the questions that no clause at a leaf below
+    reads (any child answers for the others there), its leaves renumbered over the clauses
+    they use: the tree, and the kept clauses' indices in ``clauses``, in order. A certificate
+    then holds only the counterexamples its tree needs."""
+
+    def walk(node: Any) -> tuple[Any, set[int]]:
+        if isinstance(node, int):
+            return node, set(clauses[node])
+        got = [walk(child) for child in node[1]]
+        if not any(node[0] in read for _, read in got):
+            return got[0]
+        return [node[0], [child for child, _ in got]], set().union(*(read for _, read in got))
+
+    def leaves(node: Any) -> Iterator[int]:
+        if isinstance(node, int):
+            yield node
+        else:
+            for child in node[1]:
+                yield from leaves(child)
+
+    def renumber(node: Any, number: dict[int, int]) -> Any:
+        if isinstance(node, int):
+            return number[node]
+        return [node[0], [renumber(child, number) for child in node[1]]]
+
+    pruned = walk(tree)[0]
+    kept = sorted(set(leaves(pruned)))
+    return renumber(pruned, {j: i for i, j in enumerate(kept)}), kept
 
 
 def tree_size(tree: Any) -> tuple[int, int]:

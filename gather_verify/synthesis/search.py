@@ -50,6 +50,7 @@ from gather_verify.synthesis.certificate import (
     build_tree,
     event_from_json,
     event_to_json,
+    prune,
     replay,
     tree_size,
 )
@@ -337,9 +338,13 @@ class _Search:
         uses; ``unknown`` (max-tree) when neither comes within the time left."""
         options = [len(o) for o in self.views.options]
         try:
-            return self.result("none", tree=build_tree(self.clauses, options, max_tree))
+            tree, kept = prune(build_tree(self.clauses, options, max_tree), self.clauses)
         except TreeTooLarge:
             pass
+        else:
+            self.cexs = [self.cexs[j] for j in kept]
+            self.clauses = [self.clauses[j] for j in kept]
+            return self.result("none", tree=tree)
         left = self.limits[0] - (time.perf_counter() - self.started)
         got = refutation(self.clauses, options, max(left, 0.001))
         if got is None:
