@@ -174,6 +174,18 @@ def files_fingerprint(paths: Iterable[str], disk: bool = False) -> str:
     return h.hexdigest()[:16]
 
 
+def world_inputs(world: str) -> dict[str, str]:
+    """The files a world's name stands for, named, with the digest of what this process
+    reads from them: the graph file of a ``graph:`` world (an input like the algorithm),
+    nothing for the others. Every store keyed by a world's name keys it by these too."""
+    from gather_verify.inputs import digest
+
+    if not world.startswith("graph:"):
+        return {}
+    name = world.partition(":")[2]
+    return {f"graph file {name}": digest(Path(name).expanduser().resolve(), "graph file")[:16]}
+
+
 def sweep_inputs(algorithm_digest: str, world: str, properties: Iterable[str],
                  extra: Iterable[str], disk: bool = False) -> dict[str, str]:
     """Every input a sweep's rows depend on, named, with the digest of what this process
@@ -187,13 +199,9 @@ def sweep_inputs(algorithm_digest: str, world: str, properties: Iterable[str],
     (which a process may import a module of late), are those on the disk now: a task whose
     inputs changed while it ran is told apart from the key, and its rows are not stored."""
     from gather_verify.algorithms.loading import is_path_spec
-    from gather_verify.inputs import digest
 
     extra = tuple(extra)
-    out = {"algorithm": algorithm_digest}
-    if world.startswith("graph:"):  # the graph file is an input like the algorithm
-        name = world.partition(":")[2]
-        out[f"graph file {name}"] = digest(Path(name).expanduser().resolve(), "graph file")[:16]
+    out = {"algorithm": algorithm_digest, **world_inputs(world)}
     for p in properties:
         if is_path_spec(p):
             out[f"property file {p.rpartition(':')[0]}"] = source_fingerprint(

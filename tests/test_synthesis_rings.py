@@ -389,6 +389,27 @@ def _least(tmp_path: Path, robots: str, *more: str) -> tuple[str, list[dict[str,
     return got["minimum"][0]["least"], got["rows"]
 
 
+def test_a_stored_least_count_is_not_the_answer_for_an_edited_graph_file(
+        tmp_path: Path) -> None:
+    """``--minimum --db`` keys its rows by the graph file's bytes, not its name: the same
+    command on the edited file answers for the new graph (a 5-cycle has three robots that
+    explore exclusively under FSYNC, a 6-cycle none of 1-3)."""
+    graph = tmp_path / "g.edgelist"
+
+    def least() -> str:
+        run = cli("--minimum", "--world", f"graph:{graph}", "--robots", "1-3", "--task",
+                  "exclusive-perpetual-exploration", "--multiplicity", "global-weak",
+                  "--scheduler", "fsync", "--db", str(tmp_path / "m.sqlite"), "--out",
+                  str(tmp_path / "out"), "--json")
+        assert run.returncode == 0, run.stderr
+        return json.loads(run.stdout)["minimum"][0]["least"]
+
+    graph.write_text("0 1\n1 2\n2 3\n3 4\n4 0\n")
+    assert least() == "3"
+    graph.write_text("0 1\n1 2\n2 3\n3 4\n4 5\n5 0\n")
+    assert least() == ">3"
+
+
 def test_minimum_over_a_start_set(tmp_path: Path) -> None:
     """Three robots gather on ring:6 from every aperiodic start (Klasing et al.), not from
     every start ({0, 2, 4} is periodic): --minimum asks the least count for the set given;

@@ -642,10 +642,11 @@ def _least_answers(args: argparse.Namespace, least: _Least, store: Any, out: Pat
     """The answers for k = A, A+1, ... on one world under one scheduler, up to the first
     ``exists`` (stored rows reused, new ones stored), each added to ``rows_out``; an
     internal problem's text instead."""
-    from gather_verify.fingerprint import own_digest
+    from gather_verify.fingerprint import own_digest, world_inputs
 
     settings = {
-        "command": "synthesize --minimum", "world": world, "scheduler": sched,
+        "command": "synthesize --minimum", "world": world, **world_inputs(world),
+        "scheduler": sched,
         "task": args.task, "detection": args.multiplicity, "frames": args.frames,
         "visibility": args.visibility, "lights": args.lights,
         "meeting": args.meeting, "max_seconds": args.max_seconds,
