@@ -183,8 +183,9 @@ class _Search:
     a tower) stays. When one robot moves per configuration (and the robots have no lights,
     whose changes are not moves), the robots act one at a time whatever the adversary, so a
     table that solves the task under FSYNC solves it under SSYNC and ASYNC too: the step
-    finds asynchronous algorithms at the cost of synchronous ones. Each restriction's clauses are guarded by a variable of :attr:`gates` that the
-    solver assumes true; the clauses of counterexamples hold for every table, so they stay.
+    finds asynchronous algorithms at the cost of synchronous ones. Each restriction's
+    clauses are guarded by a variable of :attr:`gates` that the solver assumes true; the
+    clauses of counterexamples hold for every table, so they stay.
     When a step's tables are exhausted (unsatisfiable under the assumptions), or after its
     share of the time (:data:`ONE_ROBOT_SHARE`, :data:`ONE_MOVER_SHARE`), its variable is
     set false and the search goes on with the next: only the second phase, over every
